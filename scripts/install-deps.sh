@@ -1,0 +1,39 @@
+#!/usr/bin/env bash
+# Installs the Debian packages vpcontact builds and runs with. Idempotent and
+# non-interactive: packages already present are left alone; apt is only called
+# when something is missing. Run as root (or with sudo available).
+set -euo pipefail
+
+packages=(
+  build-essential cmake pkg-config
+  libeigen3-dev            # Eigen: sparse/dense linear algebra
+  libsuitesparse-dev       # CHOLMOD: supernodal sparse Cholesky
+  libopenblas-dev          # fast BLAS for CHOLMOD (replaces the reference BLAS)
+  libtomlplusplus-dev      # case files
+  libcli11-dev             # command line
+  libfmt-dev               # formatting
+  libmuparser-dev          # expressions
+  libgmsh-dev gmsh         # meshes
+  libgtest-dev libgmock-dev  # tests
+  libbenchmark-dev         # benchmarks
+  python3-matplotlib python3-numpy  # figures
+)
+
+missing=()
+for p in "${packages[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$p")
+  fi
+done
+
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "install-deps: all ${#packages[@]} packages present"
+  exit 0
+fi
+
+SUDO=""
+if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
+echo "install-deps: installing ${missing[*]}"
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update -qq
+$SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"

@@ -1,0 +1,32 @@
+#pragma once
+// The built-in cases: the paper's two examples (SPEC §4) and a 3D block.
+#include "io/run_output.hpp"
+#include "scheme/problem.hpp"
+
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace vpc {
+
+/// Overrides of a case's discretization and data; unset means the case's default.
+struct CaseOverrides {
+  std::optional<int> mesh_cells;   // cells per unit edge count n (1D: n segments; 2D: n × n; 3D: n³ cubes)
+  std::optional<double> kappa;
+  std::optional<int> steps;        // N, so k = T / N
+  std::optional<double> time_step; // k; N = T / k must be an integer
+};
+
+struct BuiltinCase {
+  std::string name;
+  std::string description;
+  std::shared_ptr<Problem> problem;
+  std::vector<Point> probes;
+  int output_every = 10;
+};
+
+std::vector<std::string> builtin_case_names();
+/// Builds a built-in case; throws vpc::Error for an unknown name or a bad override.
+BuiltinCase make_builtin_case(const std::string& name, const CaseOverrides& overrides = {});
+
+}  // namespace vpc

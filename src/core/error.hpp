@@ -1,0 +1,29 @@
+#pragma once
+// One error type for everything a user can cause (bad options, bad case data,
+// a solver that cannot converge). Internal invariants use assert().
+#include <fmt/format.h>
+
+#include <stdexcept>
+#include <string>
+#include <utility>
+
+namespace vpc {
+
+class Error : public std::runtime_error {
+ public:
+  explicit Error(const std::string& what) : std::runtime_error(what) {}
+};
+
+/// Throws vpc::Error with a fmt-formatted message.
+template <typename... Args>
+[[noreturn]] void fail(fmt::format_string<Args...> f, Args&&... args) {
+  throw Error(fmt::format(f, std::forward<Args>(args)...));
+}
+
+/// Throws vpc::Error unless `ok`; for user-caused conditions (always checked).
+template <typename... Args>
+void require(bool ok, fmt::format_string<Args...> f, Args&&... args) {
+  if (!ok) throw Error(fmt::format(f, std::forward<Args>(args)...));
+}
+
+}  // namespace vpc

@@ -1,0 +1,54 @@
+#pragma once
+// Global assembly loops for the P1/P0/P1 discretization of Problem 3.1. Each loop
+// calls a small element kernel and scatters into a global matrix or vector; none
+// of them knows about contact or damage bounds.
+#include "core/sym_tensor.hpp"
+#include "fem/cell_geometry.hpp"
+#include "fem/dof_map.hpp"
+#include "material/elasticity.hpp"
+#include "mesh/mesh.hpp"
+
+#include <Eigen/Sparse>
+#include <functional>
+#include <vector>
+
+namespace vpc {
+
+using SparseMatrix = Eigen::SparseMatrix<double>;
+using Vector = Eigen::VectorXd;
+/// A vector field of (x, t), e.g. f0 and f2; components beyond d are ignored.
+using VectorField = std::function<Point(const Point& x, double t)>;
+using ScalarField = std::function<double(const Point& x, double t)>;
+
+/// Elastic stiffness K_ij = (ℰε(φ_j), ε(φ_i)) on the free dofs.
+SparseMatrix assemble_stiffness(const Mesh& mesh, const std::vector<CellGeometry>& geo,
+                                const Elasticity& elasticity, const DofMap& dofs);
+
+/// P1 scalar mass matrix M_ij = (ψ_j, ψ_i).
+SparseMatrix assemble_mass(const Mesh& mesh, const std::vector<CellGeometry>& geo);
+
+/// P1 scalar stiffness (Laplacian) A_ij = (∇ψ_j, ∇ψ_i).
+SparseMatrix assemble_laplacian(const Mesh& mesh, const std::vector<CellGeometry>& geo);
+
+/// Full-space load vector (f(t), φ_i)_V = ∫Ω f0·φ_i + ∫Γ2 f2·φ_i  (2.25).
+Vector assemble_load(const Mesh& mesh, const std::vector<CellGeometry>& geo,
+                     const std::vector<int>& traction_facets, const VectorField& f0,
+                     const VectorField& f2, double t);
+
+/// Full-space vector (τ, ε(φ_i))_Q for a P0 tensor field τ: the term Bᵀz of (3.9).
+Vector assemble_stress_divergence(const Mesh& mesh, const std::vector<CellGeometry>& geo,
+                                  const std::vector<SymTensor>& tau);
+
+/// Scalar load (s, ψ_i) for a P0 field s: the damage source vector F_φ of (3.8).
+Vector assemble_p0_source(const Mesh& mesh, const std::vector<CellGeometry>& geo,
+                          const std::vector<double>& s);
+
+/// P0 strains ε(u) of a full-space P1 displacement.
+void compute_strain(const Mesh& mesh, const std::vector<CellGeometry>& geo, const Vector& u_full,
+                    std::vector<SymTensor>& eps);
+
+/// Restriction of a full-space vector to the free dofs, and its extension by zero.
+Vector restrict_to_free(const DofMap& dofs, const Vector& full);
+Vector extend_from_free(const DofMap& dofs, const Vector& free);
+
+}  // namespace vpc

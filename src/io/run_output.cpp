@@ -1,0 +1,235 @@
+#include "io/run_output.hpp"
+
+#include "core/error.hpp"
+#include "io/atomic_file.hpp"
+#include "io/vtu_writer.hpp"
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace vpc {
+
+namespace fs = std::filesystem;
+
+ProbeLocation locate_point(const Mesh& mesh, const Point& x) {
+  const int d = mesh.dim();
+  ProbeLocation best;
+  best.x = x;
+  double best_min = -INFINITY;
+  for (int c = 0; c < mesh.n_cells(); ++c) {
+    // Barycentric coordinates from the cell's affine map.
+    Eigen::Matrix3d J = Eigen::Matrix3d::Identity();
+    const Point& x0 = mesh.node(mesh.cell(c)[0]);
+    for (int a = 1; a <= d; ++a)
+      for (int i = 0; i < d; ++i) J(i, a - 1) = mesh.node(mesh.cell(c)[a])[i] - x0[i];
+    Eigen::Vector3d r(0, 0, 0);
+    for (int i = 0; i < d; ++i) r[i] = x[i] - x0[i];
+    const Eigen::Vector3d l = J.topLeftCorner(d, d).inverse() * r.head(d) ;
+    std::array<double, 4> lam{};
+    lam[0] = 1;
+    for (int a = 1; a <= d; ++a) {
+      lam[a] = l[a - 1];
+      lam[0] -= l[a - 1];
+    }
+    const double m = *std::min_element(lam.begin(), lam.begin() + d + 1);
+    if (m > best_min) {
+      best_min = m;
+      best.cell = c;
+      best.lambda = lam;
+    }
+  }
+  require(best.cell >= 0 && best_min > -1e-9, "probe point ({}, {}, {}) lies outside the mesh", x[0], x[1], x[2]);
+  return best;
+}
+
+namespace {
+
+/// Components of S_d in the order written: d = 1: 11; d = 2: 11, 22, 12; d = 3: all six.
+std::vector<int> tensor_components(int d) {
+  if (d == 1) return {0};
+  if (d == 2) return {0, 1, 5};
+  return {0, 1, 2, 3, 4, 5};
+}
+const char* component_name(int i) {
+  static const char* n[6] = {"11", "22", "33", "23", "13", "12"};
+  return n[i];
+}
+
+VtuField tensor_field(const std::string& name, const std::vector<SymTensor>& t) {
+  VtuField f{name, 6, {}};
+  f.values.reserve(t.size() * 6);
+  for (const auto& s : t) {
+    // VTK's symmetric-tensor order: XX, YY, ZZ, XY, YZ, XZ.
+    const double v[6] = {s[0], s[1], s[2], s[5], s[3], s[4]};
+    f.values.insert(f.values.end(), v, v + 6);
+  }
+  return f;
+}
+
+}  // namespace
+
+RunOutput::RunOutput(const TimeStepper& stepper, OutputOptions options)
+    : stepper_(stepper), options_(std::move(options)) {
+  std::error_code ec;
+  fs::create_directories(options_.directory, ec);
+  require(!ec && fs::is_directory(options_.directory), "cannot create output directory '{}'",
+          options_.directory.string());
+  for (const auto& p : options_.probes) probes_.push_back(locate_point(stepper_.mesh(), p));
+  require(options_.every >= 0, "output: 'every' must be >= 0 (got {})", options_.every);
+}
+
+void RunOutput::start() {
+  const int d = stepper_.mesh().dim();
+  history_.open(options_.directory / "history.csv", std::ios::trunc);
+  require(history_.good(), "cannot write '{}'", (options_.directory / "history.csv").string());
+  history_ << "step,t,n_active,total_contact_force,contact_iterations,contact_equilibrium,"
+              "contact_penetration,contact_negative_force,contact_complementarity,damage_iterations,"
+              "damage_kkt_residual,beta_min,beta_max,n_beta_zero,n_beta_one,max_von_mises,ok\n";
+  history_.flush();
+  probe_csv_.open(options_.directory / "probes.csv", std::ios::trunc);
+  require(probe_csv_.good(), "cannot write '{}'", (options_.directory / "probes.csv").string());
+  probe_csv_ << "step,t";
+  static const char* axis = "xyz";
+  for (size_t p = 0; p < probes_.size(); ++p) {
+    for (int i = 0; i < d; ++i) probe_csv_ << fmt::format(",p{}_u{}", p, axis[i]);
+    for (int c : tensor_components(d)) probe_csv_ << fmt::format(",p{}_sigma{}", p, component_name(c));
+    probe_csv_ << fmt::format(",p{}_von_mises,p{}_beta", p, p);
+  }
+  probe_csv_ << "\n";
+  write_probe_row();
+  write_fields();
+}
+
+void RunOutput::write_probe_row() {
+  const State& s = stepper_.state();
+  const Mesh& mesh = stepper_.mesh();
+  const int d = mesh.dim();
+  probe_csv_ << fmt::format("{},{:.17g}", s.n, s.t);
+  for (const auto& p : probes_) {
+    const int* v = mesh.cell(p.cell);
+    for (int i = 0; i < d; ++i) {
+      double u = 0;
+      for (int a = 0; a <= d; ++a) u += p.lambda[a] * s.u[v[a] * d + i];
+      probe_csv_ << fmt::format(",{:.17g}", u);
+    }
+    for (int c : tensor_components(d)) probe_csv_ << fmt::format(",{:.17g}", s.sigma[p.cell][c]);
+    double b = 0;
+    for (int a = 0; a <= d; ++a) b += p.lambda[a] * s.beta[v[a]];
+    probe_csv_ << fmt::format(",{:.17g},{:.17g}", s.sigma[p.cell].von_mises(), b);
+  }
+  probe_csv_ << "\n";
+  probe_csv_.flush();
+}
+
+void RunOutput::write_fields() {
+  if (!options_.vtu) return;
+  const State& s = stepper_.state();
+  const Mesh& mesh = stepper_.mesh();
+  const int d = mesh.dim();
+  VtuField u{"displacement", 3, std::vector<double>(static_cast<size_t>(mesh.n_nodes()) * 3, 0.0)};
+  for (int i = 0; i < mesh.n_nodes(); ++i)
+    for (int c = 0; c < d; ++c) u.values[i * 3 + c] = s.u[i * d + c];
+  VtuField beta{"damage", 1, std::vector<double>(s.beta.data(), s.beta.data() + s.beta.size())};
+  // Contact force on Γ3: the force the foundation exerts, −λ ν at each contact node.
+  VtuField force{"contact_force", 3, std::vector<double>(static_cast<size_t>(mesh.n_nodes()) * 3, 0.0)};
+  const auto& nodes = stepper_.contact_nodes();
+  for (size_t k = 0; k < nodes.size(); ++k)
+    for (int c = 0; c < 3; ++c) force.values[nodes[k] * 3 + c] = -s.lambda[k] * stepper_.contact_directions()[k][c];
+  VtuField vm{"von_mises", 1, {}};
+  for (const auto& t : s.sigma) vm.values.push_back(t.von_mises());
+  const std::string file = fmt::format("solution_{:05d}.vtu", s.n);
+  write_vtu(options_.directory / file, mesh, {u, beta, force},
+            {tensor_field("stress", s.sigma), tensor_field("strain", s.eps), vm, tensor_field("history_z", s.z)});
+  pvd_.emplace_back(s.t, file);
+  write_pvd(options_.directory / "solution.pvd", pvd_);
+}
+
+void RunOutput::record(const StepReport& r) {
+  const auto& c = r.contact;
+  history_ << fmt::format("{},{:.17g},{},{:.17g},{},{:.3e},{:.3e},{:.3e},{:.3e},{},{:.3e},{:.17g},{:.17g},{},{},{:.17g},{}\n",
+                          r.n, r.t, c.n_active, c.total_force, c.iterations, c.residuals.equilibrium,
+                          c.residuals.penetration, c.residuals.negative_force, c.residuals.complementarity,
+                          r.damage.iterations, r.damage.kkt_residual, r.beta_min, r.beta_max, r.damage.n_lower,
+                          r.damage.n_upper, r.max_von_mises, r.ok ? 1 : 0);
+  history_.flush();
+  write_probe_row();
+  reports_.push_back(r);
+  const bool last = stepper_.done();
+  if (last || (options_.every > 0 && r.n % options_.every == 0)) write_fields();
+}
+
+void RunOutput::finish(double wall_seconds) {
+  const Problem& p = stepper_.problem();
+  const Mesh& mesh = stepper_.mesh();
+  const State& s = stepper_.state();
+  double max_contact = 0, max_damage = 0, time_src = 0, time_dmg = 0, time_ct = 0, time_st = 0;
+  int max_ci = 0, max_di = 0;
+  bool all_ok = true;
+  for (const auto& r : reports_) {
+    max_contact = std::max(max_contact, r.contact.residuals.max());
+    max_damage = std::max(max_damage, r.damage.kkt_residual);
+    max_ci = std::max(max_ci, r.contact.iterations);
+    max_di = std::max(max_di, r.damage.iterations);
+    all_ok = all_ok && r.ok;
+    time_src += r.seconds_sources;
+    time_dmg += r.seconds_damage;
+    time_ct += r.seconds_contact;
+    time_st += r.seconds_stress;
+  }
+  const auto [hmin, hmax] = mesh.size_range();
+  Eigen::Index imin = 0;
+  const double beta_min = s.beta.minCoeff(&imin);
+  const Point xb = mesh.node(static_cast<int>(imin));
+  double max_vm = 0;
+  for (const auto& t : s.sigma) max_vm = std::max(max_vm, t.von_mises());
+  std::string probes = "[";
+  for (size_t i = 0; i < probes_.size(); ++i)
+    probes += fmt::format("{}[{:.17g}, {:.17g}, {:.17g}]", i ? ", " : "", probes_[i].x[0], probes_[i].x[1],
+                          probes_[i].x[2]);
+  probes += "]";
+  const std::string json = fmt::format(
+      R"({{
+  "case": "{}",
+  "dimension": {},
+  "mesh": {{"nodes": {}, "cells": {}, "h_min": {:.17g}, "h_max": {:.17g}}},
+  "unknowns": {{"displacement_free": {}, "damage": {}, "contact_nodes": {}}},
+  "elasticity": "{}",
+  "viscoplastic_law": "{}",
+  "damage_source": "{}",
+  "kappa": {:.17g},
+  "final_time": {:.17g},
+  "steps": {},
+  "time_step": {:.17g},
+  "final": {{
+    "t": {:.17g},
+    "total_contact_force": {:.17g},
+    "active_contact_nodes": {},
+    "max_von_mises": {:.17g},
+    "beta_min": {:.17g},
+    "beta_min_location": [{:.17g}, {:.17g}, {:.17g}],
+    "beta_max": {:.17g}
+  }},
+  "checks": {{
+    "all_steps_ok": {},
+    "max_contact_residual": {:.3e},
+    "max_damage_kkt_residual": {:.3e},
+    "max_contact_iterations": {},
+    "max_damage_iterations": {}
+  }},
+  "probes": {},
+  "timing_seconds": {{"wall": {:.6f}, "setup": {:.6f}, "sources": {:.6f}, "damage": {:.6f}, "contact": {:.6f}, "stress": {:.6f}}},
+  "factorizations": {}
+}}
+)",
+      p.name, mesh.dim(), mesh.n_nodes(), mesh.n_cells(), hmin, hmax, stepper_.dofs().n_free(), mesh.n_nodes(),
+      stepper_.contact_nodes().size(), p.elasticity.name(), p.law->describe(), p.source->describe(), p.kappa,
+      p.final_time, s.n, p.step(), s.t, s.lambda.sum(), (s.lambda.array() > 0).count(), max_vm, beta_min, xb[0],
+      xb[1], xb[2], s.beta.maxCoeff(), all_ok ? "true" : "false", max_contact, max_damage, max_ci, max_di, probes,
+      wall_seconds, stepper_.setup_seconds(), time_src, time_dmg, time_ct, time_st, stepper_.n_factorizations());
+  write_file_atomic(options_.directory / "summary.json", json);
+}
+
+}  // namespace vpc

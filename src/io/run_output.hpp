@@ -1,0 +1,58 @@
+#pragma once
+// What a run writes into its output directory:
+//   solution_NNNNN.vtu + solution.pvd  fields at output times (u, σ, ε, |σ|_VM, β, z,
+//                                      contact force on Γ3)
+//   history.csv                        one row per step: contact and damage solver
+//                                      iterations and residuals, active set, β range
+//   probes.csv                         u, σ, β at the probe points, every step
+//   summary.json                       the run's data, final values and checks
+#include "scheme/time_stepper.hpp"
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+namespace vpc {
+
+struct OutputOptions {
+  std::filesystem::path directory = "output";
+  int every = 10;      // VTU every this many steps (and at the final step); 0: final only
+  bool vtu = true;     // write VTU/PVD at all
+  std::vector<Point> probes;
+};
+
+/// A probe: the cell containing the point and the point's barycentric coordinates.
+struct ProbeLocation {
+  Point x;
+  int cell = -1;
+  std::array<double, 4> lambda{};
+};
+/// Locates x in the mesh; throws vpc::Error if no cell contains it.
+ProbeLocation locate_point(const Mesh& mesh, const Point& x);
+
+class RunOutput {
+ public:
+  RunOutput(const TimeStepper& stepper, OutputOptions options);
+  /// Writes the initial state (step 0).
+  void start();
+  /// Records one accepted step; writes VTU at output steps.
+  void record(const StepReport& report);
+  /// Writes summary.json; `wall_seconds` is the whole run's time.
+  void finish(double wall_seconds);
+
+  const std::filesystem::path& directory() const { return options_.directory; }
+
+ private:
+  void write_fields();
+  void write_probe_row();
+
+  const TimeStepper& stepper_;
+  OutputOptions options_;
+  std::vector<ProbeLocation> probes_;
+  std::ofstream history_, probe_csv_;
+  std::vector<std::pair<double, std::string>> pvd_;
+  std::vector<StepReport> reports_;
+};
+
+}  // namespace vpc

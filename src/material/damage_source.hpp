@@ -1,0 +1,24 @@
+#pragma once
+// The damage source φ(σ, ε(u), β) of (2.2).
+#include "material/parameters.hpp"
+#include "material/point_state.hpp"
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace vpc {
+
+class DamageSource {
+ public:
+  virtual ~DamageSource() = default;
+  virtual double rate(const PointState& s) const = 0;
+  virtual std::string describe() const = 0;
+};
+
+/// Builds a source by name ("zero", "strain", "von-mises"); throws vpc::Error for
+/// an unknown name or parameter.
+std::unique_ptr<DamageSource> make_damage_source(const std::string& name, const Parameters& p);
+std::vector<std::string> damage_source_names();
+
+}  // namespace vpc

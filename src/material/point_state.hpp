@@ -1,0 +1,15 @@
+#pragma once
+#include "core/sym_tensor.hpp"
+
+namespace vpc {
+
+/// What a law sees at one element: σ, ε(u) and β (β at the element centroid,
+/// the mean of its nodal values: SPEC §2 step 1).
+struct PointState {
+  SymTensor sigma;
+  SymTensor eps;
+  double beta = 1;
+  int dim = 3;  // space dimension d: tensors live in S_d
+};
+
+}  // namespace vpc

@@ -1,0 +1,216 @@
+#include "mesh/mesh.hpp"
+
+#include "core/error.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <unordered_map>
+
+namespace vpc {
+
+namespace {
+
+/// Sorted facet key (up to 3 nodes) for matching facets to cells.
+using FacetKey = std::array<int, 3>;
+
+FacetKey make_key(const int* nodes, int n) {
+  FacetKey k{-1, -1, -1};
+  for (int i = 0; i < n; ++i) k[i] = nodes[i];
+  // Insertion sort of at most three entries.
+  for (int i = 1; i < n; ++i)
+    for (int j = i; j > 0 && k[j - 1] > k[j]; --j) std::swap(k[j - 1], k[j]);
+  return k;
+}
+
+struct KeyHash {
+  size_t operator()(const FacetKey& k) const {
+    size_t h = 1469598103934665603ull;
+    for (int v : k) h = (h ^ static_cast<size_t>(v + 1)) * 1099511628211ull;
+    return h;
+  }
+};
+
+/// The facets of a simplex: facet i omits local vertex i.
+void cell_facet(const int* cell, int n_per_cell, int i, int* out) {
+  int m = 0;
+  for (int j = 0; j < n_per_cell; ++j)
+    if (j != i) out[m++] = cell[j];
+}
+
+}  // namespace
+
+int Mesh::add_node(const Point& p) {
+  x_.push_back(p);
+  return n_nodes() - 1;
+}
+
+void Mesh::add_cell(const int* nodes) {
+  cells_.insert(cells_.end(), nodes, nodes + nodes_per_cell());
+}
+
+int Mesh::find_part(const std::string& name) const {
+  auto it = std::find(part_names_.begin(), part_names_.end(), name);
+  return it == part_names_.end() ? -1 : static_cast<int>(it - part_names_.begin());
+}
+
+int Mesh::part_id(const std::string& name) {
+  const int p = find_part(name);
+  if (p >= 0) return p;
+  part_names_.push_back(name);
+  return static_cast<int>(part_names_.size()) - 1;
+}
+
+int Mesh::part_size(const std::string& name) const {
+  const int p = find_part(name);
+  if (p < 0) return 0;
+  return static_cast<int>(std::count(facet_part_.begin(), facet_part_.end(), p));
+}
+
+void Mesh::add_facet(const int* nodes, const std::string& part) {
+  facets_.insert(facets_.end(), nodes, nodes + nodes_per_facet());
+  facet_part_.push_back(part.empty() ? -1 : part_id(part));
+  facet_cell_.clear();
+}
+
+void Mesh::build_boundary() {
+  std::unordered_map<FacetKey, std::pair<int, int>, KeyHash> count;  // key -> (uses, cell*local)
+  const int npc = nodes_per_cell(), npf = nodes_per_facet();
+  int f[3];
+  for (int c = 0; c < n_cells(); ++c)
+    for (int i = 0; i < npc; ++i) {
+      cell_facet(cell(c), npc, i, f);
+      auto& e = count[make_key(f, npf)];
+      e.first += 1;
+      e.second = c * npc + i;
+    }
+  facets_.clear();
+  facet_part_.clear();
+  facet_cell_.clear();
+  // Deterministic order: by owning cell, then local facet.
+  std::vector<int> owners;
+  for (const auto& [key, e] : count)
+    if (e.first == 1) owners.push_back(e.second);
+  std::sort(owners.begin(), owners.end());
+  for (int o : owners) {
+    cell_facet(cell(o / npc), npc, o % npc, f);
+    facets_.insert(facets_.end(), f, f + npf);
+    facet_part_.push_back(-1);
+    facet_cell_.push_back(o / npc);
+  }
+}
+
+void Mesh::find_facet_cells() const {
+  if (static_cast<int>(facet_cell_.size()) == n_facets()) return;
+  const int npc = nodes_per_cell(), npf = nodes_per_facet();
+  std::unordered_map<FacetKey, int, KeyHash> owner;
+  int f[3];
+  for (int c = 0; c < n_cells(); ++c)
+    for (int i = 0; i < npc; ++i) {
+      cell_facet(cell(c), npc, i, f);
+      owner[make_key(f, npf)] = c;
+    }
+  facet_cell_.assign(n_facets(), -1);
+  for (int k = 0; k < n_facets(); ++k) {
+    auto it = owner.find(make_key(facet(k), npf));
+    require(it != owner.end(), "mesh: boundary facet {} is not a face of any cell", k);
+    facet_cell_[k] = it->second;
+  }
+}
+
+void Mesh::tag_facets(const std::string& name, const std::function<bool(const Point&)>& pred) {
+  const int p = part_id(name);
+  for (int f = 0; f < n_facets(); ++f)
+    if (pred(facet_centroid(f))) facet_part_[f] = p;
+}
+
+Point Mesh::facet_centroid(int f) const {
+  Point c{0, 0, 0};
+  const int* v = facet(f);
+  for (int i = 0; i < nodes_per_facet(); ++i)
+    for (int j = 0; j < 3; ++j) c[j] += x_[v[i]][j] / nodes_per_facet();
+  return c;
+}
+
+Point Mesh::cell_centroid(int c) const {
+  Point m{0, 0, 0};
+  const int* v = cell(c);
+  for (int i = 0; i < nodes_per_cell(); ++i)
+    for (int j = 0; j < 3; ++j) m[j] += x_[v[i]][j] / nodes_per_cell();
+  return m;
+}
+
+namespace {
+Point sub(const Point& a, const Point& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
+Point cross(const Point& a, const Point& b) {
+  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+}
+double dot(const Point& a, const Point& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+double norm(const Point& a) { return std::sqrt(dot(a, a)); }
+}  // namespace
+
+double Mesh::facet_measure(int f) const {
+  const int* v = facet(f);
+  switch (dim_) {
+    case 1: return 1.0;
+    case 2: return norm(sub(x_[v[1]], x_[v[0]]));
+    default: return 0.5 * norm(cross(sub(x_[v[1]], x_[v[0]]), sub(x_[v[2]], x_[v[0]])));
+  }
+}
+
+Point Mesh::facet_normal(int f) const {
+  find_facet_cells();
+  const int* v = facet(f);
+  Point n{0, 0, 0};
+  switch (dim_) {
+    case 1: n = {1, 0, 0}; break;
+    case 2: {
+      const Point t = sub(x_[v[1]], x_[v[0]]);
+      n = {t[1], -t[0], 0};
+      break;
+    }
+    default: n = cross(sub(x_[v[1]], x_[v[0]]), sub(x_[v[2]], x_[v[0]])); break;
+  }
+  // Orient away from the owning cell's centroid.
+  if (dot(n, sub(facet_centroid(f), cell_centroid(facet_cell_[f]))) < 0)
+    for (double& c : n) c = -c;
+  const double l = norm(n);
+  for (double& c : n) c /= l;
+  return n;
+}
+
+std::vector<int> Mesh::facets_of_parts(const std::vector<std::string>& parts) const {
+  std::vector<int> ids;
+  for (const auto& p : parts) {
+    const int id = find_part(p);
+    if (id >= 0) ids.push_back(id);
+  }
+  std::vector<int> out;
+  for (int f = 0; f < n_facets(); ++f)
+    if (std::find(ids.begin(), ids.end(), facet_part_[f]) != ids.end()) out.push_back(f);
+  return out;
+}
+
+std::vector<int> Mesh::nodes_of_parts(const std::vector<std::string>& parts) const {
+  std::vector<int> out;
+  for (int f : facets_of_parts(parts))
+    for (int i = 0; i < nodes_per_facet(); ++i) out.push_back(facet(f)[i]);
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  return out;
+}
+
+std::pair<double, double> Mesh::size_range() const {
+  double hmin = INFINITY, hmax = 0;
+  const int npc = nodes_per_cell();
+  for (int c = 0; c < n_cells(); ++c) {
+    double h = 0;
+    for (int i = 0; i < npc; ++i)
+      for (int j = i + 1; j < npc; ++j) h = std::max(h, norm(sub(x_[cell(c)[i]], x_[cell(c)[j]])));
+    hmin = std::min(hmin, h);
+    hmax = std::max(hmax, h);
+  }
+  return {hmin, hmax};
+}
+
+}  // namespace vpc

@@ -1,0 +1,83 @@
+#pragma once
+// Simplicial mesh in d = 1, 2, 3 with boundary facets grouped into named parts.
+// Generators and (later) the Gmsh reader both produce this; a part is what a
+// Gmsh physical group is, so the rest of the code never knows where a mesh came from.
+#include "core/sym_tensor.hpp"
+
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace vpc {
+
+class Mesh {
+ public:
+  Mesh() = default;
+  explicit Mesh(int dim) : dim_(dim) {}
+
+  int dim() const { return dim_; }
+  int nodes_per_cell() const { return dim_ + 1; }
+  int nodes_per_facet() const { return dim_; }
+  int n_nodes() const { return static_cast<int>(x_.size()); }
+  int n_cells() const { return static_cast<int>(cells_.size()) / nodes_per_cell(); }
+  int n_facets() const { return static_cast<int>(facet_part_.size()); }
+
+  const Point& node(int i) const { return x_[i]; }
+  std::vector<Point>& nodes() { return x_; }
+  const std::vector<Point>& nodes() const { return x_; }
+  /// Node indices of cell c (dim + 1 of them).
+  const int* cell(int c) const { return &cells_[static_cast<size_t>(c) * nodes_per_cell()]; }
+  const int* facet(int f) const { return &facets_[static_cast<size_t>(f) * nodes_per_facet()]; }
+  const std::vector<int>& cell_array() const { return cells_; }
+
+  int add_node(const Point& p);
+  void add_cell(const int* nodes);
+  /// Adds a boundary facet in part `part` (created if new).
+  void add_facet(const int* nodes, const std::string& part);
+
+  /// Part of facet f; -1 when untagged.
+  int facet_part(int f) const { return facet_part_[f]; }
+  const std::vector<std::string>& part_names() const { return part_names_; }
+  /// Index of a part, -1 if absent.
+  int find_part(const std::string& name) const;
+  /// Index of a part, created if absent.
+  int part_id(const std::string& name);
+  /// Number of facets in the part.
+  int part_size(const std::string& name) const;
+
+  /// Re-tags every boundary facet whose centroid satisfies `pred` as part `name`.
+  /// Facets keep their earlier tag otherwise; later calls override earlier ones.
+  void tag_facets(const std::string& name, const std::function<bool(const Point&)>& pred);
+
+  Point facet_centroid(int f) const;
+  Point cell_centroid(int c) const;
+  /// Outward unit normal of boundary facet f (needs the owning cell for orientation).
+  Point facet_normal(int f) const;
+  /// Measure (length/area; 1 for a point) of boundary facet f.
+  double facet_measure(int f) const;
+
+  /// Sorted unique nodes on the facets of the given parts.
+  std::vector<int> nodes_of_parts(const std::vector<std::string>& parts) const;
+  /// Facets belonging to any of the given parts.
+  std::vector<int> facets_of_parts(const std::vector<std::string>& parts) const;
+
+  /// Smallest and largest cell diameter (longest edge).
+  std::pair<double, double> size_range() const;
+
+  /// Builds the boundary facets of the cell complex (facets used by one cell),
+  /// all untagged; called by generators and readers after cells are added.
+  void build_boundary();
+
+ private:
+  void find_facet_cells() const;
+
+  int dim_ = 0;
+  std::vector<Point> x_;
+  std::vector<int> cells_;
+  std::vector<int> facets_;
+  std::vector<int> facet_part_;
+  std::vector<std::string> part_names_;
+  mutable std::vector<int> facet_cell_;  // owning cell per facet, computed lazily
+};
+
+}  // namespace vpc

@@ -1,0 +1,44 @@
+#pragma once
+// Everything that defines one instance of Problem 2.1 and its discretization:
+// mesh and boundary parts, ℰ, G, φ, κ, loads, gap, initial damage and times.
+// Built-in cases fill it in C++; case files fill the same struct.
+#include "fem/assembly.hpp"
+#include "material/damage_source.hpp"
+#include "material/elasticity.hpp"
+#include "material/viscoplastic_law.hpp"
+#include "mesh/mesh.hpp"
+
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace vpc {
+
+struct ContactSpec {
+  std::vector<std::string> parts;    // Γ3
+  ScalarField gap;                   // g(x) ≥ 0, measured along the contact direction
+  std::optional<Point> direction;    // a fixed direction; unset: the outward boundary normal
+};
+
+struct Problem {
+  std::string name;
+  Mesh mesh;
+  std::vector<std::string> clamped;   // Γ1
+  std::vector<std::string> traction;  // Γ2; empty: every boundary facet not in Γ1 or Γ3
+  ContactSpec contact;
+  Elasticity elasticity{Elasticity::Kind::Uniaxial, 1.0, 0.0};
+  std::shared_ptr<const ViscoplasticLaw> law;
+  std::shared_ptr<const DamageSource> source;
+  double kappa = 1;  // damage diffusion κ in (2.2)
+  VectorField f0, f2;
+  ScalarField beta0;  // initial damage β0(x) in [0, 1]; u0 = 0, σ0 = 0
+  double final_time = 1;
+  int n_steps = 100;  // k = T / N
+
+  double step() const { return final_time / n_steps; }
+  /// Throws vpc::Error describing the first invalid datum.
+  void validate() const;
+};
+
+}  // namespace vpc

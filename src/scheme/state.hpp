@@ -1,0 +1,22 @@
+#pragma once
+// The discrete state (u_n, σ_n, β_n) of Problem 3.1 plus what the scheme carries:
+// the viscoplastic history z_n (3.6), ε(u_n) and the contact forces.
+#include "core/sym_tensor.hpp"
+
+#include <Eigen/Dense>
+#include <vector>
+
+namespace vpc {
+
+struct State {
+  int n = 0;        // time index
+  double t = 0;     // t_n
+  Eigen::VectorXd u;             // P1 displacement, full space: node * d + component
+  Eigen::VectorXd beta;          // P1 damage, per node
+  std::vector<SymTensor> sigma;  // P0 stress σ_n
+  std::vector<SymTensor> eps;    // P0 strain ε(u_n)
+  std::vector<SymTensor> z;      // P0 history z_n = σ_n − ℰε(u_n)
+  Eigen::VectorXd lambda;        // contact force per contact node (≥ 0)
+};
+
+}  // namespace vpc

@@ -1,0 +1,187 @@
+#include "scheme/time_stepper.hpp"
+
+#include "core/error.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+namespace vpc {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+/// P_Q onto S_d: the components a d-dimensional tensor does not have are zero.
+void restrict_to_dim(SymTensor& s, int d) {
+  if (d == 3) return;
+  s[2] = s[3] = s[4] = 0;
+  if (d == 1) s[1] = s[5] = 0;
+}
+
+double centroid_mean(const Mesh& mesh, const Vector& nodal, int c) {
+  double s = 0;
+  for (int a = 0; a < mesh.nodes_per_cell(); ++a) s += nodal[mesh.cell(c)[a]];
+  return s / mesh.nodes_per_cell();
+}
+
+}  // namespace
+
+TimeStepper::TimeStepper(std::shared_ptr<const Problem> problem, SolverChoice choice)
+    : problem_(std::move(problem)), choice_(std::move(choice)) {
+  const auto t0 = Clock::now();
+  const Problem& p = *problem_;
+  p.validate();
+  const Mesh& mesh = p.mesh;
+  const int d = mesh.dim();
+  geo_ = compute_geometry(mesh);
+
+  // V^h: P1 vectors vanishing on Γ1 (2.4).
+  dofs_ = DofMap(mesh.n_nodes(), d, mesh.nodes_of_parts(p.clamped));
+  require(dofs_.n_free() > 0, "{}: every node is clamped; nothing to solve", p.name);
+
+  // Γ2: the given parts, or everything that is neither Γ1 nor Γ3.
+  if (!p.traction.empty()) {
+    traction_facets_ = mesh.facets_of_parts(p.traction);
+  } else {
+    std::vector<int> excluded;
+    for (const auto& n : p.clamped) excluded.push_back(mesh.find_part(n));
+    for (const auto& n : p.contact.parts) excluded.push_back(mesh.find_part(n));
+    for (int f = 0; f < mesh.n_facets(); ++f)
+      if (std::find(excluded.begin(), excluded.end(), mesh.facet_part(f)) == excluded.end())
+        traction_facets_.push_back(f);
+  }
+
+  // Constant matrices: K of (3.9), factorized once; H = M + kκA of (3.8).
+  K_ = assemble_stiffness(mesh, geo_, p.elasticity, dofs_);
+  K_factor_ = make_cholmod_solver();
+  K_factor_->factorize(K_, "elastic stiffness K");
+  M_ = assemble_mass(mesh, geo_);
+  const SparseMatrix H = M_ + (p.step() * p.kappa) * assemble_laplacian(mesh, geo_);
+  damage_ = make_damage_solver(choice_.damage, H);
+
+  setup_contact();
+  contact_ = make_contact_solver(choice_.contact, K_, K_factor_, N_, choice_.contact_options);
+
+  // Initial state (3.4): u0 = 0, σ0 = 0 (so z0 = σ0 − ℰε(u0) = 0), β0 = P1 interpolant.
+  state_.u = Vector::Zero(dofs_.n_full());
+  state_.beta.resize(mesh.n_nodes());
+  for (int i = 0; i < mesh.n_nodes(); ++i) {
+    const double b = p.beta0 ? p.beta0(mesh.node(i), 0.0) : 1.0;
+    require(std::isfinite(b) && b >= 0 && b <= 1,
+            "{}: initial damage beta0 must lie in [0, 1]; it is {} at node {} ({}, {}, {})", p.name, b, i,
+            mesh.node(i)[0], mesh.node(i)[1], mesh.node(i)[2]);
+    state_.beta[i] = b;
+  }
+  state_.sigma.assign(mesh.n_cells(), SymTensor{});
+  state_.eps.assign(mesh.n_cells(), SymTensor{});
+  state_.z.assign(mesh.n_cells(), SymTensor{});
+  state_.lambda = Vector::Zero(static_cast<Eigen::Index>(contact_nodes_.size()));
+  u_free_ = Vector::Zero(dofs_.n_free());
+  setup_seconds_ = seconds_since(t0);
+}
+
+void TimeStepper::setup_contact() {
+  const Problem& p = *problem_;
+  const Mesh& mesh = p.mesh;
+  const int d = mesh.dim();
+  // Contact direction per node of Γ3: the given vector, or the measure-weighted
+  // mean of the outward normals of the Γ3 facets around the node.
+  std::vector<Point> normal(mesh.n_nodes(), Point{0, 0, 0});
+  for (int f : mesh.facets_of_parts(p.contact.parts)) {
+    const Point nf = mesh.facet_normal(f);
+    const double w = mesh.facet_measure(f);
+    for (int a = 0; a < mesh.nodes_per_facet(); ++a)
+      for (int j = 0; j < 3; ++j) normal[mesh.facet(f)[a]][j] += w * nf[j];
+  }
+  std::vector<Eigen::Triplet<double>> t;
+  std::vector<double> gaps;
+  for (int node : mesh.nodes_of_parts(p.contact.parts)) {
+    if (dofs_.free_index(dofs_.full_index(node, 0)) < 0) continue;  // clamped: u = 0 already
+    Point v = p.contact.direction ? *p.contact.direction : normal[node];
+    const double l = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    for (double& c : v) c /= l;
+    const int row = static_cast<int>(contact_nodes_.size());
+    for (int c = 0; c < d; ++c)
+      if (v[c] != 0) t.emplace_back(row, dofs_.free_index(dofs_.full_index(node, c)), v[c]);
+    const double g = p.contact.gap(mesh.node(node), 0.0);
+    require(std::isfinite(g) && g >= 0, "{}: the gap g must be >= 0; it is {} at node {}", p.name, g, node);
+    contact_nodes_.push_back(node);
+    contact_dir_.push_back(v);
+    gaps.push_back(g);
+  }
+  require(!contact_nodes_.empty(), "{}: the contact part has no free nodes (all are clamped or it is empty)",
+          p.name);
+  N_.resize(static_cast<Eigen::Index>(contact_nodes_.size()), dofs_.n_free());
+  N_.setFromTriplets(t.begin(), t.end());
+  gap_ = Eigen::Map<Vector>(gaps.data(), static_cast<Eigen::Index>(gaps.size()));
+}
+
+int TimeStepper::n_factorizations() const { return K_factor_->n_factorizations() + damage_->n_factorizations(); }
+
+StepReport TimeStepper::step() {
+  require(!done(), "{}: the run is already at the final time", problem_->name);
+  const Problem& p = *problem_;
+  const Mesh& mesh = p.mesh;
+  const int d = mesh.dim(), n_cells = mesh.n_cells();
+  const double k = p.step();
+  StepReport rep;
+  rep.n = state_.n + 1;
+  rep.t = rep.n == p.n_steps ? p.final_time : rep.n * k;
+
+  // Step 1: lagged sources G_{n−1}, φ_{n−1} per element, β at the centroid.
+  auto t0 = Clock::now();
+  std::vector<SymTensor> G(n_cells);
+  std::vector<double> phi(n_cells);
+  for (int c = 0; c < n_cells; ++c) {
+    const PointState s{state_.sigma[c], state_.eps[c], centroid_mean(mesh, state_.beta, c), d};
+    G[c] = p.law->rate(s);
+    restrict_to_dim(G[c], d);
+    phi[c] = p.source->rate(s);
+  }
+  rep.seconds_sources = seconds_since(t0);
+
+  // Step 2: damage (3.8): the box QP with H = M + kκA, r = M β_{n−1} + k F_φ.
+  t0 = Clock::now();
+  const Vector rhs = M_ * state_.beta + k * assemble_p0_source(mesh, geo_, phi);
+  rep.damage = damage_->solve(rhs, state_.beta);
+  rep.seconds_damage = seconds_since(t0);
+
+  // Step 3: history (3.6): z_n = z_{n−1} + k G_{n−1}.
+  for (int c = 0; c < n_cells; ++c) state_.z[c] += k * G[c];
+
+  // Step 4: contact (3.9): K u_n = F_n − Bᵀz_n − Nᵀλ with Signorini conditions.
+  t0 = Clock::now();
+  const Vector F = restrict_to_free(
+      dofs_, assemble_load(mesh, geo_, traction_facets_, p.f0, p.f2, rep.t) -
+                 assemble_stress_divergence(mesh, geo_, state_.z));
+  rep.contact = contact_->solve(F, gap_, u_free_, state_.lambda);
+  state_.u = extend_from_free(dofs_, u_free_);
+  rep.seconds_contact = seconds_since(t0);
+
+  // Step 5: stress (3.6): σ_n = ℰε(u_n) + z_n.
+  t0 = Clock::now();
+  compute_strain(mesh, geo_, state_.u, state_.eps);
+  for (int c = 0; c < n_cells; ++c) {
+    state_.sigma[c] = p.elasticity.apply(state_.eps[c]) + state_.z[c];
+    rep.max_von_mises = std::max(rep.max_von_mises, state_.sigma[c].von_mises());
+  }
+  rep.seconds_stress = seconds_since(t0);
+
+  Eigen::Index imin = 0;
+  rep.beta_min = state_.beta.minCoeff(&imin);
+  rep.beta_min_node = static_cast<int>(imin);
+  rep.beta_max = state_.beta.maxCoeff();
+  state_.n = rep.n;
+  state_.t = rep.t;
+
+  const double tol = choice_.residual_tolerance;
+  rep.ok = rep.contact.converged && rep.damage.converged && rep.contact.residuals.max() <= tol &&
+           rep.damage.kkt_residual <= tol && std::isfinite(state_.u.norm()) && std::isfinite(state_.beta.norm());
+  return rep;
+}
+
+}  // namespace vpc

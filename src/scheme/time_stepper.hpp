@@ -1,0 +1,78 @@
+#pragma once
+// The fully discrete scheme of SPEC §2 (the paper's Problem 3.1, (3.4)–(3.9)).
+// Setup assembles and factorizes everything that is constant over the run
+// (K, M + kκA, the contact constraint rows); step() performs steps 1–5 in order.
+#include "fem/assembly.hpp"
+#include "fem/cell_geometry.hpp"
+#include "fem/dof_map.hpp"
+#include "scheme/problem.hpp"
+#include "scheme/state.hpp"
+#include "solvers/contact_solver.hpp"
+#include "solvers/damage_solver.hpp"
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace vpc {
+
+struct SolverChoice {
+  std::string contact = "active-set";  // or "penalty-duality"
+  std::string damage = "active-set";   // or "penalty-duality"
+  ContactSolverOptions contact_options;
+  /// A step whose residuals exceed this (relative) is reported as failed.
+  double residual_tolerance = 1e-8;
+};
+
+struct StepReport {
+  int n = 0;
+  double t = 0;
+  ContactReport contact;
+  DamageReport damage;
+  double beta_min = 1, beta_max = 1;
+  int beta_min_node = 0;
+  double max_von_mises = 0;
+  double seconds_sources = 0, seconds_damage = 0, seconds_contact = 0, seconds_stress = 0;
+  /// True when both solvers converged and all residuals are within tolerance.
+  bool ok = true;
+};
+
+class TimeStepper {
+ public:
+  TimeStepper(std::shared_ptr<const Problem> problem, SolverChoice choice = {});
+
+  const Problem& problem() const { return *problem_; }
+  const Mesh& mesh() const { return problem_->mesh; }
+  const State& state() const { return state_; }
+  bool done() const { return state_.n >= problem_->n_steps; }
+  /// Advances from step n − 1 to n (steps 1–5 of SPEC §2).
+  StepReport step();
+
+  /// Contact nodes (rows of N) and their directions ν.
+  const std::vector<int>& contact_nodes() const { return contact_nodes_; }
+  const std::vector<Point>& contact_directions() const { return contact_dir_; }
+  const DofMap& dofs() const { return dofs_; }
+  int n_factorizations() const;
+  double setup_seconds() const { return setup_seconds_; }
+
+ private:
+  void setup_contact();
+
+  std::shared_ptr<const Problem> problem_;
+  SolverChoice choice_;
+  std::vector<CellGeometry> geo_;
+  DofMap dofs_;
+  SparseMatrix K_, M_, N_;
+  std::vector<int> traction_facets_;
+  std::vector<int> contact_nodes_;
+  std::vector<Point> contact_dir_;
+  Vector gap_;
+  std::shared_ptr<LinearSolver> K_factor_;
+  std::unique_ptr<ContactSolver> contact_;
+  std::unique_ptr<DamageSolver> damage_;
+  State state_;
+  Vector u_free_;  // warm start of the contact solver
+  double setup_seconds_ = 0;
+};
+
+}  // namespace vpc

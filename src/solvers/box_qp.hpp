@@ -1,0 +1,83 @@
+#pragma once
+// Bound-constrained convex quadratic programs
+//     min ½ xᵀHx − bᵀx   subject to  lo ≤ x ≤ hi   (hi may be +∞),
+// solved exactly by the primal–dual active-set method (a semismooth Newton method
+// on the KKT system). The damage inequality (3.8) is one (H = M + kκA, bounds
+// [0, 1]); the dual of the contact inequality (3.9) is another (H = N K⁻¹ Nᵀ,
+// bounds [0, ∞)). The operator hides how the reduced systems are solved.
+#include <Eigen/Dense>
+#include <Eigen/Sparse>
+#include <memory>
+#include <vector>
+
+#include "solvers/linear_solver.hpp"
+
+namespace vpc {
+
+class BoxQpOperator {
+ public:
+  virtual ~BoxQpOperator() = default;
+  virtual int size() const = 0;
+  virtual Vector multiply(const Vector& x) const = 0;
+  virtual const Vector& diagonal() const = 0;
+  /// Sets x_F = H_FF⁻¹ (b_F − H_FA x_A), with A = {i : fixed[i]} and x_A as given in x.
+  virtual void solve_free(const std::vector<char>& fixed, const Vector& b, Vector& x) = 0;
+};
+
+/// H dense (small: the contact unknowns); reduced systems by dense Cholesky.
+class DenseBoxQpOperator final : public BoxQpOperator {
+ public:
+  explicit DenseBoxQpOperator(Eigen::MatrixXd H);
+  int size() const override { return static_cast<int>(H_.rows()); }
+  Vector multiply(const Vector& x) const override { return H_ * x; }
+  const Vector& diagonal() const override { return diag_; }
+  void solve_free(const std::vector<char>& fixed, const Vector& b, Vector& x) override;
+
+ private:
+  Eigen::MatrixXd H_;
+  Vector diag_;
+};
+
+/// H sparse and constant over a run: the factor of H is computed once; the factor
+/// of a reduced matrix H_FF is cached and recomputed only when the active set changes.
+class SparseBoxQpOperator final : public BoxQpOperator {
+ public:
+  explicit SparseBoxQpOperator(SparseMatrix H);
+  int size() const override { return static_cast<int>(H_.rows()); }
+  Vector multiply(const Vector& x) const override { return H_ * x; }
+  const Vector& diagonal() const override { return diag_; }
+  void solve_free(const std::vector<char>& fixed, const Vector& b, Vector& x) override;
+  /// Factorizations done (full + reduced), for reports.
+  int n_factorizations() const { return full_->n_factorizations() + reduced_->n_factorizations(); }
+
+ private:
+  SparseMatrix H_;
+  Vector diag_;
+  std::unique_ptr<LinearSolver> full_, reduced_;
+  std::vector<char> reduced_mask_;
+  std::vector<int> free_ids_;
+};
+
+struct BoxQpResult {
+  bool converged = false;
+  int iterations = 0;
+  int n_lower = 0, n_upper = 0;  // indices at their bounds
+  double kkt_residual = 0;       // box_qp_kkt_residual of the returned x
+};
+
+/// Primal–dual active-set method, warm-started from x (projected onto the box).
+/// Converges when the active sets repeat; then x satisfies KKT up to round-off
+/// and lies exactly in the box. Returns converged = false after max_iterations.
+BoxQpResult solve_box_qp(BoxQpOperator& H, const Vector& b, const Vector& lo, const Vector& hi,
+                         Vector& x, int max_iterations = 200);
+
+/// Relative natural residual of the KKT conditions, ‖x − P(x + D⁻¹(b − Hx))‖∞ / scale,
+/// D = diag(H), P the projection onto the box, scale = max(‖x‖∞, ‖D⁻¹b‖∞). It is zero
+/// iff x solves the QP; it also measures bound violation.
+double box_qp_kkt_residual(const BoxQpOperator& H, const Vector& b, const Vector& lo, const Vector& hi,
+                           const Vector& x);
+/// The same residual from Hx and diag(H).
+double box_qp_kkt_residual(const Vector& Hx, const Vector& diag, const Vector& b, const Vector& lo,
+                           const Vector& hi, const Vector& x);
+
+}  // namespace vpc

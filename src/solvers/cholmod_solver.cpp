@@ -1,0 +1,43 @@
+#include "core/error.hpp"
+#include "solvers/linear_solver.hpp"
+
+#include <Eigen/CholmodSupport>
+
+namespace vpc {
+
+namespace {
+
+class CholmodSolver final : public LinearSolver {
+ public:
+  void factorize(const SparseMatrix& A, const char* what) override {
+    require(A.rows() == A.cols(), "{}: matrix is not square", what);
+    n_ = static_cast<int>(A.rows());
+    if (n_ == 0) return;
+    llt_.compute(A);
+    require(llt_.info() == Eigen::Success,
+            "{}: the matrix is not positive definite (is the body clamped on a non-empty part Γ1?)",
+            what);
+    ++n_factorizations_;
+  }
+  Vector solve(const Vector& b) const override {
+    if (n_ == 0) return Vector(0);
+    return llt_.solve(b);
+  }
+  Eigen::MatrixXd solve(const Eigen::MatrixXd& B) const override {
+    if (n_ == 0) return Eigen::MatrixXd(0, B.cols());
+    return llt_.solve(B);
+  }
+  int size() const override { return n_; }
+  int n_factorizations() const override { return n_factorizations_; }
+
+ private:
+  Eigen::CholmodSupernodalLLT<SparseMatrix, Eigen::Lower> llt_;
+  int n_ = 0;
+  int n_factorizations_ = 0;
+};
+
+}  // namespace
+
+std::unique_ptr<LinearSolver> make_cholmod_solver() { return std::make_unique<CholmodSolver>(); }
+
+}  // namespace vpc

@@ -1,0 +1,121 @@
+#include "solvers/contact_solver.hpp"
+
+#include "core/error.hpp"
+#include "solvers/box_qp.hpp"
+#include "solvers/penalty_duality.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace vpc {
+
+double ContactResiduals::max() const {
+  return std::max({equilibrium, penetration, negative_force, complementarity});
+}
+
+ContactResiduals contact_residuals(const SparseMatrix& K, const SparseMatrix& N, const Vector& F,
+                                   const Vector& g, const Vector& u, const Vector& lambda) {
+  ContactResiduals r;
+  const Vector Ku = K * u;
+  const Vector s = g - N * u;  // the gap left: ≥ 0
+  auto inf = [](const Vector& v) { return v.size() ? v.cwiseAbs().maxCoeff() : 0.0; };
+  const double f_scale = std::max({inf(F), inf(Ku), 1e-300});
+  r.equilibrium = inf(Vector(Ku - F + N.transpose() * lambda)) / f_scale;
+  const double u_scale = std::max({inf(u), inf(g), 1e-300});
+  const double l_scale = std::max({inf(lambda), f_scale});
+  for (int i = 0; i < s.size(); ++i) {
+    r.penetration = std::max(r.penetration, -s[i] / u_scale);
+    r.negative_force = std::max(r.negative_force, -lambda[i] / l_scale);
+    r.complementarity = std::max(r.complementarity, std::abs(lambda[i] * s[i]) / (l_scale * u_scale));
+  }
+  return r;
+}
+
+namespace {
+
+void finish_report(ContactReport& rep, const SparseMatrix& K, const SparseMatrix& N, const Vector& F,
+                   const Vector& g, const Vector& u, const Vector& lambda) {
+  rep.n_active = static_cast<int>((lambda.array() > 0).count());
+  rep.total_force = lambda.sum();
+  rep.residuals = contact_residuals(K, N, F, g, u, lambda);
+}
+
+class ActiveSetContactSolver final : public ContactSolver {
+ public:
+  ActiveSetContactSolver(const SparseMatrix& K, std::shared_ptr<const LinearSolver> factor, const SparseMatrix& N)
+      : K_(K), N_(N), factor_(std::move(factor)) {
+    // S = N K⁻¹ Nᵀ, formed once in blocks of right-hand sides (K and N never change).
+    const int m = static_cast<int>(N.rows());
+    const SparseMatrix Nt = N.transpose();
+    Eigen::MatrixXd S(m, m);
+    const int block = 64;
+    for (int j0 = 0; j0 < m; j0 += block) {
+      const int nb = std::min(block, m - j0);
+      const Eigen::MatrixXd W = factor_->solve(Eigen::MatrixXd(Nt.middleCols(j0, nb)));
+      S.middleCols(j0, nb) = N * W;
+    }
+    S = 0.5 * (S + S.transpose()).eval();
+    S_ = std::make_unique<DenseBoxQpOperator>(std::move(S));
+  }
+
+  ContactReport solve(const Vector& F, const Vector& g, Vector& u, Vector& lambda) override {
+    const int m = static_cast<int>(N_.rows());
+    const Vector u_free = factor_->solve(F);  // the solution without contact
+    // Dual QP: min ½λᵀSλ − (N u_free − g)ᵀλ, λ ≥ 0.
+    const Vector b = N_ * u_free - g;
+    const Vector lo = Vector::Zero(m), hi = Vector::Constant(m, std::numeric_limits<double>::infinity());
+    if (lambda.size() != m) lambda = Vector::Zero(m);
+    const BoxQpResult r = solve_box_qp(*S_, b, lo, hi, lambda);
+    u = factor_->solve(Vector(F - N_.transpose() * lambda));
+    ContactReport rep;
+    rep.converged = r.converged;
+    rep.iterations = r.iterations;
+    finish_report(rep, K_, N_, F, g, u, lambda);
+    return rep;
+  }
+  std::string name() const override { return "active-set"; }
+
+ private:
+  const SparseMatrix& K_;
+  SparseMatrix N_;
+  std::shared_ptr<const LinearSolver> factor_;
+  std::unique_ptr<DenseBoxQpOperator> S_;
+};
+
+class PenaltyDualityContactSolver final : public ContactSolver {
+ public:
+  PenaltyDualityContactSolver(const SparseMatrix& K, const SparseMatrix& N, const ContactSolverOptions& opt)
+      : K_(K), N_(N), opt_(opt), pd_(K, N, opt.omega > 0 ? opt.omega : K.diagonal().mean()) {}
+
+  ContactReport solve(const Vector& F, const Vector& g, Vector& u, Vector& lambda) override {
+    const int m = static_cast<int>(N_.rows());
+    const Vector lo = Vector::Constant(m, -std::numeric_limits<double>::infinity());
+    const PenaltyDualityResult r = pd_.solve(F, lo, g, u, lambda, opt_.tolerance, opt_.max_iterations);
+    ContactReport rep;
+    rep.converged = r.converged;
+    rep.iterations = r.iterations;
+    finish_report(rep, K_, N_, F, g, u, lambda);
+    return rep;
+  }
+  std::string name() const override { return "penalty-duality"; }
+
+ private:
+  const SparseMatrix& K_;
+  SparseMatrix N_;
+  ContactSolverOptions opt_;
+  PenaltyDuality pd_;
+};
+
+}  // namespace
+
+std::unique_ptr<ContactSolver> make_contact_solver(const std::string& name, const SparseMatrix& K,
+                                                   std::shared_ptr<const LinearSolver> K_factor,
+                                                   const SparseMatrix& N, const ContactSolverOptions& opt) {
+  require(N.rows() > 0, "contact solver: there are no contact unknowns (is the contact part empty?)");
+  if (name == "active-set") return std::make_unique<ActiveSetContactSolver>(K, std::move(K_factor), N);
+  if (name == "penalty-duality") return std::make_unique<PenaltyDualityContactSolver>(K, N, opt);
+  fail("unknown contact solver '{}'; expected active-set or penalty-duality", name);
+}
+
+}  // namespace vpc

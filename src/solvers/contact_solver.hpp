@@ -1,0 +1,56 @@
+#pragma once
+// Solvers of the contact inequality (3.9) in matrix form:
+//     min ½ uᵀKu − Fᵀu   subject to  N u ≤ g,
+// K the constant elastic stiffness on the free dofs, one row of N per contact
+// node (its contact direction). The multipliers λ ≥ 0 are the nodal contact
+// forces: K u = F − Nᵀλ, λ ⟂ (g − N u) ≥ 0. Neither solver knows about meshes.
+#include "solvers/linear_solver.hpp"
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace vpc {
+
+/// Residuals of the KKT conditions of (3.9), each relative (see contact_residuals).
+struct ContactResiduals {
+  double equilibrium = 0;           // ‖Ku − F + Nᵀλ‖∞ / max(‖F‖∞, ‖Ku‖∞)
+  double penetration = 0;           // max(0, max(Nu − g)) / scale_u
+  double negative_force = 0;        // max(0, −min λ) / scale_λ
+  double complementarity = 0;       // max |λ_i (g − Nu)_i| / (scale_λ scale_u)
+  double max() const;
+};
+
+struct ContactReport {
+  bool converged = false;
+  int iterations = 0;
+  int n_active = 0;        // contact nodes with λ_i > 0
+  double total_force = 0;  // Σ λ_i
+  ContactResiduals residuals;
+};
+
+ContactResiduals contact_residuals(const SparseMatrix& K, const SparseMatrix& N, const Vector& F,
+                                   const Vector& g, const Vector& u, const Vector& lambda);
+
+class ContactSolver {
+ public:
+  virtual ~ContactSolver() = default;
+  /// Solves for u (free dofs) and λ (one per row of N); both are warm starts on entry.
+  virtual ContactReport solve(const Vector& F, const Vector& g, Vector& u, Vector& lambda) = 0;
+  virtual std::string name() const = 0;
+};
+
+struct ContactSolverOptions {
+  double tolerance = 1e-12;    // penalty–duality stopping tolerance
+  int max_iterations = 200000; // penalty–duality; the active-set method stops far earlier
+  double omega = 0;            // penalty–duality ω; 0: the mean diagonal of K
+};
+
+/// "active-set": primal–dual active set on the contact unknowns (the dual QP with
+/// S = N K⁻¹ Nᵀ, formed once with the cached factor of K); two solves with K per step.
+/// "penalty-duality": the paper's Bermúdez–Moreno iteration on u (cross-check).
+std::unique_ptr<ContactSolver> make_contact_solver(const std::string& name, const SparseMatrix& K,
+                                                   std::shared_ptr<const LinearSolver> K_factor,
+                                                   const SparseMatrix& N, const ContactSolverOptions& opt = {});
+
+}  // namespace vpc

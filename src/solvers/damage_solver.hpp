@@ -1,0 +1,34 @@
+#pragma once
+// Solvers of the damage inequality (3.8) in matrix form: the box-constrained QP
+//     min ½ βᵀHβ − rᵀβ,  0 ≤ β ≤ 1,  H = M + kκA (constant over a run),
+//     r = M β_{n−1} + k F_φ.
+#include "solvers/linear_solver.hpp"
+
+#include <memory>
+#include <string>
+
+namespace vpc {
+
+struct DamageReport {
+  bool converged = false;
+  int iterations = 0;
+  int n_lower = 0, n_upper = 0;  // nodes with β = 0, β = 1
+  double kkt_residual = 0;       // relative natural KKT residual (box_qp_kkt_residual)
+};
+
+class DamageSolver {
+ public:
+  virtual ~DamageSolver() = default;
+  /// β is the warm start on entry and the solution, exactly in [0, 1], on exit.
+  virtual DamageReport solve(const Vector& rhs, Vector& beta) = 0;
+  virtual std::string name() const = 0;
+  /// Sparse factorizations done so far (constant-matrix factor plus reduced ones).
+  virtual int n_factorizations() const = 0;
+};
+
+/// "active-set" (primal–dual active set, factor of H cached, reduced factor cached
+/// per active set) or "penalty-duality" (Bermúdez–Moreno, factor of H + ωI).
+std::unique_ptr<DamageSolver> make_damage_solver(const std::string& name, const SparseMatrix& H,
+                                                 double tolerance = 1e-13, int max_iterations = 200000);
+
+}  // namespace vpc

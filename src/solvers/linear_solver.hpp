@@ -1,0 +1,32 @@
+#pragma once
+// The narrow linear-algebra interface of the scheme: factorize a symmetric
+// positive definite matrix once, then solve many times. The serial backend is
+// CHOLMOD (supernodal, through Eigen); a distributed backend implements the same.
+#include <Eigen/Dense>
+#include <Eigen/Sparse>
+#include <memory>
+
+namespace vpc {
+
+using SparseMatrix = Eigen::SparseMatrix<double>;
+using Vector = Eigen::VectorXd;
+
+class LinearSolver {
+ public:
+  virtual ~LinearSolver() = default;
+  /// Factorizes A (symmetric positive definite; only the lower triangle is read).
+  /// Throws vpc::Error naming `what` if A is not positive definite.
+  virtual void factorize(const SparseMatrix& A, const char* what) = 0;
+  /// x = A⁻¹ b.
+  virtual Vector solve(const Vector& b) const = 0;
+  /// X = A⁻¹ B for a block of right-hand sides.
+  virtual Eigen::MatrixXd solve(const Eigen::MatrixXd& B) const = 0;
+  virtual int size() const = 0;
+  /// Number of factorizations done so far (for reports and tests).
+  virtual int n_factorizations() const = 0;
+};
+
+/// CHOLMOD supernodal Cholesky.
+std::unique_ptr<LinearSolver> make_cholmod_solver();
+
+}  // namespace vpc
