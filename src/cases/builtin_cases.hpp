@@ -11,10 +11,10 @@ namespace vpc {
 
 /// Overrides of a case's discretization and data; unset means the case's default.
 struct CaseOverrides {
-  std::optional<int> mesh_cells;   // cells per unit edge count n (1D: n segments; 2D: n × n; 3D: n³ cubes)
-  std::optional<double> kappa;
-  std::optional<int> steps;        // N, so k = T / N
-  std::optional<double> time_step; // k; N = T / k must be an integer
+  std::optional<int> mesh_cells{};   // cells per unit edge count n (1D: n segments; 2D: n × n; 3D: n³ cubes)
+  std::optional<double> kappa{};
+  std::optional<int> steps{};      // N, so k = T / N
+  std::optional<double> time_step{};// k; N = T / k must be an integer
 };
 
 struct BuiltinCase {

@@ -114,7 +114,7 @@ BoxQpResult solve_box_qp(BoxQpOperator& H, const Vector& b, const Vector& lo, co
     // Converged when the active sets repeat, or when x already satisfies KKT to
     // round-off: at a degenerate bound (multiplier exactly 0) round-off could
     // otherwise flip an index between two equivalent sets forever.
-    if (next == state || (res.iterations > 0 && box_qp_kkt_residual(Vector(b - r), d, b, lo, hi, x) <= kRoundoff)) {
+    if (next == state || box_qp_kkt_residual(Vector(b - r), d, b, lo, hi, x) <= kRoundoff) {
       res.converged = true;
       break;
     }

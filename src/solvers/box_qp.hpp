@@ -60,14 +60,16 @@ class SparseBoxQpOperator final : public BoxQpOperator {
 
 struct BoxQpResult {
   bool converged = false;
-  int iterations = 0;
+  int iterations = 0;            // reduced solves done (0: the warm start was already optimal)
   int n_lower = 0, n_upper = 0;  // indices at their bounds
   double kkt_residual = 0;       // box_qp_kkt_residual of the returned x
 };
 
 /// Primal–dual active-set method, warm-started from x (projected onto the box).
-/// Converges when the active sets repeat; then x satisfies KKT up to round-off
-/// and lies exactly in the box. Returns converged = false after max_iterations.
+/// Converges when the active sets repeat, or when x satisfies KKT to round-off
+/// (box_qp_kkt_residual ≤ 1e-14; this also ends round-off cycling at degenerate
+/// bounds); x then lies exactly in the box. Returns converged = false after
+/// max_iterations.
 BoxQpResult solve_box_qp(BoxQpOperator& H, const Vector& b, const Vector& lo, const Vector& hi,
                          Vector& x, int max_iterations = 200);
 

@@ -83,10 +83,25 @@ class ActiveSetContactSolver final : public ContactSolver {
   std::unique_ptr<DenseBoxQpOperator> S_;
 };
 
+/// The iteration contracts at the rate |ωc − 1| / (ωc + 1) along a constraint of
+/// compliance c = N_i K⁻¹ N_iᵀ, so ω = 1 / mean(c) (not the stiffness scale).
+double default_omega(const LinearSolver& factor, const SparseMatrix& N) {
+  const SparseMatrix Nt = N.transpose();
+  const int m = static_cast<int>(N.rows());
+  double sum = 0;
+  for (int j0 = 0; j0 < m; j0 += 64) {
+    const int nb = std::min(64, m - j0);
+    const Eigen::MatrixXd B(Nt.middleCols(j0, nb));
+    sum += (B.transpose() * factor.solve(B)).trace();
+  }
+  return m / sum;
+}
+
 class PenaltyDualityContactSolver final : public ContactSolver {
  public:
-  PenaltyDualityContactSolver(const SparseMatrix& K, const SparseMatrix& N, const ContactSolverOptions& opt)
-      : K_(K), N_(N), opt_(opt), pd_(K, N, opt.omega > 0 ? opt.omega : K.diagonal().mean()) {}
+  PenaltyDualityContactSolver(const SparseMatrix& K, const LinearSolver& factor, const SparseMatrix& N,
+                              const ContactSolverOptions& opt)
+      : K_(K), N_(N), opt_(opt), pd_(K, N, opt.omega > 0 ? opt.omega : default_omega(factor, N)) {}
 
   ContactReport solve(const Vector& F, const Vector& g, Vector& u, Vector& lambda) override {
     const int m = static_cast<int>(N_.rows());
@@ -114,7 +129,7 @@ std::unique_ptr<ContactSolver> make_contact_solver(const std::string& name, cons
                                                    const SparseMatrix& N, const ContactSolverOptions& opt) {
   require(N.rows() > 0, "contact solver: there are no contact unknowns (is the contact part empty?)");
   if (name == "active-set") return std::make_unique<ActiveSetContactSolver>(K, std::move(K_factor), N);
-  if (name == "penalty-duality") return std::make_unique<PenaltyDualityContactSolver>(K, N, opt);
+  if (name == "penalty-duality") return std::make_unique<PenaltyDualityContactSolver>(K, *K_factor, N, opt);
   fail("unknown contact solver '{}'; expected active-set or penalty-duality", name);
 }
 

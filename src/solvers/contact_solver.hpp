@@ -43,7 +43,7 @@ class ContactSolver {
 struct ContactSolverOptions {
   double tolerance = 1e-12;    // penalty–duality stopping tolerance
   int max_iterations = 200000; // penalty–duality; the active-set method stops far earlier
-  double omega = 0;            // penalty–duality ω; 0: the mean diagonal of K
+  double omega = 0;            // penalty–duality ω; 0: 1 / (mean compliance N_i K⁻¹ N_iᵀ)
 };
 
 /// "active-set": primal–dual active set on the contact unknowns (the dual QP with

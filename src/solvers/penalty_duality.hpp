@@ -22,9 +22,10 @@ class PenaltyDuality {
   /// Factorizes H + ω EᵀE once.
   PenaltyDuality(const SparseMatrix& H, SparseMatrix E, double omega);
 
-  /// Iterates from the multiplier state q (warm start; resized to zero if empty)
-  /// until the update of x and the constraint violation are below `tolerance`
-  /// relative to ‖x‖∞ (and the bounds' scale). Returns x and θ.
+  /// Iterates from the multiplier state q (warm start, kept between calls) until
+  /// (x, θ) satisfies the KKT conditions to `tolerance`: bound violation relative
+  /// to ‖x‖∞ and the bounds; for θ_i ≠ 0, min(|θ_i| / ‖θ, b‖∞, distance of Ex to
+  /// the bound θ_i's sign calls for / ‖x‖∞). Hx + Eᵀθ = b holds at every iterate.
   PenaltyDualityResult solve(const Vector& b, const Vector& lo, const Vector& hi, Vector& x, Vector& theta,
                              double tolerance, int max_iterations);
 

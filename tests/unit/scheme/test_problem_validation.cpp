@@ -1,0 +1,91 @@
+// Invalid problems give a clear vpc::Error naming what is wrong, never a crash.
+#include "cases/builtin_cases.hpp"
+#include "core/error.hpp"
+#include "scheme/time_stepper.hpp"
+
+#include <gtest/gtest.h>
+
+namespace vpc {
+namespace {
+
+std::string error_of(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
+std::shared_ptr<Problem> paper_2d() { return make_builtin_case("paper-2d", {.mesh_cells = 5}).problem; }
+
+TEST(ProblemValidation, EmptyContactPart) {
+  auto p = paper_2d();
+  p->contact.parts = {"nowhere"};
+  EXPECT_NE(error_of([&] { TimeStepper s(p); }).find("contact part 'nowhere' has no boundary facets"),
+            std::string::npos);
+}
+
+TEST(ProblemValidation, ContactPartEntirelyClamped) {
+  auto p = paper_2d();
+  p->contact.parts = {"top"};  // the clamped side: no free contact node remains
+  EXPECT_NE(error_of([&] { TimeStepper s(p); }).find("contact part has no free nodes"), std::string::npos);
+}
+
+TEST(ProblemValidation, MissingClampedPart) {
+  auto p = paper_2d();
+  p->clamped = {};
+  EXPECT_NE(error_of([&] { TimeStepper s(p); }).find("no clamped part"), std::string::npos);
+  p->clamped = {"roof"};
+  EXPECT_NE(error_of([&] { TimeStepper s(p); }).find("clamped part 'roof' has no boundary facets"),
+            std::string::npos);
+}
+
+TEST(ProblemValidation, NegativeKappaAndTime) {
+  auto p = paper_2d();
+  p->kappa = -0.5;
+  EXPECT_NE(error_of([&] { TimeStepper s(p); }).find("kappa"), std::string::npos);
+  p = paper_2d();
+  p->n_steps = 0;
+  EXPECT_NE(error_of([&] { TimeStepper s(p); }).find("time steps must be >= 1"), std::string::npos);
+  p = paper_2d();
+  p->final_time = -1;
+  EXPECT_NE(error_of([&] { TimeStepper s(p); }).find("final time T must be > 0"), std::string::npos);
+}
+
+TEST(ProblemValidation, InitialDamageOutsideUnitInterval) {
+  auto p = paper_2d();
+  p->beta0 = [](const Point& x, double) { return x[0] > 1 ? 1.2 : 1.0; };
+  EXPECT_NE(error_of([&] { TimeStepper s(p); }).find("beta0 must lie in [0, 1]"), std::string::npos);
+}
+
+TEST(ProblemValidation, NegativeGapAndDimensionMismatch) {
+  auto p = paper_2d();
+  p->contact.gap = [](const Point&, double) { return -0.1; };
+  EXPECT_NE(error_of([&] { TimeStepper s(p); }).find("gap g must be >= 0"), std::string::npos);
+  p = paper_2d();
+  p->elasticity = Elasticity(Elasticity::Kind::Isotropic, 1, 0.3);
+  EXPECT_NE(error_of([&] { TimeStepper s(p); }).find("is for d = 3 but the mesh has d = 2"), std::string::npos);
+}
+
+TEST(ProblemValidation, BuiltinOverrides) {
+  EXPECT_NE(error_of([] { make_builtin_case("paper-2d", {.mesh_cells = 7}); }).find("multiple of 5"),
+            std::string::npos);
+  EXPECT_NE(error_of([] { make_builtin_case("paper-1d", {.time_step = -0.01}); }).find("time step must be > 0"),
+            std::string::npos);
+  EXPECT_NE(error_of([] { make_builtin_case("paper-1d", {.kappa = -1.0}); }).find("kappa must be >= 0"),
+            std::string::npos);
+  EXPECT_NE(error_of([] { make_builtin_case("paper-3d"); }).find("unknown case 'paper-3d'"), std::string::npos);
+}
+
+TEST(ProblemValidation, SteppingPastTheEnd) {
+  auto p = make_builtin_case("paper-1d", {.mesh_cells = 10, .steps = 2}).problem;
+  TimeStepper s(p);
+  s.step();
+  s.step();
+  EXPECT_TRUE(s.done());
+  EXPECT_THROW(s.step(), Error);
+}
+
+}  // namespace
+}  // namespace vpc
