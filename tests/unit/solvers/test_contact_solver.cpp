@@ -1,0 +1,297 @@
+// Contact solvers (solvers/contact_solver): a spring system whose contact force is
+// known by hand, a 2D elastic block touching a sloped obstacle on part of its
+// base (active-set vs penalty–duality), warm starts, and the error paths.
+#include "solvers/contact_solver.hpp"
+
+#include "core/error.hpp"
+#include "fem/assembly.hpp"
+#include "material/elasticity.hpp"
+#include "mesh/generators.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace vpc {
+namespace {
+
+const char* const kSolvers[] = {"active-set", "penalty-duality"};
+
+std::shared_ptr<const LinearSolver> factor_of(const SparseMatrix& K) {
+  std::shared_ptr<LinearSolver> f = make_cholmod_solver();
+  f->factorize(K, "test stiffness");
+  return f;
+}
+
+SparseMatrix sparse(const Eigen::MatrixXd& D) { return D.sparseView(); }
+
+/// Wall — k1 — node 1 — k2 — node 2 → obstacle at distance g from node 2.
+/// K = [[k1 + k2, −k2], [−k2, k2]], N = [0 1] (u2 ≤ g), load F on node 2.
+struct Springs {
+  double k1 = 2, k2 = 3, g = 0.5;
+  SparseMatrix K, N;
+  Springs() {
+    K = sparse((Eigen::MatrixXd(2, 2) << k1 + k2, -k2, -k2, k2).finished());
+    N = sparse((Eigen::MatrixXd(1, 2) << 0, 1).finished());
+  }
+  double k_series() const { return k1 * k2 / (k1 + k2); }  // 1.2
+};
+
+// F = 0.3: u2 = F/k_series = 0.25 < g, no contact: λ = 0 and u the free solution.
+TEST(ContactSolver, SpringsWithoutContact) {
+  const Springs s;
+  const auto factor = factor_of(s.K);
+  const Vector F = (Vector(2) << 0, 0.3).finished(), g = Vector::Constant(1, s.g);
+  for (const char* name : kSolvers) {
+    SCOPED_TRACE(name);
+    auto solver = make_contact_solver(name, s.K, factor, s.N);
+    EXPECT_EQ(solver->name(), name);
+    Vector u, lambda;
+    const ContactReport rep = solver->solve(F, g, u, lambda);
+    ASSERT_TRUE(rep.converged);
+    ASSERT_EQ(u.size(), 2);
+    ASSERT_EQ(lambda.size(), 1);
+    EXPECT_EQ(rep.n_active, lambda[0] > 0 ? 1 : 0);
+    EXPECT_NEAR(lambda[0], 0.0, 1e-12);
+    EXPECT_NEAR(u[0], 0.3 / s.k1, 1e-12);
+    EXPECT_NEAR(u[1], 0.3 / s.k_series(), 1e-12);
+    EXPECT_LE(rep.residuals.max(), 1e-10);
+    EXPECT_LE(contact_residuals(s.K, s.N, F, g, u, lambda).max(), 1e-10);
+  }
+}
+
+// F = 1.5: free u2 = 1.25 > g, so u2 = g, u1 = k2 g/(k1 + k2) = 0.3 and the contact
+// force is λ = F − k_series g = 0.9.
+TEST(ContactSolver, SpringsInContactGiveHandComputedForce) {
+  const Springs s;
+  const auto factor = factor_of(s.K);
+  const Vector F = (Vector(2) << 0, 1.5).finished(), g = Vector::Constant(1, s.g);
+  for (const char* name : kSolvers) {
+    SCOPED_TRACE(name);
+    auto solver = make_contact_solver(name, s.K, factor, s.N);
+    Vector u, lambda;
+    const ContactReport rep = solver->solve(F, g, u, lambda);
+    ASSERT_TRUE(rep.converged);
+    EXPECT_EQ(rep.n_active, 1);
+    EXPECT_NEAR(lambda[0], 0.9, 1e-12);
+    EXPECT_NEAR(rep.total_force, 0.9, 1e-12);
+    EXPECT_NEAR(u[0], 0.3, 1e-12);
+    // The active-set solution is exact up to the two solves with K; penalty–duality
+    // approaches the obstacle to its tolerance.
+    EXPECT_NEAR(u[1], s.g, std::string(name) == "active-set" ? 1e-15 : 1e-11);
+    EXPECT_LE(rep.residuals.max(), 1e-10);
+    const ContactResiduals r = contact_residuals(s.K, s.N, F, g, u, lambda);
+    EXPECT_LE(r.max(), 1e-10);
+    EXPECT_NEAR(r.equilibrium, rep.residuals.equilibrium, 1e-16);
+  }
+}
+
+// contact_residuals must actually detect each violated condition (else the ≤ 1e-10
+// checks above and below would be vacuous).
+TEST(ContactSolver, ResidualsDetectEachViolation) {
+  const Springs s;
+  const Vector F = (Vector(2) << 0, 1.5).finished(), g = Vector::Constant(1, s.g);
+  const Vector u = (Vector(2) << 0.3, 0.5).finished();
+  const Vector lambda = Vector::Constant(1, 0.9);
+  EXPECT_LE(contact_residuals(s.K, s.N, F, g, u, lambda).max(), 1e-14);
+  EXPECT_GT(contact_residuals(s.K, s.N, F, g, u, Vector::Constant(1, 1.0)).equilibrium, 1e-3);
+  const Vector u_pen = (Vector(2) << 0.3, 0.6).finished();
+  EXPECT_GT(contact_residuals(s.K, s.N, F, g, u_pen, lambda).penetration, 1e-3);
+  EXPECT_GT(contact_residuals(s.K, s.N, F, g, u, Vector::Constant(1, -0.9)).negative_force, 1e-3);
+  // λ > 0 with a gap left: complementarity fails.
+  const Vector u_gap = (Vector(2) << 0.3, 0.4).finished();
+  EXPECT_GT(contact_residuals(s.K, s.N, F, g, u_gap, lambda).complementarity, 1e-3);
+}
+
+// ---------------------------------------------------------------- 2D elastic block
+
+/// (0, 2) × (0, 1), plane strain E = 1, ν = 0.3, clamped on "top", body force
+/// (0, −1): the base moves down. One contact row per "bottom" node, direction
+/// (0, −1); the gap grows linearly in x, so the left part of the base touches.
+struct Block {
+  Mesh mesh;
+  DofMap dofs;
+  SparseMatrix K, N;
+  Vector F, g;
+  std::vector<int> bottom;
+};
+
+Block make_block() {
+  Block b;
+  b.mesh = make_rectangle({0, 0, 0}, {2, 1, 0}, 16, 8);
+  const auto geo = compute_geometry(b.mesh);
+  b.dofs = DofMap(b.mesh.n_nodes(), 2, b.mesh.nodes_of_parts({"top"}));
+  b.K = assemble_stiffness(b.mesh, geo, Elasticity(Elasticity::Kind::PlaneStrain, 1, 0.3), b.dofs);
+  const VectorField f0 = [](const Point&, double) { return Point{0, -1, 0}; };
+  b.F = restrict_to_free(b.dofs, assemble_load(b.mesh, geo, {}, f0, nullptr, 0.0));
+  b.bottom = b.mesh.nodes_of_parts({"bottom"});
+  std::vector<Eigen::Triplet<double>> t;
+  for (int r = 0; r < static_cast<int>(b.bottom.size()); ++r)
+    t.emplace_back(r, b.dofs.free_index(b.dofs.full_index(b.bottom[r], 1)), -1.0);
+  b.N.resize(static_cast<Eigen::Index>(b.bottom.size()), b.dofs.n_free());
+  b.N.setFromTriplets(t.begin(), t.end());
+  // Gap from the free deflection d: from 0.2 d (x = 0) to 1.2 d (x = 2).
+  auto f = make_cholmod_solver();
+  f->factorize(b.K, "block stiffness");
+  const double d = (b.N * f->solve(b.F)).maxCoeff();
+  b.g.resize(static_cast<Eigen::Index>(b.bottom.size()));
+  for (int r = 0; r < b.g.size(); ++r) b.g[r] = d * (0.2 + 0.5 * b.mesh.node(b.bottom[r])[0]);
+  return b;
+}
+
+// Both methods solve the same inequality: same u and λ to 1e-8, residuals ≤ 1e-10,
+// and a genuine free boundary (active set a strict, non-empty subset of the base).
+TEST(ContactSolver, ElasticBlockActiveSetAndPenaltyDualityAgree) {
+  const Block b = make_block();
+  const int m = static_cast<int>(b.N.rows());
+  const auto factor = factor_of(b.K);
+  Vector u[2], lambda[2];
+  ContactReport rep[2];
+  for (int s = 0; s < 2; ++s) {
+    SCOPED_TRACE(kSolvers[s]);
+    auto solver = make_contact_solver(kSolvers[s], b.K, factor, b.N);
+    rep[s] = solver->solve(b.F, b.g, u[s], lambda[s]);
+    ASSERT_TRUE(rep[s].converged) << rep[s].iterations << " iterations";
+    EXPECT_LE(rep[s].residuals.max(), 1e-10);
+    EXPECT_LE(contact_residuals(b.K, b.N, b.F, b.g, u[s], lambda[s]).max(), 1e-10);
+  }
+  EXPECT_GT(rep[0].n_active, 0);
+  EXPECT_LT(rep[0].n_active, m);
+  const double us = u[0].cwiseAbs().maxCoeff(), ls = lambda[0].cwiseAbs().maxCoeff();
+  EXPECT_LE((u[1] - u[0]).cwiseAbs().maxCoeff(), 1e-8 * us);
+  EXPECT_LE((lambda[1] - lambda[0]).cwiseAbs().maxCoeff(), 1e-8 * ls);
+  EXPECT_NEAR(rep[1].total_force, rep[0].total_force, 1e-8 * std::abs(rep[0].total_force));
+  // Active-set: exact complementarity — touching nodes sit on the obstacle (to the
+  // round-off of two solves with K), the others carry exactly λ = 0.
+  const Vector s = b.g - b.N * u[0];
+  int n_touching = 0;
+  for (int i = 0; i < m; ++i) {
+    EXPECT_GE(lambda[0][i], 0.0);
+    if (lambda[0][i] > 0) {
+      EXPECT_NEAR(s[i], 0.0, 1e-12 * us);
+      ++n_touching;
+    } else {
+      EXPECT_GE(s[i], -1e-14 * us);
+    }
+  }
+  EXPECT_EQ(n_touching, rep[0].n_active);
+  // The gap grows with x: the touching part is on the left.
+  EXPECT_GT(lambda[0][0], 0.0);
+  EXPECT_EQ(lambda[0][m - 1], 0.0);
+}
+
+// Warm start: solving again from the returned λ does no reduced solve at all
+// (its dual box QP is already at KKT), and gives the same u and λ.
+TEST(ContactSolver, ActiveSetWarmStartStopsAtOnce) {
+  const Block b = make_block();
+  const auto factor = factor_of(b.K);
+  auto solver = make_contact_solver("active-set", b.K, factor, b.N);
+  Vector u, lambda;
+  const ContactReport cold = solver->solve(b.F, b.g, u, lambda);
+  ASSERT_TRUE(cold.converged);
+  EXPECT_GT(cold.iterations, 1);
+  const Vector l0 = lambda, u0 = u;
+  const ContactReport warm = solver->solve(b.F, b.g, u, lambda);
+  EXPECT_TRUE(warm.converged);
+  EXPECT_EQ(warm.iterations, 0);
+  EXPECT_EQ(lambda, l0);
+  EXPECT_EQ(u, u0);
+  EXPECT_EQ(warm.n_active, cold.n_active);
+}
+
+// KNOWN BUG (this test fails; see the report of the solver tests): both contact
+// solvers store `const SparseMatrix& K_` (contact_solver.cpp, ActiveSetContactSolver
+// and PenaltyDualityContactSolver), a reference to the caller's K, while N is copied.
+// Whatever later happens to the caller's matrix leaks into the solver: here the
+// caller reuses its variable for another matrix and the (correct) solution is
+// reported with a huge equilibrium residual. Were the caller's K destroyed or moved
+// from — TimeStepper, which owns K_ and contact_, is implicitly movable — the
+// reference would dangle. The solvers should own a copy of K (or document that K
+// must outlive them and be left unchanged).
+TEST(ContactSolver, DoesNotDependOnCallersStiffnessAfterConstruction) {
+  const Springs s;
+  const auto factor = factor_of(s.K);
+  const Vector F = (Vector(2) << 0, 1.5).finished(), g = Vector::Constant(1, s.g);
+  for (const char* name : kSolvers) {
+    SCOPED_TRACE(name);
+    SparseMatrix K = s.K;
+    auto solver = make_contact_solver(name, K, factor, s.N);
+    K = 2.0 * s.K;  // the caller's variable is reused; the solver was built for s.K
+    Vector u, lambda;
+    const ContactReport rep = solver->solve(F, g, u, lambda);
+    ASSERT_TRUE(rep.converged);
+    EXPECT_NEAR(lambda[0], 0.9, 1e-10);  // the solution itself is right...
+    EXPECT_LE(rep.residuals.max(), 1e-10) << "equilibrium residual " << rep.residuals.equilibrium
+                                          << ": the report was computed with the caller's new K";
+  }
+}
+
+// ---------------------------------------------------------------- error paths
+
+std::string error_of(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "<no vpc::Error thrown>";
+}
+
+TEST(ContactSolverErrors, UnknownNameIsNamed) {
+  const Springs s;
+  const auto factor = factor_of(s.K);
+  const std::string msg = error_of([&] { make_contact_solver("magic", s.K, factor, s.N); });
+  EXPECT_NE(msg.find("unknown contact solver 'magic'"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("active-set"), std::string::npos) << msg;
+}
+
+TEST(ContactSolverErrors, NoContactRowsIsAnError) {
+  const Springs s;
+  const auto factor = factor_of(s.K);
+  const SparseMatrix N0(0, 2);
+  for (const char* name : kSolvers) {
+    const std::string msg = error_of([&] { make_contact_solver(name, s.K, factor, N0); });
+    EXPECT_NE(msg.find("no contact unknowns"), std::string::npos) << name << ": " << msg;
+  }
+}
+
+// CHOLMOD must refuse a matrix that is not positive definite — singular (a body
+// not clamped) or indefinite — with a vpc::Error naming the matrix.
+TEST(ContactSolverErrors, CholmodRejectsNonPositiveDefinite) {
+  const SparseMatrix singular = sparse((Eigen::MatrixXd(2, 2) << 1, -1, -1, 1).finished());
+  const SparseMatrix indefinite = sparse((Eigen::MatrixXd(2, 2) << 1, 0, 0, -1).finished());
+  for (const SparseMatrix* A : {&singular, &indefinite}) {
+    auto f = make_cholmod_solver();
+    const std::string msg = error_of([&] { f->factorize(*A, "unclamped stiffness"); });
+    EXPECT_NE(msg.find("unclamped stiffness"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("not positive definite"), std::string::npos) << msg;
+    EXPECT_EQ(f->n_factorizations(), 0);
+  }
+}
+
+// KNOWN BUG (this test fails; see the report of the solver tests): a singular
+// positive *semi*definite matrix is not always rejected. CholmodSolver::factorize
+// (cholmod_solver.cpp) only checks llt_.info(), i.e. CHOLMOD's "pivot ≤ 0" test;
+// for a singular matrix the last pivot is 0 only up to round-off and is often a
+// tiny positive number, so factorize succeeds and later solves return values of
+// order 1e15. Example: the P1 Laplacian of (0, 1) with 20 cells and no Dirichlet
+// node (kernel: the constants) — an unclamped bar — factorizes without error,
+// whereas linear_solver.hpp promises a vpc::Error "if A is not positive definite".
+// (Which sizes slip through depends on round-off, hence several.) A fix would also
+// reject pivots tiny relative to the largest one (e.g. cholmod_rcond < ~1e-14·n).
+TEST(ContactSolverErrors, CholmodRejectsRoundoffSingularMatrix) {
+  for (int n : {20, 40, 80, 160, 320}) {
+    const Mesh m = make_interval(0, 1, n);
+    const SparseMatrix A = assemble_laplacian(m, compute_geometry(m));  // no boundary row dropped
+    auto f = make_cholmod_solver();
+    const std::string msg = error_of([&] { f->factorize(A, "free bar"); });
+    EXPECT_NE(msg.find("not positive definite"), std::string::npos) << "n = " << n << ": " << msg;
+  }
+}
+
+}  // namespace
+}  // namespace vpc
