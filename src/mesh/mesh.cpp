@@ -73,6 +73,10 @@ void Mesh::add_facet(const int* nodes, const std::string& part) {
   facet_cell_.clear();
 }
 
+void Mesh::set_facet_part(int f, const std::string& part) {
+  facet_part_[f] = part.empty() ? -1 : part_id(part);
+}
+
 void Mesh::build_boundary() {
   std::unordered_map<FacetKey, std::pair<int, int>, KeyHash> count;  // key -> (uses, cell*local)
   const int npc = nodes_per_cell(), npf = nodes_per_facet();

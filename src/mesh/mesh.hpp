@@ -37,6 +37,8 @@ class Mesh {
 
   /// Part of facet f; -1 when untagged.
   int facet_part(int f) const { return facet_part_[f]; }
+  /// Puts facet f into part `part` (created if new; "" untags it).
+  void set_facet_part(int f, const std::string& part);
   const std::vector<std::string>& part_names() const { return part_names_; }
   /// Index of a part, -1 if absent.
   int find_part(const std::string& name) const;

@@ -1,0 +1,40 @@
+#pragma once
+// Meshes from Gmsh files, read through Gmsh's own library: a mesh file (.msh, any
+// version Gmsh reads) is taken as it is; a geometry file (.geo, or anything else
+// Gmsh opens that holds no mesh of the needed dimension) is meshed first.
+// Physical groups of dimension d − 1 become the mesh's boundary parts.
+#include "mesh/mesh.hpp"
+
+#include <filesystem>
+#include <string>
+
+namespace vpc {
+
+struct GmshOptions {
+  /// Scales the element sizes when the mesh is generated here (Gmsh's
+  /// Mesh.MeshSizeFactor, multiplying whatever the file sets); ignored when the
+  /// file already holds the mesh. 0.5 halves the element size.
+  double size_factor = 1.0;
+  /// Dimension d of the cells: 1, 2 or 3; 0 takes the highest dimension of the model.
+  int dim = 0;
+};
+
+/// Reads (or generates) the mesh of `file`. Cells are the linear simplices of
+/// dimension d (lines, triangles, tetrahedra); nodes are those the cells use,
+/// numbered in increasing Gmsh node tag. Every boundary facet of the cell complex
+/// exists; those in a physical group of dimension d − 1 carry its name as their
+/// part ("group<tag>" for an unnamed group), the others are untagged. In d < 3 the
+/// mesh must lie in the plane z = 0 (d = 2) or on the x axis (d = 1).
+/// Throws vpc::Error, naming the file, when the file is missing or unreadable,
+/// when Gmsh reports an error, when there are no cells of dimension d, when they
+/// are not linear simplices, when a cell is degenerate, or when a physical group
+/// holds a facet that is not on the boundary or that another group also holds.
+/// Not reentrant with other users of the Gmsh API in the same process: it
+/// initializes and finalizes Gmsh itself (calls from several threads are serialized).
+Mesh read_gmsh(const std::filesystem::path& file, const GmshOptions& options = {});
+
+/// The parts of a mesh with their sizes, for error messages:
+/// "bottom (12 facets), top (12 facets), contact (4 facets)"; "no parts" if none.
+std::string describe_parts(const Mesh& mesh);
+
+}  // namespace vpc
