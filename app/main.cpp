@@ -1,81 +1,184 @@
-// vpcontact: the command line on the library. `vpcontact run [CASE]` runs a case
-// (default: the paper's 2D example) and writes VTU/PVD, CSV and a JSON summary.
+// vpcontact: the command line on the library.
+//   vpcontact run [CASE] [options]   run a built-in case or a case file (default: paper-2d)
+//   vpcontact check CASE             validate a case without running it
+//   vpcontact cases                  list the built-in cases
+//   vpcontact plot OUTDIR            draw the figures of a run's output
 #include "cases/builtin_cases.hpp"
+#include "cases/shipped_cases.hpp"
 #include "core/error.hpp"
+#include "io/case_file.hpp"
 #include "io/run_output.hpp"
+#include "progress.hpp"
 #include "scheme/time_stepper.hpp"
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
+#include <filesystem>
 
 namespace {
 
-struct RunOptions {
+namespace fs = std::filesystem;
+
+struct Options {
   std::string case_name = "paper-2d";
-  std::string output;
-  vpc::CaseOverrides overrides;
+  std::string output, outdir;
+  std::vector<std::string> sets;
   double kappa = -1, dt = -1;
   int n = -1, steps = -1, every = -1;
-  bool no_vtu = false, quiet = false;
-  vpc::SolverChoice solvers;
+  bool no_vtu = false, quiet = false, plot = false;
+  std::string contact_solver, damage_solver;
+  double tolerance = -1;
 };
 
-int run(RunOptions& o, const CLI::App& cmd) {
+/// Whether an option exists on this subcommand and was given.
+bool given(const CLI::App& cmd, const std::string& name) {
+  const CLI::Option* opt = cmd.get_option_no_throw(name);
+  return opt != nullptr && opt->count() > 0;
+}
+
+bool is_case_file(const std::string& s) {
+  return s.size() > 5 && (s.ends_with(".toml") || fs::is_regular_file(s));
+}
+
+/// The case named on the command line: a case file, or a built-in case (its
+/// compiled-in TOML twin when --set is used), with the command-line overrides.
+vpc::Case load_case(const Options& o, const CLI::App& cmd) {
+  vpc::CaseOverrides ov;
+  if (given(cmd, "--kappa")) ov.kappa = o.kappa;
+  if (given(cmd, "--steps")) ov.steps = o.steps;
+  if (given(cmd, "--dt")) ov.time_step = o.dt;
+  vpc::Case c;
+  const bool builtin_name = !is_case_file(o.case_name);
+  const auto& builtins = vpc::builtin_case_names();
+  const bool has_cpp_builtin = std::find(builtins.begin(), builtins.end(), o.case_name) != builtins.end();
+  if (builtin_name && has_cpp_builtin && o.sets.empty()) {
+    if (given(cmd, "--n")) ov.mesh_cells = o.n;
+    c = vpc::make_builtin_case(o.case_name, ov);
+  } else {
+    std::vector<std::string> sets = o.sets;
+    if (given(cmd, "--n")) sets.insert(sets.begin(), fmt::format("mesh.cells={}", o.n));
+    if (builtin_name) {
+      const auto& shipped = vpc::shipped_cases();
+      auto it = std::find_if(shipped.begin(), shipped.end(), [&](const auto& s) { return s.name == o.case_name; });
+      if (it == shipped.end()) {
+        std::vector<std::string> names;
+        for (const auto& s : shipped) names.emplace_back(s.name);
+        vpc::fail("unknown case '{}'; built-in cases are: {} (or give a case file, NAME.toml)", o.case_name,
+                  fmt::join(names, ", "));
+      }
+      // Shipped cases find their meshes (cases/meshes/) in the source tree.
+      c = vpc::parse_case(it->text, std::string(it->name) + ".toml (built-in)", fs::path(VPC_SOURCE_DIR) / "cases",
+                          sets);
+    } else {
+      c = vpc::read_case_file(o.case_name, sets);
+    }
+    vpc::apply_case_overrides(*c.problem, ov);
+  }
+  if (!o.output.empty()) c.output.directory = o.output;
+  if (given(cmd, "--every")) {
+    vpc::require(o.every >= 0, "--every must be >= 0 (got {})", o.every);
+    c.output.every = o.every;
+    c.output.times.clear();
+  }
+  if (o.no_vtu) c.output.vtu = false;
+  if (!o.contact_solver.empty()) c.solvers.contact = o.contact_solver;
+  if (!o.damage_solver.empty()) c.solvers.damage = o.damage_solver;
+  if (given(cmd, "--tolerance")) {
+    vpc::require(o.tolerance > 0, "--tolerance must be > 0 (got {})", o.tolerance);
+    c.solvers.residual_tolerance = o.tolerance;
+  }
+  return c;
+}
+
+void describe(const vpc::Case& c, const vpc::TimeStepper& stepper) {
+  const auto& p = stepper.problem();
+  const auto [hmin, hmax] = p.mesh.size_range();
+  fmt::print("vpcontact: {} — {}\n", c.name, c.description);
+  fmt::print("  mesh: d = {}, {} nodes, {} cells, h in [{:.3g}, {:.3g}]; {} free displacement dofs, {} contact nodes\n",
+             p.mesh.dim(), p.mesh.n_nodes(), p.mesh.n_cells(), hmin, hmax, stepper.dofs().n_free(),
+             stepper.contact_nodes().size());
+  fmt::print("  Γ1 (clamped): {}; Γ3 (contact): {}\n", fmt::join(p.clamped, ", "), fmt::join(p.contact.parts, ", "));
+  fmt::print("  elasticity: {} (E = {}, nu = {}); G: {}; phi: {}\n", p.elasticity.name(), p.elasticity.young(),
+             p.elasticity.poisson(), p.law->describe(), p.source->describe());
+  fmt::print("  kappa = {}; T = {}, k = {}, N = {}; solvers: contact {}, damage {}; setup {:.3f} s\n", p.kappa,
+             p.final_time, p.step(), p.n_steps, c.solvers.contact, c.solvers.damage, stepper.setup_seconds());
+}
+
+fs::path plot_script() {
+  if (const char* env = std::getenv("VPCONTACT_PLOT_SCRIPT")) return env;
+  return fs::path(VPC_SOURCE_DIR) / "scripts" / "vpcontact_plot.py";
+}
+
+int plot(const std::string& outdir) {
+  const fs::path script = plot_script();
+  vpc::require(fs::is_regular_file(script), "plot: the figure script '{}' is missing", script.string());
+  vpc::require(fs::is_directory(outdir), "plot: '{}' is not a directory", outdir);
+  const std::string cmd = fmt::format("/usr/bin/python3 '{}' '{}'", script.string(), outdir);
+  const int rc = std::system(cmd.c_str());
+  vpc::require(rc == 0, "plot: drawing the figures of '{}' failed (is python3-matplotlib installed?)", outdir);
+  return 0;
+}
+
+int run(const Options& o, const CLI::App& cmd) {
   using Clock = std::chrono::steady_clock;
   const auto t0 = Clock::now();
-  if (cmd.count("--kappa")) o.overrides.kappa = o.kappa;
-  if (cmd.count("--n")) o.overrides.mesh_cells = o.n;
-  if (cmd.count("--steps")) o.overrides.steps = o.steps;
-  if (cmd.count("--dt")) o.overrides.time_step = o.dt;
-  vpc::BuiltinCase c = vpc::make_builtin_case(o.case_name, o.overrides);
-  vpc::OutputOptions out;
-  out.directory = o.output.empty() ? "output/" + c.name : o.output;
-  out.every = cmd.count("--every") ? o.every : c.output_every;
-  out.vtu = !o.no_vtu;
-  out.probes = c.probes;
-
-  vpc::TimeStepper stepper(c.problem, o.solvers);
-  const auto& p = stepper.problem();
-  if (!o.quiet) {
-    fmt::print("vpcontact: {} — {}\n", c.name, c.description);
-    fmt::print("  mesh: d = {}, {} nodes, {} cells; {} free displacement dofs, {} contact nodes\n", p.mesh.dim(),
-               p.mesh.n_nodes(), p.mesh.n_cells(), stepper.dofs().n_free(), stepper.contact_nodes().size());
-    fmt::print("  G: {}; phi: {}; kappa = {}; k = {}, N = {}\n", p.law->describe(), p.source->describe(), p.kappa,
-               p.step(), p.n_steps);
-    fmt::print("  solvers: contact {}, damage {}; setup {:.3f} s\n", o.solvers.contact, o.solvers.damage,
-               stepper.setup_seconds());
-    fmt::print("  {:>5} {:>7} {:>6} {:>13} {:>5} {:>9} {:>5} {:>9} {:>10} {:>10}\n", "step", "t", "active",
-               "contact force", "it_c", "res_c", "it_d", "res_d", "beta_min", "beta_max");
-  }
-  vpc::RunOutput output(stepper, out);
+  vpc::Case c = load_case(o, cmd);
+  vpc::TimeStepper stepper(c.problem, c.solvers);
+  if (!o.quiet) describe(c, stepper);
+  vpc::RunOutput output(stepper, c.output);
   output.start();
-  const int print_every = std::max(1, p.n_steps / 20);
+  vpc::Progress progress(c.problem->n_steps, o.quiet);
   while (!stepper.done()) {
     const vpc::StepReport r = stepper.step();
     output.record(r);
-    if (!o.quiet && (r.n % print_every == 0 || !r.ok || stepper.done()))
-      fmt::print("  {:5d} {:7.4f} {:6d} {:13.6e} {:5d} {:9.2e} {:5d} {:9.2e} {:10.6f} {:10.6f}\n", r.n, r.t,
-                 r.contact.n_active, r.contact.total_force, r.contact.iterations, r.contact.residuals.max(),
-                 r.damage.iterations, r.damage.kkt_residual, r.beta_min, r.beta_max);
+    progress.update(r);
     if (!r.ok) {
       output.finish(std::chrono::duration<double>(Clock::now() - t0).count());
       vpc::fail("step {} (t = {}) failed: contact solver {} after {} iterations (residual {:.2e}), damage solver {} "
-                "after {} iterations (KKT residual {:.2e}); tolerance {:.1e}. The last good state is in '{}'",
+                "after {} iterations (KKT residual {:.2e}); tolerance {:.1e}. Results up to step {} are in '{}'",
                 r.n, r.t, r.contact.converged ? "converged" : "did not converge", r.contact.iterations,
                 r.contact.residuals.max(), r.damage.converged ? "converged" : "did not converge",
-                r.damage.iterations, r.damage.kkt_residual, o.solvers.residual_tolerance,
+                r.damage.iterations, r.damage.kkt_residual, c.solvers.residual_tolerance, r.n - 1,
                 output.directory().string());
     }
   }
+  progress.finish();
   const double wall = std::chrono::duration<double>(Clock::now() - t0).count();
   output.finish(wall);
   if (!o.quiet)
     fmt::print("  done in {:.3f} s; results in {}/ (solution.pvd, history.csv, probes.csv, summary.json)\n", wall,
                output.directory().string());
+  if (o.plot) return plot(output.directory().string());
   return 0;
+}
+
+int check(const Options& o, const CLI::App& cmd) {
+  vpc::Case c = load_case(o, cmd);
+  vpc::TimeStepper stepper(c.problem, c.solvers);  // validates, assembles, factorizes
+  if (!o.quiet) describe(c, stepper);
+  fmt::print("{}: ok\n", o.case_name);
+  return 0;
+}
+
+void add_case_options(CLI::App* cmd, Options& o) {
+  cmd->add_option("case", o.case_name, "a case file (.toml) or a built-in case: paper-1d, paper-2d, block-3d")
+      ->capture_default_str();
+  cmd->add_option("--set", o.sets, "override a case-file key, e.g. --set damage.kappa=0.1 (repeatable)");
+  cmd->add_option("--kappa", o.kappa, "damage diffusion kappa (>= 0)");
+  cmd->add_option("-n,--n", o.n, "mesh size: cells per edge (1D: segments; 2D: n x n squares; 3D: n^3 cubes)");
+  cmd->add_option("--steps", o.steps, "number of time steps N (k = T / N)");
+  cmd->add_option("--dt", o.dt, "time step k (must divide T)");
+  cmd->add_option("--contact-solver", o.contact_solver, "active-set (default) or penalty-duality")
+      ->check(CLI::IsMember({"active-set", "penalty-duality"}));
+  cmd->add_option("--damage-solver", o.damage_solver, "active-set (default) or penalty-duality")
+      ->check(CLI::IsMember({"active-set", "penalty-duality"}));
+  cmd->add_option("--tolerance", o.tolerance, "largest relative KKT residual accepted at a step (default 1e-8)");
+  cmd->add_flag("-q,--quiet", o.quiet, "print nothing but errors");
 }
 
 }  // namespace
@@ -84,29 +187,20 @@ int main(int argc, char** argv) {
   CLI::App app{"vpcontact: quasistatic frictionless Signorini contact of elastic-viscoplastic bodies with damage\n"
                "(the fully discrete scheme of Fernandez & Sofonea, 2003)"};
   app.require_subcommand(0, 1);
+  Options o;
 
-  RunOptions o;
   auto* run_cmd = app.add_subcommand("run", "run a case (default: paper-2d)");
-  run_cmd->add_option("case", o.case_name, "built-in case: paper-1d, paper-2d, block-3d")->capture_default_str();
-  run_cmd->add_option("-o,--output", o.output, "output directory (default: output/CASE)");
-  run_cmd->add_option("--kappa", o.kappa, "damage diffusion kappa (>= 0)");
-  run_cmd->add_option("-n,--n", o.n, "mesh size: cells per edge (1D: segments; 2D: n x n squares; 3D: n^3 cubes)");
-  run_cmd->add_option("--steps", o.steps, "number of time steps N (k = T / N)");
-  run_cmd->add_option("--dt", o.dt, "time step k (must divide T)");
+  add_case_options(run_cmd, o);
+  run_cmd->add_option("-o,--output", o.output, "output directory (default: the case's, else output/CASE)");
   run_cmd->add_option("--every", o.every, "write VTU every this many steps (0: final step only)");
   run_cmd->add_flag("--no-vtu", o.no_vtu, "write no VTU/PVD files (CSV and summary only)");
-  run_cmd->add_flag("-q,--quiet", o.quiet, "print nothing but errors");
-  run_cmd->add_option("--contact-solver", o.solvers.contact, "active-set or penalty-duality")
-      ->check(CLI::IsMember({"active-set", "penalty-duality"}))
-      ->capture_default_str();
-  run_cmd->add_option("--damage-solver", o.solvers.damage, "active-set or penalty-duality")
-      ->check(CLI::IsMember({"active-set", "penalty-duality"}))
-      ->capture_default_str();
-  run_cmd->add_option("--tolerance", o.solvers.residual_tolerance,
-                      "largest relative residual (contact KKT, damage KKT) accepted at a step")
-      ->capture_default_str();
+  run_cmd->add_flag("--plot", o.plot, "draw the figures (vpcontact plot) after the run");
 
+  auto* check_cmd = app.add_subcommand("check", "validate a case (parse, mesh, assemble, factorize) without running it");
+  add_case_options(check_cmd, o);
   auto* cases_cmd = app.add_subcommand("cases", "list the built-in cases");
+  auto* plot_cmd = app.add_subcommand("plot", "draw the paper's figures from a run's output directory (PNG)");
+  plot_cmd->add_option("outdir", o.outdir, "the output directory of a run")->required();
 
   try {
     app.parse(argc, argv);
@@ -115,12 +209,17 @@ int main(int argc, char** argv) {
   }
   try {
     if (*cases_cmd) {
-      for (const auto& name : vpc::builtin_case_names())
-        fmt::print("{:10} {}\n", name, vpc::make_builtin_case(name).description);
+      for (const auto& s : vpc::shipped_cases()) {
+        fmt::print("{:10} {}\n", s.name, vpc::case_description(s.text));
+      }
+      fmt::print("(each is shipped as cases/<name>.toml, a starting point for your own cases)\n");
       return 0;
     }
-    return run(o, *run_cmd);  // `vpcontact` and `vpcontact run` both run paper-2d
+    if (*plot_cmd) return plot(o.outdir);
+    if (*check_cmd) return check(o, *check_cmd);
+    return run(o, *run_cmd);  // `vpcontact` alone runs paper-2d
   } catch (const vpc::Error& e) {
+    std::fflush(stdout);
     fmt::print(stderr, "vpcontact: error: {}\n", e.what());
     return 1;
   } catch (const std::exception& e) {

@@ -751,10 +751,19 @@ class Plotter:
         p = vtu.points
         zmin = p[:, 2].min()
         tol = 1e-9 * max(float(np.ptp(p[:, 2])), 1.0)
-        faces, _ = boundary_faces(vtu.cells)
+        faces, _ = boundary_faces(vtu.cells, p)
         bottom = faces[np.all(np.abs(p[faces, 2] - zmin) <= tol, axis=1)]
+        where = "the bottom face z = %g" % zmin
         if len(bottom) == 0:
-            return self.skip(name, "no boundary faces at z = %g" % zmin)
+            # A curved body (no flat bottom): the boundary faces that look down,
+            # seen from below, i.e. projected on the plane (x, y).
+            a, b, c = p[faces[:, 0]], p[faces[:, 1]], p[faces[:, 2]]
+            n = np.cross(b - a, c - a)
+            down = n[:, 2] < -0.3 * np.linalg.norm(n, axis=1)
+            bottom = faces[down]
+            where = "the downward-facing boundary, projected on (x, y)"
+        if len(bottom) == 0:
+            return self.skip(name, "no boundary faces look down (-z)")
         f = np.linalg.norm(vtu.point("contact_force"), axis=1)
         nodes = np.unique(bottom)
         active = nodes[f[nodes] > 0]
@@ -766,7 +775,7 @@ class Plotter:
         sc = ax_f.scatter(p[nodes, 0], p[nodes, 1], c=f[nodes], s=8 + 60 * (f[nodes] > 0), cmap="viridis",
                           edgecolors="k", linewidths=0.3, zorder=3)
         fig.colorbar(sc, ax=ax_f, label="nodal contact force |λ| [N]")
-        ax_f.set_title("(a) bottom face: %d nodes in contact, total force %.4g N" % (len(active), float(f.sum())),
+        ax_f.set_title("(a) lower boundary: %d nodes in contact, total force %.4g N" % (len(active), float(f.sum())),
                        fontsize="medium")
         # (b) zoom on the contact zone: the nodal force interpolated over the
         # faces whose three nodes are all in contact (elsewhere: mesh only).
@@ -802,8 +811,7 @@ class Plotter:
             ax.set_aspect("equal")
             ax.set_xlabel("x [m]")
             ax.set_ylabel("y [m]")
-        fig.suptitle(self.title("contact forces on the bottom face z = %g at t = %s s (undeformed coordinates)"
-                                % (zmin, fmt_t(t))))
+        fig.suptitle(self.title("contact forces on %s at t = %s s (undeformed coordinates)" % (where, fmt_t(t))))
         self.save(fig, name)
 
     # ---- CSV figures for d = 2, 3 and all ------------------------------------

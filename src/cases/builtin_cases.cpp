@@ -11,7 +11,9 @@ namespace vpc {
 
 namespace {
 
-void apply_time(Problem& p, const CaseOverrides& o) {
+}  // namespace
+
+void apply_case_overrides(Problem& p, const CaseOverrides& o) {
   if (o.steps) {
     require(*o.steps >= 1, "the number of time steps must be >= 1 (got {})", *o.steps);
     p.n_steps = *o.steps;
@@ -30,6 +32,19 @@ void apply_time(Problem& p, const CaseOverrides& o) {
   }
 }
 
+namespace {
+
+/// Output every tenth of the run, at the case's probes.
+Case make_case(std::string name, std::string description, std::shared_ptr<Problem> p, std::vector<Point> probes) {
+  Case c;
+  c.name = std::move(name);
+  c.description = std::move(description);
+  c.output.every = std::max(1, p->n_steps / 10);
+  c.output.probes = std::move(probes);
+  c.problem = std::move(p);
+  return c;
+}
+
 int mesh_cells(const CaseOverrides& o, int fallback, int multiple_of, const char* why) {
   const int n = o.mesh_cells.value_or(fallback);
   require(n >= 1, "the mesh size n must be >= 1 (got {})", n);
@@ -38,7 +53,7 @@ int mesh_cells(const CaseOverrides& o, int fallback, int multiple_of, const char
 }
 
 /// SPEC §4.1: the rod of Problem 4.1 with data (4.6).
-BuiltinCase paper_1d(const CaseOverrides& o) {
+Case paper_1d(const CaseOverrides& o) {
   auto p = std::make_shared<Problem>();
   p->name = "paper-1d";
   const int n = mesh_cells(o, 100, 1, "");
@@ -54,13 +69,13 @@ BuiltinCase paper_1d(const CaseOverrides& o) {
   p->beta0 = [](const Point&, double) { return 1.0; };
   p->final_time = 1.0;
   p->n_steps = 100;
-  apply_time(*p, o);
-  return {"paper-1d", "the paper's 1D rod (Problem 4.1, data 4.6): Perzyna, phi = -2 eps, gap 0.25", p,
-          {{0.25, 0, 0}, {0.5, 0, 0}, {1.0, 0, 0}}, std::max(1, p->n_steps / 10)};
+  apply_case_overrides(*p, o);
+  return make_case("paper-1d", "the paper's 1D rod (Problem 4.1, data 4.6): Perzyna, phi = -2 eps, gap 0.25", p,
+                   {{0.25, 0, 0}, {0.5, 0, 0}, {1.0, 0, 0}});
 }
 
 /// SPEC §4.2: the plane-stress block of Section 4.2 with data (4.11).
-BuiltinCase paper_2d(const CaseOverrides& o) {
+Case paper_2d(const CaseOverrides& o) {
   auto p = std::make_shared<Problem>();
   p->name = "paper-2d";
   const int n = mesh_cells(o, 40, 5, "so that x = 0.8 and 1.2 are nodes");
@@ -78,14 +93,14 @@ BuiltinCase paper_2d(const CaseOverrides& o) {
   p->beta0 = [](const Point&, double) { return 1.0; };
   p->final_time = 1.0;
   p->n_steps = 100;
-  apply_time(*p, o);
-  return {"paper-2d", "the paper's 2D block (Section 4.2, data 4.11): plane stress, G = (beta - 1) sigma", p,
-          {{1.0, 0, 0}, {0.8, 0, 0}, {1.0, 1.0, 0}, {0.0, 0.0, 0}}, std::max(1, p->n_steps / 10)};
+  apply_case_overrides(*p, o);
+  return make_case("paper-2d", "the paper's 2D block (Section 4.2, data 4.11): plane stress, G = (beta - 1) sigma", p,
+                   {{1.0, 0, 0}, {0.8, 0, 0}, {1.0, 1.0, 0}, {0.0, 0.0, 0}});
 }
 
 /// The 2D example's 3D counterpart: cube (0, 2)³ clamped on top, body force
 /// (0, 0, −10t), contact patch [0.8, 1.2]² on the bottom face.
-BuiltinCase block_3d(const CaseOverrides& o) {
+Case block_3d(const CaseOverrides& o) {
   auto p = std::make_shared<Problem>();
   p->name = "block-3d";
   const int n = mesh_cells(o, 10, 5, "so that x, y = 0.8 and 1.2 are nodes");
@@ -104,16 +119,16 @@ BuiltinCase block_3d(const CaseOverrides& o) {
   p->beta0 = [](const Point&, double) { return 1.0; };
   p->final_time = 1.0;
   p->n_steps = 100;
-  apply_time(*p, o);
-  return {"block-3d", "a 3D block (0,2)^3 pressed onto a foundation patch [0.8,1.2]^2", p,
-          {{1.0, 1.0, 0}, {1.0, 1.0, 1.0}}, std::max(1, p->n_steps / 10)};
+  apply_case_overrides(*p, o);
+  return make_case("block-3d", "a 3D block (0,2)^3 pressed onto a foundation patch [0.8,1.2]^2", p,
+                   {{1.0, 1.0, 0}, {1.0, 1.0, 1.0}});
 }
 
 }  // namespace
 
 std::vector<std::string> builtin_case_names() { return {"paper-1d", "paper-2d", "block-3d"}; }
 
-BuiltinCase make_builtin_case(const std::string& name, const CaseOverrides& o) {
+Case make_builtin_case(const std::string& name, const CaseOverrides& o) {
   if (name == "paper-1d") return paper_1d(o);
   if (name == "paper-2d") return paper_2d(o);
   if (name == "block-3d") return block_3d(o);

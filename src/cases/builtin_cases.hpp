@@ -1,7 +1,6 @@
 #pragma once
 // The built-in cases: the paper's two examples (SPEC §4) and a 3D block.
-#include "io/run_output.hpp"
-#include "scheme/problem.hpp"
+#include "cases/case.hpp"
 
 #include <optional>
 #include <string>
@@ -17,16 +16,12 @@ struct CaseOverrides {
   std::optional<double> time_step{};// k; N = T / k must be an integer
 };
 
-struct BuiltinCase {
-  std::string name;
-  std::string description;
-  std::shared_ptr<Problem> problem;
-  std::vector<Point> probes;
-  int output_every = 10;
-};
+/// Applies κ, N or k overrides to a problem (built-in or from a case file);
+/// the mesh size is the case's business (built-ins: `n`; files: mesh.cells).
+void apply_case_overrides(Problem& p, const CaseOverrides& overrides);
 
 std::vector<std::string> builtin_case_names();
 /// Builds a built-in case; throws vpc::Error for an unknown name or a bad override.
-BuiltinCase make_builtin_case(const std::string& name, const CaseOverrides& overrides = {});
+Case make_builtin_case(const std::string& name, const CaseOverrides& overrides = {});
 
 }  // namespace vpc

@@ -71,8 +71,19 @@ VtuField tensor_field(const std::string& name, const std::vector<SymTensor>& t) 
 
 }  // namespace
 
+const std::vector<std::string>& OutputOptions::field_names() {
+  static const std::vector<std::string> names = {"displacement", "damage",    "contact_force", "stress",
+                                                 "strain",       "von_mises", "history_z"};
+  return names;
+}
+
 RunOutput::RunOutput(const TimeStepper& stepper, OutputOptions options)
     : stepper_(stepper), options_(std::move(options)) {
+  if (options_.directory.empty()) options_.directory = fs::path("output") / stepper_.problem().name;
+  for (const auto& f : options_.fields)
+    require(std::find(OutputOptions::field_names().begin(), OutputOptions::field_names().end(), f) !=
+                OutputOptions::field_names().end(),
+            "output: unknown field '{}'; expected one of: {}", f, fmt::join(OutputOptions::field_names(), ", "));
   std::error_code ec;
   fs::create_directories(options_.directory, ec);
   require(!ec && fs::is_directory(options_.directory), "cannot create output directory '{}'",
@@ -140,9 +151,15 @@ void RunOutput::write_fields() {
     for (int c = 0; c < 3; ++c) force.values[nodes[k] * 3 + c] = -s.lambda[k] * stepper_.contact_directions()[k][c];
   VtuField vm{"von_mises", 1, {}};
   for (const auto& t : s.sigma) vm.values.push_back(t.von_mises());
+  std::vector<VtuField> point_data, cell_data;
+  for (auto* f : {&u, &beta, &force})
+    if (wants(f->name)) point_data.push_back(std::move(*f));
+  if (wants("stress")) cell_data.push_back(tensor_field("stress", s.sigma));
+  if (wants("strain")) cell_data.push_back(tensor_field("strain", s.eps));
+  if (wants("von_mises")) cell_data.push_back(std::move(vm));
+  if (wants("history_z")) cell_data.push_back(tensor_field("history_z", s.z));
   const std::string file = fmt::format("solution_{:05d}.vtu", s.n);
-  write_vtu(options_.directory / file, mesh, {u, beta, force},
-            {tensor_field("stress", s.sigma), tensor_field("strain", s.eps), vm, tensor_field("history_z", s.z)});
+  write_vtu(options_.directory / file, mesh, point_data, cell_data);
   pvd_.emplace_back(s.t, file);
   write_pvd(options_.directory / "solution.pvd", pvd_);
 }
@@ -157,8 +174,24 @@ void RunOutput::record(const StepReport& r) {
   history_.flush();
   write_probe_row();
   reports_.push_back(r);
-  const bool last = stepper_.done();
-  if (last || (options_.every > 0 && r.n % options_.every == 0)) write_fields();
+  if (is_output_step(r.n)) write_fields();
+}
+
+bool RunOutput::wants(const std::string& field) const {
+  return options_.fields.empty() || std::find(options_.fields.begin(), options_.fields.end(), field) != options_.fields.end();
+}
+
+bool RunOutput::is_output_step(int n) const {
+  const Problem& p = stepper_.problem();
+  if (n == p.n_steps) return true;
+  if (!options_.times.empty()) {
+    // The step nearest each requested time (ties: the earlier step).
+    const double k = p.step();
+    for (double t : options_.times)
+      if (std::clamp(static_cast<int>(std::lround(t / k - 1e-9)), 0, p.n_steps) == n) return true;
+    return false;
+  }
+  return options_.every > 0 && n % options_.every == 0;
 }
 
 void RunOutput::finish(double wall_seconds) {

@@ -16,10 +16,15 @@
 namespace vpc {
 
 struct OutputOptions {
-  std::filesystem::path directory = "output";
-  int every = 10;      // VTU every this many steps (and at the final step); 0: final only
-  bool vtu = true;     // write VTU/PVD at all
+  std::filesystem::path directory;  // empty: output/<case name>
+  int every = 10;              // VTU every this many steps (and at the final step); 0: final only
+  std::vector<double> times;   // or: VTU at the steps nearest these times (replaces `every`)
+  bool vtu = true;             // write VTU/PVD at all
+  std::vector<std::string> fields;  // VTU fields to write; empty: all (see field_names())
   std::vector<Point> probes;
+
+  /// The names accepted in `fields`.
+  static const std::vector<std::string>& field_names();
 };
 
 /// A probe: the cell containing the point and the point's barycentric coordinates.
@@ -46,6 +51,8 @@ class RunOutput {
  private:
   void write_fields();
   void write_probe_row();
+  bool is_output_step(int n) const;
+  bool wants(const std::string& field) const;
 
   const TimeStepper& stepper_;
   OutputOptions options_;

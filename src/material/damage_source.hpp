@@ -20,5 +20,7 @@ class DamageSource {
 /// an unknown name or parameter.
 std::unique_ptr<DamageSource> make_damage_source(const std::string& name, const Parameters& p);
 std::vector<std::string> damage_source_names();
+/// The parameter names of a source (empty for an unknown name).
+std::vector<std::string> damage_source_parameters(const std::string& name);
 
 }  // namespace vpc

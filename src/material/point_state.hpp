@@ -10,6 +10,8 @@ struct PointState {
   SymTensor eps;
   double beta = 1;
   int dim = 3;  // space dimension d: tensors live in S_d
+  Point x{};    // where (the element centroid) and when (t_{n−1}): for laws given as formulas
+  double t = 0;
 };
 
 }  // namespace vpc

@@ -54,7 +54,7 @@ std::unique_ptr<Base> build(const std::map<std::string, Factory<Base>>& table, c
   }
   try {
     auto law = it->second(p);
-    p.check_all_used(fmt::format("{} '{}'", what, name));
+    p.check_all_used("");
     return law;
   } catch (const Error& e) {
     fail("{} '{}': {}", what, name, e.what());
@@ -68,7 +68,23 @@ std::vector<std::string> keys(const Map& m) {
   return out;
 }
 
+template <typename Base>
+std::vector<std::string> parameter_names(const std::map<std::string, Factory<Base>>& table, const std::string& name) {
+  auto it = table.find(name);
+  if (it == table.end()) return {};
+  const Parameters probe = Parameters::discovering();
+  it->second(probe);
+  return {probe.used().begin(), probe.used().end()};
+}
+
 }  // namespace
+
+std::vector<std::string> viscoplastic_law_parameters(const std::string& name) {
+  return parameter_names(law_table(), name);
+}
+std::vector<std::string> damage_source_parameters(const std::string& name) {
+  return parameter_names(source_table(), name);
+}
 
 std::unique_ptr<ViscoplasticLaw> make_viscoplastic_law(const std::string& name, const Parameters& p) {
   return build(law_table(), "viscoplastic law", name, p);

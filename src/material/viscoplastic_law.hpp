@@ -21,5 +21,7 @@ class ViscoplasticLaw {
 /// throws vpc::Error for an unknown name or parameter.
 std::unique_ptr<ViscoplasticLaw> make_viscoplastic_law(const std::string& name, const Parameters& p);
 std::vector<std::string> viscoplastic_law_names();
+/// The parameter names of a law (empty for an unknown name).
+std::vector<std::string> viscoplastic_law_parameters(const std::string& name);
 
 }  // namespace vpc

@@ -137,7 +137,8 @@ StepReport TimeStepper::step() {
   std::vector<SymTensor> G(n_cells);
   std::vector<double> phi(n_cells);
   for (int c = 0; c < n_cells; ++c) {
-    const PointState s{state_.sigma[c], state_.eps[c], centroid_mean(mesh, state_.beta, c), d};
+    const PointState s{state_.sigma[c], state_.eps[c], centroid_mean(mesh, state_.beta, c), d,
+                       mesh.cell_centroid(c), state_.t};
     G[c] = p.law->rate(s);
     restrict_to_dim(G[c], d);
     phi[c] = p.source->rate(s);

@@ -7,6 +7,16 @@ namespace vpc {
 
 namespace {
 
+/// Eigen keeps CHOLMOD's factor protected; the reciprocal condition estimate needs it.
+class Llt : public Eigen::CholmodSupernodalLLT<SparseMatrix, Eigen::Lower> {
+ public:
+  double rcond() { return cholmod_rcond(m_cholmodFactor, &cholmod()); }
+};
+
+/// CHOLMOD's rcond is (min diag L / max diag L)²: a singular matrix whose last
+/// pivot is a round-off residue passes the positivity check but not this one.
+constexpr double kMinRcond = 1e-14;
+
 class CholmodSolver final : public LinearSolver {
  public:
   void factorize(const SparseMatrix& A, const char* what) override {
@@ -14,7 +24,7 @@ class CholmodSolver final : public LinearSolver {
     n_ = static_cast<int>(A.rows());
     if (n_ == 0) return;
     llt_.compute(A);
-    require(llt_.info() == Eigen::Success,
+    require(llt_.info() == Eigen::Success && llt_.rcond() > kMinRcond,
             "{}: the matrix is not positive definite (is the body clamped on a non-empty part Γ1?)",
             what);
     ++n_factorizations_;
@@ -31,7 +41,7 @@ class CholmodSolver final : public LinearSolver {
   int n_factorizations() const override { return n_factorizations_; }
 
  private:
-  Eigen::CholmodSupernodalLLT<SparseMatrix, Eigen::Lower> llt_;
+  Llt llt_;
   int n_ = 0;
   int n_factorizations_ = 0;
 };

@@ -77,7 +77,7 @@ class ActiveSetContactSolver final : public ContactSolver {
   std::string name() const override { return "active-set"; }
 
  private:
-  const SparseMatrix& K_;
+  SparseMatrix K_;  // own copy: used for the reported residuals
   SparseMatrix N_;
   std::shared_ptr<const LinearSolver> factor_;
   std::unique_ptr<DenseBoxQpOperator> S_;
@@ -116,7 +116,7 @@ class PenaltyDualityContactSolver final : public ContactSolver {
   std::string name() const override { return "penalty-duality"; }
 
  private:
-  const SparseMatrix& K_;
+  SparseMatrix K_;  // own copy: used for the reported residuals
   SparseMatrix N_;
   ContactSolverOptions opt_;
   PenaltyDuality pd_;
@@ -128,6 +128,7 @@ std::unique_ptr<ContactSolver> make_contact_solver(const std::string& name, cons
                                                    std::shared_ptr<const LinearSolver> K_factor,
                                                    const SparseMatrix& N, const ContactSolverOptions& opt) {
   require(N.rows() > 0, "contact solver: there are no contact unknowns (is the contact part empty?)");
+  require(K_factor != nullptr && K_factor->size() == K.rows(), "contact solver: needs the factor of K");
   if (name == "active-set") return std::make_unique<ActiveSetContactSolver>(K, std::move(K_factor), N);
   if (name == "penalty-duality") return std::make_unique<PenaltyDualityContactSolver>(K, *K_factor, N, opt);
   fail("unknown contact solver '{}'; expected active-set or penalty-duality", name);

@@ -46,6 +46,7 @@ struct ContactSolverOptions {
   double omega = 0;            // penalty–duality ω; 0: 1 / (mean compliance N_i K⁻¹ N_iᵀ)
 };
 
+/// K and N are copied; K_factor must be the factor of K.
 /// "active-set": primal–dual active set on the contact unknowns (the dual QP with
 /// S = N K⁻¹ Nᵀ, formed once with the cached factor of K); two solves with K per step.
 /// "penalty-duality": the paper's Bermúdez–Moreno iteration on u (cross-check).

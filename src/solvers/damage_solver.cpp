@@ -40,10 +40,13 @@ class PenaltyDualityDamageSolver final : public DamageSolver {
     Vector theta;
     const PenaltyDualityResult r = pd_.solve(rhs, Vector::Zero(n), Vector::Ones(n), beta, theta, tol_, maxit_);
     DamageReport rep{r.converged, r.iterations, 0, 0, 0};
-    // The iterate approaches the box from outside by O(tolerance): project, as the
-    // scheme requires β ∈ K^h exactly, and report the KKT residual after projection.
+    // The iterate meets the box only to O(tolerance), from either side: project,
+    // as the scheme requires β ∈ K^h exactly, snapping values within the
+    // tolerance of a bound onto it, and report the KKT residual after that.
     for (int i = 0; i < n; ++i) {
       beta[i] = std::clamp(beta[i], 0.0, 1.0);
+      if (beta[i] < tol_) beta[i] = 0.0;
+      if (beta[i] > 1.0 - tol_) beta[i] = 1.0;
       rep.n_lower += beta[i] == 0.0;
       rep.n_upper += beta[i] == 1.0;
     }

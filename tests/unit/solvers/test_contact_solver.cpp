@@ -203,15 +203,9 @@ TEST(ContactSolver, ActiveSetWarmStartStopsAtOnce) {
   EXPECT_EQ(warm.n_active, cold.n_active);
 }
 
-// KNOWN BUG (this test fails; see the report of the solver tests): both contact
-// solvers store `const SparseMatrix& K_` (contact_solver.cpp, ActiveSetContactSolver
-// and PenaltyDualityContactSolver), a reference to the caller's K, while N is copied.
-// Whatever later happens to the caller's matrix leaks into the solver: here the
-// caller reuses its variable for another matrix and the (correct) solution is
-// reported with a huge equilibrium residual. Were the caller's K destroyed or moved
-// from — TimeStepper, which owns K_ and contact_, is implicitly movable — the
-// reference would dangle. The solvers should own a copy of K (or document that K
-// must outlive them and be left unchanged).
+// Regression: the solvers once kept a reference to the caller's K (for the
+// reported residuals); a caller reusing or destroying its matrix corrupted the
+// report or left the reference dangling. They now own a copy.
 TEST(ContactSolver, DoesNotDependOnCallersStiffnessAfterConstruction) {
   const Springs s;
   const auto factor = factor_of(s.K);
@@ -273,16 +267,11 @@ TEST(ContactSolverErrors, CholmodRejectsNonPositiveDefinite) {
   }
 }
 
-// KNOWN BUG (this test fails; see the report of the solver tests): a singular
-// positive *semi*definite matrix is not always rejected. CholmodSolver::factorize
-// (cholmod_solver.cpp) only checks llt_.info(), i.e. CHOLMOD's "pivot ≤ 0" test;
-// for a singular matrix the last pivot is 0 only up to round-off and is often a
-// tiny positive number, so factorize succeeds and later solves return values of
-// order 1e15. Example: the P1 Laplacian of (0, 1) with 20 cells and no Dirichlet
-// node (kernel: the constants) — an unclamped bar — factorizes without error,
-// whereas linear_solver.hpp promises a vpc::Error "if A is not positive definite".
-// (Which sizes slip through depends on round-off, hence several.) A fix would also
-// reject pivots tiny relative to the largest one (e.g. cholmod_rcond < ~1e-14·n).
+// Regression: a singular positive semidefinite matrix (the P1 Laplacian of an
+// unclamped bar, kernel = constants) factorizes with a round-off-sized positive
+// last pivot, which CHOLMOD's "pivot <= 0" test accepts; solves then return
+// values of order 1e15. factorize also rejects a tiny cholmod_rcond. (Which
+// sizes slip through the positivity test depends on round-off, hence several.)
 TEST(ContactSolverErrors, CholmodRejectsRoundoffSingularMatrix) {
   for (int n : {20, 40, 80, 160, 320}) {
     const Mesh m = make_interval(0, 1, n);

@@ -1,0 +1,47 @@
+#pragma once
+// Data given as formulas (muParser): loads f0, f2, the gap g, the initial damage
+// β0, boundary-part predicates and damage sources φ. Variables: x, y, z, t and,
+// for φ, the point state: vm (|σ|_VM), tr_sigma, tr_eps, eps_eq (equivalent
+// strain √(2/3 dev ε : dev ε)) and beta. Constants: pi, e.
+#include "core/sym_tensor.hpp"
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace mu {
+class Parser;
+}
+
+namespace vpc {
+
+class Expression {
+ public:
+  /// The variables an expression may use.
+  enum class Kind { Space, SpaceTime, PointState };
+
+  /// Compiles `text`; throws vpc::Error naming `where` (e.g. "case.toml:12:7: loads.f0[1]"),
+  /// the position in the formula and what is wrong (unknown variable, syntax).
+  Expression(const std::string& text, Kind kind, const std::string& where);
+  ~Expression();
+  Expression(const Expression&) = delete;
+  Expression& operator=(const Expression&) = delete;
+
+  double operator()(const Point& x, double t = 0) const;
+  /// For φ: the point state at an element (x = centroid).
+  double operator()(const Point& x, double t, const SymTensor& sigma, const SymTensor& eps, double beta) const;
+
+  const std::string& text() const { return text_; }
+  static std::vector<std::string> variables(Kind kind);
+
+ private:
+  double eval() const;
+  std::string text_, where_;
+  std::unique_ptr<mu::Parser> parser_;
+  struct Vars {
+    double x = 0, y = 0, z = 0, t = 0, vm = 0, tr_sigma = 0, tr_eps = 0, eps_eq = 0, beta = 1;
+  };
+  std::unique_ptr<Vars> vars_;  // stable addresses for the parser
+};
+
+}  // namespace vpc

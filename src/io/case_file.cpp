@@ -1,0 +1,575 @@
+#include "io/case_file.hpp"
+
+#include "core/error.hpp"
+#include "core/expression.hpp"
+#include "material/sources/expression_source.hpp"
+#include "mesh/generators.hpp"
+#include "mesh/gmsh_reader.hpp"
+
+#include <fmt/ranges.h>
+#include <toml++/toml.h>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+namespace vpc {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+/// Edit distance, for "did you mean".
+size_t edit_distance(const std::string& a, const std::string& b) {
+  std::vector<size_t> row(b.size() + 1);
+  for (size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (size_t i = 1; i <= a.size(); ++i) {
+    size_t prev = row[0];
+    row[0] = i;
+    for (size_t j = 1; j <= b.size(); ++j) {
+      const size_t cur = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, prev + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      prev = cur;
+    }
+  }
+  return row[b.size()];
+}
+
+std::string did_you_mean(const std::string& key, const std::set<std::string>& known) {
+  std::string best;
+  size_t best_d = std::max<size_t>(2, key.size() / 3) + 1;
+  for (const auto& k : known) {
+    const size_t d = edit_distance(key, k);
+    if (d < best_d) {
+      best_d = d;
+      best = k;
+    }
+  }
+  return best.empty() ? "" : fmt::format("; did you mean '{}'?", best);
+}
+
+const char* type_name(const toml::node& n) {
+  switch (n.type()) {
+    case toml::node_type::table: return "a table";
+    case toml::node_type::array: return "an array";
+    case toml::node_type::string: return "a string";
+    case toml::node_type::integer: return "an integer";
+    case toml::node_type::floating_point: return "a number";
+    case toml::node_type::boolean: return "a boolean";
+    default: return "a date/time";
+  }
+}
+
+/// Location of a node: "file:line:column".
+std::string location(const toml::node& n, const std::string& file) {
+  const auto& src = n.source();
+  if (src.begin.line == 0) return "command line (--set)";  // a value given by --set
+  const std::string path = src.path ? *src.path : file;
+  return fmt::format("{}:{}:{}", path, src.begin.line, src.begin.column);
+}
+
+/// One table of the case file. Every key asked for (present or not) is known;
+/// finish() rejects keys nobody asked for.
+class Section {
+ public:
+  Section(const toml::table* t, std::string path, const std::string& file) : t_(t), path_(std::move(path)), file_(file) {}
+
+  bool exists() const { return t_ != nullptr; }
+  const std::string& path() const { return path_; }
+  std::string key_path(const std::string& k) const { return path_.empty() ? k : path_ + "." + k; }
+
+  const toml::node* get(const std::string& k) {
+    known_.insert(k);
+    return t_ ? t_->get(k) : nullptr;
+  }
+  bool has(const std::string& k) { return get(k) != nullptr; }
+
+  /// "file:line:col: key" for a present key, "file: [section] key" otherwise.
+  std::string where(const std::string& k) {
+    const toml::node* n = get(k);
+    if (n && n->source().begin.line == 0) return fmt::format("--set {}", key_path(k));
+    if (n) return fmt::format("{}: {}", location(*n, file_), key_path(k));
+    return where_section() + ": " + key_path(k);
+  }
+  std::string where_section() const {
+    if (t_ && t_->source().begin.line > 0) return location(*t_, file_);
+    return file_;
+  }
+
+  [[noreturn]] void expected(const std::string& k, const std::string& what) {
+    const toml::node* n = get(k);
+    if (!n) fail("{}: missing key '{}': expected {}", where_section(), key_path(k), what);
+    fail("{}: expected {}, got {}", where(k), what, type_name(*n));
+  }
+
+  double number(const std::string& k) {
+    const toml::node* n = get(k);
+    if (!n || !n->is_number()) expected(k, "a number");
+    const double v = *n->value<double>();
+    if (!std::isfinite(v)) expected(k, "a finite number");
+    return v;
+  }
+  double number(const std::string& k, double fallback) { return has(k) ? number(k) : fallback; }
+  double positive(const std::string& k, double fallback) {
+    const double v = number(k, fallback);
+    if (!(v > 0)) fail("{}: expected a number > 0, got {}", where(k), v);
+    return v;
+  }
+  int integer(const std::string& k) {
+    const toml::node* n = get(k);
+    if (!n || !n->is_integer()) expected(k, "an integer");
+    const int64_t v = *n->value<int64_t>();
+    if (v < -(1 << 30) || v > (1 << 30)) expected(k, "an integer of reasonable size");
+    return static_cast<int>(v);
+  }
+  int integer(const std::string& k, int fallback) { return has(k) ? integer(k) : fallback; }
+  std::string string(const std::string& k) {
+    const toml::node* n = get(k);
+    if (!n || !n->is_string()) expected(k, "a string");
+    return *n->value<std::string>();
+  }
+  std::string string(const std::string& k, const std::string& fallback) { return has(k) ? string(k) : fallback; }
+  std::string choice(const std::string& k, const std::vector<std::string>& options, const std::string& fallback = "") {
+    if (!has(k) && !fallback.empty()) return fallback;
+    const std::string v = string(k);
+    if (std::find(options.begin(), options.end(), v) == options.end()) {
+      const std::set<std::string> known(options.begin(), options.end());
+      fail("{}: unknown value '{}'; expected one of: {}{}", where(k), v, fmt::join(options, ", "), did_you_mean(v, known));
+    }
+    return v;
+  }
+  bool boolean(const std::string& k, bool fallback) {
+    const toml::node* n = get(k);
+    if (!n) return fallback;
+    if (!n->is_boolean()) expected(k, "true or false");
+    return *n->value<bool>();
+  }
+  const toml::array& array(const std::string& k, const std::string& what) {
+    const toml::node* n = get(k);
+    if (!n || !n->is_array()) expected(k, what);
+    return *n->as_array();
+  }
+  std::vector<std::string> strings(const std::string& k) {
+    const toml::node* n = get(k);
+    if (n && n->is_string()) return {*n->value<std::string>()};
+    std::vector<std::string> out;
+    for (const auto& e : array(k, "a string or an array of strings")) {
+      if (!e.is_string()) fail("{}: expected an array of strings, got an element that is {}", where(k), type_name(e));
+      out.push_back(*e.value<std::string>());
+    }
+    return out;
+  }
+  std::vector<double> numbers(const std::string& k, size_t size) {
+    const toml::node* n = get(k);
+    if (n && n->is_number() && size == 1) return {*n->value<double>()};
+    std::vector<double> out;
+    const auto& a = array(k, fmt::format("an array of {} numbers", size));
+    for (const auto& e : a) {
+      if (!e.is_number()) fail("{}: expected an array of numbers, got an element that is {}", where(k), type_name(e));
+      out.push_back(*e.value<double>());
+    }
+    if (size > 0 && out.size() != size)
+      fail("{}: expected an array of {} numbers (one per space dimension), got {}", where(k), size, out.size());
+    return out;
+  }
+  /// A formula: a string, or a plain number.
+  std::shared_ptr<const Expression> expression(const std::string& k, Expression::Kind kind) {
+    const toml::node* n = get(k);
+    if (n && n->is_number()) return std::make_shared<Expression>(fmt::format("{:.17g}", *n->value<double>()), kind, where(k));
+    if (!n || !n->is_string()) expected(k, "a formula (a string such as \"-10*t\") or a number");
+    return std::make_shared<Expression>(*n->value<std::string>(), kind, where(k));
+  }
+  /// An array of d formulas (strings or numbers).
+  std::vector<std::shared_ptr<const Expression>> expressions(const std::string& k, int d, Expression::Kind kind) {
+    const auto& a = array(k, fmt::format("an array of {} formulas (one per component)", d));
+    if (static_cast<int>(a.size()) != d)
+      fail("{}: expected an array of {} formulas (one per component), got {}", where(k), d, a.size());
+    std::vector<std::shared_ptr<const Expression>> out;
+    for (size_t i = 0; i < a.size(); ++i) {
+      const toml::node& e = a[i];
+      const std::string w = fmt::format("{}: {}[{}]", location(e, file_), key_path(k), i);
+      if (e.is_number()) {
+        out.push_back(std::make_shared<Expression>(fmt::format("{:.17g}", *e.value<double>()), kind, w));
+      } else if (e.is_string()) {
+        out.push_back(std::make_shared<Expression>(*e.value<std::string>(), kind, w));
+      } else {
+        fail("{}: expected a formula or a number, got {}", w, type_name(e));
+      }
+    }
+    return out;
+  }
+
+  Section table(const std::string& k) {
+    const toml::node* n = get(k);
+    if (n && !n->is_table()) expected(k, "a table");
+    return Section(n ? n->as_table() : nullptr, key_path(k), file_);
+  }
+
+  /// Keys present but never asked for are errors.
+  void finish() const {
+    if (!t_) return;
+    for (const auto& [key, node] : *t_) {
+      const std::string k(key.str());
+      if (known_.count(k)) continue;
+      const std::string where = key.source().begin.line > 0
+                                    ? fmt::format("{}:{}:{}", key.source().path ? *key.source().path : file_,
+                                                  key.source().begin.line, key.source().begin.column)
+                                    : location(node, file_);
+      fail("{}: unknown key '{}'{}{}", where, k, path_.empty() ? " (a section)" : fmt::format(" in [{}]", path_),
+           did_you_mean(k, known_));
+    }
+  }
+  /// The keys present that were not asked for (law parameters).
+  std::vector<std::string> remaining() const {
+    std::vector<std::string> out;
+    if (!t_) return out;
+    for (const auto& [key, node] : *t_)
+      if (!known_.count(std::string(key.str()))) out.emplace_back(key.str());
+    return out;
+  }
+  const std::set<std::string>& known() const { return known_; }
+
+ private:
+  const toml::table* t_;
+  std::string path_;
+  const std::string& file_;
+  std::set<std::string> known_;
+};
+
+VectorField vector_field(std::vector<std::shared_ptr<const Expression>> e) {
+  return [e = std::move(e)](const Point& x, double t) {
+    Point v{0, 0, 0};
+    for (size_t i = 0; i < e.size(); ++i) v[i] = (*e[i])(x, t);
+    return v;
+  };
+}
+
+/// Applies `key.path=value` overrides to the parsed table.
+void apply_overrides(toml::table& root, const std::vector<std::string>& overrides) {
+  for (const auto& o : overrides) {
+    const auto eq = o.find('=');
+    require(eq != std::string::npos && eq > 0, "--set {}: expected key=value (e.g. damage.kappa=0.1)", o);
+    std::string key = o.substr(0, eq), value = o.substr(eq + 1);
+    key.erase(key.find_last_not_of(" \t") + 1);
+    std::vector<std::string> parts;
+    std::stringstream ss(key);
+    for (std::string p; std::getline(ss, p, '.');) {
+      require(!p.empty(), "--set {}: empty part in the key '{}'", o, key);
+      parts.push_back(p);
+    }
+    toml::table parsed;
+    try {
+      parsed = toml::parse(std::string_view("v = " + value), std::string_view("--set " + o));
+    } catch (const toml::parse_error&) {
+      parsed = toml::table{};
+      parsed.insert_or_assign("v", value);  // a bare word: a string
+    }
+    toml::table* t = &root;
+    for (size_t i = 0; i + 1 < parts.size(); ++i) {
+      toml::node* n = t->get(parts[i]);
+      if (!n) {
+        t->insert_or_assign(parts[i], toml::table{});
+        n = t->get(parts[i]);
+      }
+      require(n->is_table(), "--set {}: '{}' is not a table in the case file", o, parts[i]);
+      t = n->as_table();
+    }
+    parsed["v"].visit([&](auto&& node) { t->insert_or_assign(parts.back(), node); });
+  }
+}
+
+Mesh read_mesh(Section m, const fs::path& base_dir, const std::string& file) {
+  if (!m.exists()) fail("{}: missing section [mesh]", file);
+  Mesh mesh;
+  if (m.has("file")) {
+    const fs::path path = base_dir / m.string("file");
+    GmshOptions g;
+    g.size_factor = m.positive("size_factor", 1.0);
+    try {
+      mesh = read_gmsh(path, g);
+    } catch (const Error& e) {
+      fail("{}: {}", m.where("file"), e.what());
+    }
+  } else {
+    const std::string gen = m.choice("generator", {"interval", "rectangle", "box"});
+    const int d = gen == "interval" ? 1 : (gen == "rectangle" ? 2 : 3);
+    const auto lo = m.numbers("lower", d), hi = m.numbers("upper", d);
+    std::vector<int> n;
+    const toml::node* c = m.get("cells");
+    if (c && c->is_integer()) {
+      n.assign(d, m.integer("cells"));
+    } else {
+      for (double v : m.numbers("cells", d)) {
+        if (v != std::floor(v)) fail("{}: expected whole numbers of cells", m.where("cells"));
+        n.push_back(static_cast<int>(v));
+      }
+    }
+    for (int a = 0; a < d; ++a) {
+      if (n[a] < 1 || n[a] > 100000) fail("{}: expected between 1 and 100000 cells per direction, got {}", m.where("cells"), n[a]);
+      if (!(hi[a] > lo[a])) fail("{}: expected upper > lower in every direction", m.where("upper"));
+    }
+    try {
+      if (d == 1) mesh = make_interval(lo[0], hi[0], n[0]);
+      if (d == 2) mesh = make_rectangle({lo[0], lo[1], 0}, {hi[0], hi[1], 0}, n[0], n[1]);
+      if (d == 3) mesh = make_box({lo[0], lo[1], lo[2]}, {hi[0], hi[1], hi[2]}, n[0], n[1], n[2]);
+    } catch (const Error& e) {
+      fail("{}: {}", m.where("generator"), e.what());
+    }
+  }
+  // [[mesh.part]]: re-tag the boundary facets whose centroid satisfies a predicate.
+  if (m.has("part")) {
+    const toml::node* parts = m.get("part");
+    if (!parts->is_array_of_tables()) m.expected("part", "an array of tables [[mesh.part]] with name and where");
+    int i = 0;
+    for (const auto& node : *parts->as_array()) {
+      Section p(node.as_table(), fmt::format("mesh.part[{}]", i++), file);
+      const std::string name = p.string("name");
+      const auto where = p.expression("where", Expression::Kind::Space);
+      p.finish();
+      mesh.tag_facets(name, [&](const Point& x) { return (*where)(x) != 0.0; });
+      if (mesh.part_size(name) == 0)
+        fail("{}: the predicate \"{}\" selects no boundary facet", p.where("where"), where->text());
+    }
+  }
+  m.finish();
+  return mesh;
+}
+
+std::vector<std::string> read_parts(Section& b, const std::string& key, const Mesh& mesh, bool required) {
+  if (!required && !b.has(key)) return {};
+  const auto parts = b.strings(key);
+  if (parts.empty()) fail("{}: expected at least one boundary part name", b.where(key));
+  for (const auto& p : parts)
+    if (mesh.part_size(p) == 0)
+      fail("{}: boundary part '{}' does not exist in the mesh (or has no facets); the mesh has: {}", b.where(key), p,
+           describe_parts(mesh));
+  return parts;
+}
+
+Parameters law_parameters(Section& s) {
+  Parameters p;
+  for (const auto& k : s.remaining()) {
+    p.set(k, s.number(k));
+  }
+  return p;
+}
+
+/// If a law rejected a parameter it does not know, say where it is and what the
+/// law's parameters are.
+void unknown_parameter(Section& s, const Parameters& params, const std::string& law,
+                       const std::vector<std::string>& names) {
+  const auto unused = params.unused();
+  if (unused.empty()) return;
+  std::set<std::string> candidates(names.begin(), names.end());
+  candidates.insert(s.known().begin(), s.known().end());  // a misspelt key of the section itself
+  for (const auto& u : unused) candidates.erase(u);
+  fail("{}: unknown key or parameter of the {}{}; its parameters are: {}", s.where(unused.front()), law,
+       did_you_mean(unused.front(), candidates), names.empty() ? "(none)" : fmt::format("{}", fmt::join(names, ", ")));
+}
+
+}  // namespace
+
+Case parse_case(std::string_view text, const std::string& name, const fs::path& base_dir,
+                const std::vector<std::string>& overrides) {
+  toml::table root;
+  try {
+    root = toml::parse(text, std::string_view(name));
+  } catch (const toml::parse_error& e) {
+    fail("{}:{}:{}: invalid TOML: {}", name, e.source().begin.line, e.source().begin.column, e.description());
+  }
+  apply_overrides(root, overrides);
+
+  Section top(&root, "", name);
+  Case c;
+  auto p = std::make_shared<Problem>();
+  c.problem = p;
+
+  Section info = top.table("case");
+  c.name = info.string("name", fs::path(name).stem().string());
+  c.description = info.string("description", "case file " + name);
+  info.finish();
+  p->name = c.name;
+
+  p->mesh = read_mesh(top.table("mesh"), base_dir, name);
+  const int d = p->mesh.dim();
+
+  Section b = top.table("boundary");
+  if (!b.exists()) fail("{}: missing section [boundary] (clamped and contact parts)", name);
+  p->clamped = read_parts(b, "clamped", p->mesh, true);
+  p->contact.parts = read_parts(b, "contact", p->mesh, true);
+  p->traction = read_parts(b, "traction", p->mesh, false);
+  b.finish();
+
+  Section e = top.table("elasticity");
+  if (!e.exists()) fail("{}: missing section [elasticity] (kind, E, nu)", name);
+  const std::string default_kind = d == 1 ? "1d" : (d == 3 ? "isotropic" : "");
+  const std::string kind = e.choice("kind", {"1d", "plane-stress", "plane-strain", "isotropic"}, default_kind);
+  const double young = e.number("E");
+  const double nu = d == 1 ? e.number("nu", 0.0) : e.number("nu");
+  try {
+    p->elasticity = Elasticity::from_name(kind, young, nu);
+  } catch (const Error& err) {
+    fail("{}: {}", e.where_section(), err.what());
+  }
+  if (p->elasticity.dim() != d) fail("{}: elasticity '{}' is for d = {} but the mesh has d = {}", e.where("kind"), kind, p->elasticity.dim(), d);
+  e.finish();
+
+  Section v = top.table("viscoplasticity");
+  {
+    const std::string law = v.choice("law", viscoplastic_law_names(), "elastic");
+    Parameters params = law_parameters(v);
+    if (law.rfind("perzyna", 0) == 0 && !params.has("E")) params.set("E", young);  // E of ℰ by default
+    try {
+      p->law = make_viscoplastic_law(law, params);
+    } catch (const Error& err) {
+      unknown_parameter(v, params, "viscoplastic law '" + law + "'", viscoplastic_law_parameters(law));
+      fail("{}: [viscoplasticity]: {}", v.where_section(), err.what());
+    }
+  }
+
+  Section dm = top.table("damage");
+  p->kappa = dm.number("kappa", 1.0);
+  if (p->kappa < 0) fail("{}: expected kappa >= 0, got {}", dm.where("kappa"), p->kappa);
+  p->beta0 = [b0 = dm.has("beta0") ? dm.expression("beta0", Expression::Kind::Space) : nullptr](const Point& x, double) {
+    return b0 ? (*b0)(x) : 1.0;
+  };
+  if (dm.has("beta0"))
+    for (int i = 0; i < p->mesh.n_nodes(); ++i) {
+      const double b0 = p->beta0(p->mesh.node(i), 0.0);
+      if (!(b0 >= 0 && b0 <= 1))
+        fail("{}: beta0 must lie in [0, 1]; it is {} at node {} ({}, {}, {})", dm.where("beta0"), b0, i,
+             p->mesh.node(i)[0], p->mesh.node(i)[1], p->mesh.node(i)[2]);
+    }
+  if (dm.has("phi")) {
+    if (dm.has("source") && dm.string("source") != "expression")
+      fail("{}: give either source = \"<name>\" or phi = \"<formula>\", not both", dm.where("phi"));
+    p->source = std::make_shared<ExpressionSource>(dm.expression("phi", Expression::Kind::PointState));
+    dm.finish();
+  } else {
+    std::vector<std::string> names = damage_source_names();
+    const std::string src = dm.choice("source", names, "zero");
+    Parameters params = law_parameters(dm);
+    try {
+      p->source = make_damage_source(src, params);
+    } catch (const Error& err) {
+      unknown_parameter(dm, params, "damage source '" + src + "'", damage_source_parameters(src));
+      fail("{}: [damage]: {}", dm.where_section(), err.what());
+    }
+  }
+
+  Section l = top.table("loads");
+  p->f0 = l.has("f0") ? vector_field(l.expressions("f0", d, Expression::Kind::SpaceTime)) : VectorField{};
+  p->f2 = l.has("f2") ? vector_field(l.expressions("f2", d, Expression::Kind::SpaceTime)) : VectorField{};
+  l.finish();
+
+  Section ct = top.table("contact");
+  {
+    const auto gap = ct.has("gap") ? ct.expression("gap", Expression::Kind::Space) : nullptr;
+    p->contact.gap = [gap](const Point& x, double) { return gap ? (*gap)(x) : 0.0; };
+    for (int i : p->mesh.nodes_of_parts(p->contact.parts)) {
+      const double g = p->contact.gap(p->mesh.node(i), 0.0);
+      if (!(g >= 0) || !std::isfinite(g))
+        fail("{}: the gap g must be >= 0 on the contact part; it is {} at node {} ({}, {}, {})", ct.where("gap"), g, i,
+             p->mesh.node(i)[0], p->mesh.node(i)[1], p->mesh.node(i)[2]);
+    }
+    if (ct.has("direction")) {
+      const toml::node* n = ct.get("direction");
+      if (n->is_string()) {
+        ct.choice("direction", {"normal"});
+      } else {
+        const auto v3 = ct.numbers("direction", d);
+        Point dir{0, 0, 0};
+        for (int i = 0; i < d; ++i) dir[i] = v3[i];
+        if (std::hypot(dir[0], dir[1], dir[2]) == 0) fail("{}: expected a non-zero vector", ct.where("direction"));
+        p->contact.direction = dir;
+      }
+    }
+    ct.finish();
+  }
+
+  Section tm = top.table("time");
+  if (!tm.exists()) fail("{}: missing section [time] (T and steps or dt)", name);
+  p->final_time = tm.positive("T", 1.0);
+  if (tm.has("steps") == tm.has("dt")) fail("{}: give exactly one of steps and dt", tm.where_section());
+  if (tm.has("steps")) {
+    p->n_steps = tm.integer("steps");
+    if (p->n_steps < 1) fail("{}: expected steps >= 1, got {}", tm.where("steps"), p->n_steps);
+  } else {
+    const double k = tm.positive("dt", 0.0);
+    const double n = p->final_time / k;
+    if (std::abs(n - std::round(n)) > 1e-9 * n || n > 1e8)
+      fail("{}: the time step {} does not divide T = {} into whole steps", tm.where("dt"), k, p->final_time);
+    p->n_steps = static_cast<int>(std::round(n));
+  }
+  tm.finish();
+
+  Section out = top.table("output");
+  c.output.directory = out.string("directory", "");
+  if (out.has("every") && out.has("times")) fail("{}: give either every or times, not both", out.where_section());
+  c.output.every = out.integer("every", std::max(1, p->n_steps / 10));
+  if (c.output.every < 0) fail("{}: expected every >= 0", out.where("every"));
+  if (out.has("times")) {
+    c.output.times = out.numbers("times", 0);
+    for (double t : c.output.times)
+      if (t < 0 || t > p->final_time) fail("{}: output time {} is outside [0, T = {}]", out.where("times"), t, p->final_time);
+  }
+  c.output.vtu = out.boolean("vtu", true);
+  if (out.has("fields")) {
+    c.output.fields = out.strings("fields");
+    for (const auto& f : c.output.fields)
+      if (std::find(OutputOptions::field_names().begin(), OutputOptions::field_names().end(), f) == OutputOptions::field_names().end()) {
+        const std::set<std::string> known(OutputOptions::field_names().begin(), OutputOptions::field_names().end());
+        fail("{}: unknown field '{}'; expected some of: {}{}", out.where("fields"), f, fmt::join(OutputOptions::field_names(), ", "), did_you_mean(f, known));
+      }
+  }
+  if (out.has("probes")) {
+    const auto& arr = out.array("probes", "an array of points, e.g. [[0.25], [1.0]]");
+    for (const auto& pt : arr) {
+      if (!pt.is_array() || static_cast<int>(pt.as_array()->size()) != d)
+        fail("{}: expected each probe to be an array of {} numbers", out.where("probes"), d);
+      Point x{0, 0, 0};
+      for (int i = 0; i < d; ++i) {
+        const auto val = (*pt.as_array())[i].value<double>();
+        if (!val) fail("{}: expected numbers in probe coordinates", out.where("probes"));
+        x[i] = *val;
+      }
+      c.output.probes.push_back(x);
+    }
+  }
+  out.finish();
+
+  Section sv = top.table("solver");
+  c.solvers.contact = sv.choice("contact", {"active-set", "penalty-duality"}, "active-set");
+  c.solvers.damage = sv.choice("damage", {"active-set", "penalty-duality"}, "active-set");
+  c.solvers.residual_tolerance = sv.positive("tolerance", 1e-8);
+  sv.finish();
+
+  top.finish();
+  try {
+    p->validate();
+  } catch (const Error& err) {
+    fail("{}: {}", name, err.what());
+  }
+  return c;
+}
+
+std::string case_description(std::string_view text) {
+  try {
+    const toml::table t = toml::parse(text);
+    return t["case"]["description"].value_or(std::string());
+  } catch (const toml::parse_error&) {
+    return {};
+  }
+}
+
+Case read_case_file(const fs::path& file, const std::vector<std::string>& overrides) {
+  std::ifstream in(file, std::ios::binary);
+  require(in.good(), "cannot read case file '{}'", file.string());
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return parse_case(ss.str(), file.string(), file.parent_path(), overrides);
+}
+
+}  // namespace vpc

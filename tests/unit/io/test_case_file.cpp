@@ -1,0 +1,227 @@
+// Case files: a valid case, its built-in twins, expressions, overrides, and a
+// table of bad case files with the message each must give.
+#include "cases/builtin_cases.hpp"
+#include "cases/shipped_cases.hpp"
+#include "core/error.hpp"
+#include "core/expression.hpp"
+#include "io/case_file.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace vpc {
+namespace {
+
+const char* kValid = R"(
+[case]
+name = "small"
+
+[mesh]
+generator = "rectangle"
+lower = [0.0, 0.0]
+upper = [2.0, 1.0]
+cells = [10, 5]
+
+[[mesh.part]]
+name = "patch"
+where = "abs(y) < 1e-9 && x > 0.6 && x < 1.4"
+
+[boundary]
+clamped = ["top"]
+contact = ["patch"]
+
+[elasticity]
+kind = "plane-strain"
+E = 100.0
+nu = 0.25
+
+[viscoplasticity]
+law = "perzyna-von-mises"
+lambda = 10.0
+sigma_y = 0.5
+
+[damage]
+kappa = 0.5
+phi = "-0.01*vm*beta"
+beta0 = "1 - 0.1*x/2"
+
+[loads]
+f0 = ["0", "-5*t"]
+
+[contact]
+gap = "0.001*x"
+direction = [0, -1]
+
+[time]
+T = 0.5
+dt = 0.05
+
+[output]
+times = [0.1, 0.5]
+probes = [[1.0, 0.0]]
+fields = ["displacement", "damage"]
+)";
+
+std::string error_of(const std::string& text, const std::vector<std::string>& sets = {}) {
+  try {
+    parse_case(text, "bad.toml", ".", sets);
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
+/// Replaces the first occurrence of `from` in the valid case by `to`.
+std::string variant(const std::string& from, const std::string& to) {
+  std::string s = kValid;
+  const auto pos = s.find(from);
+  EXPECT_NE(pos, std::string::npos) << from;
+  return s.replace(pos, from.size(), to);
+}
+
+TEST(CaseFile, ValidCaseIsReadCompletely) {
+  const Case c = parse_case(kValid, "ok.toml", ".");
+  const Problem& p = *c.problem;
+  EXPECT_EQ(c.name, "small");
+  EXPECT_EQ(p.mesh.dim(), 2);
+  EXPECT_EQ(p.mesh.n_cells(), 2 * 10 * 5);
+  EXPECT_EQ(p.mesh.part_size("patch"), 4);
+  EXPECT_EQ(p.elasticity.name(), "plane-strain");
+  EXPECT_DOUBLE_EQ(p.elasticity.young(), 100.0);
+  EXPECT_EQ(p.n_steps, 10);
+  EXPECT_DOUBLE_EQ(p.kappa, 0.5);
+  EXPECT_NEAR(p.f0({1, 2, 0}, 0.4)[1], -2.0, 1e-15);
+  EXPECT_NEAR(p.contact.gap({1.5, 0, 0}, 0), 0.0015, 1e-15);
+  EXPECT_NEAR(p.beta0({2, 0, 0}, 0), 0.9, 1e-15);
+  ASSERT_TRUE(p.contact.direction.has_value());
+  EXPECT_EQ((*p.contact.direction)[1], -1.0);
+  EXPECT_EQ(c.output.times, (std::vector<double>{0.1, 0.5}));
+  EXPECT_EQ(c.output.probes.size(), 1u);
+  EXPECT_EQ(c.output.fields.size(), 2u);
+  // The φ formula sees the point state.
+  PointState s;
+  s.sigma = SymTensor{{3, -1, 0, 0, 0, 2}};  // |σ|_VM = 5
+  s.beta = 0.5;
+  EXPECT_NEAR(p.source->rate(s), -0.025, 1e-15);
+  // Perzyna's E defaults to the elastic E.
+  EXPECT_NE(p.law->describe().find("E = 100"), std::string::npos) << p.law->describe();
+}
+
+TEST(CaseFile, OverridesApplyBeforeValidation) {
+  const Case c = parse_case(kValid, "ok.toml", ".", {"damage.kappa=2", "mesh.cells=[20, 10]", "case.name=renamed"});
+  EXPECT_DOUBLE_EQ(c.problem->kappa, 2.0);
+  EXPECT_EQ(c.problem->mesh.n_cells(), 2 * 20 * 10);
+  EXPECT_EQ(c.name, "renamed");
+  EXPECT_NE(error_of(kValid, {"damage.kappa"}).find("expected key=value"), std::string::npos);
+  EXPECT_NE(error_of(kValid, {"damage.kappa=-1"}).find("--set damage.kappa: expected kappa >= 0"), std::string::npos)
+      << error_of(kValid, {"damage.kappa=-1"});
+}
+
+TEST(CaseFile, ExpressionsEvaluateAndReportErrors) {
+  const Expression e("sin(pi*x/2) + t^2 + (y > 0.5 ? 1 : 0)", Expression::Kind::SpaceTime, "here");
+  EXPECT_NEAR(e({1, 1, 0}, 3), 1 + 9 + 1, 1e-14);
+  EXPECT_NEAR(e({1, 0, 0}, 0), 1, 1e-14);
+  try {
+    Expression bad("2*w", Expression::Kind::Space, "case.toml:3:5: contact.gap");
+    FAIL();
+  } catch (const Error& err) {
+    const std::string m = err.what();
+    EXPECT_NE(m.find("case.toml:3:5: contact.gap: invalid expression \"2*w\""), std::string::npos) << m;
+    EXPECT_NE(m.find("Available variables: x, y, z"), std::string::npos) << m;
+  }
+  EXPECT_THROW(Expression("x +* 2", Expression::Kind::Space, "w"), Error);
+  EXPECT_THROW(Expression("t", Expression::Kind::Space, "w"), Error);  // no t in a space-only formula
+  const Expression phi("-eps_eq + tr_sigma + tr_eps + beta", Expression::Kind::PointState, "w");
+  SymTensor eps{{0.1, -0.1, 0, 0, 0, 0}};
+  // eps_eq = sqrt(2/3 dev ε : dev ε) = sqrt(2/3 · 0.02) for this deviatoric ε
+  EXPECT_NEAR(phi({0, 0, 0}, 0, SymTensor{{1, 1, 0, 0, 0, 0}}, eps, 0.5), -std::sqrt(2.0 / 3 * 0.02) + 2 + 0 + 0.5,
+              1e-14);
+}
+
+struct BadCase {
+  std::string from, to, message;
+};
+
+TEST(CaseFile, BadCaseFilesGiveTheirMessages) {
+  const std::vector<BadCase> table = {
+      {"kappa = 0.5", "kapa = 0.5", "bad.toml:30:1: unknown key 'kapa' in [damage]; did you mean 'kappa'?"},
+      {"[damage]", "[damge]", "unknown key 'damge' (a section); did you mean 'damage'?"},
+      {"kind = \"plane-strain\"", "kind = \"plane-strian\"",
+       "bad.toml:20:8: elasticity.kind: unknown value 'plane-strian'; expected one of: 1d, plane-stress, "
+       "plane-strain, isotropic; did you mean 'plane-strain'?"},
+      {"E = 100.0", "E = \"hundred\"", "bad.toml:21:5: elasticity.E: expected a number, got a string"},
+      {"E = 100.0", "E = -100.0", "Young's modulus E must be > 0"},
+      {"cells = [10, 5]", "cells = [10]", "bad.toml:9:9: mesh.cells: expected an array of 2 numbers"},
+      {"cells = [10, 5]", "cells = [10, 0]", "mesh.cells: expected between 1 and 100000 cells"},
+      {"generator = \"rectangle\"", "generator = \"square\"", "mesh.generator: unknown value 'square'"},
+      {"contact = [\"patch\"]", "contact = [\"botom\"]",
+       "boundary.contact: boundary part 'botom' does not exist in the mesh (or has no facets); the mesh has: "},
+      {"clamped = [\"top\"]\n", "", "missing key 'boundary.clamped'"},
+      {"where = \"abs(y) < 1e-9 && x > 0.6 && x < 1.4\"", "where = \"abs(y) < 1e-9 && x > 5\"",
+       "selects no boundary facet"},
+      {"f0 = [\"0\", \"-5*t\"]", "f0 = [\"0\"]", "loads.f0: expected an array of 2 formulas (one per component), got 1"},
+      {"f0 = [\"0\", \"-5*t\"]", "f0 = [\"0\", \"-5*T\"]",
+       "bad.toml:35:12: loads.f0[1]: invalid expression \"-5*T\": Unexpected token \"T\""},
+      {"gap = \"0.001*x\"", "gap = \"0.001*t\"", "contact.gap: invalid expression"},
+      {"gap = \"0.001*x\"", "gap = \"-0.001*x\"", "the gap g must be >= 0"},
+      {"direction = [0, -1]", "direction = [0, 0]", "contact.direction: expected a non-zero vector"},
+      {"direction = [0, -1]", "direction = \"up\"", "contact.direction: unknown value 'up'; expected one of: normal"},
+      {"dt = 0.05", "dt = 0.03", "bad.toml:43:6: time.dt: the time step 0.03 does not divide T = 0.5 into whole steps"},
+      {"dt = 0.05", "dt = -0.05", "time.dt: expected a number > 0"},
+      {"dt = 0.05", "steps = 0", "time.steps: expected steps >= 1, got 0"},
+      {"dt = 0.05", "dt = 0.05\nsteps = 10", "give exactly one of steps and dt"},
+      {"T = 0.5", "T = 0", "time.T: expected a number > 0"},
+      {"kappa = 0.5", "kappa = -0.5", "damage.kappa: expected kappa >= 0"},
+      {"beta0 = \"1 - 0.1*x/2\"", "beta0 = \"1.5\"", "beta0 must lie in [0, 1]"},
+      {"phi = \"-0.01*vm*beta\"", "phi = \"-0.01*vm*beta\"\nsource = \"von-mises\"", "give either source"},
+      {"law = \"perzyna-von-mises\"", "law = \"perzina\"", "did you mean 'perzyna'?"},
+      {"lambda = 10.0", "lamda = 10.0", "viscoplasticity.lamda: unknown key or parameter of the viscoplastic law "
+                                        "'perzyna-von-mises'; did you mean 'lambda'?; its parameters are: E, lambda, sigma_y"},
+      {"lambda = 10.0", "lambda = -10.0", "viscosity lambda must be > 0"},
+      {"times = [0.1, 0.5]", "times = [0.1, 0.9]", "output time 0.9 is outside [0, T = 0.5]"},
+      {"fields = [\"displacement\", \"damage\"]", "fields = [\"displacment\"]", "did you mean 'displacement'?"},
+      {"probes = [[1.0, 0.0]]", "probes = [[1.0]]", "expected each probe to be an array of 2 numbers"},
+      {"[output]", "[output]\nevery = 2", "give either every or times"},
+      {"upper = [2.0, 1.0]", "upper = [2.0, 1.0", "bad.toml:9:1: invalid TOML: Error while parsing array"},
+      {"[case]", "[case]\n[case]", "invalid TOML"},
+  };
+  for (const auto& b : table) {
+    const std::string msg = error_of(variant(b.from, b.to));
+    EXPECT_NE(msg.find(b.message), std::string::npos) << "case: " << b.to << "\nexpected: " << b.message
+                                                      << "\ngot:      " << msg;
+  }
+}
+
+TEST(CaseFile, MeshFileErrorsNameThePath) {
+  const std::string msg = error_of(variant("generator = \"rectangle\"\nlower = [0.0, 0.0]\nupper = [2.0, 1.0]\ncells = [10, 5]",
+                                           "file = \"no/such/mesh.msh\""));
+  EXPECT_NE(msg.find("mesh.file"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("no/such/mesh.msh"), std::string::npos) << msg;
+}
+
+/// The shipped case files give exactly the built-in cases' results.
+TEST(CaseFile, ShippedCasesEqualTheirBuiltinTwins) {
+  for (const auto& name : builtin_case_names()) {
+    SCOPED_TRACE(name);
+    auto it = std::find_if(shipped_cases().begin(), shipped_cases().end(), [&](const auto& s) { return s.name == name; });
+    ASSERT_NE(it, shipped_cases().end()) << "no cases/" << name << ".toml";
+    const ShippedCase& s = *it;
+    const Case file = parse_case(s.text, std::string(s.name) + ".toml", ".", {"time.steps=5"});
+    Case builtin = make_builtin_case(std::string(s.name), {.steps = 5});
+    EXPECT_EQ(file.name, builtin.name);
+    EXPECT_EQ(file.output.probes, builtin.output.probes);
+    TimeStepper a(file.problem), b(builtin.problem);
+    while (!a.done()) {
+      a.step();
+      b.step();
+    }
+    EXPECT_EQ(a.contact_nodes(), b.contact_nodes());
+    EXPECT_EQ((a.state().u - b.state().u).cwiseAbs().maxCoeff(), 0.0);
+    EXPECT_EQ((a.state().beta - b.state().beta).cwiseAbs().maxCoeff(), 0.0);
+    EXPECT_EQ((a.state().lambda - b.state().lambda).cwiseAbs().maxCoeff(), 0.0);
+  }
+}
+
+}  // namespace
+}  // namespace vpc
