@@ -8,6 +8,7 @@
 #include "core/error.hpp"
 #include "io/case_file.hpp"
 #include "io/run_output.hpp"
+#include "converge_command.hpp"
 #include "progress.hpp"
 #include "scheme/time_stepper.hpp"
 
@@ -201,6 +202,7 @@ int main(int argc, char** argv) {
   auto* cases_cmd = app.add_subcommand("cases", "list the built-in cases");
   auto* plot_cmd = app.add_subcommand("plot", "draw the paper's figures from a run's output directory (PNG)");
   plot_cmd->add_option("outdir", o.outdir, "the output directory of a run")->required();
+  auto* converge_cmd = vpc::add_converge_command(app);
 
   try {
     app.parse(argc, argv);
@@ -216,6 +218,7 @@ int main(int argc, char** argv) {
       return 0;
     }
     if (*plot_cmd) return plot(o.outdir);
+    if (*converge_cmd) return vpc::run_converge_command();
     if (*check_cmd) return check(o, *check_cmd);
     return run(o, *run_cmd);  // `vpcontact` alone runs paper-2d
   } catch (const vpc::Error& e) {

@@ -1,0 +1,267 @@
+// vpcontact converge CASE: measures the convergence rate of the fully discrete
+// scheme (Theorem 3.5 of Fernández & Sofonea) on a built-in case, a case file or a
+// manufactured solution, writes CSV tables and a log–log plot.
+#include "converge_command.hpp"
+
+#include "cases/builtin_cases.hpp"
+#include "cases/shipped_cases.hpp"
+#include "core/error.hpp"
+#include "io/atomic_file.hpp"
+#include "io/case_file.hpp"
+#include "verification/convergence.hpp"
+#include "verification/manufactured.hpp"
+#include "verification/refine.hpp"
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+
+namespace vpc {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct ConvergeOptions {
+  std::string case_name;
+  std::string output;
+  std::vector<std::string> sets;
+  std::string sequence = "hk";
+  std::string forcing = "continuous";
+  int levels = 4;
+  int reference_offset = 1;
+  int n = -1, steps = -1, h_steps = -1, k_refinements = 1;
+  double kappa = -1, tolerance = -1;
+  std::string contact_solver, damage_solver;
+  bool solvers = false, no_plot = false, quiet = false;
+  CLI::App* cmd = nullptr;
+};
+
+ConvergeOptions& options() {
+  static ConvergeOptions o;
+  return o;
+}
+
+bool given(const std::string& name) {
+  const CLI::Option* opt = options().cmd->get_option_no_throw(name);
+  return opt != nullptr && opt->count() > 0;
+}
+
+/// What a study needs: the base mesh, how to build a level, N0, an exact solution.
+struct StudyInput {
+  std::string name;
+  std::string description;
+  Mesh base_mesh;
+  ProblemFactory factory;
+  std::shared_ptr<const ExactSolution> exact;
+  int base_steps = 0;
+  SolverChoice solvers;
+};
+
+StudyInput manufactured_input(const ConvergeOptions& o) {
+  ManufacturedOptions m = manufactured_options_from_name(o.case_name);
+  m.forcing = manufactured_forcing_from_name(o.forcing);
+  if (o.n > 0) m.cells = o.n;
+  if (o.steps > 0) m.n_steps = o.steps;
+  if (given("--kappa")) {
+    require(o.kappa >= 0, "--kappa must be >= 0 (got {})", o.kappa);
+    m.kappa = o.kappa;
+  }
+  StudyInput in;
+  in.name = o.case_name;
+  in.base_mesh = manufactured_base_mesh(m);
+  const ManufacturedCase base = make_manufactured_case(m, in.base_mesh, m.n_steps);
+  in.description = fmt::format("manufactured solution on (0,1)^{}: law {}, source {}, kappa = {}, forcing {}", m.dim,
+                               base.problem->law->describe(), base.problem->source->describe(), m.kappa, o.forcing);
+  in.exact = base.exact;
+  in.base_steps = m.n_steps;
+  in.factory = [m](const Mesh& mesh, int n_steps) {
+    return std::shared_ptr<const Problem>(make_manufactured_case(m, mesh, n_steps).problem);
+  };
+  return in;
+}
+
+bool is_case_file(const std::string& s) { return s.size() > 5 && (s.ends_with(".toml") || fs::is_regular_file(s)); }
+
+StudyInput case_input(const ConvergeOptions& o) {
+  CaseOverrides ov;
+  if (given("--kappa")) ov.kappa = o.kappa;
+  if (given("--steps")) ov.steps = o.steps;
+  Case c;
+  const auto& builtins = builtin_case_names();
+  const bool builtin = std::find(builtins.begin(), builtins.end(), o.case_name) != builtins.end();
+  if (builtin && o.sets.empty()) {
+    if (given("--n")) ov.mesh_cells = o.n;
+    c = make_builtin_case(o.case_name, ov);
+  } else {
+    std::vector<std::string> sets = o.sets;
+    if (given("--n")) sets.insert(sets.begin(), fmt::format("mesh.cells={}", o.n));
+    if (!is_case_file(o.case_name)) {
+      const auto& shipped = shipped_cases();
+      auto it = std::find_if(shipped.begin(), shipped.end(), [&](const auto& s) { return s.name == o.case_name; });
+      if (it == shipped.end()) {
+        std::vector<std::string> names;
+        for (const auto& s : shipped) names.emplace_back(s.name);
+        fail("unknown case '{}'; built-in cases are: {}; manufactured: mms-LAW-Dd (LAW = elastic, maxwell, "
+             "perzyna; D = 1, 2, 3); or give a case file, NAME.toml",
+             o.case_name, fmt::join(names, ", "));
+      }
+      c = parse_case(it->text, std::string(it->name) + ".toml (built-in)", fs::path(VPC_SOURCE_DIR) / "cases", sets);
+    } else {
+      c = read_case_file(o.case_name, sets);
+    }
+    apply_case_overrides(*c.problem, ov);
+  }
+  StudyInput in;
+  in.name = c.name;
+  in.description = c.description;
+  in.base_mesh = c.problem->mesh;
+  in.base_steps = c.problem->n_steps;
+  in.factory = same_data_on(c.problem);
+  in.solvers = c.solvers;
+  return in;
+}
+
+fs::path plot_script() {
+  if (const char* env = std::getenv("VPCONTACT_CONVERGE_PLOT_SCRIPT")) return env;
+  return fs::path(VPC_SOURCE_DIR) / "scripts" / "vpcontact_converge_plot.py";
+}
+
+void plot(const fs::path& dir, bool quiet) {
+  const fs::path script = plot_script();
+  require(fs::is_regular_file(script), "converge: the plot script '{}' is missing", script.string());
+  const std::string cmd = fmt::format("/usr/bin/python3 '{}' '{}'{}", script.string(), dir.string(), quiet ? " -q" : "");
+  const int rc = std::system(cmd.c_str());
+  require(rc == 0, "converge: drawing the plots in '{}' failed (is python3-matplotlib installed?)", dir.string());
+}
+
+}  // namespace
+
+CLI::App* add_converge_command(CLI::App& app) {
+  ConvergeOptions& o = options();
+  auto* cmd = app.add_subcommand(
+      "converge", "measure the convergence rate of the scheme (Theorem 3.5): errors and observed rates, CSV and PNG");
+  o.cmd = cmd;
+  cmd->add_option("case", o.case_name,
+                  "a built-in case (paper-1d, paper-2d, block-3d), a case file, or a manufactured solution "
+                  "mms-LAW-Dd (LAW = elastic, maxwell, perzyna; D = 1, 2, 3)")
+      ->required();
+  cmd->add_option("--levels", o.levels, "number of measured levels (>= 2); a reference run is one level finer")
+      ->capture_default_str();
+  cmd->add_option("--sequence", o.sequence,
+                  "hk: h and k halved together; h: h halved at fixed k; k: k halved at fixed h; all: the three; "
+                  "none: no rate study (with --solvers)")
+      ->check(CLI::IsMember({"hk", "h", "k", "all", "none"}))
+      ->capture_default_str();
+  cmd->add_option("-n,--n", o.n, "base mesh: cells per edge (the case's -n; manufactured: cells per unit edge)");
+  cmd->add_option("--steps", o.steps, "base number of time steps N0 (level l of hk and k uses N0 2^l)");
+  cmd->add_option("--h-steps", o.h_steps, "N of every level of the h sequence (default 4 N0)");
+  cmd->add_option("--k-refinements", o.k_refinements,
+                  "the k sequence runs on the base mesh refined this many times")
+      ->capture_default_str();
+  cmd->add_option("--reference-offset", o.reference_offset,
+                  "the reference is this many levels finer than the last measured level (no exact solution)")
+      ->capture_default_str();
+  cmd->add_option("--forcing", o.forcing,
+                  "manufactured sources: continuous (error O(h + k)) or discrete (the exact solution solves the "
+                  "time-discrete scheme: spatial error alone)")
+      ->check(CLI::IsMember({"continuous", "discrete"}))
+      ->capture_default_str();
+  cmd->add_option("--kappa", o.kappa, "damage diffusion kappa (>= 0)");
+  cmd->add_option("--set", o.sets, "override a case-file key, e.g. --set damage.kappa=0.1 (repeatable)");
+  cmd->add_flag("--solvers", o.solvers,
+                "also compare the active-set and penalty-duality solvers on the h levels (agreement, iterations)");
+  cmd->add_option("--contact-solver", o.contact_solver, "active-set (default) or penalty-duality")
+      ->check(CLI::IsMember({"active-set", "penalty-duality"}));
+  cmd->add_option("--damage-solver", o.damage_solver, "active-set (default) or penalty-duality")
+      ->check(CLI::IsMember({"active-set", "penalty-duality"}));
+  cmd->add_option("--tolerance", o.tolerance, "largest relative KKT residual accepted at a step (default 1e-8)");
+  cmd->add_option("-o,--output", o.output, "output directory (default output/converge-CASE)");
+  cmd->add_flag("--no-plot", o.no_plot, "write no PNG");
+  cmd->add_flag("-q,--quiet", o.quiet, "print only the tables");
+  return cmd;
+}
+
+int run_converge_command() {
+  const ConvergeOptions& o = options();
+  require(o.levels >= 2 && o.levels <= 8, "--levels must lie in 2..8 (got {})", o.levels);
+  require(o.reference_offset >= 1, "--reference-offset must be >= 1 (got {})", o.reference_offset);
+  require(!given("--n") || o.n >= 1, "--n must be >= 1 (got {})", o.n);
+  require(!given("--steps") || o.steps >= 1, "--steps must be >= 1 (got {})", o.steps);
+  require(o.k_refinements >= 0, "--k-refinements must be >= 0 (got {})", o.k_refinements);
+  const bool mms = is_manufactured_case_name(o.case_name);
+  require(mms || !given("--forcing"), "--forcing applies to manufactured cases (mms-...) only");
+  StudyInput in = mms ? manufactured_input(o) : case_input(o);
+  if (!o.contact_solver.empty()) in.solvers.contact = o.contact_solver;
+  if (!o.damage_solver.empty()) in.solvers.damage = o.damage_solver;
+  if (given("--tolerance")) {
+    require(o.tolerance > 0, "--tolerance must be > 0 (got {})", o.tolerance);
+    in.solvers.residual_tolerance = o.tolerance;
+  }
+  const fs::path dir = o.output.empty() ? fs::path("output") / ("converge-" + fs::path(in.name).stem().string())
+                                        : fs::path(o.output);
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  require(!ec && fs::is_directory(dir), "cannot create output directory '{}'", dir.string());
+
+  std::string log_text;
+  auto say = [&](const std::string& s) {
+    log_text += s;
+    if (!o.quiet) {
+      fmt::print("{}", s);
+      std::fflush(stdout);
+    }
+  };
+  auto table = [&](const std::string& s) {
+    log_text += s;
+    fmt::print("{}", s);
+    std::fflush(stdout);
+  };
+  say(fmt::format("vpcontact converge {}: {}\n  base mesh: d = {}, {} cells; N0 = {}; {} measured levels\n", in.name,
+                  in.description, in.base_mesh.dim(), in.base_mesh.n_cells(), in.base_steps, o.levels));
+
+  std::vector<RefinementSequence> sequences;
+  if (o.sequence == "all") {
+    sequences = {RefinementSequence::HK, RefinementSequence::H, RefinementSequence::K};
+  } else if (o.sequence != "none") {
+    sequences = {refinement_sequence_from_name(o.sequence)};
+  }
+  require(!sequences.empty() || o.solvers, "--sequence none needs --solvers (nothing to do otherwise)");
+  for (RefinementSequence seq : sequences) {
+    ConvergenceOptions co;
+    co.sequence = seq;
+    co.levels = o.levels;
+    co.reference_offset = o.reference_offset;
+    co.solvers = in.solvers;
+    co.base_steps = in.base_steps;
+    co.log = [&](const std::string& s) { say(s + "\n"); };
+    Mesh base = in.base_mesh;
+    if (seq == RefinementSequence::H) co.base_steps = o.h_steps > 0 ? o.h_steps : 4 * in.base_steps;
+    if (seq == RefinementSequence::K) base = MeshHierarchy(in.base_mesh, o.k_refinements).mesh(o.k_refinements);
+    say(fmt::format("sequence {}:\n", to_string(seq)));
+    const ConvergenceResult r = run_convergence(in.name, base, in.factory, in.exact, co);
+    table(format_convergence_table(r));
+    const fs::path csv = dir / fmt::format("convergence_{}.csv", to_string(seq));
+    write_convergence_csv(r, csv.string());
+    say(fmt::format("  wrote {}\n", csv.string()));
+  }
+  if (o.solvers) {
+    say("solver agreement (h levels, N = N0):\n");
+    const auto s = compare_solvers(in.base_mesh, in.factory, o.levels, in.base_steps, in.solvers,
+                                   [&](const std::string& line) { say(line + "\n"); });
+    table(format_solver_table(s));
+    const fs::path csv = dir / "solvers.csv";
+    write_solver_csv(s, csv.string());
+    say(fmt::format("  wrote {}\n", csv.string()));
+  }
+  write_file_atomic(dir / "converge.log", log_text);
+  if (!o.no_plot) plot(dir, o.quiet);
+  say(fmt::format("results in {}/\n", dir.string()));
+  return 0;
+}
+
+}  // namespace vpc
