@@ -5,7 +5,10 @@
 #include <fmt/ranges.h>
 #include <muParser.h>
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
+#include <omp.h>
 
 namespace vpc {
 
@@ -17,50 +20,62 @@ std::vector<std::string> Expression::variables(Kind kind) {
   }
 }
 
-Expression::Expression(const std::string& text, Kind kind, const std::string& where)
-    : text_(text), where_(where), parser_(std::make_unique<mu::Parser>()), vars_(std::make_unique<Vars>()) {
-  try {
-    Vars& v = *vars_;
-    double* slots[] = {&v.x, &v.y, &v.z, &v.t, &v.vm, &v.tr_sigma, &v.tr_eps, &v.eps_eq, &v.beta};
-    const auto names = variables(kind);
-    for (size_t i = 0; i < names.size(); ++i) parser_->DefineVar(names[i], slots[i]);
-    parser_->DefineConst("pi", M_PI);
-    parser_->DefineConst("e", M_E);
-    parser_->SetExpr(text);
-    const double probe = parser_->Eval();  // compiles; reports unknown names and syntax now
-    (void)probe;
-  } catch (const mu::Parser::exception_type& e) {
-    fail("{}: invalid expression \"{}\": {} Available variables: {}", where, text, e.GetMsg(),
-         fmt::join(variables(kind), ", "));
+Expression::Expression(const std::string& text, Kind kind, const std::string& where) : text_(text), where_(where) {
+  const int n_slots = std::max(1, omp_get_max_threads());
+  for (int k = 0; k < n_slots; ++k) {
+    Slot s{std::make_unique<mu::Parser>(), std::make_unique<Vars>()};
+    try {
+      Vars& v = *s.vars;
+      double* vars[] = {&v.x, &v.y, &v.z, &v.t, &v.vm, &v.tr_sigma, &v.tr_eps, &v.eps_eq, &v.beta};
+      const auto names = variables(kind);
+      for (size_t i = 0; i < names.size(); ++i) s.parser->DefineVar(names[i], vars[i]);
+      s.parser->DefineConst("pi", M_PI);
+      s.parser->DefineConst("e", M_E);
+      s.parser->SetExpr(text);
+      (void)s.parser->Eval();  // compiles; reports unknown names and syntax now
+    } catch (const mu::Parser::exception_type& e) {
+      fail("{}: invalid expression \"{}\": {} Available variables: {}", where, text, e.GetMsg(),
+           fmt::join(variables(kind), ", "));
+    }
+    slots_.push_back(std::move(s));
   }
 }
 
 Expression::~Expression() = default;
 
-double Expression::eval() const {
+Expression::Slot& Expression::slot() const {
+  const int t = omp_get_thread_num();
+  return const_cast<Slot&>(slots_[t < static_cast<int>(slots_.size()) ? t : 0]);
+}
+
+double Expression::eval(Slot& s) const {
+  // Evaluation runs inside OpenMP loops, which exceptions must not leave: a
+  // formula that cannot be evaluated gives NaN, which the scheme reports.
   try {
-    return parser_->Eval();
-  } catch (const mu::Parser::exception_type& e) {
-    fail("{}: cannot evaluate \"{}\": {}", where_, text_, e.GetMsg());
+    return s.parser->Eval();
+  } catch (const mu::Parser::exception_type&) {
+    return std::numeric_limits<double>::quiet_NaN();
   }
 }
 
 double Expression::operator()(const Point& x, double t) const {
-  vars_->x = x[0];
-  vars_->y = x[1];
-  vars_->z = x[2];
-  vars_->t = t;
-  return eval();
+  Slot& s = slot();
+  s.vars->x = x[0];
+  s.vars->y = x[1];
+  s.vars->z = x[2];
+  s.vars->t = t;
+  return eval(s);
 }
 
 double Expression::operator()(const Point& x, double t, const SymTensor& sigma, const SymTensor& eps,
                               double beta) const {
-  vars_->vm = sigma.von_mises();
-  vars_->tr_sigma = sigma.trace();
-  vars_->tr_eps = eps.trace();
+  Slot& s = slot();
+  s.vars->vm = sigma.von_mises();
+  s.vars->tr_sigma = sigma.trace();
+  s.vars->tr_eps = eps.trace();
   const SymTensor d = eps.deviator();
-  vars_->eps_eq = std::sqrt(2.0 / 3.0 * d.dot(d));
-  vars_->beta = beta;
+  s.vars->eps_eq = std::sqrt(2.0 / 3.0 * d.dot(d));
+  s.vars->beta = beta;
   return (*this)(x, t);
 }
 

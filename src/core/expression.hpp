@@ -35,13 +35,20 @@ class Expression {
   static std::vector<std::string> variables(Kind kind);
 
  private:
-  double eval() const;
-  std::string text_, where_;
-  std::unique_ptr<mu::Parser> parser_;
   struct Vars {
     double x = 0, y = 0, z = 0, t = 0, vm = 0, tr_sigma = 0, tr_eps = 0, eps_eq = 0, beta = 1;
   };
-  std::unique_ptr<Vars> vars_;  // stable addresses for the parser
+  /// One parser per OpenMP thread (muParser evaluates through the variables'
+  /// addresses, so a parser is not re-entrant): evaluation is thread-safe
+  /// across the threads of OpenMP loops.
+  struct Slot {
+    std::unique_ptr<mu::Parser> parser;
+    std::unique_ptr<Vars> vars;  // stable address for the parser
+  };
+  Slot& slot() const;
+  double eval(Slot& s) const;
+  std::string text_, where_;
+  std::vector<Slot> slots_;
 };
 
 }  // namespace vpc

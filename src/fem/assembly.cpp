@@ -3,6 +3,10 @@
 #include "fem/quadrature.hpp"
 
 #include <Eigen/Dense>
+#include <omp.h>
+
+#include <algorithm>
+#include <functional>
 
 namespace vpc {
 
@@ -39,11 +43,95 @@ Eigen::MatrixXd strain_matrix(int d, const CellGeometry& g) {
   return B;
 }
 
-SparseMatrix from_triplets(int n, std::vector<Eigen::Triplet<double>>& t) {
+/// Below this many cells a loop runs on one thread (the fork costs more).
+constexpr int kParallelCells = 4096;
+
+int threads_for(int n_cells) { return n_cells < kParallelCells ? 1 : omp_get_max_threads(); }
+
+/// Runs kernel(c, out) for every cell, each thread scattering into its own
+/// vector of `size` entries, then adds them up: no atomics, deterministic for a
+/// given number of threads.
+template <typename Kernel>
+Vector scatter_over_cells(int n_cells, Eigen::Index size, Kernel&& kernel) {
+  const int nt = threads_for(n_cells);
+  if (nt == 1) {
+    Vector out = Vector::Zero(size);
+    for (int c = 0; c < n_cells; ++c) kernel(c, out);
+    return out;
+  }
+  std::vector<Vector> parts(nt);
+#pragma omp parallel num_threads(nt)
+  {
+    Vector& mine = parts[omp_get_thread_num()];
+    mine = Vector::Zero(size);
+#pragma omp for schedule(static)
+    for (int c = 0; c < n_cells; ++c) kernel(c, mine);
+  }
+  for (int t = 1; t < nt; ++t) parts[0] += parts[t];
+  return std::move(parts[0]);
+}
+
+/// The sparsity of a P1 operator with `block` unknowns per node: the (row, col)
+/// pairs of unknowns of nodes sharing a cell. `index(node, comp)` numbers the
+/// unknowns (−1: eliminated) and must increase with (node, comp). Built once, so
+/// assembly adds element matrices in place instead of storing triplets (which
+/// would cost 16 bytes per element-matrix entry at the memory peak of setup).
+SparseMatrix sparsity_pattern(const Mesh& mesh, int block, int n, const std::function<int(int, int)>& index) {
+  const int npc = mesh.nodes_per_cell();
+  std::vector<std::vector<int>> adjacent(mesh.n_nodes());
+  for (int c = 0; c < mesh.n_cells(); ++c)
+    for (int a = 0; a < npc; ++a)
+      for (int b = 0; b < npc; ++b) adjacent[mesh.cell(c)[a]].push_back(mesh.cell(c)[b]);
   SparseMatrix A(n, n);
-  A.setFromTriplets(t.begin(), t.end());
+  std::vector<int> col_nnz(n, 0);
+  for (auto& adj : adjacent) {
+    std::sort(adj.begin(), adj.end());
+    adj.erase(std::unique(adj.begin(), adj.end()), adj.end());
+  }
+  for (int node = 0; node < mesh.n_nodes(); ++node)
+    for (int cj = 0; cj < block; ++cj) {
+      const int j = index(node, cj);
+      if (j < 0) continue;
+      for (int other : adjacent[node])
+        for (int ci = 0; ci < block; ++ci) col_nnz[j] += index(other, ci) >= 0;
+    }
+  A.reserve(col_nnz);
+  for (int node = 0; node < mesh.n_nodes(); ++node)
+    for (int cj = 0; cj < block; ++cj) {
+      const int j = index(node, cj);
+      if (j < 0) continue;
+      for (int other : adjacent[node])
+        for (int ci = 0; ci < block; ++ci) {
+          const int i = index(other, ci);
+          if (i >= 0) A.insert(i, j) = 0.0;
+        }
+    }
   A.makeCompressed();
   return A;
+}
+
+/// A(idx[r], idx[s]) += Ke(r, s) for the entries whose indices are ≥ 0; the
+/// pattern must contain them.
+void add_element(SparseMatrix& A, const int* idx, int nd, const double* Ke) {
+  const int* outer = A.outerIndexPtr();
+  const int* inner = A.innerIndexPtr();
+  double* values = A.valuePtr();
+  for (int s = 0; s < nd; ++s) {
+    const int j = idx[s];
+    if (j < 0) continue;
+    const int* begin = inner + outer[j];
+    const int* end = inner + outer[j + 1];
+    for (int r = 0; r < nd; ++r) {
+      const int i = idx[r];
+      if (i < 0) continue;
+      const int* pos = std::lower_bound(begin, end, i);
+      values[pos - inner] += Ke[r + s * nd];  // column-major Ke
+    }
+  }
+}
+
+SparseMatrix scalar_pattern(const Mesh& mesh) {
+  return sparsity_pattern(mesh, 1, mesh.n_nodes(), [](int node, int) { return node; });
 }
 
 }  // namespace
@@ -52,58 +140,57 @@ SparseMatrix assemble_stiffness(const Mesh& mesh, const std::vector<CellGeometry
                                 const Elasticity& elasticity, const DofMap& dofs) {
   const int d = mesh.dim(), nd = (d + 1) * d;
   const Eigen::MatrixXd D = elasticity.voigt();
-  std::vector<Eigen::Triplet<double>> t;
-  t.reserve(static_cast<size_t>(mesh.n_cells()) * nd * nd);
+  SparseMatrix K = sparsity_pattern(mesh, d, dofs.n_free(),
+                                    [&](int node, int c) { return dofs.free_index(dofs.full_index(node, c)); });
   std::vector<int> idx(nd);
+  Eigen::MatrixXd Ke(nd, nd);
   for (int c = 0; c < mesh.n_cells(); ++c) {
     const Eigen::MatrixXd B = strain_matrix(d, geo[c]);
-    const Eigen::MatrixXd Ke = geo[c].volume * B.transpose() * D * B;
+    Ke.noalias() = geo[c].volume * B.transpose() * D * B;
     for (int a = 0; a <= d; ++a)
       for (int i = 0; i < d; ++i) idx[a * d + i] = dofs.free_index(dofs.full_index(mesh.cell(c)[a], i));
-    for (int r = 0; r < nd; ++r) {
-      if (idx[r] < 0) continue;
-      for (int s = 0; s < nd; ++s)
-        if (idx[s] >= 0) t.emplace_back(idx[r], idx[s], Ke(r, s));
-    }
+    add_element(K, idx.data(), nd, Ke.data());
   }
-  return from_triplets(dofs.n_free(), t);
+  return K;
 }
 
 SparseMatrix assemble_mass(const Mesh& mesh, const std::vector<CellGeometry>& geo) {
-  const int d = mesh.dim();
+  const int d = mesh.dim(), n = d + 1;
   // Exact P1 mass: ∫ λ_a λ_b = |T| (1 + δ_ab) / ((d + 1)(d + 2)).
-  std::vector<Eigen::Triplet<double>> t;
-  t.reserve(static_cast<size_t>(mesh.n_cells()) * (d + 1) * (d + 1));
+  SparseMatrix M = scalar_pattern(mesh);
+  double Me[16];
   for (int c = 0; c < mesh.n_cells(); ++c) {
     const double m = geo[c].volume / ((d + 1) * (d + 2));
-    for (int a = 0; a <= d; ++a)
-      for (int b = 0; b <= d; ++b) t.emplace_back(mesh.cell(c)[a], mesh.cell(c)[b], a == b ? 2 * m : m);
+    for (int a = 0; a < n; ++a)
+      for (int b = 0; b < n; ++b) Me[a + b * n] = a == b ? 2 * m : m;
+    add_element(M, mesh.cell(c), n, Me);
   }
-  return from_triplets(mesh.n_nodes(), t);
+  return M;
 }
 
 SparseMatrix assemble_laplacian(const Mesh& mesh, const std::vector<CellGeometry>& geo) {
-  const int d = mesh.dim();
-  std::vector<Eigen::Triplet<double>> t;
-  t.reserve(static_cast<size_t>(mesh.n_cells()) * (d + 1) * (d + 1));
+  const int d = mesh.dim(), n = d + 1;
+  SparseMatrix A = scalar_pattern(mesh);
+  double Ae[16];
   for (int c = 0; c < mesh.n_cells(); ++c) {
     const auto& g = geo[c];
-    for (int a = 0; a <= d; ++a)
-      for (int b = 0; b <= d; ++b) {
+    for (int a = 0; a < n; ++a)
+      for (int b = 0; b < n; ++b) {
         double s = 0;
         for (int i = 0; i < d; ++i) s += g.grad[a][i] * g.grad[b][i];
-        t.emplace_back(mesh.cell(c)[a], mesh.cell(c)[b], g.volume * s);
+        Ae[a + b * n] = g.volume * s;
       }
+    add_element(A, mesh.cell(c), n, Ae);
   }
-  return from_triplets(mesh.n_nodes(), t);
+  return A;
 }
 
 Vector assemble_load(const Mesh& mesh, const std::vector<CellGeometry>& geo,
                      const std::vector<int>& traction_facets, const VectorField& f0,
                      const VectorField& f2, double t) {
   const int d = mesh.dim();
-  Vector F = Vector::Zero(static_cast<Eigen::Index>(mesh.n_nodes()) * d);
-  auto integrate = [&](const int* nodes, int n_vertices, double measure, const VectorField& f) {
+  const Eigen::Index size = static_cast<Eigen::Index>(mesh.n_nodes()) * d;
+  auto integrate = [&](const int* nodes, int n_vertices, double measure, const VectorField& f, Vector& F) {
     for (const auto& q : simplex_rule(n_vertices - 1)) {
       Point x{0, 0, 0};
       for (int a = 0; a < n_vertices; ++a)
@@ -113,18 +200,18 @@ Vector assemble_load(const Mesh& mesh, const std::vector<CellGeometry>& geo,
         for (int i = 0; i < d; ++i) F[nodes[a] * d + i] += measure * q.weight * q.lambda[a] * fx[i];
     }
   };
-  if (f0)
-    for (int c = 0; c < mesh.n_cells(); ++c) integrate(mesh.cell(c), d + 1, geo[c].volume, f0);
+  Vector F = f0 ? scatter_over_cells(mesh.n_cells(), size,
+                                     [&](int c, Vector& out) { integrate(mesh.cell(c), d + 1, geo[c].volume, f0, out); })
+               : Vector::Zero(size);
   if (f2)
-    for (int f : traction_facets) integrate(mesh.facet(f), d, mesh.facet_measure(f), f2);
+    for (int f : traction_facets) integrate(mesh.facet(f), d, mesh.facet_measure(f), f2, F);
   return F;
 }
 
 Vector assemble_stress_divergence(const Mesh& mesh, const std::vector<CellGeometry>& geo,
                                   const std::vector<SymTensor>& tau) {
   const int d = mesh.dim();
-  Vector F = Vector::Zero(static_cast<Eigen::Index>(mesh.n_nodes()) * d);
-  for (int c = 0; c < mesh.n_cells(); ++c) {
+  return scatter_over_cells(mesh.n_cells(), static_cast<Eigen::Index>(mesh.n_nodes()) * d, [&](int c, Vector& F) {
     // (τ, ε(λ_a e_i)) = |T| Σ_j τ_ij ∂_j λ_a, using the symmetry of τ.
     for (int a = 0; a <= d; ++a)
       for (int i = 0; i < d; ++i) {
@@ -132,24 +219,24 @@ Vector assemble_stress_divergence(const Mesh& mesh, const std::vector<CellGeomet
         for (int j = 0; j < d; ++j) s += tau[c](i, j) * geo[c].grad[a][j];
         F[mesh.cell(c)[a] * d + i] += geo[c].volume * s;
       }
-  }
-  return F;
+  });
 }
 
 Vector assemble_p0_source(const Mesh& mesh, const std::vector<CellGeometry>& geo,
                           const std::vector<double>& s) {
   const int d = mesh.dim();
-  Vector F = Vector::Zero(mesh.n_nodes());
-  for (int c = 0; c < mesh.n_cells(); ++c)
+  return scatter_over_cells(mesh.n_cells(), mesh.n_nodes(), [&](int c, Vector& F) {
     for (int a = 0; a <= d; ++a) F[mesh.cell(c)[a]] += s[c] * geo[c].volume / (d + 1);
-  return F;
+  });
 }
 
 void compute_strain(const Mesh& mesh, const std::vector<CellGeometry>& geo, const Vector& u,
                     std::vector<SymTensor>& eps) {
   const int d = mesh.dim();
-  eps.assign(mesh.n_cells(), SymTensor{});
-  for (int c = 0; c < mesh.n_cells(); ++c) {
+  const int n_cells = mesh.n_cells();
+  eps.assign(n_cells, SymTensor{});
+#pragma omp parallel for schedule(static) if (n_cells >= kParallelCells)
+  for (int c = 0; c < n_cells; ++c) {
     double G[3][3] = {};  // displacement gradient ∂_j u_i
     for (int a = 0; a <= d; ++a) {
       const int n = mesh.cell(c)[a];

@@ -8,6 +8,7 @@
 #include <fmt/ranges.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 
 namespace vpc {
@@ -165,6 +166,12 @@ void RunOutput::write_fields() {
 }
 
 void RunOutput::record(const StepReport& r) {
+  const auto t0 = std::chrono::steady_clock::now();
+  record_untimed(r);
+  output_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+void RunOutput::record_untimed(const StepReport& r) {
   const auto& c = r.contact;
   history_ << fmt::format("{},{:.17g},{},{:.17g},{},{:.3e},{:.3e},{:.3e},{:.3e},{},{:.3e},{:.17g},{:.17g},{},{},{:.17g},{}\n",
                           r.n, r.t, c.n_active, c.total_force, c.iterations, c.residuals.equilibrium,
@@ -253,7 +260,8 @@ void RunOutput::finish(double wall_seconds) {
     "max_damage_iterations": {}
   }},
   "probes": {},
-  "timing_seconds": {{"wall": {:.6f}, "setup": {:.6f}, "sources": {:.6f}, "damage": {:.6f}, "contact": {:.6f}, "stress": {:.6f}}},
+  "timing_seconds": {{"wall": {:.6f}, "setup": {:.6f}, "sources": {:.6f}, "damage": {:.6f}, "contact": {:.6f}, "stress": {:.6f}, "output": {:.6f}}},
+  "setup_seconds": {{"assembly": {:.6f}, "factor_K": {:.6f}, "factor_H": {:.6f}, "contact": {:.6f}}},
   "factorizations": {}
 }}
 )",
@@ -261,7 +269,9 @@ void RunOutput::finish(double wall_seconds) {
       stepper_.contact_nodes().size(), p.elasticity.name(), p.law->describe(), p.source->describe(), p.kappa,
       p.final_time, s.n, p.step(), s.t, s.lambda.sum(), (s.lambda.array() > 0).count(), max_vm, beta_min, xb[0],
       xb[1], xb[2], s.beta.maxCoeff(), all_ok ? "true" : "false", max_contact, max_damage, max_ci, max_di, probes,
-      wall_seconds, stepper_.setup_seconds(), time_src, time_dmg, time_ct, time_st, stepper_.n_factorizations());
+      wall_seconds, stepper_.setup_seconds(), time_src, time_dmg, time_ct, time_st, output_seconds_,
+      stepper_.setup_timing().assembly, stepper_.setup_timing().factor_K, stepper_.setup_timing().factor_H,
+      stepper_.setup_timing().contact, stepper_.n_factorizations());
   write_file_atomic(options_.directory / "summary.json", json);
 }
 

@@ -43,12 +43,15 @@ class RunOutput {
   void start();
   /// Records one accepted step; writes VTU at output steps.
   void record(const StepReport& report);
+  /// Seconds spent writing during the steps (record()).
+  double output_seconds() const { return output_seconds_; }
   /// Writes summary.json; `wall_seconds` is the whole run's time.
   void finish(double wall_seconds);
 
   const std::filesystem::path& directory() const { return options_.directory; }
 
  private:
+  void record_untimed(const StepReport& report);
   void write_fields();
   void write_probe_row();
   bool is_output_step(int n) const;
@@ -60,6 +63,7 @@ class RunOutput {
   std::ofstream history_, probe_csv_;
   std::vector<std::pair<double, std::string>> pvd_;
   std::vector<StepReport> reports_;
+  double output_seconds_ = 0;  // spent in record(): CSV rows and VTU files
 };
 
 }  // namespace vpc

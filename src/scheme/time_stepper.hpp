@@ -37,6 +37,15 @@ struct StepReport {
   bool ok = true;
 };
 
+/// Where the setup time goes (seconds).
+struct SetupTiming {
+  double total = 0;
+  double assembly = 0;  // K, M, A
+  double factor_K = 0;  // CHOLMOD factorization of K
+  double factor_H = 0;  // the damage solver's setup (factor of M + kκA)
+  double contact = 0;   // contact rows N and the contact solver's setup (S = N K⁻¹ Nᵀ)
+};
+
 class TimeStepper {
  public:
   TimeStepper(std::shared_ptr<const Problem> problem, SolverChoice choice = {});
@@ -53,7 +62,8 @@ class TimeStepper {
   const std::vector<Point>& contact_directions() const { return contact_dir_; }
   const DofMap& dofs() const { return dofs_; }
   int n_factorizations() const;
-  double setup_seconds() const { return setup_seconds_; }
+  double setup_seconds() const { return setup_timing_.total; }
+  const SetupTiming& setup_timing() const { return setup_timing_; }
 
  private:
   void setup_contact();
@@ -72,7 +82,7 @@ class TimeStepper {
   std::unique_ptr<DamageSolver> damage_;
   State state_;
   Vector u_free_;  // warm start of the contact solver
-  double setup_seconds_ = 0;
+  SetupTiming setup_timing_;
 };
 
 }  // namespace vpc

@@ -1,5 +1,8 @@
 #include "core/error.hpp"
 #include "solvers/linear_solver.hpp"
+#include "solvers/blas_threads.hpp"
+
+#include <thread>
 
 #include <Eigen/CholmodSupport>
 
@@ -23,7 +26,10 @@ class CholmodSolver final : public LinearSolver {
     require(A.rows() == A.cols(), "{}: matrix is not square", what);
     n_ = static_cast<int>(A.rows());
     if (n_ == 0) return;
+    // Factorize with every core's BLAS, solve with one (see blas_threads.hpp).
+    set_blas_threads(static_cast<int>(std::max(1u, std::thread::hardware_concurrency())));
     llt_.compute(A);
+    set_blas_threads(1);
     require(llt_.info() == Eigen::Success && llt_.rcond() > kMinRcond,
             "{}: the matrix is not positive definite (is the body clamped on a non-empty part Γ1?)",
             what);

@@ -49,11 +49,16 @@ class ActiveSetContactSolver final : public ContactSolver {
     const int m = static_cast<int>(N.rows());
     const SparseMatrix Nt = N.transpose();
     Eigen::MatrixXd S(m, m);
+    // W = K⁻¹Nᵀ is kept when it is small enough: then u = u_free − Wλ and a step
+    // costs one solve instead of two.
+    const bool keep_w = static_cast<double>(N.cols()) * m * sizeof(double) <= kMaxWBytes;
+    if (keep_w) W_.resize(N.cols(), m);
     const int block = 64;
     for (int j0 = 0; j0 < m; j0 += block) {
       const int nb = std::min(block, m - j0);
       const Eigen::MatrixXd W = factor_->solve(Eigen::MatrixXd(Nt.middleCols(j0, nb)));
       S.middleCols(j0, nb) = N * W;
+      if (keep_w) W_.middleCols(j0, nb) = W;
     }
     S = 0.5 * (S + S.transpose()).eval();
     S_ = std::make_unique<DenseBoxQpOperator>(std::move(S));
@@ -67,7 +72,10 @@ class ActiveSetContactSolver final : public ContactSolver {
     const Vector lo = Vector::Zero(m), hi = Vector::Constant(m, std::numeric_limits<double>::infinity());
     if (lambda.size() != m) lambda = Vector::Zero(m);
     const BoxQpResult r = solve_box_qp(*S_, b, lo, hi, lambda);
-    u = factor_->solve(Vector(F - N_.transpose() * lambda));
+    if (W_.size() > 0)
+      u = u_free - W_ * lambda;
+    else
+      u = factor_->solve(Vector(F - N_.transpose() * lambda));
     ContactReport rep;
     rep.converged = r.converged;
     rep.iterations = r.iterations;
@@ -81,6 +89,8 @@ class ActiveSetContactSolver final : public ContactSolver {
   SparseMatrix N_;
   std::shared_ptr<const LinearSolver> factor_;
   std::unique_ptr<DenseBoxQpOperator> S_;
+  Eigen::MatrixXd W_;  // K⁻¹Nᵀ, or empty when too large
+  static constexpr double kMaxWBytes = 256.0 * 1024 * 1024;
 };
 
 /// The iteration contracts at the rate |ωc − 1| / (ωc + 1) along a constraint of
