@@ -135,6 +135,26 @@ Point ManufacturedSolution::grad_beta(const Point& x, double t) const {
   return g;
 }
 
+ExactSolution::Values ManufacturedSolution::values(const Point& x, double t) const {
+  Values v;
+  SymTensor z;
+  for (int j = 0; j < dim_; ++j) {
+    const auto f = fields(seed(x, t, j));
+    for (int i = 0; i < dim_; ++i) v.grad_u[i][j] = f.u[i].d;
+    v.grad_beta[j] = f.beta.d;
+    if (j == 0) {
+      for (int i = 0; i < 3; ++i) v.u[i] = f.u[i].v;
+      for (int c = 0; c < 6; ++c) z[c] = f.z[c].v;
+      v.beta = f.beta.v;
+    }
+  }
+  SymTensor e;
+  for (int a = 0; a < dim_; ++a)
+    for (int b = a; b < dim_; ++b) set_component(e, a, b, 0.5 * (v.grad_u[a][b] + v.grad_u[b][a]));
+  v.sigma = elasticity_.apply(e) + z;
+  return v;
+}
+
 SymTensor ManufacturedSolution::z_dot(const Point& x, double t) const {
   const auto f = fields(seed(x, t, 3));
   SymTensor s;
@@ -154,10 +174,13 @@ Point ManufacturedSolution::body_force(const Point& x, double t) const {
   const int d = dim_;
   // H[i][j][l] = ∂_j ∂_l u_i.
   double H[3][3][3] = {};
+  SymTensor dz[3];  // ∂_j z, from the inner derivative of the (j, j) evaluation
   for (int j = 0; j < d; ++j)
     for (int l = j; l < d; ++l) {
       const auto f = fields(seed2(x, t, j, l));
       for (int i = 0; i < d; ++i) H[i][j][l] = H[i][l][j] = f.u[i].d.d;
+      if (l == j)
+        for (int c = 0; c < 6; ++c) dz[j][c] = f.z[c].v.d;
     }
   Point f0{0, 0, 0};
   // (Div ℰε(u))_i = Σ_j (ℰ ∂_j ε(u))_ij, ℰ being linear and constant.
@@ -169,13 +192,8 @@ Point ManufacturedSolution::body_force(const Point& x, double t) const {
     for (int i = 0; i < d; ++i) f0[i] -= s(i, j);
   }
   // (Div z)_i = Σ_j ∂_j z_ij.
-  if (with_history_)
-    for (int j = 0; j < d; ++j) {
-      const auto f = fields(seed(x, t, j));
-      SymTensor dz;
-      for (int c = 0; c < 6; ++c) dz[c] = f.z[c].d;
-      for (int i = 0; i < d; ++i) f0[i] -= dz(i, j);
-    }
+  for (int j = 0; j < d; ++j)
+    for (int i = 0; i < d; ++i) f0[i] -= dz[j](i, j);
   return f0;
 }
 

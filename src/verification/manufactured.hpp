@@ -71,6 +71,8 @@ class ManufacturedSolution final : public ExactSolution {
   SymTensor sigma(const Point& x, double t) const override;
   double beta(const Point& x, double t) const override;
   Point grad_beta(const Point& x, double t) const override;
+  /// All values from d evaluations of the fields with dual numbers.
+  Values values(const Point& x, double t) const override;
 
   SymTensor eps(const Point& x, double t) const;
   SymTensor z(const Point& x, double t) const;

@@ -48,7 +48,18 @@ class DiscreteNorms {
 /// An exact solution (u, σ, β) of Problem 2.1, evaluated pointwise.
 class ExactSolution {
  public:
+  /// Everything the error norms need at one point.
+  struct Values {
+    Point u{};
+    std::array<Point, 3> grad_u{};
+    SymTensor sigma;
+    double beta = 0;
+    Point grad_beta{};
+  };
+
   virtual ~ExactSolution() = default;
+  /// All values at once; the default calls the functions below one by one.
+  virtual Values values(const Point& x, double t) const;
   virtual Point u(const Point& x, double t) const = 0;
   /// ∇u: grad[i][j] = ∂u_i/∂x_j.
   virtual std::array<Point, 3> grad_u(const Point& x, double t) const = 0;
