@@ -6,6 +6,7 @@
 #include "cases/builtin_cases.hpp"
 #include "cases/shipped_cases.hpp"
 #include "core/error.hpp"
+#include "core/omp_wait_policy.hpp"
 #include "io/case_file.hpp"
 #include "io/run_output.hpp"
 #include "converge_command.hpp"
@@ -26,16 +27,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-/// OpenMP workers that spin after a parallel loop steal the core the next
-/// solve needs whenever the machine is shared (measured: a 2-core run 2-3x
-/// slower under load). libgomp reads OMP_WAIT_POLICY once, when it is loaded,
-/// so without a value in the environment the program sets "passive" and
-/// re-executes itself (once; a value given by the user is kept).
-void default_omp_wait_policy(char** argv) {
-  if (std::getenv("OMP_WAIT_POLICY") != nullptr) return;
-  ::setenv("OMP_WAIT_POLICY", "passive", 1);
-  ::execv("/proc/self/exe", argv);  // returns only on failure: then run as we are
-}
 
 struct Options {
   std::string case_name = "paper-2d";
@@ -197,7 +188,7 @@ void add_case_options(CLI::App* cmd, Options& o) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  default_omp_wait_policy(argv);
+  vpc::ensure_passive_omp_wait(argv);
   CLI::App app{"vpcontact: quasistatic frictionless Signorini contact of elastic-viscoplastic bodies with damage\n"
                "(the fully discrete scheme of Fernandez & Sofonea, 2003)"};
   app.require_subcommand(0, 1);

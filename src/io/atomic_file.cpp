@@ -9,14 +9,18 @@
 namespace vpc {
 
 void write_file_atomic(const std::filesystem::path& path, std::string_view content) {
+  write_file_atomic(path, [&](std::ostream& out) { out.write(content.data(), static_cast<std::streamsize>(content.size())); });
+}
+
+void write_file_atomic(const std::filesystem::path& path, const std::function<void(std::ostream&)>& write) {
   std::filesystem::path tmp = path;
   tmp += ".tmp." + std::to_string(::getpid());
   {
     std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
     require(out.good(), "cannot open '{}' for writing", tmp.string());
-    out.write(content.data(), static_cast<std::streamsize>(content.size()));
+    write(out);
     out.flush();
-    require(out.good(), "error while writing '{}'", tmp.string());
+    require(out.good(), "error while writing '{}' (disk full?)", tmp.string());
   }
   std::error_code ec;
   std::filesystem::rename(tmp, path, ec);

@@ -5,28 +5,41 @@
 #include <fmt/format.h>
 
 #include <cstdint>
+#include <algorithm>
 #include <cstring>
+#include <ostream>
 
 namespace vpc {
 
 namespace {
 
-/// Collects appended-data blocks: each is a UInt64 byte count then the raw bytes.
+/// The appended-data blocks of a VTU file: each is a UInt64 byte count then the
+/// raw bytes. Blocks point at the caller's arrays; nothing is copied until the
+/// file is written.
 class Appended {
  public:
   template <typename T>
   std::size_t add(const std::vector<T>& v) {
-    const std::size_t offset = data_.size();
-    const std::uint64_t n = v.size() * sizeof(T);
-    append(&n, sizeof n);
-    append(v.data(), n);
+    const std::size_t offset = size_;
+    blocks_.push_back({v.data(), v.size() * sizeof(T)});
+    size_ += sizeof(std::uint64_t) + v.size() * sizeof(T);
     return offset;
   }
-  const std::string& data() const { return data_; }
+  void write(std::ostream& out) const {
+    for (const auto& b : blocks_) {
+      const std::uint64_t n = b.bytes;
+      out.write(reinterpret_cast<const char*>(&n), sizeof n);
+      out.write(static_cast<const char*>(b.data), static_cast<std::streamsize>(b.bytes));
+    }
+  }
 
  private:
-  void append(const void* p, std::size_t n) { data_.append(static_cast<const char*>(p), n); }
-  std::string data_;
+  struct Block {
+    const void* data;
+    std::size_t bytes;
+  };
+  std::vector<Block> blocks_;
+  std::size_t size_ = 0;
 };
 
 void field_xml(std::string& xml, Appended& app, const VtuField& f) {
@@ -37,20 +50,42 @@ void field_xml(std::string& xml, Appended& app, const VtuField& f) {
       f.name, f.n_components, off);
 }
 
+/// The mesh part of a VTU file, cached: the mesh does not change during a run.
+struct MeshArrays {
+  const Mesh* mesh = nullptr;
+  int n_nodes = -1, n_cells = -1;
+  std::vector<double> xyz;
+  std::vector<std::int64_t> connectivity, offsets;
+  std::vector<std::uint8_t> types;
+};
+
+const MeshArrays& mesh_arrays(const Mesh& mesh) {
+  thread_local MeshArrays a;
+  if (a.mesh == &mesh && a.n_nodes == mesh.n_nodes() && a.n_cells == mesh.n_cells() &&
+      a.xyz.size() == static_cast<std::size_t>(mesh.n_nodes()) * 3 &&
+      std::equal(mesh.nodes().begin(), mesh.nodes().end(), reinterpret_cast<const Point*>(a.xyz.data())))
+    return a;
+  static const std::uint8_t vtk_type[4] = {1, 3, 5, 10};  // vertex, line, triangle, tetra
+  const int npc = mesh.nodes_per_cell();
+  a.mesh = &mesh;
+  a.n_nodes = mesh.n_nodes();
+  a.n_cells = mesh.n_cells();
+  a.xyz.clear();
+  a.xyz.reserve(static_cast<std::size_t>(mesh.n_nodes()) * 3);
+  for (const auto& p : mesh.nodes()) a.xyz.insert(a.xyz.end(), p.begin(), p.end());
+  a.connectivity.assign(mesh.cell_array().begin(), mesh.cell_array().end());
+  a.offsets.resize(mesh.n_cells());
+  for (int c = 0; c < mesh.n_cells(); ++c) a.offsets[c] = static_cast<std::int64_t>(c + 1) * npc;
+  a.types.assign(mesh.n_cells(), vtk_type[mesh.dim()]);
+  return a;
+}
+
 }  // namespace
 
 void write_vtu(const std::filesystem::path& path, const Mesh& mesh, const std::vector<VtuField>& point_data,
                const std::vector<VtuField>& cell_data) {
-  static const std::uint8_t vtk_type[4] = {1, 3, 5, 10};  // vertex, line, triangle, tetra
-  const int npc = mesh.nodes_per_cell();
+  const MeshArrays& m = mesh_arrays(mesh);
   Appended app;
-  std::vector<double> xyz;
-  xyz.reserve(static_cast<std::size_t>(mesh.n_nodes()) * 3);
-  for (const auto& p : mesh.nodes()) xyz.insert(xyz.end(), p.begin(), p.end());
-  std::vector<std::int64_t> conn(mesh.cell_array().begin(), mesh.cell_array().end()), offsets(mesh.n_cells());
-  for (int c = 0; c < mesh.n_cells(); ++c) offsets[c] = static_cast<std::int64_t>(c + 1) * npc;
-  std::vector<std::uint8_t> types(mesh.n_cells(), vtk_type[mesh.dim()]);
-
   std::string xml = "<?xml version=\"1.0\"?>\n";
   xml += "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n";
   xml += "  <UnstructuredGrid>\n";
@@ -62,19 +97,22 @@ void write_vtu(const std::filesystem::path& path, const Mesh& mesh, const std::v
   xml += "      </CellData>\n      <Points>\n";
   xml += fmt::format(
       "        <DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"appended\" offset=\"{}\"/>\n",
-      app.add(xyz));
+      app.add(m.xyz));
   xml += "      </Points>\n      <Cells>\n";
   xml += fmt::format("        <DataArray type=\"Int64\" Name=\"connectivity\" format=\"appended\" offset=\"{}\"/>\n",
-                     app.add(conn));
+                     app.add(m.connectivity));
   xml += fmt::format("        <DataArray type=\"Int64\" Name=\"offsets\" format=\"appended\" offset=\"{}\"/>\n",
-                     app.add(offsets));
+                     app.add(m.offsets));
   xml += fmt::format("        <DataArray type=\"UInt8\" Name=\"types\" format=\"appended\" offset=\"{}\"/>\n",
-                     app.add(types));
+                     app.add(m.types));
   xml += "      </Cells>\n    </Piece>\n  </UnstructuredGrid>\n";
   xml += "  <AppendedData encoding=\"raw\">\n   _";
-  xml += app.data();
-  xml += "\n  </AppendedData>\n</VTKFile>\n";
-  write_file_atomic(path, xml);
+  write_file_atomic(path, [&](std::ostream& out) {
+    out.write(xml.data(), static_cast<std::streamsize>(xml.size()));
+    app.write(out);
+    static const char tail[] = "\n  </AppendedData>\n</VTKFile>\n";
+    out.write(tail, sizeof tail - 1);
+  });
 }
 
 void write_pvd(const std::filesystem::path& path, const std::vector<std::pair<double, std::string>>& entries) {

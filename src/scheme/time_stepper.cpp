@@ -131,6 +131,17 @@ void TimeStepper::setup_contact() {
   gap_ = Eigen::Map<Vector>(gaps.data(), static_cast<Eigen::Index>(gaps.size()));
 }
 
+double TimeStepper::factor_bytes() const { return K_factor_->factor_bytes() + damage_->factor_bytes(); }
+
+double TimeStepper::model_bytes() const {
+  const Mesh& m = problem_->mesh;
+  const double matrices = 12.0 * (K_.nonZeros() + M_.nonZeros() + N_.nonZeros());  // value + row index
+  const double mesh = 24.0 * m.n_nodes() + 4.0 * m.cell_array().size() + sizeof(CellGeometry) * geo_.size();
+  const double state = 8.0 * (state_.u.size() + state_.beta.size() + u_free_.size()) +
+                       3.0 * sizeof(SymTensor) * state_.sigma.size();
+  return matrices + mesh + state;
+}
+
 int TimeStepper::n_factorizations() const { return K_factor_->n_factorizations() + damage_->n_factorizations(); }
 
 StepReport TimeStepper::step() {

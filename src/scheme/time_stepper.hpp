@@ -62,6 +62,12 @@ class TimeStepper {
   const std::vector<Point>& contact_directions() const { return contact_dir_; }
   const DofMap& dofs() const { return dofs_; }
   int n_factorizations() const;
+  /// The cached factor of K (for benchmarks: the cost of one solve).
+  const LinearSolver& stiffness_factor() const { return *K_factor_; }
+  /// Memory of the factors of K and of the damage matrix (bytes).
+  double factor_bytes() const;
+  /// Memory of the mesh, the constant matrices and the state (bytes, estimated from sizes).
+  double model_bytes() const;
   double setup_seconds() const { return setup_timing_.total; }
   const SetupTiming& setup_timing() const { return setup_timing_; }
 

@@ -49,6 +49,7 @@ class SparseBoxQpOperator final : public BoxQpOperator {
   void solve_free(const std::vector<char>& fixed, const Vector& b, Vector& x) override;
   /// Factorizations done (full + reduced), for reports.
   int n_factorizations() const { return full_->n_factorizations() + reduced_->n_factorizations(); }
+  double factor_bytes() const { return full_->factor_bytes() + reduced_->factor_bytes(); }
 
  private:
   SparseMatrix H_;

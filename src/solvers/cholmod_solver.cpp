@@ -14,6 +14,14 @@ namespace {
 class Llt : public Eigen::CholmodSupernodalLLT<SparseMatrix, Eigen::Lower> {
  public:
   double rcond() { return cholmod_rcond(m_cholmodFactor, &cholmod()); }
+  /// Values plus the integer structure of the factor.
+  double bytes() const {
+    const cholmod_factor* L = m_cholmodFactor;
+    if (!L) return 0;
+    const double ints = L->is_super ? static_cast<double>(L->ssize + 4 * L->nsuper + 3 * L->n)
+                                    : static_cast<double>(L->nzmax + 6 * L->n);
+    return static_cast<double>(L->is_super ? L->xsize : L->nzmax) * sizeof(double) + ints * sizeof(int);
+  }
 };
 
 /// CHOLMOD's rcond is (min diag L / max diag L)²: a singular matrix whose last
@@ -45,6 +53,7 @@ class CholmodSolver final : public LinearSolver {
   }
   int size() const override { return n_; }
   int n_factorizations() const override { return n_factorizations_; }
+  double factor_bytes() const override { return llt_.bytes(); }
 
  private:
   Llt llt_;

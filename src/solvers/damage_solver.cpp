@@ -20,6 +20,7 @@ class ActiveSetDamageSolver final : public DamageSolver {
   }
   std::string name() const override { return "active-set"; }
   int n_factorizations() const override { return op_.n_factorizations(); }
+  double factor_bytes() const override { return op_.factor_bytes(); }
 
  private:
   SparseBoxQpOperator op_;
@@ -55,6 +56,7 @@ class PenaltyDualityDamageSolver final : public DamageSolver {
   }
   std::string name() const override { return "penalty-duality"; }
   int n_factorizations() const override { return 1; }
+  double factor_bytes() const override { return pd_.factor_bytes(); }
 
  private:
   SparseMatrix H_;

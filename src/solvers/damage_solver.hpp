@@ -24,6 +24,8 @@ class DamageSolver {
   virtual std::string name() const = 0;
   /// Sparse factorizations done so far (constant-matrix factor plus reduced ones).
   virtual int n_factorizations() const = 0;
+  /// Memory held by its factors (bytes).
+  virtual double factor_bytes() const = 0;
 };
 
 /// "active-set" (primal–dual active set, factor of H cached, reduced factor cached

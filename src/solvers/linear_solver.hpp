@@ -24,6 +24,8 @@ class LinearSolver {
   virtual int size() const = 0;
   /// Number of factorizations done so far (for reports and tests).
   virtual int n_factorizations() const = 0;
+  /// Memory held by the factor (bytes).
+  virtual double factor_bytes() const = 0;
 };
 
 /// CHOLMOD supernodal Cholesky.

@@ -30,6 +30,7 @@ class PenaltyDuality {
                              double tolerance, int max_iterations);
 
   double omega() const { return omega_; }
+  double factor_bytes() const { return factor_->factor_bytes(); }
 
  private:
   SparseMatrix E_, Et_;
