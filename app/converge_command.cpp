@@ -30,7 +30,7 @@ struct ConvergeOptions {
   std::string case_name;
   std::string output;
   std::vector<std::string> sets;
-  std::string sequence = "hk";
+  std::vector<std::string> sequence = {"hk"};
   std::string forcing = "continuous";
   int levels = 4;
   int reference_offset = 1;
@@ -154,7 +154,8 @@ CLI::App* add_converge_command(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--sequence", o.sequence,
                   "hk: h and k halved together; h: h halved at fixed k; k: k halved at fixed h; all: the three; "
-                  "none: no rate study (with --solvers)")
+                  "none: no rate study (with --solvers); several separated by commas, e.g. hk,k")
+      ->delimiter(',')
       ->check(CLI::IsMember({"hk", "h", "k", "all", "none"}))
       ->capture_default_str();
   cmd->add_option("-n,--n", o.n, "base mesh: cells per edge (the case's -n; manufactured: cells per unit edge)");
@@ -225,10 +226,13 @@ int run_converge_command() {
                   in.description, in.base_mesh.dim(), in.base_mesh.n_cells(), in.base_steps, o.levels));
 
   std::vector<RefinementSequence> sequences;
-  if (o.sequence == "all") {
-    sequences = {RefinementSequence::HK, RefinementSequence::H, RefinementSequence::K};
-  } else if (o.sequence != "none") {
-    sequences = {refinement_sequence_from_name(o.sequence)};
+  for (const auto& name : o.sequence) {
+    if (name == "none") continue;
+    const std::vector<RefinementSequence> add =
+        name == "all" ? std::vector{RefinementSequence::HK, RefinementSequence::H, RefinementSequence::K}
+                      : std::vector{refinement_sequence_from_name(name)};
+    for (auto s : add)
+      if (std::find(sequences.begin(), sequences.end(), s) == sequences.end()) sequences.push_back(s);
   }
   require(!sequences.empty() || o.solvers, "--sequence none needs --solvers (nothing to do otherwise)");
   for (RefinementSequence seq : sequences) {

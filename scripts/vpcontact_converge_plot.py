@@ -108,18 +108,28 @@ def plot_convergence(path, dpi):
     ]
     for ax, (prefix, title) in zip(axes, panels):
         ys = []
-        for key, label, marker in NORMS:
-            y = np.array([number(r["{}_{}".format(prefix, key)]) for r in levels])
+        series = {key: np.array([number(r["{}_{}".format(prefix, key)]) for r in levels]) for key, _, _ in NORMS}
+        largest = max([np.nanmax(y) for y in series.values() if np.any(np.isfinite(y))] + [0.0])
+        at_roundoff = []
+        for index, (key, label, marker) in enumerate(NORMS):
+            y = series[key]
             ok = np.isfinite(y) & (y > 0)
             if ok.sum() < 2:
+                continue
+            if np.nanmax(y) < 1e-9 * largest:
+                # identically zero up to round-off (e.g. sigma in 1D, which statics alone fixes)
+                at_roundoff.append(label)
                 continue
             rate_key = ("diff_rate_" if prefix == "diff" else "rate_") + key
             rates = [number(r[rate_key]) for r in levels]
             last = [v for v, good in zip(rates, ok) if good and math.isfinite(v)]
             suffix = "  (last rate {:.2f})".format(last[-1]) if last else ""
-            ax.loglog(x[ok], y[ok], marker=marker, label=label + suffix)
+            ax.loglog(x[ok], y[ok], marker=marker, color="C{}".format(index), label=label + suffix)
             ys.append(y[ok])
         slope_guides(ax, x, ys, [0.5, 1, 2])
+        if at_roundoff:
+            ax.text(0.02, 0.02, "at round-off, not shown: " + ", ".join(at_roundoff), transform=ax.transAxes,
+                    fontsize=7.5, color="0.35")
         ax.set_xlabel("time step k" if by_k else "mesh size h (largest cell diameter)")
         ax.set_title(title, fontsize=10)
         ax.grid(True, which="both", linewidth=0.3)

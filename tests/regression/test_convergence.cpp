@@ -5,11 +5,12 @@
 // count stays flat under refinement. docs/verification.md has the full studies.
 //
 // Tolerance: an observed rate must lie within 0.15 of the predicted one (0.2 in 3D,
-// where the coarse levels are less asymptotic). On the levels used here the correct
-// scheme is within 0.1 of the prediction (see the EXPECTs' messages on failure and
-// docs/verification.md). A scheme with an O(1) inconsistency gives rates near or
-// below 0; one with an O(k) inconsistency at fixed k gives an error floor and rates
-// well below 0.85 on the finest level; both are far outside the band.
+// where the levels CI can afford are less asymptotic). On the levels used here the
+// correct scheme is within 0.09 of the prediction in 1D and 2D and within 0.11 in 3D
+// (the rates are printed to the log). A scheme with an O(1) inconsistency gives rates
+// near or below 0; one with an O(k) inconsistency at fixed k gives an error floor and
+// rates of 0.75 or less on the finest level; both are far outside the band
+// (docs/verification.md §7).
 #include "cases/builtin_cases.hpp"
 #include "verification/convergence.hpp"
 #include "verification/manufactured.hpp"
@@ -67,6 +68,7 @@ bool rates_ok(const ConvergenceResult& r, const std::vector<Expected>& expected,
     s += fmt::format("{} {:.3f} (expected {} +- {}){}; ", e.name, p, e.rate, tol, good ? "" : " FAIL");
   }
   if (report) *report = s;
+  std::cout << "  rates: " << s << "\n";  // in the CI log, to see the margin
   return ok;
 }
 
@@ -174,7 +176,7 @@ TEST(ConvergenceMms, SpatialRatesIn1D2D3D) {
   // (1.6 and 1.7 here; 1.9 and 2.0 two levels further, docs/verification.md).
   const auto r = run_mms({mms(3, "maxwell-damage", ManufacturedForcing::Discrete, 2, 4), RefinementSequence::HK, 3, {}});
   std::string report;
-  EXPECT_TRUE(rates_ok(r, {kSpatialRates[0], kSpatialRates[2], kSpatialRates[4]}, kTol, false, &report))
+  EXPECT_TRUE(rates_ok(r, {kSpatialRates[0], kSpatialRates[2], kSpatialRates[4]}, 0.2, false, &report))
       << "d = 3: " << report;
   for (Norm n : {&ErrorNorms::u_l2, &ErrorNorms::beta_l2}) {
     EXPECT_GE(last_rate(r, n, false), 1.5) << "d = 3";
@@ -213,7 +215,6 @@ TEST(ConvergenceMms, BrokenSchemesFailTheRateCheck) {
     std::string report;
     EXPECT_FALSE(rates_ok(r, {kFirstOrder[0], kFirstOrder[2]}, kTol, false, &report))
         << "broken scheme " << static_cast<int>(kind) << " passed: " << report;
-    std::cout << "  broken scheme " << static_cast<int>(kind) << ": " << report << "\n";
   }
   // The k of the damage source forgotten: β's norms lose their rate.
   {
@@ -223,7 +224,6 @@ TEST(ConvergenceMms, BrokenSchemesFailTheRateCheck) {
     std::string report;
     EXPECT_FALSE(rates_ok(r, {kFirstOrder[3], kFirstOrder[4]}, kTol, false, &report))
         << "damage source without k passed: " << report;
-    std::cout << "  damage source without k: " << report << "\n";
   }
   // G lagged at t_n instead of t_{n−1}: still O(k) consistent, so O(h + k) alone
   // cannot see it; the discrete forcing assumes the paper's lagging exactly, so an
@@ -232,7 +232,6 @@ TEST(ConvergenceMms, BrokenSchemesFailTheRateCheck) {
                           BrokenLaw::Kind::LagAtNewTime});
   std::string report;
   EXPECT_FALSE(rates_ok(r, kSpatialRates, kTol, false, &report)) << "lag at t_n passed: " << report;
-  std::cout << "  G lagged at t_n: " << report << "\n";
 }
 
 Case small_case(const std::string& name, int n, int steps) {
