@@ -8,6 +8,7 @@
 #include "core/error.hpp"
 #include "core/omp_wait_policy.hpp"
 #include "io/case_file.hpp"
+#include "io/checkpoint.hpp"
 #include "io/run_output.hpp"
 #include "converge_command.hpp"
 #include "progress.hpp"
@@ -18,6 +19,7 @@
 #include <fmt/ranges.h>
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -33,8 +35,9 @@ struct Options {
   std::string output, outdir;
   std::vector<std::string> sets;
   double kappa = -1, dt = -1;
-  int n = -1, steps = -1, every = -1;
+  int n = -1, steps = -1, every = -1, checkpoint_every = -1, halvings = 0;
   bool no_vtu = false, quiet = false, plot = false;
+  std::string resume;
   std::string contact_solver, damage_solver;
   double tolerance = -1;
 };
@@ -132,23 +135,58 @@ int run(const Options& o, const CLI::App& cmd) {
   using Clock = std::chrono::steady_clock;
   const auto t0 = Clock::now();
   vpc::Case c = load_case(o, cmd);
+  if (!o.resume.empty()) c.output.directory = o.resume;
+  vpc::require(o.halvings >= 0 && o.halvings <= 20, "--retry-halvings must be in [0, 20] (got {})", o.halvings);
+  c.solvers.max_halvings = o.halvings;
   vpc::TimeStepper stepper(c.problem, c.solvers);
   if (!o.quiet) describe(c, stepper);
   vpc::RunOutput output(stepper, c.output);
-  output.start();
+  const std::uint64_t fingerprint = vpc::problem_fingerprint(stepper);
+  auto checkpoint = [&] {
+    vpc::write_checkpoint(output.directory(), {c.name, fingerprint, stepper.snapshot(), output.pvd_entries(),
+                                               output.totals()});
+  };
+  int last_checkpoint = 0;
+  if (!o.resume.empty()) {
+    std::vector<std::string> skipped;
+    auto saved = vpc::find_checkpoint(o.resume, fingerprint, &skipped);
+    for (const auto& s : skipped) fmt::print(stderr, "vpcontact: skipping {}\n", s);
+    vpc::require(saved.has_value(), "--resume: no good checkpoint for this case in '{}'{}", o.resume,
+                 skipped.empty() ? "" : " (see the files skipped above)");
+    stepper.restore(saved->snapshot);
+    output.resume(saved->snapshot.state.n, saved->pvd, saved->totals);
+    last_checkpoint = saved->snapshot.state.n;
+    if (!o.quiet)
+      fmt::print("  resuming from the checkpoint of step {} (t = {})\n", last_checkpoint, saved->snapshot.state.t);
+  } else {
+    output.start();
+    checkpoint();
+  }
+  // Checkpoints: every `every` steps (default: at the VTU output interval) and at the end.
+  const int every = o.checkpoint_every >= 0 ? o.checkpoint_every : std::max(1, c.output.every);
   vpc::Progress progress(c.problem->n_steps, o.quiet);
   while (!stepper.done()) {
     const vpc::StepReport r = stepper.step();
+    if (!r.ok) {
+      progress.finish();
+      output.finish(std::chrono::duration<double>(Clock::now() - t0).count());
+      const bool not_finite = std::isinf(r.contact.residuals.max()) || std::isinf(r.damage.kkt_residual);
+      vpc::fail("step {} (t = {}) failed{}{}: contact solver {} after {} iterations (residual {:.2e}), damage solver {} "
+                "after {} iterations (KKT residual {:.2e}, beta in [{}, {}]); tolerance {:.1e}. Results up to step {} "
+                "are in '{}'; `--resume {}` continues from step {}{}",
+                r.n, r.t, o.halvings > 0 ? fmt::format(" after {} step halvings", o.halvings) : "",
+                not_finite ? " (NaN or Inf in the data of the step: a formula for phi, f0 or f2?)" : "",
+                r.contact.converged ? "converged" : "did not converge", r.contact.iterations,
+                r.contact.residuals.max(), r.damage.converged ? "converged" : "did not converge",
+                r.damage.iterations, r.damage.kkt_residual, r.beta_min, r.beta_max, c.solvers.residual_tolerance,
+                r.n - 1, output.directory().string(), output.directory().string(), last_checkpoint,
+                o.halvings == 0 ? " (--retry-halvings N retries a failed step with smaller steps)" : "");
+    }
     output.record(r);
     progress.update(r);
-    if (!r.ok) {
-      output.finish(std::chrono::duration<double>(Clock::now() - t0).count());
-      vpc::fail("step {} (t = {}) failed: contact solver {} after {} iterations (residual {:.2e}), damage solver {} "
-                "after {} iterations (KKT residual {:.2e}); tolerance {:.1e}. Results up to step {} are in '{}'",
-                r.n, r.t, r.contact.converged ? "converged" : "did not converge", r.contact.iterations,
-                r.contact.residuals.max(), r.damage.converged ? "converged" : "did not converge",
-                r.damage.iterations, r.damage.kkt_residual, c.solvers.residual_tolerance, r.n - 1,
-                output.directory().string());
+    if (stepper.done() || (every > 0 && r.n % every == 0)) {
+      checkpoint();
+      last_checkpoint = r.n;
     }
   }
   progress.finish();
@@ -200,6 +238,12 @@ int main(int argc, char** argv) {
   run_cmd->add_option("--every", o.every, "write VTU every this many steps (0: final step only)");
   run_cmd->add_flag("--no-vtu", o.no_vtu, "write no VTU/PVD files (CSV and summary only)");
   run_cmd->add_flag("--plot", o.plot, "draw the figures (vpcontact plot) after the run");
+  run_cmd->add_option("--checkpoint-every", o.checkpoint_every,
+                      "write a checkpoint every this many steps (default: the VTU interval; 0: only at the end)");
+  run_cmd->add_option("--resume", o.resume,
+                      "continue an interrupted run of the same case from the newest good checkpoint in this directory");
+  run_cmd->add_option("--retry-halvings", o.halvings,
+                      "retry a failed step as two half steps, at most this many times nested (default 0)");
 
   auto* check_cmd = app.add_subcommand("check", "validate a case (parse, mesh, assemble, factorize) without running it");
   add_case_options(check_cmd, o);

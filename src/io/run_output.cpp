@@ -8,6 +8,8 @@
 #include <fmt/ranges.h>
 
 #include <algorithm>
+#include <cstdlib>
+#include <fstream>
 #include <chrono>
 #include <cmath>
 
@@ -93,16 +95,57 @@ RunOutput::RunOutput(const TimeStepper& stepper, OutputOptions options)
   require(options_.every >= 0, "output: 'every' must be >= 0 (got {})", options_.every);
 }
 
+void RunTotals::add(const StepReport& r) {
+  max_contact_residual = std::max(max_contact_residual, r.contact.residuals.max());
+  max_damage_residual = std::max(max_damage_residual, r.damage.kkt_residual);
+  max_contact_iterations = std::max(max_contact_iterations, r.contact.iterations);
+  max_damage_iterations = std::max(max_damage_iterations, r.damage.iterations);
+  all_ok = all_ok && r.ok;
+  seconds_sources += r.seconds_sources;
+  seconds_damage += r.seconds_damage;
+  seconds_contact += r.seconds_contact;
+  seconds_stress += r.seconds_stress;
+}
+
+namespace {
+
+/// Keeps the header and the rows whose first field (the step) is ≤ n; drops a
+/// partly written last line. Rewritten atomically.
+void truncate_csv(const fs::path& path, int n) {
+  std::ifstream in(path);
+  require(in.good(), "resume: cannot read '{}'", path.string());
+  std::string content, line;
+  bool header = true;
+  while (std::getline(in, line)) {
+    if (in.eof()) break;  // no newline: a row cut by the interruption
+    if (!header) {
+      const int step = std::atoi(line.c_str());
+      if (step > n) break;
+    }
+    header = false;
+    content += line;
+    content += '\n';
+  }
+  write_file_atomic(path, content);
+}
+
+}  // namespace
+
+void RunOutput::open_csv(bool append) {
+  const auto mode = append ? std::ios::app : std::ios::trunc;
+  history_.open(options_.directory / "history.csv", mode);
+  require(history_.good(), "cannot write '{}'", (options_.directory / "history.csv").string());
+  probe_csv_.open(options_.directory / "probes.csv", mode);
+  require(probe_csv_.good(), "cannot write '{}'", (options_.directory / "probes.csv").string());
+}
+
 void RunOutput::start() {
   const int d = stepper_.mesh().dim();
-  history_.open(options_.directory / "history.csv", std::ios::trunc);
-  require(history_.good(), "cannot write '{}'", (options_.directory / "history.csv").string());
+  open_csv(false);
   history_ << "step,t,n_active,total_contact_force,contact_iterations,contact_equilibrium,"
               "contact_penetration,contact_negative_force,contact_complementarity,damage_iterations,"
               "damage_kkt_residual,beta_min,beta_max,n_beta_zero,n_beta_one,max_von_mises,ok\n";
   history_.flush();
-  probe_csv_.open(options_.directory / "probes.csv", std::ios::trunc);
-  require(probe_csv_.good(), "cannot write '{}'", (options_.directory / "probes.csv").string());
   probe_csv_ << "step,t";
   static const char* axis = "xyz";
   for (size_t p = 0; p < probes_.size(); ++p) {
@@ -113,6 +156,22 @@ void RunOutput::start() {
   probe_csv_ << "\n";
   write_probe_row();
   write_fields();
+}
+
+void RunOutput::resume(int n, std::vector<std::pair<double, std::string>> pvd, const RunTotals& totals) {
+  truncate_csv(options_.directory / "history.csv", n);
+  truncate_csv(options_.directory / "probes.csv", n);
+  open_csv(true);
+  totals_ = totals;
+  pvd_ = std::move(pvd);
+  // VTU files of steps after n belong to the lost part of the run.
+  std::error_code ec;
+  for (const auto& entry : fs::directory_iterator(options_.directory, ec)) {
+    const std::string f = entry.path().filename().string();
+    if (f.rfind("solution_", 0) == 0 && f.size() == 19 && f.ends_with(".vtu") && std::atoi(f.c_str() + 9) > n)
+      fs::remove(entry.path(), ec);
+  }
+  if (options_.vtu) write_pvd(options_.directory / "solution.pvd", pvd_);
 }
 
 void RunOutput::write_probe_row() {
@@ -168,7 +227,7 @@ void RunOutput::write_fields() {
 void RunOutput::record(const StepReport& r) {
   const auto t0 = std::chrono::steady_clock::now();
   record_untimed(r);
-  output_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  totals_.seconds_output += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
 void RunOutput::record_untimed(const StepReport& r) {
@@ -180,7 +239,7 @@ void RunOutput::record_untimed(const StepReport& r) {
                           r.damage.n_upper, r.max_von_mises, r.ok ? 1 : 0);
   history_.flush();
   write_probe_row();
-  reports_.push_back(r);
+  totals_.add(r);
   if (is_output_step(r.n)) write_fields();
 }
 
@@ -205,20 +264,7 @@ void RunOutput::finish(double wall_seconds) {
   const Problem& p = stepper_.problem();
   const Mesh& mesh = stepper_.mesh();
   const State& s = stepper_.state();
-  double max_contact = 0, max_damage = 0, time_src = 0, time_dmg = 0, time_ct = 0, time_st = 0;
-  int max_ci = 0, max_di = 0;
-  bool all_ok = true;
-  for (const auto& r : reports_) {
-    max_contact = std::max(max_contact, r.contact.residuals.max());
-    max_damage = std::max(max_damage, r.damage.kkt_residual);
-    max_ci = std::max(max_ci, r.contact.iterations);
-    max_di = std::max(max_di, r.damage.iterations);
-    all_ok = all_ok && r.ok;
-    time_src += r.seconds_sources;
-    time_dmg += r.seconds_damage;
-    time_ct += r.seconds_contact;
-    time_st += r.seconds_stress;
-  }
+  const RunTotals& t = totals_;
   const auto [hmin, hmax] = mesh.size_range();
   Eigen::Index imin = 0;
   const double beta_min = s.beta.minCoeff(&imin);
@@ -268,8 +314,9 @@ void RunOutput::finish(double wall_seconds) {
       p.name, mesh.dim(), mesh.n_nodes(), mesh.n_cells(), hmin, hmax, stepper_.dofs().n_free(), mesh.n_nodes(),
       stepper_.contact_nodes().size(), p.elasticity.name(), p.law->describe(), p.source->describe(), p.kappa,
       p.final_time, s.n, p.step(), s.t, s.lambda.sum(), (s.lambda.array() > 0).count(), max_vm, beta_min, xb[0],
-      xb[1], xb[2], s.beta.maxCoeff(), all_ok ? "true" : "false", max_contact, max_damage, max_ci, max_di, probes,
-      wall_seconds, stepper_.setup_seconds(), time_src, time_dmg, time_ct, time_st, output_seconds_,
+      xb[1], xb[2], s.beta.maxCoeff(), t.all_ok ? "true" : "false", t.max_contact_residual, t.max_damage_residual,
+      t.max_contact_iterations, t.max_damage_iterations, probes, wall_seconds, stepper_.setup_seconds(),
+      t.seconds_sources, t.seconds_damage, t.seconds_contact, t.seconds_stress, t.seconds_output,
       stepper_.setup_timing().assembly, stepper_.setup_timing().factor_K, stepper_.setup_timing().factor_H,
       stepper_.setup_timing().contact, stepper_.n_factorizations());
   write_file_atomic(options_.directory / "summary.json", json);

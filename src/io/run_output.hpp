@@ -36,15 +36,30 @@ struct ProbeLocation {
 /// Locates x in the mesh; throws vpc::Error if no cell contains it.
 ProbeLocation locate_point(const Mesh& mesh, const Point& x);
 
+/// What the summary aggregates over the steps of a run (kept in checkpoints).
+struct RunTotals {
+  double max_contact_residual = 0, max_damage_residual = 0;
+  int max_contact_iterations = 0, max_damage_iterations = 0;
+  bool all_ok = true;
+  double seconds_sources = 0, seconds_damage = 0, seconds_contact = 0, seconds_stress = 0, seconds_output = 0;
+  void add(const StepReport& r);
+};
+
 class RunOutput {
  public:
   RunOutput(const TimeStepper& stepper, OutputOptions options);
   /// Writes the initial state (step 0).
   void start();
+  /// Continues the files of an interrupted run from step `n` (the state of the
+  /// stepper): history.csv and probes.csv keep their rows up to step n, the PVD
+  /// collection its entries up to n (VTU files of later steps are removed).
+  void resume(int n, std::vector<std::pair<double, std::string>> pvd, const RunTotals& totals);
   /// Records one accepted step; writes VTU at output steps.
   void record(const StepReport& report);
   /// Seconds spent writing during the steps (record()).
-  double output_seconds() const { return output_seconds_; }
+  double output_seconds() const { return totals_.seconds_output; }
+  const RunTotals& totals() const { return totals_; }
+  const std::vector<std::pair<double, std::string>>& pvd_entries() const { return pvd_; }
   /// Writes summary.json; `wall_seconds` is the whole run's time.
   void finish(double wall_seconds);
 
@@ -52,6 +67,7 @@ class RunOutput {
 
  private:
   void record_untimed(const StepReport& report);
+  void open_csv(bool append);
   void write_fields();
   void write_probe_row();
   bool is_output_step(int n) const;
@@ -62,8 +78,7 @@ class RunOutput {
   std::vector<ProbeLocation> probes_;
   std::ofstream history_, probe_csv_;
   std::vector<std::pair<double, std::string>> pvd_;
-  std::vector<StepReport> reports_;
-  double output_seconds_ = 0;  // spent in record(): CSV rows and VTU files
+  RunTotals totals_;
 };
 
 }  // namespace vpc

@@ -62,7 +62,8 @@ TimeStepper::TimeStepper(std::shared_ptr<const Problem> problem, SolverChoice ch
   auto t1 = Clock::now();
   K_ = assemble_stiffness(mesh, geo_, p.elasticity, dofs_);
   M_ = assemble_mass(mesh, geo_);
-  const SparseMatrix H = M_ + (p.step() * p.kappa) * assemble_laplacian(mesh, geo_);
+  laplacian_ = assemble_laplacian(mesh, geo_);
+  const SparseMatrix H = M_ + (p.step() * p.kappa) * laplacian_;
   setup_timing_.assembly = seconds_since(t1);
   t1 = Clock::now();
   K_factor_ = make_cholmod_solver();
@@ -144,15 +145,70 @@ double TimeStepper::model_bytes() const {
 
 int TimeStepper::n_factorizations() const { return K_factor_->n_factorizations() + damage_->n_factorizations(); }
 
+Snapshot TimeStepper::snapshot() const {
+  return {state_, u_free_, contact_->warm_state(), damage_->warm_state()};
+}
+
+void TimeStepper::restore(const Snapshot& s) {
+  const bool same = s.state.u.size() == state_.u.size() && s.state.beta.size() == state_.beta.size() &&
+                    s.state.sigma.size() == state_.sigma.size() && s.state.eps.size() == state_.eps.size() &&
+                    s.state.z.size() == state_.z.size() && s.state.lambda.size() == state_.lambda.size() &&
+                    s.u_free.size() == u_free_.size() && s.state.n >= 0 && s.state.n <= problem_->n_steps;
+  require(same, "{}: the saved state does not fit this problem (a different mesh, case or step count?)",
+          problem_->name);
+  state_ = s.state;
+  u_free_ = s.u_free;
+  contact_->set_warm_state(s.contact_warm);
+  damage_->set_warm_state(s.damage_warm);
+}
+
+DamageSolver& TimeStepper::damage_solver(int level) {
+  if (level == 0) return *damage_;
+  if (static_cast<int>(halved_damage_.size()) < level) halved_damage_.resize(level);
+  auto& solver = halved_damage_[level - 1];
+  if (!solver) {
+    const double k = problem_->step() / (1 << level);
+    solver = make_damage_solver(choice_.damage, SparseMatrix(M_ + (k * problem_->kappa) * laplacian_));
+  }
+  return *solver;
+}
+
 StepReport TimeStepper::step() {
   require(!done(), "{}: the run is already at the final time", problem_->name);
   const Problem& p = *problem_;
+  const int n = state_.n + 1;
+  // The grid time t_n = n k, exactly (sums of k would accumulate round-off).
+  StepReport rep = advance_or_halve(0, n == p.n_steps ? p.final_time : n * p.step());
+  state_.n = rep.n = n;
+  return rep;
+}
+
+StepReport TimeStepper::advance_or_halve(int level, double t_end) {
+  if (level >= choice_.max_halvings) return advance(level, t_end);
+  const Snapshot before = snapshot();
+  StepReport rep = advance(level, t_end);
+  if (rep.ok) return rep;
+  restore(before);
+  const double t_mid = before.state.t + problem_->step() / (1 << (level + 1));
+  const StepReport first = advance_or_halve(level + 1, t_mid);
+  if (!first.ok) return first;
+  rep = advance_or_halve(level + 1, t_end);
+  rep.substeps += first.substeps;
+  rep.seconds_sources += first.seconds_sources;
+  rep.seconds_damage += first.seconds_damage;
+  rep.seconds_contact += first.seconds_contact;
+  rep.seconds_stress += first.seconds_stress;
+  return rep;
+}
+
+StepReport TimeStepper::advance(int level, double t_end) {
+  const Problem& p = *problem_;
   const Mesh& mesh = p.mesh;
   const int d = mesh.dim(), n_cells = mesh.n_cells();
-  const double k = p.step();
+  const double k = p.step() / (1 << level);
   StepReport rep;
   rep.n = state_.n + 1;
-  rep.t = rep.n == p.n_steps ? p.final_time : rep.n * k;
+  rep.t = t_end;
 
   // Step 1: lagged sources G_{n−1}, φ_{n−1} per element, β at the centroid.
   auto t0 = Clock::now();
@@ -171,7 +227,7 @@ StepReport TimeStepper::step() {
   // Step 2: damage (3.8): the box QP with H = M + kκA, r = M β_{n−1} + k F_φ.
   t0 = Clock::now();
   const Vector rhs = M_ * state_.beta + k * assemble_p0_source(mesh, geo_, phi);
-  rep.damage = damage_->solve(rhs, state_.beta);
+  rep.damage = damage_solver(level).solve(rhs, state_.beta);
   rep.seconds_damage = seconds_since(t0);
 
   // Step 3: history (3.6): z_n = z_{n−1} + k G_{n−1}.
@@ -203,8 +259,7 @@ StepReport TimeStepper::step() {
   rep.beta_min = state_.beta.minCoeff(&imin);
   rep.beta_min_node = static_cast<int>(imin);
   rep.beta_max = state_.beta.maxCoeff();
-  state_.n = rep.n;
-  state_.t = rep.t;
+  state_.t = rep.t;  // state_.n is the grid step: step() sets it
 
   const double tol = choice_.residual_tolerance;
   rep.ok = rep.contact.converged && rep.damage.converged && rep.contact.residuals.max() <= tol &&

@@ -22,6 +22,9 @@ struct SolverChoice {
   ContactSolverOptions contact_options;
   /// A step whose residuals exceed this (relative) is reported as failed.
   double residual_tolerance = 1e-8;
+  /// A failed step is retried as two steps of half the size, at most this many
+  /// times nested (0: a failed step is reported as it is).
+  int max_halvings = 0;
 };
 
 struct StepReport {
@@ -35,6 +38,16 @@ struct StepReport {
   double seconds_sources = 0, seconds_damage = 0, seconds_contact = 0, seconds_stress = 0;
   /// True when both solvers converged and all residuals are within tolerance.
   bool ok = true;
+  /// Sub-steps taken (1, or more after step halving).
+  int substeps = 1;
+};
+
+/// Everything a step changes: the state and the solvers' warm starts. Restoring
+/// a snapshot makes the following steps bit-identical to a run that never left it.
+struct Snapshot {
+  State state;
+  Vector u_free;
+  Vector contact_warm, damage_warm;
 };
 
 /// Where the setup time goes (seconds).
@@ -54,8 +67,13 @@ class TimeStepper {
   const Mesh& mesh() const { return problem_->mesh; }
   const State& state() const { return state_; }
   bool done() const { return state_.n >= problem_->n_steps; }
-  /// Advances from step n − 1 to n (steps 1–5 of SPEC §2).
+  /// Advances from step n − 1 to n (steps 1–5 of SPEC §2); with
+  /// SolverChoice::max_halvings, a failed step is redone as two half steps.
   StepReport step();
+
+  Snapshot snapshot() const;
+  /// Restores a snapshot of a run of the same problem; throws vpc::Error if the sizes differ.
+  void restore(const Snapshot& s);
 
   /// Contact nodes (rows of N) and their directions ν.
   const std::vector<int>& contact_nodes() const { return contact_nodes_; }
@@ -73,6 +91,11 @@ class TimeStepper {
 
  private:
   void setup_contact();
+  /// Steps 1–5 from the current state to time t_end with the step k / 2^level.
+  StepReport advance(int level, double t_end);
+  /// The same, halving on failure down to max_halvings levels.
+  StepReport advance_or_halve(int level, double t_end);
+  DamageSolver& damage_solver(int level);
 
   std::shared_ptr<const Problem> problem_;
   SolverChoice choice_;
@@ -85,7 +108,9 @@ class TimeStepper {
   Vector gap_;
   std::shared_ptr<LinearSolver> K_factor_;
   std::unique_ptr<ContactSolver> contact_;
-  std::unique_ptr<DamageSolver> damage_;
+  std::unique_ptr<DamageSolver> damage_;  // for the step k
+  std::vector<std::unique_ptr<DamageSolver>> halved_damage_;  // for k / 2^level, made when needed
+  SparseMatrix laplacian_;
   State state_;
   Vector u_free_;  // warm start of the contact solver
   SetupTiming setup_timing_;

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace vpc {
 
@@ -83,6 +84,8 @@ double box_qp_kkt_residual(const Vector& Hx, const Vector& d, const Vector& b, c
                            const Vector& hi, const Vector& x) {
   if (x.size() == 0) return 0;
   const Vector r = b - Hx;
+  // NaN compares false: without this, max(res, NaN) would report a NaN iterate as exact.
+  if (!r.allFinite() || !x.allFinite()) return std::numeric_limits<double>::infinity();
   double res = 0, scale = x.cwiseAbs().maxCoeff();
   for (int i = 0; i < x.size(); ++i) {
     const double p = std::clamp(x[i] + r[i] / d[i], lo[i], hi[i]);
@@ -97,6 +100,10 @@ BoxQpResult solve_box_qp(BoxQpOperator& H, const Vector& b, const Vector& lo, co
   const int n = H.size();
   BoxQpResult res;
   if (x.size() != n) x = Vector::Zero(n);
+  if (!b.allFinite()) {  // NaN or Inf data (e.g. a formula): report, never "solve"
+    res.kkt_residual = std::numeric_limits<double>::infinity();
+    return res;
+  }
   for (int i = 0; i < n; ++i) {
     require(lo[i] <= hi[i], "box QP: lower bound exceeds upper bound at index {}", i);
     x[i] = std::clamp(x[i], lo[i], hi[i]);

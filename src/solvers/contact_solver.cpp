@@ -17,6 +17,10 @@ double ContactResiduals::max() const {
 ContactResiduals contact_residuals(const SparseMatrix& K, const SparseMatrix& N, const Vector& F,
                                    const Vector& g, const Vector& u, const Vector& lambda) {
   ContactResiduals r;
+  if (!F.allFinite() || !u.allFinite() || !lambda.allFinite() || !g.allFinite()) {
+    const double inf = std::numeric_limits<double>::infinity();  // NaN would compare as "small"
+    return {inf, inf, inf, inf};
+  }
   const Vector Ku = K * u;
   const Vector s = g - N * u;  // the gap left: ≥ 0
   auto inf = [](const Vector& v) { return v.size() ? v.cwiseAbs().maxCoeff() : 0.0; };
@@ -124,6 +128,8 @@ class PenaltyDualityContactSolver final : public ContactSolver {
     return rep;
   }
   std::string name() const override { return "penalty-duality"; }
+  Vector warm_state() const override { return pd_.multiplier_state(); }
+  void set_warm_state(const Vector& q) override { pd_.set_multiplier_state(q); }
 
  private:
   SparseMatrix K_;  // own copy: used for the reported residuals

@@ -38,6 +38,11 @@ class ContactSolver {
   /// Solves for u (free dofs) and λ (one per row of N); both are warm starts on entry.
   virtual ContactReport solve(const Vector& F, const Vector& g, Vector& u, Vector& lambda) = 0;
   virtual std::string name() const = 0;
+  /// Internal warm-start state carried from step to step (penalty–duality's
+  /// multiplier; empty for the active-set method, whose warm start is the
+  /// solution itself): saved in checkpoints so that a resumed run is bit-identical.
+  virtual Vector warm_state() const { return {}; }
+  virtual void set_warm_state(const Vector&) {}
 };
 
 struct ContactSolverOptions {

@@ -55,6 +55,8 @@ class PenaltyDualityDamageSolver final : public DamageSolver {
     return rep;
   }
   std::string name() const override { return "penalty-duality"; }
+  Vector warm_state() const override { return pd_.multiplier_state(); }
+  void set_warm_state(const Vector& q) override { pd_.set_multiplier_state(q); }
   int n_factorizations() const override { return 1; }
   double factor_bytes() const override { return pd_.factor_bytes(); }
 

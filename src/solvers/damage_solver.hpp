@@ -22,6 +22,11 @@ class DamageSolver {
   /// β is the warm start on entry and the solution, exactly in [0, 1], on exit.
   virtual DamageReport solve(const Vector& rhs, Vector& beta) = 0;
   virtual std::string name() const = 0;
+  /// Internal warm-start state carried from step to step (penalty–duality's
+  /// multiplier; empty for the active-set method, whose warm start is the
+  /// solution itself): saved in checkpoints so that a resumed run is bit-identical.
+  virtual Vector warm_state() const { return {}; }
+  virtual void set_warm_state(const Vector&) {}
   /// Sparse factorizations done so far (constant-matrix factor plus reduced ones).
   virtual int n_factorizations() const = 0;
   /// Memory held by its factors (bytes).

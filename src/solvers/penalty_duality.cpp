@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace vpc {
 
@@ -18,8 +19,13 @@ PenaltyDualityResult PenaltyDuality::solve(const Vector& b, const Vector& lo, co
                                            Vector& theta, double tolerance, int max_iterations) {
   const int m = static_cast<int>(E_.rows());
   if (q_.size() != m) q_ = Vector::Zero(m);
-  const double w = omega_;
   PenaltyDualityResult res;
+  if (!b.allFinite()) {  // NaN or Inf data: no iteration could converge
+    x = Vector::Constant(b.size(), std::numeric_limits<double>::quiet_NaN());
+    theta = Vector::Constant(m, std::numeric_limits<double>::quiet_NaN());
+    return res;
+  }
+  const double w = omega_;
   double bound_scale = 0;
   for (int i = 0; i < m; ++i) {
     if (std::isfinite(lo[i])) bound_scale = std::max(bound_scale, std::abs(lo[i]));

@@ -31,6 +31,9 @@ class PenaltyDuality {
 
   double omega() const { return omega_; }
   double factor_bytes() const { return factor_->factor_bytes(); }
+  /// The multiplier state (the warm start of the next call), for checkpoints.
+  const Vector& multiplier_state() const { return q_; }
+  void set_multiplier_state(const Vector& q) { q_ = q; }
 
  private:
   SparseMatrix E_, Et_;

@@ -1,0 +1,54 @@
+#pragma once
+// Checkpoints: the whole state of a run at step n, so that `vpcontact run CASE
+// --resume OUTDIR` continues bit-identically after an interruption.
+//
+// Format (docs/reliability.md), little-endian, written atomically:
+//   8 bytes  magic "VPCCKPT\0"
+//   u32      format version (1)
+//   u32      0 (reserved)
+//   u64      payload size in bytes
+//   u64      FNV-1a 64 checksum of the payload
+//   payload: case name (u64 length + bytes); u64 problem fingerprint; i64 n; f64 t;
+//            arrays (u64 count + f64 values): u, β, λ, u_free, σ, ε, z (6 per cell),
+//            contact and damage solver warm states;
+//            output: PVD entries (u64 count, then f64 time + string file each),
+//            run totals (f64 ×7, i64 ×2, u8 all_ok).
+// A file whose magic, version, size, checksum or fingerprint does not match is
+// not a good checkpoint; resume takes the newest good one.
+#include "io/run_output.hpp"
+#include "scheme/time_stepper.hpp"
+
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace vpc {
+
+struct Checkpoint {
+  std::string case_name;
+  std::uint64_t fingerprint = 0;
+  Snapshot snapshot;
+  std::vector<std::pair<double, std::string>> pvd;
+  RunTotals totals;
+};
+
+/// A number identifying the discrete problem (sizes, times, κ, names): a
+/// checkpoint only resumes the problem it was written for.
+std::uint64_t problem_fingerprint(const TimeStepper& stepper);
+
+/// Writes OUTDIR/checkpoint_NNNNN.bin atomically and keeps only the newest `keep`.
+std::filesystem::path write_checkpoint(const std::filesystem::path& dir, const Checkpoint& c, int keep = 2);
+
+/// Reads a checkpoint; throws vpc::Error naming the file and what is wrong.
+Checkpoint read_checkpoint(const std::filesystem::path& file);
+
+/// The newest good checkpoint in `dir` for this fingerprint (older ones are
+/// tried when the newest is damaged); nullopt if there is none. `skipped`
+/// receives one line per file passed over, saying why.
+std::optional<Checkpoint> find_checkpoint(const std::filesystem::path& dir, std::uint64_t fingerprint,
+                                          std::vector<std::string>* skipped = nullptr);
+
+}  // namespace vpc

@@ -1,0 +1,186 @@
+// Checkpoints (format, checksum, fallback to an older good file) and the
+// stepper's snapshot/restore and step halving.
+#include "cases/builtin_cases.hpp"
+#include "core/error.hpp"
+#include "io/checkpoint.hpp"
+
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cmath>
+#include <fstream>
+
+namespace vpc {
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path fresh_dir(const std::string& name) {
+  const fs::path d = fs::temp_directory_path() / ("vpc_ckpt_" + name + "_" + std::to_string(::getpid()));
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d;
+}
+
+std::shared_ptr<Problem> small_2d() { return make_builtin_case("paper-2d", {.mesh_cells = 10, .steps = 10}).problem; }
+
+Checkpoint checkpoint_of(const TimeStepper& s) {
+  RunTotals totals;
+  totals.max_contact_iterations = 3;
+  totals.seconds_output = 0.25;
+  return {s.problem().name, problem_fingerprint(s), s.snapshot(), {{0.0, "solution_00000.vtu"}, {0.5, "x.vtu"}}, totals};
+}
+
+TEST(Checkpoint, RoundTripIsExact) {
+  TimeStepper s(small_2d());
+  for (int i = 0; i < 3; ++i) s.step();
+  const fs::path dir = fresh_dir("roundtrip");
+  const fs::path file = write_checkpoint(dir, checkpoint_of(s));
+  EXPECT_EQ(file.filename(), "checkpoint_00003.bin");
+  const Checkpoint c = read_checkpoint(file);
+  EXPECT_EQ(c.case_name, "paper-2d");
+  EXPECT_EQ(c.fingerprint, problem_fingerprint(s));
+  EXPECT_EQ(c.snapshot.state.n, 3);
+  EXPECT_EQ(c.snapshot.state.t, s.state().t);
+  EXPECT_EQ(c.snapshot.state.u, s.state().u);
+  EXPECT_EQ(c.snapshot.state.beta, s.state().beta);
+  EXPECT_EQ(c.snapshot.state.lambda, s.state().lambda);
+  ASSERT_EQ(c.snapshot.state.z.size(), s.state().z.size());
+  for (size_t i = 0; i < c.snapshot.state.z.size(); ++i) EXPECT_EQ(c.snapshot.state.z[i].c, s.state().z[i].c);
+  EXPECT_EQ(c.pvd.size(), 2u);
+  EXPECT_EQ(c.pvd[1].second, "x.vtu");
+  EXPECT_EQ(c.totals.max_contact_iterations, 3);
+  EXPECT_EQ(c.totals.seconds_output, 0.25);
+}
+
+TEST(Checkpoint, RestoredRunIsBitIdentical) {
+  TimeStepper a(small_2d()), b(small_2d());
+  for (int i = 0; i < 4; ++i) a.step();
+  b.restore(read_checkpoint(write_checkpoint(fresh_dir("restore"), checkpoint_of(a))).snapshot);
+  while (!a.done()) {
+    a.step();
+    b.step();
+  }
+  EXPECT_EQ(a.state().u, b.state().u);
+  EXPECT_EQ(a.state().beta, b.state().beta);
+  EXPECT_EQ(a.state().lambda, b.state().lambda);
+}
+
+TEST(Checkpoint, DamagedNewestFallsBackToTheOlderOne) {
+  TimeStepper s(small_2d());
+  const fs::path dir = fresh_dir("damaged");
+  s.step();
+  write_checkpoint(dir, checkpoint_of(s));
+  s.step();
+  const fs::path newest = write_checkpoint(dir, checkpoint_of(s));
+  {  // flip one byte of the payload
+    std::fstream f(newest, std::ios::in | std::ios::out | std::ios::binary);
+    f.seekp(100);
+    char c;
+    f.read(&c, 1);
+    f.seekp(100);
+    c = static_cast<char>(c ^ 0x5a);
+    f.write(&c, 1);
+  }
+  std::vector<std::string> skipped;
+  const auto found = find_checkpoint(dir, problem_fingerprint(s), &skipped);
+  ASSERT_TRUE(found.has_value());
+  EXPECT_EQ(found->snapshot.state.n, 1);
+  ASSERT_EQ(skipped.size(), 1u);
+  EXPECT_NE(skipped[0].find("checksum mismatch"), std::string::npos) << skipped[0];
+}
+
+TEST(Checkpoint, BadFilesAreRejectedWithAReason) {
+  TimeStepper s(small_2d());
+  const fs::path dir = fresh_dir("bad");
+  const fs::path file = write_checkpoint(dir, checkpoint_of(s));
+  const fs::path cut = dir / "checkpoint_00007.bin";
+  fs::copy_file(file, cut);
+  fs::resize_file(cut, fs::file_size(file) - 10);
+  EXPECT_THROW(read_checkpoint(cut), Error);
+  try {
+    read_checkpoint(cut);
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("truncated"), std::string::npos) << e.what();
+  }
+  const fs::path junk = dir / "checkpoint_00009.bin";
+  std::ofstream(junk) << "not a checkpoint";
+  try {
+    read_checkpoint(junk);
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("not a vpcontact checkpoint"), std::string::npos) << e.what();
+  }
+  // Another problem's checkpoint is not taken.
+  TimeStepper other(make_builtin_case("paper-2d", {.mesh_cells = 5, .steps = 10}).problem);
+  std::vector<std::string> skipped;
+  EXPECT_FALSE(find_checkpoint(dir, problem_fingerprint(other), &skipped).has_value());
+  EXPECT_EQ(skipped.size(), 3u);
+  EXPECT_THROW(other.restore(read_checkpoint(file).snapshot), Error);  // sizes differ
+}
+
+TEST(Checkpoint, KeepsOnlyTheNewest) {
+  TimeStepper s(small_2d());
+  const fs::path dir = fresh_dir("keep");
+  for (int i = 0; i < 5; ++i) {
+    s.step();
+    write_checkpoint(dir, checkpoint_of(s), 2);
+  }
+  int n = 0;
+  for (const auto& e : fs::directory_iterator(dir)) n += e.path().extension() == ".bin";
+  EXPECT_EQ(n, 2);
+  EXPECT_TRUE(fs::exists(dir / "checkpoint_00005.bin"));
+  EXPECT_TRUE(fs::exists(dir / "checkpoint_00004.bin"));
+}
+
+/// A damage source that fails (NaN) the first time it is evaluated at t = 0.3,
+/// like a solver that fails once and succeeds with a smaller step.
+class FailsOnce final : public DamageSource {
+ public:
+  explicit FailsOnce(std::shared_ptr<std::atomic<int>> failures) : failures_(std::move(failures)) {}
+  double rate(const PointState& s) const override {
+    if (std::abs(s.t - 0.3) < 1e-12 && failures_->exchange(1) == 0) return std::nan("");
+    return -0.01 * s.sigma.von_mises();
+  }
+  std::string describe() const override { return "fails once"; }
+  std::shared_ptr<std::atomic<int>> failures_;
+};
+
+TEST(StepHalving, AFailedStepIsRetriedWithHalfSteps) {
+  for (int halvings : {0, 1}) {
+    auto p = small_2d();
+    auto failures = std::make_shared<std::atomic<int>>(0);
+    p->source = std::make_shared<FailsOnce>(failures);
+    SolverChoice choice;
+    choice.max_halvings = halvings;
+    TimeStepper s(p, choice);
+    StepReport failed;
+    bool any_failed = false;
+    while (!s.done()) {
+      const StepReport r = s.step();
+      if (!r.ok) {
+        any_failed = true;
+        failed = r;
+        break;
+      }
+      if (r.substeps > 1) {
+        EXPECT_EQ(halvings, 1);
+        EXPECT_EQ(r.n, 4);  // the step from t = 0.3
+        EXPECT_NEAR(r.t, 0.4, 1e-15);
+        EXPECT_EQ(r.substeps, 2);
+      }
+    }
+    if (halvings == 0) {
+      EXPECT_TRUE(any_failed);
+      EXPECT_EQ(failed.n, 4);
+      EXPECT_FALSE(std::isfinite(s.state().beta.norm()) && failed.ok);
+    } else {
+      EXPECT_FALSE(any_failed);
+      EXPECT_TRUE(s.done());
+      EXPECT_GE(s.state().beta.minCoeff(), 0.0);
+    }
+  }
+}
+
+}  // namespace
+}  // namespace vpc
