@@ -60,14 +60,14 @@ TimeStepper::TimeStepper(std::shared_ptr<const Problem> problem, SolverChoice ch
 
   // Constant matrices: K of (3.9), factorized once; H = M + kκA of (3.8).
   auto t1 = Clock::now();
-  K_ = assemble_stiffness(mesh, geo_, p.elasticity, dofs_);
+  K_ = std::make_shared<SparseMatrix>(assemble_stiffness(mesh, geo_, p.elasticity, dofs_));
   M_ = assemble_mass(mesh, geo_);
   laplacian_ = assemble_laplacian(mesh, geo_);
   const SparseMatrix H = M_ + (p.step() * p.kappa) * laplacian_;
   setup_timing_.assembly = seconds_since(t1);
   t1 = Clock::now();
   K_factor_ = make_cholmod_solver();
-  K_factor_->factorize(K_, "elastic stiffness K");
+  K_factor_->factorize(*K_, "elastic stiffness K");
   setup_timing_.factor_K = seconds_since(t1);
   t1 = Clock::now();
   damage_ = make_damage_solver(choice_.damage, H);
@@ -75,7 +75,8 @@ TimeStepper::TimeStepper(std::shared_ptr<const Problem> problem, SolverChoice ch
 
   t1 = Clock::now();
   setup_contact();
-  contact_ = make_contact_solver(choice_.contact, K_, K_factor_, N_, choice_.contact_options);
+  contact_ = make_contact_solver(choice_.contact, std::shared_ptr<const SparseMatrix>(K_), K_factor_, N_,
+                                 choice_.contact_options);
   setup_timing_.contact = seconds_since(t1);
 
   // Initial state (3.4): u0 = 0, σ0 = 0 (so z0 = σ0 − ℰε(u0) = 0), β0 = P1 interpolant.
@@ -136,7 +137,7 @@ double TimeStepper::factor_bytes() const { return K_factor_->factor_bytes() + da
 
 double TimeStepper::model_bytes() const {
   const Mesh& m = problem_->mesh;
-  const double matrices = 12.0 * (K_.nonZeros() + M_.nonZeros() + N_.nonZeros());  // value + row index
+  const double matrices = 12.0 * (K_->nonZeros() + M_.nonZeros() + N_.nonZeros());  // value + row index
   const double mesh = 24.0 * m.n_nodes() + 4.0 * m.cell_array().size() + sizeof(CellGeometry) * geo_.size();
   const double state = 8.0 * (state_.u.size() + state_.beta.size() + u_free_.size()) +
                        3.0 * sizeof(SymTensor) * state_.sigma.size();

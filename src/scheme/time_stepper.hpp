@@ -101,7 +101,8 @@ class TimeStepper {
   SolverChoice choice_;
   std::vector<CellGeometry> geo_;
   DofMap dofs_;
-  SparseMatrix K_, M_, N_;
+  std::shared_ptr<SparseMatrix> K_;  // shared with the contact solver
+  SparseMatrix M_, N_;
   std::vector<int> traction_facets_;
   std::vector<int> contact_nodes_;
   std::vector<Point> contact_dir_;

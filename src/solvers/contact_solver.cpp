@@ -47,17 +47,19 @@ void finish_report(ContactReport& rep, const SparseMatrix& K, const SparseMatrix
 
 class ActiveSetContactSolver final : public ContactSolver {
  public:
-  ActiveSetContactSolver(const SparseMatrix& K, std::shared_ptr<const LinearSolver> factor, const SparseMatrix& N)
-      : K_(K), N_(N), factor_(std::move(factor)) {
+  ActiveSetContactSolver(std::shared_ptr<const SparseMatrix> K, std::shared_ptr<const LinearSolver> factor,
+                         const SparseMatrix& N)
+      : K_(std::move(K)), N_(N), factor_(std::move(factor)) {
     // S = N K⁻¹ Nᵀ, formed once in blocks of right-hand sides (K and N never change).
     const int m = static_cast<int>(N.rows());
     const SparseMatrix Nt = N.transpose();
     Eigen::MatrixXd S(m, m);
     // W = K⁻¹Nᵀ is kept when it is small enough: then u = u_free − Wλ and a step
     // costs one solve instead of two.
-    const bool keep_w = static_cast<double>(N.cols()) * m * sizeof(double) <= kMaxWBytes;
+    const bool keep_w = static_cast<double>(N.cols()) * m * sizeof(double) <=
+                        std::min(kMaxWBytes, kMaxWFactorShare * factor_->factor_bytes());
     if (keep_w) W_.resize(N.cols(), m);
-    const int block = 64;
+    const int block = 16;  // dense blocks of right-hand sides: 2 × 16 columns of n doubles at a time
     for (int j0 = 0; j0 < m; j0 += block) {
       const int nb = std::min(block, m - j0);
       const Eigen::MatrixXd W = factor_->solve(Eigen::MatrixXd(Nt.middleCols(j0, nb)));
@@ -83,18 +85,19 @@ class ActiveSetContactSolver final : public ContactSolver {
     ContactReport rep;
     rep.converged = r.converged;
     rep.iterations = r.iterations;
-    finish_report(rep, K_, N_, F, g, u, lambda);
+    finish_report(rep, *K_, N_, F, g, u, lambda);
     return rep;
   }
   std::string name() const override { return "active-set"; }
 
  private:
-  SparseMatrix K_;  // own copy: used for the reported residuals
+  std::shared_ptr<const SparseMatrix> K_;  // for the reported residuals
   SparseMatrix N_;
   std::shared_ptr<const LinearSolver> factor_;
   std::unique_ptr<DenseBoxQpOperator> S_;
   Eigen::MatrixXd W_;  // K⁻¹Nᵀ, or empty when too large
   static constexpr double kMaxWBytes = 256.0 * 1024 * 1024;
+  static constexpr double kMaxWFactorShare = 0.5;  // W costs at most half the factor of K
 };
 
 /// The iteration contracts at the rate |ωc − 1| / (ωc + 1) along a constraint of
@@ -113,9 +116,9 @@ double default_omega(const LinearSolver& factor, const SparseMatrix& N) {
 
 class PenaltyDualityContactSolver final : public ContactSolver {
  public:
-  PenaltyDualityContactSolver(const SparseMatrix& K, const LinearSolver& factor, const SparseMatrix& N,
-                              const ContactSolverOptions& opt)
-      : K_(K), N_(N), opt_(opt), pd_(K, N, opt.omega > 0 ? opt.omega : default_omega(factor, N)) {}
+  PenaltyDualityContactSolver(std::shared_ptr<const SparseMatrix> K, const LinearSolver& factor,
+                              const SparseMatrix& N, const ContactSolverOptions& opt)
+      : K_(std::move(K)), N_(N), opt_(opt), pd_(*K_, N, opt.omega > 0 ? opt.omega : default_omega(factor, N)) {}
 
   ContactReport solve(const Vector& F, const Vector& g, Vector& u, Vector& lambda) override {
     const int m = static_cast<int>(N_.rows());
@@ -124,7 +127,7 @@ class PenaltyDualityContactSolver final : public ContactSolver {
     ContactReport rep;
     rep.converged = r.converged;
     rep.iterations = r.iterations;
-    finish_report(rep, K_, N_, F, g, u, lambda);
+    finish_report(rep, *K_, N_, F, g, u, lambda);
     return rep;
   }
   std::string name() const override { return "penalty-duality"; }
@@ -132,7 +135,7 @@ class PenaltyDualityContactSolver final : public ContactSolver {
   void set_warm_state(const Vector& q) override { pd_.set_multiplier_state(q); }
 
  private:
-  SparseMatrix K_;  // own copy: used for the reported residuals
+  std::shared_ptr<const SparseMatrix> K_;  // for the reported residuals
   SparseMatrix N_;
   ContactSolverOptions opt_;
   PenaltyDuality pd_;
@@ -143,10 +146,18 @@ class PenaltyDualityContactSolver final : public ContactSolver {
 std::unique_ptr<ContactSolver> make_contact_solver(const std::string& name, const SparseMatrix& K,
                                                    std::shared_ptr<const LinearSolver> K_factor,
                                                    const SparseMatrix& N, const ContactSolverOptions& opt) {
+  return make_contact_solver(name, std::make_shared<const SparseMatrix>(K), std::move(K_factor), N, opt);
+}
+
+std::unique_ptr<ContactSolver> make_contact_solver(const std::string& name, std::shared_ptr<const SparseMatrix> K_ptr,
+                                                   std::shared_ptr<const LinearSolver> K_factor,
+                                                   const SparseMatrix& N, const ContactSolverOptions& opt) {
+  require(K_ptr != nullptr, "contact solver: no stiffness matrix");
+  const SparseMatrix& K = *K_ptr;
   require(N.rows() > 0, "contact solver: there are no contact unknowns (is the contact part empty?)");
   require(K_factor != nullptr && K_factor->size() == K.rows(), "contact solver: needs the factor of K");
-  if (name == "active-set") return std::make_unique<ActiveSetContactSolver>(K, std::move(K_factor), N);
-  if (name == "penalty-duality") return std::make_unique<PenaltyDualityContactSolver>(K, *K_factor, N, opt);
+  if (name == "active-set") return std::make_unique<ActiveSetContactSolver>(std::move(K_ptr), std::move(K_factor), N);
+  if (name == "penalty-duality") return std::make_unique<PenaltyDualityContactSolver>(std::move(K_ptr), *K_factor, N, opt);
   fail("unknown contact solver '{}'; expected active-set or penalty-duality", name);
 }
 

@@ -58,5 +58,9 @@ struct ContactSolverOptions {
 std::unique_ptr<ContactSolver> make_contact_solver(const std::string& name, const SparseMatrix& K,
                                                    std::shared_ptr<const LinearSolver> K_factor,
                                                    const SparseMatrix& N, const ContactSolverOptions& opt = {});
+/// The same, sharing K instead of copying it (K must not change afterwards).
+std::unique_ptr<ContactSolver> make_contact_solver(const std::string& name, std::shared_ptr<const SparseMatrix> K,
+                                                   std::shared_ptr<const LinearSolver> K_factor,
+                                                   const SparseMatrix& N, const ContactSolverOptions& opt = {});
 
 }  // namespace vpc
