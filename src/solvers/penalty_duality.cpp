@@ -16,7 +16,8 @@ PenaltyDuality::PenaltyDuality(const SparseMatrix& H, SparseMatrix E, double ome
 }
 
 PenaltyDualityResult PenaltyDuality::solve(const Vector& b, const Vector& lo, const Vector& hi, Vector& x,
-                                           Vector& theta, double tolerance, int max_iterations) {
+                                           Vector& theta, double tolerance, int max_iterations,
+                                           const std::function<bool(const Vector&)>& accept) {
   const int m = static_cast<int>(E_.rows());
   if (q_.size() != m) q_ = Vector::Zero(m);
   PenaltyDualityResult res;
@@ -49,7 +50,7 @@ PenaltyDualityResult PenaltyDuality::solve(const Vector& b, const Vector& lo, co
       if (theta[i] > 0) kkt = std::max(kkt, std::min(theta[i] / t_scale, (hi[i] - y[i]) / x_scale));
       if (theta[i] < 0) kkt = std::max(kkt, std::min(-theta[i] / t_scale, (y[i] - lo[i]) / x_scale));
     }
-    if (kkt <= tolerance) {
+    if (kkt <= tolerance || (accept && res.iterations % 8 == 0 && accept(x))) {
       res.converged = true;
       break;
     }

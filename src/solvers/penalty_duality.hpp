@@ -10,6 +10,8 @@
 // H + ωEᵀE is constant, so it is factorized once. Convergence is linear.
 #include "solvers/linear_solver.hpp"
 
+#include <functional>
+
 namespace vpc {
 
 struct PenaltyDualityResult {
@@ -26,8 +28,11 @@ class PenaltyDuality {
   /// (x, θ) satisfies the KKT conditions to `tolerance`: bound violation relative
   /// to ‖x‖∞ and the bounds; for θ_i ≠ 0, min(|θ_i| / ‖θ, b‖∞, distance of Ex to
   /// the bound θ_i's sign calls for / ‖x‖∞). Hx + Eᵀθ = b holds at every iterate.
+  /// `accept`, if given, may also declare an iterate converged (e.g. a problem-specific
+  /// residual of its projection), checked every few iterations.
   PenaltyDualityResult solve(const Vector& b, const Vector& lo, const Vector& hi, Vector& x, Vector& theta,
-                             double tolerance, int max_iterations);
+                             double tolerance, int max_iterations,
+                             const std::function<bool(const Vector&)>& accept = {});
 
   double omega() const { return omega_; }
   double factor_bytes() const { return factor_->factor_bytes(); }
