@@ -1,11 +1,15 @@
 # The README's two commands:
 #   make run    installs what is missing, builds, runs the paper's 2D example
 #   make test   installs what is missing, builds, runs every test
+# and, for CI (.ci/run) and docs/reliability.md:
+#   make test-sanitize   every test again, built with AddressSanitizer and
+#                        UndefinedBehaviorSanitizer in $(SANITIZE_BUILD)
 BUILD ?= build
+SANITIZE_BUILD ?= build-asan
 JOBS ?= $(shell nproc 2>/dev/null || echo 2)
 CASE ?= paper-2d
 
-.PHONY: all deps configure build run test clean
+.PHONY: all deps configure build run test test-sanitize clean
 
 all: build
 
@@ -24,5 +28,15 @@ run: build
 test: build
 	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
 
+# Leaks inside Gmsh are suppressed (tests/lsan.supp); any other report fails the test.
+test-sanitize: deps
+	@cmake -S . -B $(SANITIZE_BUILD) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DVPCONTACT_SANITIZE=ON -DVPCONTACT_BENCHMARKS=OFF > /dev/null
+	@cmake --build $(SANITIZE_BUILD) -j $(JOBS)
+	cd $(SANITIZE_BUILD) && \
+	  ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 \
+	  UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+	  LSAN_OPTIONS=suppressions=$(CURDIR)/tests/lsan.supp:print_suppressions=0 \
+	  ctest --output-on-failure -j $(JOBS)
+
 clean:
-	rm -rf $(BUILD)
+	rm -rf $(BUILD) $(SANITIZE_BUILD)

@@ -21,6 +21,10 @@ namespace {
 
 namespace fs = std::filesystem;
 
+/// The largest generated mesh (simplices): far beyond what a run can solve, and
+/// small enough to fail at once rather than exhaust memory or overflow int indices.
+constexpr int kMaxGeneratedCells = 10'000'000;
+
 /// Edit distance, for "did you mean".
 size_t edit_distance(const std::string& a, const std::string& b) {
   std::vector<size_t> row(b.size() + 1);
@@ -70,6 +74,13 @@ std::string location(const toml::node& n, const std::string& file) {
   return fmt::format("{}:{}:{}", path, src.begin.line, src.begin.column);
 }
 
+/// The value of a number node (integer or float). toml++'s value<double>() is
+/// empty for an integer that a double cannot hold exactly (beyond 2^53).
+double number_value(const toml::node& n) {
+  if (n.is_integer()) return static_cast<double>(*n.value_exact<int64_t>());
+  return *n.value_exact<double>();
+}
+
 /// One table of the case file. Every key asked for (present or not) is known;
 /// finish() rejects keys nobody asked for.
 class Section {
@@ -107,8 +118,8 @@ class Section {
   double number(const std::string& k) {
     const toml::node* n = get(k);
     if (!n || !n->is_number()) expected(k, "a number");
-    const double v = *n->value<double>();
-    if (!std::isfinite(v)) expected(k, "a finite number");
+    const double v = number_value(*n);
+    if (!std::isfinite(v)) fail("{}: expected a finite number, got {}", where(k), v);
     return v;
   }
   double number(const std::string& k, double fallback) { return has(k) ? number(k) : fallback; }
@@ -163,12 +174,13 @@ class Section {
   }
   std::vector<double> numbers(const std::string& k, size_t size) {
     const toml::node* n = get(k);
-    if (n && n->is_number() && size == 1) return {*n->value<double>()};
+    if (n && n->is_number() && size == 1) return {number(k)};
     std::vector<double> out;
     const auto& a = array(k, fmt::format("an array of {} numbers", size));
     for (const auto& e : a) {
       if (!e.is_number()) fail("{}: expected an array of numbers, got an element that is {}", where(k), type_name(e));
-      out.push_back(*e.value<double>());
+      out.push_back(number_value(e));
+      if (!std::isfinite(out.back())) fail("{}: expected an array of finite numbers, got {}", where(k), out.back());
     }
     if (size > 0 && out.size() != size)
       fail("{}: expected an array of {} numbers (one per space dimension), got {}", where(k), size, out.size());
@@ -177,7 +189,7 @@ class Section {
   /// A formula: a string, or a plain number.
   std::shared_ptr<const Expression> expression(const std::string& k, Expression::Kind kind) {
     const toml::node* n = get(k);
-    if (n && n->is_number()) return std::make_shared<Expression>(fmt::format("{:.17g}", *n->value<double>()), kind, where(k));
+    if (n && n->is_number()) return std::make_shared<Expression>(fmt::format("{:.17g}", number(k)), kind, where(k));
     if (!n || !n->is_string()) expected(k, "a formula (a string such as \"-10*t\") or a number");
     return std::make_shared<Expression>(*n->value<std::string>(), kind, where(k));
   }
@@ -191,7 +203,9 @@ class Section {
       const toml::node& e = a[i];
       const std::string w = fmt::format("{}: {}[{}]", location(e, file_), key_path(k), i);
       if (e.is_number()) {
-        out.push_back(std::make_shared<Expression>(fmt::format("{:.17g}", *e.value<double>()), kind, w));
+        const double v = number_value(e);
+        if (!std::isfinite(v)) fail("{}: expected a finite number, got {}", w, v);
+        out.push_back(std::make_shared<Expression>(fmt::format("{:.17g}", v), kind, w));
       } else if (e.is_string()) {
         out.push_back(std::make_shared<Expression>(*e.value<std::string>(), kind, w));
       } else {
@@ -259,6 +273,7 @@ void apply_overrides(toml::table& root, const std::vector<std::string>& override
       require(!p.empty(), "--set {}: empty part in the key '{}'", o, key);
       parts.push_back(p);
     }
+    require(!parts.empty(), "--set {}: expected key=value (e.g. damage.kappa=0.1)", o);
     toml::table parsed;
     try {
       parsed = toml::parse(std::string_view("v = " + value), std::string_view("--set " + o));
@@ -303,6 +318,7 @@ Mesh read_mesh(Section m, const fs::path& base_dir, const std::string& file) {
     } else {
       for (double v : m.numbers("cells", d)) {
         if (v != std::floor(v)) fail("{}: expected whole numbers of cells", m.where("cells"));
+        if (v < 1 || v > 100000) fail("{}: expected between 1 and 100000 cells per direction, got {}", m.where("cells"), v);
         n.push_back(static_cast<int>(v));
       }
     }
@@ -310,6 +326,12 @@ Mesh read_mesh(Section m, const fs::path& base_dir, const std::string& file) {
       if (n[a] < 1 || n[a] > 100000) fail("{}: expected between 1 and 100000 cells per direction, got {}", m.where("cells"), n[a]);
       if (!(hi[a] > lo[a])) fail("{}: expected upper > lower in every direction", m.where("upper"));
     }
+    // Simplices: 2 per square, 6 per cube. Checked before any memory is taken.
+    double n_cells = d == 1 ? 1 : (d == 2 ? 2 : 6);
+    for (int a = 0; a < d; ++a) n_cells *= n[a];
+    if (n_cells > kMaxGeneratedCells)
+      fail("{}: the mesh would have {:.0f} cells; at most {} are allowed (reduce cells)", m.where("cells"), n_cells,
+           kMaxGeneratedCells);
     try {
       if (d == 1) mesh = make_interval(lo[0], hi[0], n[0]);
       if (d == 2) mesh = make_rectangle({lo[0], lo[1], 0}, {hi[0], hi[1], 0}, n[0], n[1]);
@@ -531,9 +553,10 @@ Case parse_case(std::string_view text, const std::string& name, const fs::path& 
         fail("{}: expected each probe to be an array of {} numbers", out.where("probes"), d);
       Point x{0, 0, 0};
       for (int i = 0; i < d; ++i) {
-        const auto val = (*pt.as_array())[i].value<double>();
-        if (!val) fail("{}: expected numbers in probe coordinates", out.where("probes"));
-        x[i] = *val;
+        const toml::node& v = (*pt.as_array())[i];
+        if (!v.is_number() || !std::isfinite(number_value(v)))
+          fail("{}: expected finite numbers in probe coordinates", out.where("probes"));
+        x[i] = number_value(v);
       }
       c.output.probes.push_back(x);
     }

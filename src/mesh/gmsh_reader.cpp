@@ -4,14 +4,24 @@
 #include "fem/cell_geometry.hpp"
 
 #include <gmsh.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <array>
-#include <clocale>
+#include <cerrno>
 #include <cmath>
+#include <csignal>
+#include <cstdint>
+#include <cstdlib>
+#include <cstdio>
+#include <cstring>
 #include <fstream>
 #include <map>
-#include <mutex>
+#include <new>
+#include <string_view>
+#include <type_traits>
 #include <unordered_map>
 #include <vector>
 
@@ -32,6 +42,145 @@ const char* simplex_name(int d) {
   return names[d];
 }
 
+// ---------------------------------------------------------------------------
+// What vpcontact takes from Gmsh's model of a file. Gmsh fills it in a child
+// process (read_in_child); this process checks it and builds the Mesh.
+
+/// Elements of one Gmsh type.
+struct ElementBlock {
+  int type = 0;
+  std::string type_name;           // Gmsh's name of the type, e.g. "Triangle 6", for messages
+  std::vector<std::size_t> tags;   // element tags
+  std::vector<std::size_t> nodes;  // node tags, element after element
+};
+
+/// A physical group of dimension d − 1 with the elements of its entities.
+struct PhysicalGroup {
+  int tag = 0;
+  std::string name;
+  std::vector<ElementBlock> blocks;
+};
+
+struct GmshModel {
+  int dim = 0;
+  std::vector<ElementBlock> cells;     // the elements of dimension d, one block per type
+  std::vector<std::size_t> node_tags;  // every node of the model
+  std::vector<double> coord;           // x, y, z of each
+  std::vector<PhysicalGroup> groups;
+};
+
+/// The model as bytes, from the child to this process.
+class Writer {
+ public:
+  template <typename T>
+  void value(const T& v) {
+    static_assert(std::is_trivially_copyable_v<T>);
+    out_.append(reinterpret_cast<const char*>(&v), sizeof v);
+  }
+  template <typename T>
+  void array(const std::vector<T>& v) {
+    static_assert(std::is_trivially_copyable_v<T>);
+    value(v.size());
+    if (!v.empty()) out_.append(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T));
+  }
+  void string(const std::string& s) {
+    value(s.size());
+    out_ += s;
+  }
+  void block(const ElementBlock& b) {
+    value(b.type);
+    string(b.type_name);
+    array(b.tags);
+    array(b.nodes);
+  }
+  void model(const GmshModel& m) {
+    value(m.dim);
+    value(m.cells.size());
+    for (const auto& b : m.cells) block(b);
+    array(m.node_tags);
+    array(m.coord);
+    value(m.groups.size());
+    for (const auto& g : m.groups) {
+      value(g.tag);
+      string(g.name);
+      value(g.blocks.size());
+      for (const auto& b : g.blocks) block(b);
+    }
+  }
+  const std::string& bytes() const { return out_; }
+
+ private:
+  std::string out_;
+};
+
+class Reader {
+ public:
+  struct Truncated {};
+  explicit Reader(std::string_view in) : in_(in) {}
+
+  template <typename T>
+  T value() {
+    static_assert(std::is_trivially_copyable_v<T>);
+    T v;
+    take(&v, sizeof v);
+    return v;
+  }
+  template <typename T>
+  std::vector<T> array() {
+    const auto n = value<std::size_t>();
+    if (n > in_.size() / sizeof(T)) throw Truncated{};
+    std::vector<T> v(n);
+    take(v.data(), n * sizeof(T));
+    return v;
+  }
+  std::string string() {
+    const auto n = value<std::size_t>();
+    if (n > in_.size()) throw Truncated{};
+    std::string s(in_.substr(0, n));
+    in_.remove_prefix(n);
+    return s;
+  }
+  ElementBlock block() {
+    ElementBlock b;
+    b.type = value<int>();
+    b.type_name = string();
+    b.tags = array<std::size_t>();
+    b.nodes = array<std::size_t>();
+    return b;
+  }
+  GmshModel model() {
+    GmshModel m;
+    m.dim = value<int>();
+    for (auto n = count(); n > 0; --n) m.cells.push_back(block());
+    m.node_tags = array<std::size_t>();
+    m.coord = array<double>();
+    for (auto n = count(); n > 0; --n) {
+      PhysicalGroup g;
+      g.tag = value<int>();
+      g.name = string();
+      for (auto k = count(); k > 0; --k) g.blocks.push_back(block());
+      m.groups.push_back(std::move(g));
+    }
+    return m;
+  }
+
+ private:
+  std::size_t count() {
+    const auto n = value<std::size_t>();
+    if (n > in_.size()) throw Truncated{};  // every item takes at least a byte
+    return n;
+  }
+  void take(void* p, std::size_t n) {
+    if (n > in_.size()) throw Truncated{};
+    if (n > 0) std::memcpy(p, in_.data(), n);
+    in_.remove_prefix(n);
+  }
+  std::string_view in_;
+};
+
+// ---------------------------------------------------------------------------
+// In the child process: Gmsh reads (or meshes) the file.
+
 /// Gmsh's own name of an element type, e.g. "Quadrilateral 4" or "Triangle 6".
 std::string element_name(int type) {
   std::string name;
@@ -41,27 +190,8 @@ std::string element_name(int type) {
   return name.empty() ? "unknown" : name;
 }
 
-/// Restores the process's C locale on exit: gmsh::initialize sets LC_ALL from the
-/// environment (keeping LC_NUMERIC = "C") and finalize leaves it so.
-class LocaleGuard {
- public:
-  LocaleGuard() {
-    const char* current = std::setlocale(LC_ALL, nullptr);
-    if (current) saved_ = current;
-  }
-  ~LocaleGuard() {
-    if (!saved_.empty()) std::setlocale(LC_ALL, saved_.c_str());
-  }
-  LocaleGuard(const LocaleGuard&) = delete;
-  LocaleGuard& operator=(const LocaleGuard&) = delete;
-
- private:
-  std::string saved_;
-};
-
-/// One Gmsh API session, initialized and finalized around each read so that
-/// repeated reads start from a clean state. Gmsh prints nothing; its messages go
-/// to its logger, and check() turns a logged error into a vpc::Error.
+/// One Gmsh API session. Gmsh prints nothing; its messages go to its logger,
+/// and check() turns a logged error into a vpc::Error.
 class GmshSession {
  public:
   explicit GmshSession(std::string file) : file_(std::move(file)) {
@@ -69,19 +199,14 @@ class GmshSession {
     // change the meshes a run gets.
     gmsh::initialize(0, nullptr, /*readConfigFiles=*/false);
     gmsh::option::setNumber("General.Terminal", 0);
-    // The API's default (2) makes an error throw a std::string; thrown out of the
-    // .geo parser it leaves the parser broken, and every later .geo read in the
-    // process fails with a bogus "syntax error" (Gmsh 4.8.4). With 0 errors are
-    // only logged, and the parser cleans up after itself.
+    // With the API's default (2) an error throws a std::string; with 0 errors
+    // are only logged, and check() reports the first.
     gmsh::option::setNumber("General.AbortOnError", 0);
     gmsh::logger::start();
   }
-  ~GmshSession() {
-    gmsh::logger::stop();
-    gmsh::finalize();
-  }
   GmshSession(const GmshSession&) = delete;
   GmshSession& operator=(const GmshSession&) = delete;
+  // No destructor: the child process ends without finalizing Gmsh.
 
   /// Throws vpc::Error with Gmsh's first error message if it has logged any.
   void check(const char* doing) const {
@@ -103,6 +228,198 @@ class GmshSession {
   std::string file_;
 };
 
+std::vector<ElementBlock> element_blocks(int dim, int entity) {
+  std::vector<int> types;
+  std::vector<std::vector<std::size_t>> tags, nodes;
+  gmsh::model::mesh::getElements(types, tags, nodes, dim, entity);
+  std::vector<ElementBlock> out;
+  for (std::size_t t = 0; t < types.size(); ++t)
+    out.push_back({types[t], element_name(types[t]), std::move(tags[t]), std::move(nodes[t])});
+  return out;
+}
+
+/// Opens `file` with Gmsh, meshes it if it holds no cells of dimension d, and
+/// takes the cells, the nodes and the physical groups of dimension d − 1.
+GmshModel extract_model(const std::string& file, const GmshOptions& options) {
+  GmshSession session(file);
+  gmsh::open(file);
+  session.check("reading the file");
+
+  GmshModel m;
+  m.dim = options.dim > 0 ? options.dim : gmsh::model::getDimension();
+  if (m.dim < 1) return m;  // reported by build_mesh
+
+  std::vector<int> types;
+  gmsh::model::mesh::getElementTypes(types, m.dim);
+  if (types.empty()) {  // a geometry (.geo, or a .msh without cells of dimension d): mesh it
+    double factor = 1;
+    gmsh::option::getNumber("Mesh.MeshSizeFactor", factor);  // alias: CharacteristicLengthFactor
+    gmsh::option::setNumber("Mesh.MeshSizeFactor", factor * options.size_factor);
+    gmsh::model::mesh::generate(m.dim);
+    session.check("generating the mesh");
+  }
+
+  m.cells = element_blocks(m.dim, -1);
+  std::vector<double> parametric;
+  gmsh::model::mesh::getNodes(m.node_tags, m.coord, parametric, -1, -1, false, false);
+
+  gmsh::vectorpair groups;
+  gmsh::model::getPhysicalGroups(groups, m.dim - 1);
+  for (const auto& [dim, tag] : groups) {
+    PhysicalGroup g;
+    g.tag = tag;
+    gmsh::model::getPhysicalName(dim, tag, g.name);
+    std::vector<int> entities;
+    gmsh::model::getEntitiesForPhysicalGroup(dim, tag, entities);
+    for (int entity : entities)
+      for (auto& b : element_blocks(dim, entity)) g.blocks.push_back(std::move(b));
+    m.groups.push_back(std::move(g));
+  }
+  session.check("reading the mesh");
+  return m;
+}
+
+void write_all(int fd, const std::string& bytes) {
+  std::size_t done = 0;
+  while (done < bytes.size()) {
+    const ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) return;  // the parent reports the missing bytes
+    done += static_cast<std::size_t>(n);
+  }
+}
+
+std::string read_all(int fd) {
+  std::string out;
+  char buffer[1 << 16];
+  for (;;) {
+    const ssize_t n = ::read(fd, buffer, sizeof buffer);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) return out;
+    out.append(buffer, static_cast<std::size_t>(n));
+  }
+}
+
+/// The child's exit status when Gmsh calls exit().
+constexpr int kGmshCalledExit = 86;
+
+#if defined(__SANITIZE_ADDRESS__)
+#define VPC_ADDRESS_SANITIZER 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define VPC_ADDRESS_SANITIZER 1
+#endif
+#endif
+
+/// The memory Gmsh may take (beyond what the process already maps) to read a
+/// mesh file: some malformed .msh files make Gmsh 4.8 ask for gigabytes (a
+/// 58-byte $Nodes header: 15 GB and a minute; fuzz/), while reading a real one
+/// needs a small multiple of its size. 0: no limit (a geometry is meshed, which
+/// may need much more; under AddressSanitizer, which reserves terabytes).
+std::size_t memory_budget(const std::string& file) {
+#ifdef VPC_ADDRESS_SANITIZER
+  (void)file;
+  return 0;
+#else
+  if (fs::path(file).extension() != ".msh") return 0;
+  std::error_code ec;
+  const std::uintmax_t size = fs::file_size(file, ec);
+  if (ec) return 0;
+  return std::max<std::uintmax_t>(std::uintmax_t{4} << 30, 100 * size);
+#endif
+}
+
+/// In the child: caps its address space at what it maps now plus `budget`.
+void limit_memory(std::size_t budget) {
+  if (budget == 0) return;
+  std::ifstream status("/proc/self/status");
+  std::size_t mapped_kb = 0;
+  for (std::string line; std::getline(status, line);)
+    if (line.rfind("VmSize:", 0) == 0) mapped_kb = std::strtoull(line.c_str() + 7, nullptr, 10);
+  if (mapped_kb == 0) return;
+  rlimit r{};
+  if (::getrlimit(RLIMIT_AS, &r) != 0) return;
+  const rlim_t cap = static_cast<rlim_t>(mapped_kb) * 1024 + budget;
+  if (r.rlim_max != RLIM_INFINITY && cap > r.rlim_max) return;
+  r.rlim_cur = cap;
+  ::setrlimit(RLIMIT_AS, &r);
+}
+
+/// Runs Gmsh on `file` in a child process and returns its model, or throws its
+/// error. Whatever Gmsh does to a bad file stays in the child: Gmsh 4.8's .msh
+/// readers crash on some malformed files (fuzz/, docs/reliability.md), `Exit;`
+/// in a .geo script ends the process, and Gmsh keeps global state.
+GmshModel read_in_child(const std::string& file, const GmshOptions& options) {
+  const std::size_t budget = memory_budget(file);
+  int fds[2];
+  require(::pipe(fds) == 0, "{}: cannot create a pipe for Gmsh: {}", file, std::strerror(errno));
+  std::fflush(nullptr);  // nothing buffered is written twice
+  const pid_t pid = ::fork();
+  if (pid < 0) {
+    const int err = errno;
+    ::close(fds[0]);
+    ::close(fds[1]);
+    fail("{}: cannot start a process for Gmsh: {}", file, std::strerror(err));
+  }
+  if (pid == 0) {  // the child: never returns
+    ::close(fds[0]);
+    // A crash ends the child by its signal, which the parent reports (not the
+    // handlers of sanitizers or fuzzers that the parent may have installed).
+    for (int sig : {SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT}) std::signal(sig, SIG_DFL);
+    // Gmsh calls exit() for `Exit;` in a .geo file: the exit handlers and static
+    // destructors are the parent's, so the child leaves at once, saying so.
+    std::atexit([] { ::_exit(kGmshCalledExit); });
+    limit_memory(budget);
+    Writer w;
+    std::string error;
+    try {
+      w.value('M');
+      w.model(extract_model(file, options));
+    } catch (const Error& e) {
+      error = e.what();
+    } catch (const std::string& what) {  // Gmsh throws std::string, not std::exception
+      error = fmt::format("{}: Gmsh failed: {}", file, what);
+    } catch (const std::bad_alloc&) {
+      error = fmt::format("{}: Gmsh ran out of memory while reading the file ({}); the file is probably malformed",
+                          file, budget > 0 ? fmt::format("limit {} MiB", budget >> 20) : "no limit");
+    } catch (const std::exception& e) {
+      error = fmt::format("{}: Gmsh failed: {}", file, e.what());
+    } catch (...) {
+      error = fmt::format("{}: Gmsh failed with an unknown exception", file);
+    }
+    if (!error.empty()) {
+      w = Writer();
+      w.value('E');
+      w.string(error);
+    }
+    write_all(fds[1], w.bytes());
+    ::_exit(0);  // no exit handlers: they belong to the parent
+  }
+  ::close(fds[1]);
+  const std::string bytes = read_all(fds[0]);
+  ::close(fds[0]);
+  int status = 0;
+  while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+  }
+  const std::string how = WIFSIGNALED(status) ? fmt::format("crashed ({})", strsignal(WTERMSIG(status)))
+                                              : fmt::format("ended with exit status {}", WEXITSTATUS(status));
+  if (bytes.empty()) {
+    if (WIFEXITED(status) && WEXITSTATUS(status) == kGmshCalledExit)
+      fail("{}: Gmsh ended the program while reading the file (does the .geo file call Exit?)", file);
+    fail("{}: Gmsh {} while reading the file; the file is probably malformed", file, how);
+  }
+  try {
+    Reader r(bytes);
+    if (r.value<char>() == 'E') throw Error(r.string());
+    return r.model();
+  } catch (const Reader::Truncated&) {
+    fail("{}: Gmsh {} while reading the file; the file is probably malformed", file, how);
+  }
+}
+
+// ---------------------------------------------------------------------------
+// In this process: check the model and build the Mesh.
+
 /// Sorted node indices of a facet (unused entries -1), to match facets with groups.
 using FacetKey = std::array<int, 3>;
 
@@ -115,34 +432,42 @@ FacetKey facet_key(const int* nodes, int n) {
   return k;
 }
 
+/// Gmsh gives each element its number of nodes; anything else is a broken model.
+void check_block(const std::string& file, const ElementBlock& b, int nodes_per_element) {
+  require(b.nodes.size() == b.tags.size() * static_cast<std::size_t>(nodes_per_element),
+          "{}: Gmsh returned {} node tags for {} elements of type '{}'", file, b.nodes.size(), b.tags.size(),
+          b.type_name);
+}
+
 /// The nodes (used by cells only) and the cells of dimension d.
 /// `index` receives the map from Gmsh node tags to mesh node indices.
-void read_cells(const std::string& file, int d, Mesh& mesh,
+void read_cells(const std::string& file, const GmshModel& model, Mesh& mesh,
                 std::unordered_map<std::size_t, int>& index) {
-  std::vector<int> types;
-  std::vector<std::vector<std::size_t>> elem_tags, elem_nodes;
-  gmsh::model::mesh::getElements(types, elem_tags, elem_nodes, d, -1);
-  require(!types.empty(),
+  const int d = model.dim;
+  require(!model.cells.empty(),
           "{}: no elements of dimension {} (a .msh file written with physical groups holds only "
           "the elements of physical groups: give the domain a physical group too, or save with "
           "Mesh.SaveAll = 1)",
           file, d);
-  for (int type : types)
-    require(type == simplex_type(d),
+  for (const auto& b : model.cells)
+    require(b.type == simplex_type(d),
             "{}: found elements of type '{}' (Gmsh type {}) of dimension {}; only linear simplices "
             "are supported ({}D: {}, Gmsh type {})",
-            file, element_name(type), type, d, d, simplex_name(d), simplex_type(d));
-  const std::vector<std::size_t>& cell_tags = elem_tags.front();
-  const std::vector<std::size_t>& cell_nodes = elem_nodes.front();
+            file, b.type_name, b.type, d, d, simplex_name(d), simplex_type(d));
+  const int npc = d + 1;
+  check_block(file, model.cells.front(), npc);
+  const std::vector<std::size_t>& cell_tags = model.cells.front().tags;
+  const std::vector<std::size_t>& cell_nodes = model.cells.front().nodes;
+  const std::vector<std::size_t>& node_tags = model.node_tags;
+  const std::vector<double>& coord = model.coord;
+  require(coord.size() == 3 * node_tags.size(), "{}: Gmsh returned {} coordinates for {} nodes", file,
+          coord.size(), node_tags.size());
 
   // Nodes used by the cells, in increasing Gmsh tag.
   std::vector<std::size_t> used(cell_nodes);
   std::sort(used.begin(), used.end());
   used.erase(std::unique(used.begin(), used.end()), used.end());
 
-  std::vector<std::size_t> node_tags;
-  std::vector<double> coord, parametric;
-  gmsh::model::mesh::getNodes(node_tags, coord, parametric, -1, -1, false, false);
   std::unordered_map<std::size_t, std::size_t> position;  // Gmsh tag -> entry in node_tags
   position.reserve(node_tags.size());
   for (std::size_t i = 0; i < node_tags.size(); ++i) position.emplace(node_tags[i], i);
@@ -175,7 +500,6 @@ void read_cells(const std::string& file, int d, Mesh& mesh,
   index.reserve(used.size());
   for (std::size_t i = 0; i < used.size(); ++i) index.emplace(used[i], mesh.add_node(x[i]));
 
-  const int npc = d + 1;
   const std::size_t n_cells = cell_tags.size();
   std::vector<double> measure(n_cells);
   double max_measure = 0;
@@ -199,52 +523,41 @@ void read_cells(const std::string& file, int d, Mesh& mesh,
 
 /// Tags the boundary facets (already built, untagged) with the names of the
 /// physical groups of dimension d − 1 that hold them.
-void read_parts(const std::string& file, int d, Mesh& mesh,
+void read_parts(const std::string& file, const GmshModel& model, Mesh& mesh,
                 const std::unordered_map<std::size_t, int>& index) {
   struct Tagged {
     std::string part;
     bool on_boundary = false;
   };
   std::map<FacetKey, Tagged> tagged;
-  const int fd = d - 1, npf = d;
+  const int d = model.dim, fd = d - 1, npf = d;
 
-  gmsh::vectorpair groups;
-  gmsh::model::getPhysicalGroups(groups, fd);
-  for (const auto& [dim, tag] : groups) {
-    std::string part;
-    gmsh::model::getPhysicalName(dim, tag, part);
+  for (const auto& group : model.groups) {
     // An unnamed physical group (e.g. `Physical Curve(3) = {1};`) is called "group<tag>".
-    if (part.empty()) part = fmt::format("group{}", tag);
+    const std::string part = group.name.empty() ? fmt::format("group{}", group.tag) : group.name;
     mesh.part_id(part);  // parts in the order of the groups, even an empty one
 
-    std::vector<int> entities;
-    gmsh::model::getEntitiesForPhysicalGroup(dim, tag, entities);
-    for (int entity : entities) {
-      std::vector<int> types;
-      std::vector<std::vector<std::size_t>> elem_tags, elem_nodes;
-      gmsh::model::mesh::getElements(types, elem_tags, elem_nodes, fd, entity);
-      for (std::size_t t = 0; t < types.size(); ++t) {
-        require(types[t] == simplex_type(fd),
-                "{}: physical group '{}' holds elements of type '{}' (Gmsh type {}); the facets of "
-                "a {}D mesh must be {} (Gmsh type {})",
-                file, part, element_name(types[t]), types[t], d, simplex_name(fd), simplex_type(fd));
-        const auto& nodes = elem_nodes[t];
-        for (std::size_t e = 0; e < elem_tags[t].size(); ++e) {
-          int v[3];
-          for (int a = 0; a < npf; ++a) {
-            auto it = index.find(nodes[e * npf + a]);
-            require(it != index.end(),
-                    "{}: physical group '{}' holds Gmsh element {}, which is not on the boundary of the "
-                    "mesh (one of its nodes belongs to no cell)",
-                    file, part, elem_tags[t][e]);
-            v[a] = it->second;
-          }
-          auto [it, inserted] = tagged.emplace(facet_key(v, npf), Tagged{part});
-          require(inserted || it->second.part == part,
-                  "{}: Gmsh element {} is in the physical groups '{}' and '{}'; a boundary facet can "
-                  "belong to one part only",
-                  file, elem_tags[t][e], it->second.part, part);
+    for (const auto& b : group.blocks) {
+      require(b.type == simplex_type(fd),
+              "{}: physical group '{}' holds elements of type '{}' (Gmsh type {}); the facets of "
+              "a {}D mesh must be {} (Gmsh type {})",
+              file, part, b.type_name, b.type, d, simplex_name(fd), simplex_type(fd));
+      check_block(file, b, npf);
+      for (std::size_t e = 0; e < b.tags.size(); ++e) {
+        int v[3];
+        for (int a = 0; a < npf; ++a) {
+          auto it = index.find(b.nodes[e * npf + a]);
+          require(it != index.end(),
+                  "{}: physical group '{}' holds Gmsh element {}, which is not on the boundary of the "
+                  "mesh (one of its nodes belongs to no cell)",
+                  file, part, b.tags[e]);
+          v[a] = it->second;
         }
+        auto [it, inserted] = tagged.emplace(facet_key(v, npf), Tagged{part});
+        require(inserted || it->second.part == part,
+                "{}: Gmsh element {} is in the physical groups '{}' and '{}'; a boundary facet can "
+                "belong to one part only",
+                file, b.tags[e], it->second.part, part);
       }
     }
   }
@@ -264,34 +577,16 @@ void read_parts(const std::string& file, int d, Mesh& mesh,
     }
 }
 
-Mesh read_model(const std::string& file, const GmshOptions& options, const GmshSession& session) {
-  gmsh::open(file);
-  session.check("reading the file");
-
-  const int d = options.dim > 0 ? options.dim : gmsh::model::getDimension();
-  require(d >= 1, "{}: the file holds no curve, surface or volume (model dimension {})", file, d);
-
-  std::vector<int> types;
-  gmsh::model::mesh::getElementTypes(types, d);
-  if (types.empty()) {  // a geometry (.geo, or a .msh without cells of dimension d): mesh it
-    double factor = 1;
-    gmsh::option::getNumber("Mesh.MeshSizeFactor", factor);  // alias: CharacteristicLengthFactor
-    gmsh::option::setNumber("Mesh.MeshSizeFactor", factor * options.size_factor);
-    gmsh::model::mesh::generate(d);
-    session.check("generating the mesh");
-  }
-
+Mesh build_mesh(const std::string& file, const GmshModel& model) {
+  const int d = model.dim;
+  require(d >= 1 && d <= 3, "{}: the file holds no curve, surface or volume (model dimension {})", file, d);
   Mesh mesh(d);
   std::unordered_map<std::size_t, int> index;
-  read_cells(file, d, mesh, index);
+  read_cells(file, model, mesh, index);
   mesh.build_boundary();
-  read_parts(file, d, mesh, index);
-  session.check("reading the mesh");
+  read_parts(file, model, mesh, index);
   return mesh;
 }
-
-/// Gmsh keeps global state: one read at a time in the process.
-std::mutex gmsh_mutex;
 
 }  // namespace
 
@@ -306,20 +601,7 @@ Mesh read_gmsh(const fs::path& file, const GmshOptions& options) {
   require(fs::exists(file, ec), "mesh file '{}' does not exist", name);
   require(fs::is_regular_file(file, ec), "mesh file '{}' is not a regular file", name);
   require(std::ifstream(file).good(), "mesh file '{}' cannot be opened for reading", name);
-
-  // A .geo file is a script: `Exit;` in it ends the process, as in the gmsh program.
-  std::lock_guard<std::mutex> lock(gmsh_mutex);
-  LocaleGuard locale;
-  try {
-    GmshSession session(name);
-    return read_model(name, options, session);
-  } catch (const Error&) {
-    throw;
-  } catch (const std::string& what) {  // Gmsh throws std::string, not std::exception
-    fail("{}: Gmsh failed: {}", name, what);
-  } catch (const std::exception& e) {
-    fail("{}: Gmsh failed: {}", name, e.what());
-  }
+  return build_mesh(name, read_in_child(name, options));
 }
 
 std::string describe_parts(const Mesh& mesh) {

@@ -26,11 +26,13 @@ struct GmshOptions {
 /// part ("group<tag>" for an unnamed group), the others are untagged. In d < 3 the
 /// mesh must lie in the plane z = 0 (d = 2) or on the x axis (d = 1).
 /// Throws vpc::Error, naming the file, when the file is missing or unreadable,
-/// when Gmsh reports an error, when there are no cells of dimension d, when they
-/// are not linear simplices, when a cell is degenerate, or when a physical group
-/// holds a facet that is not on the boundary or that another group also holds.
-/// Not reentrant with other users of the Gmsh API in the same process: it
-/// initializes and finalizes Gmsh itself (calls from several threads are serialized).
+/// when Gmsh reports an error or crashes, when there are no cells of dimension d,
+/// when they are not linear simplices, when a cell is degenerate, or when a
+/// physical group holds a facet that is not on the boundary or that another
+/// group also holds.
+/// Gmsh runs in a child process (fork), which sends back the model: a crash of
+/// Gmsh on a malformed file, or `Exit;` in a .geo script, becomes an error here,
+/// and this process never initializes Gmsh (no global state; calls may overlap).
 Mesh read_gmsh(const std::filesystem::path& file, const GmshOptions& options = {});
 
 /// The parts of a mesh with their sizes, for error messages:

@@ -1,0 +1,220 @@
+#!/usr/bin/python3
+"""Runs `vpcontact check` on bad inputs and prints the table of docs/reliability.md
+("Bad inputs"): each input, what is wrong with it, the exit code and the message.
+
+  /usr/bin/python3 scripts/bad_inputs.py build/app/vpcontact > /tmp/bad-inputs.md
+
+Every input is written to a fresh temporary folder (file names in the messages
+are relative to it). The script fails if an input is accepted, if vpcontact
+dies by a signal (exit code > 127), or if a sanitizer reports anything (run it
+with build-asan/app/vpcontact too).
+"""
+import os
+import pathlib
+import subprocess
+import sys
+import tempfile
+
+CASE = """[mesh]
+generator = "rectangle"
+lower = [0.0, 0.0]
+upper = [2.0, 1.0]
+cells = [8, 4]
+
+[[mesh.part]]
+name = "patch"
+where = "abs(y) < 1e-9 && x > 0.5 && x < 1.5"
+
+[boundary]
+clamped = "top"
+contact = "patch"
+
+[elasticity]
+kind = "plane-stress"
+E = 100.0
+nu = 0.3
+
+[viscoplasticity]
+law = "perzyna"
+lambda = 10.0
+sigma_y = 0.5
+
+[damage]
+kappa = 1.0
+source = "von-mises"
+beta0 = 1.0
+
+[loads]
+f0 = ["0", "-10*t"]
+
+[contact]
+gap = "0.001*x"
+
+[time]
+T = 1.0
+steps = 10
+
+[output]
+probes = [[1.0, 0.0]]
+"""
+
+MESH_CASE = """[mesh]
+file = "{mesh}"
+
+[boundary]
+clamped = "clamped"
+contact = "contact"
+
+[elasticity]
+kind = "plane-stress"
+E = 100.0
+nu = 0.3
+
+[time]
+steps = 2
+"""
+
+SQUARE_MSH = """$MeshFormat
+2.2 0 8
+$EndMeshFormat
+$PhysicalNames
+3
+1 1 "contact"
+1 2 "clamped"
+2 3 "body"
+$EndPhysicalNames
+$Nodes
+4
+1 0 0 0
+2 1 0 0
+3 1 1 0
+4 0 1 0
+$EndNodes
+$Elements
+4
+1 1 2 1 1 1 2
+2 1 2 2 3 3 4
+3 2 2 3 1 1 2 3
+4 2 2 3 1 1 3 4
+$EndElements
+"""
+
+# Found by fuzz_gmsh_msh: Gmsh 4.8.4 (and the gmsh program) crash on it (SIGSEGV).
+GMSH_CRASH = '$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$PhysicalNames\n2\n4 3 "body"'
+
+SQUARE_GEO = """Point(1) = {0, 0, 0, 0.5}; Point(2) = {1, 0, 0, 0.5};
+Point(3) = {1, 1, 0, 0.5}; Point(4) = {0, 1, 0, 0.5};
+Line(1) = {1, 2}; Line(2) = {2, 3}; Line(3) = {3, 4}; Line(4) = {4, 1};
+Curve Loop(1) = {1, 2, 3, 4}; Plane Surface(1) = {1};
+"""
+
+
+def case(frm, to):
+    assert frm in CASE, frm
+    return CASE.replace(frm, to, 1)
+
+
+# (what is wrong, {file name: content}, arguments of `vpcontact check`)
+INPUTS = [
+    # --- case files
+    ("not a TOML file (binary)", {"c.toml": b"\x7fELF\x02\x01\x01\x00\x00"}, ["c.toml"]),
+    ("unclosed array", {"c.toml": case("upper = [2.0, 1.0]", "upper = [2.0, 1.0")}, ["c.toml"]),
+    ("a section twice", {"c.toml": case("[time]", "[time]\n[time]")}, ["c.toml"]),
+    ("table header without a name", {"c.toml": "[=]\n" + CASE}, ["c.toml"]),
+    ("non-ASCII character in a key", {"c.toml": case("kappa = 1.0", "kappaé = 1.0")}, ["c.toml"]),
+    ("misspelt section", {"c.toml": case("[damage]", "[damge]")}, ["c.toml"]),
+    ("misspelt key", {"c.toml": case("kappa = 1.0", "kapa = 1.0")}, ["c.toml"]),
+    ("wrong type", {"c.toml": case("E = 100.0", 'E = "hundred"')}, ["c.toml"]),
+    ("Poisson's ratio out of range", {"c.toml": case("nu = 0.3", "nu = 0.5")}, ["c.toml"]),
+    ("infinite number", {"c.toml": case("upper = [2.0, 1.0]", "upper = [inf, 1.0]")}, ["c.toml"]),
+    ("NaN", {"c.toml": case('gap = "0.001*x"', "gap = nan")}, ["c.toml"]),
+    ("unknown value", {"c.toml": case('kind = "plane-stress"', 'kind = "plane-stres"')}, ["c.toml"]),
+    ("missing section", {"c.toml": CASE.split("[boundary]")[0] + "[elasticity]" + CASE.split("[elasticity]")[1]},
+     ["c.toml"]),
+    ("no cells", {"c.toml": case("cells = [8, 4]", "cells = [8, 0]")}, ["c.toml"]),
+    ("fractional cells", {"c.toml": case("cells = [8, 4]", "cells = [8.5, 4]")}, ["c.toml"]),
+    ("mesh too large", {"c.toml": case("cells = [8, 4]", "cells = [100000, 100000]")}, ["c.toml"]),
+    ("upper corner below lower", {"c.toml": case("upper = [2.0, 1.0]", "upper = [2.0, -1.0]")}, ["c.toml"]),
+    ("boundary part that does not exist", {"c.toml": case('contact = "patch"', 'contact = "pach"')}, ["c.toml"]),
+    ("part predicate selecting nothing", {"c.toml": case("x > 0.5 && x < 1.5", "x > 5")}, ["c.toml"]),
+    ("unknown variable in a formula", {"c.toml": case('gap = "0.001*x"', 'gap = "0.001*t"')}, ["c.toml"]),
+    ("formula syntax error", {"c.toml": case('f0 = ["0", "-10*t"]', 'f0 = ["0", "-10*(t"]')}, ["c.toml"]),
+    ("formula of the wrong length", {"c.toml": case('f0 = ["0", "-10*t"]', 'f0 = ["-10*t"]')}, ["c.toml"]),
+    ("negative gap", {"c.toml": case('gap = "0.001*x"', 'gap = "-0.001*x"')}, ["c.toml"]),
+    ("initial damage outside [0, 1]", {"c.toml": case("beta0 = 1.0", 'beta0 = "1 + x"')}, ["c.toml"]),
+    ("misspelt law", {"c.toml": case('law = "perzyna"', 'law = "perzina"')}, ["c.toml"]),
+    ("misspelt law parameter", {"c.toml": case("lambda = 10.0", "lamda = 10.0")}, ["c.toml"]),
+    ("both source and phi", {"c.toml": case('source = "von-mises"', 'source = "von-mises"\nphi = "-vm"')}, ["c.toml"]),
+    ("time step not dividing T", {"c.toml": case("steps = 10", "dt = 0.3")}, ["c.toml"]),
+    ("both steps and dt", {"c.toml": case("steps = 10", "steps = 10\ndt = 0.1")}, ["c.toml"]),
+    ("probe of the wrong dimension", {"c.toml": case("probes = [[1.0, 0.0]]", "probes = [[1.0]]")}, ["c.toml"]),
+    ("output time after T", {"c.toml": case("probes = [[1.0, 0.0]]", "times = [2.0]")}, ["c.toml"]),
+    # --- mesh files
+    ("mesh file missing", {"c.toml": MESH_CASE.format(mesh="body.msh")}, ["c.toml"]),
+    ("mesh file is a folder", {"c.toml": MESH_CASE.format(mesh="."), "d/x": ""}, ["c.toml"]),
+    ("not a mesh", {"c.toml": MESH_CASE.format(mesh="body.msh"), "body.msh": "this is { not a mesh ;;\n"},
+     ["c.toml"]),
+    ("truncated .msh", {"c.toml": MESH_CASE.format(mesh="body.msh"),
+                        "body.msh": "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n1 2\nxx\n"}, ["c.toml"]),
+    ("malformed .msh that crashes Gmsh 4.8", {"c.toml": MESH_CASE.format(mesh="body.msh"),
+     "body.msh": GMSH_CRASH}, ["c.toml"]),
+    ("element refers to an undefined node", {"c.toml": MESH_CASE.format(mesh="body.msh"),
+     "body.msh": SQUARE_MSH.replace("3 2 2 3 1 1 2 3", "3 2 2 3 1 1 2 7")}, ["c.toml"]),
+    ("degenerate element", {"c.toml": MESH_CASE.format(mesh="body.msh"),
+     "body.msh": SQUARE_MSH.replace("4 0 1 0\n", "4 2 2 0\n")}, ["c.toml"]),
+    ("quadrilaterals", {"c.toml": MESH_CASE.format(mesh="body.geo"),
+     "body.geo": SQUARE_GEO + "Transfinite Surface{1}; Recombine Surface{1};\n"}, ["c.toml"]),
+    ("2D mesh off the plane z = 0", {"c.toml": MESH_CASE.format(mesh="body.msh"),
+     "body.msh": SQUARE_MSH.replace("3 1 1 0\n", "3 1 1 0.5\n")}, ["c.toml"]),
+    ("physical groups only (no domain elements saved)", {"c.toml": MESH_CASE.format(mesh="body.msh"),
+     "body.msh": SQUARE_MSH.replace("4\n1 1 2 1 1 1 2", "2\n1 1 2 1 1 1 2").split("3 2 2 3")[0] + "$EndElements\n"},
+     ["c.toml"]),
+    ("facet in two physical groups", {"c.toml": MESH_CASE.format(mesh="body.msh"),
+     "body.msh": SQUARE_MSH.replace("4\n1 1 2 1 1 1 2", "5\n1 1 2 1 1 1 2\n5 1 2 2 1 1 2")}, ["c.toml"]),
+    ("physical group with no such part name", {"c.toml": MESH_CASE.format(mesh="body.msh").replace(
+        'contact = "contact"', 'contact = "bottom"'), "body.msh": SQUARE_MSH}, ["c.toml"]),
+    (".geo script that calls Exit", {"c.toml": MESH_CASE.format(mesh="body.geo"), "body.geo": SQUARE_GEO + "Exit;\n"},
+     ["c.toml"]),
+    # --- command line
+    ("case file that does not exist", {}, ["nothere.toml"]),
+    ("unknown built-in case", {}, ["paper-9d"]),
+    ("unknown option", {}, ["paper-1d", "--frobnicate"]),
+    ("negative time step", {}, ["paper-1d", "--dt", "-0.01"]),
+    ("zero steps", {}, ["paper-1d", "--steps", "0"]),
+    ("negative kappa", {}, ["paper-2d", "--kappa", "-1"]),
+    ("option value not a number", {}, ["paper-1d", "--steps", "ten"]),
+    ("unknown solver", {}, ["paper-1d", "--contact-solver", "magic"]),
+    ("--set without =", {}, ["paper-1d", "--set", "damage.kappa"]),
+    ("--set with a blank key", {}, ["paper-1d", "--set", " =1"]),
+    ("--set of a misspelt key", {}, ["paper-2d", "--set", "damage.kapa=1"]),
+    ("--set of a too large mesh", {}, ["paper-2d", "--set", "mesh.cells=[100000,100000]"]),
+]
+
+
+def main():
+    vpcontact = os.path.abspath(sys.argv[1])
+    rows, failures = [], []
+    for i, (what, files, args) in enumerate(INPUTS, 1):
+        with tempfile.TemporaryDirectory() as tmp:
+            for name, content in files.items():
+                path = pathlib.Path(tmp) / name
+                path.parent.mkdir(parents=True, exist_ok=True)
+                path.write_bytes(content if isinstance(content, bytes) else content.encode())
+            p = subprocess.run([vpcontact, "check", *args, "-q"], cwd=tmp, capture_output=True, text=True,
+                               errors="replace", timeout=120)
+        message = (p.stderr.strip() or p.stdout.strip()).splitlines()
+        message = message[0] if message else ""
+        sanitizer = "Sanitizer" in p.stderr or "runtime error" in p.stderr
+        if not 1 <= p.returncode <= 127 or sanitizer or not message:
+            failures.append(f"{what}: exit {p.returncode}: {p.stderr.strip()[:2000]}")
+        inp = "`" + " ".join(["check", *args]).replace("|", "\\|") + "`"
+        rows.append(f"| {i} | {what} | {inp} | {p.returncode} | `{message.replace('|', '¦')}` |")
+    print("| # | bad input | command (in the input's folder) | exit | message |")
+    print("|---|---|---|---|---|")
+    print("\n".join(rows))
+    if failures:
+        sys.exit("bad_inputs.py: not a clean error:\n" + "\n".join(failures))
+
+
+if __name__ == "__main__":
+    main()
