@@ -4,6 +4,7 @@
 #include "fem/cell_geometry.hpp"
 
 #include <gmsh.h>
+#include <sys/prctl.h>
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -354,6 +355,7 @@ GmshModel read_in_child(const std::string& file, const GmshOptions& options) {
   int fds[2];
   require(::pipe(fds) == 0, "{}: cannot create a pipe for Gmsh: {}", file, std::strerror(errno));
   std::fflush(nullptr);  // nothing buffered is written twice
+  const pid_t parent = ::getpid();
   const pid_t pid = ::fork();
   if (pid < 0) {
     const int err = errno;
@@ -363,6 +365,9 @@ GmshModel read_in_child(const std::string& file, const GmshOptions& options) {
   }
   if (pid == 0) {  // the child: never returns
     ::close(fds[0]);
+    // The child ends with this process (killed, or timed out by a fuzzer).
+    ::prctl(PR_SET_PDEATHSIG, SIGKILL);
+    if (::getppid() != parent) ::_exit(1);
     // A crash ends the child by its signal, which the parent reports (not the
     // handlers of sanitizers or fuzzers that the parent may have installed).
     for (int sig : {SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT}) std::signal(sig, SIG_DFL);
