@@ -36,6 +36,7 @@ struct Options {
   std::vector<std::string> sets;
   double kappa = -1, dt = -1;
   int n = -1, steps = -1, every = -1, checkpoint_every = -1, halvings = 0;
+  double checkpoint_seconds = 60;
   bool no_vtu = false, quiet = false, plot = false;
   std::string resume;
   std::string contact_solver, damage_solver;
@@ -159,11 +160,19 @@ int run(const Options& o, const CLI::App& cmd) {
     if (!o.quiet)
       fmt::print("  resuming from the checkpoint of step {} (t = {})\n", last_checkpoint, saved->snapshot.state.t);
   } else {
+    vpc::remove_checkpoints(output.directory());  // a previous run's must not be resumed from
     output.start();
     checkpoint();
   }
-  // Checkpoints: every `every` steps (default: at the VTU output interval) and at the end.
-  const int every = o.checkpoint_every >= 0 ? o.checkpoint_every : std::max(1, c.output.every);
+  // Checkpoints: at step 0, at the end, and every --checkpoint-every steps; by default
+  // whenever --checkpoint-seconds of wall time have passed since the last one, so that
+  // short runs are not slowed down by writing (and syncing) their state every step.
+  vpc::require(o.checkpoint_seconds > 0, "--checkpoint-seconds must be > 0 (got {})", o.checkpoint_seconds);
+  auto last_checkpoint_time = Clock::now();
+  auto checkpoint_due = [&](int n) {
+    if (o.checkpoint_every >= 0) return o.checkpoint_every > 0 && n % o.checkpoint_every == 0;
+    return std::chrono::duration<double>(Clock::now() - last_checkpoint_time).count() >= o.checkpoint_seconds;
+  };
   vpc::Progress progress(c.problem->n_steps, o.quiet);
   while (!stepper.done()) {
     const vpc::StepReport r = stepper.step();
@@ -184,9 +193,10 @@ int run(const Options& o, const CLI::App& cmd) {
     }
     output.record(r);
     progress.update(r);
-    if (stepper.done() || (every > 0 && r.n % every == 0)) {
+    if (stepper.done() || checkpoint_due(r.n)) {
       checkpoint();
       last_checkpoint = r.n;
+      last_checkpoint_time = Clock::now();
     }
   }
   progress.finish();
@@ -239,7 +249,11 @@ int main(int argc, char** argv) {
   run_cmd->add_flag("--no-vtu", o.no_vtu, "write no VTU/PVD files (CSV and summary only)");
   run_cmd->add_flag("--plot", o.plot, "draw the figures (vpcontact plot) after the run");
   run_cmd->add_option("--checkpoint-every", o.checkpoint_every,
-                      "write a checkpoint every this many steps (default: the VTU interval; 0: only at the end)");
+                      "write a checkpoint every this many steps (0: only at the start and the end; default: by time, "
+                      "see --checkpoint-seconds)");
+  run_cmd->add_option("--checkpoint-seconds", o.checkpoint_seconds,
+                      "without --checkpoint-every: write a checkpoint once this many seconds of wall time have passed "
+                      "since the last one (default 60)");
   run_cmd->add_option("--resume", o.resume,
                       "continue an interrupted run of the same case from the newest good checkpoint in this directory");
   run_cmd->add_option("--retry-halvings", o.halvings,

@@ -153,14 +153,24 @@ fs::path write_checkpoint(const fs::path& dir, const Checkpoint& c, int keep) {
     out.write(payload.data(), static_cast<std::streamsize>(payload.size()));
   });
   // Keep the newest `keep` checkpoints (an older one is the fallback if the
-  // newest is ever damaged).
+  // newest is ever damaged). Those of later steps are damaged or from a timeline
+  // that this run replaced: a later --resume must not pick them.
   std::vector<fs::path> all;
   std::error_code ec;
   for (const auto& e : fs::directory_iterator(dir, ec))
-    if (step_of(e.path()) >= 0) all.push_back(e.path());
+    if (step_of(e.path()) > s.n) fs::remove(e.path(), ec);
+    else if (step_of(e.path()) >= 0) all.push_back(e.path());
   std::sort(all.begin(), all.end(), [](const fs::path& a, const fs::path& b) { return step_of(a) > step_of(b); });
   for (std::size_t i = static_cast<std::size_t>(std::max(keep, 1)); i < all.size(); ++i) fs::remove(all[i], ec);
   return path;
+}
+
+void remove_checkpoints(const fs::path& dir) {
+  std::error_code ec;
+  std::vector<fs::path> all;
+  for (const auto& e : fs::directory_iterator(dir, ec))
+    if (step_of(e.path()) >= 0) all.push_back(e.path());
+  for (const auto& f : all) fs::remove(f, ec);
 }
 
 Checkpoint read_checkpoint(const fs::path& file) {

@@ -39,8 +39,12 @@ struct Checkpoint {
 /// checkpoint only resumes the problem it was written for.
 std::uint64_t problem_fingerprint(const TimeStepper& stepper);
 
-/// Writes OUTDIR/checkpoint_NNNNN.bin atomically and keeps only the newest `keep`.
+/// Writes OUTDIR/checkpoint_NNNNN.bin atomically and keeps only the newest `keep`;
+/// removes those of later steps (damaged, or of a timeline this run replaced).
 std::filesystem::path write_checkpoint(const std::filesystem::path& dir, const Checkpoint& c, int keep = 2);
+
+/// Removes every checkpoint_NNNNN.bin in `dir` (a fresh run replaces an old one's).
+void remove_checkpoints(const std::filesystem::path& dir);
 
 /// Reads a checkpoint; throws vpc::Error naming the file and what is wrong.
 Checkpoint read_checkpoint(const std::filesystem::path& file);

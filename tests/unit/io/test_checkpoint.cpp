@@ -133,6 +133,28 @@ TEST(Checkpoint, KeepsOnlyTheNewest) {
   EXPECT_TRUE(fs::exists(dir / "checkpoint_00004.bin"));
 }
 
+TEST(Checkpoint, ANewTimelineReplacesTheOldOnes) {
+  // A run that goes back to step 1 (a fresh run, or a resume from an older
+  // checkpoint) must not leave later-step checkpoints for --resume to pick.
+  TimeStepper s(small_2d());
+  const fs::path dir = fresh_dir("timeline");
+  const Snapshot start = s.snapshot();
+  for (int i = 0; i < 4; ++i) {
+    s.step();
+    write_checkpoint(dir, checkpoint_of(s), 2);
+  }
+  s.restore(start);
+  s.step();
+  write_checkpoint(dir, checkpoint_of(s), 2);
+  EXPECT_TRUE(fs::exists(dir / "checkpoint_00001.bin"));
+  EXPECT_FALSE(fs::exists(dir / "checkpoint_00003.bin"));
+  EXPECT_FALSE(fs::exists(dir / "checkpoint_00004.bin"));
+  remove_checkpoints(dir);
+  EXPECT_FALSE(fs::exists(dir / "checkpoint_00001.bin"));
+  std::vector<std::string> skipped;
+  EXPECT_FALSE(find_checkpoint(dir, problem_fingerprint(s), &skipped).has_value());
+}
+
 /// A damage source that fails (NaN) the first time it is evaluated at t = 0.3,
 /// like a solver that fails once and succeeds with a smaller step.
 class FailsOnce final : public DamageSource {
