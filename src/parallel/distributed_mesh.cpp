@@ -1,0 +1,386 @@
+#include "parallel/distributed_mesh.hpp"
+
+#include "parallel/petsc_util.hpp"
+
+#include <petscmat.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace vpc {
+
+std::vector<PetscInt> DistributedMesh::ghost_nodes() const {
+  return {global_node.begin() + n_owned_nodes, global_node.end()};
+}
+
+std::vector<PetscInt> DistributedMesh::ghost_dofs() const {
+  return {global_dof.begin() + n_owned_dofs, global_dof.end()};
+}
+
+namespace {
+
+/// Cells around each node (CSR: cells of node i are list[start[i] .. start[i + 1])).
+struct NodeCells {
+  std::vector<int> start, list;
+  explicit NodeCells(const Mesh& mesh) : start(mesh.n_nodes() + 1, 0) {
+    const int npc = mesh.nodes_per_cell();
+    for (int c = 0; c < mesh.n_cells(); ++c)
+      for (int a = 0; a < npc; ++a) ++start[mesh.cell(c)[a] + 1];
+    for (int i = 0; i < mesh.n_nodes(); ++i) start[i + 1] += start[i];
+    list.resize(start.back());
+    std::vector<int> fill(start.begin(), start.end() - 1);
+    for (int c = 0; c < mesh.n_cells(); ++c)
+      for (int a = 0; a < npc; ++a) list[fill[mesh.cell(c)[a]]++] = c;
+  }
+};
+
+/// Cell partition by PTScotch on the dual graph (cells sharing a facet, i.e. d nodes).
+std::vector<int> partition_cells(const Mesh& mesh, const NodeCells& nc, int n_parts) {
+  const int n_cells = mesh.n_cells(), npc = mesh.nodes_per_cell(), d = mesh.dim();
+  std::vector<int> part(n_cells, 0);
+  if (n_parts == 1 || n_cells == 0) return part;
+  std::vector<PetscInt> ia(n_cells + 1, 0), ja;
+  std::vector<int> cand;
+  for (int c = 0; c < n_cells; ++c) {
+    cand.clear();
+    for (int a = 0; a < npc; ++a) {
+      const int v = mesh.cell(c)[a];
+      for (int k = nc.start[v]; k < nc.start[v + 1]; ++k)
+        if (nc.list[k] != c) cand.push_back(nc.list[k]);
+    }
+    std::sort(cand.begin(), cand.end());
+    for (size_t i = 0; i < cand.size();) {
+      size_t j = i;
+      while (j < cand.size() && cand[j] == cand[i]) ++j;
+      if (static_cast<int>(j - i) >= d) ja.push_back(cand[i]);
+      i = j;
+    }
+    ia[c + 1] = static_cast<PetscInt>(ja.size());
+  }
+  // MatCreateMPIAdj takes ownership of arrays allocated with PetscMalloc.
+  PetscInt *pia = nullptr, *pja = nullptr;
+  VPC_PETSC(PetscMalloc1(ia.size(), &pia));
+  VPC_PETSC(PetscMalloc1(std::max<size_t>(ja.size(), 1), &pja));
+  std::copy(ia.begin(), ia.end(), pia);
+  std::copy(ja.begin(), ja.end(), pja);
+  PMat adj;
+  VPC_PETSC(MatCreateMPIAdj(PETSC_COMM_SELF, n_cells, n_cells, pia, pja, nullptr, adj.out()));
+  MatPartitioning mp = nullptr;
+  VPC_PETSC(MatPartitioningCreate(PETSC_COMM_SELF, &mp));
+  VPC_PETSC(MatPartitioningSetAdjacency(mp, adj));
+  VPC_PETSC(MatPartitioningSetNParts(mp, n_parts));
+  VPC_PETSC(MatPartitioningSetType(mp, MATPARTITIONINGPTSCOTCH));
+  VPC_PETSC(MatPartitioningSetFromOptions(mp));  // -mat_partitioning_type ...
+  PIs is;
+  VPC_PETSC(MatPartitioningApply(mp, is.out()));
+  const PetscInt* idx = nullptr;
+  VPC_PETSC(ISGetIndices(is, &idx));
+  for (int c = 0; c < n_cells; ++c) part[c] = static_cast<int>(idx[c]);
+  VPC_PETSC(ISRestoreIndices(is, &idx));
+  VPC_PETSC(MatPartitioningDestroy(&mp));
+  return part;
+}
+
+struct Row {
+  int node;
+  Point dir;
+  double gap;
+};
+
+/// The contact rows of N exactly as TimeStepper::setup_contact forms them (same order).
+std::vector<Row> contact_rows(const Problem& p, const std::vector<char>& clamped) {
+  const Mesh& mesh = p.mesh;
+  std::vector<Point> normal(mesh.n_nodes(), Point{0, 0, 0});
+  for (int f : mesh.facets_of_parts(p.contact.parts)) {
+    const Point nf = mesh.facet_normal(f);
+    const double w = mesh.facet_measure(f);
+    for (int a = 0; a < mesh.nodes_per_facet(); ++a)
+      for (int j = 0; j < 3; ++j) normal[mesh.facet(f)[a]][j] += w * nf[j];
+  }
+  std::vector<Row> rows;
+  for (int node : mesh.nodes_of_parts(p.contact.parts)) {
+    if (clamped[node]) continue;  // u = 0 already
+    Point v = p.contact.direction ? *p.contact.direction : normal[node];
+    const double l = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    for (double& c : v) c /= l;
+    const double g = p.contact.gap(mesh.node(node), 0.0);
+    require(std::isfinite(g) && g >= 0, "{}: the gap g must be >= 0; it is {} at node {}", p.name, g, node);
+    rows.push_back({node, v, g});
+  }
+  require(!rows.empty(), "{}: the contact part has no free nodes (all are clamped or it is empty)", p.name);
+  return rows;
+}
+
+/// Γ2 exactly as the TimeStepper takes it: the given parts, or every facet not in Γ1 or Γ3.
+std::vector<int> traction_facets(const Problem& p) {
+  const Mesh& mesh = p.mesh;
+  if (!p.traction.empty()) return mesh.facets_of_parts(p.traction);
+  std::vector<int> excluded, facets;
+  for (const auto& n : p.clamped) excluded.push_back(mesh.find_part(n));
+  for (const auto& n : p.contact.parts) excluded.push_back(mesh.find_part(n));
+  for (int f = 0; f < mesh.n_facets(); ++f)
+    if (std::find(excluded.begin(), excluded.end(), mesh.facet_part(f)) == excluded.end()) facets.push_back(f);
+  return facets;
+}
+
+/// A cell containing all nodes of facet f.
+int facet_cell(const Mesh& mesh, const NodeCells& nc, int f) {
+  const int v0 = mesh.facet(f)[0];
+  for (int k = nc.start[v0]; k < nc.start[v0 + 1]; ++k) {
+    const int c = nc.list[k];
+    bool all = true;
+    for (int a = 1; a < mesh.nodes_per_facet() && all; ++a) {
+      const int v = mesh.facet(f)[a];
+      all = std::find(mesh.cell(c), mesh.cell(c) + mesh.nodes_per_cell(), v) != mesh.cell(c) + mesh.nodes_per_cell();
+    }
+    if (all) return c;
+  }
+  fail("mesh: boundary facet {} belongs to no cell", f);
+}
+
+struct Message {
+  std::vector<long long> ints;
+  std::vector<double> reals;
+};
+
+constexpr int kHeader = 13;
+
+/// Rank 0: the part of every rank, packed.
+std::vector<Message> pack_parts(const Problem& p, int n_parts) {
+  const Mesh& mesh = p.mesh;
+  const int d = mesh.dim(), npc = mesh.nodes_per_cell(), n_nodes = mesh.n_nodes();
+  const NodeCells nc(mesh);
+  const std::vector<int> part = partition_cells(mesh, nc, n_parts);
+
+  // A node belongs to the lowest rank among its cells.
+  std::vector<int> owner(n_nodes, 0);
+  for (int i = 0; i < n_nodes; ++i) {
+    int o = n_parts;
+    for (int k = nc.start[i]; k < nc.start[i + 1]; ++k) o = std::min(o, part[nc.list[k]]);
+    owner[i] = o == n_parts ? 0 : o;
+  }
+  std::vector<char> clamped(n_nodes, 0);
+  for (int i : mesh.nodes_of_parts(p.clamped)) clamped[i] = 1;
+
+  // Global numbers: the nodes of rank 0, then of rank 1, ...; each in its original order.
+  std::vector<std::vector<int>> owned(n_parts);
+  for (int i = 0; i < n_nodes; ++i) owned[owner[i]].push_back(i);
+  std::vector<long long> new_id(n_nodes), first_dof(n_nodes, -1), node_begin(n_parts), dof_begin(n_parts + 1);
+  long long next_node = 0, next_dof = 0;
+  for (int r = 0; r < n_parts; ++r) {
+    node_begin[r] = next_node;
+    dof_begin[r] = next_dof;
+    for (int i : owned[r]) {
+      new_id[i] = next_node++;
+      if (!clamped[i]) {
+        first_dof[i] = next_dof;
+        next_dof += d;
+      }
+    }
+  }
+  dof_begin[n_parts] = next_dof;
+
+  const std::vector<Row> rows = contact_rows(p, clamped);
+  std::vector<int> contact_row(n_nodes, -1);
+  for (size_t k = 0; k < rows.size(); ++k) contact_row[rows[k].node] = static_cast<int>(k);
+
+  std::vector<std::vector<int>> cells_of(n_parts), facets_of(n_parts);
+  for (int c = 0; c < mesh.n_cells(); ++c) cells_of[part[c]].push_back(c);
+  for (int f : traction_facets(p)) facets_of[part[facet_cell(mesh, nc, f)]].push_back(f);
+
+  std::vector<Message> out(n_parts);
+  std::vector<int> local(n_nodes, -1);
+  for (int r = 0; r < n_parts; ++r) {
+    std::vector<int> nodes = owned[r], ghosts;
+    for (int c : cells_of[r])
+      for (int a = 0; a < npc; ++a) {
+        const int v = mesh.cell(c)[a];
+        if (owner[v] != r) ghosts.push_back(v);
+      }
+    std::sort(ghosts.begin(), ghosts.end(), [&](int a, int b) { return new_id[a] < new_id[b]; });
+    ghosts.erase(std::unique(ghosts.begin(), ghosts.end()), ghosts.end());
+    nodes.insert(nodes.end(), ghosts.begin(), ghosts.end());
+    for (size_t k = 0; k < nodes.size(); ++k) local[nodes[k]] = static_cast<int>(k);
+
+    Message& m = out[r];
+    std::vector<int> contacts;
+    for (int v : nodes)
+      if (contact_row[v] >= 0) contacts.push_back(v);
+    long long n_owned_dofs = dof_begin[r + 1] - dof_begin[r];
+    m.ints = {d,
+              static_cast<long long>(nodes.size()),
+              static_cast<long long>(owned[r].size()),
+              static_cast<long long>(cells_of[r].size()),
+              static_cast<long long>(facets_of[r].size()),
+              static_cast<long long>(contacts.size()),
+              static_cast<long long>(rows.size()),
+              n_nodes,
+              next_dof,
+              mesh.n_cells(),
+              node_begin[r],
+              dof_begin[r],
+              n_owned_dofs};
+    m.ints.reserve(kHeader + 3 * nodes.size() + (npc + 1) * cells_of[r].size() + d * facets_of[r].size() +
+                   3 * contacts.size());
+    m.reals.reserve(3 * nodes.size() + 4 * contacts.size());
+    for (int v : nodes) {
+      m.ints.insert(m.ints.end(), {new_id[v], v, first_dof[v]});
+      m.reals.insert(m.reals.end(), mesh.node(v).begin(), mesh.node(v).end());
+    }
+    for (int c : cells_of[r]) {
+      for (int a = 0; a < npc; ++a) m.ints.push_back(local[mesh.cell(c)[a]]);
+      m.ints.push_back(c);
+    }
+    for (int f : facets_of[r])
+      for (int a = 0; a < d; ++a) m.ints.push_back(local[mesh.facet(f)[a]]);
+    for (int v : contacts) {
+      const Row& row = rows[contact_row[v]];
+      m.ints.insert(m.ints.end(), {contact_row[v], local[v], owner[v] == r ? 1 : 0});
+      m.reals.insert(m.reals.end(), {row.dir[0], row.dir[1], row.dir[2], row.gap});
+    }
+    for (int v : nodes) local[v] = -1;
+  }
+  return out;
+}
+
+DistributedMesh unpack_part(MPI_Comm comm, const Message& m) {
+  DistributedMesh dm;
+  dm.comm = comm;
+  const auto* h = m.ints.data();
+  const int d = static_cast<int>(h[0]), n_local = static_cast<int>(h[1]);
+  dm.n_owned_nodes = static_cast<int>(h[2]);
+  const int n_cells = static_cast<int>(h[3]), n_facets = static_cast<int>(h[4]), n_contacts = static_cast<int>(h[5]);
+  dm.n_contact = static_cast<int>(h[6]);
+  dm.n_global_nodes = static_cast<PetscInt>(h[7]);
+  dm.n_global_dofs = static_cast<PetscInt>(h[8]);
+  dm.n_global_cells = h[9];
+  dm.node_begin = static_cast<PetscInt>(h[10]);
+  dm.dof_begin = static_cast<PetscInt>(h[11]);
+  dm.n_owned_dofs = static_cast<int>(h[12]);
+  const long long* in = h + kHeader;
+  const double* x = m.reals.data();
+  dm.mesh = Mesh(d);
+  std::vector<long long> first_dof(n_local);
+  std::vector<int> clamped;
+  dm.global_node.resize(n_local);
+  dm.original_node.resize(n_local);
+  for (int i = 0; i < n_local; ++i) {
+    dm.global_node[i] = static_cast<PetscInt>(*in++);
+    dm.original_node[i] = static_cast<int>(*in++);
+    first_dof[i] = *in++;
+    if (first_dof[i] < 0) clamped.push_back(i);
+    dm.mesh.add_node({x[0], x[1], x[2]});
+    x += 3;
+  }
+  int nodes[4];
+  dm.original_cell.resize(n_cells);
+  for (int c = 0; c < n_cells; ++c) {
+    for (int a = 0; a <= d; ++a) nodes[a] = static_cast<int>(*in++);
+    dm.mesh.add_cell(nodes);
+    dm.original_cell[c] = static_cast<int>(*in++);
+  }
+  for (int f = 0; f < n_facets; ++f) {
+    for (int a = 0; a < d; ++a) nodes[a] = static_cast<int>(*in++);
+    dm.mesh.add_facet(nodes, "traction");
+  }
+  for (int k = 0; k < n_contacts; ++k) {
+    LocalContactNode c;
+    c.row = static_cast<int>(*in++);
+    c.local_node = static_cast<int>(*in++);
+    c.owned = *in++ != 0;
+    c.direction = {x[0], x[1], x[2]};
+    c.gap = x[3];
+    x += 4;
+    dm.contact.push_back(c);
+  }
+  dm.dofs = DofMap(n_local, d, clamped);
+  dm.global_dof.assign(dm.dofs.n_free(), -1);
+  for (int i = 0; i < n_local; ++i)
+    for (int c = 0; c < d; ++c) {
+      const int k = dm.dofs.free_index(dm.dofs.full_index(i, c));
+      if (k >= 0) dm.global_dof[k] = static_cast<PetscInt>(first_dof[i] + c);
+    }
+  for (int k = 0; k < dm.n_owned_dofs; ++k)
+    require(dm.global_dof[k] == dm.dof_begin + k, "internal: the owned dofs of a part are not contiguous");
+  return dm;
+}
+
+}  // namespace
+
+DistributedMesh distribute_mesh(MPI_Comm comm, const Problem& problem) {
+  const int rank = comm_rank(comm), size = comm_size(comm);
+  Message mine;
+  // Rank 0 packs every part; a failure there (e.g. a bad gap) is broadcast so
+  // that the other ranks report it instead of waiting.
+  std::string error;
+  std::vector<Message> parts;
+  if (rank == 0) {
+    try {
+      parts = pack_parts(problem, size);
+    } catch (const Error& e) {
+      error = e.what();
+    }
+  }
+  int error_size = static_cast<int>(error.size());
+  MPI_Bcast(&error_size, 1, MPI_INT, 0, comm);
+  if (error_size > 0) {
+    error.resize(error_size);
+    MPI_Bcast(error.data(), error_size, MPI_CHAR, 0, comm);
+    throw Error(error);
+  }
+  if (rank == 0) {
+    for (int r = 1; r < size; ++r) {
+      long long sizes[2] = {static_cast<long long>(parts[r].ints.size()), static_cast<long long>(parts[r].reals.size())};
+      require(sizes[0] < (1LL << 31) && sizes[1] < (1LL << 31), "mesh part {} is too large for one MPI message", r);
+      MPI_Send(sizes, 2, MPI_LONG_LONG, r, 1, comm);
+      MPI_Send(parts[r].ints.data(), static_cast<int>(sizes[0]), MPI_LONG_LONG, r, 2, comm);
+      MPI_Send(parts[r].reals.data(), static_cast<int>(sizes[1]), MPI_DOUBLE, r, 3, comm);
+      parts[r] = Message{};
+    }
+    mine = std::move(parts[0]);
+  } else {
+    long long sizes[2];
+    MPI_Recv(sizes, 2, MPI_LONG_LONG, 0, 1, comm, MPI_STATUS_IGNORE);
+    mine.ints.resize(sizes[0]);
+    mine.reals.resize(sizes[1]);
+    MPI_Recv(mine.ints.data(), static_cast<int>(sizes[0]), MPI_LONG_LONG, 0, 2, comm, MPI_STATUS_IGNORE);
+    MPI_Recv(mine.reals.data(), static_cast<int>(sizes[1]), MPI_DOUBLE, 0, 3, comm, MPI_STATUS_IGNORE);
+  }
+  return unpack_part(comm, mine);
+}
+
+}  // namespace vpc
+
+namespace vpc {
+
+Vector gather_to_root(MPI_Comm comm, const std::vector<int>& ids, const double* values, int n_components,
+                      long long n_global) {
+  const int rank = comm_rank(comm), size = comm_size(comm);
+  const int n = static_cast<int>(ids.size());
+  std::vector<int> counts(size), displs(size);
+  MPI_Gather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, comm);
+  std::vector<int> all_ids;
+  std::vector<double> all_values;
+  std::vector<int> vcounts(size), vdispls(size);
+  if (rank == 0) {
+    int total = 0;
+    for (int r = 0; r < size; ++r) {
+      displs[r] = total;
+      vcounts[r] = counts[r] * n_components;
+      vdispls[r] = total * n_components;
+      total += counts[r];
+    }
+    all_ids.resize(total);
+    all_values.resize(static_cast<size_t>(total) * n_components);
+  }
+  MPI_Gatherv(ids.data(), n, MPI_INT, all_ids.data(), counts.data(), displs.data(), MPI_INT, 0, comm);
+  MPI_Gatherv(values, n * n_components, MPI_DOUBLE, all_values.data(), vcounts.data(), vdispls.data(), MPI_DOUBLE, 0,
+              comm);
+  if (rank != 0) return {};
+  Vector out = Vector::Zero(n_global * n_components);
+  for (size_t k = 0; k < all_ids.size(); ++k)
+    for (int c = 0; c < n_components; ++c) out[all_ids[k] * n_components + c] = all_values[k * n_components + c];
+  return out;
+}
+
+}  // namespace vpc

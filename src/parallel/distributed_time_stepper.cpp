@@ -1,0 +1,298 @@
+#include "parallel/distributed_time_stepper.hpp"
+
+#include "fem/assembly.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+namespace vpc {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+/// P_Q onto S_d (as TimeStepper): the components a d-dimensional tensor does not have are zero.
+void restrict_to_dim(SymTensor& s, int d) {
+  if (d == 3) return;
+  s[2] = s[3] = s[4] = 0;
+  if (d == 1) s[1] = s[5] = 0;
+}
+
+double centroid_mean(const Mesh& mesh, const Vector& nodal, int c) {
+  double s = 0;
+  for (int a = 0; a < mesh.nodes_per_cell(); ++a) s += nodal[mesh.cell(c)[a]];
+  return s / mesh.nodes_per_cell();
+}
+
+/// Adds the entries of a local matrix (rows and columns numbered locally) to a
+/// PETSc matrix at the global numbers l2g.
+void add_local_matrix(Mat A, const SparseMatrix& local, const std::vector<PetscInt>& l2g) {
+  std::vector<PetscInt> rows;
+  std::vector<PetscScalar> vals;
+  for (int j = 0; j < local.outerSize(); ++j) {
+    rows.clear();
+    vals.clear();
+    for (SparseMatrix::InnerIterator it(local, j); it; ++it) {
+      rows.push_back(l2g[it.row()]);
+      vals.push_back(it.value());
+    }
+    const PetscInt col = l2g[j];
+    VPC_PETSC(MatSetValues(A, static_cast<PetscInt>(rows.size()), rows.data(), 1, &col, vals.data(), ADD_VALUES));
+  }
+}
+
+/// The distributed sum of the ranks' local matrices: an MPIAIJ matrix with exact
+/// preallocation (MATPREALLOCATOR), marked symmetric positive definite.
+PMat assemble_global(MPI_Comm comm, const SparseMatrix& local, const std::vector<PetscInt>& l2g, PetscInt n_owned,
+                     PetscInt N, int block) {
+  PMat pre, A;
+  VPC_PETSC(MatCreate(comm, pre.out()));
+  VPC_PETSC(MatSetType(pre, MATPREALLOCATOR));
+  VPC_PETSC(MatSetSizes(pre, n_owned, n_owned, N, N));
+  VPC_PETSC(MatSetBlockSize(pre, block));
+  VPC_PETSC(MatSetUp(pre));
+  add_local_matrix(pre, local, l2g);
+  VPC_PETSC(MatAssemblyBegin(pre, MAT_FINAL_ASSEMBLY));
+  VPC_PETSC(MatAssemblyEnd(pre, MAT_FINAL_ASSEMBLY));
+  VPC_PETSC(MatCreate(comm, A.out()));
+  VPC_PETSC(MatSetType(A, MATAIJ));
+  VPC_PETSC(MatSetSizes(A, n_owned, n_owned, N, N));
+  VPC_PETSC(MatSetBlockSize(A, block));
+  VPC_PETSC(MatPreallocatorPreallocate(pre, PETSC_TRUE, A));
+  add_local_matrix(A, local, l2g);
+  VPC_PETSC(MatAssemblyBegin(A, MAT_FINAL_ASSEMBLY));
+  VPC_PETSC(MatAssemblyEnd(A, MAT_FINAL_ASSEMBLY));
+  VPC_PETSC(MatSetOption(A, MAT_SYMMETRIC, PETSC_TRUE));
+  VPC_PETSC(MatSetOption(A, MAT_SPD, PETSC_TRUE));
+  return A;
+}
+
+PVec ghosted(MPI_Comm comm, PetscInt n_owned, PetscInt N, const std::vector<PetscInt>& ghosts) {
+  PVec v;
+  VPC_PETSC(VecCreateGhost(comm, n_owned, N, static_cast<PetscInt>(ghosts.size()), ghosts.data(), v.out()));
+  VPC_PETSC(VecSet(v, 0.0));
+  return v;
+}
+
+/// Writes the whole local form (owned, then ghost entries) of a ghosted vector
+/// and adds the ghost entries into their owners: the global sum of the ranks'
+/// local vectors.
+void assemble_ghosted(Vec v, const Vector& local) {
+  Vec lv = nullptr;
+  VPC_PETSC(VecGhostGetLocalForm(v, &lv));
+  PetscScalar* a = nullptr;
+  VPC_PETSC(VecGetArray(lv, &a));
+  std::copy(local.data(), local.data() + local.size(), a);
+  VPC_PETSC(VecRestoreArray(lv, &a));
+  VPC_PETSC(VecGhostRestoreLocalForm(v, &lv));
+  VPC_PETSC(VecGhostUpdateBegin(v, ADD_VALUES, SCATTER_REVERSE));
+  VPC_PETSC(VecGhostUpdateEnd(v, ADD_VALUES, SCATTER_REVERSE));
+}
+
+/// Copies the owners' values into the ghost entries.
+void update_ghosts(Vec v) {
+  VPC_PETSC(VecGhostUpdateBegin(v, INSERT_VALUES, SCATTER_FORWARD));
+  VPC_PETSC(VecGhostUpdateEnd(v, INSERT_VALUES, SCATTER_FORWARD));
+}
+
+}  // namespace
+
+Vector ghosted_local(Vec v) {
+  Vec lv = nullptr;
+  VPC_PETSC(VecGhostGetLocalForm(v, &lv));
+  PetscInt n = 0;
+  VPC_PETSC(VecGetSize(lv, &n));
+  const PetscScalar* a = nullptr;
+  VPC_PETSC(VecGetArrayRead(lv, &a));
+  Vector out = Eigen::Map<const Vector>(a, n);
+  VPC_PETSC(VecRestoreArrayRead(lv, &a));
+  VPC_PETSC(VecGhostRestoreLocalForm(v, &lv));
+  return out;
+}
+
+DistributedTimeStepper::DistributedTimeStepper(std::shared_ptr<const Problem> problem, DistributedMesh part,
+                                               SolverChoice choice, PetscSolverOptions linear)
+    : problem_(std::move(problem)), part_(std::move(part)), choice_(std::move(choice)) {
+  const auto t0 = Clock::now();
+  const Problem& p = *problem_;
+  require(choice_.contact == "active-set" && choice_.damage == "active-set",
+          "the PETSc engine has the active-set solvers only (contact '{}', damage '{}' were asked for)",
+          choice_.contact, choice_.damage);
+  require(choice_.max_halvings == 0, "the PETSc engine does not retry failed steps (--retry-halvings)");
+  const MPI_Comm comm = part_.comm;
+  const Mesh& mesh = part_.mesh;
+  const int d = mesh.dim();
+  require(part_.n_global_dofs > 0, "{}: every node is clamped; nothing to solve", p.name);
+  geo_ = compute_geometry(mesh);
+  for (int f = 0; f < mesh.n_facets(); ++f) traction_facets_.push_back(f);
+
+  // Constant matrices: K of (3.9); M and H = M + kκA of (3.8); each rank adds its cells' part.
+  auto t1 = Clock::now();
+  {
+    const SparseMatrix K_local = assemble_stiffness(mesh, geo_, p.elasticity, part_.dofs);
+    K_ = assemble_global(comm, K_local, part_.global_dof, part_.n_owned_dofs, part_.n_global_dofs, d);
+    const SparseMatrix M_local = assemble_mass(mesh, geo_);
+    const SparseMatrix A_local = assemble_laplacian(mesh, geo_);
+    M_ = assemble_global(comm, M_local, part_.global_node, part_.n_owned_nodes, part_.n_global_nodes, 1);
+    H_ = assemble_global(comm, SparseMatrix(M_local + (p.step() * p.kappa) * A_local), part_.global_node,
+                         part_.n_owned_nodes, part_.n_global_nodes, 1);
+  }
+  setup_timing_.assembly = seconds_since(t1);
+
+  t1 = Clock::now();
+  K_solver_ = std::make_unique<PetscLinearSolver>(comm, "vpc_K_", linear);
+  {
+    // Rigid-body modes (the near-null space of elasticity) for algebraic multigrid.
+    PetscHandle<MatNullSpace, MatNullSpaceDestroy> rigid;
+    if (linear.kind == "cg-gamg") {
+      PVec xyz;
+      VPC_PETSC(MatCreateVecs(K_, xyz.out(), nullptr));
+      VPC_PETSC(VecSetBlockSize(xyz, d));
+      PetscScalar* a = nullptr;
+      VPC_PETSC(VecGetArray(xyz, &a));
+      for (int i = 0; i < part_.n_owned_nodes; ++i)
+        for (int c = 0; c < d; ++c) {
+          const int k = part_.dofs.free_index(part_.dofs.full_index(i, c));
+          if (k >= 0) a[k] = mesh.node(i)[c];
+        }
+      VPC_PETSC(VecRestoreArray(xyz, &a));
+      VPC_PETSC(MatNullSpaceCreateRigidBody(xyz, rigid.out()));
+    }
+    K_solver_->factorize(K_, "elastic stiffness K", rigid.get());
+  }
+  setup_timing_.factor_K = seconds_since(t1);
+  t1 = Clock::now();
+  damage_ = std::make_unique<DistributedDamageSolver>(comm, H_, linear);
+  setup_timing_.factor_H = seconds_since(t1);
+  t1 = Clock::now();
+  contact_ = std::make_unique<DistributedContactSolver>(part_, K_, *K_solver_);
+  setup_timing_.contact = seconds_since(t1);
+
+  // Initial state (3.4): u0 = 0, σ0 = 0 (so z0 = 0), β0 = the P1 interpolant.
+  state_.u = ghosted(comm, part_.n_owned_dofs, part_.n_global_dofs, part_.ghost_dofs());
+  state_.beta = ghosted(comm, part_.n_owned_nodes, part_.n_global_nodes, part_.ghost_nodes());
+  VPC_PETSC(VecDuplicate(state_.u, F_.out()));
+  VPC_PETSC(VecDuplicate(state_.beta, rhs_.out()));
+  VPC_PETSC(VecDuplicate(state_.beta, fphi_.out()));
+  Vector beta0(mesh.n_nodes());
+  for (int i = 0; i < mesh.n_nodes(); ++i) {
+    const double b = p.beta0 ? p.beta0(mesh.node(i), 0.0) : 1.0;
+    require(std::isfinite(b) && b >= 0 && b <= 1,
+            "{}: initial damage beta0 must lie in [0, 1]; it is {} at node {} ({}, {}, {})", p.name, b,
+            part_.original_node[i], mesh.node(i)[0], mesh.node(i)[1], mesh.node(i)[2]);
+    beta0[i] = b;
+  }
+  {
+    Vec lv = nullptr;
+    VPC_PETSC(VecGhostGetLocalForm(state_.beta, &lv));
+    PetscScalar* a = nullptr;
+    VPC_PETSC(VecGetArray(lv, &a));
+    std::copy(beta0.data(), beta0.data() + beta0.size(), a);
+    VPC_PETSC(VecRestoreArray(lv, &a));
+    VPC_PETSC(VecGhostRestoreLocalForm(state_.beta, &lv));
+  }
+  state_.sigma.assign(mesh.n_cells(), SymTensor{});
+  state_.eps.assign(mesh.n_cells(), SymTensor{});
+  state_.z.assign(mesh.n_cells(), SymTensor{});
+  state_.lambda = Vector::Zero(part_.n_contact);
+  setup_timing_.total = seconds_since(t0);
+}
+
+int DistributedTimeStepper::n_factorizations() const {
+  return K_solver_->n_factorizations() + damage_->n_factorizations();
+}
+
+Vector DistributedTimeStepper::local_u() const { return extend_from_free(part_.dofs, ghosted_local(state_.u)); }
+
+Vector DistributedTimeStepper::local_beta() const { return ghosted_local(state_.beta); }
+
+StepReport DistributedTimeStepper::step() {
+  require(!done(), "{}: the run is already at the final time", problem_->name);
+  const Problem& p = *problem_;
+  const Mesh& mesh = part_.mesh;
+  const MPI_Comm comm = part_.comm;
+  const int d = mesh.dim(), n_cells = mesh.n_cells();
+  const int n = state_.n + 1;
+  const double k = p.step();
+  StepReport rep;
+  rep.n = n;
+  rep.t = n == p.n_steps ? p.final_time : n * k;  // the grid time, exactly
+
+  // Step 1: lagged sources G_{n−1}, φ_{n−1} on the owned cells, β at the centroid.
+  auto t0 = Clock::now();
+  const Vector beta_old = local_beta();
+  std::vector<SymTensor> G(n_cells);
+  std::vector<double> phi(n_cells);
+  for (int c = 0; c < n_cells; ++c) {
+    const PointState s{state_.sigma[c], state_.eps[c], centroid_mean(mesh, beta_old, c), d, mesh.cell_centroid(c),
+                       state_.t};
+    G[c] = p.law->rate(s);
+    restrict_to_dim(G[c], d);
+    phi[c] = p.source->rate(s);
+  }
+  rep.seconds_sources = seconds_since(t0);
+
+  // Step 2: damage (3.8): the box QP with H = M + kκA, r = M β_{n−1} + k F_φ.
+  t0 = Clock::now();
+  assemble_ghosted(fphi_, assemble_p0_source(mesh, geo_, phi));
+  VPC_PETSC(MatMult(M_, state_.beta, rhs_));
+  VPC_PETSC(VecAXPY(rhs_, k, fphi_));
+  rep.damage = damage_->solve(rhs_, state_.beta);
+  update_ghosts(state_.beta);
+  rep.seconds_damage = seconds_since(t0);
+
+  // Step 3: history (3.6): z_n = z_{n−1} + k G_{n−1}.
+  for (int c = 0; c < n_cells; ++c) state_.z[c] += k * G[c];
+
+  // Step 4: contact (3.9): K u_n = F_n − Bᵀz_n − Nᵀλ with Signorini conditions.
+  t0 = Clock::now();
+  const Vector F_local =
+      restrict_to_free(part_.dofs, assemble_load(mesh, geo_, traction_facets_, p.f0, p.f2, rep.t) -
+                                       assemble_stress_divergence(mesh, geo_, state_.z));
+  assemble_ghosted(F_, F_local);
+  rep.contact = contact_->solve(F_, state_.u, state_.lambda);
+  update_ghosts(state_.u);
+  rep.seconds_contact = seconds_since(t0);
+
+  // Step 5: stress (3.6): σ_n = ℰε(u_n) + z_n on the owned cells.
+  t0 = Clock::now();
+  compute_strain(mesh, geo_, local_u(), state_.eps);
+  double max_vm = 0;
+  for (int c = 0; c < n_cells; ++c) {
+    state_.sigma[c] = p.elasticity.apply(state_.eps[c]) + state_.z[c];
+    max_vm = std::max(max_vm, state_.sigma[c].von_mises());
+  }
+  rep.max_von_mises = allreduce_max(comm, max_vm);
+  rep.seconds_stress = seconds_since(t0);
+
+  // β range over the owned nodes; the node of the minimum in the numbering of the mesh as read.
+  const Vector beta = local_beta();
+  struct {
+    double value;
+    int node;
+  } lo{1e300, -1}, glo;
+  double hi = -1e300;
+  for (int i = 0; i < part_.n_owned_nodes; ++i) {
+    if (beta[i] < lo.value || (beta[i] == lo.value && part_.original_node[i] < lo.node))
+      lo = {beta[i], part_.original_node[i]};
+    hi = std::max(hi, beta[i]);
+  }
+  MPI_Allreduce(&lo, &glo, 1, MPI_DOUBLE_INT, MPI_MINLOC, comm);
+  rep.beta_min = glo.value;
+  rep.beta_min_node = glo.node;
+  rep.beta_max = allreduce_max(comm, hi);
+  state_.t = rep.t;
+  state_.n = n;
+
+  PetscReal nu = 0, nb = 0;
+  VPC_PETSC(VecNorm(state_.u, NORM_2, &nu));
+  VPC_PETSC(VecNorm(state_.beta, NORM_2, &nb));
+  const double tol = choice_.residual_tolerance;
+  rep.ok = rep.contact.converged && rep.damage.converged && rep.contact.residuals.max() <= tol &&
+           rep.damage.kkt_residual <= tol && std::isfinite(nu) && std::isfinite(nb);
+  return rep;
+}
+
+}  // namespace vpc

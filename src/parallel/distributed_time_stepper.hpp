@@ -1,0 +1,69 @@
+#pragma once
+// The fully discrete scheme of SPEC §2 on a mesh partitioned over MPI ranks: the
+// five steps of TimeStepper::advance, with the elementwise work (G, φ, z, ε, σ)
+// on each rank's own cells, the global vectors and matrices in PETSc (ghosted
+// vectors carry the values of the ghost layer) and the two inequalities solved
+// by DistributedContactSolver and DistributedDamageSolver.
+#include "fem/cell_geometry.hpp"
+#include "parallel/distributed_mesh.hpp"
+#include "parallel/distributed_solvers.hpp"
+#include "scheme/problem.hpp"
+#include "scheme/time_stepper.hpp"
+
+#include <memory>
+#include <vector>
+
+namespace vpc {
+
+/// The distributed state: u on the free dofs and β on the nodes as ghosted PETSc
+/// vectors (global numbering of DistributedMesh), σ, ε, z on the owned cells,
+/// λ (all contact nodes) on every rank.
+struct DistributedState {
+  int n = 0;
+  double t = 0;
+  PVec u, beta;
+  std::vector<SymTensor> sigma, eps, z;
+  Vector lambda;
+};
+
+class DistributedTimeStepper {
+ public:
+  /// `problem` supplies the data (its mesh is not used: `part` is this rank's piece).
+  DistributedTimeStepper(std::shared_ptr<const Problem> problem, DistributedMesh part, SolverChoice choice,
+                         PetscSolverOptions linear = {});
+
+  const Problem& problem() const { return *problem_; }
+  const DistributedMesh& part() const { return part_; }
+  const DistributedState& state() const { return state_; }
+  bool done() const { return state_.n >= problem_->n_steps; }
+  /// Steps 1–5 of SPEC §2 from n − 1 to n. Collective; every rank gets the same report.
+  StepReport step();
+
+  /// The displacement at the part's nodes (owned and ghosts), full space: node * d + c (0 on Γ1).
+  Vector local_u() const;
+  /// β at the part's nodes (owned and ghosts).
+  Vector local_beta() const;
+  const SetupTiming& setup_timing() const { return setup_timing_; }
+  int n_factorizations() const;
+  bool keeps_w() const { return contact_->keeps_w(); }
+  const PetscLinearSolver& stiffness_solver() const { return *K_solver_; }
+
+ private:
+  std::shared_ptr<const Problem> problem_;
+  DistributedMesh part_;
+  SolverChoice choice_;
+  std::vector<CellGeometry> geo_;
+  std::vector<int> traction_facets_;
+  PMat K_, M_, H_;
+  PVec F_, rhs_, fphi_;
+  std::unique_ptr<PetscLinearSolver> K_solver_;
+  std::unique_ptr<DistributedContactSolver> contact_;
+  std::unique_ptr<DistributedDamageSolver> damage_;
+  DistributedState state_;
+  SetupTiming setup_timing_;
+};
+
+/// A local Eigen copy of a ghosted vector's local form (owned entries, then ghosts).
+Vector ghosted_local(Vec v);
+
+}  // namespace vpc

@@ -1,0 +1,125 @@
+// The distributed engine against the serial TimeStepper, step by step:
+//   mpirun -np P vpcontact_mpi_compare CASE [--n N] [--steps S] [--kappa K] [--linear mumps|cg-gamg|cg-hypre]
+//                                           [--tolerance 1e-10]
+// Every rank checks that its step reports are ok (contact and damage KKT residuals
+// within the tolerance of SolverChoice) and equal on all ranks; rank 0 runs the
+// serial stepper beside the distributed one and compares u, β, λ (contact forces)
+// and σ after every step, relative to their max norms. Exit 0 only if all hold.
+#include "cases/builtin_cases.hpp"
+#include "parallel/distributed_time_stepper.hpp"
+#include "parallel/petsc_util.hpp"
+
+#include <fmt/format.h>
+
+#include <cstdlib>
+#include <string>
+
+namespace {
+
+double rel_diff(const vpc::Vector& a, const vpc::Vector& b) {
+  if (a.size() != b.size()) return 1e300;
+  if (a.size() == 0) return 0;
+  return (a - b).cwiseAbs().maxCoeff() / std::max(b.cwiseAbs().maxCoeff(), 1e-300);
+}
+
+int run(int argc, char** argv) {
+  const MPI_Comm comm = PETSC_COMM_WORLD;
+  const int rank = vpc::comm_rank(comm), size = vpc::comm_size(comm);
+  vpc::require(argc >= 2, "usage: vpcontact_mpi_compare CASE [--n N] [--steps S] [--kappa K] [--linear KIND]");
+  const std::string name = argv[1];
+  vpc::CaseOverrides ov;
+  vpc::PetscSolverOptions linear;
+  double tolerance = 1e-10;
+  for (int i = 2; i + 1 < argc; i += 2) {
+    const std::string key = argv[i], value = argv[i + 1];
+    if (key == "--n") ov.mesh_cells = std::stoi(value);
+    else if (key == "--steps") ov.steps = std::stoi(value);
+    else if (key == "--kappa") ov.kappa = std::stod(value);
+    else if (key == "--linear") linear.kind = value;
+    else if (key == "--tolerance") tolerance = std::stod(value);
+    else vpc::fail("unknown option '{}'", key);
+  }
+  vpc::Case c = vpc::make_builtin_case(name, ov);
+  std::unique_ptr<vpc::TimeStepper> serial;
+  if (rank == 0) serial = std::make_unique<vpc::TimeStepper>(c.problem, c.solvers);
+  vpc::DistributedTimeStepper dist(c.problem, vpc::distribute_mesh(comm, *c.problem), c.solvers, linear);
+  const auto& part = dist.part();
+  if (rank == 0)
+    fmt::print("{} on {} ranks ({} linear solver): {} nodes, {} cells, {} free dofs, {} contact nodes, {} steps\n",
+               name, size, linear.kind, part.n_global_nodes, part.n_global_cells, part.n_global_dofs, part.n_contact,
+               c.problem->n_steps);
+  fmt::print("  rank {}: {} cells, {} owned + {} ghost nodes, {} owned dofs\n", rank, part.mesh.n_cells(),
+             part.n_owned_nodes, part.n_ghost_nodes(), part.n_owned_dofs);
+  std::fflush(stdout);
+  MPI_Barrier(comm);
+
+  const int d = part.mesh.dim();
+  bool ok = true;
+  double worst[4] = {0, 0, 0, 0};  // u, β, λ, σ
+  int rank_failures = 0;
+  while (!dist.done()) {
+    const vpc::StepReport r = dist.step();
+    // The checks of the step hold on this rank, and every rank has the same report.
+    const double force_min = vpc::allreduce_min(comm, r.contact.total_force);
+    const double force_max = vpc::allreduce_max(comm, r.contact.total_force);
+    const bool same = force_min == force_max &&
+                      vpc::allreduce_min(comm, r.damage.kkt_residual) == vpc::allreduce_max(comm, r.damage.kkt_residual);
+    if (!r.ok || !same) {
+      fmt::print("  rank {}: step {} FAILED the checks: ok = {}, same report on all ranks = {}, contact residual "
+                 "{:.2e}, damage KKT residual {:.2e}\n",
+                 rank, r.n, r.ok, same, r.contact.residuals.max(), r.damage.kkt_residual);
+      ++rank_failures;
+    }
+    // Gather u, β, σ to rank 0 in the numbering of the mesh as read.
+    const vpc::Vector u_local = dist.local_u(), b_local = dist.local_beta();
+    const std::vector<int> owned_nodes(part.original_node.begin(), part.original_node.begin() + part.n_owned_nodes);
+    const vpc::Vector u = vpc::gather_to_root(comm, owned_nodes, u_local.data(), d, part.n_global_nodes);
+    const vpc::Vector beta = vpc::gather_to_root(comm, owned_nodes, b_local.data(), 1, part.n_global_nodes);
+    std::vector<double> s_local;
+    for (const auto& s : dist.state().sigma) s_local.insert(s_local.end(), s.c.begin(), s.c.end());
+    const vpc::Vector sigma = vpc::gather_to_root(comm, part.original_cell, s_local.data(), 6, part.n_global_cells);
+    if (rank == 0) {
+      const vpc::StepReport rs = serial->step();
+      const auto& st = serial->state();
+      vpc::Vector sigma_serial(st.sigma.size() * 6);
+      for (size_t k = 0; k < st.sigma.size(); ++k)
+        for (int j = 0; j < 6; ++j) sigma_serial[k * 6 + j] = st.sigma[k][j];
+      const double e[4] = {rel_diff(u, st.u), rel_diff(beta, st.beta), rel_diff(dist.state().lambda, st.lambda),
+                           rel_diff(sigma, sigma_serial)};
+      for (int j = 0; j < 4; ++j) worst[j] = std::max(worst[j], e[j]);
+      if (std::max({e[0], e[1], e[2], e[3]}) > tolerance || rs.contact.n_active != r.contact.n_active) {
+        fmt::print("  step {}: differs from the serial run: u {:.2e}, beta {:.2e}, lambda {:.2e}, sigma {:.2e}; active "
+                   "{} vs {}\n",
+                   r.n, e[0], e[1], e[2], e[3], r.contact.n_active, rs.contact.n_active);
+        ok = false;
+      }
+      if (r.n == c.problem->n_steps || r.n % 10 == 0)
+        fmt::print("  step {:3d} t = {:.3f}: total force {:.12e} (serial {:.12e}), active {}, beta_min {:.12f} ({} nodes at beta = 1), "
+                   "contact residual {:.1e}, damage KKT {:.1e}\n",
+                   r.n, r.t, r.contact.total_force, rs.contact.total_force, r.contact.n_active, r.beta_min, r.damage.n_upper,
+                   r.contact.residuals.max(), r.damage.kkt_residual);
+    }
+  }
+  ok = vpc::allreduce_and(comm, ok && rank_failures == 0);
+  if (rank == 0)
+    fmt::print("{}: largest relative differences from the serial run over all steps: u {:.2e}, beta {:.2e}, "
+               "lambda {:.2e}, sigma {:.2e} (tolerance {:.0e}); checks on every rank: {}\n{}\n",
+               name, worst[0], worst[1], worst[2], worst[3], tolerance, rank_failures == 0 ? "ok" : "FAILED",
+               ok ? "PASSED" : "FAILED");
+  return ok ? 0 : 1;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (PetscInitialize(&argc, &argv, nullptr, nullptr)) return 3;
+  int rc = 0;
+  try {
+    rc = run(argc, argv);
+  } catch (const std::exception& e) {
+    fmt::print(stderr, "vpcontact_mpi_compare: rank {}: error: {}\n", vpc::comm_rank(PETSC_COMM_WORLD), e.what());
+    MPI_Abort(PETSC_COMM_WORLD, 1);  // never leave the other ranks waiting
+  }
+  PetscFinalize();
+  return rc;
+}
