@@ -6,11 +6,13 @@
 #include "cases/builtin_cases.hpp"
 #include "cases/shipped_cases.hpp"
 #include "core/error.hpp"
+#include "core/malloc_policy.hpp"
 #include "core/omp_wait_policy.hpp"
 #include "io/case_file.hpp"
 #include "io/checkpoint.hpp"
 #include "io/run_output.hpp"
 #include "converge_command.hpp"
+#include "parallel_run.hpp"
 #include "progress.hpp"
 #include "scheme/time_stepper.hpp"
 
@@ -41,6 +43,7 @@ struct Options {
   std::string resume;
   std::string contact_solver, damage_solver;
   double tolerance = -1;
+  std::string engine = "auto", linear_solver = "mumps";  // docs/parallel.md
 };
 
 /// Whether an option exists on this subcommand and was given.
@@ -136,6 +139,8 @@ int run(const Options& o, const CLI::App& cmd) {
   using Clock = std::chrono::steady_clock;
   const auto t0 = Clock::now();
   vpc::Case c = load_case(o, cmd);
+  if (vpc::use_petsc_engine(o.engine))  // mpirun -np P vpcontact run CASE (docs/parallel.md)
+    return vpc::parallel_run(c, {o.quiet, o.resume, o.halvings, o.linear_solver, o.plot});
   if (!o.resume.empty()) c.output.directory = o.resume;
   vpc::require(o.halvings >= 0 && o.halvings <= 20, "--retry-halvings must be in [0, 20] (got {})", o.halvings);
   c.solvers.max_halvings = o.halvings;
@@ -237,6 +242,7 @@ void add_case_options(CLI::App* cmd, Options& o) {
 
 int main(int argc, char** argv) {
   vpc::ensure_passive_omp_wait(argv);
+  vpc::keep_freed_memory();
   CLI::App app{"vpcontact: quasistatic frictionless Signorini contact of elastic-viscoplastic bodies with damage\n"
                "(the fully discrete scheme of Fernandez & Sofonea, 2003)"};
   app.require_subcommand(0, 1);
@@ -259,6 +265,8 @@ int main(int argc, char** argv) {
   run_cmd->add_option("--retry-halvings", o.halvings,
                       "retry a failed step as two half steps, at most this many times nested (default 0)");
 
+  run_cmd->add_option("--engine", o.engine, "auto (PETSc under mpirun, if built with it), serial or petsc");
+  run_cmd->add_option("--linear-solver", o.linear_solver, "PETSc engine: mumps (default), cg-gamg or cg-hypre");
   auto* check_cmd = app.add_subcommand("check", "validate a case (parse, mesh, assemble, factorize) without running it");
   add_case_options(check_cmd, o);
   auto* cases_cmd = app.add_subcommand("cases", "list the built-in cases");

@@ -6,6 +6,7 @@
 // with the cached factor of K, solver iterations, factor and model memory and the
 // peak resident memory. bench/run_benchmarks.py repeats runs and tabulates medians.
 #include "cases/builtin_cases.hpp"
+#include "core/malloc_policy.hpp"
 #include "core/omp_wait_policy.hpp"
 #include "io/run_output.hpp"
 #include "scheme/time_stepper.hpp"
@@ -41,6 +42,7 @@ double peak_rss_bytes() {
 
 int main(int argc, char** argv) {
   vpc::ensure_passive_omp_wait(argv);
+  vpc::keep_freed_memory();
   CLI::App app{"vpcontact-bench: time one run of a built-in case (one JSON line on stdout)"};
   std::string name = "paper-2d", outdir = "/tmp/vpcontact-bench";
   int n = 40, steps = 100, vtu_every = -1, repeat_solves = 10;

@@ -3,7 +3,9 @@
 #include "core/error.hpp"
 #include "fem/cell_geometry.hpp"
 
-#include <gmsh.h>
+#include "mesh/gmsh_model.hpp"
+
+#include <dlfcn.h>
 #include <sys/prctl.h>
 #include <sys/resource.h>
 #include <sys/wait.h>
@@ -43,242 +45,7 @@ const char* simplex_name(int d) {
   return names[d];
 }
 
-// ---------------------------------------------------------------------------
-// What vpcontact takes from Gmsh's model of a file. Gmsh fills it in a child
-// process (read_in_child); this process checks it and builds the Mesh.
-
-/// Elements of one Gmsh type.
-struct ElementBlock {
-  int type = 0;
-  std::string type_name;           // Gmsh's name of the type, e.g. "Triangle 6", for messages
-  std::vector<std::size_t> tags;   // element tags
-  std::vector<std::size_t> nodes;  // node tags, element after element
-};
-
-/// A physical group of dimension d − 1 with the elements of its entities.
-struct PhysicalGroup {
-  int tag = 0;
-  std::string name;
-  std::vector<ElementBlock> blocks;
-};
-
-struct GmshModel {
-  int dim = 0;
-  std::vector<ElementBlock> cells;     // the elements of dimension d, one block per type
-  std::vector<std::size_t> node_tags;  // every node of the model
-  std::vector<double> coord;           // x, y, z of each
-  std::vector<PhysicalGroup> groups;
-};
-
-/// The model as bytes, from the child to this process.
-class Writer {
- public:
-  template <typename T>
-  void value(const T& v) {
-    static_assert(std::is_trivially_copyable_v<T>);
-    out_.append(reinterpret_cast<const char*>(&v), sizeof v);
-  }
-  template <typename T>
-  void array(const std::vector<T>& v) {
-    static_assert(std::is_trivially_copyable_v<T>);
-    value(v.size());
-    if (!v.empty()) out_.append(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T));
-  }
-  void string(const std::string& s) {
-    value(s.size());
-    out_ += s;
-  }
-  void block(const ElementBlock& b) {
-    value(b.type);
-    string(b.type_name);
-    array(b.tags);
-    array(b.nodes);
-  }
-  void model(const GmshModel& m) {
-    value(m.dim);
-    value(m.cells.size());
-    for (const auto& b : m.cells) block(b);
-    array(m.node_tags);
-    array(m.coord);
-    value(m.groups.size());
-    for (const auto& g : m.groups) {
-      value(g.tag);
-      string(g.name);
-      value(g.blocks.size());
-      for (const auto& b : g.blocks) block(b);
-    }
-  }
-  const std::string& bytes() const { return out_; }
-
- private:
-  std::string out_;
-};
-
-class Reader {
- public:
-  struct Truncated {};
-  explicit Reader(std::string_view in) : in_(in) {}
-
-  template <typename T>
-  T value() {
-    static_assert(std::is_trivially_copyable_v<T>);
-    T v;
-    take(&v, sizeof v);
-    return v;
-  }
-  template <typename T>
-  std::vector<T> array() {
-    const auto n = value<std::size_t>();
-    if (n > in_.size() / sizeof(T)) throw Truncated{};
-    std::vector<T> v(n);
-    take(v.data(), n * sizeof(T));
-    return v;
-  }
-  std::string string() {
-    const auto n = value<std::size_t>();
-    if (n > in_.size()) throw Truncated{};
-    std::string s(in_.substr(0, n));
-    in_.remove_prefix(n);
-    return s;
-  }
-  ElementBlock block() {
-    ElementBlock b;
-    b.type = value<int>();
-    b.type_name = string();
-    b.tags = array<std::size_t>();
-    b.nodes = array<std::size_t>();
-    return b;
-  }
-  GmshModel model() {
-    GmshModel m;
-    m.dim = value<int>();
-    for (auto n = count(); n > 0; --n) m.cells.push_back(block());
-    m.node_tags = array<std::size_t>();
-    m.coord = array<double>();
-    for (auto n = count(); n > 0; --n) {
-      PhysicalGroup g;
-      g.tag = value<int>();
-      g.name = string();
-      for (auto k = count(); k > 0; --k) g.blocks.push_back(block());
-      m.groups.push_back(std::move(g));
-    }
-    return m;
-  }
-
- private:
-  std::size_t count() {
-    const auto n = value<std::size_t>();
-    if (n > in_.size()) throw Truncated{};  // every item takes at least a byte
-    return n;
-  }
-  void take(void* p, std::size_t n) {
-    if (n > in_.size()) throw Truncated{};
-    if (n > 0) std::memcpy(p, in_.data(), n);
-    in_.remove_prefix(n);
-  }
-  std::string_view in_;
-};
-
-// ---------------------------------------------------------------------------
-// In the child process: Gmsh reads (or meshes) the file.
-
-/// Gmsh's own name of an element type, e.g. "Quadrilateral 4" or "Triangle 6".
-std::string element_name(int type) {
-  std::string name;
-  int dim = 0, order = 0, n_nodes = 0, n_primary = 0;
-  std::vector<double> local;
-  gmsh::model::mesh::getElementProperties(type, name, dim, order, n_nodes, local, n_primary);
-  return name.empty() ? "unknown" : name;
-}
-
-/// One Gmsh API session. Gmsh prints nothing; its messages go to its logger,
-/// and check() turns a logged error into a vpc::Error.
-class GmshSession {
- public:
-  explicit GmshSession(std::string file) : file_(std::move(file)) {
-    // No argc/argv, and no user configuration files: a ~/.gmsh-options must not
-    // change the meshes a run gets.
-    gmsh::initialize(0, nullptr, /*readConfigFiles=*/false);
-    gmsh::option::setNumber("General.Terminal", 0);
-    // With the API's default (2) an error throws a std::string; with 0 errors
-    // are only logged, and check() reports the first.
-    gmsh::option::setNumber("General.AbortOnError", 0);
-    gmsh::logger::start();
-  }
-  GmshSession(const GmshSession&) = delete;
-  GmshSession& operator=(const GmshSession&) = delete;
-  // No destructor: the child process ends without finalizing Gmsh.
-
-  /// Throws vpc::Error with Gmsh's first error message if it has logged any.
-  void check(const char* doing) const {
-    std::vector<std::string> log;
-    gmsh::logger::get(log);  // everything since start(): the first error is the cause
-    const std::string prefix = "Error";
-    std::vector<std::string> errors;
-    for (const auto& line : log)
-      if (line.compare(0, prefix.size(), prefix) == 0) errors.push_back(line);
-    if (errors.empty()) return;
-    std::string first = errors.front();
-    const auto colon = first.find(": ");
-    if (colon != std::string::npos) first.erase(0, colon + 2);
-    fail("{}: Gmsh failed while {}: {}{}", file_, doing, first,
-         errors.size() > 1 ? fmt::format(" (and {} more errors)", errors.size() - 1) : "");
-  }
-
- private:
-  std::string file_;
-};
-
-std::vector<ElementBlock> element_blocks(int dim, int entity) {
-  std::vector<int> types;
-  std::vector<std::vector<std::size_t>> tags, nodes;
-  gmsh::model::mesh::getElements(types, tags, nodes, dim, entity);
-  std::vector<ElementBlock> out;
-  for (std::size_t t = 0; t < types.size(); ++t)
-    out.push_back({types[t], element_name(types[t]), std::move(tags[t]), std::move(nodes[t])});
-  return out;
-}
-
-/// Opens `file` with Gmsh, meshes it if it holds no cells of dimension d, and
-/// takes the cells, the nodes and the physical groups of dimension d − 1.
-GmshModel extract_model(const std::string& file, const GmshOptions& options) {
-  GmshSession session(file);
-  gmsh::open(file);
-  session.check("reading the file");
-
-  GmshModel m;
-  m.dim = options.dim > 0 ? options.dim : gmsh::model::getDimension();
-  if (m.dim < 1) return m;  // reported by build_mesh
-
-  std::vector<int> types;
-  gmsh::model::mesh::getElementTypes(types, m.dim);
-  if (types.empty()) {  // a geometry (.geo, or a .msh without cells of dimension d): mesh it
-    double factor = 1;
-    gmsh::option::getNumber("Mesh.MeshSizeFactor", factor);  // alias: CharacteristicLengthFactor
-    gmsh::option::setNumber("Mesh.MeshSizeFactor", factor * options.size_factor);
-    gmsh::model::mesh::generate(m.dim);
-    session.check("generating the mesh");
-  }
-
-  m.cells = element_blocks(m.dim, -1);
-  std::vector<double> parametric;
-  gmsh::model::mesh::getNodes(m.node_tags, m.coord, parametric, -1, -1, false, false);
-
-  gmsh::vectorpair groups;
-  gmsh::model::getPhysicalGroups(groups, m.dim - 1);
-  for (const auto& [dim, tag] : groups) {
-    PhysicalGroup g;
-    g.tag = tag;
-    gmsh::model::getPhysicalName(dim, tag, g.name);
-    std::vector<int> entities;
-    gmsh::model::getEntitiesForPhysicalGroup(dim, tag, entities);
-    for (int entity : entities)
-      for (auto& b : element_blocks(dim, entity)) g.blocks.push_back(std::move(b));
-    m.groups.push_back(std::move(g));
-  }
-  session.check("reading the mesh");
-  return m;
-}
+using namespace gmsh_model;
 
 void write_all(int fd, const std::string& bytes) {
   std::size_t done = 0;
@@ -375,29 +142,20 @@ GmshModel read_in_child(const std::string& file, const GmshOptions& options) {
     // destructors are the parent's, so the child leaves at once, saying so.
     std::atexit([] { ::_exit(kGmshCalledExit); });
     limit_memory(budget);
-    Writer w;
-    std::string error;
-    try {
-      w.value('M');
-      w.model(extract_model(file, options));
-    } catch (const Error& e) {
-      error = e.what();
-    } catch (const std::string& what) {  // Gmsh throws std::string, not std::exception
-      error = fmt::format("{}: Gmsh failed: {}", file, what);
-    } catch (const std::bad_alloc&) {
-      error = fmt::format("{}: Gmsh ran out of memory while reading the file ({}); the file is probably malformed",
-                          file, budget > 0 ? fmt::format("limit {} MiB", budget >> 20) : "no limit");
-    } catch (const std::exception& e) {
-      error = fmt::format("{}: Gmsh failed: {}", file, e.what());
-    } catch (...) {
-      error = fmt::format("{}: Gmsh failed with an unknown exception", file);
-    }
-    if (!error.empty()) {
-      w = Writer();
+    // Gmsh's library is loaded here only (gmsh_module.cpp): the parent never pays for it.
+    const char* module = std::getenv("VPCONTACT_GMSH_MODULE");
+    if (module == nullptr || *module == '\0') module = VPC_GMSH_MODULE;
+    void* handle = ::dlopen(module, RTLD_NOW | RTLD_LOCAL);
+    void* entry = handle ? ::dlsym(handle, kWriteModelSymbol) : nullptr;
+    if (entry == nullptr) {
+      Writer w;
       w.value('E');
-      w.string(error);
+      w.string(fmt::format("{}: cannot load vpcontact's Gmsh module '{}': {} (set VPCONTACT_GMSH_MODULE to its path)",
+                           file, module, ::dlerror()));
+      write_all(fds[1], w.bytes());
+      ::_exit(0);
     }
-    write_all(fds[1], w.bytes());
+    reinterpret_cast<WriteModelFunction*>(entry)(file.c_str(), options.dim, options.size_factor, budget, fds[1]);
     ::_exit(0);  // no exit handlers: they belong to the parent
   }
   ::close(fds[1]);

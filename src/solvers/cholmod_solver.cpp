@@ -14,6 +14,18 @@ namespace {
 class Llt : public Eigen::CholmodSupernodalLLT<SparseMatrix, Eigen::Lower> {
  public:
   double rcond() { return cholmod_rcond(m_cholmodFactor, &cholmod()); }
+  /// X = op(B) for one of CHOLMOD's partial solves (CHOLMOD_P, _L, _Lt, _Pt).
+  Eigen::MatrixXd partial_solve(int sys, const Eigen::MatrixXd& B) const {
+    Eigen::MatrixXd in = B;  // CHOLMOD's dense view needs a mutable matrix
+    cholmod_dense b = Eigen::viewAsCholmod(in);
+    cholmod_common& c = const_cast<Llt*>(this)->cholmod();
+    cholmod_dense* x = cholmod_solve(sys, m_cholmodFactor, &b, &c);
+    require(x != nullptr, "CHOLMOD: a partial solve failed (status {})", c.status);
+    Eigen::MatrixXd out = Eigen::Map<Eigen::MatrixXd>(static_cast<double*>(x->x), B.rows(), B.cols());
+    cholmod_free_dense(&x, &c);
+    return out;
+  }
+  bool is_ll() const { return m_cholmodFactor && m_cholmodFactor->is_ll; }
   /// Values plus the integer structure of the factor.
   double bytes() const {
     const cholmod_factor* L = m_cholmodFactor;
@@ -41,6 +53,8 @@ class CholmodSolver final : public LinearSolver {
     require(llt_.info() == Eigen::Success && llt_.rcond() > kMinRcond,
             "{}: the matrix is not positive definite (is the body clamped on a non-empty part Γ1?)",
             what);
+    // The supernodal factor is always LLᵀ; forward()/backward() rely on it.
+    require(llt_.is_ll(), "{}: CHOLMOD returned an LDLᵀ factor where LLᵀ was asked for", what);
     ++n_factorizations_;
   }
   Vector solve(const Vector& b) const override {
@@ -50,6 +64,14 @@ class CholmodSolver final : public LinearSolver {
   Eigen::MatrixXd solve(const Eigen::MatrixXd& B) const override {
     if (n_ == 0) return Eigen::MatrixXd(0, B.cols());
     return llt_.solve(B);
+  }
+  Eigen::MatrixXd forward(const Eigen::MatrixXd& B) const override {
+    if (n_ == 0) return Eigen::MatrixXd(0, B.cols());
+    return llt_.partial_solve(CHOLMOD_L, llt_.partial_solve(CHOLMOD_P, B));
+  }
+  Eigen::MatrixXd backward(const Eigen::MatrixXd& Y) const override {
+    if (n_ == 0) return Eigen::MatrixXd(0, Y.cols());
+    return llt_.partial_solve(CHOLMOD_Pt, llt_.partial_solve(CHOLMOD_Lt, Y));
   }
   int size() const override { return n_; }
   int n_factorizations() const override { return n_factorizations_; }

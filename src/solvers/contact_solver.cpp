@@ -48,23 +48,36 @@ void finish_report(ContactReport& rep, const SparseMatrix& K, const SparseMatrix
 class ActiveSetContactSolver final : public ContactSolver {
  public:
   ActiveSetContactSolver(std::shared_ptr<const SparseMatrix> K, std::shared_ptr<const LinearSolver> factor,
-                         const SparseMatrix& N)
+                         const SparseMatrix& N, double max_cached_share)
       : K_(std::move(K)), N_(N), factor_(std::move(factor)) {
-    // S = N K⁻¹ Nᵀ, formed once in blocks of right-hand sides (K and N never change).
+    // With K = PᵀLLᵀP: Y = L⁻¹PNᵀ (the forward half of K⁻¹Nᵀ) and S = N K⁻¹Nᵀ = YᵀY,
+    // formed once (K and N never change). A column of Y is nonzero only on the
+    // elimination-tree path of its contact dof, so Y is small and kept sparse.
     const int m = static_cast<int>(N.rows());
     const SparseMatrix Nt = N.transpose();
-    Eigen::MatrixXd S(m, m);
-    // W = K⁻¹Nᵀ is kept when it is small enough: then u = u_free − Wλ and a step
-    // costs one solve instead of two.
-    const bool keep_w = static_cast<double>(N.cols()) * m * sizeof(double) <=
-                        std::min(kMaxWBytes, kMaxWFactorShare * factor_->factor_bytes());
-    if (keep_w) W_.resize(N.cols(), m);
-    const int block = 16;  // dense blocks of right-hand sides: 2 × 16 columns of n doubles at a time
-    for (int j0 = 0; j0 < m; j0 += block) {
+    const double max_bytes = std::min(kMaxYBytes, max_cached_share * factor_->factor_bytes());
+    std::vector<Eigen::Triplet<double>> t;
+    bool keep_y = max_cached_share > 0;
+    const int block = 16;  // dense blocks of right-hand sides: 16 columns of n doubles at a time
+    for (int j0 = 0; j0 < m && keep_y; j0 += block) {
       const int nb = std::min(block, m - j0);
-      const Eigen::MatrixXd W = factor_->solve(Eigen::MatrixXd(Nt.middleCols(j0, nb)));
-      S.middleCols(j0, nb) = N * W;
-      if (keep_w) W_.middleCols(j0, nb) = W;
+      const Eigen::MatrixXd Yb = factor_->forward(Eigen::MatrixXd(Nt.middleCols(j0, nb)));
+      for (int j = 0; j < nb; ++j)
+        for (Eigen::Index i = 0; i < Yb.rows(); ++i)
+          if (Yb(i, j) != 0) t.emplace_back(static_cast<int>(i), j0 + j, Yb(i, j));
+      keep_y = 12.0 * static_cast<double>(t.size()) <= max_bytes;  // value + row index per entry
+    }
+    Eigen::MatrixXd S(m, m);
+    if (keep_y) {
+      Y_.resize(N.cols(), m);
+      Y_.setFromTriplets(t.begin(), t.end());
+      S = Eigen::MatrixXd(SparseMatrix(Y_.transpose() * Y_));
+    } else {  // Y too large: S from full solves; a step then costs two solves
+      Y_ = SparseMatrix();
+      for (int j0 = 0; j0 < m; j0 += block) {
+        const int nb = std::min(block, m - j0);
+        S.middleCols(j0, nb) = N * factor_->solve(Eigen::MatrixXd(Nt.middleCols(j0, nb)));
+      }
     }
     S = 0.5 * (S + S.transpose()).eval();
     S_ = std::make_unique<DenseBoxQpOperator>(std::move(S));
@@ -72,16 +85,20 @@ class ActiveSetContactSolver final : public ContactSolver {
 
   ContactReport solve(const Vector& F, const Vector& g, Vector& u, Vector& lambda) override {
     const int m = static_cast<int>(N_.rows());
-    const Vector u_free = factor_->solve(F);  // the solution without contact
-    // Dual QP: min ½λᵀSλ − (N u_free − g)ᵀλ, λ ≥ 0.
-    const Vector b = N_ * u_free - g;
-    const Vector lo = Vector::Zero(m), hi = Vector::Constant(m, std::numeric_limits<double>::infinity());
     if (lambda.size() != m) lambda = Vector::Zero(m);
-    const BoxQpResult r = solve_box_qp(*S_, b, lo, hi, lambda);
-    if (W_.size() > 0)
-      u = u_free - W_ * lambda;
-    else
+    const Vector lo = Vector::Zero(m), hi = Vector::Constant(m, std::numeric_limits<double>::infinity());
+    BoxQpResult r;
+    if (Y_.cols() == m) {
+      // One solve in two halves: y = L⁻¹PF; the dual QP min ½λᵀSλ − (N K⁻¹F − g)ᵀλ,
+      // λ ≥ 0, with N K⁻¹F = Yᵀy; then u = PᵀL⁻ᵀ(y − Yλ) = K⁻¹(F − Nᵀλ).
+      const Vector y = factor_->forward(F);
+      r = solve_box_qp(*S_, Vector(Y_.transpose() * y - g), lo, hi, lambda);
+      u = factor_->backward(Vector(y - Y_ * lambda));
+    } else {
+      const Vector u_free = factor_->solve(F);  // the solution without contact
+      r = solve_box_qp(*S_, Vector(N_ * u_free - g), lo, hi, lambda);
       u = factor_->solve(Vector(F - N_.transpose() * lambda));
+    }
     ContactReport rep;
     rep.converged = r.converged;
     rep.iterations = r.iterations;
@@ -89,15 +106,16 @@ class ActiveSetContactSolver final : public ContactSolver {
     return rep;
   }
   std::string name() const override { return "active-set"; }
+  /// Whether Y is kept (one solve per step).
+  bool caches_y() const { return Y_.cols() > 0; }
 
  private:
   std::shared_ptr<const SparseMatrix> K_;  // for the reported residuals
   SparseMatrix N_;
   std::shared_ptr<const LinearSolver> factor_;
   std::unique_ptr<DenseBoxQpOperator> S_;
-  Eigen::MatrixXd W_;  // K⁻¹Nᵀ, or empty when too large
-  static constexpr double kMaxWBytes = 256.0 * 1024 * 1024;
-  static constexpr double kMaxWFactorShare = 0.5;  // W costs at most half the factor of K
+  SparseMatrix Y_;  // L⁻¹PNᵀ, or empty when too large
+  static constexpr double kMaxYBytes = 256.0 * 1024 * 1024;
 };
 
 /// The iteration contracts at the rate |ωc − 1| / (ωc + 1) along a constraint of
@@ -156,7 +174,8 @@ std::unique_ptr<ContactSolver> make_contact_solver(const std::string& name, std:
   const SparseMatrix& K = *K_ptr;
   require(N.rows() > 0, "contact solver: there are no contact unknowns (is the contact part empty?)");
   require(K_factor != nullptr && K_factor->size() == K.rows(), "contact solver: needs the factor of K");
-  if (name == "active-set") return std::make_unique<ActiveSetContactSolver>(std::move(K_ptr), std::move(K_factor), N);
+  if (name == "active-set") return std::make_unique<ActiveSetContactSolver>(std::move(K_ptr), std::move(K_factor), N,
+                                                                            opt.max_cached_share);
   if (name == "penalty-duality") return std::make_unique<PenaltyDualityContactSolver>(std::move(K_ptr), *K_factor, N, opt);
   fail("unknown contact solver '{}'; expected active-set or penalty-duality", name);
 }

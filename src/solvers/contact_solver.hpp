@@ -49,11 +49,15 @@ struct ContactSolverOptions {
   double tolerance = 1e-12;    // penalty–duality stopping tolerance
   int max_iterations = 200000; // penalty–duality; the active-set method stops far earlier
   double omega = 0;            // penalty–duality ω; 0: 1 / (mean compliance N_i K⁻¹ N_iᵀ)
+  /// Active set: Y = L⁻¹PNᵀ is kept (a step then costs one solve) while it takes at
+  /// most this share of the memory of K's factor (and 256 MiB); else two solves a step.
+  double max_cached_share = 0.5;
 };
 
 /// K and N are copied; K_factor must be the factor of K.
 /// "active-set": primal–dual active set on the contact unknowns (the dual QP with
-/// S = N K⁻¹ Nᵀ, formed once with the cached factor of K); two solves with K per step.
+/// S = N K⁻¹ Nᵀ = YᵀY with Y = L⁻¹PNᵀ, formed once with the cached factor
+/// K = PᵀLLᵀP); one solve with K per step, as a forward and a backward half.
 /// "penalty-duality": the paper's Bermúdez–Moreno iteration on u (cross-check).
 std::unique_ptr<ContactSolver> make_contact_solver(const std::string& name, const SparseMatrix& K,
                                                    std::shared_ptr<const LinearSolver> K_factor,

@@ -21,6 +21,11 @@ class LinearSolver {
   virtual Vector solve(const Vector& b) const = 0;
   /// X = A⁻¹ B for a block of right-hand sides.
   virtual Eigen::MatrixXd solve(const Eigen::MatrixXd& B) const = 0;
+  /// The two halves of a solve with the Cholesky factor A = Pᵀ L Lᵀ P:
+  /// forward(B) = L⁻¹ P B and backward(Y) = Pᵀ L⁻ᵀ Y, so A⁻¹ = backward ∘ forward
+  /// and B₁ᵀ A⁻¹ B₂ = forward(B₁)ᵀ forward(B₂). Each costs half a solve.
+  virtual Eigen::MatrixXd forward(const Eigen::MatrixXd& B) const = 0;
+  virtual Eigen::MatrixXd backward(const Eigen::MatrixXd& Y) const = 0;
   virtual int size() const = 0;
   /// Number of factorizations done so far (for reports and tests).
   virtual int n_factorizations() const = 0;

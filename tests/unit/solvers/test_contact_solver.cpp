@@ -184,6 +184,42 @@ TEST(ContactSolver, ElasticBlockActiveSetAndPenaltyDualityAgree) {
   EXPECT_EQ(lambda[0][m - 1], 0.0);
 }
 
+// The active-set method keeps Y = L⁻¹PNᵀ (one solve per step, in two halves)
+// unless it is too large; without it a step costs two full solves. Both give the
+// same contact solution to round-off.
+TEST(ContactSolver, ActiveSetWithAndWithoutCachedForwardSolvesAgree) {
+  const Block b = make_block();
+  const auto factor = factor_of(b.K);
+  ContactSolverOptions uncached;
+  uncached.max_cached_share = 0;
+  Vector u[2], lambda[2];
+  int k = 0;
+  for (const ContactSolverOptions& opt : {ContactSolverOptions{}, uncached}) {
+    auto solver = make_contact_solver("active-set", b.K, factor, b.N, opt);
+    const ContactReport rep = solver->solve(b.F, b.g, u[k], lambda[k]);
+    ASSERT_TRUE(rep.converged);
+    EXPECT_LE(rep.residuals.max(), 1e-11);
+    ++k;
+  }
+  EXPECT_GT(lambda[0].maxCoeff(), 0.0);
+  EXPECT_LE((u[1] - u[0]).cwiseAbs().maxCoeff(), 1e-12 * u[0].cwiseAbs().maxCoeff());
+  EXPECT_LE((lambda[1] - lambda[0]).cwiseAbs().maxCoeff(), 1e-10 * lambda[0].cwiseAbs().maxCoeff());
+}
+
+// The two halves of a CHOLMOD solve: A⁻¹ = backward ∘ forward, and
+// B₁ᵀA⁻¹B₂ = forward(B₁)ᵀ forward(B₂) (what S = N K⁻¹Nᵀ = YᵀY relies on).
+TEST(LinearSolver, ForwardAndBackwardHalvesComposeToTheSolve) {
+  const Block b = make_block();
+  const auto factor = factor_of(b.K);
+  const Eigen::MatrixXd B = Eigen::MatrixXd::Random(b.K.rows(), 3);
+  const Eigen::MatrixXd X = factor->solve(B);
+  EXPECT_LE((factor->backward(factor->forward(B)) - X).norm(), 1e-12 * X.norm());
+  const Eigen::MatrixXd Y = factor->forward(B);
+  const Eigen::MatrixXd G = B.transpose() * X;
+  EXPECT_LE((Y.transpose() * Y - G).norm(), 1e-12 * G.norm());
+  EXPECT_LE((b.K * X - B).norm(), 1e-10 * B.norm());
+}
+
 // Warm start: solving again from the returned λ does no reduced solve at all
 // (its dual box QP is already at KKT), and gives the same u and λ.
 TEST(ContactSolver, ActiveSetWarmStartStopsAtOnce) {

@@ -1,0 +1,14 @@
+#include "core/malloc_policy.hpp"
+
+#include <malloc.h>
+
+namespace vpc {
+
+void keep_freed_memory() {
+  // Blocks up to 32 MiB (glibc's largest mmap threshold) come from the heap,
+  // and the heap's top is returned to the kernel only beyond 1 GiB of free space.
+  mallopt(M_MMAP_THRESHOLD, 32 * 1024 * 1024);
+  mallopt(M_TRIM_THRESHOLD, 1024 * 1024 * 1024);
+}
+
+}  // namespace vpc
