@@ -1,1 +1,345 @@
-// placeholder
+#include "parallel/parallel_output.hpp"
+
+#include "io/atomic_file.hpp"
+#include "io/vtu_writer.hpp"
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+namespace vpc {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+/// Components of S_d in the order written (as RunOutput): d = 1: 11; d = 2: 11, 22, 12; d = 3: all six.
+std::vector<int> tensor_components(int d) {
+  if (d == 1) return {0};
+  if (d == 2) return {0, 1, 5};
+  return {0, 1, 2, 3, 4, 5};
+}
+const char* component_name(int i) {
+  static const char* n[6] = {"11", "22", "33", "23", "13", "12"};
+  return n[i];
+}
+
+VtuField tensor_field(const std::string& name, const std::vector<SymTensor>& t) {
+  VtuField f{name, 6, {}};
+  f.values.reserve(t.size() * 6);
+  for (const auto& s : t) {
+    const double v[6] = {s[0], s[1], s[2], s[5], s[3], s[4]};  // VTK: XX, YY, ZZ, XY, YZ, XZ
+    f.values.insert(f.values.end(), v, v + 6);
+  }
+  return f;
+}
+
+/// The .pvtu file that assembles the ranks' pieces.
+void write_pvtu(const fs::path& path, const std::vector<VtuField>& point_data, const std::vector<VtuField>& cell_data,
+                const std::vector<std::string>& pieces) {
+  std::string xml = "<?xml version=\"1.0\"?>\n";
+  xml += "<VTKFile type=\"PUnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n";
+  xml += "  <PUnstructuredGrid GhostLevel=\"0\">\n    <PPointData>\n";
+  for (const auto& f : point_data)
+    xml += fmt::format("      <PDataArray type=\"Float64\" Name=\"{}\" NumberOfComponents=\"{}\"/>\n", f.name,
+                       f.n_components);
+  xml += "    </PPointData>\n    <PCellData>\n";
+  for (const auto& f : cell_data)
+    xml += fmt::format("      <PDataArray type=\"Float64\" Name=\"{}\" NumberOfComponents=\"{}\"/>\n", f.name,
+                       f.n_components);
+  xml += "    </PCellData>\n    <PPoints>\n      <PDataArray type=\"Float64\" NumberOfComponents=\"3\"/>\n";
+  xml += "    </PPoints>\n";
+  for (const auto& p : pieces) xml += fmt::format("    <Piece Source=\"{}\"/>\n", p);
+  xml += "  </PUnstructuredGrid>\n</VTKFile>\n";
+  write_file_atomic(path, xml);
+}
+
+/// Rank 0 learns whether a collective file operation failed anywhere, and every
+/// rank throws the same error (no rank is left waiting).
+void check_everywhere(MPI_Comm comm, const std::string& error) {
+  const bool ok = allreduce_and(comm, error.empty());
+  if (ok) return;
+  require(error.empty(), "{}", error);
+  fail("writing the output failed on another rank (see its message)");
+}
+
+}  // namespace
+
+ParallelOutput::ParallelOutput(const DistributedTimeStepper& stepper, OutputOptions options, std::string linear_solver)
+    : stepper_(stepper), options_(std::move(options)), linear_solver_(std::move(linear_solver)),
+      comm_(stepper.part().comm), rank_(comm_rank(comm_)), size_(comm_size(comm_)) {
+  if (options_.directory.empty()) options_.directory = fs::path("output") / stepper_.problem().name;
+  for (const auto& f : options_.fields)
+    require(std::find(OutputOptions::field_names().begin(), OutputOptions::field_names().end(), f) !=
+                OutputOptions::field_names().end(),
+            "output: unknown field '{}'; expected one of: {}", f, fmt::join(OutputOptions::field_names(), ", "));
+  require(options_.every >= 0, "output: 'every' must be >= 0 (got {})", options_.every);
+  std::string error;
+  if (rank_ == 0) {
+    std::error_code ec;
+    fs::create_directories(options_.directory, ec);
+    if (ec || !fs::is_directory(options_.directory))
+      error = fmt::format("cannot create output directory '{}'", options_.directory.string());
+  }
+  check_everywhere(comm_, error);
+  // A probe belongs to the rank whose cell contains it best (largest smallest
+  // barycentric coordinate; ties: the lowest cell number of the mesh as read, as
+  // the serial locate_point chooses).
+  const Mesh& mesh = stepper_.part().mesh;
+  for (const auto& x : options_.probes) {
+    Probe p{x, false, {}};
+    double score = -INFINITY;
+    int cell = std::numeric_limits<int>::max();
+    if (mesh.n_cells() > 0) {
+      try {
+        p.where = locate_point(mesh, x);
+        score = *std::min_element(p.where.lambda.begin(), p.where.lambda.begin() + mesh.dim() + 1);
+        cell = stepper_.part().original_cell[p.where.cell];
+      } catch (const Error&) {
+      }
+    }
+    const double best = allreduce_max(comm_, score);
+    require(best > -1e-9, "probe point ({}, {}, {}) lies outside the mesh", x[0], x[1], x[2]);
+    int mine = score == best ? cell : std::numeric_limits<int>::max(), winner = 0;
+    MPI_Allreduce(&mine, &winner, 1, MPI_INT, MPI_MIN, comm_);
+    p.mine = score == best && cell == winner;
+    probes_.push_back(p);
+  }
+}
+
+void ParallelOutput::start() {
+  const int d = stepper_.part().mesh.dim();
+  if (rank_ == 0) {
+    history_.open(options_.directory / "history.csv", std::ios::trunc);
+    probe_csv_.open(options_.directory / "probes.csv", std::ios::trunc);
+  }
+  std::string error;
+  if (rank_ == 0 && (!history_.good() || !probe_csv_.good()))
+    error = fmt::format("cannot write history.csv and probes.csv in '{}'", options_.directory.string());
+  check_everywhere(comm_, error);
+  if (rank_ == 0) {
+    history_ << "step,t,n_active,total_contact_force,contact_iterations,contact_equilibrium,"
+                "contact_penetration,contact_negative_force,contact_complementarity,damage_iterations,"
+                "damage_kkt_residual,beta_min,beta_max,n_beta_zero,n_beta_one,max_von_mises,ok\n";
+    history_.flush();
+    probe_csv_ << "step,t";
+    static const char* axis = "xyz";
+    for (size_t p = 0; p < probes_.size(); ++p) {
+      for (int i = 0; i < d; ++i) probe_csv_ << fmt::format(",p{}_u{}", p, axis[i]);
+      for (int c : tensor_components(d)) probe_csv_ << fmt::format(",p{}_sigma{}", p, component_name(c));
+      probe_csv_ << fmt::format(",p{}_von_mises,p{}_beta", p, p);
+    }
+    probe_csv_ << "\n";
+  }
+  write_probe_row();
+  write_fields();
+}
+
+void ParallelOutput::write_probe_row() {
+  const auto& part = stepper_.part();
+  const Mesh& mesh = part.mesh;
+  const int d = mesh.dim();
+  const auto comps = tensor_components(d);
+  const int per_probe = d + static_cast<int>(comps.size()) + 2;
+  // The owner of each probe fills its values, the others zeros: the sum is exact.
+  std::vector<double> values(probes_.size() * per_probe, 0.0);
+  const Vector u = stepper_.local_u(), beta = stepper_.local_beta();
+  const auto& sigma = stepper_.state().sigma;
+  for (size_t k = 0; k < probes_.size(); ++k) {
+    if (!probes_[k].mine) continue;
+    const auto& p = probes_[k].where;
+    const int* v = mesh.cell(p.cell);
+    double* out = &values[k * per_probe];
+    for (int i = 0; i < d; ++i) {
+      double s = 0;
+      for (int a = 0; a <= d; ++a) s += p.lambda[a] * u[v[a] * d + i];
+      *out++ = s;
+    }
+    for (int c : comps) *out++ = sigma[p.cell][c];
+    *out++ = sigma[p.cell].von_mises();
+    double b = 0;
+    for (int a = 0; a <= d; ++a) b += p.lambda[a] * beta[v[a]];
+    *out++ = b;
+  }
+  if (rank_ == 0)
+    MPI_Reduce(MPI_IN_PLACE, values.data(), static_cast<int>(values.size()), MPI_DOUBLE, MPI_SUM, 0, comm_);
+  else
+    MPI_Reduce(values.data(), nullptr, static_cast<int>(values.size()), MPI_DOUBLE, MPI_SUM, 0, comm_);
+  if (rank_ != 0) return;
+  const auto& s = stepper_.state();
+  probe_csv_ << fmt::format("{},{:.17g}", s.n, s.t);
+  for (double v : values) probe_csv_ << fmt::format(",{:.17g}", v);
+  probe_csv_ << "\n";
+  probe_csv_.flush();
+}
+
+void ParallelOutput::write_fields() {
+  if (!options_.vtu) return;
+  const auto& part = stepper_.part();
+  const Mesh& mesh = part.mesh;
+  const auto& s = stepper_.state();
+  const int d = mesh.dim(), n_nodes = mesh.n_nodes();
+  const Vector u_local = stepper_.local_u(), beta_local = stepper_.local_beta();
+  VtuField u{"displacement", 3, std::vector<double>(static_cast<size_t>(n_nodes) * 3, 0.0)};
+  for (int i = 0; i < n_nodes; ++i)
+    for (int c = 0; c < d; ++c) u.values[i * 3 + c] = u_local[i * d + c];
+  VtuField beta{"damage", 1, std::vector<double>(beta_local.data(), beta_local.data() + n_nodes)};
+  // Contact force on Γ3: the force the foundation exerts, −λ ν at each contact node.
+  VtuField force{"contact_force", 3, std::vector<double>(static_cast<size_t>(n_nodes) * 3, 0.0)};
+  for (const auto& c : part.contact)
+    for (int j = 0; j < 3; ++j) force.values[c.local_node * 3 + j] = -s.lambda[c.row] * c.direction[j];
+  VtuField vm{"von_mises", 1, {}};
+  for (const auto& t : s.sigma) vm.values.push_back(t.von_mises());
+  VtuField rank{"rank", 1, std::vector<double>(mesh.n_cells(), static_cast<double>(rank_))};
+  std::vector<VtuField> point_data, cell_data;
+  for (auto* f : {&u, &beta, &force})
+    if (wants(f->name)) point_data.push_back(std::move(*f));
+  if (wants("stress")) cell_data.push_back(tensor_field("stress", s.sigma));
+  if (wants("strain")) cell_data.push_back(tensor_field("strain", s.eps));
+  if (wants("von_mises")) cell_data.push_back(std::move(vm));
+  if (wants("history_z")) cell_data.push_back(tensor_field("history_z", s.z));
+  cell_data.push_back(std::move(rank));  // the partition, for a look at the distribution in ParaView
+  const std::string stem = fmt::format("solution_{:05d}", s.n);
+  std::string error;
+  try {
+    write_vtu(options_.directory / fmt::format("{}_p{:04d}.vtu", stem, rank_), mesh, point_data, cell_data);
+  } catch (const std::exception& e) {
+    error = e.what();
+  }
+  check_everywhere(comm_, error);
+  if (rank_ == 0) {
+    std::vector<std::string> pieces;
+    for (int r = 0; r < size_; ++r) pieces.push_back(fmt::format("{}_p{:04d}.vtu", stem, r));
+    write_pvtu(options_.directory / (stem + ".pvtu"), point_data, cell_data, pieces);
+    pvd_.emplace_back(s.t, stem + ".pvtu");
+    write_pvd(options_.directory / "solution.pvd", pvd_);
+  }
+}
+
+void ParallelOutput::record(const StepReport& r) {
+  const auto t0 = std::chrono::steady_clock::now();
+  if (rank_ == 0) {
+    const auto& c = r.contact;
+    history_ << fmt::format(
+        "{},{:.17g},{},{:.17g},{},{:.3e},{:.3e},{:.3e},{:.3e},{},{:.3e},{:.17g},{:.17g},{},{},{:.17g},{}\n", r.n, r.t,
+        c.n_active, c.total_force, c.iterations, c.residuals.equilibrium, c.residuals.penetration,
+        c.residuals.negative_force, c.residuals.complementarity, r.damage.iterations, r.damage.kkt_residual,
+        r.beta_min, r.beta_max, r.damage.n_lower, r.damage.n_upper, r.max_von_mises, r.ok ? 1 : 0);
+    history_.flush();
+  }
+  write_probe_row();
+  totals_.add(r);
+  if (is_output_step(r.n)) write_fields();
+  totals_.seconds_output += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+bool ParallelOutput::wants(const std::string& field) const {
+  return options_.fields.empty() ||
+         std::find(options_.fields.begin(), options_.fields.end(), field) != options_.fields.end();
+}
+
+bool ParallelOutput::is_output_step(int n) const {
+  const Problem& p = stepper_.problem();
+  if (n == p.n_steps) return true;
+  if (!options_.times.empty()) {
+    const double k = p.step();
+    for (double t : options_.times)
+      if (std::clamp(static_cast<int>(std::lround(t / k - 1e-9)), 0, p.n_steps) == n) return true;
+    return false;
+  }
+  return options_.every > 0 && n % options_.every == 0;
+}
+
+void ParallelOutput::finish(double wall_seconds) {
+  const auto& part = stepper_.part();
+  const Mesh& mesh = part.mesh;
+  const Problem& p = stepper_.problem();
+  const auto& s = stepper_.state();
+  const RunTotals& t = totals_;
+  double hmin = INFINITY, hmax = 0;
+  if (mesh.n_cells() > 0) std::tie(hmin, hmax) = mesh.size_range();
+  hmin = allreduce_min(comm_, hmin);
+  hmax = allreduce_max(comm_, hmax);
+  double max_vm = 0;
+  for (const auto& x : s.sigma) max_vm = std::max(max_vm, x.von_mises());
+  max_vm = allreduce_max(comm_, max_vm);
+  // β min over the owned nodes, its location from the rank that has it.
+  const Vector beta = stepper_.local_beta();
+  struct {
+    double value;
+    int rank;
+  } lo{INFINITY, rank_}, glo;
+  int at = -1;
+  double bmax = -INFINITY;
+  for (int i = 0; i < part.n_owned_nodes; ++i) {
+    if (beta[i] < lo.value) {
+      lo.value = beta[i];
+      at = i;
+    }
+    bmax = std::max(bmax, beta[i]);
+  }
+  MPI_Allreduce(&lo, &glo, 1, MPI_DOUBLE_INT, MPI_MINLOC, comm_);
+  bmax = allreduce_max(comm_, bmax);
+  Point xb{0, 0, 0};
+  if (rank_ == glo.rank && at >= 0) xb = mesh.node(at);
+  MPI_Bcast(xb.data(), 3, MPI_DOUBLE, glo.rank, comm_);
+  const int n_factorizations = stepper_.n_factorizations();
+  if (rank_ != 0) return;
+  std::string probes = "[";
+  for (size_t i = 0; i < probes_.size(); ++i)
+    probes += fmt::format("{}[{:.17g}, {:.17g}, {:.17g}]", i ? ", " : "", probes_[i].x[0], probes_[i].x[1],
+                          probes_[i].x[2]);
+  probes += "]";
+  const auto& st = stepper_.setup_timing();
+  const std::string json = fmt::format(
+      R"({{
+  "case": "{}",
+  "engine": "petsc",
+  "ranks": {},
+  "linear_solver": "{}",
+  "dimension": {},
+  "mesh": {{"nodes": {}, "cells": {}, "h_min": {:.17g}, "h_max": {:.17g}}},
+  "unknowns": {{"displacement_free": {}, "damage": {}, "contact_nodes": {}}},
+  "elasticity": "{}",
+  "viscoplastic_law": "{}",
+  "damage_source": "{}",
+  "kappa": {:.17g},
+  "final_time": {:.17g},
+  "steps": {},
+  "time_step": {:.17g},
+  "final": {{
+    "t": {:.17g},
+    "total_contact_force": {:.17g},
+    "active_contact_nodes": {},
+    "max_von_mises": {:.17g},
+    "beta_min": {:.17g},
+    "beta_min_location": [{:.17g}, {:.17g}, {:.17g}],
+    "beta_max": {:.17g}
+  }},
+  "checks": {{
+    "all_steps_ok": {},
+    "max_contact_residual": {:.3e},
+    "max_damage_kkt_residual": {:.3e},
+    "max_contact_iterations": {},
+    "max_damage_iterations": {}
+  }},
+  "probes": {},
+  "timing_seconds": {{"wall": {:.6f}, "setup": {:.6f}, "sources": {:.6f}, "damage": {:.6f}, "contact": {:.6f}, "stress": {:.6f}, "output": {:.6f}}},
+  "setup_seconds": {{"assembly": {:.6f}, "factor_K": {:.6f}, "factor_H": {:.6f}, "contact": {:.6f}}},
+  "factorizations": {}
+}}
+)",
+      p.name, size_, linear_solver_, mesh.dim(), part.n_global_nodes, part.n_global_cells, hmin, hmax,
+      part.n_global_dofs, part.n_global_nodes, part.n_contact, p.elasticity.name(), p.law->describe(),
+      p.source->describe(), p.kappa, p.final_time, s.n, p.step(), s.t, s.lambda.sum(),
+      (s.lambda.array() > 0).count(), max_vm, glo.value, xb[0], xb[1], xb[2], bmax, t.all_ok ? "true" : "false",
+      t.max_contact_residual, t.max_damage_residual, t.max_contact_iterations, t.max_damage_iterations, probes,
+      wall_seconds, st.total, t.seconds_sources, t.seconds_damage, t.seconds_contact, t.seconds_stress,
+      t.seconds_output, st.assembly, st.factor_K, st.factor_H, st.contact, n_factorizations);
+  write_file_atomic(options_.directory / "summary.json", json);
+}
+
+}  // namespace vpc
