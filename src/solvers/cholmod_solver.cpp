@@ -2,6 +2,7 @@
 #include "solvers/linear_solver.hpp"
 #include "solvers/blas_threads.hpp"
 
+#include <algorithm>
 #include <thread>
 
 #include <Eigen/CholmodSupport>
@@ -10,21 +11,34 @@ namespace vpc {
 
 namespace {
 
-/// Eigen keeps CHOLMOD's factor protected; the reciprocal condition estimate needs it.
+/// Eigen keeps CHOLMOD's factor protected; the condition estimate, the two halves
+/// of a solve and the memory report need it.
 class Llt : public Eigen::CholmodSupernodalLLT<SparseMatrix, Eigen::Lower> {
  public:
   double rcond() { return cholmod_rcond(m_cholmodFactor, &cholmod()); }
-  /// X = op(B) for one of CHOLMOD's partial solves (CHOLMOD_P, _L, _Lt, _Pt).
-  Eigen::MatrixXd partial_solve(int sys, const Eigen::MatrixXd& B) const {
-    Eigen::MatrixXd in = B;  // CHOLMOD's dense view needs a mutable matrix
-    cholmod_dense b = Eigen::viewAsCholmod(in);
-    cholmod_common& c = const_cast<Llt*>(this)->cholmod();
-    cholmod_dense* x = cholmod_solve(sys, m_cholmodFactor, &b, &c);
-    require(x != nullptr, "CHOLMOD: a partial solve failed (status {})", c.status);
-    Eigen::MatrixXd out = Eigen::Map<Eigen::MatrixXd>(static_cast<double*>(x->x), B.rows(), B.cols());
-    cholmod_free_dense(&x, &c);
+  /// The two halves of a solve with A = PᵀLLᵀP. The permutation is applied
+  /// here (k-th entry of PB = row Perm[k] of B), so that only one dense block
+  /// besides the caller's and CHOLMOD's result is alive at a time.
+  Eigen::MatrixXd forward(const Eigen::MatrixXd& B) const {
+    const int* perm = static_cast<const int*>(m_cholmodFactor->Perm);
+    Eigen::MatrixXd Y(B.rows(), B.cols());
+    for (Eigen::Index j = 0; j < B.cols(); ++j)
+      for (Eigen::Index k = 0; k < B.rows(); ++k) Y(k, j) = B(perm[k], j);
+    triangular_solve(CHOLMOD_L, Y);
+    return Y;
+  }
+  Eigen::MatrixXd backward(const Eigen::MatrixXd& Y) const {
+    const int* perm = static_cast<const int*>(m_cholmodFactor->Perm);
+    Eigen::MatrixXd X = Y;
+    triangular_solve(CHOLMOD_Lt, X);
+    Eigen::MatrixXd out(X.rows(), X.cols());
+    for (Eigen::Index j = 0; j < X.cols(); ++j)
+      for (Eigen::Index k = 0; k < X.rows(); ++k) out(perm[k], j) = X(k, j);
     return out;
   }
+  /// Frees CHOLMOD's factorization workspace (for 2D meshes ~1/3 of the factor's
+  /// size), which it would otherwise keep until the solver is destroyed.
+  void free_workspace() { cholmod_free_work(&cholmod()); }
   bool is_ll() const { return m_cholmodFactor && m_cholmodFactor->is_ll; }
   /// Values plus the integer structure of the factor.
   double bytes() const {
@@ -33,6 +47,17 @@ class Llt : public Eigen::CholmodSupernodalLLT<SparseMatrix, Eigen::Lower> {
     const double ints = L->is_super ? static_cast<double>(L->ssize + 4 * L->nsuper + 3 * L->n)
                                     : static_cast<double>(L->nzmax + 6 * L->n);
     return static_cast<double>(L->is_super ? L->xsize : L->nzmax) * sizeof(double) + ints * sizeof(int);
+  }
+
+ private:
+  /// X ← L⁻¹X (sys = CHOLMOD_L) or L⁻ᵀX (CHOLMOD_Lt), in place.
+  void triangular_solve(int sys, Eigen::MatrixXd& X) const {
+    cholmod_dense b = Eigen::viewAsCholmod(X);
+    cholmod_common& c = const_cast<Llt*>(this)->cholmod();
+    cholmod_dense* x = cholmod_solve(sys, m_cholmodFactor, &b, &c);
+    require(x != nullptr, "CHOLMOD: a triangular solve failed (status {})", c.status);
+    std::copy_n(static_cast<const double*>(x->x), X.size(), X.data());
+    cholmod_free_dense(&x, &c);
   }
 };
 
@@ -55,6 +80,7 @@ class CholmodSolver final : public LinearSolver {
             what);
     // The supernodal factor is always LLᵀ; forward()/backward() rely on it.
     require(llt_.is_ll(), "{}: CHOLMOD returned an LDLᵀ factor where LLᵀ was asked for", what);
+    llt_.free_workspace();
     ++n_factorizations_;
   }
   Vector solve(const Vector& b) const override {
@@ -67,11 +93,11 @@ class CholmodSolver final : public LinearSolver {
   }
   Eigen::MatrixXd forward(const Eigen::MatrixXd& B) const override {
     if (n_ == 0) return Eigen::MatrixXd(0, B.cols());
-    return llt_.partial_solve(CHOLMOD_L, llt_.partial_solve(CHOLMOD_P, B));
+    return llt_.forward(B);
   }
   Eigen::MatrixXd backward(const Eigen::MatrixXd& Y) const override {
     if (n_ == 0) return Eigen::MatrixXd(0, Y.cols());
-    return llt_.partial_solve(CHOLMOD_Pt, llt_.partial_solve(CHOLMOD_Lt, Y));
+    return llt_.backward(Y);
   }
   int size() const override { return n_; }
   int n_factorizations() const override { return n_factorizations_; }
