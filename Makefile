@@ -4,12 +4,15 @@
 # and, for CI (.ci/run) and docs/reliability.md:
 #   make test-sanitize   every test again, built with AddressSanitizer and
 #                        UndefinedBehaviorSanitizer in $(SANITIZE_BUILD)
+#   make test-mpi        the PETSc + MPI engine built in $(MPI_BUILD) and its tests
+#                        under mpirun -np 1, 2, 3 (docs/parallel.md)
 BUILD ?= build
 SANITIZE_BUILD ?= build-asan
+MPI_BUILD ?= build-mpi
 JOBS ?= $(shell nproc 2>/dev/null || echo 2)
 CASE ?= paper-2d
 
-.PHONY: all deps configure build run test test-sanitize clean
+.PHONY: all deps configure build run test test-sanitize test-mpi clean
 
 all: build
 
@@ -38,5 +41,13 @@ test-sanitize: deps
 	  LSAN_OPTIONS=suppressions=$(CURDIR)/tests/lsan.supp:print_suppressions=0 \
 	  ctest --output-on-failure -j $(JOBS)
 
+# As root (containers, CI) OpenMPI needs consent; 3 ranks oversubscribe 2 cores.
+test-mpi:
+	@bash scripts/install-deps.sh --mpi
+	@cmake -S . -B $(MPI_BUILD) -DCMAKE_BUILD_TYPE=Release -DVPCONTACT_ENABLE_PETSC=ON -DVPCONTACT_BENCHMARKS=OFF > /dev/null
+	@cmake --build $(MPI_BUILD) -j $(JOBS) --target vpcontact vpcontact_mpi_compare
+	cd $(MPI_BUILD) && OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 \
+	  ctest --output-on-failure -L mpi
+
 clean:
-	rm -rf $(BUILD) $(SANITIZE_BUILD)
+	rm -rf $(BUILD) $(SANITIZE_BUILD) $(MPI_BUILD)

@@ -2,6 +2,8 @@
 # Installs the Debian packages vpcontact builds and runs with. Idempotent and
 # non-interactive: packages already present are left alone; apt is only called
 # when something is missing. Run as root (or with sudo available).
+#   scripts/install-deps.sh         the serial build
+#   scripts/install-deps.sh --mpi   also PETSc and OpenMPI (make test-mpi)
 set -euo pipefail
 
 packages=(
@@ -18,6 +20,14 @@ packages=(
   libbenchmark-dev         # benchmarks
   python3-matplotlib python3-numpy  # figures
 )
+# The distributed engine (docs/parallel.md), only with --mpi: the serial build
+# needs none of it.
+if [ "${1:-}" = "--mpi" ]; then
+  packages+=(
+    libpetsc-real-dev        # PETSc 3.18 with MUMPS, hypre, PTScotch
+    libopenmpi-dev openmpi-bin  # MPI and mpirun
+  )
+fi
 
 missing=()
 for p in "${packages[@]}"; do
