@@ -6,6 +6,7 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <array>
 #include <functional>
 
 namespace vpc {
@@ -185,27 +186,52 @@ SparseMatrix assemble_laplacian(const Mesh& mesh, const std::vector<CellGeometry
   return A;
 }
 
+namespace {
+
+/// ∫_S f·ψ_a over a simplex with V vertices in d dimensions (measure |S|), by the
+/// degree-2 rule, added into F. Fixed sizes: this runs at every quadrature point
+/// of every cell at every step.
+template <int V, int D>
+void integrate_load(const Mesh& mesh, const int* nodes, double measure, const VectorField& f, double t, Vector& F) {
+  std::array<const Point*, V> x;
+  for (int a = 0; a < V; ++a) x[a] = &mesh.node(nodes[a]);
+  for (const auto& q : simplex_rule(V - 1)) {
+    Point xq{0, 0, 0};
+    for (int a = 0; a < V; ++a)
+      for (int j = 0; j < 3; ++j) xq[j] += q.lambda[a] * (*x[a])[j];
+    const Point fx = f(xq, t);
+    for (int a = 0; a < V; ++a) {
+      const double w = measure * q.weight * q.lambda[a];
+      for (int i = 0; i < D; ++i) F[nodes[a] * D + i] += w * fx[i];
+    }
+  }
+}
+
+template <int D>
+Vector assemble_load_d(const Mesh& mesh, const std::vector<CellGeometry>& geo,
+                       const std::vector<int>& traction_facets, const VectorField& f0,
+                       const VectorField& f2, double t) {
+  const Eigen::Index size = static_cast<Eigen::Index>(mesh.n_nodes()) * D;
+  Vector F = f0 ? scatter_over_cells(mesh.n_cells(), size,
+                                     [&](int c, Vector& out) {
+                                       integrate_load<D + 1, D>(mesh, mesh.cell(c), geo[c].volume, f0, t, out);
+                                     })
+               : Vector::Zero(size);
+  if (f2)
+    for (int f : traction_facets) integrate_load<D, D>(mesh, mesh.facet(f), mesh.facet_measure(f), f2, t, F);
+  return F;
+}
+
+}  // namespace
+
 Vector assemble_load(const Mesh& mesh, const std::vector<CellGeometry>& geo,
                      const std::vector<int>& traction_facets, const VectorField& f0,
                      const VectorField& f2, double t) {
-  const int d = mesh.dim();
-  const Eigen::Index size = static_cast<Eigen::Index>(mesh.n_nodes()) * d;
-  auto integrate = [&](const int* nodes, int n_vertices, double measure, const VectorField& f, Vector& F) {
-    for (const auto& q : simplex_rule(n_vertices - 1)) {
-      Point x{0, 0, 0};
-      for (int a = 0; a < n_vertices; ++a)
-        for (int j = 0; j < 3; ++j) x[j] += q.lambda[a] * mesh.node(nodes[a])[j];
-      const Point fx = f(x, t);
-      for (int a = 0; a < n_vertices; ++a)
-        for (int i = 0; i < d; ++i) F[nodes[a] * d + i] += measure * q.weight * q.lambda[a] * fx[i];
-    }
-  };
-  Vector F = f0 ? scatter_over_cells(mesh.n_cells(), size,
-                                     [&](int c, Vector& out) { integrate(mesh.cell(c), d + 1, geo[c].volume, f0, out); })
-               : Vector::Zero(size);
-  if (f2)
-    for (int f : traction_facets) integrate(mesh.facet(f), d, mesh.facet_measure(f), f2, F);
-  return F;
+  switch (mesh.dim()) {
+    case 1: return assemble_load_d<1>(mesh, geo, traction_facets, f0, f2, t);
+    case 2: return assemble_load_d<2>(mesh, geo, traction_facets, f0, f2, t);
+    default: return assemble_load_d<3>(mesh, geo, traction_facets, f0, f2, t);
+  }
 }
 
 Vector assemble_stress_divergence(const Mesh& mesh, const std::vector<CellGeometry>& geo,
@@ -234,7 +260,7 @@ void compute_strain(const Mesh& mesh, const std::vector<CellGeometry>& geo, cons
                     std::vector<SymTensor>& eps) {
   const int d = mesh.dim();
   const int n_cells = mesh.n_cells();
-  eps.assign(n_cells, SymTensor{});
+  eps.resize(n_cells);  // every entry is written below
 #pragma omp parallel for schedule(static) if (n_cells >= kParallelCells)
   for (int c = 0; c < n_cells; ++c) {
     double G[3][3] = {};  // displacement gradient ∂_j u_i

@@ -21,7 +21,9 @@ ContactResiduals contact_residuals(const SparseMatrix& K, const SparseMatrix& N,
     const double inf = std::numeric_limits<double>::infinity();  // NaN would compare as "small"
     return {inf, inf, inf, inf};
   }
-  const Vector Ku = K * u;
+  // K is symmetric and stored whole: Kᵀu is the same product, and Eigen spreads
+  // a row-major one (which Kᵀ is) over the OpenMP threads.
+  const Vector Ku = K.transpose() * u;
   const Vector s = g - N * u;  // the gap left: ≥ 0
   auto inf = [](const Vector& v) { return v.size() ? v.cwiseAbs().maxCoeff() : 0.0; };
   const double f_scale = std::max({inf(F), inf(Ku), 1e-300});
