@@ -66,6 +66,7 @@ Case paper_1d(const CaseOverrides& o) {
   p->source = make_damage_source("strain", {{"c", 2.0}});
   p->kappa = 1.0;
   p->f0 = [](const Point&, double t) { return Point{t, 0, 0}; };
+  p->f0_uniform = true;
   p->beta0 = [](const Point&, double) { return 1.0; };
   p->final_time = 1.0;
   p->n_steps = 100;
@@ -90,6 +91,7 @@ Case paper_2d(const CaseOverrides& o) {
   p->kappa = 1.0;
   p->f0 = [](const Point&, double t) { return Point{0, -10 * t, 0}; };
   p->f2 = [](const Point&, double) { return Point{0, 0, 0}; };
+  p->f0_uniform = p->f2_uniform = true;
   p->beta0 = [](const Point&, double) { return 1.0; };
   p->final_time = 1.0;
   p->n_steps = 100;
@@ -116,6 +118,7 @@ Case block_3d(const CaseOverrides& o) {
   p->source = make_damage_source("von-mises", {{"c", 0.01}});
   p->kappa = 1.0;
   p->f0 = [](const Point&, double t) { return Point{0, 0, -10 * t}; };
+  p->f0_uniform = true;
   p->beta0 = [](const Point&, double) { return 1.0; };
   p->final_time = 1.0;
   p->n_steps = 100;

@@ -39,6 +39,8 @@ Expression::Expression(const std::string& text, Kind kind, const std::string& wh
     }
     slots_.push_back(std::move(s));
   }
+  const auto used = slots_.front().parser->GetUsedVar();
+  uses_position_ = used.count("x") + used.count("y") + used.count("z") > 0;
 }
 
 Expression::~Expression() = default;

@@ -32,6 +32,8 @@ class Expression {
   double operator()(const Point& x, double t, const SymTensor& sigma, const SymTensor& eps, double beta) const;
 
   const std::string& text() const { return text_; }
+  /// Whether the formula uses x, y or z (a load that does not is uniform in space).
+  bool uses_position() const { return uses_position_; }
   static std::vector<std::string> variables(Kind kind);
 
  private:
@@ -49,6 +51,7 @@ class Expression {
   double eval(Slot& s) const;
   std::string text_, where_;
   std::vector<Slot> slots_;
+  bool uses_position_ = true;
 };
 
 }  // namespace vpc

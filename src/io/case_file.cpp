@@ -482,8 +482,14 @@ Case parse_case(std::string_view text, const std::string& name, const fs::path& 
   }
 
   Section l = top.table("loads");
-  p->f0 = l.has("f0") ? vector_field(l.expressions("f0", d, Expression::Kind::SpaceTime)) : VectorField{};
-  p->f2 = l.has("f2") ? vector_field(l.expressions("f2", d, Expression::Kind::SpaceTime)) : VectorField{};
+  auto load = [&](const char* key, bool& uniform) {
+    if (!l.has(key)) return VectorField{};
+    auto e = l.expressions(key, d, Expression::Kind::SpaceTime);
+    uniform = std::none_of(e.begin(), e.end(), [](const auto& f) { return f->uses_position(); });
+    return vector_field(std::move(e));
+  };
+  p->f0 = load("f0", p->f0_uniform);
+  p->f2 = load("f2", p->f2_uniform);
   l.finish();
 
   Section ct = top.table("contact");

@@ -32,6 +32,9 @@ struct Problem {
   std::shared_ptr<const DamageSource> source;
   double kappa = 1;  // damage diffusion κ in (2.2)
   VectorField f0, f2;
+  /// f0 (f2) does not depend on x: its load vector is f(t) times the integrals of
+  /// the basis functions, computed once, instead of a quadrature at every step.
+  bool f0_uniform = false, f2_uniform = false;
   ScalarField beta0;  // initial damage β0(x) in [0, 1]; u0 = 0, σ0 = 0
   double final_time = 1;
   int n_steps = 100;  // k = T / N

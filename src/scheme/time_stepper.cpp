@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <tuple>
 
 namespace vpc {
 
@@ -57,6 +58,15 @@ TimeStepper::TimeStepper(std::shared_ptr<const Problem> problem, SolverChoice ch
       if (std::find(excluded.begin(), excluded.end(), mesh.facet_part(f)) == excluded.end())
         traction_facets_.push_back(f);
   }
+
+  // Loads uniform in space: (f(t), ψ_a e_i) = f_i(t) ∫ψ_a, with the same quadrature.
+  const VectorField unit = [](const Point&, double) { return Point{1, 0, 0}; };
+  auto basis_integral = [&](const VectorField& f0, const VectorField& f2) {
+    const Vector F = assemble_load(mesh, geo_, traction_facets_, f0, f2, 0.0);
+    return Vector(Eigen::Map<const Vector, 0, Eigen::InnerStride<>>(F.data(), mesh.n_nodes(), Eigen::InnerStride<>(d)));
+  };
+  if (p.f0 && p.f0_uniform) basis_integral_cells_ = basis_integral(unit, nullptr);
+  if (p.f2 && p.f2_uniform) basis_integral_traction_ = basis_integral(nullptr, unit);
 
   // Constant matrices: K of (3.9), factorized once; H = M + kκA of (3.8).
   auto t1 = Clock::now();
@@ -202,6 +212,22 @@ StepReport TimeStepper::advance_or_halve(int level, double t_end) {
   return rep;
 }
 
+Vector TimeStepper::load(double t) const {
+  const Problem& p = *problem_;
+  const Mesh& mesh = p.mesh;
+  const int d = mesh.dim();
+  const bool f0_once = basis_integral_cells_.size() > 0, f2_once = basis_integral_traction_.size() > 0;
+  Vector F = assemble_load(mesh, geo_, traction_facets_, f0_once ? nullptr : p.f0, f2_once ? nullptr : p.f2, t);
+  for (auto [once, f, w] : {std::tuple{f0_once, &p.f0, &basis_integral_cells_},
+                            std::tuple{f2_once, &p.f2, &basis_integral_traction_}}) {
+    if (!once) continue;
+    const Point v = (*f)(Point{0, 0, 0}, t);
+    for (int a = 0; a < mesh.n_nodes(); ++a)
+      for (int i = 0; i < d; ++i) F[a * d + i] += v[i] * (*w)[a];
+  }
+  return F;
+}
+
 StepReport TimeStepper::advance(int level, double t_end) {
   const Problem& p = *problem_;
   const Mesh& mesh = p.mesh;
@@ -237,9 +263,7 @@ StepReport TimeStepper::advance(int level, double t_end) {
 
   // Step 4: contact (3.9): K u_n = F_n − Bᵀz_n − Nᵀλ with Signorini conditions.
   t0 = Clock::now();
-  const Vector F = restrict_to_free(
-      dofs_, assemble_load(mesh, geo_, traction_facets_, p.f0, p.f2, rep.t) -
-                 assemble_stress_divergence(mesh, geo_, state_.z));
+  const Vector F = restrict_to_free(dofs_, load(rep.t) - assemble_stress_divergence(mesh, geo_, state_.z));
   rep.contact = contact_->solve(F, gap_, u_free_, state_.lambda);
   state_.u = extend_from_free(dofs_, u_free_);
   rep.seconds_contact = seconds_since(t0);

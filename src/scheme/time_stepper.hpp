@@ -96,6 +96,8 @@ class TimeStepper {
   /// The same, halving on failure down to max_halvings levels.
   StepReport advance_or_halve(int level, double t_end);
   DamageSolver& damage_solver(int level);
+  /// F_n of (3.3) without the Bᵀz term: the loads f0, f2 at time t (full dofs).
+  Vector load(double t) const;
 
   std::shared_ptr<const Problem> problem_;
   SolverChoice choice_;
@@ -104,6 +106,7 @@ class TimeStepper {
   std::shared_ptr<SparseMatrix> K_;  // shared with the contact solver
   SparseMatrix M_, N_;
   std::vector<int> traction_facets_;
+  Vector basis_integral_cells_, basis_integral_traction_;  // ∫ψ_a over Ω and Γ2 (for uniform f0, f2)
   std::vector<int> contact_nodes_;
   std::vector<Point> contact_dir_;
   Vector gap_;

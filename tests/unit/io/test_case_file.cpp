@@ -130,6 +130,9 @@ TEST(CaseFile, ExpressionsEvaluateAndReportErrors) {
     EXPECT_NE(m.find("case.toml:3:5: contact.gap: invalid expression \"2*w\""), std::string::npos) << m;
     EXPECT_NE(m.find("Available variables: x, y, z"), std::string::npos) << m;
   }
+  EXPECT_TRUE(e.uses_position());
+  EXPECT_FALSE(Expression("-10*t + pi", Expression::Kind::SpaceTime, "w").uses_position());
+  EXPECT_TRUE(Expression("0*z", Expression::Kind::SpaceTime, "w").uses_position());
   EXPECT_THROW(Expression("x +* 2", Expression::Kind::Space, "w"), Error);
   EXPECT_THROW(Expression("t", Expression::Kind::Space, "w"), Error);  // no t in a space-only formula
   const Expression phi("-eps_eq + tr_sigma + tr_eps + beta", Expression::Kind::PointState, "w");

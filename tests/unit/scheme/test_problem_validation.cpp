@@ -89,3 +89,33 @@ TEST(ProblemValidation, SteppingPastTheEnd) {
 
 }  // namespace
 }  // namespace vpc
+
+namespace vpc {
+namespace {
+
+// Loads that do not depend on x are assembled once (f(t) times ∫ψ_a) instead of
+// by quadrature at every step; both must give the same run. The uniform path is
+// checked against the quadrature path with f0 and f2 both present, in 2D and 3D.
+TEST(UniformLoads, GiveTheSameRunAsQuadrature) {
+  for (const char* name : {"paper-2d", "block-3d"}) {
+    SCOPED_TRACE(name);
+    auto quadrature = make_builtin_case(name, {.mesh_cells = 5, .steps = 4}).problem;
+    const int d = quadrature->mesh.dim();
+    quadrature->f2 = [d](const Point&, double t) { return Point{0.5 * t, d == 3 ? 0.25 : -0.25 * t, 0}; };
+    quadrature->f0_uniform = quadrature->f2_uniform = false;
+    auto uniform = std::make_shared<Problem>(*quadrature);
+    uniform->f0_uniform = uniform->f2_uniform = true;
+    TimeStepper a(quadrature), b(uniform);
+    for (int n = 0; n < 4; ++n) {
+      a.step();
+      b.step();
+    }
+    const double scale = a.state().u.cwiseAbs().maxCoeff();
+    ASSERT_GT(scale, 0);
+    EXPECT_LE((a.state().u - b.state().u).cwiseAbs().maxCoeff(), 1e-12 * scale);
+    EXPECT_LE((a.state().beta - b.state().beta).cwiseAbs().maxCoeff(), 1e-12);
+  }
+}
+
+}  // namespace
+}  // namespace vpc
