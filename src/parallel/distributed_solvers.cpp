@@ -85,25 +85,34 @@ DistributedContactSolver::DistributedContactSolver(const DistributedMesh& part, 
   // then u = u_free − Wλ and a step costs one solve instead of two.
   const bool keep_w = allreduce_max(comm_, static_cast<double>(n_owned) * m_ * sizeof(double)) <= kMaxWBytesPerRank;
   if (keep_w) W_.resize(n_owned, m_);
+  // S = N K⁻¹Nᵀ and W = K⁻¹Nᵀ in blocks of right-hand sides (MUMPS solves a block at once).
   Eigen::MatrixXd S = Eigen::MatrixXd::Zero(m_, m_);
-  PVec w;
-  VPC_PETSC(VecDuplicate(work_, w.out()));
-  Vector e = Vector::Zero(m_);
-  for (int j = 0; j < m_; ++j) {
-    e.setZero();
-    e[j] = 1;
-    VPC_PETSC(VecSet(rhs_, 0.0));
-    add_Nt(e, 1.0, rhs_);
-    VPC_PETSC(VecSet(w, 0.0));
-    K_solver_.solve(rhs_, w);
-    ReadArray a(w);
-    if (keep_w)
-      for (PetscInt i = 0; i < n_owned; ++i) W_(i, j) = a[i];
-    for (const auto& r : rows_) {
-      double s = 0;
-      for (int i = 0; i < d_; ++i) s += r.nu[i] * a[r.dof[i]];
-      S(r.row, j) = s;
-    }
+  PetscInt N = 0;
+  VPC_PETSC(VecGetSize(work_, &N));
+  for (int j0 = 0; j0 < m_; j0 += kBlock) {
+    const int nb = std::min(kBlock, m_ - j0);
+    PMat B, X;
+    VPC_PETSC(MatCreateDense(comm_, n_owned, PETSC_DECIDE, N, nb, nullptr, B.out()));
+    VPC_PETSC(MatCreateDense(comm_, n_owned, PETSC_DECIDE, N, nb, nullptr, X.out()));
+    PetscScalar* b = nullptr;
+    VPC_PETSC(MatDenseGetArrayWrite(B, &b));
+    std::fill(b, b + static_cast<size_t>(n_owned) * nb, 0.0);
+    for (const auto& r : rows_)
+      if (r.row >= j0 && r.row < j0 + nb)
+        for (int i = 0; i < d_; ++i) b[r.dof[i] + static_cast<size_t>(r.row - j0) * n_owned] = r.nu[i];
+    VPC_PETSC(MatDenseRestoreArrayWrite(B, &b));
+    K_solver_.solve(B, X);
+    const PetscScalar* x = nullptr;
+    VPC_PETSC(MatDenseGetArrayRead(X, &x));
+    const Eigen::Map<const Eigen::MatrixXd> Xb(x, n_owned, nb);
+    if (keep_w) W_.middleCols(j0, nb) = Xb;
+    for (const auto& r : rows_)
+      for (int j = 0; j < nb; ++j) {
+        double s = 0;
+        for (int i = 0; i < d_; ++i) s += r.nu[i] * Xb(r.dof[i], j);
+        S(r.row, j0 + j) = s;
+      }
+    VPC_PETSC(MatDenseRestoreArrayRead(X, &x));
   }
   allreduce_sum(comm_, S.data(), m_ * m_);  // one owner per row: exact, the same on every rank
   S = 0.5 * (S + S.transpose()).eval();

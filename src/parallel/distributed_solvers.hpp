@@ -59,6 +59,7 @@ class DistributedContactSolver {
   std::unique_ptr<DenseBoxQpOperator> S_;
   PVec u_free_, work_, rhs_;
   static constexpr double kMaxWBytesPerRank = 256.0 * 1024 * 1024;
+  static constexpr int kBlock = 64;  // right-hand sides per block when forming S
 };
 
 class DistributedDamageSolver {

@@ -55,4 +55,11 @@ void PetscLinearSolver::solve(Vec b, Vec x) const {
   require(reason > 0, "solving with the {} failed ({}, after {} iterations)", what_, KSPConvergedReasons[reason], its);
 }
 
+void PetscLinearSolver::solve(Mat B, Mat X) const {
+  VPC_PETSC(KSPMatSolve(ksp_, B, X));
+  KSPConvergedReason reason;
+  VPC_PETSC(KSPGetConvergedReason(ksp_, &reason));
+  require(reason >= 0, "solving with the {} failed ({})", what_, KSPConvergedReasons[reason]);
+}
+
 }  // namespace vpc

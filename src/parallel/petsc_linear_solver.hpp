@@ -31,6 +31,9 @@ class PetscLinearSolver {
   void factorize(Mat A, const char* what, MatNullSpace near_null_space = nullptr);
   /// x = A⁻¹ b; x is the initial guess of an iterative solver. Throws if it fails.
   void solve(Vec b, Vec x) const;
+  /// X = A⁻¹ B for a block of right-hand sides (dense matrices; MUMPS solves them
+  /// together, an iterative solver one by one). Throws if it fails.
+  void solve(Mat B, Mat X) const;
   bool iterative() const { return options_.kind != "mumps"; }
   int n_factorizations() const { return n_factorizations_; }
   /// Krylov iterations of the last solve (1 for the direct solver).
