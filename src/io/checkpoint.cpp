@@ -24,26 +24,39 @@ std::uint64_t fnv1a(const char* data, std::size_t n, std::uint64_t h = 146959810
   return h;
 }
 
+/// Serializes the payload to a stream, or (without one) only measures its size
+/// and checksum: the payload is written in two passes and never held in memory.
 class Writer {
  public:
+  explicit Writer(std::ostream* out = nullptr) : out_(out) {}
   template <typename T>
   void pod(const T& v) {
-    buf_.append(reinterpret_cast<const char*>(&v), sizeof v);
+    bytes(reinterpret_cast<const char*>(&v), sizeof v);
   }
   void string(const std::string& s) {
     pod<std::uint64_t>(s.size());
-    buf_.append(s);
+    bytes(s.data(), s.size());
   }
   void doubles(const double* p, std::size_t n) {
     pod<std::uint64_t>(n);
-    buf_.append(reinterpret_cast<const char*>(p), n * sizeof(double));
+    bytes(reinterpret_cast<const char*>(p), n * sizeof(double));
   }
   void vector(const Vector& v) { doubles(v.data(), static_cast<std::size_t>(v.size())); }
   void tensors(const std::vector<SymTensor>& t) { doubles(t.empty() ? nullptr : t[0].c.data(), 6 * t.size()); }
-  const std::string& data() const { return buf_; }
+  std::uint64_t size() const { return size_; }
+  std::uint64_t checksum() const { return hash_; }
 
  private:
-  std::string buf_;
+  void bytes(const char* p, std::size_t n) {
+    if (n == 0) return;
+    size_ += n;
+    if (out_)
+      out_->write(p, static_cast<std::streamsize>(n));
+    else
+      hash_ = fnv1a(p, n, hash_);
+  }
+  std::ostream* out_;
+  std::uint64_t size_ = 0, hash_ = fnv1a(nullptr, 0);
 };
 
 class Reader {
@@ -112,45 +125,47 @@ std::uint64_t problem_fingerprint(const TimeStepper& s) {
 }
 
 fs::path write_checkpoint(const fs::path& dir, const Checkpoint& c, int keep) {
-  Writer w;
   const State& s = c.snapshot.state;
-  w.string(c.case_name);
-  w.pod(c.fingerprint);
-  w.pod<std::int64_t>(s.n);
-  w.pod(s.t);
-  w.vector(s.u);
-  w.vector(s.beta);
-  w.vector(s.lambda);
-  w.vector(c.snapshot.u_free);
-  w.tensors(s.sigma);
-  w.tensors(s.eps);
-  w.tensors(s.z);
-  w.vector(c.snapshot.contact_warm);
-  w.vector(c.snapshot.damage_warm);
-  w.pod<std::uint64_t>(c.pvd.size());
-  for (const auto& [t, f] : c.pvd) {
-    w.pod(t);
-    w.string(f);
-  }
-  const RunTotals& r = c.totals;
-  for (double v : {r.max_contact_residual, r.max_damage_residual, r.seconds_sources, r.seconds_damage,
-                   r.seconds_contact, r.seconds_stress, r.seconds_output})
-    w.pod(v);
-  w.pod<std::int64_t>(r.max_contact_iterations);
-  w.pod<std::int64_t>(r.max_damage_iterations);
-  w.pod<std::uint8_t>(r.all_ok ? 1 : 0);
-
-  const std::string& payload = w.data();
+  auto payload = [&](Writer& w) {
+    w.string(c.case_name);
+    w.pod(c.fingerprint);
+    w.pod<std::int64_t>(s.n);
+    w.pod(s.t);
+    w.vector(s.u);
+    w.vector(s.beta);
+    w.vector(s.lambda);
+    w.vector(c.snapshot.u_free);
+    w.tensors(s.sigma);
+    w.tensors(s.eps);
+    w.tensors(s.z);
+    w.vector(c.snapshot.contact_warm);
+    w.vector(c.snapshot.damage_warm);
+    w.pod<std::uint64_t>(c.pvd.size());
+    for (const auto& [t, f] : c.pvd) {
+      w.pod(t);
+      w.string(f);
+    }
+    const RunTotals& r = c.totals;
+    for (double v : {r.max_contact_residual, r.max_damage_residual, r.seconds_sources, r.seconds_damage,
+                     r.seconds_contact, r.seconds_stress, r.seconds_output})
+      w.pod(v);
+    w.pod<std::int64_t>(r.max_contact_iterations);
+    w.pod<std::int64_t>(r.max_damage_iterations);
+    w.pod<std::uint8_t>(r.all_ok ? 1 : 0);
+  };
+  Writer measure;
+  payload(measure);
   const fs::path path = dir / fmt::format("checkpoint_{:05d}.bin", s.n);
   write_file_atomic(path, [&](std::ostream& out) {
     out.write(kMagic, sizeof kMagic);
     const std::uint32_t version = kVersion, reserved = 0;
-    const std::uint64_t size = payload.size(), sum = fnv1a(payload.data(), payload.size());
+    const std::uint64_t size = measure.size(), sum = measure.checksum();
     out.write(reinterpret_cast<const char*>(&version), sizeof version);
     out.write(reinterpret_cast<const char*>(&reserved), sizeof reserved);
     out.write(reinterpret_cast<const char*>(&size), sizeof size);
     out.write(reinterpret_cast<const char*>(&sum), sizeof sum);
-    out.write(payload.data(), static_cast<std::streamsize>(payload.size()));
+    Writer w(&out);
+    payload(w);
   });
   // Keep the newest `keep` checkpoints (an older one is the fallback if the
   // newest is ever damaged). Those of later steps are damaged or from a timeline
