@@ -185,7 +185,7 @@ int run(const Options& o, const CLI::App& cmd) {
       progress.finish();
       output.finish(std::chrono::duration<double>(Clock::now() - t0).count());
       const bool not_finite = std::isinf(r.contact.residuals.max()) || std::isinf(r.damage.kkt_residual);
-      vpc::fail("step {} (t = {}) failed{}{}: contact solver {} after {} iterations (residual {:.2e}), damage solver {} "
+      vpc::fail("step {} (t = {:.6g}) failed{}{}: contact solver {} after {} iterations (residual {:.2e}), damage solver {} "
                 "after {} iterations (KKT residual {:.2e}, beta in [{}, {}]); tolerance {:.1e}. Results up to step {} "
                 "are in '{}'; `--resume {}` continues from step {}{}",
                 r.n, r.t, o.halvings > 0 ? fmt::format(" after {} step halvings", o.halvings) : "",

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Runs `vpcontact check` on bad inputs and prints the table of docs/reliability.md
+"""Runs `vpcontact check` (or `run`) on bad inputs and prints the table of docs/reliability.md
 ("Bad inputs"): each input, what is wrong with it, the exit code and the message.
 
   /usr/bin/python3 scripts/bad_inputs.py build/app/vpcontact > /tmp/bad-inputs.md
@@ -188,6 +188,13 @@ INPUTS = [
     ("--set with a blank key", {}, ["paper-1d", "--set", " =1"]),
     ("--set of a misspelt key", {}, ["paper-2d", "--set", "damage.kapa=1"]),
     ("--set of a too large mesh", {}, ["paper-2d", "--set", "mesh.cells=[100000,100000]"]),
+    ("mesh size that misses the contact patch's ends", {}, ["paper-2d", "--n", "12"]),
+    # --- at run time
+    ("--resume from a folder without checkpoints", {"empty/x": ""},
+     ["run", "paper-1d", "--resume", "empty", "--no-vtu"]),
+    ("--retry-halvings out of range", {}, ["run", "paper-1d", "--retry-halvings", "50", "-o", "out"]),
+    ("formula for phi that gives NaN during the run", {"c.toml": case('source = "von-mises"',
+     'phi = "t > 0.45 ? sqrt(-1) : -vm/100"')}, ["run", "c.toml", "--no-vtu", "-o", "out"]),
 ]
 
 
@@ -200,14 +207,16 @@ def main():
                 path = pathlib.Path(tmp) / name
                 path.parent.mkdir(parents=True, exist_ok=True)
                 path.write_bytes(content if isinstance(content, bytes) else content.encode())
-            p = subprocess.run([vpcontact, "check", *args, "-q"], cwd=tmp, capture_output=True, text=True,
-                               errors="replace", timeout=120)
+            if args[0] != "run":
+                args = ["check", *args]
+            p = subprocess.run([vpcontact, *args, "-q"], cwd=tmp, capture_output=True, text=True,
+                               errors="replace", timeout=300)
         message = (p.stderr.strip() or p.stdout.strip()).splitlines()
         message = message[0] if message else ""
         sanitizer = "Sanitizer" in p.stderr or "runtime error" in p.stderr
         if not 1 <= p.returncode <= 127 or sanitizer or not message:
             failures.append(f"{what}: exit {p.returncode}: {p.stderr.strip()[:2000]}")
-        inp = "`" + " ".join(["check", *args]).replace("|", "\\|") + "`"
+        inp = "`" + " ".join(args).replace("|", "\\|") + "`"
         rows.append(f"| {i} | {what} | {inp} | {p.returncode} | `{message.replace('|', '¦')}` |")
     print("| # | bad input | command (in the input's folder) | exit | message |")
     print("|---|---|---|---|---|")
