@@ -140,7 +140,7 @@ int run(const Options& o, const CLI::App& cmd) {
   const auto t0 = Clock::now();
   vpc::Case c = load_case(o, cmd);
   if (vpc::use_petsc_engine(o.engine))  // mpirun -np P vpcontact run CASE (docs/parallel.md)
-    return vpc::parallel_run(c, {o.quiet, o.resume, o.halvings, o.linear_solver, o.plot});
+    return vpc::parallel_run(c, {o.quiet, o.resume, o.halvings, o.linear_solver, o.plot, o.checkpoint_every, o.checkpoint_seconds});
   if (!o.resume.empty()) c.output.directory = o.resume;
   vpc::require(o.halvings >= 0 && o.halvings <= 20, "--retry-halvings must be in [0, 20] (got {})", o.halvings);
   c.solvers.max_halvings = o.halvings;

@@ -1,6 +1,7 @@
 #include "parallel_run.hpp"
 
 #include "parallel/distributed_time_stepper.hpp"
+#include "parallel/parallel_checkpoint.hpp"
 #include "parallel/parallel_output.hpp"
 #include "progress.hpp"
 #include "solvers/blas_threads.hpp"
@@ -16,6 +17,11 @@
 namespace vpc {
 
 namespace {
+
+/// An error every rank meets alike: reported once, by rank 0, without an abort.
+struct CollectiveError : Error {
+  using Error::Error;
+};
 
 void describe(const Case& c, const DistributedTimeStepper& stepper, int size, const std::string& linear) {
   const auto& p = stepper.problem();
@@ -33,6 +39,19 @@ void describe(const Case& c, const DistributedTimeStepper& stepper, int size, co
   std::fflush(stdout);
 }
 
+/// A fresh run replaces an old run's checkpoints (rank 0 removes them).
+void remove_checkpoints_everywhere(MPI_Comm comm, const std::filesystem::path& dir) {
+  std::string error;
+  if (comm_rank(comm) == 0) {
+    try {
+      remove_checkpoints(dir);
+    } catch (const std::exception& e) {
+      error = e.what();
+    }
+  }
+  require(allreduce_and(comm, error.empty()), "{}", error.empty() ? "rank 0 could not remove old checkpoints" : error);
+}
+
 int run(Case& c, const ParallelRunOptions& o, MPI_Comm comm) {
   using Clock = std::chrono::steady_clock;
   const auto t0 = Clock::now();
@@ -40,12 +59,45 @@ int run(Case& c, const ParallelRunOptions& o, MPI_Comm comm) {
   PetscSolverOptions linear;
   linear.kind = o.linear_solver;
 
+  if (!o.resume.empty()) c.output.directory = o.resume;
   DistributedMesh part = distribute_mesh(comm, *c.problem);
   c.problem->mesh = Mesh();  // from here on, every rank holds its part only
   DistributedTimeStepper stepper(c.problem, std::move(part), c.solvers, linear);
   if (!o.quiet && rank == 0) describe(c, stepper, size, linear.kind);
   ParallelOutput output(stepper, c.output, linear.kind);
-  output.start();
+  const std::string case_name = c.name;
+  auto checkpoint = [&] {
+    write_checkpoint(stepper, output.directory(), case_name, output.pvd_entries(), output.totals());
+  };
+  int last_checkpoint = 0;
+  if (!o.resume.empty()) {
+    std::vector<std::string> skipped;
+    const auto saved = resume_from_checkpoint(stepper, o.resume, &skipped);
+    if (rank == 0)
+      for (const auto& s : skipped) fmt::print(stderr, "vpcontact: skipping {}\n", s);
+    if (!saved)
+      throw CollectiveError(fmt::format("--resume: no good checkpoint for this case in '{}'{}", o.resume,
+                                        skipped.empty() ? "" : " (see the files skipped above)"));
+    output.resume(saved->n, saved->pvd, saved->totals);
+    last_checkpoint = saved->n;
+    if (!o.quiet && rank == 0)
+      fmt::print("  resuming from the checkpoint of step {} (t = {}) on {} rank{}\n", saved->n, saved->t, size,
+                 size > 1 ? "s" : "");
+  } else {
+    remove_checkpoints_everywhere(comm, output.directory());
+    output.start();
+    checkpoint();
+  }
+  // Checkpoints as in the serial engine: at step 0, at the end, and every
+  // --checkpoint-every steps, or once --checkpoint-seconds have passed (rank 0's clock).
+  require(o.checkpoint_seconds > 0, "--checkpoint-seconds must be > 0 (got {})", o.checkpoint_seconds);
+  auto last_checkpoint_time = Clock::now();
+  auto checkpoint_due = [&](int n) {
+    if (o.checkpoint_every >= 0) return o.checkpoint_every > 0 && n % o.checkpoint_every == 0;
+    int due = std::chrono::duration<double>(Clock::now() - last_checkpoint_time).count() >= o.checkpoint_seconds;
+    MPI_Bcast(&due, 1, MPI_INT, 0, comm);
+    return due != 0;
+  };
   Progress progress(c.problem->n_steps, o.quiet || rank != 0);
   while (!stepper.done()) {
     const StepReport r = stepper.step();  // the same report on every rank
@@ -56,15 +108,21 @@ int run(Case& c, const ParallelRunOptions& o, MPI_Comm comm) {
         fmt::print(stderr,
                    "vpcontact: error: step {} (t = {}) failed: contact solver {} after {} iterations (residual "
                    "{:.2e}), damage solver {} after {} iterations (KKT residual {:.2e}, beta in [{}, {}]); tolerance "
-                   "{:.1e}. Results up to step {} are in '{}'\n",
+                   "{:.1e}. Results up to step {} are in '{}'; `--resume {}` continues from step {}\n",
                    r.n, r.t, r.contact.converged ? "converged" : "did not converge", r.contact.iterations,
                    r.contact.residuals.max(), r.damage.converged ? "converged" : "did not converge",
                    r.damage.iterations, r.damage.kkt_residual, r.beta_min, r.beta_max,
-                   c.solvers.residual_tolerance, r.n - 1, output.directory().string());
+                   c.solvers.residual_tolerance, r.n - 1, output.directory().string(), output.directory().string(),
+                   last_checkpoint);
       return 1;
     }
     output.record(r);
     progress.update(r);
+    if (stepper.done() || checkpoint_due(r.n)) {
+      checkpoint();
+      last_checkpoint = r.n;
+      last_checkpoint_time = Clock::now();
+    }
   }
   progress.finish();
   const double wall = std::chrono::duration<double>(Clock::now() - t0).count();
@@ -95,8 +153,6 @@ int parallel_run(Case& c, const ParallelRunOptions& o) {
   const int rank = comm_rank(comm), size = comm_size(comm);
   // Choices every rank rejects alike: said once, and no abort needed.
   try {
-    require(o.resume.empty(), "--resume: the PETSc engine writes no checkpoints yet (docs/parallel.md); "
-                              "resume with the serial engine (--engine serial) from a serial run's checkpoints");
     require(o.halvings == 0, "--retry-halvings: the PETSc engine does not retry failed steps yet");
     PetscLinearSolver check(comm, "vpc_check_", {o.linear_solver});
   } catch (const Error& e) {
@@ -107,6 +163,9 @@ int parallel_run(Case& c, const ParallelRunOptions& o) {
   int rc = 0;
   try {
     rc = run(c, o, comm);
+  } catch (const CollectiveError& e) {
+    if (rank == 0) fmt::print(stderr, "vpcontact: error: {}\n", e.what());
+    rc = 1;
   } catch (const std::exception& e) {
     // One rank's failure must not leave the others waiting in a collective call.
     std::fflush(stdout);

@@ -18,6 +18,8 @@ struct ParallelRunOptions {
   int halvings = 0;
   std::string linear_solver = "mumps";  // mumps, cg-gamg, cg-hypre
   bool plot = false;
+  int checkpoint_every = -1;        // steps; -1: by wall time
+  double checkpoint_seconds = 60;   // without checkpoint_every
 };
 
 /// The number of processes of the MPI job this process was started in, 0 if none.

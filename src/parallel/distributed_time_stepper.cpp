@@ -204,6 +204,34 @@ int DistributedTimeStepper::n_factorizations() const {
   return K_solver_->n_factorizations() + damage_->n_factorizations();
 }
 
+void DistributedTimeStepper::restore(int n, double t, const Vector& u_nodes, const Vector& beta_nodes,
+                                     std::vector<SymTensor> sigma, std::vector<SymTensor> eps,
+                                     std::vector<SymTensor> z, const Vector& lambda) {
+  const int n_cells = part_.mesh.n_cells();
+  require(u_nodes.size() == part_.dofs.n_full() && beta_nodes.size() == part_.n_local_nodes() &&
+              static_cast<int>(sigma.size()) == n_cells && static_cast<int>(eps.size()) == n_cells &&
+              static_cast<int>(z.size()) == n_cells && lambda.size() == part_.n_contact && n >= 0 &&
+              n <= problem_->n_steps,
+          "{}: the saved state does not fit this problem (a different mesh, case or step count?)", problem_->name);
+  auto set_local_form = [](Vec v, const Vector& values) {
+    Vec lv = nullptr;
+    VPC_PETSC(VecGhostGetLocalForm(v, &lv));
+    PetscScalar* a = nullptr;
+    VPC_PETSC(VecGetArray(lv, &a));
+    std::copy(values.data(), values.data() + values.size(), a);
+    VPC_PETSC(VecRestoreArray(lv, &a));
+    VPC_PETSC(VecGhostRestoreLocalForm(v, &lv));
+  };
+  set_local_form(state_.u, restrict_to_free(part_.dofs, u_nodes));
+  set_local_form(state_.beta, beta_nodes);
+  state_.sigma = std::move(sigma);
+  state_.eps = std::move(eps);
+  state_.z = std::move(z);
+  state_.lambda = lambda;
+  state_.n = n;
+  state_.t = t;
+}
+
 Vector DistributedTimeStepper::local_u() const { return extend_from_free(part_.dofs, ghosted_local(state_.u)); }
 
 Vector DistributedTimeStepper::local_beta() const { return ghosted_local(state_.beta); }

@@ -47,6 +47,10 @@ class DistributedTimeStepper {
   int n_factorizations() const;
   bool keeps_w() const { return contact_->keeps_w(); }
   const PetscLinearSolver& stiffness_solver() const { return *K_solver_; }
+  /// Sets the state from values at the part's nodes (u full space, node * d + c;
+  /// β) and owned cells (σ, ε, z), and λ, at step n, time t (a resumed run).
+  void restore(int n, double t, const Vector& u_nodes, const Vector& beta_nodes, std::vector<SymTensor> sigma,
+               std::vector<SymTensor> eps, std::vector<SymTensor> z, const Vector& lambda);
 
  private:
   std::shared_ptr<const Problem> problem_;

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdlib>
 #include <cmath>
 
 namespace vpc {
@@ -66,7 +67,52 @@ void check_everywhere(MPI_Comm comm, const std::string& error) {
   fail("writing the output failed on another rank (see its message)");
 }
 
+/// Keeps the header and the rows whose first field (the step) is ≤ n; drops a
+/// partly written last line (as RunOutput::resume).
+void truncate_csv(const fs::path& path, int n) {
+  std::ifstream in(path);
+  require(in.good(), "resume: cannot read '{}'", path.string());
+  std::string content, line;
+  bool header = true;
+  while (std::getline(in, line)) {
+    if (in.eof()) break;  // no newline: a row cut by the interruption
+    if (!header && std::atoi(line.c_str()) > n) break;
+    header = false;
+    content += line;
+    content += '\n';
+  }
+  write_file_atomic(path, content);
+}
+
 }  // namespace
+
+void ParallelOutput::resume(int n, std::vector<std::pair<double, std::string>> pvd, const RunTotals& totals) {
+  totals_ = totals;
+  std::string error;
+  if (rank_ == 0) {
+    try {
+      truncate_csv(options_.directory / "history.csv", n);
+      truncate_csv(options_.directory / "probes.csv", n);
+      history_.open(options_.directory / "history.csv", std::ios::app);
+      probe_csv_.open(options_.directory / "probes.csv", std::ios::app);
+      require(history_.good() && probe_csv_.good(), "cannot append to the CSV files in '{}'",
+              options_.directory.string());
+      // VTU files (serial, pieces, .pvtu) of steps after n belong to the lost part of the run.
+      std::error_code ec;
+      for (const auto& entry : fs::directory_iterator(options_.directory, ec)) {
+        const std::string f = entry.path().filename().string();
+        if (f.rfind("solution_", 0) == 0 && f.size() > 14 && (f.ends_with(".vtu") || f.ends_with(".pvtu")) &&
+            std::atoi(f.c_str() + 9) > n)
+          fs::remove(entry.path(), ec);
+      }
+      pvd_ = std::move(pvd);
+      if (options_.vtu) write_pvd(options_.directory / "solution.pvd", pvd_);
+    } catch (const std::exception& e) {
+      error = e.what();
+    }
+  }
+  check_everywhere(comm_, error);
+}
 
 ParallelOutput::ParallelOutput(const DistributedTimeStepper& stepper, OutputOptions options, std::string linear_solver)
     : stepper_(stepper), options_(std::move(options)), linear_solver_(std::move(linear_solver)),

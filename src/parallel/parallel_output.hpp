@@ -21,6 +21,11 @@ class ParallelOutput {
   ParallelOutput(const DistributedTimeStepper& stepper, OutputOptions options, std::string linear_solver);
   /// Writes the initial state (step 0). Collective.
   void start();
+  /// Continues the files of an interrupted run from step n (history and probes
+  /// keep their rows up to n; VTU files of later steps are removed). Collective.
+  void resume(int n, std::vector<std::pair<double, std::string>> pvd, const RunTotals& totals);
+  const std::vector<std::pair<double, std::string>>& pvd_entries() const { return pvd_; }
+  const RunTotals& totals() const { return totals_; }
   /// Records one accepted step; writes the fields at output steps. Collective.
   void record(const StepReport& report);
   /// Writes summary.json; `wall_seconds`: the whole run's time. Collective.
