@@ -6,6 +6,9 @@
 // with the cached factor of K, solver iterations, factor and model memory and the
 // peak resident memory. bench/run_benchmarks.py repeats runs and tabulates medians.
 #include "cases/builtin_cases.hpp"
+#include "cases/shipped_cases.hpp"
+#include "core/error.hpp"
+#include "io/case_file.hpp"
 #include "core/malloc_policy.hpp"
 #include "core/omp_wait_policy.hpp"
 #include "io/run_output.hpp"
@@ -18,6 +21,7 @@
 #include <algorithm>
 #include <chrono>
 #include <filesystem>
+#include <numeric>
 #include <random>
 
 namespace {
@@ -52,11 +56,29 @@ int main(int argc, char** argv) {
   app.add_option("--vtu-every", vtu_every, "write VTU every this many steps (default: none)");
   app.add_option("--repeat-solves", repeat_solves, "solves timed for the one-solve cost")->capture_default_str();
   app.add_option("--output", outdir, "scratch output directory")->capture_default_str();
+  std::vector<std::string> sets;
+  app.add_option("--set", sets, "override a key of the case's TOML twin, e.g. --set damage.c=1 (repeatable)");
+  std::string reduced = "auto";
+  app.add_option("--damage-reduced", reduced, "damage active set: auto, capacitance or factor")->capture_default_str();
   CLI11_PARSE(app, argc, argv);
 
   try {
     const auto t_run = Clock::now();
-    vpc::Case c = vpc::make_builtin_case(name, {.mesh_cells = n, .steps = steps});
+    vpc::Case c;
+    if (sets.empty()) {
+      c = vpc::make_builtin_case(name, {.mesh_cells = n, .steps = steps});
+    } else {  // the TOML twin of the built-in case, with the overrides
+      const auto& shipped = vpc::shipped_cases();
+      auto it = std::find_if(shipped.begin(), shipped.end(), [&](const auto& s) { return s.name == name; });
+      vpc::require(it != shipped.end(), "--set: '{}' has no TOML twin", name);
+      sets.insert(sets.begin(), {fmt::format("mesh.cells={}", n), fmt::format("time.steps={}", steps)});
+      c = vpc::parse_case(it->text, name + ".toml", std::filesystem::path(VPC_SOURCE_DIR) / "cases", sets);
+    }
+    vpc::require(reduced == "auto" || reduced == "capacitance" || reduced == "factor",
+                 "--damage-reduced: expected auto, capacitance or factor, got '{}'", reduced);
+    c.solvers.damage_reduced = reduced == "capacitance" ? vpc::ReducedSolve::capacitance
+                               : reduced == "factor"    ? vpc::ReducedSolve::reduced_factor
+                                                        : vpc::ReducedSolve::automatic;
     vpc::TimeStepper stepper(c.problem, c.solvers);
     vpc::OutputOptions out = c.output;
     out.directory = outdir;
@@ -113,12 +135,12 @@ int main(int argc, char** argv) {
         "\"damage\": {:.6e}, \"contact\": {:.6e}, \"stress\": {:.6e}, \"output\": {:.6e}, \"steps_total\": {:.6f}, "
         "\"wall\": {:.6f}, \"max_contact_iterations\": {}, \"max_damage_iterations\": {}, \"active\": {}, "
         "\"max_residual\": {:.3e}, \"ok\": {}, \"factor_bytes\": {:.0f}, \"model_bytes\": {:.0f}, "
-        "\"peak_rss_bytes\": {:.0f}, \"vtu_every\": {}}}\n",
+        "\"peak_rss_bytes\": {:.0f}, \"vtu_every\": {}, \"damage_s_total\": {:.6f}, \"factorizations\": {}}}\n",
         name, n, steps, stepper.dofs().n_free(), stepper.mesh().n_nodes(), stepper.contact_nodes().size(),
         stepper.mesh().n_cells(), s.total, s.assembly, s.factor_K, s.factor_H, s.contact, median(solve_times),
         median(total), median(src), median(dmg), median(ct), median(st), median(outp), sum_steps, wall, max_ci,
         max_di, active, max_res, ok ? "true" : "false", stepper.factor_bytes(), stepper.model_bytes(),
-        peak_rss_bytes(), vtu_every);
+        peak_rss_bytes(), vtu_every, std::accumulate(dmg.begin(), dmg.end(), 0.0), stepper.n_factorizations());
     return ok ? 0 : 4;
   } catch (const std::exception& e) {
     fmt::print(stderr, "vpcontact-bench: error: {}\n", e.what());

@@ -80,7 +80,7 @@ TimeStepper::TimeStepper(std::shared_ptr<const Problem> problem, SolverChoice ch
   K_factor_->factorize(*K_, "elastic stiffness K");
   setup_timing_.factor_K = seconds_since(t1);
   t1 = Clock::now();
-  damage_ = make_damage_solver(choice_.damage, H);
+  damage_ = make_damage_solver(choice_.damage, H, 1e-13, 200000, choice_.damage_reduced);
   setup_timing_.factor_H = seconds_since(t1);
 
   t1 = Clock::now();
@@ -179,7 +179,8 @@ DamageSolver& TimeStepper::damage_solver(int level) {
   auto& solver = halved_damage_[level - 1];
   if (!solver) {
     const double k = problem_->step() / (1 << level);
-    solver = make_damage_solver(choice_.damage, SparseMatrix(M_ + (k * problem_->kappa) * laplacian_));
+    solver = make_damage_solver(choice_.damage, SparseMatrix(M_ + (k * problem_->kappa) * laplacian_), 1e-13, 200000,
+                                choice_.damage_reduced);
   }
   return *solver;
 }

@@ -20,6 +20,8 @@ struct SolverChoice {
   std::string contact = "active-set";  // or "penalty-duality"
   std::string damage = "active-set";   // or "penalty-duality"
   ContactSolverOptions contact_options;
+  /// Damage active set: how systems with some β_i at a bound are solved.
+  ReducedSolve damage_reduced = ReducedSolve::automatic;
   /// A step whose residuals exceed this (relative) is reported as failed.
   double residual_tolerance = 1e-8;
   /// A failed step is retried as two steps of half the size, at most this many

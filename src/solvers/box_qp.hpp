@@ -38,11 +38,27 @@ class DenseBoxQpOperator final : public BoxQpOperator {
   Vector diag_;
 };
 
-/// H sparse and constant over a run: the factor of H is computed once; the factor
-/// of a reduced matrix H_FF is cached and recomputed only when the active set changes.
+/// How SparseBoxQpOperator solves a reduced system H_FF x_F = b_F − H_FA x_A.
+enum class ReducedSolve {
+  /// Capacitance when its estimated cost for the active set at hand (forward
+  /// solves for the new indices, measured once, plus the dense a × a Cholesky)
+  /// is below half the measured time of factorizing H, and its columns of Z fit
+  /// in half the factor's memory; else the reduced factor.
+  automatic,
+  /// With the factor of the whole H = PᵀLLᵀP only: x = H⁻¹(b − Eμ), where E
+  /// selects A and (EᵀH⁻¹E) μ = EᵀH⁻¹b − x_A; EᵀH⁻¹E = ZᵀZ with Z = L⁻¹PE, one
+  /// forward solve per index that becomes active (cached), a dense a × a Cholesky
+  /// per active set, and one solve (two halves) per reduced system.
+  capacitance,
+  /// Factorize H_FF whenever the active set changes (reused while it repeats).
+  reduced_factor,
+};
+
+/// H sparse and constant over a run: the factor of H is computed once; reduced
+/// systems use it (capacitance) or a factor of H_FF made when the active set changes.
 class SparseBoxQpOperator final : public BoxQpOperator {
  public:
-  explicit SparseBoxQpOperator(SparseMatrix H);
+  explicit SparseBoxQpOperator(SparseMatrix H, ReducedSolve method = ReducedSolve::automatic);
   int size() const override { return static_cast<int>(H_.rows()); }
   Vector multiply(const Vector& x) const override { return H_ * x; }
   const Vector& diagonal() const override { return diag_; }
@@ -50,13 +66,37 @@ class SparseBoxQpOperator final : public BoxQpOperator {
   /// Factorizations done (full + reduced), for reports.
   int n_factorizations() const { return full_->n_factorizations() + reduced_->n_factorizations(); }
   double factor_bytes() const { return full_->factor_bytes() + reduced_->factor_bytes(); }
+  /// The automatic choice's cost model: the seconds of factorizing H and of one
+  /// forward solve (measured at construction; tests set them to be deterministic).
+  void set_costs(double seconds_factor, double seconds_forward) {
+    seconds_factor_ = seconds_factor;
+    seconds_forward_ = seconds_forward;
+  }
+  /// Reduced systems solved so far by each method (for tests and benchmarks).
+  int n_capacitance_solves() const { return n_capacitance_; }
+  int n_reduced_factor_solves() const { return n_reduced_factor_; }
 
  private:
+  bool use_capacitance(const std::vector<int>& active);
+  void solve_capacitance(const std::vector<int>& active, const Vector& b, Vector& x);
+  void solve_reduced_factor(const std::vector<char>& fixed, const Vector& b, Vector& x);
+
   SparseMatrix H_;
   Vector diag_;
+  ReducedSolve method_;
   std::unique_ptr<LinearSolver> full_, reduced_;
   std::vector<char> reduced_mask_;
   std::vector<int> free_ids_;
+  // Capacitance: columns L⁻¹P e_i of the indices active so far, and the Cholesky
+  // factor of ZᵀZ for the current active set.
+  std::vector<Eigen::SparseVector<double>> z_columns_;  // by index; empty until needed
+  std::vector<char> has_z_;
+  double z_bytes_ = 0;
+  double seconds_factor_ = 0, seconds_forward_ = 0;  // measured: factor of H, one forward solve
+  std::vector<int> capacitance_set_;
+  SparseMatrix Z_;
+  Eigen::LLT<Eigen::MatrixXd> C_;
+  int n_capacitance_ = 0, n_reduced_factor_ = 0;
 };
 
 struct BoxQpResult {

@@ -13,7 +13,7 @@ namespace {
 
 class ActiveSetDamageSolver final : public DamageSolver {
  public:
-  explicit ActiveSetDamageSolver(const SparseMatrix& H) : op_(H) {}
+  ActiveSetDamageSolver(const SparseMatrix& H, ReducedSolve reduced) : op_(H, reduced) {}
   DamageReport solve(const Vector& rhs, Vector& beta) override {
     const int n = op_.size();
     const BoxQpResult r = solve_box_qp(op_, rhs, Vector::Zero(n), Vector::Ones(n), beta);
@@ -99,8 +99,8 @@ class PenaltyDualityDamageSolver final : public DamageSolver {
 }  // namespace
 
 std::unique_ptr<DamageSolver> make_damage_solver(const std::string& name, const SparseMatrix& H, double tolerance,
-                                                 int max_iterations) {
-  if (name == "active-set") return std::make_unique<ActiveSetDamageSolver>(H);
+                                                 int max_iterations, ReducedSolve reduced) {
+  if (name == "active-set") return std::make_unique<ActiveSetDamageSolver>(H, reduced);
   if (name == "penalty-duality") return std::make_unique<PenaltyDualityDamageSolver>(H, tolerance, max_iterations);
   fail("unknown damage solver '{}'; expected active-set or penalty-duality", name);
 }

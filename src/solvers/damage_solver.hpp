@@ -2,6 +2,7 @@
 // Solvers of the damage inequality (3.8) in matrix form: the box-constrained QP
 //     min ½ βᵀHβ − rᵀβ,  0 ≤ β ≤ 1,  H = M + kκA (constant over a run),
 //     r = M β_{n−1} + k F_φ.
+#include "solvers/box_qp.hpp"
 #include "solvers/linear_solver.hpp"
 
 #include <memory>
@@ -33,9 +34,10 @@ class DamageSolver {
   virtual double factor_bytes() const = 0;
 };
 
-/// "active-set" (primal–dual active set, factor of H cached, reduced factor cached
-/// per active set) or "penalty-duality" (Bermúdez–Moreno, factor of H + ωI).
+/// "active-set" (primal–dual active set, factor of H cached; reduced systems by
+/// `reduced`, see ReducedSolve) or "penalty-duality" (Bermúdez–Moreno, factor of H + ωI).
 std::unique_ptr<DamageSolver> make_damage_solver(const std::string& name, const SparseMatrix& H,
-                                                 double tolerance = 1e-13, int max_iterations = 200000);
+                                                 double tolerance = 1e-13, int max_iterations = 200000,
+                                                 ReducedSolve reduced = ReducedSolve::automatic);
 
 }  // namespace vpc

@@ -430,6 +430,66 @@ TEST(BoxQp, DegenerateBoundsConverge) {
   EXPECT_LE((x - xd).cwiseAbs().maxCoeff(), 1e-12);
 }
 
+/// A 2D damage-like matrix H = M + kκA on a 12 × 12 grid (169 unknowns).
+SparseMatrix damage_matrix_2d() {
+  const Mesh mesh = make_rectangle({0, 0, 0}, {1, 1, 0}, 12, 12);
+  const auto geo = compute_geometry(mesh);
+  return assemble_mass(mesh, geo) + 0.01 * assemble_laplacian(mesh, geo);
+}
+
+// Reduced systems H_FF x_F = b_F − H_FA x_A by the capacitance method (the factor
+// of the whole H only) and by a factor of H_FF agree, for growing, shrinking and
+// repeated active sets; x_A keeps its given values exactly.
+TEST(BoxQp, CapacitanceAndReducedFactorSolveTheSameSystems) {
+  const SparseMatrix Hs = damage_matrix_2d();
+  const int n = static_cast<int>(Hs.rows());
+  SparseBoxQpOperator cap(Hs, ReducedSolve::capacitance), fac(Hs, ReducedSolve::reduced_factor);
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> U(0, 1);
+  const Vector b = Vector::Random(n);
+  for (int sizes : {3, 10, 40, 10, 10, 90}) {
+    std::vector<char> fixed(n, 0);
+    Vector x0 = Vector::Zero(n);
+    for (int k = 0; k < sizes; ++k) {
+      const int i = static_cast<int>(U(rng) * n) % n;
+      fixed[i] = 1;
+      x0[i] = U(rng);
+    }
+    Vector x1 = x0, x2 = x0;
+    cap.solve_free(fixed, b, x1);
+    fac.solve_free(fixed, b, x2);
+    EXPECT_LE((x1 - x2).cwiseAbs().maxCoeff(), 1e-11 * x2.cwiseAbs().maxCoeff()) << sizes << " fixed";
+    const Vector r = b - Hs * x1;
+    for (int i = 0; i < n; ++i) {
+      if (fixed[i]) EXPECT_EQ(x1[i], x0[i]);
+      else EXPECT_NEAR(r[i], 0.0, 1e-12 * b.cwiseAbs().maxCoeff());
+    }
+  }
+  EXPECT_EQ(cap.n_capacitance_solves(), 6);
+  EXPECT_EQ(fac.n_reduced_factor_solves(), 6);
+  EXPECT_EQ(cap.n_factorizations(), 1);  // only the whole H, ever
+}
+
+// Automatic choice: a few active bounds go by capacitance, nearly all of them by a
+// reduced factor (whose cost shrinks with the free set while the capacitance's grows).
+TEST(BoxQp, AutomaticReducedSolveChoosesByCost) {
+  const SparseMatrix Hs = damage_matrix_2d();
+  const int n = static_cast<int>(Hs.rows());
+  SparseBoxQpOperator H(Hs);
+  H.set_costs(1e-3, 1e-4);  // not the measured times: the test must not depend on the machine
+  const Vector b = Vector::Random(n);
+  std::vector<char> few(n, 0), most(n, 1);
+  few[n / 2] = 1;
+  most[n / 2] = 0;
+  Vector x = Vector::Zero(n);
+  H.solve_free(few, b, x);
+  EXPECT_EQ(H.n_capacitance_solves(), 1);
+  x = Vector::Zero(n);
+  H.solve_free(most, b, x);
+  EXPECT_EQ(H.n_reduced_factor_solves(), 1);
+  EXPECT_NEAR(x[n / 2], (b[n / 2]) / Hs.coeff(n / 2, n / 2), 1e-14);
+}
+
 // Infeasible box: lo > hi is a user error (vpc::Error naming the index), not UB.
 TEST(BoxQp, CrossedBoundsThrow) {
   DenseBoxQpOperator H(Eigen::MatrixXd::Identity(3, 3));
