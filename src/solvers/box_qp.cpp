@@ -79,11 +79,12 @@ bool SparseBoxQpOperator::use_capacitance(const std::vector<int>& active) {
     const double cost = static_cast<double>(missing.size()) * seconds_forward_ + a * a * a / 3e9;
     if (cost > 0.5 * seconds_factor_) return false;
   }
-  // Forward solves for the indices not seen active before, 8 at a time.
+  // Forward solves for the indices not seen active before, a block at a time.
   const double budget = 0.5 * full_->factor_bytes();
-  for (size_t k0 = 0; k0 < missing.size(); k0 += 8) {
+  const auto block = static_cast<size_t>(rhs_block_columns(size()));
+  for (size_t k0 = 0; k0 < missing.size(); k0 += block) {
     if (method_ == ReducedSolve::automatic && z_bytes_ > budget) return false;
-    const int nb = static_cast<int>(std::min<size_t>(8, missing.size() - k0));
+    const int nb = static_cast<int>(std::min(block, missing.size() - k0));
     Eigen::MatrixXd E = Eigen::MatrixXd::Zero(size(), nb);
     for (int j = 0; j < nb; ++j) E(missing[k0 + j], j) = 1;
     const Eigen::MatrixXd Zb = full_->forward(E);

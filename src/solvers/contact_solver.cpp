@@ -60,7 +60,7 @@ class ActiveSetContactSolver final : public ContactSolver {
     const double max_bytes = std::min(kMaxYBytes, max_cached_share * factor_->factor_bytes());
     std::vector<Eigen::Triplet<double>> t;
     bool keep_y = max_cached_share > 0;
-    const int block = 8;  // dense blocks of right-hand sides: 8 columns of n doubles at a time
+    const int block = rhs_block_columns(N.cols());  // dense blocks of right-hand sides
     for (int j0 = 0; j0 < m && keep_y; j0 += block) {
       const int nb = std::min(block, m - j0);
       const Eigen::MatrixXd Yb = factor_->forward(Eigen::MatrixXd(Nt.middleCols(j0, nb)));
