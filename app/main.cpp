@@ -58,8 +58,9 @@ bool is_case_file(const std::string& s) {
 
 /// The case named on the command line: a case file, or a built-in case (its
 /// compiled-in TOML twin when --set is used), with the command-line overrides.
-vpc::Case load_case(const Options& o, const CLI::App& cmd) {
+vpc::Case load_case(const Options& o, const CLI::App& cmd, const vpc::MeshRequest& mesh = {}) {
   vpc::CaseOverrides ov;
+  ov.build_mesh = mesh.build;
   if (given(cmd, "--kappa")) ov.kappa = o.kappa;
   if (given(cmd, "--steps")) ov.steps = o.steps;
   if (given(cmd, "--dt")) ov.time_step = o.dt;
@@ -84,9 +85,9 @@ vpc::Case load_case(const Options& o, const CLI::App& cmd) {
       }
       // Shipped cases find their meshes (cases/meshes/) in the source tree.
       c = vpc::parse_case(it->text, std::string(it->name) + ".toml (built-in)", fs::path(VPC_SOURCE_DIR) / "cases",
-                          sets);
+                          sets, mesh);
     } else {
-      c = vpc::read_case_file(o.case_name, sets);
+      c = vpc::read_case_file(o.case_name, sets, mesh);
     }
     vpc::apply_case_overrides(*c.problem, ov);
   }
@@ -138,9 +139,11 @@ int plot(const std::string& outdir) {
 int run(const Options& o, const CLI::App& cmd) {
   using Clock = std::chrono::steady_clock;
   const auto t0 = Clock::now();
-  vpc::Case c = load_case(o, cmd);
   if (vpc::use_petsc_engine(o.engine))  // mpirun -np P vpcontact run CASE (docs/parallel.md)
-    return vpc::parallel_run(c, {o.quiet, o.resume, o.halvings, o.linear_solver, o.plot, o.checkpoint_every, o.checkpoint_seconds});
+    return vpc::parallel_run([&](const vpc::MeshRequest& mesh) { return load_case(o, cmd, mesh); },
+                             {o.quiet, o.resume, o.halvings, o.linear_solver, o.plot, o.checkpoint_every,
+                              o.checkpoint_seconds});
+  vpc::Case c = load_case(o, cmd);
   if (!o.resume.empty()) c.output.directory = o.resume;
   vpc::require(o.halvings >= 0 && o.halvings <= 20, "--retry-halvings must be in [0, 20] (got {})", o.halvings);
   c.solvers.max_halvings = o.halvings;

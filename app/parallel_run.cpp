@@ -52,16 +52,46 @@ void remove_checkpoints_everywhere(MPI_Comm comm, const std::filesystem::path& d
   require(allreduce_and(comm, error.empty()), "{}", error.empty() ? "rank 0 could not remove old checkpoints" : error);
 }
 
-int run(Case& c, const ParallelRunOptions& o, MPI_Comm comm) {
+/// The case on every rank, its mesh on rank 0 only: rank 0 builds it and sends
+/// the mesh's dimension (or its error, which every rank then reports alike); the
+/// other ranks build everything else (laws and formulas are C++ objects made by
+/// the parser) around an empty mesh of that dimension.
+Case load_everywhere(const CaseLoader& load, MPI_Comm comm) {
+  const int rank = comm_rank(comm);
+  Case c;
+  std::string error;
+  int dim = 0;
+  if (rank == 0) {
+    try {
+      c = load({});
+      dim = c.problem->mesh.dim();
+    } catch (const std::exception& e) {
+      error = e.what();
+    }
+  }
+  int error_size = static_cast<int>(error.size());
+  MPI_Bcast(&error_size, 1, MPI_INT, 0, comm);
+  if (error_size > 0) {
+    error.resize(static_cast<size_t>(error_size));
+    MPI_Bcast(error.data(), error_size, MPI_CHAR, 0, comm);
+    throw CollectiveError(error);
+  }
+  MPI_Bcast(&dim, 1, MPI_INT, 0, comm);
+  if (rank != 0) c = load({.build = false, .dim = dim});
+  return c;
+}
+
+int run(const CaseLoader& load, const ParallelRunOptions& o, MPI_Comm comm) {
   using Clock = std::chrono::steady_clock;
   const auto t0 = Clock::now();
   const int rank = comm_rank(comm), size = comm_size(comm);
+  Case c = load_everywhere(load, comm);
   PetscSolverOptions linear;
   linear.kind = o.linear_solver;
 
   if (!o.resume.empty()) c.output.directory = o.resume;
   DistributedMesh part = distribute_mesh(comm, *c.problem);
-  c.problem->mesh = Mesh();  // from here on, every rank holds its part only
+  c.problem->mesh = Mesh();  // from here on, rank 0 too holds its part only
   DistributedTimeStepper stepper(c.problem, std::move(part), c.solvers, linear);
   if (!o.quiet && rank == 0) describe(c, stepper, size, linear.kind);
   ParallelOutput output(stepper, c.output, linear.kind);
@@ -140,7 +170,7 @@ int run(Case& c, const ParallelRunOptions& o, MPI_Comm comm) {
 
 }  // namespace
 
-int parallel_run(Case& c, const ParallelRunOptions& o) {
+int parallel_run(const CaseLoader& load, const ParallelRunOptions& o) {
   if (PetscInitializeNoArguments() != 0) {
     fmt::print(stderr, "vpcontact: error: PETSc/MPI could not be initialized\n");
     return 2;
@@ -162,7 +192,7 @@ int parallel_run(Case& c, const ParallelRunOptions& o) {
   }
   int rc = 0;
   try {
-    rc = run(c, o, comm);
+    rc = run(load, o, comm);
   } catch (const CollectiveError& e) {
     if (rank == 0) fmt::print(stderr, "vpcontact: error: {}\n", e.what());
     rc = 1;

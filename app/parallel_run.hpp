@@ -8,6 +8,7 @@
 #include "core/error.hpp"
 
 #include <cstdlib>
+#include <functional>
 #include <string>
 
 namespace vpc {
@@ -53,11 +54,15 @@ inline bool use_petsc_engine(const std::string& engine) {
 #endif
 }
 
+/// Builds the case; rank 0 with its mesh, the other ranks without (MeshRequest).
+using CaseLoader = std::function<Case(const MeshRequest&)>;
+
 #ifdef VPCONTACT_WITH_PETSC
-/// Runs the case on every rank of MPI_COMM_WORLD; returns the exit code.
-int parallel_run(Case& c, const ParallelRunOptions& options);
+/// Runs the case on every rank of MPI_COMM_WORLD; returns the exit code. Only
+/// rank 0 builds (reads, generates) the whole mesh; it sends each rank its part.
+int parallel_run(const CaseLoader& load, const ParallelRunOptions& options);
 #else
-inline int parallel_run(Case&, const ParallelRunOptions&) {
+inline int parallel_run(const CaseLoader&, const ParallelRunOptions&) {
   fail("this vpcontact was built without PETSc (docs/parallel.md)");
 }
 #endif

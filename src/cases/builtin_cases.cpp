@@ -57,7 +57,7 @@ Case paper_1d(const CaseOverrides& o) {
   auto p = std::make_shared<Problem>();
   p->name = "paper-1d";
   const int n = mesh_cells(o, 100, 1, "");
-  p->mesh = make_interval(0.0, 1.0, n);
+  p->mesh = o.build_mesh ? make_interval(0.0, 1.0, n) : Mesh(1);
   p->clamped = {"left"};
   p->contact.parts = {"right"};
   p->contact.gap = [](const Point&, double) { return 0.25; };
@@ -80,7 +80,7 @@ Case paper_2d(const CaseOverrides& o) {
   auto p = std::make_shared<Problem>();
   p->name = "paper-2d";
   const int n = mesh_cells(o, 40, 5, "so that x = 0.8 and 1.2 are nodes");
-  p->mesh = make_rectangle({0, 0, 0}, {2, 2, 0}, n, n);
+  p->mesh = o.build_mesh ? make_rectangle({0, 0, 0}, {2, 2, 0}, n, n) : Mesh(2);
   p->mesh.tag_facets("contact", [](const Point& x) { return std::abs(x[1]) < 1e-12 && x[0] > 0.8 && x[0] < 1.2; });
   p->clamped = {"top"};
   p->contact.parts = {"contact"};
@@ -106,7 +106,7 @@ Case block_3d(const CaseOverrides& o) {
   auto p = std::make_shared<Problem>();
   p->name = "block-3d";
   const int n = mesh_cells(o, 10, 5, "so that x, y = 0.8 and 1.2 are nodes");
-  p->mesh = make_box({0, 0, 0}, {2, 2, 2}, n, n, n);
+  p->mesh = o.build_mesh ? make_box({0, 0, 0}, {2, 2, 2}, n, n, n) : Mesh(3);
   p->mesh.tag_facets("contact", [](const Point& x) {
     return std::abs(x[2]) < 1e-12 && x[0] > 0.8 && x[0] < 1.2 && x[1] > 0.8 && x[1] < 1.2;
   });

@@ -14,6 +14,7 @@ struct CaseOverrides {
   std::optional<double> kappa{};
   std::optional<int> steps{};      // N, so k = T / N
   std::optional<double> time_step{};// k; N = T / k must be an integer
+  bool build_mesh = true;            // false: an empty mesh (a rank > 0 of a distributed run; MeshRequest)
 };
 
 /// Applies κ, N or k overrides to a problem (built-in or from a case file);

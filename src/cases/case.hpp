@@ -10,6 +10,16 @@
 
 namespace vpc {
 
+/// Whether a case's mesh is built. A rank > 0 of a distributed run does not build
+/// it: it receives its part from rank 0 (docs/parallel.md), so no rank but the one
+/// that reads it ever holds the whole mesh. Its problem's mesh is then an empty mesh
+/// of dimension `dim` (found by rank 0), and the checks that need the mesh (parts
+/// exist, β0 and g at the nodes) are rank 0's.
+struct MeshRequest {
+  bool build = true;
+  int dim = 0;
+};
+
 struct Case {
   std::string name;
   std::string description;

@@ -359,12 +359,13 @@ Mesh read_mesh(Section m, const fs::path& base_dir, const std::string& file) {
   return mesh;
 }
 
-std::vector<std::string> read_parts(Section& b, const std::string& key, const Mesh& mesh, bool required) {
+/// `check`: whether the parts must exist in `mesh` (not on a rank that did not build it).
+std::vector<std::string> read_parts(Section& b, const std::string& key, const Mesh& mesh, bool required, bool check) {
   if (!required && !b.has(key)) return {};
   const auto parts = b.strings(key);
   if (parts.empty()) fail("{}: expected at least one boundary part name", b.where(key));
   for (const auto& p : parts)
-    if (mesh.part_size(p) == 0)
+    if (check && mesh.part_size(p) == 0)
       fail("{}: boundary part '{}' does not exist in the mesh (or has no facets); the mesh has: {}", b.where(key), p,
            describe_parts(mesh));
   return parts;
@@ -394,7 +395,7 @@ void unknown_parameter(Section& s, const Parameters& params, const std::string& 
 }  // namespace
 
 Case parse_case(std::string_view text, const std::string& name, const fs::path& base_dir,
-                const std::vector<std::string>& overrides) {
+                const std::vector<std::string>& overrides, const MeshRequest& mesh_request) {
   toml::table root;
   try {
     root = toml::parse(text, std::string_view(name));
@@ -414,14 +415,20 @@ Case parse_case(std::string_view text, const std::string& name, const fs::path& 
   info.finish();
   p->name = c.name;
 
-  p->mesh = read_mesh(top.table("mesh"), base_dir, name);
+  if (mesh_request.build) {
+    p->mesh = read_mesh(top.table("mesh"), base_dir, name);
+  } else {
+    require(mesh_request.dim >= 1 && mesh_request.dim <= 3, "{}: the mesh dimension must be 1, 2 or 3", name);
+    (void)top.table("mesh");  // read by the rank that builds the mesh
+    p->mesh = Mesh(mesh_request.dim);
+  }
   const int d = p->mesh.dim();
 
   Section b = top.table("boundary");
   if (!b.exists()) fail("{}: missing section [boundary] (clamped and contact parts)", name);
-  p->clamped = read_parts(b, "clamped", p->mesh, true);
-  p->contact.parts = read_parts(b, "contact", p->mesh, true);
-  p->traction = read_parts(b, "traction", p->mesh, false);
+  p->clamped = read_parts(b, "clamped", p->mesh, true, mesh_request.build);
+  p->contact.parts = read_parts(b, "contact", p->mesh, true, mesh_request.build);
+  p->traction = read_parts(b, "traction", p->mesh, false, mesh_request.build);
   b.finish();
 
   Section e = top.table("elasticity");
@@ -577,7 +584,7 @@ Case parse_case(std::string_view text, const std::string& name, const fs::path& 
 
   top.finish();
   try {
-    p->validate();
+    if (mesh_request.build) p->validate();  // without the mesh: validated by the rank that has it
   } catch (const Error& err) {
     fail("{}: {}", name, err.what());
   }
@@ -593,12 +600,12 @@ std::string case_description(std::string_view text) {
   }
 }
 
-Case read_case_file(const fs::path& file, const std::vector<std::string>& overrides) {
+Case read_case_file(const fs::path& file, const std::vector<std::string>& overrides, const MeshRequest& mesh) {
   std::ifstream in(file, std::ios::binary);
   require(in.good(), "cannot read case file '{}'", file.string());
   std::stringstream ss;
   ss << in.rdbuf();
-  return parse_case(ss.str(), file.string(), file.parent_path(), overrides);
+  return parse_case(ss.str(), file.string(), file.parent_path(), overrides, mesh);
 }
 
 }  // namespace vpc

@@ -13,12 +13,14 @@ namespace vpc {
 /// Reads a case file. `overrides` are "key.path=value" strings (the value in
 /// TOML syntax; a bare word is taken as a string) applied before validation,
 /// as `vpcontact run CASE --set key=value`.
-Case read_case_file(const std::filesystem::path& file, const std::vector<std::string>& overrides = {});
+/// `mesh` says whether the mesh is built (see MeshRequest).
+Case read_case_file(const std::filesystem::path& file, const std::vector<std::string>& overrides = {},
+                    const MeshRequest& mesh = {});
 
 /// Parses a case from TOML text; `name` stands for the file in messages and
 /// relative paths (meshes) are resolved against `base_dir`.
 Case parse_case(std::string_view text, const std::string& name, const std::filesystem::path& base_dir,
-                const std::vector<std::string>& overrides = {});
+                const std::vector<std::string>& overrides = {}, const MeshRequest& mesh = {});
 
 /// The [case] description of a case file's text, without reading the rest
 /// (no meshing); empty if there is none or the text is not valid TOML.

@@ -118,6 +118,27 @@ TEST(CaseFile, OverridesApplyBeforeValidation) {
       << error_of(kValid, {"damage.kappa=-1"});
 }
 
+// A rank > 0 of a distributed run builds the case without its mesh (MeshRequest):
+// the mesh file is not even opened, the rest is the same as rank 0's.
+TEST(CaseFile, WithoutTheMeshForRanksThatReceiveTheirPart) {
+  const std::string no_file = variant("generator = \"rectangle\"\nlower = [0.0, 0.0]\nupper = [2.0, 1.0]\ncells = [10, 5]",
+                                      "file = \"no_such_mesh.msh\"");
+  EXPECT_THROW(parse_case(no_file, "ok.toml", "."), Error);  // rank 0 reads it: the file is missing
+  const Case c = parse_case(no_file, "ok.toml", ".", {}, {.build = false, .dim = 2});
+  const Case full = parse_case(kValid, "ok.toml", ".");
+  EXPECT_EQ(c.problem->mesh.dim(), 2);
+  EXPECT_EQ(c.problem->mesh.n_nodes(), 0);
+  EXPECT_EQ(c.problem->contact.parts, full.problem->contact.parts);
+  EXPECT_EQ(c.problem->clamped, full.problem->clamped);
+  EXPECT_EQ(c.problem->n_steps, full.problem->n_steps);
+  EXPECT_EQ(c.problem->law->describe(), full.problem->law->describe());
+  EXPECT_NEAR(c.problem->contact.gap({1.5, 0, 0}, 0), 0.0015, 1e-15);
+  // The built-in cases likewise.
+  const Case b = make_builtin_case("paper-2d", {.mesh_cells = 20, .build_mesh = false});
+  EXPECT_EQ(b.problem->mesh.dim(), 2);
+  EXPECT_EQ(b.problem->mesh.n_cells(), 0);
+}
+
 TEST(CaseFile, ExpressionsEvaluateAndReportErrors) {
   const Expression e("sin(pi*x/2) + t^2 + (y > 0.5 ? 1 : 0)", Expression::Kind::SpaceTime, "here");
   EXPECT_NEAR(e({1, 1, 0}, 3), 1 + 9 + 1, 1e-14);
