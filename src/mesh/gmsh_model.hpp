@@ -2,6 +2,9 @@
 // What vpcontact takes from Gmsh's model of a file, and its byte form. The Gmsh
 // module (gmsh_module.cpp, the only code linked with Gmsh's library) fills it in
 // a child process and sends it as bytes; gmsh_reader.cpp checks it and builds the Mesh.
+#include <unistd.h>
+
+#include <cerrno>
 #include <cstddef>
 #include <cstring>
 #include <string>
@@ -73,6 +76,17 @@ class Writer {
     }
   }
   const std::string& bytes() const { return out_; }
+  /// Writes the bytes to `fd` (the pipe to the parent); a short write is reported
+  /// by the parent, which finds the model truncated.
+  void send(int fd) const {
+    std::size_t done = 0;
+    while (done < out_.size()) {
+      const ssize_t n = ::write(fd, out_.data() + done, out_.size() - done);
+      if (n < 0 && errno == EINTR) continue;
+      if (n <= 0) return;
+      done += static_cast<std::size_t>(n);
+    }
+  }
 
  private:
   std::string out_;

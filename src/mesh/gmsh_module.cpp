@@ -6,9 +6,7 @@
 #include "mesh/gmsh_model.hpp"
 
 #include <gmsh.h>
-#include <unistd.h>
 
-#include <cerrno>
 #include <new>
 
 namespace vpc {
@@ -16,16 +14,6 @@ namespace vpc {
 namespace {
 
 using namespace gmsh_model;
-
-void write_all(int fd, const std::string& bytes) {
-  std::size_t done = 0;
-  while (done < bytes.size()) {
-    const ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) return;  // the parent reports the missing bytes
-    done += static_cast<std::size_t>(n);
-  }
-}
 
 /// Gmsh's own name of an element type, e.g. "Quadrilateral 4" or "Triangle 6".
 std::string element_name(int type) {
@@ -157,5 +145,5 @@ extern "C" __attribute__((visibility("default"))) void vpcontact_gmsh_write_mode
     w.value('E');
     w.string(error);
   }
-  write_all(fd, w.bytes());
+  w.send(fd);
 }

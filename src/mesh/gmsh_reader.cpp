@@ -47,16 +47,6 @@ const char* simplex_name(int d) {
 
 using namespace gmsh_model;
 
-void write_all(int fd, const std::string& bytes) {
-  std::size_t done = 0;
-  while (done < bytes.size()) {
-    const ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) return;  // the parent reports the missing bytes
-    done += static_cast<std::size_t>(n);
-  }
-}
-
 std::string read_all(int fd) {
   std::string out;
   char buffer[1 << 16];
@@ -152,7 +142,7 @@ GmshModel read_in_child(const std::string& file, const GmshOptions& options) {
       w.value('E');
       w.string(fmt::format("{}: cannot load vpcontact's Gmsh module '{}': {} (set VPCONTACT_GMSH_MODULE to its path)",
                            file, module, ::dlerror()));
-      write_all(fds[1], w.bytes());
+      w.send(fds[1]);
       ::_exit(0);
     }
     reinterpret_cast<WriteModelFunction*>(entry)(file.c_str(), options.dim, options.size_factor, budget, fds[1]);
