@@ -71,4 +71,11 @@ struct SymTensor {
 
 using Point = std::array<double, 3>;
 
+/// P_Q onto S_d: zeroes the components a d-dimensional tensor does not have.
+inline void restrict_to_dim(SymTensor& s, int d) {
+  if (d == 3) return;
+  s[2] = s[3] = s[4] = 0;
+  if (d == 1) s[1] = s[5] = 0;
+}
+
 }  // namespace vpc

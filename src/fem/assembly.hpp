@@ -43,6 +43,13 @@ Vector assemble_stress_divergence(const Mesh& mesh, const std::vector<CellGeomet
 Vector assemble_p0_source(const Mesh& mesh, const std::vector<CellGeometry>& geo,
                           const std::vector<double>& s);
 
+/// The mean of a nodal (P1 scalar) field over the vertices of cell c: its value at the centroid.
+inline double cell_mean(const Mesh& mesh, const Vector& nodal, int c) {
+  double s = 0;
+  for (int a = 0; a < mesh.nodes_per_cell(); ++a) s += nodal[mesh.cell(c)[a]];
+  return s / mesh.nodes_per_cell();
+}
+
 /// P0 strains ε(u) of a full-space P1 displacement.
 void compute_strain(const Mesh& mesh, const std::vector<CellGeometry>& geo, const Vector& u_full,
                     std::vector<SymTensor>& eps);

@@ -81,48 +81,6 @@ std::vector<int> partition_cells(const Mesh& mesh, const NodeCells& nc, int n_pa
   return part;
 }
 
-struct Row {
-  int node;
-  Point dir;
-  double gap;
-};
-
-/// The contact rows of N exactly as TimeStepper::setup_contact forms them (same order).
-std::vector<Row> contact_rows(const Problem& p, const std::vector<char>& clamped) {
-  const Mesh& mesh = p.mesh;
-  std::vector<Point> normal(mesh.n_nodes(), Point{0, 0, 0});
-  for (int f : mesh.facets_of_parts(p.contact.parts)) {
-    const Point nf = mesh.facet_normal(f);
-    const double w = mesh.facet_measure(f);
-    for (int a = 0; a < mesh.nodes_per_facet(); ++a)
-      for (int j = 0; j < 3; ++j) normal[mesh.facet(f)[a]][j] += w * nf[j];
-  }
-  std::vector<Row> rows;
-  for (int node : mesh.nodes_of_parts(p.contact.parts)) {
-    if (clamped[node]) continue;  // u = 0 already
-    Point v = p.contact.direction ? *p.contact.direction : normal[node];
-    const double l = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-    for (double& c : v) c /= l;
-    const double g = p.contact.gap(mesh.node(node), 0.0);
-    require(std::isfinite(g) && g >= 0, "{}: the gap g must be >= 0; it is {} at node {}", p.name, g, node);
-    rows.push_back({node, v, g});
-  }
-  require(!rows.empty(), "{}: the contact part has no free nodes (all are clamped or it is empty)", p.name);
-  return rows;
-}
-
-/// Γ2 exactly as the TimeStepper takes it: the given parts, or every facet not in Γ1 or Γ3.
-std::vector<int> traction_facets(const Problem& p) {
-  const Mesh& mesh = p.mesh;
-  if (!p.traction.empty()) return mesh.facets_of_parts(p.traction);
-  std::vector<int> excluded, facets;
-  for (const auto& n : p.clamped) excluded.push_back(mesh.find_part(n));
-  for (const auto& n : p.contact.parts) excluded.push_back(mesh.find_part(n));
-  for (int f = 0; f < mesh.n_facets(); ++f)
-    if (std::find(excluded.begin(), excluded.end(), mesh.facet_part(f)) == excluded.end()) facets.push_back(f);
-  return facets;
-}
-
 /// A cell containing all nodes of facet f.
 int facet_cell(const Mesh& mesh, const NodeCells& nc, int f) {
   const int v0 = mesh.facet(f)[0];
@@ -180,7 +138,7 @@ std::vector<Message> pack_parts(const Problem& p, int n_parts) {
   }
   dof_begin[n_parts] = next_dof;
 
-  const std::vector<Row> rows = contact_rows(p, clamped);
+  const std::vector<ContactRow> rows = contact_rows(p, clamped);
   std::vector<int> contact_row(n_nodes, -1);
   for (size_t k = 0; k < rows.size(); ++k) contact_row[rows[k].node] = static_cast<int>(k);
 
@@ -234,9 +192,9 @@ std::vector<Message> pack_parts(const Problem& p, int n_parts) {
     for (int f : facets_of[r])
       for (int a = 0; a < d; ++a) m.ints.push_back(local[mesh.facet(f)[a]]);
     for (int v : contacts) {
-      const Row& row = rows[contact_row[v]];
+      const ContactRow& row = rows[contact_row[v]];
       m.ints.insert(m.ints.end(), {contact_row[v], local[v], owner[v] == r ? 1 : 0});
-      m.reals.insert(m.reals.end(), {row.dir[0], row.dir[1], row.dir[2], row.gap});
+      m.reals.insert(m.reals.end(), {row.direction[0], row.direction[1], row.direction[2], row.gap});
     }
     for (int v : nodes) local[v] = -1;
   }

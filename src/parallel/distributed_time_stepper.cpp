@@ -13,19 +13,6 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
-/// P_Q onto S_d (as TimeStepper): the components a d-dimensional tensor does not have are zero.
-void restrict_to_dim(SymTensor& s, int d) {
-  if (d == 3) return;
-  s[2] = s[3] = s[4] = 0;
-  if (d == 1) s[1] = s[5] = 0;
-}
-
-double centroid_mean(const Mesh& mesh, const Vector& nodal, int c) {
-  double s = 0;
-  for (int a = 0; a < mesh.nodes_per_cell(); ++a) s += nodal[mesh.cell(c)[a]];
-  return s / mesh.nodes_per_cell();
-}
-
 /// Adds the entries of a local matrix (rows and columns numbered locally) to a
 /// PETSc matrix at the global numbers l2g.
 void add_local_matrix(Mat A, const SparseMatrix& local, const std::vector<PetscInt>& l2g) {
@@ -254,7 +241,7 @@ StepReport DistributedTimeStepper::step() {
   std::vector<SymTensor> G(n_cells);
   std::vector<double> phi(n_cells);
   for (int c = 0; c < n_cells; ++c) {
-    const PointState s{state_.sigma[c], state_.eps[c], centroid_mean(mesh, beta_old, c), d, mesh.cell_centroid(c),
+    const PointState s{state_.sigma[c], state_.eps[c], cell_mean(mesh, beta_old, c), d, mesh.cell_centroid(c),
                        state_.t};
     G[c] = p.law->rate(s);
     restrict_to_dim(G[c], d);

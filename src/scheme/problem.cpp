@@ -2,6 +2,7 @@
 
 #include "core/error.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace vpc {
@@ -30,6 +31,40 @@ void Problem::validate() const {
     const Point& v = *contact.direction;
     require(std::hypot(v[0], v[1], v[2]) > 0, "{}: the contact direction must be a non-zero vector", where);
   }
+}
+
+std::vector<int> traction_facets(const Problem& p) {
+  const Mesh& mesh = p.mesh;
+  if (!p.traction.empty()) return mesh.facets_of_parts(p.traction);
+  std::vector<int> excluded, facets;
+  for (const auto& n : p.clamped) excluded.push_back(mesh.find_part(n));
+  for (const auto& n : p.contact.parts) excluded.push_back(mesh.find_part(n));
+  for (int f = 0; f < mesh.n_facets(); ++f)
+    if (std::find(excluded.begin(), excluded.end(), mesh.facet_part(f)) == excluded.end()) facets.push_back(f);
+  return facets;
+}
+
+std::vector<ContactRow> contact_rows(const Problem& p, const std::vector<char>& clamped) {
+  const Mesh& mesh = p.mesh;
+  std::vector<Point> normal(mesh.n_nodes(), Point{0, 0, 0});
+  for (int f : mesh.facets_of_parts(p.contact.parts)) {
+    const Point nf = mesh.facet_normal(f);
+    const double w = mesh.facet_measure(f);
+    for (int a = 0; a < mesh.nodes_per_facet(); ++a)
+      for (int j = 0; j < 3; ++j) normal[mesh.facet(f)[a]][j] += w * nf[j];
+  }
+  std::vector<ContactRow> rows;
+  for (int node : mesh.nodes_of_parts(p.contact.parts)) {
+    if (clamped[node]) continue;  // u = 0 already
+    Point v = p.contact.direction ? *p.contact.direction : normal[node];
+    const double l = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    for (double& c : v) c /= l;
+    const double g = p.contact.gap(mesh.node(node), 0.0);
+    require(std::isfinite(g) && g >= 0, "{}: the gap g must be >= 0; it is {} at node {}", p.name, g, node);
+    rows.push_back({node, v, g});
+  }
+  require(!rows.empty(), "{}: the contact part has no free nodes (all are clamped or it is empty)", p.name);
+  return rows;
 }
 
 }  // namespace vpc

@@ -44,4 +44,21 @@ struct Problem {
   void validate() const;
 };
 
+/// Γ2: the given traction parts, or every boundary facet in neither Γ1 nor Γ3.
+std::vector<int> traction_facets(const Problem& p);
+
+/// A row of the contact matrix N of (3.9): a node of Γ3 that is not clamped, its
+/// unit direction ν (the given one, or the measure-weighted mean of the outward
+/// normals of its Γ3 facets) and its gap g.
+struct ContactRow {
+  int node = 0;
+  Point direction{0, 0, 0};
+  double gap = 0;
+};
+
+/// The contact rows in increasing node order; clamped[i] marks the nodes of Γ1
+/// (u = 0 there already). Throws vpc::Error for a negative or non-finite gap,
+/// or when no free node is left on Γ3.
+std::vector<ContactRow> contact_rows(const Problem& p, const std::vector<char>& clamped);
+
 }  // namespace vpc

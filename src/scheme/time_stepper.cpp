@@ -19,19 +19,6 @@ double seconds_since(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
 }
 
-/// P_Q onto S_d: the components a d-dimensional tensor does not have are zero.
-void restrict_to_dim(SymTensor& s, int d) {
-  if (d == 3) return;
-  s[2] = s[3] = s[4] = 0;
-  if (d == 1) s[1] = s[5] = 0;
-}
-
-double centroid_mean(const Mesh& mesh, const Vector& nodal, int c) {
-  double s = 0;
-  for (int a = 0; a < mesh.nodes_per_cell(); ++a) s += nodal[mesh.cell(c)[a]];
-  return s / mesh.nodes_per_cell();
-}
-
 }  // namespace
 
 TimeStepper::TimeStepper(std::shared_ptr<const Problem> problem, SolverChoice choice)
@@ -48,16 +35,7 @@ TimeStepper::TimeStepper(std::shared_ptr<const Problem> problem, SolverChoice ch
   require(dofs_.n_free() > 0, "{}: every node is clamped; nothing to solve", p.name);
 
   // Γ2: the given parts, or everything that is neither Γ1 nor Γ3.
-  if (!p.traction.empty()) {
-    traction_facets_ = mesh.facets_of_parts(p.traction);
-  } else {
-    std::vector<int> excluded;
-    for (const auto& n : p.clamped) excluded.push_back(mesh.find_part(n));
-    for (const auto& n : p.contact.parts) excluded.push_back(mesh.find_part(n));
-    for (int f = 0; f < mesh.n_facets(); ++f)
-      if (std::find(excluded.begin(), excluded.end(), mesh.facet_part(f)) == excluded.end())
-        traction_facets_.push_back(f);
-  }
+  traction_facets_ = traction_facets(p);
 
   // Loads uniform in space: (f(t), ψ_a e_i) = f_i(t) ∫ψ_a, with the same quadrature.
   const VectorField unit = [](const Point&, double) { return Point{1, 0, 0}; };
@@ -111,33 +89,18 @@ void TimeStepper::setup_contact() {
   const Problem& p = *problem_;
   const Mesh& mesh = p.mesh;
   const int d = mesh.dim();
-  // Contact direction per node of Γ3: the given vector, or the measure-weighted
-  // mean of the outward normals of the Γ3 facets around the node.
-  std::vector<Point> normal(mesh.n_nodes(), Point{0, 0, 0});
-  for (int f : mesh.facets_of_parts(p.contact.parts)) {
-    const Point nf = mesh.facet_normal(f);
-    const double w = mesh.facet_measure(f);
-    for (int a = 0; a < mesh.nodes_per_facet(); ++a)
-      for (int j = 0; j < 3; ++j) normal[mesh.facet(f)[a]][j] += w * nf[j];
-  }
+  std::vector<char> clamped(mesh.n_nodes(), 0);
+  for (int node : mesh.nodes_of_parts(p.clamped)) clamped[node] = 1;
   std::vector<Eigen::Triplet<double>> t;
   std::vector<double> gaps;
-  for (int node : mesh.nodes_of_parts(p.contact.parts)) {
-    if (dofs_.free_index(dofs_.full_index(node, 0)) < 0) continue;  // clamped: u = 0 already
-    Point v = p.contact.direction ? *p.contact.direction : normal[node];
-    const double l = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-    for (double& c : v) c /= l;
+  for (const ContactRow& r : contact_rows(p, clamped)) {
     const int row = static_cast<int>(contact_nodes_.size());
     for (int c = 0; c < d; ++c)
-      if (v[c] != 0) t.emplace_back(row, dofs_.free_index(dofs_.full_index(node, c)), v[c]);
-    const double g = p.contact.gap(mesh.node(node), 0.0);
-    require(std::isfinite(g) && g >= 0, "{}: the gap g must be >= 0; it is {} at node {}", p.name, g, node);
-    contact_nodes_.push_back(node);
-    contact_dir_.push_back(v);
-    gaps.push_back(g);
+      if (r.direction[c] != 0) t.emplace_back(row, dofs_.free_index(dofs_.full_index(r.node, c)), r.direction[c]);
+    contact_nodes_.push_back(r.node);
+    contact_dir_.push_back(r.direction);
+    gaps.push_back(r.gap);
   }
-  require(!contact_nodes_.empty(), "{}: the contact part has no free nodes (all are clamped or it is empty)",
-          p.name);
   N_.resize(static_cast<Eigen::Index>(contact_nodes_.size()), dofs_.n_free());
   N_.setFromTriplets(t.begin(), t.end());
   gap_ = Eigen::Map<Vector>(gaps.data(), static_cast<Eigen::Index>(gaps.size()));
@@ -244,7 +207,7 @@ StepReport TimeStepper::advance(int level, double t_end) {
   std::vector<double> phi(n_cells);
 #pragma omp parallel for schedule(static) if (n_cells >= kParallelCells)
   for (int c = 0; c < n_cells; ++c) {
-    const PointState s{state_.sigma[c], state_.eps[c], centroid_mean(mesh, state_.beta, c), d,
+    const PointState s{state_.sigma[c], state_.eps[c], cell_mean(mesh, state_.beta, c), d,
                        mesh.cell_centroid(c), state_.t};
     G[c] = p.law->rate(s);
     restrict_to_dim(G[c], d);
