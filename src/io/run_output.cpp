@@ -50,26 +50,9 @@ ProbeLocation locate_point(const Mesh& mesh, const Point& x) {
 
 namespace {
 
-/// Components of S_d in the order written: d = 1: 11; d = 2: 11, 22, 12; d = 3: all six.
-std::vector<int> tensor_components(int d) {
-  if (d == 1) return {0};
-  if (d == 2) return {0, 1, 5};
-  return {0, 1, 2, 3, 4, 5};
-}
 const char* component_name(int i) {
   static const char* n[6] = {"11", "22", "33", "23", "13", "12"};
   return n[i];
-}
-
-VtuField tensor_field(const std::string& name, const std::vector<SymTensor>& t) {
-  VtuField f{name, 6, {}};
-  f.values.reserve(t.size() * 6);
-  for (const auto& s : t) {
-    // VTK's symmetric-tensor order: XX, YY, ZZ, XY, YZ, XZ.
-    const double v[6] = {s[0], s[1], s[2], s[5], s[3], s[4]};
-    f.values.insert(f.values.end(), v, v + 6);
-  }
-  return f;
 }
 
 }  // namespace
@@ -107,10 +90,38 @@ void RunTotals::add(const StepReport& r) {
   seconds_stress += r.seconds_stress;
 }
 
-namespace {
+std::vector<int> tensor_components(int d) {
+  if (d == 1) return {0};
+  if (d == 2) return {0, 1, 5};
+  return {0, 1, 2, 3, 4, 5};
+}
 
-/// Keeps the header and the rows whose first field (the step) is ≤ n; drops a
-/// partly written last line. Rewritten atomically.
+std::string history_header() {
+  return "step,t,n_active,total_contact_force,contact_iterations,contact_equilibrium,"
+         "contact_penetration,contact_negative_force,contact_complementarity,damage_iterations,"
+         "damage_kkt_residual,beta_min,beta_max,n_beta_zero,n_beta_one,max_von_mises,ok\n";
+}
+
+std::string history_row(const StepReport& r) {
+  const auto& c = r.contact;
+  return fmt::format("{},{:.17g},{},{:.17g},{},{:.3e},{:.3e},{:.3e},{:.3e},{},{:.3e},{:.17g},{:.17g},{},{},{:.17g},{}\n",
+                     r.n, r.t, c.n_active, c.total_force, c.iterations, c.residuals.equilibrium,
+                     c.residuals.penetration, c.residuals.negative_force, c.residuals.complementarity,
+                     r.damage.iterations, r.damage.kkt_residual, r.beta_min, r.beta_max, r.damage.n_lower,
+                     r.damage.n_upper, r.max_von_mises, r.ok ? 1 : 0);
+}
+
+std::string probes_header(int d, std::size_t n_probes) {
+  std::string h = "step,t";
+  static const char* axis = "xyz";
+  for (std::size_t p = 0; p < n_probes; ++p) {
+    for (int i = 0; i < d; ++i) h += fmt::format(",p{}_u{}", p, axis[i]);
+    for (int c : tensor_components(d)) h += fmt::format(",p{}_sigma{}", p, component_name(c));
+    h += fmt::format(",p{}_von_mises,p{}_beta", p, p);
+  }
+  return h + "\n";
+}
+
 void truncate_csv(const fs::path& path, int n) {
   std::ifstream in(path);
   require(in.good(), "resume: cannot read '{}'", path.string());
@@ -118,18 +129,13 @@ void truncate_csv(const fs::path& path, int n) {
   bool header = true;
   while (std::getline(in, line)) {
     if (in.eof()) break;  // no newline: a row cut by the interruption
-    if (!header) {
-      const int step = std::atoi(line.c_str());
-      if (step > n) break;
-    }
+    if (!header && std::atoi(line.c_str()) > n) break;
     header = false;
     content += line;
     content += '\n';
   }
   write_file_atomic(path, content);
 }
-
-}  // namespace
 
 void RunOutput::open_csv(bool append) {
   const auto mode = append ? std::ios::app : std::ios::trunc;
@@ -142,18 +148,9 @@ void RunOutput::open_csv(bool append) {
 void RunOutput::start() {
   const int d = stepper_.mesh().dim();
   open_csv(false);
-  history_ << "step,t,n_active,total_contact_force,contact_iterations,contact_equilibrium,"
-              "contact_penetration,contact_negative_force,contact_complementarity,damage_iterations,"
-              "damage_kkt_residual,beta_min,beta_max,n_beta_zero,n_beta_one,max_von_mises,ok\n";
+  history_ << history_header();
   history_.flush();
-  probe_csv_ << "step,t";
-  static const char* axis = "xyz";
-  for (size_t p = 0; p < probes_.size(); ++p) {
-    for (int i = 0; i < d; ++i) probe_csv_ << fmt::format(",p{}_u{}", p, axis[i]);
-    for (int c : tensor_components(d)) probe_csv_ << fmt::format(",p{}_sigma{}", p, component_name(c));
-    probe_csv_ << fmt::format(",p{}_von_mises,p{}_beta", p, p);
-  }
-  probe_csv_ << "\n";
+  probe_csv_ << probes_header(d, probes_.size());
   write_probe_row();
   write_fields();
 }
@@ -231,12 +228,7 @@ void RunOutput::record(const StepReport& r) {
 }
 
 void RunOutput::record_untimed(const StepReport& r) {
-  const auto& c = r.contact;
-  history_ << fmt::format("{},{:.17g},{},{:.17g},{},{:.3e},{:.3e},{:.3e},{:.3e},{},{:.3e},{:.17g},{:.17g},{},{},{:.17g},{}\n",
-                          r.n, r.t, c.n_active, c.total_force, c.iterations, c.residuals.equilibrium,
-                          c.residuals.penetration, c.residuals.negative_force, c.residuals.complementarity,
-                          r.damage.iterations, r.damage.kkt_residual, r.beta_min, r.beta_max, r.damage.n_lower,
-                          r.damage.n_upper, r.max_von_mises, r.ok ? 1 : 0);
+  history_ << history_row(r);
   history_.flush();
   write_probe_row();
   totals_.add(r);

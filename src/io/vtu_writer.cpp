@@ -123,4 +123,15 @@ void write_pvd(const std::filesystem::path& path, const std::vector<std::pair<do
   write_file_atomic(path, xml);
 }
 
+VtuField tensor_field(const std::string& name, const std::vector<SymTensor>& t) {
+  VtuField f{name, 6, {}};
+  f.values.reserve(t.size() * 6);
+  for (const auto& s : t) {
+    // VTK's symmetric-tensor order: XX, YY, ZZ, XY, YZ, XZ.
+    const double v[6] = {s[0], s[1], s[2], s[5], s[3], s[4]};
+    f.values.insert(f.values.end(), v, v + 6);
+  }
+  return f;
+}
+
 }  // namespace vpc

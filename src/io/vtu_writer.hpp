@@ -16,6 +16,9 @@ struct VtuField {
   std::vector<double> values;  // n_components per node or per cell
 };
 
+/// A cell field of symmetric tensors, in VTK's component order (XX, YY, ZZ, XY, YZ, XZ).
+VtuField tensor_field(const std::string& name, const std::vector<SymTensor>& t);
+
 /// Writes mesh + point and cell fields atomically.
 void write_vtu(const std::filesystem::path& path, const Mesh& mesh, const std::vector<VtuField>& point_data,
                const std::vector<VtuField>& cell_data);
