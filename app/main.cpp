@@ -172,15 +172,8 @@ int run(const Options& o, const CLI::App& cmd) {
     output.start();
     checkpoint();
   }
-  // Checkpoints: at step 0, at the end, and every --checkpoint-every steps; by default
-  // whenever --checkpoint-seconds of wall time have passed since the last one, so that
-  // short runs are not slowed down by writing (and syncing) their state every step.
-  vpc::require(o.checkpoint_seconds > 0, "--checkpoint-seconds must be > 0 (got {})", o.checkpoint_seconds);
-  auto last_checkpoint_time = Clock::now();
-  auto checkpoint_due = [&](int n) {
-    if (o.checkpoint_every >= 0) return o.checkpoint_every > 0 && n % o.checkpoint_every == 0;
-    return std::chrono::duration<double>(Clock::now() - last_checkpoint_time).count() >= o.checkpoint_seconds;
-  };
+  // Checkpoints: at step 0, at the end, and as the schedule says (by default by time).
+  vpc::CheckpointSchedule schedule(o.checkpoint_every, o.checkpoint_seconds);
   vpc::Progress progress(c.problem->n_steps, o.quiet);
   while (!stepper.done()) {
     const vpc::StepReport r = stepper.step();
@@ -201,10 +194,10 @@ int run(const Options& o, const CLI::App& cmd) {
     }
     output.record(r);
     progress.update(r);
-    if (stepper.done() || checkpoint_due(r.n)) {
+    if (stepper.done() || schedule.due(r.n)) {
       checkpoint();
       last_checkpoint = r.n;
-      last_checkpoint_time = Clock::now();
+      schedule.written();
     }
   }
   progress.finish();

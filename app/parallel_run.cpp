@@ -118,14 +118,11 @@ int run(const CaseLoader& load, const ParallelRunOptions& o, MPI_Comm comm) {
     output.start();
     checkpoint();
   }
-  // Checkpoints as in the serial engine: at step 0, at the end, and every
-  // --checkpoint-every steps, or once --checkpoint-seconds have passed (rank 0's clock).
-  require(o.checkpoint_seconds > 0, "--checkpoint-seconds must be > 0 (got {})", o.checkpoint_seconds);
-  auto last_checkpoint_time = Clock::now();
+  // Checkpoints as in the serial engine; by time on rank 0's clock.
+  CheckpointSchedule schedule(o.checkpoint_every, o.checkpoint_seconds);
   auto checkpoint_due = [&](int n) {
-    if (o.checkpoint_every >= 0) return o.checkpoint_every > 0 && n % o.checkpoint_every == 0;
-    int due = std::chrono::duration<double>(Clock::now() - last_checkpoint_time).count() >= o.checkpoint_seconds;
-    MPI_Bcast(&due, 1, MPI_INT, 0, comm);
+    int due = schedule.due(n);
+    if (schedule.by_time()) MPI_Bcast(&due, 1, MPI_INT, 0, comm);
     return due != 0;
   };
   Progress progress(c.problem->n_steps, o.quiet || rank != 0);
@@ -151,7 +148,7 @@ int run(const CaseLoader& load, const ParallelRunOptions& o, MPI_Comm comm) {
     if (stepper.done() || checkpoint_due(r.n)) {
       checkpoint();
       last_checkpoint = r.n;
-      last_checkpoint_time = Clock::now();
+      schedule.written();
     }
   }
   progress.finish();

@@ -180,6 +180,15 @@ fs::path write_checkpoint(const fs::path& dir, const Checkpoint& c, int keep) {
   return path;
 }
 
+CheckpointSchedule::CheckpointSchedule(int every, double seconds) : every_(every), seconds_(seconds) {
+  require(seconds > 0, "--checkpoint-seconds must be > 0 (got {})", seconds);
+}
+
+bool CheckpointSchedule::due(int n) const {
+  if (every_ >= 0) return every_ > 0 && n % every_ == 0;
+  return std::chrono::duration<double>(Clock::now() - last_).count() >= seconds_;
+}
+
 void remove_checkpoints(const fs::path& dir) {
   std::error_code ec;
   std::vector<fs::path> all;

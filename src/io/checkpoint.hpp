@@ -18,6 +18,7 @@
 #include "io/run_output.hpp"
 #include "scheme/time_stepper.hpp"
 
+#include <chrono>
 #include <cstdint>
 #include <filesystem>
 #include <optional>
@@ -42,6 +43,27 @@ std::uint64_t problem_fingerprint(const TimeStepper& stepper);
 /// Writes OUTDIR/checkpoint_NNNNN.bin atomically and keeps only the newest `keep`;
 /// removes those of later steps (damaged, or of a timeline this run replaced).
 std::filesystem::path write_checkpoint(const std::filesystem::path& dir, const Checkpoint& c, int keep = 2);
+
+/// When a run writes a checkpoint besides step 0 and its last step: every `every`
+/// steps (0: never), or, with every < 0, after the first step that ends `seconds` of
+/// wall time after the previous checkpoint (short runs then do not pay for writing
+/// their whole state every step). Throws vpc::Error unless seconds > 0.
+class CheckpointSchedule {
+ public:
+  CheckpointSchedule(int every, double seconds);
+  /// Whether step n is due (by time: on this process's clock).
+  bool due(int n) const;
+  /// Whether due() depends on the clock (a distributed run takes rank 0's answer).
+  bool by_time() const { return every_ < 0; }
+  /// A checkpoint was just written.
+  void written() { last_ = Clock::now(); }
+
+ private:
+  using Clock = std::chrono::steady_clock;
+  int every_;
+  double seconds_;
+  Clock::time_point last_ = Clock::now();
+};
 
 /// Removes every checkpoint_NNNNN.bin in `dir` (a fresh run replaces an old one's).
 void remove_checkpoints(const std::filesystem::path& dir);
