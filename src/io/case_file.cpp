@@ -504,10 +504,7 @@ Case parse_case(std::string_view text, const std::string& name, const fs::path& 
     const auto gap = ct.has("gap") ? ct.expression("gap", Expression::Kind::Space) : nullptr;
     p->contact.gap = [gap](const Point& x, double) { return gap ? (*gap)(x) : 0.0; };
     for (int i : p->mesh.nodes_of_parts(p->contact.parts)) {
-      const double g = p->contact.gap(p->mesh.node(i), 0.0);
-      if (!(g >= 0) || !std::isfinite(g))
-        fail("{}: the gap g must be >= 0 on the contact part; it is {} at node {} ({}, {}, {})", ct.where("gap"), g, i,
-             p->mesh.node(i)[0], p->mesh.node(i)[1], p->mesh.node(i)[2]);
+      check_gap(ct.where("gap"), p->contact.gap(p->mesh.node(i), 0.0), i, p->mesh.node(i));
     }
     if (ct.has("direction")) {
       const toml::node* n = ct.get("direction");

@@ -44,6 +44,40 @@ std::vector<int> traction_facets(const Problem& p) {
   return facets;
 }
 
+namespace {
+
+double length(const Point& v) { return std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]); }
+
+/// A fixed contact direction must point out of the body: at a node where it makes
+/// an angle of 90° or more with the outward normal of Γ3, a displacement along it
+/// moves the node into the body, u_ν ≤ g never binds and the body falls through
+/// the foundation. (cos ≤ 1e-9 also refuses 90° up to round-off.)
+void check_direction(const Problem& p, int node, const Point& direction, const Point& normal) {
+  const double ld = length(direction), ln = length(normal);
+  double cos = 0;
+  for (int j = 0; j < 3; ++j) cos += direction[j] * normal[j];
+  cos /= ld * ln;
+  if (cos > 1e-9) return;
+  const double angle = std::acos(std::clamp(cos, -1.0, 1.0)) * 180.0 / 3.14159265358979323846;
+  const Point& x = p.mesh.node(node);
+  Point n = normal;
+  for (double& c : n) c /= ln;
+  fail("{}: the contact direction ({}, {}, {}) points into the body at contact node {} ({}, {}, {}): its angle "
+       "with the outward normal ({:.6g}, {:.6g}, {:.6g}) of the contact part is {:.6g} degrees; a fixed direction "
+       "must make an angle below 90 degrees with the outward normal at every contact node (e.g. its opposite)",
+       p.name, direction[0], direction[1], direction[2], node, x[0], x[1], x[2], n[0], n[1], n[2], angle);
+}
+
+}  // namespace
+
+void check_gap(const std::string& where, double g, int node, const Point& x) {
+  // NaN compares false with everything: test finiteness first so that it is not called negative.
+  require(std::isfinite(g), "{}: the gap g is not finite ({}) at contact node {} ({}, {}, {})", where, g, node, x[0],
+          x[1], x[2]);
+  require(g >= 0, "{}: the gap g must be >= 0; it is {} at contact node {} ({}, {}, {})", where, g, node, x[0], x[1],
+          x[2]);
+}
+
 std::vector<ContactRow> contact_rows(const Problem& p, const std::vector<char>& clamped) {
   const Mesh& mesh = p.mesh;
   std::vector<Point> normal(mesh.n_nodes(), Point{0, 0, 0});
@@ -56,11 +90,17 @@ std::vector<ContactRow> contact_rows(const Problem& p, const std::vector<char>& 
   std::vector<ContactRow> rows;
   for (int node : mesh.nodes_of_parts(p.contact.parts)) {
     if (clamped[node]) continue;  // u = 0 already
+    const Point& x = mesh.node(node);
+    require(length(normal[node]) > 0,
+            "{}: the outward normal of the contact part vanishes at node {} ({}, {}, {}) (its facets face opposite "
+            "ways); split the contact part there",
+            p.name, node, x[0], x[1], x[2]);
+    if (p.contact.direction) check_direction(p, node, *p.contact.direction, normal[node]);
     Point v = p.contact.direction ? *p.contact.direction : normal[node];
-    const double l = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    const double l = length(v);
     for (double& c : v) c /= l;
-    const double g = p.contact.gap(mesh.node(node), 0.0);
-    require(std::isfinite(g) && g >= 0, "{}: the gap g must be >= 0; it is {} at node {}", p.name, g, node);
+    const double g = p.contact.gap(x, 0.0);
+    check_gap(p.name, g, node, x);
     rows.push_back({node, v, g});
   }
   require(!rows.empty(), "{}: the contact part has no free nodes (all are clamped or it is empty)", p.name);

@@ -18,7 +18,7 @@ namespace vpc {
 struct ContactSpec {
   std::vector<std::string> parts;    // Γ3
   ScalarField gap;                   // g(x) ≥ 0, measured along the contact direction
-  std::optional<Point> direction;    // a fixed direction; unset: the outward boundary normal
+  std::optional<Point> direction;    // a fixed direction, < 90° from the outward normal; unset: the normal
 };
 
 struct Problem {
@@ -56,9 +56,14 @@ struct ContactRow {
   double gap = 0;
 };
 
+/// Throws vpc::Error, prefixed by `where`, when the gap g at contact node `node` (at x)
+/// is not finite or is negative (one message for each).
+void check_gap(const std::string& where, double g, int node, const Point& x);
+
 /// The contact rows in increasing node order; clamped[i] marks the nodes of Γ1
-/// (u = 0 there already). Throws vpc::Error for a negative or non-finite gap,
-/// or when no free node is left on Γ3.
+/// (u = 0 there already). Throws vpc::Error for a negative or non-finite gap, for a
+/// fixed direction at 90° or more from the outward normal at some node (it would
+/// point into the body), or when no free node is left on Γ3.
 std::vector<ContactRow> contact_rows(const Problem& p, const std::vector<char>& clamped);
 
 }  // namespace vpc

@@ -189,6 +189,7 @@ TEST(CaseFile, BadCaseFilesGiveTheirMessages) {
        "bad.toml:35:12: loads.f0[1]: invalid expression \"-5*T\": Unexpected token \"T\""},
       {"gap = \"0.001*x\"", "gap = \"0.001*t\"", "contact.gap: invalid expression"},
       {"gap = \"0.001*x\"", "gap = \"-0.001*x\"", "the gap g must be >= 0"},
+      {"gap = \"0.001*x\"", "gap = \"sqrt(x - 10)\"", "contact.gap: the gap g is not finite"},
       {"direction = [0, -1]", "direction = [0, 0]", "contact.direction: expected a non-zero vector"},
       {"direction = [0, -1]", "direction = \"up\"", "contact.direction: unknown value 'up'; expected one of: normal"},
       {"dt = 0.05", "dt = 0.03", "bad.toml:43:6: time.dt: the time step 0.03 does not divide T = 0.5 into whole steps"},

@@ -5,6 +5,9 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <limits>
+
 namespace vpc {
 namespace {
 
@@ -66,6 +69,48 @@ TEST(ProblemValidation, NegativeGapAndDimensionMismatch) {
   p = paper_2d();
   p->elasticity = Elasticity(Elasticity::Kind::Isotropic, 1, 0.3);
   EXPECT_NE(error_of([&] { TimeStepper s(p); }).find("is for d = 3 but the mesh has d = 2"), std::string::npos);
+}
+
+// Issue 11 item 4: paper-2d's contact patch lies on the bottom side (outward normal
+// (0, −1)); a direction (0, 1) points into the body and must be refused, naming the
+// node, its coordinates, both vectors and the angle.
+TEST(ProblemValidation, ContactDirectionIntoTheBodyIsRefused) {
+  auto p = paper_2d();
+  p->contact.direction = Point{0, 1, 0};
+  const std::string m = error_of([&] { TimeStepper s(p); });
+  EXPECT_NE(m.find("the contact direction (0, 1, 0) points into the body at contact node"), std::string::npos) << m;
+  EXPECT_NE(m.find("outward normal (0, -1, 0)"), std::string::npos) << m;
+  EXPECT_NE(m.find("is 180 degrees"), std::string::npos) << m;
+  EXPECT_NE(m.find(", 0, 0)"), std::string::npos) << m;  // the node's coordinates (x, 0, 0)
+  // Tangential (90°) is refused as well; a little beyond 90° too.
+  p->contact.direction = Point{1, 0, 0};
+  EXPECT_NE(error_of([&] { TimeStepper s(p); }).find("is 90 degrees"), std::string::npos);
+  p->contact.direction = Point{1, 0.01, 0};
+  EXPECT_NE(error_of([&] { TimeStepper s(p); }).find("points into the body"), std::string::npos);
+}
+
+TEST(ProblemValidation, ObliqueContactDirectionWithin90DegreesIsAccepted) {
+  auto p = paper_2d();
+  const double a = 60 * std::acos(-1.0) / 180;  // 60° from the outward normal (0, −1)
+  p->contact.direction = Point{std::sin(a), -std::cos(a), 0};
+  TimeStepper s(p);
+  ASSERT_FALSE(s.contact_directions().empty());
+  for (const Point& v : s.contact_directions()) {
+    EXPECT_NEAR(v[0], std::sin(a), 1e-15);
+    EXPECT_NEAR(v[1], -std::cos(a), 1e-15);
+  }
+  EXPECT_TRUE(s.step().ok);
+}
+
+// Issue 11 item 12: a NaN or infinite gap is "not finite", not "negative".
+TEST(ProblemValidation, NonFiniteGapIsCalledNotFinite) {
+  for (double g : {std::nan(""), std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()}) {
+    auto p = paper_2d();
+    p->contact.gap = [g](const Point&, double) { return g; };
+    const std::string m = error_of([&] { TimeStepper s(p); });
+    EXPECT_NE(m.find("the gap g is not finite"), std::string::npos) << m;
+    EXPECT_EQ(m.find(">= 0"), std::string::npos) << m;
+  }
 }
 
 TEST(ProblemValidation, BuiltinOverrides) {
