@@ -40,9 +40,11 @@ ContactResiduals contact_residuals(const SparseMatrix& K, const SparseMatrix& N,
 
 namespace {
 
+/// `active_threshold`: see ContactReport::n_active.
 void finish_report(ContactReport& rep, const SparseMatrix& K, const SparseMatrix& N, const Vector& F,
-                   const Vector& g, const Vector& u, const Vector& lambda) {
-  rep.n_active = static_cast<int>((lambda.array() > 0).count());
+                   const Vector& g, const Vector& u, const Vector& lambda, double active_threshold = 0) {
+  rep.active_threshold = active_threshold;
+  rep.n_active = static_cast<int>((lambda.array() > active_threshold).count());
   rep.total_force = lambda.sum();
   rep.residuals = contact_residuals(K, N, F, g, u, lambda);
 }
@@ -147,7 +149,10 @@ class PenaltyDualityContactSolver final : public ContactSolver {
     ContactReport rep;
     rep.converged = r.converged;
     rep.iterations = r.iterations;
-    finish_report(rep, *K_, N_, F, g, u, lambda);
+    // The force scale of PenaltyDuality::solve's KKT test (b = F there).
+    const auto inf = [](const Vector& v) { return v.size() ? v.cwiseAbs().maxCoeff() : 0.0; };
+    const double force_scale = std::max(inf(lambda), inf(F));
+    finish_report(rep, *K_, N_, F, g, u, lambda, opt_.tolerance * force_scale);
     return rep;
   }
   std::string name() const override { return "penalty-duality"; }

@@ -24,7 +24,12 @@ struct ContactResiduals {
 struct ContactReport {
   bool converged = false;
   int iterations = 0;
-  int n_active = 0;        // contact nodes with λ_i > 0
+  /// Contact nodes with λ_i > active_threshold. The active-set method's λ is exactly 0
+  /// off its active set (threshold 0); penalty–duality's multiplier only tends to 0
+  /// there, so a node counts as active when λ_i > tolerance · max(‖λ‖∞, ‖F‖∞), the
+  /// size below which its own KKT test takes a multiplier for zero.
+  int n_active = 0;
+  double active_threshold = 0;
   double total_force = 0;  // Σ λ_i
   ContactResiduals residuals;
 };

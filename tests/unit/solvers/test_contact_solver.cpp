@@ -184,6 +184,34 @@ TEST(ContactSolver, ElasticBlockActiveSetAndPenaltyDualityAgree) {
   EXPECT_EQ(lambda[0][m - 1], 0.0);
 }
 
+/// The nodes counted as active: λ_i above the report's threshold.
+std::vector<int> active_nodes(const Vector& lambda, const ContactReport& rep) {
+  std::vector<int> a;
+  for (int i = 0; i < lambda.size(); ++i)
+    if (lambda[i] > rep.active_threshold) a.push_back(i);
+  return a;
+}
+
+// Issue 11 item 12: penalty–duality's multiplier is small but not zero off the
+// contact zone; counted against its own tolerance, both solvers report the same set.
+TEST(ContactSolver, BothSolversReportTheSameActiveSet) {
+  const Block b = make_block();
+  const auto factor = factor_of(b.K);
+  Vector u[2], lambda[2];
+  ContactReport rep[2];
+  for (int s = 0; s < 2; ++s) {
+    auto solver = make_contact_solver(kSolvers[s], b.K, factor, b.N);
+    rep[s] = solver->solve(b.F, b.g, u[s], lambda[s]);
+    ASSERT_TRUE(rep[s].converged);
+  }
+  EXPECT_EQ(rep[0].active_threshold, 0.0);
+  EXPECT_GT(rep[1].active_threshold, 0.0);
+  EXPECT_LT(rep[1].active_threshold, 1e-10 * lambda[1].cwiseAbs().maxCoeff());
+  EXPECT_GT(rep[0].n_active, 0);
+  EXPECT_EQ(rep[1].n_active, rep[0].n_active);
+  EXPECT_EQ(active_nodes(lambda[1], rep[1]), active_nodes(lambda[0], rep[0]));
+}
+
 // The active-set method keeps Y = L⁻¹PNᵀ (one solve per step, in two halves)
 // unless it is too large; without it a step costs two full solves. Both give the
 // same contact solution to round-off.
