@@ -1,7 +1,7 @@
 #pragma once
 // Symmetric second-order tensor, always stored with all six components so that
 // laws are written once for d = 1, 2, 3. In d < 3 the out-of-plane components
-// stay zero (plane stress: σ33 = 0; plane strain: the in-plane part, see docs).
+// stay zero, except σ33 in plane strain (Elasticity::restrict_stress).
 #include <array>
 #include <cmath>
 

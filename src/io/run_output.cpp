@@ -90,11 +90,7 @@ void RunTotals::add(const StepReport& r) {
   seconds_stress += r.seconds_stress;
 }
 
-std::vector<int> tensor_components(int d) {
-  if (d == 1) return {0};
-  if (d == 2) return {0, 1, 5};
-  return {0, 1, 2, 3, 4, 5};
-}
+std::vector<int> tensor_components(const Elasticity& e) { return e.stress_components(); }
 
 std::string history_header() {
   return "step,t,n_active,total_contact_force,contact_iterations,contact_equilibrium,"
@@ -111,12 +107,13 @@ std::string history_row(const StepReport& r) {
                      r.damage.n_upper, r.max_von_mises, r.ok ? 1 : 0);
 }
 
-std::string probes_header(int d, std::size_t n_probes) {
+std::string probes_header(const Elasticity& e, std::size_t n_probes) {
+  const int d = e.dim();
   std::string h = "step,t";
   static const char* axis = "xyz";
   for (std::size_t p = 0; p < n_probes; ++p) {
     for (int i = 0; i < d; ++i) h += fmt::format(",p{}_u{}", p, axis[i]);
-    for (int c : tensor_components(d)) h += fmt::format(",p{}_sigma{}", p, component_name(c));
+    for (int c : tensor_components(e)) h += fmt::format(",p{}_sigma{}", p, component_name(c));
     h += fmt::format(",p{}_von_mises,p{}_beta", p, p);
   }
   return h + "\n";
@@ -146,11 +143,10 @@ void RunOutput::open_csv(bool append) {
 }
 
 void RunOutput::start() {
-  const int d = stepper_.mesh().dim();
   open_csv(false);
   history_ << history_header();
   history_.flush();
-  probe_csv_ << probes_header(d, probes_.size());
+  probe_csv_ << probes_header(stepper_.problem().elasticity, probes_.size());
   write_probe_row();
   write_fields();
 }
@@ -183,7 +179,7 @@ void RunOutput::write_probe_row() {
       for (int a = 0; a <= d; ++a) u += p.lambda[a] * s.u[v[a] * d + i];
       probe_csv_ << fmt::format(",{:.17g}", u);
     }
-    for (int c : tensor_components(d)) probe_csv_ << fmt::format(",{:.17g}", s.sigma[p.cell][c]);
+    for (int c : tensor_components(stepper_.problem().elasticity)) probe_csv_ << fmt::format(",{:.17g}", s.sigma[p.cell][c]);
     double b = 0;
     for (int a = 0; a <= d; ++a) b += p.lambda[a] * s.beta[v[a]];
     probe_csv_ << fmt::format(",{:.17g},{:.17g}", s.sigma[p.cell].von_mises(), b);

@@ -36,16 +36,16 @@ struct ProbeLocation {
 /// Locates x in the mesh; throws vpc::Error if no cell contains it.
 ProbeLocation locate_point(const Mesh& mesh, const Point& x);
 
-/// The components of S_d written to probes.csv, in order (indices of SymTensor):
-/// d = 1: 11; d = 2: 11, 22, 12; d = 3: all six.
-std::vector<int> tensor_components(int d);
+/// The stress components written to probes.csv, in order (indices of SymTensor):
+/// Elasticity::stress_components (plane strain: 11, 22, 33, 12).
+std::vector<int> tensor_components(const Elasticity& e);
 
 // The CSV formats, shared by the serial and the distributed engine's output.
 /// history.csv: the header line, and the row of one step (both end in a newline).
 std::string history_header();
 std::string history_row(const StepReport& r);
 /// probes.csv: the header line for `n_probes` probes in d dimensions.
-std::string probes_header(int d, std::size_t n_probes);
+std::string probes_header(const Elasticity& e, std::size_t n_probes);
 /// For --resume: keeps the header and the rows whose first field (the step) is
 /// ≤ n, drops a partly written last line; rewritten atomically.
 void truncate_csv(const std::filesystem::path& path, int n);

@@ -57,6 +57,7 @@ SymTensor Elasticity::apply(const SymTensor& e) const {
       const double a = lambda_ * (e[0] + e[1]);
       s[0] = a + 2 * mu_ * e[0];
       s[1] = a + 2 * mu_ * e[1];
+      s[2] = a;  // ε33 = 0: the 3D law gives σ33 = λ(ε11 + ε22)
       s[5] = 2 * mu_ * e[5];
       break;
     }
@@ -68,6 +69,22 @@ SymTensor Elasticity::apply(const SymTensor& e) const {
     }
   }
   return s;
+}
+
+int Elasticity::stress_dim() const { return kind_ == Kind::PlaneStrain ? 3 : dim(); }
+
+std::vector<int> Elasticity::stress_components() const {
+  switch (kind_) {
+    case Kind::Uniaxial: return {0};
+    case Kind::PlaneStress: return {0, 1, 5};
+    case Kind::PlaneStrain: return {0, 1, 2, 5};
+    default: return {0, 1, 2, 3, 4, 5};
+  }
+}
+
+void Elasticity::restrict_stress(SymTensor& s) const {
+  if (kind_ != Kind::PlaneStrain) return restrict_to_dim(s, dim());
+  s[3] = s[4] = 0;  // σ13 = σ23 = 0 in plane strain; σ33 is kept
 }
 
 Eigen::MatrixXd Elasticity::voigt() const {

@@ -9,7 +9,7 @@ struct PointState {
   SymTensor sigma;
   SymTensor eps;
   double beta = 1;
-  int dim = 3;  // space dimension d: tensors live in S_d
+  int dim = 3;  // the tensors' dimension: d (they live in S_d), but 3 in plane strain (σ33 ≠ 0)
   Point x{};    // where (the element centroid) and when (t_{n−1}): for laws given as formulas
   double t = 0;
 };

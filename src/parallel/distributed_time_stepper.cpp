@@ -228,7 +228,7 @@ StepReport DistributedTimeStepper::step() {
   const Problem& p = *problem_;
   const Mesh& mesh = part_.mesh;
   const MPI_Comm comm = part_.comm;
-  const int d = mesh.dim(), n_cells = mesh.n_cells();
+  const int n_cells = mesh.n_cells();
   const int n = state_.n + 1;
   const double k = p.step();
   StepReport rep;
@@ -241,10 +241,10 @@ StepReport DistributedTimeStepper::step() {
   std::vector<SymTensor> G(n_cells);
   std::vector<double> phi(n_cells);
   for (int c = 0; c < n_cells; ++c) {
-    const PointState s{state_.sigma[c], state_.eps[c], cell_mean(mesh, beta_old, c), d, mesh.cell_centroid(c),
-                       state_.t};
+    const PointState s{state_.sigma[c], state_.eps[c], cell_mean(mesh, beta_old, c), p.elasticity.stress_dim(),
+                       mesh.cell_centroid(c), state_.t};
     G[c] = p.law->rate(s);
-    restrict_to_dim(G[c], d);
+    p.elasticity.restrict_stress(G[c]);
     phi[c] = p.source->rate(s);
   }
   rep.seconds_sources = seconds_since(t0);

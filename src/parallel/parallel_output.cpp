@@ -119,7 +119,6 @@ ParallelOutput::ParallelOutput(const DistributedTimeStepper& stepper, OutputOpti
 }
 
 void ParallelOutput::start() {
-  const int d = stepper_.part().mesh.dim();
   if (rank_ == 0) {
     history_.open(options_.directory / "history.csv", std::ios::trunc);
     probe_csv_.open(options_.directory / "probes.csv", std::ios::trunc);
@@ -131,7 +130,7 @@ void ParallelOutput::start() {
   if (rank_ == 0) {
     history_ << history_header();
     history_.flush();
-    probe_csv_ << probes_header(d, probes_.size());
+    probe_csv_ << probes_header(stepper_.problem().elasticity, probes_.size());
   }
   write_probe_row();
   write_fields();
@@ -141,7 +140,7 @@ void ParallelOutput::write_probe_row() {
   const auto& part = stepper_.part();
   const Mesh& mesh = part.mesh;
   const int d = mesh.dim();
-  const auto comps = tensor_components(d);
+  const auto comps = tensor_components(stepper_.problem().elasticity);
   const int per_probe = d + static_cast<int>(comps.size()) + 2;
   // The owner of each probe fills its values, the others zeros: the sum is exact.
   std::vector<double> values(probes_.size() * per_probe, 0.0);

@@ -195,7 +195,7 @@ Vector TimeStepper::load(double t) const {
 StepReport TimeStepper::advance(int level, double t_end) {
   const Problem& p = *problem_;
   const Mesh& mesh = p.mesh;
-  const int d = mesh.dim(), n_cells = mesh.n_cells();
+  const int n_cells = mesh.n_cells();
   const double k = p.step() / (1 << level);
   StepReport rep;
   rep.n = state_.n + 1;
@@ -207,10 +207,10 @@ StepReport TimeStepper::advance(int level, double t_end) {
   std::vector<double> phi(n_cells);
 #pragma omp parallel for schedule(static) if (n_cells >= kParallelCells)
   for (int c = 0; c < n_cells; ++c) {
-    const PointState s{state_.sigma[c], state_.eps[c], cell_mean(mesh, state_.beta, c), d,
+    const PointState s{state_.sigma[c], state_.eps[c], cell_mean(mesh, state_.beta, c), p.elasticity.stress_dim(),
                        mesh.cell_centroid(c), state_.t};
     G[c] = p.law->rate(s);
-    restrict_to_dim(G[c], d);
+    p.elasticity.restrict_stress(G[c]);
     phi[c] = p.source->rate(s);
   }
   rep.seconds_sources = seconds_since(t0);

@@ -76,8 +76,9 @@ ManufacturedValues<S> ManufacturedSolution::fields(const std::array<S, 4>& X) co
       f.z[1] = 0.04 * r * (1.0 + 0.5 * sin(kPi * (y + w)));
       f.z[5] = 0.03 * r * cos((kPi / 2) * x);
     }
+    // Plane strain carries z33 (and σ33) as well, never z13, z23.
+    if (dim_ == 3 || elasticity_.kind() == Elasticity::Kind::PlaneStrain) f.z[2] = 0.02 * r * (1.0 + y);
     if (dim_ == 3) {
-      f.z[2] = 0.02 * r * (1.0 + y);
       f.z[3] = 0.01 * r * sin(kPi * w);
       f.z[4] = 0.015 * r * (1.0 + x);
     }
@@ -215,7 +216,7 @@ PointState ManufacturedSolution::exact_state(const Point& x, double t) const {
   s.eps = eps(x, t);
   s.sigma = elasticity_.apply(s.eps) + z(x, t);
   s.beta = beta(x, t);
-  s.dim = dim_;
+  s.dim = elasticity_.stress_dim();
   s.x = x;
   s.t = t;
   return s;
@@ -274,18 +275,20 @@ Mesh manufactured_base_mesh(const ManufacturedOptions& o) {
 ManufacturedCase make_manufactured_case(const ManufacturedOptions& o, const Mesh& mesh, int n_steps) {
   const int d = o.dim;
   require(mesh.dim() == d, "manufactured case: the mesh has d = {} but the case is for d = {}", mesh.dim(), d);
+  require(!o.plane_strain || d == 2, "manufactured case: plane strain is for d = 2 (got d = {})", d);
   const Elasticity elasticity = d == 1   ? Elasticity(Elasticity::Kind::Uniaxial, 1.0, 0.0)
-                                : d == 2 ? Elasticity(Elasticity::Kind::PlaneStress, 1.0, 0.3)
-                                         : Elasticity(Elasticity::Kind::Isotropic, 1.0, 0.3);
+                                : d == 3 ? Elasticity(Elasticity::Kind::Isotropic, 1.0, 0.3)
+                                : o.plane_strain ? Elasticity(Elasticity::Kind::PlaneStrain, 1.0, 0.3)
+                                                 : Elasticity(Elasticity::Kind::PlaneStress, 1.0, 0.3);
   std::shared_ptr<const ViscoplasticLaw> base_law;
   if (o.law == "elastic") {
     base_law = make_viscoplastic_law("elastic", {});
   } else if (o.law == "maxwell-damage") {
     base_law = make_viscoplastic_law("maxwell-damage", {});
-  } else if (o.law == "perzyna") {
-    base_law = make_viscoplastic_law("perzyna", {{"E", 1.0}, {"lambda", 1.0}, {"sigma_y", 0.05}});
+  } else if (o.law == "perzyna" || o.law == "perzyna-von-mises") {
+    base_law = make_viscoplastic_law(o.law, {{"E", 1.0}, {"lambda", 1.0}, {"sigma_y", 0.05}});
   } else {
-    fail("manufactured case: unknown law '{}'; expected elastic, maxwell-damage or perzyna", o.law);
+    fail("manufactured case: unknown law '{}'; expected elastic, maxwell-damage, perzyna or perzyna-von-mises", o.law);
   }
   require(o.source == "strain" || o.source == "zero",
           "manufactured case: unknown damage source '{}'; expected strain or zero", o.source);
@@ -296,7 +299,8 @@ ManufacturedCase make_manufactured_case(const ManufacturedOptions& o, const Mesh
   auto exact = std::make_shared<const ManufacturedSolution>(d, o.law != "elastic", elasticity, o.kappa);
   out.exact = exact;
   auto p = std::make_shared<Problem>();
-  p->name = fmt::format("mms-{}-{}d", o.law == "maxwell-damage" ? "maxwell" : o.law, d);
+  p->name = fmt::format("mms-{}-{}d{}", o.law == "maxwell-damage" ? "maxwell" : o.law, d,
+                        o.plane_strain ? "-plane-strain" : "");
   p->mesh = mesh;
   p->clamped = {"left"};
   p->contact.parts = {"right"};
@@ -318,15 +322,16 @@ ManufacturedCase make_manufactured_case(const ManufacturedOptions& o, const Mesh
 bool is_manufactured_case_name(const std::string& name) { return name.rfind("mms-", 0) == 0; }
 
 ManufacturedOptions manufactured_options_from_name(const std::string& name) {
-  static const std::regex re("mms-(elastic|maxwell|perzyna)-([123])d");
+  static const std::regex re("mms-(elastic|maxwell|perzyna|perzyna-von-mises)-(([123])d|2d-plane-strain)");
   std::smatch m;
   require(std::regex_match(name, m, re),
-          "unknown manufactured case '{}'; expected mms-LAW-Dd with LAW one of elastic, maxwell, perzyna and D = 1, 2, 3 "
-          "(e.g. mms-maxwell-2d)",
+          "unknown manufactured case '{}'; expected mms-LAW-Dd with LAW one of elastic, maxwell, perzyna, "
+          "perzyna-von-mises and D = 1, 2, 3, or mms-LAW-2d-plane-strain (e.g. mms-maxwell-2d)",
           name);
   ManufacturedOptions o;
   o.law = m[1] == "maxwell" ? "maxwell-damage" : std::string(m[1]);
-  o.dim = std::stoi(m[2]);
+  o.plane_strain = m[2] == "2d-plane-strain";
+  o.dim = o.plane_strain ? 2 : std::stoi(m[3]);
   return o;
 }
 

@@ -47,9 +47,13 @@ struct ManufacturedValues {
 
 struct ManufacturedOptions {
   int dim = 2;
-  /// Base law G: "elastic" (z = 0), "maxwell-damage" (4.8) or "perzyna" (4.2, E = 1,
-  /// λ = 1, σ_Y = 0.05: yielding in part of the body).
+  /// Base law G: "elastic" (z = 0), "maxwell-damage" (4.8), "perzyna" (4.2, E = 1,
+  /// λ = 1, σ_Y = 0.05: yielding in part of the body) or "perzyna-von-mises" (the same
+  /// with the von Mises norm).
   std::string law = "maxwell-damage";
+  /// d = 2: plane strain instead of plane stress; z (and σ) then has a 33 component
+  /// (z33 = 0.02 r (1 + y)), which G evolves.
+  bool plane_strain = false;
   /// Base damage source φ: "strain" (φ = −2 tr ε) or "zero".
   std::string source = "strain";
   int cells = 2;  // cells per edge of the base mesh
@@ -145,7 +149,8 @@ ManufacturedCase make_manufactured_case(const ManufacturedOptions& o, const Mesh
 /// mesh/generators.hpp).
 Mesh manufactured_base_mesh(const ManufacturedOptions& o);
 
-/// "mms-elastic-2d" and the like: mms-<law>-<d>d with law elastic, maxwell, perzyna.
+/// "mms-elastic-2d" and the like: mms-<law>-<d>d with law elastic, maxwell, perzyna,
+/// perzyna-von-mises, or mms-<law>-2d-plane-strain.
 bool is_manufactured_case_name(const std::string& name);
 /// Options for such a name (throws vpc::Error for a malformed one).
 ManufacturedOptions manufactured_options_from_name(const std::string& name);

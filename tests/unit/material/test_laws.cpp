@@ -5,7 +5,9 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
+#include <vector>
 
 namespace vpc {
 namespace {
@@ -47,6 +49,97 @@ TEST(Elasticity, InvalidDataIsAnError) {
   EXPECT_THROW(Elasticity(Elasticity::Kind::Isotropic, -1, 0.3), std::runtime_error);
   EXPECT_THROW(Elasticity(Elasticity::Kind::Isotropic, 1, 0.5), std::runtime_error);
   EXPECT_THROW(Elasticity::from_name("hyperelastic", 1, 0.3), std::runtime_error);
+}
+
+// Issue 11 item 5: plane strain carries σ33 = λ(ε11 + ε22) = ν(σ11 + σ22).
+TEST(Elasticity, PlaneStrainCarriesSigma33) {
+  const double E = 210, nu = 0.3;
+  const Elasticity ps(Elasticity::Kind::PlaneStrain, E, nu), iso(Elasticity::Kind::Isotropic, E, nu);
+  const SymTensor e{{0.1, -0.03, 0, 0, 0, 0.02}};
+  const SymTensor s = ps.apply(e);
+  EXPECT_NEAR(s[2], nu * (s[0] + s[1]), 1e-13);
+  EXPECT_NEAR(s[2], E * nu / ((1 + nu) * (1 - 2 * nu)) * (0.1 - 0.03), 1e-13);
+  for (int i = 0; i < 6; ++i) EXPECT_NEAR(s[i], iso.apply(e)[i], 1e-13) << i;  // the 3D law at ε33 = 0
+  EXPECT_EQ(ps.stress_dim(), 3);
+  EXPECT_EQ(ps.stress_components(), (std::vector<int>{0, 1, 2, 5}));
+  SymTensor g{{1, 2, 3, 4, 5, 6}};
+  ps.restrict_stress(g);  // P_Q keeps 11, 22, 33, 12
+  EXPECT_EQ(g.c, (std::array<double, 6>{1, 2, 3, 0, 0, 6}));
+  // Plane stress, 1D and 3D: as before (S_d).
+  const Elasticity pst(Elasticity::Kind::PlaneStress, E, nu);
+  EXPECT_EQ(pst.apply(e)[2], 0.0);
+  EXPECT_EQ(pst.stress_dim(), 2);
+  EXPECT_EQ(pst.stress_components(), (std::vector<int>{0, 1, 5}));
+  g = SymTensor{{1, 2, 3, 4, 5, 6}};
+  pst.restrict_stress(g);
+  EXPECT_EQ(g.c, (std::array<double, 6>{1, 2, 0, 0, 0, 6}));
+  g = SymTensor{{1, 2, 3, 4, 5, 6}};
+  Elasticity(Elasticity::Kind::Uniaxial, E, 0).restrict_stress(g);
+  EXPECT_EQ(g.c, (std::array<double, 6>{1, 0, 0, 0, 0, 0}));
+  g = SymTensor{{1, 2, 3, 4, 5, 6}};
+  iso.restrict_stress(g);
+  EXPECT_EQ(g.c, (std::array<double, 6>{1, 2, 3, 4, 5, 6}));
+}
+
+/// What the stepper hands a law in plane strain: σ = ℰε + z with σ33, dim = 3.
+PointState plane_strain_state(const SymTensor& eps, const SymTensor& z, double beta) {
+  const Elasticity ps(Elasticity::Kind::PlaneStrain, 1, 0.3);
+  PointState s;
+  s.eps = eps;
+  s.sigma = ps.apply(eps) + z;
+  s.beta = beta;
+  s.dim = ps.stress_dim();
+  return s;
+}
+
+// Every law and source sees the full 3D tensor in plane strain: it gives what the 3D
+// law gives on the same state (ε33 = 0), and the 33 rate is that of σ33.
+TEST(Laws, PlaneStrainLawsAndSourcesUseTheFull3DTensor) {
+  const SymTensor eps{{0.2, 0.1, 0, 0, 0, 0.05}}, z{{0.01, -0.02, 0.03, 0, 0, 0.01}};
+  PointState s = plane_strain_state(eps, z, 0.8);
+  ASSERT_GT(s.sigma[2], 0.05);  // σ33 = λ(ε11 + ε22) + z33 matters here
+  PointState s3 = s;
+  s3.sigma = Elasticity(Elasticity::Kind::Isotropic, 1, 0.3).apply(eps) + z;
+  const Parameters yield{{"E", 1.0}, {"lambda", 1.0}, {"sigma_y", 0.1}};  // yields: |σ|, |σ|_VM > 0.08
+  for (const auto& name : viscoplastic_law_names()) {
+    SCOPED_TRACE(name);
+    auto law = make_viscoplastic_law(name, name.rfind("perzyna", 0) == 0 ? yield : Parameters{});
+    const SymTensor g = law->rate(s), g3 = law->rate(s3);
+    for (int i = 0; i < 6; ++i) EXPECT_NEAR(g[i], g3[i], 1e-15) << i;
+    if (name != "elastic") EXPECT_NE(g[2], 0.0);
+    EXPECT_EQ(g[3], 0.0);
+    EXPECT_EQ(g[4], 0.0);
+  }
+  for (const auto& name : damage_source_names()) {
+    SCOPED_TRACE(name);
+    auto phi = make_damage_source(name, {});
+    EXPECT_NEAR(phi->rate(s), phi->rate(s3), 1e-15);
+  }
+  EXPECT_NEAR(make_damage_source("von-mises", {})->rate(s), -0.01 * s3.sigma.von_mises(), 1e-16);
+}
+
+// The yield checks and the von Mises source with a σ33 component, by hand.
+TEST(Laws, NormsIncludeSigma33) {
+  // Perzyna (Euclidean): |σ| = |(0.3, 0, 0.4)| = 0.5 > β σ_Y = 0.4 > 0.3 (in-plane part).
+  auto perzyna = make_viscoplastic_law("perzyna", {{"E", 2}, {"lambda", 1}, {"sigma_y", 0.4}});
+  PointState s;
+  s.dim = 3;
+  s.sigma = SymTensor{{0.3, 0, 0.4, 0, 0, 0}};
+  const SymTensor g = perzyna->rate(s);  // −(σ − 0.8σ) = −0.2σ
+  EXPECT_NEAR(g[0], -0.06, 1e-15);
+  EXPECT_NEAR(g[2], -0.08, 1e-15);
+  // Von Mises: σ = 2I is pure pressure and never yields; without σ33 it would (|σ|_VM = 2).
+  auto vm = make_viscoplastic_law("perzyna-von-mises", {{"E", 2}, {"lambda", 1}, {"sigma_y", 1}});
+  s.sigma = SymTensor{{2, 2, 2, 0, 0, 0}};
+  EXPECT_NEAR(vm->rate(s).norm(), 0.0, 1e-15);
+  EXPECT_NEAR(make_damage_source("von-mises", {{"c", 1.0}})->rate(s), 0.0, 1e-15);
+  // σ = (1, 0, 3): |σ|_VM = √7 > 1: the mean stress 4/3 is kept, the deviator scaled to 1.
+  s.sigma = SymTensor{{1, 0, 3, 0, 0, 0}};
+  EXPECT_NEAR(make_damage_source("von-mises", {{"c", 1.0}})->rate(s), -std::sqrt(7.0), 1e-14);
+  const SymTensor p = s.sigma + vm->rate(s);  // E/(2λ) = 1: Pσ = σ + G
+  EXPECT_NEAR(p.von_mises(), 1.0, 1e-14);
+  EXPECT_NEAR(p.trace(), 4.0, 1e-14);
+  EXPECT_NEAR(p[2] - p.trace() / 3, (3 - 4.0 / 3) / std::sqrt(7.0), 1e-14);
 }
 
 TEST(SymTensor, VonMisesReducesToPaperNormIn2D) {

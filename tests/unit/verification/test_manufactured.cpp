@@ -202,9 +202,46 @@ TEST(ManufacturedCaseNames, ParseAndReject) {
   EXPECT_EQ(o.dim, 3);
   EXPECT_EQ(o.law, "maxwell-damage");
   EXPECT_EQ(manufactured_options_from_name("mms-perzyna-1d").law, "perzyna");
+  const auto ps = manufactured_options_from_name("mms-perzyna-von-mises-2d-plane-strain");
+  EXPECT_EQ(ps.dim, 2);
+  EXPECT_TRUE(ps.plane_strain);
+  EXPECT_EQ(ps.law, "perzyna-von-mises");
+  EXPECT_FALSE(manufactured_options_from_name("mms-perzyna-von-mises-2d").plane_strain);
+  EXPECT_THROW(manufactured_options_from_name("mms-maxwell-3d-plane-strain"), Error);
   EXPECT_THROW(manufactured_options_from_name("mms-maxwell-4d"), Error);
   EXPECT_THROW(manufactured_options_from_name("mms-foo-2d"), Error);
   EXPECT_THROW(manufactured_forcing_from_name("implicit"), Error);
+}
+
+
+// Issue 11 item 5: the plane-strain manufactured solution carries z33 and σ33 =
+// λ(ε11 + ε22) + z33, and its base laws have a nonzero 33 rate (the part of G that
+// the scheme dropped before σ33 was carried).
+TEST(ManufacturedSolution, PlaneStrainCarriesSigma33AndA33Rate) {
+  ManufacturedOptions o;
+  o.dim = 2;
+  o.plane_strain = true;
+  for (const std::string law : {"perzyna", "perzyna-von-mises", "maxwell-damage"}) {
+    SCOPED_TRACE(law);
+    o.law = law;
+    const Mesh m = manufactured_base_mesh(o);
+    const ManufacturedCase c = make_manufactured_case(o, m, 4);
+    EXPECT_EQ(c.problem->name, "mms-" + std::string(law == "maxwell-damage" ? "maxwell" : law) + "-2d-plane-strain");
+    EXPECT_EQ(c.problem->elasticity.kind(), Elasticity::Kind::PlaneStrain);
+    const Point x{0.3, 0.6, 0};
+    const double t = 0.7, lambda = 0.3 / (1.3 * 0.4);  // E = 1, ν = 0.3
+    const PointState st = c.exact->exact_state(x, t);
+    EXPECT_EQ(st.dim, 3);
+    EXPECT_GT(std::abs(c.exact->z(x, t)[2]), 1e-3);
+    EXPECT_NEAR(st.sigma[2], lambda * (st.eps[0] + st.eps[1]) + c.exact->z(x, t)[2], 1e-15);
+    EXPECT_EQ(c.exact->sigma(x, t)[2], st.sigma[2]);
+    EXPECT_EQ(c.exact->z(x, t)[3], 0.0);
+    EXPECT_EQ(c.exact->z(x, t)[4], 0.0);
+    const auto base = make_viscoplastic_law(law, law == "maxwell-damage"
+                                                     ? Parameters{}
+                                                     : Parameters{{"E", 1.0}, {"lambda", 1.0}, {"sigma_y", 0.05}});
+    EXPECT_GT(std::abs(base->rate(st)[2]), 1e-4);
+  }
 }
 
 }  // namespace
