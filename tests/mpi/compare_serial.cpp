@@ -25,11 +25,12 @@ double rel_diff(const vpc::Vector& a, const vpc::Vector& b) {
 int run(int argc, char** argv) {
   const MPI_Comm comm = PETSC_COMM_WORLD;
   const int rank = vpc::comm_rank(comm), size = vpc::comm_size(comm);
-  vpc::require(argc >= 2, "usage: vpcontact_mpi_compare CASE [--n N] [--steps S] [--kappa K] [--linear KIND]");
+  vpc::require(argc >= 2, "usage: vpcontact_mpi_compare CASE [--n N] [--steps S] [--kappa K] [--linear KIND] [--elasticity KIND]");
   const std::string name = argv[1];
   vpc::CaseOverrides ov;
   vpc::PetscSolverOptions linear;
   double tolerance = 1e-10;
+  std::string elasticity;  // --elasticity KIND replaces the case's ℰ (same E, ν)
   for (int i = 2; i + 1 < argc; i += 2) {
     const std::string key = argv[i], value = argv[i + 1];
     if (key == "--n") ov.mesh_cells = std::stoi(value);
@@ -37,9 +38,14 @@ int run(int argc, char** argv) {
     else if (key == "--kappa") ov.kappa = std::stod(value);
     else if (key == "--linear") linear.kind = value;
     else if (key == "--tolerance") tolerance = std::stod(value);
+    else if (key == "--elasticity") elasticity = value;
     else vpc::fail("unknown option '{}'", key);
   }
   vpc::Case c = vpc::make_builtin_case(name, ov);
+  // E.g. plane strain for paper-2d: σ33 and z33 are carried by both engines.
+  if (!elasticity.empty())
+    c.problem->elasticity = vpc::Elasticity::from_name(elasticity, c.problem->elasticity.young(),
+                                                       c.problem->elasticity.poisson());
   std::unique_ptr<vpc::TimeStepper> serial;
   if (rank == 0) serial = std::make_unique<vpc::TimeStepper>(c.problem, c.solvers);
   vpc::DistributedTimeStepper dist(c.problem, vpc::distribute_mesh(comm, *c.problem), c.solvers, linear);
