@@ -1,5 +1,6 @@
 # The README's two commands:
-#   make run    installs what is missing, builds, runs the paper's 2D example
+#   make run    installs what is missing, builds, runs the paper's 2D example and
+#               draws its figures (Figs 4.6-4.7, PNG; without matplotlib: a warning)
 #   make test   installs what is missing, builds, runs every test
 # and, for CI (.ci/run) and docs/reliability.md:
 #   make test-sanitize   every test again, built with AddressSanitizer and
@@ -26,7 +27,7 @@ build: configure
 	@cmake --build $(BUILD) -j $(JOBS)
 
 run: build
-	./$(BUILD)/app/vpcontact run $(CASE)
+	./$(BUILD)/app/vpcontact run $(CASE) --plot
 
 test: build
 	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)

@@ -3,6 +3,9 @@
 // manufactured solution, writes CSV tables and a log–log plot.
 #include "converge_command.hpp"
 
+#include "child_process.hpp"
+#include "figures.hpp"
+
 #include "cases/builtin_cases.hpp"
 #include "cases/shipped_cases.hpp"
 #include "core/error.hpp"
@@ -134,9 +137,11 @@ fs::path plot_script() {
 void plot(const fs::path& dir, bool quiet) {
   const fs::path script = plot_script();
   require(fs::is_regular_file(script), "converge: the plot script '{}' is missing", script.string());
-  const std::string cmd = fmt::format("/usr/bin/python3 '{}' '{}'{}", script.string(), dir.string(), quiet ? " -q" : "");
-  const int rc = std::system(cmd.c_str());
-  require(rc == 0, "converge: drawing the plots in '{}' failed (is python3-matplotlib installed?)", dir.string());
+  std::vector<std::string> argv = {python_interpreter(), script.string(), dir.string()};
+  if (quiet) argv.emplace_back("-q");
+  const ChildResult r = run_child(argv);  // no shell: the directory's name is never interpreted
+  require(r.ok(), "converge: drawing the plots in '{}' failed ({}; is python3-matplotlib installed?)", dir.string(),
+          r.started ? fmt::format("exit code {}", r.exit_code) : r.error);
 }
 
 }  // namespace

@@ -1,5 +1,9 @@
 #include "parallel_run.hpp"
 
+#include "child_process.hpp"
+#include "interrupt.hpp"
+#include "io/output_files.hpp"
+
 #include "parallel/distributed_time_stepper.hpp"
 #include "parallel/parallel_checkpoint.hpp"
 #include "parallel/parallel_output.hpp"
@@ -26,7 +30,6 @@ struct CollectiveError : Error {
 void describe(const Case& c, const DistributedTimeStepper& stepper, int size, const std::string& linear) {
   const auto& p = stepper.problem();
   const auto& part = stepper.part();
-  fmt::print("vpcontact: {} — {}\n", c.name, c.description);
   fmt::print("  PETSc engine on {} MPI rank{}: linear solver {}{}\n", size, size > 1 ? "s" : "", linear,
              stepper.keeps_w() ? "" : " (K^-1 N^T not kept: two solves per step)");
   fmt::print("  mesh: d = {}, {} nodes, {} cells; {} free displacement dofs, {} contact nodes\n", part.mesh.dim(),
@@ -39,17 +42,31 @@ void describe(const Case& c, const DistributedTimeStepper& stepper, int size, co
   std::fflush(stdout);
 }
 
-/// A fresh run replaces an old run's checkpoints (rank 0 removes them).
-void remove_checkpoints_everywhere(MPI_Comm comm, const std::filesystem::path& dir) {
+/// `work` on rank 0 only; its error is then every rank's (CollectiveError).
+template <typename F>
+void on_rank_0(MPI_Comm comm, F&& work) {
   std::string error;
   if (comm_rank(comm) == 0) {
     try {
-      remove_checkpoints(dir);
+      work();
     } catch (const std::exception& e) {
       error = e.what();
     }
   }
-  require(allreduce_and(comm, error.empty()), "{}", error.empty() ? "rank 0 could not remove old checkpoints" : error);
+  int error_size = static_cast<int>(error.size());
+  MPI_Bcast(&error_size, 1, MPI_INT, 0, comm);
+  if (error_size == 0) return;
+  error.resize(static_cast<size_t>(error_size));
+  MPI_Bcast(error.data(), error_size, MPI_CHAR, 0, comm);
+  throw CollectiveError(error);
+}
+
+/// The signal any rank has received (SIGINT/SIGTERM), 0 if none: every rank
+/// agrees, so that all stop after the same step.
+int interrupt_everywhere(MPI_Comm comm) {
+  int local = interrupt_signal(), any = 0;
+  MPI_Allreduce(&local, &any, 1, MPI_INT, MPI_MAX, comm);
+  return any;
 }
 
 /// The case on every rank, its mesh on rank 0 only: rank 0 builds it and sends
@@ -59,23 +76,11 @@ void remove_checkpoints_everywhere(MPI_Comm comm, const std::filesystem::path& d
 Case load_everywhere(const CaseLoader& load, MPI_Comm comm) {
   const int rank = comm_rank(comm);
   Case c;
-  std::string error;
   int dim = 0;
-  if (rank == 0) {
-    try {
-      c = load({});
-      dim = c.problem->mesh.dim();
-    } catch (const std::exception& e) {
-      error = e.what();
-    }
-  }
-  int error_size = static_cast<int>(error.size());
-  MPI_Bcast(&error_size, 1, MPI_INT, 0, comm);
-  if (error_size > 0) {
-    error.resize(static_cast<size_t>(error_size));
-    MPI_Bcast(error.data(), error_size, MPI_CHAR, 0, comm);
-    throw CollectiveError(error);
-  }
+  on_rank_0(comm, [&] {
+    c = load({});
+    dim = c.problem->mesh.dim();
+  });
   MPI_Bcast(&dim, 1, MPI_INT, 0, comm);
   if (rank != 0) c = load({.build = false, .dim = dim});
   return c;
@@ -85,14 +90,27 @@ int run(const CaseLoader& load, const ParallelRunOptions& o, MPI_Comm comm) {
   using Clock = std::chrono::steady_clock;
   const auto t0 = Clock::now();
   const int rank = comm_rank(comm), size = comm_size(comm);
+  // Before any set-up, as the serial run: the header, then the output directory's check.
+  on_rank_0(comm, [&] {
+    if (!o.quiet) fmt::print("{}\n", o.header);
+    std::fflush(stdout);
+    if (!o.resume.empty())
+      require(std::filesystem::is_directory(o.output_directory),
+              "--resume: no good checkpoint for this case in '{}': it is not a directory", o.resume);
+    prepare_output_directory(o.output_directory);
+    remove_temporary_files(o.output_directory);
+  });
   Case c = load_everywhere(load, comm);
   PetscSolverOptions linear;
   linear.kind = o.linear_solver;
 
-  if (!o.resume.empty()) c.output.directory = o.resume;
+  if (const int s = interrupt_everywhere(comm)) throw Interrupted(s);
   DistributedMesh part = distribute_mesh(comm, *c.problem);
   c.problem->mesh = Mesh();  // from here on, rank 0 too holds its part only
+  StageLog log(o.quiet || rank != 0);
+  c.solvers.on_setup_stage = std::ref(log);  // collective stages: a signal is looked at after them all
   DistributedTimeStepper stepper(c.problem, std::move(part), c.solvers, linear);
+  if (const int s = interrupt_everywhere(comm)) throw Interrupted(s);
   if (!o.quiet && rank == 0) describe(c, stepper, size, linear.kind);
   ParallelOutput output(stepper, c.output, linear.kind);
   const std::string case_name = c.name;
@@ -114,7 +132,12 @@ int run(const CaseLoader& load, const ParallelRunOptions& o, MPI_Comm comm) {
       fmt::print("  resuming from the checkpoint of step {} (t = {}) on {} rank{}\n", saved->n, saved->t, size,
                  size > 1 ? "s" : "");
   } else {
-    remove_checkpoints_everywhere(comm, output.directory());
+    on_rank_0(comm, [&] {  // stale solution_*.vtu, and checkpoints not to resume from (as the serial run)
+      const auto removed = remove_run_outputs(output.directory());
+      if (!o.quiet && !removed.empty())
+        fmt::print("  removed {} file{} of an earlier run from {}/\n", removed.size(), removed.size() > 1 ? "s" : "",
+                   output.directory().string());
+    });
     output.start();
     checkpoint();
   }
@@ -145,23 +168,35 @@ int run(const CaseLoader& load, const ParallelRunOptions& o, MPI_Comm comm) {
     }
     output.record(r);
     progress.update(r);
-    if (stepper.done() || checkpoint_due(r.n)) {
+    const int signal = interrupt_everywhere(comm);  // as the serial loop: stop after this step, on every rank
+    if (stepper.done() || signal || checkpoint_due(r.n)) {
       checkpoint();
       last_checkpoint = r.n;
       schedule.written();
+    }
+    if (signal && !stepper.done()) {
+      progress.finish();
+      output.finish(std::chrono::duration<double>(Clock::now() - t0).count());
+      if (rank == 0) {
+        remove_temporary_files(output.directory());
+        std::fflush(stdout);
+        fmt::print(stderr,
+                   "vpcontact: interrupted by {} after step {} of {} (t = {:.6g}); checkpoint written in {}/. To "
+                   "continue:\n  {}\n",
+                   signal_name(signal), r.n, c.problem->n_steps, r.t, output.directory().string(),
+                   resume_command(o.argv, output.directory(), size));
+      }
+      return 128 + signal;
     }
   }
   progress.finish();
   const double wall = std::chrono::duration<double>(Clock::now() - t0).count();
   output.finish(wall);
+  if (rank == 0) remove_temporary_files(output.directory());
   if (!o.quiet && rank == 0)
     fmt::print("  done in {:.3f} s; results in {}/ (solution.pvd, history.csv, probes.csv, summary.json)\n", wall,
                output.directory().string());
-  if (o.plot && rank == 0) {
-    const std::string cmd = fmt::format("/usr/bin/python3 '{}/scripts/vpcontact_plot.py' '{}'", VPC_SOURCE_DIR,
-                                        output.directory().string());
-    require(std::system(cmd.c_str()) == 0, "plot: drawing the figures of '{}' failed", output.directory().string());
-  }
+  if (o.plot) on_rank_0(comm, [&] { draw_figures(output.directory(), o.plot_options, true); });
   return 0;
 }
 
@@ -188,8 +223,12 @@ int parallel_run(const CaseLoader& load, const ParallelRunOptions& o) {
     return 1;
   }
   int rc = 0;
+  catch_interrupts();
   try {
     rc = run(load, o, comm);
+  } catch (const Interrupted& e) {  // every rank alike (interrupt_everywhere)
+    if (rank == 0) fmt::print(stderr, "\nvpcontact: {}\n", e.what());
+    rc = 128 + e.signal;
   } catch (const CollectiveError& e) {
     if (rank == 0) fmt::print(stderr, "vpcontact: error: {}\n", e.what());
     rc = 1;

@@ -6,10 +6,13 @@
 // compiles without PETSc, where it explains what is missing.
 #include "cases/case.hpp"
 #include "core/error.hpp"
+#include "figures.hpp"
 
 #include <cstdlib>
+#include <filesystem>
 #include <functional>
 #include <string>
+#include <vector>
 
 namespace vpc {
 
@@ -21,6 +24,10 @@ struct ParallelRunOptions {
   bool plot = false;
   int checkpoint_every = -1;        // steps; -1: by wall time
   double checkpoint_seconds = 60;   // without checkpoint_every
+  std::string header;                       // "vpcontact: NAME — description", printed first by rank 0
+  std::filesystem::path output_directory;   // checked by rank 0 before any set-up
+  std::vector<std::string> argv;            // the command line, for the --resume command after a signal
+  PlotOptions plot_options;
 };
 
 /// The number of processes of the MPI job this process was started in, 0 if none.

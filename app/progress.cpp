@@ -21,7 +21,8 @@ void Progress::update(const StepReport& r) {
     const double frac = static_cast<double>(r.n) / n_steps_;
     const double eta = r.n > 0 ? elapsed * (n_steps_ - r.n) / r.n : 0.0;
     const int width = 28, filled = static_cast<int>(frac * width);
-    fmt::print("\r  [{}{}] step {}/{}  t = {:.4g}  ETA {:.1f} s  active {}  min beta {:.6f} ",
+    // ESC[K clears the rest of the line: a shorter line leaves no characters of the last one.
+    fmt::print("\r  [{}{}] step {}/{}  t = {:.4g}  ETA {:.1f} s  active {}  min beta {:.6f}\x1b[K",
                std::string(filled, '#'), std::string(width - filled, '.'), r.n, n_steps_, r.t, eta,
                r.contact.n_active, r.beta_min);
     std::fflush(stdout);
@@ -36,6 +37,15 @@ void Progress::update(const StepReport& r) {
                r.damage.iterations, r.damage.kkt_residual, r.beta_min, r.beta_max);
     std::fflush(stdout);
   }
+}
+
+void StageLog::operator()(const std::string& stage, double seconds) {
+  if (quiet_) return;
+  if (seconds < 0)
+    fmt::print("  {} ...", stage);
+  else
+    fmt::print(" {:.3f} s\n", seconds);
+  std::fflush(stdout);
 }
 
 void Progress::finish() {

@@ -5,8 +5,21 @@
 
 #include <chrono>
 #include <cstdio>
+#include <string>
 
 namespace vpc {
+
+/// The set-up stages as they start and end ("  assembly ... 0.012 s"), so a long
+/// set-up is never a blank screen (SolverChoice::on_setup_stage).
+class StageLog {
+ public:
+  explicit StageLog(bool quiet) : quiet_(quiet) {}
+  /// `seconds` < 0: the stage starts; else it ended after that long.
+  void operator()(const std::string& stage, double seconds);
+
+ private:
+  bool quiet_;
+};
 
 class Progress {
  public:

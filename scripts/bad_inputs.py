@@ -189,6 +189,21 @@ INPUTS = [
     ("--set of a misspelt key", {}, ["paper-2d", "--set", "damage.kapa=1"]),
     ("--set of a too large mesh", {}, ["paper-2d", "--set", "mesh.cells=[100000,100000]"]),
     ("mesh size that misses the contact patch's ends", {}, ["paper-2d", "--n", "12"]),
+    # --- issue 11: command line (item 10)
+    ("misspelt option (--verison)", {}, ["run", "paper-1d", "--verison"]),
+    ("subcommand misspelt", {}, ["rnu", "paper-1d"]),
+    ("cases --show of an unknown case", {}, ["cases", "--show", "paper-9d"]),
+    ("plot in an unknown format", {"out/x": ""}, ["plot", "out", "--format", "bmp"]),
+    # --- --set that conflicts with itself; --n on a Gmsh case (item 11)
+    ("--set of both steps and dt", {}, ["paper-1d", "--set", "time.steps=10", "--set", "time.dt=0.1"]),
+    ("--n on a case that reads a Gmsh mesh", {}, ["dome-3d", "--n", "4"]),
+    # --- output directory (item 9): checked before set-up, with the OS's reason
+    ("output directory that cannot be created", {}, ["run", "block-3d", "--n", "40", "-o", "/proc/vpc"]),
+    ("output directory below a file", {"afile": "x"}, ["run", "paper-1d", "-o", "afile/out"]),
+    # --- a directory name a shell would run (item 1): figures drawn, nothing run; the
+    # input is bad only in that --resume names a directory without checkpoints
+    ("--resume DIR where DIR is a shell command (nothing is run)", {"x'; touch INJECTED; echo '/y": ""},
+     ["run", "paper-1d", "--resume", "x'; touch INJECTED; echo '", "--plot"]),
     # --- at run time
     ("--resume from a folder without checkpoints", {"empty/x": ""},
      ["run", "paper-1d", "--resume", "empty", "--no-vtu"]),
@@ -207,10 +222,13 @@ def main():
                 path = pathlib.Path(tmp) / name
                 path.parent.mkdir(parents=True, exist_ok=True)
                 path.write_bytes(content if isinstance(content, bytes) else content.encode())
-            if args[0] != "run":
+            if args[0] not in ("run", "cases", "plot", "rnu"):
                 args = ["check", *args]
-            p = subprocess.run([vpcontact, *args, "-q"], cwd=tmp, capture_output=True, text=True,
+            quiet = ["-q"] if args[0] in ("run", "check") else []
+            p = subprocess.run([vpcontact, *args, *quiet], cwd=tmp, capture_output=True, text=True,
                                errors="replace", timeout=300)
+            if (pathlib.Path(tmp) / "INJECTED").exists():
+                failures.append(f"{what}: a shell ran a command in a file name (INJECTED exists)")
         message = (p.stderr.strip() or p.stdout.strip()).splitlines()
         message = message[0] if message else ""
         sanitizer = "Sanitizer" in p.stderr or "runtime error" in p.stderr

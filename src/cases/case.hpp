@@ -18,6 +18,7 @@ namespace vpc {
 struct MeshRequest {
   bool build = true;
   int dim = 0;
+  int cells = 0;  // `--n`: cells per edge of a generated mesh (0: the case's own)
 };
 
 struct Case {

@@ -11,7 +11,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cerrno>
+#include <cstring>
 #include <fstream>
+#include <map>
 #include <set>
 #include <sstream>
 
@@ -260,8 +263,50 @@ VectorField vector_field(std::vector<std::shared_ptr<const Expression>> e) {
   };
 }
 
-/// Applies `key.path=value` overrides to the parsed table.
+/// Keys of one section that exclude each other: a --set of a key on one side
+/// replaces the keys of the other side that the file gives (the file's `dt` gives
+/// way to `--set time.steps=200`). `b_too` lists keys that go with b's side.
+struct ExclusiveKeys {
+  std::string_view section;
+  std::vector<std::string_view> a, b;
+};
+
+const std::vector<ExclusiveKeys>& exclusive_keys() {
+  static const std::vector<ExclusiveKeys> pairs = {
+      {"time", {"steps"}, {"dt"}},
+      {"output", {"every"}, {"times"}},
+      {"damage", {"phi"}, {"source"}},
+      // A mesh file or a generated mesh; lower, upper and cells alone refine a generated mesh.
+      {"mesh", {"file"}, {"generator"}},
+  };
+  return pairs;
+}
+
+/// The keys of `section` that a --set of `key` replaces (see exclusive_keys).
+std::vector<std::string> replaced_keys(const std::string& section, const std::string& key, const toml::table& t) {
+  std::vector<std::string> out;
+  for (const auto& e : exclusive_keys()) {
+    if (e.section != section) continue;
+    const bool in_a = std::find(e.a.begin(), e.a.end(), key) != e.a.end();
+    const bool in_b = std::find(e.b.begin(), e.b.end(), key) != e.b.end();
+    if (!in_a && !in_b) continue;
+    for (auto k : in_a ? e.b : e.a) out.emplace_back(k);
+    if (section == "damage" && key == "phi") {  // a formula for phi replaces the source and its parameters
+      if (auto src = t["source"].value<std::string>())
+        for (const auto& param : damage_source_parameters(*src)) out.push_back(param);
+    }
+    if (section == "mesh" && key == "file")
+      for (auto k : {"lower", "upper", "cells", "diagonal"}) out.emplace_back(k);
+    if (section == "mesh" && key == "generator") out.emplace_back("size_factor");
+  }
+  return out;
+}
+
+/// Applies `key.path=value` overrides to the parsed table. A key that excludes
+/// one of the file's (exclusive_keys) replaces it; two overrides that exclude
+/// each other are an error.
 void apply_overrides(toml::table& root, const std::vector<std::string>& overrides) {
+  std::map<std::string, std::string> given;  // full key -> the override that set it
   for (const auto& o : overrides) {
     const auto eq = o.find('=');
     require(eq != std::string::npos && eq > 0, "--set {}: expected key=value (e.g. damage.kappa=0.1)", o);
@@ -282,6 +327,7 @@ void apply_overrides(toml::table& root, const std::vector<std::string>& override
       parsed.insert_or_assign("v", value);  // a bare word: a string
     }
     toml::table* t = &root;
+    std::string section;
     for (size_t i = 0; i + 1 < parts.size(); ++i) {
       toml::node* n = t->get(parts[i]);
       if (!n) {
@@ -290,9 +336,27 @@ void apply_overrides(toml::table& root, const std::vector<std::string>& override
       }
       require(n->is_table(), "--set {}: '{}' is not a table in the case file", o, parts[i]);
       t = n->as_table();
+      section += (i ? "." : "") + parts[i];
     }
+    for (const auto& other : replaced_keys(section, parts.back(), *t)) {
+      const std::string full = section + "." + other;
+      if (auto it = given.find(full); it != given.end())
+        fail("--set {}: conflicts with --set {} (give only one of {} and {})", o, it->second, key, full);
+      t->erase(other);
+    }
+    given[key] = o;
     parsed["v"].visit([&](auto&& node) { t->insert_or_assign(parts.back(), node); });
   }
+}
+
+/// `vpcontact run CASE --n N`: N cells per edge of a generated mesh.
+void set_generated_cells(toml::table& root, int n, const std::string& file) {
+  toml::table* m = root["mesh"].as_table();
+  if (!m) return;  // parse_case reports the missing [mesh]
+  if (const auto mesh_file = (*m)["file"].value<std::string>())
+    fail("--n {}: --n sets the cells per edge of a generated mesh only; {} reads its mesh from '{}' (refine that "
+         "mesh with --set mesh.size_factor=..., or in Gmsh)", n, file, *mesh_file);
+  m->insert_or_assign("cells", n);
 }
 
 Mesh read_mesh(Section m, const fs::path& base_dir, const std::string& file) {
@@ -402,6 +466,7 @@ Case parse_case(std::string_view text, const std::string& name, const fs::path& 
   } catch (const toml::parse_error& e) {
     fail("{}:{}:{}: invalid TOML: {}", name, e.source().begin.line, e.source().begin.column, e.description());
   }
+  if (mesh_request.cells > 0) set_generated_cells(root, mesh_request.cells, name);
   apply_overrides(root, overrides);
 
   Section top(&root, "", name);
@@ -597,12 +662,30 @@ std::string case_description(std::string_view text) {
   }
 }
 
-Case read_case_file(const fs::path& file, const std::vector<std::string>& overrides, const MeshRequest& mesh) {
+CaseInfo case_info(std::string_view text, const std::string& name, const std::vector<std::string>& overrides) {
+  CaseInfo info{fs::path(name).stem().string(), "case file " + name, ""};
+  try {
+    toml::table t = toml::parse(text, std::string_view(name));
+    apply_overrides(t, overrides);
+    info.name = t["case"]["name"].value_or(info.name);
+    info.description = t["case"]["description"].value_or(info.description);
+    info.output_directory = t["output"]["directory"].value_or(std::string());
+  } catch (const std::exception&) {
+    // parse_case reports it, with the line and column
+  }
+  return info;
+}
+
+std::string read_text_file(const fs::path& file, std::string_view what) {
   std::ifstream in(file, std::ios::binary);
-  require(in.good(), "cannot read case file '{}'", file.string());
+  require(in.good(), "cannot read {} '{}': {}", what, file.string(), std::strerror(errno));
   std::stringstream ss;
   ss << in.rdbuf();
-  return parse_case(ss.str(), file.string(), file.parent_path(), overrides, mesh);
+  return ss.str();
+}
+
+Case read_case_file(const fs::path& file, const std::vector<std::string>& overrides, const MeshRequest& mesh) {
+  return parse_case(read_text_file(file, "case file"), file.string(), file.parent_path(), overrides, mesh);
 }
 
 }  // namespace vpc

@@ -22,6 +22,18 @@ Case read_case_file(const std::filesystem::path& file, const std::vector<std::st
 Case parse_case(std::string_view text, const std::string& name, const std::filesystem::path& base_dir,
                 const std::vector<std::string>& overrides = {}, const MeshRequest& mesh = {});
 
+/// What a case says about itself, read without building anything (no mesh):
+/// vpcontact prints the header and checks the output directory before set-up.
+/// Invalid text gives the defaults (parse_case reports the error).
+struct CaseInfo {
+  std::string name, description;
+  std::string output_directory;  // [output] directory; empty: the default
+};
+CaseInfo case_info(std::string_view text, const std::string& name, const std::vector<std::string>& overrides = {});
+
+/// A file's whole text; throws vpc::Error naming `what`, the file and the OS's reason.
+std::string read_text_file(const std::filesystem::path& file, std::string_view what);
+
 /// The [case] description of a case file's text, without reading the rest
 /// (no meshing); empty if there is none or the text is not valid TOML.
 std::string case_description(std::string_view text);

@@ -115,7 +115,11 @@ DistributedTimeStepper::DistributedTimeStepper(std::shared_ptr<const Problem> pr
   geo_ = compute_geometry(mesh);
   for (int f = 0; f < mesh.n_facets(); ++f) traction_facets_.push_back(f);
 
+  auto stage = [&](const std::string& what, double seconds = -1) {  // as in TimeStepper
+    if (choice_.on_setup_stage) choice_.on_setup_stage(what, seconds);
+  };
   // Constant matrices: K of (3.9); M and H = M + kκA of (3.8); each rank adds its cells' part.
+  stage("assembly");
   auto t1 = Clock::now();
   {
     const SparseMatrix K_local = assemble_stiffness(mesh, geo_, p.elasticity, part_.dofs);
@@ -127,7 +131,9 @@ DistributedTimeStepper::DistributedTimeStepper(std::shared_ptr<const Problem> pr
                          part_.n_owned_nodes, part_.n_global_nodes, 1);
   }
   setup_timing_.assembly = seconds_since(t1);
+  stage("assembly", setup_timing_.assembly);
 
+  stage(fmt::format("factorization of K ({} global dofs, {})", part_.n_global_dofs, linear.kind));
   t1 = Clock::now();
   K_solver_ = std::make_unique<PetscLinearSolver>(comm, "vpc_K_", linear);
   {
@@ -150,12 +156,17 @@ DistributedTimeStepper::DistributedTimeStepper(std::shared_ptr<const Problem> pr
     K_solver_->factorize(K_, "elastic stiffness K", rigid.get());
   }
   setup_timing_.factor_K = seconds_since(t1);
+  stage("factorization of K", setup_timing_.factor_K);
+  stage(fmt::format("factorization of H ({} global nodes)", part_.n_global_nodes));
   t1 = Clock::now();
   damage_ = std::make_unique<DistributedDamageSolver>(comm, H_, linear);
   setup_timing_.factor_H = seconds_since(t1);
+  stage("factorization of H", setup_timing_.factor_H);
+  stage("contact set-up");
   t1 = Clock::now();
   contact_ = std::make_unique<DistributedContactSolver>(part_, K_, *K_solver_);
   setup_timing_.contact = seconds_since(t1);
+  stage("contact set-up", setup_timing_.contact);
 
   // Initial state (3.4): u0 = 0, σ0 = 0 (so z0 = 0), β0 = the P1 interpolant.
   state_.u = ghosted(comm, part_.n_owned_dofs, part_.n_global_dofs, part_.ghost_dofs());

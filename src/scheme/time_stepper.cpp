@@ -47,25 +47,36 @@ TimeStepper::TimeStepper(std::shared_ptr<const Problem> problem, SolverChoice ch
   if (p.f2 && p.f2_uniform) basis_integral_traction_ = basis_integral(nullptr, unit);
 
   // Constant matrices: K of (3.9), factorized once; H = M + kκA of (3.8).
+  auto stage = [&](const std::string& what, double seconds = -1) {
+    if (choice_.on_setup_stage) choice_.on_setup_stage(what, seconds);
+  };
+  stage("assembly");
   auto t1 = Clock::now();
   K_ = std::make_shared<SparseMatrix>(assemble_stiffness(mesh, geo_, p.elasticity, dofs_));
   M_ = assemble_mass(mesh, geo_);
   laplacian_ = assemble_laplacian(mesh, geo_);
   const SparseMatrix H = M_ + (p.step() * p.kappa) * laplacian_;
   setup_timing_.assembly = seconds_since(t1);
+  stage("assembly", setup_timing_.assembly);
+  stage(fmt::format("factorization of K ({} x {}, {} nonzeros)", K_->rows(), K_->cols(), K_->nonZeros()));
   t1 = Clock::now();
   K_factor_ = make_cholmod_solver();
   K_factor_->factorize(*K_, "elastic stiffness K");
   setup_timing_.factor_K = seconds_since(t1);
+  stage("factorization of K", setup_timing_.factor_K);
+  stage(fmt::format("factorization of H ({} x {}, {} nonzeros)", H.rows(), H.cols(), H.nonZeros()));
   t1 = Clock::now();
   damage_ = make_damage_solver(choice_.damage, H, 1e-13, 200000, choice_.damage_reduced);
   setup_timing_.factor_H = seconds_since(t1);
+  stage("factorization of H", setup_timing_.factor_H);
 
+  stage("contact set-up");
   t1 = Clock::now();
   setup_contact();
   contact_ = make_contact_solver(choice_.contact, std::shared_ptr<const SparseMatrix>(K_), K_factor_, N_,
                                  choice_.contact_options);
   setup_timing_.contact = seconds_since(t1);
+  stage("contact set-up", setup_timing_.contact);
 
   // Initial state (3.4): u0 = 0, σ0 = 0 (so z0 = σ0 − ℰε(u0) = 0), β0 = P1 interpolant.
   state_.u = Vector::Zero(dofs_.n_full());

@@ -10,6 +10,7 @@
 #include "solvers/contact_solver.hpp"
 #include "solvers/damage_solver.hpp"
 
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -27,6 +28,9 @@ struct SolverChoice {
   /// A failed step is retried as two steps of half the size, at most this many
   /// times nested (0: a failed step is reported as it is).
   int max_halvings = 0;
+  /// Optional: told as each setup stage starts (seconds < 0) and when it ends
+  /// (its wall time), so that a long setup shows what it is doing (vpcontact run/check).
+  std::function<void(const std::string& stage, double seconds)> on_setup_stage;
 };
 
 struct StepReport {

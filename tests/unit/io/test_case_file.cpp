@@ -118,6 +118,57 @@ TEST(CaseFile, OverridesApplyBeforeValidation) {
       << error_of(kValid, {"damage.kappa=-1"});
 }
 
+// Issue 11, item 11: a --set of a key that excludes one of the file's replaces it.
+TEST(CaseFile, OverridesReplaceTheKeysTheyExclude) {
+  // The file gives dt = 0.05 (10 steps) and output times.
+  Case c = parse_case(kValid, "ok.toml", ".", {"time.steps=20", "output.every=2"});
+  EXPECT_EQ(c.problem->n_steps, 20);
+  EXPECT_EQ(c.output.every, 2);
+  EXPECT_TRUE(c.output.times.empty());
+  const std::string with_steps = variant("dt = 0.05", "steps = 10");
+  const std::string with_every = variant("times = [0.1, 0.5]", "every = 3");
+  c = parse_case(with_every, "ok.toml", ".", {"time.dt=0.1", "output.times=[0.2]"});
+  EXPECT_EQ(c.problem->n_steps, 5);
+  EXPECT_EQ(c.output.times, (std::vector<double>{0.2}));
+  c = parse_case(with_steps, "ok.toml", ".", {"time.dt=0.25"});
+  EXPECT_EQ(c.problem->n_steps, 2);
+  // phi replaces a named source and its parameters; a source replaces phi.
+  const std::string with_source = variant("phi = \"-0.01*vm*beta\"", "source = \"von-mises\"\nc = 0.5");
+  c = parse_case(with_source, "ok.toml", ".", {"damage.phi=-vm"});
+  EXPECT_NE(c.problem->source->describe().find("vm"), std::string::npos) << c.problem->source->describe();
+  c = parse_case(kValid, "ok.toml", ".", {"damage.source=zero"});
+  EXPECT_EQ(c.problem->source->describe().find("vm"), std::string::npos) << c.problem->source->describe();
+  // Two overrides that exclude each other: an error naming both.
+  EXPECT_NE(error_of(kValid, {"time.steps=10", "time.dt=0.1"}).find("--set time.dt=0.1: conflicts with --set time.steps=10"),
+            std::string::npos)
+      << error_of(kValid, {"time.steps=10", "time.dt=0.1"});
+}
+
+// `--n` (MeshRequest::cells) on a case that reads a mesh file says so.
+TEST(CaseFile, CellsOfTheCommandLineApplyToGeneratedMeshesOnly) {
+  Case c = parse_case(kValid, "ok.toml", ".", {}, {.cells = 4});
+  EXPECT_EQ(c.problem->mesh.n_cells(), 2 * 4 * 4);
+  const std::string with_file = variant("generator = \"rectangle\"\nlower = [0.0, 0.0]\nupper = [2.0, 1.0]\ncells = [10, 5]",
+                                        "file = \"plate.msh\"");
+  try {
+    parse_case(with_file, "plate.toml", ".", {}, {.cells = 4});
+    ADD_FAILURE() << "no error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("--n 4: --n sets the cells per edge of a generated mesh only; plate.toml reads "
+                                         "its mesh from 'plate.msh'"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
+TEST(CaseFile, CaseInfoWithoutBuildingAnything) {
+  const CaseInfo info = case_info(variant("[output]", "[output]\ndirectory = \"out/x\""), "dir/ok.toml", {"case.name=n2"});
+  EXPECT_EQ(info.name, "n2");
+  EXPECT_EQ(info.description, "case file dir/ok.toml");
+  EXPECT_EQ(info.output_directory, "out/x");
+  EXPECT_EQ(case_info("not [toml", "dir/bad.toml").name, "bad");
+}
+
 // A rank > 0 of a distributed run builds the case without its mesh (MeshRequest):
 // the mesh file is not even opened, the rest is the same as rank 0's.
 TEST(CaseFile, WithoutTheMeshForRanksThatReceiveTheirPart) {

@@ -1,0 +1,62 @@
+#include "interrupt.hpp"
+
+#include "child_process.hpp"
+
+#include <fmt/format.h>
+
+#include <csignal>
+#include <unistd.h>
+
+namespace vpc {
+
+namespace {
+
+volatile std::sig_atomic_t g_signal = 0;
+
+extern "C" void on_signal(int s) {
+  if (g_signal != 0) {  // the second one: no waiting for the step or factorization under way
+    constexpr char msg[] = "\nvpcontact: second signal: stopping at once (the last checkpoint is kept)\n";
+    [[maybe_unused]] const auto n = ::write(STDERR_FILENO, msg, sizeof msg - 1);
+    ::_exit(128 + s);
+  }
+  g_signal = s;
+}
+
+}  // namespace
+
+void catch_interrupts() {
+  struct sigaction sa {};
+  sa.sa_handler = on_signal;
+  sigemptyset(&sa.sa_mask);
+  sa.sa_flags = SA_RESTART;  // file writes and waits carry on; the loop checks the flag
+  sigaction(SIGINT, &sa, nullptr);
+  sigaction(SIGTERM, &sa, nullptr);
+}
+
+int interrupt_signal() { return g_signal; }
+
+const char* signal_name(int s) { return s == SIGINT ? "SIGINT" : s == SIGTERM ? "SIGTERM" : "a signal"; }
+
+Interrupted::Interrupted(int s)
+    : std::runtime_error(fmt::format("interrupted by {} during set-up; nothing was computed", signal_name(s))),
+      signal(s) {}
+
+void stop_if_interrupted() {
+  if (const int s = interrupt_signal()) throw Interrupted(s);
+}
+
+std::string resume_command(const std::vector<std::string>& argv, const std::filesystem::path& dir, int mpi_size) {
+  std::string cmd = mpi_size > 0 ? fmt::format("mpirun -np {} ", mpi_size) : "";
+  for (std::size_t i = 0; i < argv.size(); ++i) {
+    const std::string& a = argv[i];
+    if (a == "--resume" || a == "-o" || a == "--output") {
+      ++i;  // and its value
+      continue;
+    }
+    if (a.starts_with("--resume=") || a.starts_with("--output=") || (a.starts_with("-o") && a.size() > 2)) continue;
+    cmd += shell_quote(a) + " ";
+  }
+  return cmd + "--resume " + shell_quote(dir.string());
+}
+
+}  // namespace vpc

@@ -1,0 +1,38 @@
+#pragma once
+// SIGINT (Ctrl-C) and SIGTERM (a cluster's wall-time limit) during a run: the
+// handler only records the signal; the run loop stops after the step under way,
+// writes a checkpoint and prints the command that continues the run; the exit
+// code is 128 + the signal (130, 143). A second signal ends the process at once
+// (for a long factorization that cannot stop in between).
+#include <filesystem>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace vpc {
+
+/// Installs the handlers (idempotent).
+void catch_interrupts();
+
+/// The signal received since catch_interrupts (SIGINT or SIGTERM), 0 if none.
+int interrupt_signal();
+
+/// "SIGINT" or "SIGTERM".
+const char* signal_name(int signal);
+
+/// Thrown where a run stops for a signal before its time steps (set-up);
+/// main() reports it and exits with 128 + signal.
+struct Interrupted : std::runtime_error {
+  explicit Interrupted(int s);
+  int signal;
+};
+
+/// Throws Interrupted if a signal has arrived.
+void stop_if_interrupted();
+
+/// The command line that continues the run in `dir`: this process's arguments
+/// without any --resume/-o/--output, then `--resume DIR`; under mpirun (size >
+/// 0) prefixed with `mpirun -np SIZE`. Every word quoted for a POSIX shell.
+std::string resume_command(const std::vector<std::string>& argv, const std::filesystem::path& dir, int mpi_size = 0);
+
+}  // namespace vpc
