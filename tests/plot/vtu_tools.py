@@ -7,7 +7,7 @@ the field fallbacks before (and independently of) the C++ writer.
 
 Usage as a script:
   vtu_tools.py compress IN.vtu OUT.vtu [BLOCK_BYTES]
-  vtu_tools.py rename-beta IN.vtu OUT.vtu        (point field damage -> beta)
+  vtu_tools.py damage-to-beta IN.vtu OUT.vtu     (point field damage -> beta; beta-to-damage: back)
   vtu_tools.py add-pressure IN.vtu OUT.vtu       (contact_pressure = |contact_force| / tributary area)
 """
 
@@ -25,21 +25,22 @@ def _vtk_type(a):
     return _TYPES[a.dtype.str.lstrip("<|")]
 
 
-def _block(a, compress, block_bytes):
+def _block(a, compress, block_bytes, header):
     import numpy as np
 
     data = np.ascontiguousarray(a).astype(a.dtype.newbyteorder("<"), copy=False).tobytes()
     if not compress:
-        return np.array([len(data)], "<u8").tobytes() + data
+        return np.array([len(data)], header).tobytes() + data
     chunks = [data[i:i + block_bytes] for i in range(0, len(data), block_bytes)] or []
     packed = [zlib.compress(c) for c in chunks]
     last = len(chunks[-1]) if chunks and len(chunks[-1]) != block_bytes else 0
     head = [len(chunks), block_bytes, last] + [len(p) for p in packed]
-    return np.array(head, "<u8").tobytes() + b"".join(packed)
+    return np.array(head, header).tobytes() + b"".join(packed)
 
 
-def write_vtu(path, vtu, compress=False, block_bytes=32768):
-    """Writes vtu (a vp.Vtu) as an UnstructuredGrid with appended data."""
+def write_vtu(path, vtu, compress=False, block_bytes=32768, header="<u8"):
+    """Writes vtu (a vp.Vtu) as an UnstructuredGrid with appended data;
+    header: the type of the block headers ('<u8' or '<u4')."""
     import numpy as np
 
     blobs = []
@@ -48,7 +49,7 @@ def write_vtu(path, vtu, compress=False, block_bytes=32768):
     def array(name, a, extra=""):
         a = np.asarray(a)
         nc = a.shape[1] if a.ndim == 2 else 1
-        b = _block(a, compress, block_bytes)
+        b = _block(a, compress, block_bytes, header)
         tag = '<DataArray type="%s"%s NumberOfComponents="%d" format="appended" offset="%d"%s/>\n' % (
             _vtk_type(a), ' Name="%s"' % name if name else "", nc, offset[0], extra)
         blobs.append(b)
@@ -57,7 +58,8 @@ def write_vtu(path, vtu, compress=False, block_bytes=32768):
 
     n, m = len(vtu.points), len(vtu.cells)
     xml = ['<?xml version="1.0"?>\n<VTKFile type="UnstructuredGrid" version="1.0" byte_order="LittleEndian" '
-           'header_type="UInt64"%s>\n' % (' compressor="vtkZLibDataCompressor"' if compress else ""),
+           'header_type="%s"%s>\n' % ({"<u8": "UInt64", "<u4": "UInt32"}[header],
+                                        ' compressor="vtkZLibDataCompressor"' if compress else ""),
            '<UnstructuredGrid>\n<Piece NumberOfPoints="%d" NumberOfCells="%d">\n<PointData>\n' % (n, m)]
     xml += [array(k, v) for k, v in vtu.point_data.items()]
     xml.append("</PointData>\n<CellData>\n")
@@ -77,8 +79,8 @@ def write_vtu(path, vtu, compress=False, block_bytes=32768):
         f.write(b"\n</AppendedData>\n</VTKFile>\n")
 
 
-def rename_beta(vtu):
-    vtu.point_data = {("beta" if k == "damage" else k): v for k, v in vtu.point_data.items()}
+def rename(vtu, old, new):
+    vtu.point_data = {(new if k == old else k): v for k, v in vtu.point_data.items()}
 
 
 def add_pressure(vtu):
@@ -102,8 +104,11 @@ def main(argv):
     vtu = vp.read_vtu(src)
     if cmd == "compress":
         write_vtu(dst, vtu, compress=True, block_bytes=int(argv[4]) if len(argv) > 4 else 32768)
-    elif cmd == "rename-beta":
-        rename_beta(vtu)
+    elif cmd == "damage-to-beta":
+        rename(vtu, "damage", "beta")
+        write_vtu(dst, vtu)
+    elif cmd == "beta-to-damage":
+        rename(vtu, "beta", "damage")
         write_vtu(dst, vtu)
     elif cmd == "add-pressure":
         add_pressure(vtu)
