@@ -932,7 +932,7 @@ class Plotter:
             fig.text(0.215 + 0.43 * k, 0.015, what, ha="center", va="bottom", fontsize="large")
         sm = self.plt.cm.ScalarMappable(norm=norm, cmap=cmap)
         sm.set_array([])
-        fig.subplots_adjust(left=0.0, right=0.86, bottom=0.1, top=0.88, wspace=0.05)
+        fig.subplots_adjust(left=0.0, right=0.86, bottom=0.1, top=0.85, wspace=0.05)
         cax = fig.add_axes([0.89, 0.2, 0.018, 0.56])
         fig.colorbar(sm, cax=cax, label=label)
         where = ("on the deformed boundary (displacements × %s, max $|u|$ = %.3g m)" % (scale_text(s), umax)
