@@ -1,28 +1,40 @@
 #!/usr/bin/python3
-"""The paper's figures from a vpcontact run's output directory.
+"""Figures from a vpcontact run's output directory.
 
-Usage: /usr/bin/python3 scripts/vpcontact_plot.py OUTDIR [--format png] [--dpi 150]
+Usage: /usr/bin/python3 scripts/vpcontact_plot.py OUTDIR [--format png|pdf|svg] [--dpi 150]
 
-Reads OUTDIR/summary.json (dimension, case, probe points), OUTDIR/probes.csv,
+Reads OUTDIR/summary.json (case name, dimension, probe points), OUTDIR/probes.csv,
 OUTDIR/history.csv and, when present, OUTDIR/solution.pvd with its
-solution_NNNNN.vtu files, and writes figures into OUTDIR/figures/:
+solution_NNNNN.vtu files, and writes figures into OUTDIR/figures/.
 
-  d = 1  fig_4_2_displacement_stress   u(x), sigma(x) at t = 0.2, 0.4, 0.6, 0.8, 1 T  (VTU)
-         fig_4_3_time_histories        u(t), sigma(t) at the probe points              (probes.csv)
-         fig_4_4_damage                beta(x) at those times (VTU), beta(t) at the probes
-  d = 2  fig_4_6_deformed_mesh         deformed mesh at the final time + initial boundary (VTU)
-         fig_4_7_von_mises_damage      von Mises norm and damage on the deformed body     (VTU)
-         probes                        u, von Mises, beta versus time at the probes       (probes.csv)
-  d = 3  surface_von_mises, surface_damage   boundary of the deformed body, from above and below (VTU)
-         contact_pressure              contact force on the bottom face z = zmin          (VTU)
-         probes                        as for d = 2
-  all    history                       total contact force, active nodes, min/max beta    (history.csv)
+File names. The paper's examples (summary.json "case" = "paper-1d" in 1D or
+"paper-2d" in 2D; SPEC §4, Fernandez & Sofonea 2003, Section 4) get the
+paper's figure names and "Fig. 4.x" in their titles; every other case gets
+the neutral name:
 
-SPEC §4 (Fernandez & Sofonea 2003, Section 4) describes the figures. Only numpy
-and matplotlib (Agg backend) are needed; the VTU reader below handles exactly
-the layout src/io/vtu_writer.cpp writes: UnstructuredGrid, raw appended data
-after a '_' marker, each block a UInt64 (or UInt32, per header_type) byte count
-followed by little-endian values.
+  d  paper's name                  other cases          contents
+  1  fig_4_2_displacement_stress   displacement_stress  u(x), sigma(x) at t = 0.2, 0.4, 0.6, 0.8, 1 T  (VTU)
+  1  fig_4_3_time_histories        time_histories       u(t), sigma(t) at the probe points             (probes.csv)
+  1  fig_4_4_damage                beta                 beta(x) at those times (VTU), beta(t) at the probes
+  2  fig_4_6_deformed_mesh         deformed_mesh        deformed mesh at the final time, initial boundary,
+                                                        nodes in contact                               (VTU)
+  2  fig_4_7_von_mises_damage      von_mises_beta       |sigma|_VM (per element) and beta on the deformed body (VTU)
+  3                                surface_von_mises    |sigma|_VM on the deformed boundary, from above and below (VTU)
+  3                                surface_beta         beta on the deformed boundary, from above and below   (VTU)
+  3                                contact_pressure     the point field contact_pressure on the lower boundary,
+                                                        and against the distance from the centre of pressure (VTU)
+  2,3  probes                      probes               u, von Mises, beta versus time at the probes   (probes.csv)
+  all  history                     history              total contact force, active nodes, min/max beta (history.csv)
+
+The 2D field figures follow the domain's aspect ratio (a wide domain puts
+the two fields one above the other); colour bars are as tall as their plot;
+fields use viridis.
+
+VTU files: UnstructuredGrid with appended data, raw (each block a UInt64 or
+UInt32 byte count, per header_type, then little-endian values) or compressed
+by vtkZLibDataCompressor. The damage field is read from the point field
+'beta', or 'damage' in outputs written before it was renamed. Only numpy and
+matplotlib (Agg backend) are needed.
 
 Prints the path of every figure written and, for every figure it cannot draw,
 one line "skipped: NAME (why)". Exits 1 with a one-line message if OUTDIR is
@@ -37,24 +49,64 @@ import re
 import sys
 import xml.etree.ElementTree as ET
 
-# Figure sizes in inches; the pixel size of a figure is round(size * dpi)
-# (tests/plot/test_plot.sh checks it). Keep size * 150 integral.
+# The figures, by key: the file name for the paper's cases (with the
+# paper's figure number, used in the title) and the neutral file name used
+# for every other case. See the module docstring.
+PAPER_FIGURES = {
+    "displacement_stress": ("fig_4_2_displacement_stress", "4.2"),
+    "time_histories": ("fig_4_3_time_histories", "4.3"),
+    "beta_1d": ("fig_4_4_damage", "4.4"),
+    "deformed_mesh": ("fig_4_6_deformed_mesh", "4.6"),
+    "von_mises_beta": ("fig_4_7_von_mises_damage", "4.7"),
+}
+NEUTRAL_NAMES = {
+    "displacement_stress": "displacement_stress",
+    "time_histories": "time_histories",
+    "beta_1d": "beta",
+    "deformed_mesh": "deformed_mesh",
+    "von_mises_beta": "von_mises_beta",
+    "surface_von_mises": "surface_von_mises",
+    "surface_beta": "surface_beta",
+    "contact_pressure": "contact_pressure",
+    "probes": "probes",
+    "history": "history",
+}
+# The paper's examples (SPEC §4), by the case name summary.json records, and their dimension.
+PAPER_CASES = {"paper-1d": 1, "paper-2d": 2}
+
+# Figure sizes in inches of the figures whose layout does not depend on the
+# domain; the pixel size of a figure is round(size * dpi) (tests/plot checks
+# it). Keep size * 150 integral. deformed_mesh and von_mises_beta follow the
+# domain's aspect ratio (deformed_mesh_size, field_pair_layout).
 FIGSIZES = {
-    "fig_4_2_displacement_stress": (12.0, 4.8),
-    "fig_4_3_time_histories": (12.0, 4.8),
-    "fig_4_4_damage": (12.0, 4.8),
-    "fig_4_6_deformed_mesh": (8.0, 7.2),
-    "fig_4_7_von_mises_damage": (13.0, 5.6),
+    "displacement_stress": (12.0, 4.8),
+    "time_histories": (12.0, 4.8),
+    "beta_1d": (12.0, 4.8),
     "surface_von_mises": (13.0, 6.0),
-    "surface_damage": (13.0, 6.0),
-    "contact_pressure": (12.0, 5.6),
+    "surface_beta": (13.0, 6.0),
+    "contact_pressure": (13.0, 5.6),
     "probes": (15.0, 4.8),
     "history": (12.0, 4.8),
 }
 
+# Sequential, perceptually uniform, readable in grey and by colour-blind readers.
+FIELD_CMAP = "viridis"
+VM_LABEL = r"$|\sigma|_{\mathrm{VM}}$ [N/m$^2$]"
+BETA_LABEL = r"damage $\beta$ [-]"
+PRESSURE_LABEL = r"contact pressure $p$ [N/m$^2$]"
+
 # Fraction of the body's size the largest displacement is scaled to in
 # deformed-configuration plots (the paper's displacements are tiny).
 DEFORMATION_FRACTION = 0.08
+
+
+def paper_case(run):
+    """Whether run is one of the paper's examples (its figures get the paper's names)."""
+    return PAPER_CASES.get(run.case) == run.dim
+
+
+def figure_name(key, paper):
+    return PAPER_FIGURES[key][0] if paper and key in PAPER_FIGURES else NEUTRAL_NAMES[key]
 
 
 class PlotError(Exception):
@@ -94,8 +146,21 @@ class Vtu:
         return self.cell_data[name]
 
     def has(self, name):
+        if name == "beta":
+            return "beta" in self.point_data or "damage" in self.point_data
         return name in self.point_data or name in self.cell_data or (
             name == "von_mises" and "stress" in self.cell_data)
+
+    def beta(self):
+        """The damage field beta: point field 'beta', or 'damage' as written before it was renamed."""
+        return self.point("beta" if "beta" in self.point_data else "damage")
+
+    def scalar(self, name):
+        """A point field with one component as an (N,) array."""
+        v = self.point(name)
+        if v.ndim != 1:
+            raise PlotError("point field '%s' has %d components, expected 1" % (name, v.shape[1]))
+        return v
 
     def von_mises(self):
         """The cell field von_mises, or computed from stress (VTK order XX YY ZZ XY YZ XZ)."""
@@ -118,8 +183,59 @@ def _attrs(text):
     return dict(re.findall(r'([A-Za-z_:][\w:.-]*)\s*=\s*"([^"]*)"', text))
 
 
+def _header_ints(raw, start, header, count, what):
+    """count integers of the numpy type header at byte start of raw."""
+    import numpy as np
+
+    size = np.dtype(header).itemsize
+    if start < 0 or start + count * size > len(raw):
+        raise PlotError("%s: truncated file (block header)" % what)
+    return [int(x) for x in np.frombuffer(raw, header, count=count, offset=start)]
+
+
+def appended_raw(raw, start, header, what):
+    """An uncompressed block: [byte count] then the bytes."""
+    import numpy as np
+
+    (nbytes,) = _header_ints(raw, start, header, 1, what)
+    begin = start + np.dtype(header).itemsize
+    if begin + nbytes > len(raw):
+        raise PlotError("%s: truncated or corrupt data (%d bytes announced)" % (what, nbytes))
+    return raw[begin:begin + nbytes]
+
+
+def appended_zlib(raw, start, header, what):
+    """A vtkZLibDataCompressor block: [n_blocks, block size, size of the last
+    block (0: a full block), compressed size of each block], then the blocks,
+    each compressed by zlib on its own."""
+    import numpy as np
+    import zlib
+
+    size = np.dtype(header).itemsize
+    n, block, last = _header_ints(raw, start, header, 3, what)
+    if n == 0:
+        return b""
+    sizes = _header_ints(raw, start + 3 * size, header, n, what)
+    pos = start + (3 + n) * size
+    if pos + sum(sizes) > len(raw):
+        raise PlotError("%s: truncated compressed data (%d bytes announced)" % (what, sum(sizes)))
+    parts = []
+    for c in sizes:
+        try:
+            parts.append(zlib.decompress(raw[pos:pos + c]))
+        except zlib.error as e:
+            raise PlotError("%s: corrupt compressed block (%s)" % (what, e))
+        pos += c
+    data = b"".join(parts)
+    expected = block * (n - 1) + (last if last else block)
+    if len(data) != expected:
+        raise PlotError("%s: %d bytes after decompression, the header announces %d" % (what, len(data), expected))
+    return data
+
+
 def read_vtu(path):
-    """Reads a VTK XML UnstructuredGrid with raw appended data (vtu_writer.cpp's layout)."""
+    """Reads a VTK XML UnstructuredGrid with appended data (vtu_writer.cpp's
+    layout), raw or compressed by vtkZLibDataCompressor."""
     import numpy as np
 
     try:
@@ -144,12 +260,12 @@ def read_vtu(path):
         raise PlotError("%s: VTKFile type is '%s', expected UnstructuredGrid" % (path, file_attrs.get("type")))
     if file_attrs.get("byte_order", "LittleEndian") != "LittleEndian":
         raise PlotError("%s: only LittleEndian data is supported" % path)
-    if "compressor" in file_attrs:
-        raise PlotError("%s: compressed VTU is not supported" % path)
+    compressor = file_attrs.get("compressor")
+    if compressor not in (None, "vtkZLibDataCompressor"):
+        raise PlotError("%s: compressor '%s' is not supported (only vtkZLibDataCompressor)" % (path, compressor))
     header = {"UInt64": "<u8", "UInt32": "<u4"}.get(file_attrs.get("header_type", "UInt32"))
     if header is None:
         raise PlotError("%s: unsupported header_type '%s'" % (path, file_attrs.get("header_type")))
-    header_size = np.dtype(header).itemsize
     enc = _attrs(raw[tag:tag_end].decode("utf-8", errors="replace")).get("encoding", "raw")
     if enc != "raw":
         raise PlotError("%s: AppendedData encoding '%s' is not supported (only raw)" % (path, enc))
@@ -167,13 +283,12 @@ def read_vtu(path):
         if dtype is None:
             raise PlotError("%s: unsupported DataArray type '%s'" % (path, a.get("type")))
         start = base + int(a["offset"])
-        if start + header_size > len(raw):
-            raise PlotError("%s: truncated file (DataArray '%s')" % (path, a.get("Name", "?")))
-        nbytes = int(np.frombuffer(raw, header, count=1, offset=start)[0])
+        what = "%s: DataArray '%s'" % (path, a.get("Name", "?"))
+        data = (appended_zlib if compressor else appended_raw)(raw, start, header, what)
         item = np.dtype(dtype).itemsize
-        if start + header_size + nbytes > len(raw) or nbytes % item:
-            raise PlotError("%s: truncated or corrupt DataArray '%s'" % (path, a.get("Name", "?")))
-        v = np.frombuffer(raw, dtype, count=nbytes // item, offset=start + header_size)
+        if len(data) % item:
+            raise PlotError("%s: %d bytes, not a multiple of %d" % (what, len(data), item))
+        v = np.frombuffer(data, dtype)
         nc = int(a.get("NumberOfComponents", 1))
         if v.size % nc:
             raise PlotError("%s: DataArray '%s' size %d is not a multiple of %d" % (path, a.get("Name"), v.size, nc))
@@ -425,6 +540,73 @@ def edge_loops(edges):
     return loops
 
 
+def in_contact(vtu):
+    """Nodes in contact: contact_pressure > 0, or a non-zero contact_force (older outputs)."""
+    import numpy as np
+
+    if "contact_pressure" in vtu.point_data:
+        return vtu.scalar("contact_pressure") > 0
+    if "contact_force" in vtu.point_data:
+        return np.linalg.norm(vtu.point("contact_force"), axis=1) > 0
+    return np.zeros(len(vtu.points), dtype=bool)
+
+
+def lower_boundary(vtu):
+    """(faces, description) of the boundary a 3D body rests on: the flat
+    bottom face z = zmin, or for a curved body the faces that look down."""
+    import numpy as np
+
+    p = vtu.points
+    zmin = p[:, 2].min()
+    tol = 1e-9 * max(float(np.ptp(p[:, 2])), 1.0)
+    faces, _ = boundary_faces(vtu.cells, p)
+    bottom = faces[np.all(np.abs(p[faces, 2] - zmin) <= tol, axis=1)]
+    if len(bottom):
+        return bottom, "the bottom face $z$ = %g" % zmin
+    a, b, c = p[faces[:, 0]], p[faces[:, 1]], p[faces[:, 2]]
+    n = np.cross(b - a, c - a)
+    down = n[:, 2] < -0.3 * np.linalg.norm(n, axis=1)
+    return faces[down], "the downward-facing boundary, projected on $(x, y)$"
+
+
+def plot_aspect(tri, xy):
+    """Height / width of what a 2D plot shows: the deformed mesh and the initial body."""
+    import numpy as np
+
+    x = np.concatenate([tri.x, xy[:, 0]])
+    y = np.concatenate([tri.y, xy[:, 1]])
+    w, h = float(np.ptp(x)), float(np.ptp(y))
+    return min(max(h / w if w > 0 else 1.0, 0.05), 20.0)
+
+
+def _inches(v):
+    """Rounded to 0.1 inch (so that pixel sizes at the usual dpi are whole numbers)."""
+    return round(v * 10.0) / 10.0
+
+
+def deformed_mesh_size(aspect):
+    """Figure size for one equal-aspect plot of height/width aspect: the data
+    box at most 6.4 in wide and 6.4 in tall, plus room for the labels, the
+    legend and the two-line title."""
+    w = 6.4 if aspect <= 1 else 6.4 / aspect
+    h = w * aspect
+    return (_inches(max(w + 1.2, 6.5)), _inches(h + 1.6))
+
+
+def field_pair_layout(aspect):
+    """(figure size, rows) for two equal-aspect field plots with colour bars:
+    side by side, or one above the other for a wide domain (aspect < 0.6)."""
+    if aspect < 0.6:
+        w = 8.0
+        h = w * aspect
+        return (_inches(w + 2.4), _inches(2 * (h + 1.0) + 0.6)), 2
+    h = 4.8 if aspect <= 1.2 else 6.0
+    w = h / aspect
+    if w > 5.6:
+        w, h = 5.6, 5.6 * aspect
+    return (_inches(2 * (w + 2.0)), _inches(h + 1.5)), 1
+
+
 def probe_label(p, dim):
     return "x = " + ("%.4g m" % p[0] if dim == 1 else "(" + ", ".join("%.4g" % c for c in p[:dim]) + ") m")
 
@@ -454,24 +636,31 @@ class Plotter:
         self.run = run
         self.fmt = fmt
         self.dpi = dpi
+        self.paper = paper_case(run)
         self.figdir = os.path.join(run.outdir, "figures")
         os.makedirs(self.figdir, exist_ok=True)
         self.written = []
         self.skipped = []
 
-    def figure(self, name, constrained=True, **kw):
-        return self.plt.figure(figsize=FIGSIZES[name], constrained_layout=constrained, **kw)
+    def name(self, key):
+        """The file name (without extension) of figure key for this run."""
+        return figure_name(key, self.paper)
 
-    def save(self, fig, name):
-        path = os.path.join(self.figdir, "%s.%s" % (name, self.fmt))
-        fig.savefig(path, dpi=self.dpi, format=self.fmt)
+    def figure(self, key, size=None, constrained=True):
+        return self.plt.figure(figsize=size or FIGSIZES[key], constrained_layout=constrained)
+
+    def save(self, fig, key):
+        path = os.path.join(self.figdir, "%s.%s" % (self.name(key), self.fmt))
+        # zlib level 3 instead of 6: a fifth less time for the whole script, files 6 % larger.
+        extra = {"pil_kwargs": {"compress_level": 3}} if self.fmt == "png" else {}
+        fig.savefig(path, dpi=self.dpi, format=self.fmt, **extra)
         self.plt.close(fig)
         self.written.append(path)
         print(path)
 
-    def skip(self, name, why):
-        self.skipped.append(name)
-        print("skipped: %s.%s (%s)" % (name, self.fmt, why))
+    def skip(self, key, why):
+        self.skipped.append(key)
+        print("skipped: %s.%s (%s)" % (self.name(key), self.fmt, why))
 
     def missing(self, vtu, *fields):
         """A reason string if the VTU lacks one of fields, else None."""
@@ -484,8 +673,19 @@ class Plotter:
     def no_vtu_reason(self):
         return "no solution.pvd or solution_*.vtu in %s: was the run made with --no-vtu?" % self.run.outdir
 
-    def title(self, text):
-        return "%s — %s" % (self.run.case, text)
+    def title(self, key, text):
+        """'case — Fig. 4.x: text' for the paper's cases, 'case — text' otherwise."""
+        fig_no = PAPER_FIGURES.get(key, (None, None))[1] if self.paper else None
+        return "%s — %s%s" % (self.run.case, "Fig. %s: " % fig_no if fig_no else "", text)
+
+    def colorbar(self, fig, mappable, ax, label, width_in=0.14):
+        """A colour bar to the right of ax, exactly as tall as ax's drawn box
+        (an inset axes: it follows the box that set_aspect leaves, which
+        fig.colorbar(ax=...) does not), width_in inches wide."""
+        w_in = ax.get_position().width * fig.get_figwidth()
+        frac = width_in / max(w_in, 1e-3)
+        cax = ax.inset_axes([1.0 + 0.12 / max(w_in, 1e-3), 0.0, frac, 1.0])
+        return fig.colorbar(mappable, cax=cax, label=label)
 
     # ---- d = 1 -----------------------------------------------------------
 
@@ -496,7 +696,7 @@ class Plotter:
         x = vtu.points[:, 0]
         order = np.argsort(x)
         u = vtu.point("displacement")[order, 0] if vtu.has("displacement") else None
-        beta = vtu.point("damage")[order] if vtu.has("damage") else None
+        beta = vtu.beta()[order] if vtu.has("beta") else None
         cells = vtu.cells
         xl = np.minimum(x[cells[:, 0]], x[cells[:, 1]])
         xr = np.maximum(x[cells[:, 0]], x[cells[:, 1]])
@@ -504,22 +704,22 @@ class Plotter:
         sig = vtu.cell("stress")[corder, 0] if vtu.has("stress") else None
         return x[order], u, beta, xl[corder], xr[corder], sig
 
-    def empty_panel(self, ax, why, name):
+    def empty_panel(self, ax, why, key):
         ax.text(0.5, 0.5, "not drawn:\n" + why, ha="center", va="center", transform=ax.transAxes, color="0.4")
-        print("note: %s: a panel left empty (%s)" % (name, why.replace("\n", " ")))
+        print("note: %s: a panel left empty (%s)" % (self.name(key), why.replace("\n", " ")))
 
     def snapshot_colors(self, n):
-        cmap = self.plt.get_cmap("viridis")
+        cmap = self.plt.get_cmap(FIELD_CMAP)
         return [cmap(0.9 * i / max(n - 1, 1)) for i in range(n)]
 
-    def fig_4_2(self):
-        name = "fig_4_2_displacement_stress"
+    def displacement_stress(self):
+        key = "displacement_stress"
         if not self.run.solutions:
-            return self.skip(name, self.no_vtu_reason())
+            return self.skip(key, self.no_vtu_reason())
         import numpy as np
 
         snaps, exact = self.run.snapshots()
-        fig = self.figure(name)
+        fig = self.figure(key)
         ax_u, ax_s = fig.subplots(1, 2)
         for (t, path, targets), c in zip(snaps, self.snapshot_colors(len(snaps))):
             x, u, _, xl, xr, sig = self.rod_fields(self.run.vtu(path))
@@ -528,9 +728,9 @@ class Plotter:
                 ax_u.plot(x, u, color=c, label=label)
             if sig is not None:
                 ax_s.plot(np.column_stack([xl, xr]).ravel(), np.repeat(sig, 2), color=c, label=label)
-        for ax, ylabel, title in ((ax_u, "displacement u [m]", "(a) displacement field"),
-                                  (ax_s, "stress σ [N/m]", "(b) stress field (P0, per element)")):
-            ax.set_xlabel("x [m]")
+        for ax, ylabel, title in ((ax_u, r"displacement $u$ [m]", "(a) displacement field"),
+                                  (ax_s, r"stress $\sigma$ [N/m]", r"(b) stress field ($P_0$, per element)")):
+            ax.set_xlabel(r"$x$ [m]")
             ax.set_ylabel(ylabel)
             ax.set_title(title)
             ax.grid(True, alpha=0.4)
@@ -540,14 +740,14 @@ class Plotter:
             if [l for l in ax.lines if not l.get_label().startswith("_")]:
                 ax.legend(fontsize="small", title=legend_title, title_fontsize="small")
             else:
-                self.empty_panel(ax, "no '%s' field in the VTU files" % field, name)
-        fig.suptitle(self.title("Fig. 4.2: displacement and stress along the rod"))
-        self.save(fig, name)
+                self.empty_panel(ax, "no '%s' field in the VTU files" % field, key)
+        fig.suptitle(self.title(key, "displacement and stress along the rod"))
+        self.save(fig, key)
 
-    def fig_4_3(self):
-        name = "fig_4_3_time_histories"
+    def time_histories(self):
+        key = "time_histories"
         pr = self.run.probes
-        fig = self.figure(name)
+        fig = self.figure(key)
         ax_u, ax_s = fig.subplots(1, 2)
         t = pr["t"]
         for i, p in enumerate(self.run.probe_points):
@@ -556,22 +756,22 @@ class Plotter:
                 ax_u.plot(t, pr["p%d_ux" % i], color=c, label=probe_label(p, 1))
             if "p%d_sigma11" % i in pr:
                 ax_s.plot(t, pr["p%d_sigma11" % i], color=c, label=probe_label(p, 1) + " (its element)")
-        for ax, ylabel, title in ((ax_u, "displacement u [m]", "(a) evolution of the displacement"),
-                                  (ax_s, "stress σ [N/m]", "(b) evolution of the stress")):
-            ax.set_xlabel("time t [s]")
+        for ax, ylabel, title in ((ax_u, r"displacement $u$ [m]", "(a) evolution of the displacement"),
+                                  (ax_s, r"stress $\sigma$ [N/m]", "(b) evolution of the stress")):
+            ax.set_xlabel(r"time $t$ [s]")
             ax.set_ylabel(ylabel)
             ax.set_title(title)
             ax.grid(True, alpha=0.4)
             if self.run.probe_points:
                 ax.legend(fontsize="small")
         ax_s.axhline(0.0, color="k", lw=0.6)
-        fig.suptitle(self.title("Fig. 4.3: time histories at the probe points"))
-        self.save(fig, name)
+        fig.suptitle(self.title(key, "time histories at the probe points"))
+        self.save(fig, key)
 
-    def fig_4_4(self):
-        name = "fig_4_4_damage"
+    def beta_1d(self):
+        key = "beta_1d"
         pr = self.run.probes
-        fig = self.figure(name)
+        fig = self.figure(key)
         ax_x, ax_t = fig.subplots(1, 2)
         if self.run.solutions:
             snaps, exact = self.run.snapshots()
@@ -583,23 +783,23 @@ class Plotter:
             if ax_x.lines:
                 ax_x.legend(fontsize="small", title=legend_title, title_fontsize="small")
             else:
-                self.empty_panel(ax_x, "no 'damage' field in the VTU files", name)
+                self.empty_panel(ax_x, "no 'beta' (or 'damage') field in the VTU files", key)
         else:
-            self.empty_panel(ax_x, "no VTU files in the output directory\n(was the run made with --no-vtu?)", name)
+            self.empty_panel(ax_x, "no VTU files in the output directory\n(was the run made with --no-vtu?)", key)
         for i, p in enumerate(self.run.probe_points):
             if "p%d_beta" % i in pr:
                 ax_t.plot(pr["t"], pr["p%d_beta" % i], color="C%d" % (i % 10), label=probe_label(p, 1))
-        ax_x.set_xlabel("x [m]")
+        ax_x.set_xlabel(r"$x$ [m]")
         ax_x.set_title("(a) damage function at several times")
-        ax_t.set_xlabel("time t [s]")
+        ax_t.set_xlabel(r"time $t$ [s]")
         ax_t.set_title("(b) evolution of the damage function")
         if self.run.probe_points:
             ax_t.legend(fontsize="small")
         for ax in (ax_x, ax_t):
-            ax.set_ylabel("damage β [-]")
+            ax.set_ylabel(BETA_LABEL)
             ax.grid(True, alpha=0.4)
-        fig.suptitle(self.title("Fig. 4.4: damage (β = 1 undamaged, β = 0 fully damaged)"))
-        self.save(fig, name)
+        fig.suptitle(self.title(key, r"damage ($\beta = 1$ undamaged, $\beta = 0$ fully damaged)"))
+        self.save(fig, key)
 
     # ---- d = 2 -----------------------------------------------------------
 
@@ -612,75 +812,77 @@ class Plotter:
         y = xy + s * u
         return mtri.Triangulation(y[:, 0], y[:, 1], vtu.cells), s, umax, xy
 
-    def fig_4_6(self):
-        name = "fig_4_6_deformed_mesh"
+    def deformed_mesh(self):
+        key = "deformed_mesh"
         if not self.run.solutions:
-            return self.skip(name, self.no_vtu_reason())
+            return self.skip(key, self.no_vtu_reason())
         import numpy as np
 
         t, vtu = self.run.final_vtu()
         why = self.missing(vtu, "displacement")
         if why:
-            return self.skip(name, why)
+            return self.skip(key, why)
         tri, s, umax, xy = self.deformed_2d(vtu)
-        fig = self.figure(name)
+        fig = self.figure(key, size=deformed_mesh_size(plot_aspect(tri, xy)))
         ax = fig.subplots()
-        ax.triplot(tri, color="C0", lw=0.5)
+        ax.triplot(tri, color="C0", lw=0.5, label="deformed mesh")
         for k, loop in enumerate(edge_loops(boundary_edges(vtu.cells))):
             ax.plot(xy[loop, 0], xy[loop, 1], "k--", lw=1.2, label="initial boundary" if k == 0 else None)
-        f = np.linalg.norm(vtu.point_data.get("contact_force", np.zeros((len(xy), 3))), axis=1)  # optional
-        active = f > 0
+        active = in_contact(vtu)
         if np.any(active):
             ax.plot(tri.x[active], tri.y[active], "o", color="C3", ms=4,
-                    label="nodes in contact (force > 0): %d" % np.count_nonzero(active))
+                    label="nodes in contact: %d" % np.count_nonzero(active))
         ax.set_aspect("equal")
-        ax.set_xlabel("x [m]")
-        ax.set_ylabel("y [m]")
+        ax.set_xlabel(r"$x$ [m]")
+        ax.set_ylabel(r"$y$ [m]")
         ax.grid(True, alpha=0.3)
-        ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.08), ncol=2, fontsize="small")
-        ax.set_title(self.title("Fig. 4.6: deformed mesh at t = %s s and initial boundary\n"
-                                "displacements magnified × %s (max |u| = %.3g m)"
+        # Above the axes, under the title: never over the mesh or the x label.
+        ax.legend(loc="lower center", bbox_to_anchor=(0.5, 1.0), ncol=3, fontsize="small", frameon=False,
+                  borderaxespad=0.3)
+        fig.suptitle(self.title(key, "deformed mesh at $t$ = %s s and initial boundary\n"
+                                "displacements magnified × %s (max $|u|$ = %.3g m)"
                                 % (fmt_t(t), scale_text(s), umax)), fontsize="medium")
-        self.save(fig, name)
+        self.save(fig, key)
 
-    def fig_4_7(self):
-        name = "fig_4_7_von_mises_damage"
+    def von_mises_beta(self):
+        key = "von_mises_beta"
         if not self.run.solutions:
-            return self.skip(name, self.no_vtu_reason())
+            return self.skip(key, self.no_vtu_reason())
         t, vtu = self.run.final_vtu()
-        if not vtu.has("von_mises") and not vtu.has("damage"):
-            return self.skip(name, self.missing(vtu, "von_mises", "damage"))
-        tri, s, _, _ = self.deformed_2d(vtu)
-        fig = self.figure(name)
-        ax_v, ax_b = fig.subplots(1, 2)
-        ax_v.set_title("(a) von Mises norm of σ (per element)")
-        ax_b.set_title("(b) damage field β")
-        if vtu.has("von_mises"):
-            pc = ax_v.tripcolor(tri, facecolors=vtu.von_mises(), cmap="jet")
-            fig.colorbar(pc, ax=ax_v, label="von Mises norm |σ|_VM [N/m²]")
-        else:
-            ax_v.triplot(tri, color="0.85", lw=0.3)
-            self.empty_panel(ax_v, self.missing(vtu, "von_mises"), name)
-        if vtu.has("damage"):
-            pc = ax_b.tripcolor(tri, vtu.point("damage"), shading="gouraud", cmap="jet")
-            fig.colorbar(pc, ax=ax_b, label="damage β [-]")
-        else:
-            ax_b.triplot(tri, color="0.85", lw=0.3)
-            self.empty_panel(ax_b, self.missing(vtu, "damage"), name)
+        if not vtu.has("von_mises") and not vtu.has("beta"):
+            return self.skip(key, self.missing(vtu, "von_mises", "beta"))
+        tri, s, _, xy = self.deformed_2d(vtu)
+        size, rows = field_pair_layout(plot_aspect(tri, xy))
+        fig = self.figure(key, size=size)
+        ax_v, ax_b = fig.subplots(rows, 2 // rows)
+        ax_v.set_title(r"(a) von Mises norm of $\sigma$ (per element)")
+        ax_b.set_title(r"(b) damage field $\beta$")
         for ax in (ax_v, ax_b):
             ax.set_aspect("equal")
-            ax.set_xlabel("x [m]")
-            ax.set_ylabel("y [m]")
+            ax.set_xlabel(r"$x$ [m]")
+            ax.set_ylabel(r"$y$ [m]")
+        if vtu.has("von_mises"):
+            pc = ax_v.tripcolor(tri, facecolors=vtu.von_mises(), cmap=FIELD_CMAP)
+            self.colorbar(fig, pc, ax_v, VM_LABEL)
+        else:
+            ax_v.triplot(tri, color="0.85", lw=0.3)
+            self.empty_panel(ax_v, self.missing(vtu, "von_mises"), key)
+        if vtu.has("beta"):
+            pc = ax_b.tripcolor(tri, vtu.beta(), shading="gouraud", cmap=FIELD_CMAP)
+            self.colorbar(fig, pc, ax_b, BETA_LABEL)
+        else:
+            ax_b.triplot(tri, color="0.85", lw=0.3)
+            self.empty_panel(ax_b, self.missing(vtu, "beta"), key)
         where = ("on the deformed configuration (displacements × %s)" % scale_text(s) if vtu.has("displacement")
                  else "on the undeformed configuration (no displacement field in the VTU files)")
-        fig.suptitle(self.title("Fig. 4.7: at t = %s s %s" % (fmt_t(t), where)))
-        self.save(fig, name)
+        fig.suptitle(self.title(key, "at $t$ = %s s %s" % (fmt_t(t), where)))
+        self.save(fig, key)
 
     # ---- d = 3 -----------------------------------------------------------
 
-    def surface_3d(self, field, name, title, label):
+    def surface_3d(self, key, field, title, label):
         if not self.run.solutions:
-            return self.skip(name, self.no_vtu_reason())
+            return self.skip(key, self.no_vtu_reason())
         import numpy as np
         from mpl_toolkits.mplot3d.art3d import Poly3DCollection
         import matplotlib.colors as mcolors
@@ -691,7 +893,7 @@ class Plotter:
                             % (self.run.solutions[-1][1], vtu.cells.shape[1]))
         why = self.missing(vtu, field)
         if why:
-            return self.skip(name, why)
+            return self.skip(key, why)
         s, umax = deformation_scale(vtu.points, vtu.displacement())
         y = vtu.points + s * vtu.displacement()
         faces, owner = boundary_faces(vtu.cells, y)
@@ -699,12 +901,12 @@ class Plotter:
         if field == "von_mises":
             values = vtu.von_mises()[owner]
         else:
-            values = vtu.point("damage")[faces].mean(axis=1)
+            values = vtu.beta()[faces].mean(axis=1)
         norm = mcolors.Normalize(vmin=float(values.min()), vmax=float(values.max()))
-        cmap = self.plt.get_cmap("jet")
-        fig = self.figure(name, constrained=False)
+        cmap = self.plt.get_cmap(FIELD_CMAP)
+        fig = self.figure(key, constrained=False)
         lo, hi = y.min(axis=0), y.max(axis=0)
-        views = ((25, -60, "(a) from above"), (-25, -60, "(b) from below: the contact face z = 0"))
+        views = ((25, -60, "(a) from above"), (-25, -60, "(b) from below"))
         for k, (elev, azim, what) in enumerate(views):
             ax = fig.add_subplot(1, 2, k + 1, projection="3d")
             # Back-face culling: mplot3d's painter's sort alone mis-orders a closed surface.
@@ -721,106 +923,97 @@ class Plotter:
             ax.view_init(elev=elev, azim=azim)
             for axis in (ax.xaxis, ax.yaxis, ax.zaxis):
                 axis.set_major_locator(self.plt.MaxNLocator(5))
-            ax.set_xlabel("x [m]")
-            ax.set_ylabel("y [m]")
-            ax.set_zlabel("z [m]")
+            ax.set_xlabel(r"$x$ [m]")
+            ax.set_ylabel(r"$y$ [m]")
+            # mplot3d turns the z label with the axis; seen from below that
+            # reads upside down. Keep it upright.
+            ax.zaxis.set_rotate_label(False)
+            ax.set_zlabel(r"$z$ [m]", rotation=90)
             fig.text(0.215 + 0.43 * k, 0.015, what, ha="center", va="bottom", fontsize="large")
         sm = self.plt.cm.ScalarMappable(norm=norm, cmap=cmap)
         sm.set_array([])
-        fig.subplots_adjust(left=0.0, right=0.86, bottom=0.1, top=0.88, wspace=0.05)
-        cax = fig.add_axes([0.89, 0.15, 0.018, 0.62])
+        fig.subplots_adjust(left=0.0, right=0.86, bottom=0.1, top=0.85, wspace=0.05)
+        cax = fig.add_axes([0.89, 0.2, 0.018, 0.56])
         fig.colorbar(sm, cax=cax, label=label)
-        where = ("on the deformed boundary (displacements × %s, max |u| = %.3g m)" % (scale_text(s), umax)
+        where = ("on the deformed boundary (displacements × %s, max $|u|$ = %.3g m)" % (scale_text(s), umax)
                  if vtu.has("displacement") else "on the undeformed boundary (no displacement field in the VTU files)")
-        fig.suptitle(self.title("%s at t = %s s\n%s" % (title, fmt_t(t), where)))
-        self.save(fig, name)
+        fig.suptitle(self.title(key, "%s at $t$ = %s s\n%s" % (title, fmt_t(t), where)))
+        self.save(fig, key)
 
     def contact_pressure(self):
-        name = "contact_pressure"
+        key = "contact_pressure"
         if not self.run.solutions:
-            return self.skip(name, self.no_vtu_reason())
+            return self.skip(key, self.no_vtu_reason())
         import numpy as np
         import matplotlib.tri as mtri
 
         t, vtu = self.run.final_vtu()
         if vtu.cells.shape[1] != 4:
             raise PlotError("%s: expected tetrahedra in a 3D output" % self.run.solutions[-1][1])
-        why = self.missing(vtu, "contact_force")
-        if why:
-            return self.skip(name, why)
+        if not vtu.has("contact_pressure"):
+            return self.skip(key, "the VTU files have no 'contact_pressure' field (outputs of vpcontact before "
+                                  "it was added, or a selection of fields): re-run the case to draw it")
+        pres = vtu.scalar("contact_pressure")
         p = vtu.points
-        zmin = p[:, 2].min()
-        tol = 1e-9 * max(float(np.ptp(p[:, 2])), 1.0)
-        faces, _ = boundary_faces(vtu.cells, p)
-        bottom = faces[np.all(np.abs(p[faces, 2] - zmin) <= tol, axis=1)]
-        where = "the bottom face z = %g" % zmin
-        if len(bottom) == 0:
-            # A curved body (no flat bottom): the boundary faces that look down,
-            # seen from below, i.e. projected on the plane (x, y).
-            a, b, c = p[faces[:, 0]], p[faces[:, 1]], p[faces[:, 2]]
-            n = np.cross(b - a, c - a)
-            down = n[:, 2] < -0.3 * np.linalg.norm(n, axis=1)
-            bottom = faces[down]
-            where = "the downward-facing boundary, projected on (x, y)"
-        if len(bottom) == 0:
-            return self.skip(name, "no boundary faces look down (-z)")
-        f = np.linalg.norm(vtu.point("contact_force"), axis=1)
-        nodes = np.unique(bottom)
-        active = nodes[f[nodes] > 0]
-        tri = mtri.Triangulation(p[:, 0], p[:, 1], bottom)
-        fig = self.figure(name)
-        ax_f, ax_z = fig.subplots(1, 2)
-        # (a) the whole bottom face: every node, the ones in contact larger.
-        ax_f.triplot(tri, color="0.8", lw=0.4)
-        sc = ax_f.scatter(p[nodes, 0], p[nodes, 1], c=f[nodes], s=8 + 60 * (f[nodes] > 0), cmap="viridis",
-                          edgecolors="k", linewidths=0.3, zorder=3)
-        fig.colorbar(sc, ax=ax_f, label="nodal contact force |λ| [N]")
-        ax_f.set_title("(a) lower boundary: %d nodes in contact, total force %.4g N" % (len(active), float(f.sum())),
-                       fontsize="medium")
-        # (b) zoom on the contact zone: the nodal force interpolated over the
-        # faces whose three nodes are all in contact (elsewhere: mesh only).
-        in_contact = np.zeros(len(p), dtype=bool)
-        in_contact[active] = True
-        ax_z.triplot(tri, color="0.6", lw=0.4)
-        contact_faces = bottom[np.all(in_contact[bottom], axis=1)]
-        if len(contact_faces):
-            ctri = mtri.Triangulation(p[:, 0], p[:, 1], contact_faces)
-            pc = ax_z.tripcolor(ctri, f, shading="gouraud", cmap="viridis", vmin=0.0, vmax=float(f.max()))
-            ax_z.triplot(ctri, color="w", lw=0.4, alpha=0.6)
-            fig.colorbar(pc, ax=ax_z, label="nodal contact force |λ| [N] (P1 interpolation)")
-        title = "(b) contact zone"
+        lower, where = lower_boundary(vtu)
+        if len(lower) == 0:
+            return self.skip(key, "no boundary faces look down (-z)")
+        nodes = np.unique(lower)
+        active = nodes[pres[nodes] > 0]
+        tri = mtri.Triangulation(p[:, 0], p[:, 1], lower)
+        fig = self.figure(key)
+        ax_m, ax_r = fig.subplots(1, 2)
+        # (a) the nodal pressure on the lower boundary, as the P1 field it defines.
+        pmax = float(pres[nodes].max()) if len(nodes) else 0.0
+        pc = ax_m.tripcolor(tri, pres, shading="gouraud", cmap=FIELD_CMAP, vmin=0.0, vmax=max(pmax, 1e-300))
+        ax_m.triplot(tri, color="w", lw=0.3, alpha=0.5)
         if len(active):
+            ax_m.plot(p[active, 0], p[active, 1], "o", mfc="w", mec="k", mew=0.5, ms=3,
+                      label="nodes in contact ($p > 0$)")
             a = p[active]
-            x0, x1, y0, y1 = a[:, 0].min(), a[:, 0].max(), a[:, 1].min(), a[:, 1].max()
-            pad = 0.3 * max(x1 - x0, y1 - y0, 1e-3 * float(np.ptp(p[:, 0])))
-            ax_z.set_xlim(x0 - pad, x1 + pad)
-            ax_z.set_ylim(y0 - pad, y1 + pad)
-            ax_z.plot([x0, x1, x1, x0, x0], [y0, y0, y1, y1, y0], "r:", lw=1.2,
-                      label="bounding box of the nodes in contact")
-            ax_z.legend(fontsize="small", loc="upper right")
-            if len(active) <= 40:
-                for k in active:
-                    ax_z.annotate("%.3g" % f[k], (p[k, 0], p[k, 1]), xytext=(4, 4), textcoords="offset points",
-                                  fontsize="small",
-                                  bbox=dict(boxstyle="round,pad=0.15", fc="w", ec="none", alpha=0.8))
-            box = (x1 - x0) * (y1 - y0)
-            if box > 0:
-                title += ": mean pressure over the box ≈ %.4g N/m²" % (float(f.sum()) / box)
-        ax_z.set_title(title, fontsize="medium")
-        for ax in (ax_f, ax_z):
-            ax.set_aspect("equal")
-            ax.set_xlabel("x [m]")
-            ax.set_ylabel("y [m]")
-        fig.suptitle(self.title("contact forces on %s at t = %s s (undeformed coordinates)" % (where, fmt_t(t))))
-        self.save(fig, name)
+            c0, c1 = a[:, :2].min(axis=0), a[:, :2].max(axis=0)
+            pad = 0.25 * max(float((c1 - c0).max()), 0.02 * float(np.ptp(p[:, :2], axis=0).max()))
+            ax_m.set_xlim(c0[0] - pad, c1[0] + pad)
+            ax_m.set_ylim(c0[1] - pad, c1[1] + pad)
+            ax_m.legend(loc="lower center", bbox_to_anchor=(0.5, 1.0), fontsize="small", frameon=False)
+        ax_m.set_aspect("equal")
+        ax_m.set_xlabel(r"$x$ [m]")
+        ax_m.set_ylabel(r"$y$ [m]")
+        ax_m.set_title("(a) pressure on %s" % where, fontsize="medium", pad=22 if len(active) else 6)
+        self.colorbar(fig, pc, ax_m, PRESSURE_LABEL)
+        # (b) the same nodal values against the distance from the centre of
+        # pressure: the profile of the contact zone (e.g. Hertz's ellipse).
+        if len(active):
+            w = pres[active]
+            centre = (p[active, :2] * w[:, None]).sum(axis=0) / w.sum()
+            r = np.linalg.norm(p[nodes, :2] - centre, axis=1)
+            r_act = np.linalg.norm(p[active, :2] - centre, axis=1)
+            near = r <= 1.5 * max(float(r_act.max()), 1e-12)
+            ax_r.plot(r[near], pres[nodes][near], "o", ms=3.5, color="C0", mec="none")
+            ax_r.set_title("(b) nodal pressure against the distance from the centre of pressure\n"
+                           "$(x_c, y_c)$ = (%.4g, %.4g) m" % (centre[0], centre[1]), fontsize="medium")
+        else:
+            self.empty_panel(ax_r, "no node in contact at t = %s s" % fmt_t(t), key)
+        ax_r.set_xlabel(r"distance $r$ from $(x_c, y_c)$ [m]")
+        ax_r.set_ylabel(PRESSURE_LABEL)
+        ax_r.set_xlim(left=0.0)
+        ax_r.set_ylim(bottom=0.0)
+        ax_r.grid(True, alpha=0.4)
+        total = self.run.summary.get("final", {}).get("total_contact_force")
+        extra = ": %d nodes in contact, max $p$ = %.4g N/m$^2$" % (len(active), pmax)
+        if isinstance(total, (int, float)):
+            extra += ", total force %.4g N" % total
+        fig.suptitle(self.title(key, "contact pressure at $t$ = %s s (undeformed coordinates)%s"
+                                % (fmt_t(t), extra)))
+        self.save(fig, key)
 
     # ---- CSV figures for d = 2, 3 and all ------------------------------------
 
     def probes_figure(self):
-        name = "probes"
+        key = "probes"
         pr = self.run.probes
         d = self.run.dim
-        fig = self.figure(name)
+        fig = self.figure(key)
         ax_u, ax_v, ax_b = fig.subplots(1, 3)
         styles = ["-", "--", ":"]
         t = pr["t"]
@@ -830,27 +1023,27 @@ class Plotter:
                 col = "p%d_u%s" % (i, comp)
                 if col in pr:
                     ax_u.plot(t, pr[col], color=c, ls=styles[k],
-                              label="%s  u_%s" % (probe_label(p, d), comp))
+                              label="%s  $u_%s$" % (probe_label(p, d), comp))
             if "p%d_von_mises" % i in pr:
                 ax_v.plot(t, pr["p%d_von_mises" % i], color=c, label=probe_label(p, d) + " (its element)")
             if "p%d_beta" % i in pr:
                 ax_b.plot(t, pr["p%d_beta" % i], color=c, label=probe_label(p, d))
         for ax, ylabel, title in ((ax_u, "displacement [m]", "displacement components"),
-                                  (ax_v, "von Mises norm [N/m²]", "von Mises norm of σ"),
-                                  (ax_b, "damage β [-]", "damage β")):
-            ax.set_xlabel("time t [s]")
+                                  (ax_v, VM_LABEL, r"von Mises norm of $\sigma$"),
+                                  (ax_b, BETA_LABEL, r"damage $\beta$")):
+            ax.set_xlabel(r"time $t$ [s]")
             ax.set_ylabel(ylabel)
             ax.set_title(title)
             ax.grid(True, alpha=0.4)
             if self.run.probe_points:
                 ax.legend(fontsize="x-small")
-        fig.suptitle(self.title("time histories at the probe points"))
-        self.save(fig, name)
+        fig.suptitle(self.title(key, "time histories at the probe points"))
+        self.save(fig, key)
 
     def history_figure(self):
-        name = "history"
+        key = "history"
         h = self.run.history
-        fig = self.figure(name)
+        fig = self.figure(key)
         ax_f, ax_b = fig.subplots(1, 2)
         t = h["t"]
         lines = []
@@ -866,36 +1059,36 @@ class Plotter:
         if lines:
             ax_f.legend(lines, [l.get_label() for l in lines], fontsize="small", loc="upper left")
         ax_f.set_title("contact")
-        for col, style, label in (("beta_min", "C2", "min β"), ("beta_max", "C4--", "max β")):
+        for col, style, label in (("beta_min", "C2", r"min $\beta$"), ("beta_max", "C4--", r"max $\beta$")):
             if col in h:
                 ax_b.plot(t, h[col], style, label=label)
-        ax_b.set_ylabel("damage β [-]")
+        ax_b.set_ylabel(BETA_LABEL)
         ax_b.set_title("damage extremes over the mesh")
         ax_b.legend(fontsize="small")
         for ax in (ax_f, ax_b):
-            ax.set_xlabel("time t [s]")
+            ax.set_xlabel(r"time $t$ [s]")
             ax.grid(True, alpha=0.4)
         ok = h.get("ok")
         note = ""
         if ok is not None and len(ok) and not (ok == 1).all():
             note = " — %d step(s) NOT ok" % int((ok != 1).sum())
-        fig.suptitle(self.title("per-step history" + note))
-        self.save(fig, name)
+        fig.suptitle(self.title(key, "per-step history" + note))
+        self.save(fig, key)
 
     def all(self):
         d = self.run.dim
         if d == 1:
-            self.fig_4_2()
-            self.fig_4_3()
-            self.fig_4_4()
+            self.displacement_stress()
+            self.time_histories()
+            self.beta_1d()
         elif d == 2:
-            self.fig_4_6()
-            self.fig_4_7()
+            self.deformed_mesh()
+            self.von_mises_beta()
             self.probes_figure()
         else:
-            self.surface_3d("von_mises", "surface_von_mises", "von Mises norm of σ (value of the owning tet)",
-                            "von Mises norm |σ|_VM [N/m²]")
-            self.surface_3d("damage", "surface_damage", "damage β (mean of the face's nodes)", "damage β [-]")
+            self.surface_3d("surface_von_mises", "von_mises",
+                            r"von Mises norm of $\sigma$ (value of the owning tetrahedron)", VM_LABEL)
+            self.surface_3d("surface_beta", "beta", r"damage $\beta$ (mean of the face's nodes)", BETA_LABEL)
             self.contact_pressure()
             self.probes_figure()
         self.history_figure()
@@ -904,8 +1097,8 @@ class Plotter:
 def main(argv=None):
     ap = argparse.ArgumentParser(
         prog="vpcontact_plot.py",
-        description="Draw the paper's figures (Fernandez & Sofonea 2003, Sec. 4) from a vpcontact output "
-                    "directory into OUTDIR/figures/.")
+        description="Draw the figures of a vpcontact output directory into OUTDIR/figures/ (the paper's "
+                    "Figs 4.2-4.4 and 4.6-4.7 for its cases paper-1d and paper-2d).")
     ap.add_argument("outdir", metavar="OUTDIR", help="a directory written by 'vpcontact run'")
     ap.add_argument("--format", default="png", choices=["png", "pdf", "svg"], help="figure format (default png)")
     ap.add_argument("--dpi", type=float, default=150.0, help="resolution in dots per inch (default 150)")

@@ -1,0 +1,117 @@
+"""Checks of scripts/vpcontact_plot.py that need its internals; run by test_plot.sh.
+
+  check_plot.py reader DIR...      every solution_*.vtu in DIR: rewritten raw and
+                                   zlib-compressed (several blocks, a partial last
+                                   one; UInt64 and UInt32 headers), read back: the
+                                   same arrays as the original
+  check_plot.py layout DIR         draws DIR's figures and checks, before saving, that
+                                   every colour bar lies within its plot's height and
+                                   no legend overlaps a plot's data area or its x label
+"""
+
+import glob
+import os
+import sys
+
+here = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, here)
+import vtu_tools  # noqa: E402
+vp = vtu_tools.vp
+
+
+def fail(msg):
+    print("check_plot: FAIL: " + msg, file=sys.stderr)
+    sys.exit(1)
+
+
+def same(a, b, what):
+    import numpy as np
+
+    if set(a.point_data) != set(b.point_data) or set(a.cell_data) != set(b.cell_data):
+        fail("%s: fields differ: %s / %s" % (what, sorted(a.point_data), sorted(b.point_data)))
+    pairs = [("points", a.points, b.points), ("cells", a.cells, b.cells)]
+    pairs += [(k, a.point_data[k], b.point_data[k]) for k in a.point_data]
+    pairs += [(k, a.cell_data[k], b.cell_data[k]) for k in a.cell_data]
+    for name, x, y in pairs:
+        if x.shape != y.shape or x.dtype != y.dtype or not np.array_equal(x, y):
+            fail("%s: array '%s' differs (%s %s / %s %s)" % (what, name, x.shape, x.dtype, y.shape, y.dtype))
+    if a.cell_type != b.cell_type:
+        fail("%s: cell type differs" % what)
+
+
+def reader(dirs):
+    n = 0
+    for d in dirs:
+        files = sorted(glob.glob(os.path.join(d, "solution_*.vtu")))
+        if not files:
+            fail("no solution_*.vtu in %s" % d)
+        for f in files:
+            ref = vp.read_vtu(f)
+            tmp = f + ".check.vtu"
+            for compress, block, header in ((False, 0, "<u8"), (True, 1000, "<u8"), (True, 1 << 20, "<u4"),
+                                            (True, 4096, "<u4")):
+                vtu_tools.write_vtu(tmp, ref, compress=compress, block_bytes=block or 32768, header=header)
+                with open(tmp, "rb") as fh:
+                    head = fh.read(400)
+                if compress != (b'compressor="vtkZLibDataCompressor"' in head):
+                    fail("%s: the helper did not write the layout asked for" % tmp)
+                same(ref, vp.read_vtu(tmp), "%s (compressed=%s, block=%d, header=%s)" % (f, compress, block, header))
+                n += 1
+            # A corrupt compressed file: a clear PlotError, not a crash.
+            vtu_tools.write_vtu(tmp, ref, compress=True, block_bytes=1000)
+            raw = bytearray(open(tmp, "rb").read())
+            raw[-200] ^= 0xFF
+            open(tmp, "wb").write(bytes(raw))
+            try:
+                vp.read_vtu(tmp)
+            except vp.PlotError:
+                pass
+            else:
+                fail("%s: a corrupted compressed block was read without an error" % tmp)
+            os.remove(tmp)
+    print("check_plot: reader: %d rewritten files read back identical" % n)
+
+
+def layout(outdir):
+    run = vp.Run(outdir)
+    checked = []
+
+    class Checking(vp.Plotter):
+        def save(self, fig, key):
+            fig.canvas.draw()
+            r = fig.canvas.get_renderer()
+            for ax in fig.axes:
+                for cax in getattr(ax, "child_axes", []):
+                    a, c = ax.get_window_extent(r), cax.get_window_extent(r)
+                    tol = 1.0  # pixel
+                    if c.y0 < a.y0 - tol or c.y1 > a.y1 + tol:
+                        fail("%s: colour bar spans y %.0f..%.0f px, its plot %.0f..%.0f px"
+                             % (self.name(key), c.y0, c.y1, a.y0, a.y1))
+                    if c.height < 0.9 * a.height:
+                        fail("%s: colour bar %.0f px tall for a plot %.0f px tall"
+                             % (self.name(key), c.height, a.height))
+                    checked.append((self.name(key), "colour bar", round(c.height), round(a.height)))
+                leg = ax.get_legend()
+                if leg is not None and key in ("deformed_mesh", "contact_pressure"):
+                    lb, ab = leg.get_window_extent(r), ax.get_window_extent(r)
+                    xl = ax.xaxis.label.get_window_extent(r)
+                    if lb.overlaps(ab) or lb.overlaps(xl):
+                        fail("%s: the legend overlaps the plot or its x label" % self.name(key))
+                    checked.append((self.name(key), "legend outside", 0, 0))
+            vp.Plotter.save(self, fig, key)
+
+    Checking(run, "png", 100).all()
+    if not any(c[1] == "colour bar" for c in checked):
+        fail("%s: no colour bar was checked" % outdir)
+    for c in checked:
+        print("check_plot: layout: %s: %s %s" % (c[0], c[1], "%d px in %d px" % (c[2], c[3]) if c[2] else ""))
+
+
+if __name__ == "__main__":
+    if len(sys.argv) < 3 or sys.argv[1] not in ("reader", "layout"):
+        print(__doc__, file=sys.stderr)
+        sys.exit(2)
+    if sys.argv[1] == "reader":
+        reader(sys.argv[2:])
+    else:
+        layout(sys.argv[2])
