@@ -44,6 +44,8 @@ struct Options {
   std::string contact_solver, damage_solver;
   double tolerance = -1;
   std::string engine = "auto", linear_solver = "mumps";  // docs/parallel.md
+  std::vector<std::string> command_line;  // argv, and when the program started: for summary.json
+  std::chrono::system_clock::time_point started = std::chrono::system_clock::now();
 };
 
 /// Whether an option exists on this subcommand and was given.
@@ -92,6 +94,8 @@ vpc::Case load_case(const Options& o, const CLI::App& cmd, const vpc::MeshReques
     vpc::apply_case_overrides(*c.problem, ov);
   }
   if (!o.output.empty()) c.output.directory = o.output;
+  c.output.command_line = o.command_line;
+  c.output.started = o.started;
   if (given(cmd, "--every")) {
     vpc::require(o.every >= 0, "--every must be >= 0 (got {})", o.every);
     c.output.every = o.every;
@@ -243,6 +247,7 @@ int main(int argc, char** argv) {
                "(the fully discrete scheme of Fernandez & Sofonea, 2003)"};
   app.require_subcommand(0, 1);
   Options o;
+  o.command_line.assign(argv, argv + argc);
 
   auto* run_cmd = app.add_subcommand("run", "run a case (default: paper-2d)");
   add_case_options(run_cmd, o);
