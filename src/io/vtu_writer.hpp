@@ -34,7 +34,7 @@ enum class VtuCompression { zlib, none };
 /// little more write time than raw data and keep ~2/3 of zlib's best saving.
 struct VtuEncoding {
   VtuCompression compression = VtuCompression::zlib;
-  std::size_t block_size = 64 * 1024;  // bytes of uncompressed data per block
+  std::size_t block_size = 256 * 1024;  // bytes of uncompressed data per block
   int level = 1;                       // zlib level, 1 (fast) to 9 (small)
 };
 
