@@ -67,7 +67,7 @@ const std::vector<std::string>& OutputOptions::field_names() {
 }
 
 std::string OutputOptions::field(const std::string& name) {
-  if (name == "damage") return "beta";  // the name of the β field before version 0.2
+  if (name == "damage") return "beta";  // β's field name in earlier versions: old case files keep working
   const auto& n = field_names();
   return std::find(n.begin(), n.end(), name) != n.end() ? name : std::string();
 }

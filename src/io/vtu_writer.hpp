@@ -30,8 +30,9 @@ struct VtuField {
 enum class VtuCompression { zlib, none };
 
 /// How the appended data is written. The defaults were chosen by measurement
-/// (docs/cases.md, [output] compression): 64 KiB blocks at zlib level 1 cost
-/// little more write time than raw data and keep ~2/3 of zlib's best saving.
+/// (docs/cases.md, [output] compression): level 1 is within 1–2 % of level 9's
+/// size at a fraction of its time; 256 KiB blocks are up to 4 % smaller than
+/// VTK's 32 KiB and no slower.
 struct VtuEncoding {
   VtuCompression compression = VtuCompression::zlib;
   std::size_t block_size = 256 * 1024;  // bytes of uncompressed data per block
