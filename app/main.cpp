@@ -11,6 +11,7 @@
 #include "core/error.hpp"
 #include "core/malloc_policy.hpp"
 #include "core/omp_wait_policy.hpp"
+#include "io/build_info.hpp"
 #include "io/case_file.hpp"
 #include "io/checkpoint.hpp"
 #include "io/output_files.hpp"
@@ -53,7 +54,8 @@ struct Options {
   double tolerance = -1;
   std::string engine = "auto", linear_solver = "mumps";  // docs/parallel.md
   std::string show_case;                                 // cases --show NAME
-  std::vector<std::string> argv;                         // for the --resume command
+  std::vector<std::string> argv;  // for the --resume command and summary.json
+  std::chrono::system_clock::time_point started = std::chrono::system_clock::now();  // for summary.json
 };
 
 /// Whether an option exists on this subcommand and was given.
@@ -136,6 +138,8 @@ vpc::Case load_case(const Options& o, const CLI::App& cmd, const CaseSource& src
     vpc::apply_case_overrides(*c.problem, ov);
   }
   c.output.directory = outdir;
+  c.output.command_line = o.argv;
+  c.output.started = o.started;
   if (given(cmd, "--every")) {
     vpc::require(o.every >= 0, "--every must be >= 0 (got {})", o.every);
     c.output.every = o.every;
@@ -404,7 +408,9 @@ int main(int argc, char** argv) {
                "(the fully discrete scheme of Fernandez & Sofonea, 2003)",
                "vpcontact"};
   app.require_subcommand(0, 1);
-  app.set_version_flag("--version", "vpcontact " VPCONTACT_VERSION_STRING, "print the version and exit");
+  app.set_version_flag(
+      "--version", [] { return fmt::format("vpcontact {} (git {})", vpc::version(), vpc::git_commit()); },
+      "print the version and exit");
   Options o;
   o.argv.assign(argv, argv + argc);
 

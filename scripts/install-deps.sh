@@ -15,6 +15,8 @@ packages=(
   libcli11-dev             # command line
   libfmt-dev               # formatting
   libmuparser-dev          # expressions
+  nlohmann-json3-dev       # summary.json
+  zlib1g-dev               # compressed VTU files
   libgmsh-dev gmsh         # meshes
   libgtest-dev libgmock-dev  # tests
   libbenchmark-dev         # benchmarks

@@ -615,12 +615,16 @@ Case parse_case(std::string_view text, const std::string& name, const fs::path& 
   c.output.vtu = out.boolean("vtu", true);
   if (out.has("fields")) {
     c.output.fields = out.strings("fields");
-    for (const auto& f : c.output.fields)
-      if (std::find(OutputOptions::field_names().begin(), OutputOptions::field_names().end(), f) == OutputOptions::field_names().end()) {
+    for (auto& f : c.output.fields) {
+      const std::string field = OutputOptions::field(f);  // "damage": the old name of "beta"
+      if (field.empty()) {
         const std::set<std::string> known(OutputOptions::field_names().begin(), OutputOptions::field_names().end());
         fail("{}: unknown field '{}'; expected some of: {}{}", out.where("fields"), f, fmt::join(OutputOptions::field_names(), ", "), did_you_mean(f, known));
       }
+      f = field;
+    }
   }
+  c.output.encoding.compression = vtu_compression(out.choice("compression", {"zlib", "none"}, "zlib"));
   if (out.has("probes")) {
     const auto& arr = out.array("probes", "an array of points, e.g. [[0.25], [1.0]]");
     for (const auto& pt : arr) {

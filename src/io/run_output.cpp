@@ -2,16 +2,19 @@
 
 #include "core/error.hpp"
 #include "io/atomic_file.hpp"
+#include "io/build_info.hpp"
 #include "io/vtu_writer.hpp"
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
+#include <nlohmann/json.hpp>
 
 #include <algorithm>
-#include <cstdlib>
-#include <fstream>
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
+#include <ctime>
+#include <fstream>
 
 namespace vpc {
 
@@ -58,24 +61,39 @@ const char* component_name(int i) {
 }  // namespace
 
 const std::vector<std::string>& OutputOptions::field_names() {
-  static const std::vector<std::string> names = {"displacement", "damage",    "contact_force", "stress",
-                                                 "strain",       "von_mises", "history_z"};
+  static const std::vector<std::string> names = {"displacement", "beta",   "contact_force", "contact_pressure",
+                                                 "stress",       "strain", "von_mises",     "history_z"};
   return names;
+}
+
+std::string OutputOptions::field(const std::string& name) {
+  if (name == "damage") return "beta";  // β's field name in earlier versions: old case files keep working
+  const auto& n = field_names();
+  return std::find(n.begin(), n.end(), name) != n.end() ? name : std::string();
+}
+
+void prepare_output_options(OutputOptions& o, const std::string& case_name) {
+  if (o.directory.empty()) o.directory = fs::path("output") / case_name;
+  for (auto& f : o.fields) {
+    const std::string field = OutputOptions::field(f);
+    require(!field.empty(), "output: unknown field '{}'; expected one of: {}", f,
+            fmt::join(OutputOptions::field_names(), ", "));
+    f = field;
+  }
+  require(o.every >= 0, "output: 'every' must be >= 0 (got {})", o.every);
+  if (o.started == std::chrono::system_clock::time_point{}) o.started = std::chrono::system_clock::now();
 }
 
 RunOutput::RunOutput(const TimeStepper& stepper, OutputOptions options)
     : stepper_(stepper), options_(std::move(options)) {
-  if (options_.directory.empty()) options_.directory = fs::path("output") / stepper_.problem().name;
-  for (const auto& f : options_.fields)
-    require(std::find(OutputOptions::field_names().begin(), OutputOptions::field_names().end(), f) !=
-                OutputOptions::field_names().end(),
-            "output: unknown field '{}'; expected one of: {}", f, fmt::join(OutputOptions::field_names(), ", "));
+  prepare_output_options(options_, stepper_.problem().name);
   std::error_code ec;
   fs::create_directories(options_.directory, ec);
   require(!ec && fs::is_directory(options_.directory), "cannot create output directory '{}'",
           options_.directory.string());
   for (const auto& p : options_.probes) probes_.push_back(locate_point(stepper_.mesh(), p));
-  require(options_.every >= 0, "output: 'every' must be >= 0 (got {})", options_.every);
+  const std::vector<double> m = tributary_measures(stepper_.mesh(), stepper_.problem().contact.parts);
+  for (int node : stepper_.contact_nodes()) contact_measure_.push_back(m[node]);
 }
 
 void RunTotals::add(const StepReport& r) {
@@ -196,23 +214,27 @@ void RunOutput::write_fields() {
   VtuField u{"displacement", 3, std::vector<double>(static_cast<size_t>(mesh.n_nodes()) * 3, 0.0)};
   for (int i = 0; i < mesh.n_nodes(); ++i)
     for (int c = 0; c < d; ++c) u.values[i * 3 + c] = s.u[i * d + c];
-  VtuField beta{"damage", 1, std::vector<double>(s.beta.data(), s.beta.data() + s.beta.size())};
-  // Contact force on Γ3: the force the foundation exerts, −λ ν at each contact node.
+  VtuField beta{"beta", 1, std::vector<double>(s.beta.data(), s.beta.data() + s.beta.size())};
+  // Contact force on Γ3: the nodal force the foundation exerts, −λ ν at each
+  // contact node; the pressure: λ over the node's tributary measure.
   VtuField force{"contact_force", 3, std::vector<double>(static_cast<size_t>(mesh.n_nodes()) * 3, 0.0)};
+  VtuField pressure{"contact_pressure", 1, std::vector<double>(static_cast<size_t>(mesh.n_nodes()), 0.0)};
   const auto& nodes = stepper_.contact_nodes();
-  for (size_t k = 0; k < nodes.size(); ++k)
+  for (size_t k = 0; k < nodes.size(); ++k) {
     for (int c = 0; c < 3; ++c) force.values[nodes[k] * 3 + c] = -s.lambda[k] * stepper_.contact_directions()[k][c];
+    pressure.values[nodes[k]] = s.lambda[k] / contact_measure_[k];
+  }
   VtuField vm{"von_mises", 1, {}};
   for (const auto& t : s.sigma) vm.values.push_back(t.von_mises());
   std::vector<VtuField> point_data, cell_data;
-  for (auto* f : {&u, &beta, &force})
+  for (auto* f : {&u, &beta, &force, &pressure})
     if (wants(f->name)) point_data.push_back(std::move(*f));
   if (wants("stress")) cell_data.push_back(tensor_field("stress", s.sigma));
   if (wants("strain")) cell_data.push_back(tensor_field("strain", s.eps));
   if (wants("von_mises")) cell_data.push_back(std::move(vm));
   if (wants("history_z")) cell_data.push_back(tensor_field("history_z", s.z));
   const std::string file = fmt::format("solution_{:05d}.vtu", s.n);
-  write_vtu(options_.directory / file, mesh, point_data, cell_data);
+  write_vtu(options_.directory / file, mesh, point_data, cell_data, options_.encoding);
   pvd_.emplace_back(s.t, file);
   write_pvd(options_.directory / "solution.pvd", pvd_);
 }
@@ -248,66 +270,92 @@ bool RunOutput::is_output_step(int n) const {
   return options_.every > 0 && n % options_.every == 0;
 }
 
+std::string iso8601_utc(std::chrono::system_clock::time_point t) {
+  const std::time_t tt = std::chrono::system_clock::to_time_t(t);
+  std::tm tm{};
+  gmtime_r(&tt, &tm);
+  char buf[32];
+  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", &tm);
+  return buf;
+}
+
+std::string summary_json(const Problem& p, const RunSummary& r, const OutputOptions& options) {
+  using Json = nlohmann::ordered_json;  // keys in the order written here
+  const RunTotals& t = r.totals;
+  auto xyz = [](const Point& x) { return Json::array({x[0], x[1], x[2]}); };
+  Json j;
+  j["case"] = p.name;
+  if (r.ranks > 0) {
+    j["engine"] = "petsc";
+    j["ranks"] = r.ranks;
+    j["linear_solver"] = r.linear_solver;
+  }
+  j["dimension"] = r.dimension;
+  j["mesh"] = {{"nodes", r.nodes}, {"cells", r.cells}, {"h_min", r.h_min}, {"h_max", r.h_max}};
+  j["unknowns"] = {{"displacement_free", r.free_dofs}, {"damage", r.nodes}, {"contact_nodes", r.contact_nodes}};
+  j["elasticity"] = p.elasticity.name();
+  j["viscoplastic_law"] = p.law->describe();
+  j["damage_source"] = p.source->describe();
+  j["kappa"] = p.kappa;
+  j["final_time"] = p.final_time;
+  j["steps"] = r.steps;
+  j["time_step"] = p.step();
+  j["final"] = {{"t", r.t},
+                {"total_contact_force", r.total_contact_force},
+                {"active_contact_nodes", r.active_contact_nodes},
+                {"max_von_mises", r.max_von_mises},
+                {"beta_min", r.beta_min},
+                {"beta_min_location", xyz(r.beta_min_location)},
+                {"beta_max", r.beta_max}};
+  j["checks"] = {{"all_steps_ok", t.all_ok},
+                 {"max_contact_residual", t.max_contact_residual},
+                 {"max_damage_kkt_residual", t.max_damage_residual},
+                 {"max_contact_iterations", t.max_contact_iterations},
+                 {"max_damage_iterations", t.max_damage_iterations}};
+  j["probes"] = Json::array();
+  for (const auto& x : r.probes) j["probes"].push_back(xyz(x));
+  j["timing_seconds"] = {{"wall", r.wall_seconds},       {"setup", r.setup.total},     {"sources", t.seconds_sources},
+                         {"damage", t.seconds_damage},   {"contact", t.seconds_contact}, {"stress", t.seconds_stress},
+                         {"output", t.seconds_output}};
+  j["setup_seconds"] = {{"assembly", r.setup.assembly},
+                        {"factor_K", r.setup.factor_K},
+                        {"factor_H", r.setup.factor_H},
+                        {"contact", r.setup.contact}};
+  j["factorizations"] = r.factorizations;
+  j["vpcontact"] = {{"version", version()},
+                    {"git_commit", git_commit()},
+                    {"command_line", options.command_line},
+                    {"date", iso8601_utc(options.started)}};
+  // Bytes that are not UTF-8 (a path given in another encoding) become U+FFFD
+  // instead of an exception; NaN and ±inf are written as null.
+  return j.dump(2, ' ', false, Json::error_handler_t::replace) + "\n";
+}
+
 void RunOutput::finish(double wall_seconds) {
-  const Problem& p = stepper_.problem();
   const Mesh& mesh = stepper_.mesh();
   const State& s = stepper_.state();
-  const RunTotals& t = totals_;
-  const auto [hmin, hmax] = mesh.size_range();
+  RunSummary r;
+  r.dimension = mesh.dim();
+  r.nodes = mesh.n_nodes();
+  r.cells = mesh.n_cells();
+  std::tie(r.h_min, r.h_max) = mesh.size_range();
+  r.free_dofs = stepper_.dofs().n_free();
+  r.contact_nodes = static_cast<long long>(stepper_.contact_nodes().size());
+  r.steps = s.n;
+  r.t = s.t;
+  r.total_contact_force = s.lambda.sum();
+  r.active_contact_nodes = (s.lambda.array() > 0).count();
+  for (const auto& x : s.sigma) r.max_von_mises = std::max(r.max_von_mises, x.von_mises());
   Eigen::Index imin = 0;
-  const double beta_min = s.beta.minCoeff(&imin);
-  const Point xb = mesh.node(static_cast<int>(imin));
-  double max_vm = 0;
-  for (const auto& t : s.sigma) max_vm = std::max(max_vm, t.von_mises());
-  std::string probes = "[";
-  for (size_t i = 0; i < probes_.size(); ++i)
-    probes += fmt::format("{}[{:.17g}, {:.17g}, {:.17g}]", i ? ", " : "", probes_[i].x[0], probes_[i].x[1],
-                          probes_[i].x[2]);
-  probes += "]";
-  const std::string json = fmt::format(
-      R"({{
-  "case": "{}",
-  "dimension": {},
-  "mesh": {{"nodes": {}, "cells": {}, "h_min": {:.17g}, "h_max": {:.17g}}},
-  "unknowns": {{"displacement_free": {}, "damage": {}, "contact_nodes": {}}},
-  "elasticity": "{}",
-  "viscoplastic_law": "{}",
-  "damage_source": "{}",
-  "kappa": {:.17g},
-  "final_time": {:.17g},
-  "steps": {},
-  "time_step": {:.17g},
-  "final": {{
-    "t": {:.17g},
-    "total_contact_force": {:.17g},
-    "active_contact_nodes": {},
-    "max_von_mises": {:.17g},
-    "beta_min": {:.17g},
-    "beta_min_location": [{:.17g}, {:.17g}, {:.17g}],
-    "beta_max": {:.17g}
-  }},
-  "checks": {{
-    "all_steps_ok": {},
-    "max_contact_residual": {:.3e},
-    "max_damage_kkt_residual": {:.3e},
-    "max_contact_iterations": {},
-    "max_damage_iterations": {}
-  }},
-  "probes": {},
-  "timing_seconds": {{"wall": {:.6f}, "setup": {:.6f}, "sources": {:.6f}, "damage": {:.6f}, "contact": {:.6f}, "stress": {:.6f}, "output": {:.6f}}},
-  "setup_seconds": {{"assembly": {:.6f}, "factor_K": {:.6f}, "factor_H": {:.6f}, "contact": {:.6f}}},
-  "factorizations": {}
-}}
-)",
-      p.name, mesh.dim(), mesh.n_nodes(), mesh.n_cells(), hmin, hmax, stepper_.dofs().n_free(), mesh.n_nodes(),
-      stepper_.contact_nodes().size(), p.elasticity.name(), p.law->describe(), p.source->describe(), p.kappa,
-      p.final_time, s.n, p.step(), s.t, s.lambda.sum(), (s.lambda.array() > 0).count(), max_vm, beta_min, xb[0],
-      xb[1], xb[2], s.beta.maxCoeff(), t.all_ok ? "true" : "false", t.max_contact_residual, t.max_damage_residual,
-      t.max_contact_iterations, t.max_damage_iterations, probes, wall_seconds, stepper_.setup_seconds(),
-      t.seconds_sources, t.seconds_damage, t.seconds_contact, t.seconds_stress, t.seconds_output,
-      stepper_.setup_timing().assembly, stepper_.setup_timing().factor_K, stepper_.setup_timing().factor_H,
-      stepper_.setup_timing().contact, stepper_.n_factorizations());
-  write_file_atomic(options_.directory / "summary.json", json);
+  r.beta_min = s.beta.minCoeff(&imin);
+  r.beta_min_location = mesh.node(static_cast<int>(imin));
+  r.beta_max = s.beta.maxCoeff();
+  for (const auto& p : probes_) r.probes.push_back(p.x);
+  r.totals = totals_;
+  r.wall_seconds = wall_seconds;
+  r.setup = stepper_.setup_timing();
+  r.factorizations = stepper_.n_factorizations();
+  write_file_atomic(options_.directory / "summary.json", summary_json(stepper_.problem(), r, options_));
 }
 
 }  // namespace vpc

@@ -1,13 +1,17 @@
 #pragma once
 // What a run writes into its output directory:
 //   solution_NNNNN.vtu + solution.pvd  fields at output times (u, σ, ε, |σ|_VM, β, z,
-//                                      contact force on Γ3)
+//                                      contact force and pressure on Γ3), zlib-compressed
+//                                      by default (io/vtu_writer.hpp)
 //   history.csv                        one row per step: contact and damage solver
 //                                      iterations and residuals, active set, β range
 //   probes.csv                         u, σ, β at the probe points, every step
-//   summary.json                       the run's data, final values and checks
+//   summary.json                       the run's data, final values and checks, and
+//                                      what made it (version, commit, command line, date)
+#include "io/vtu_writer.hpp"
 #include "scheme/time_stepper.hpp"
 
+#include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -22,9 +26,17 @@ struct OutputOptions {
   bool vtu = true;             // write VTU/PVD at all
   std::vector<std::string> fields;  // VTU fields to write; empty: all (see field_names())
   std::vector<Point> probes;
+  VtuEncoding encoding;             // [output] compression: zlib (default) or none
+  // For summary.json: the program's command line (argv) and when the run started
+  // (unset: when the output was set up).
+  std::vector<std::string> command_line;
+  std::chrono::system_clock::time_point started{};
 
   /// The names accepted in `fields`.
   static const std::vector<std::string>& field_names();
+  /// The field a name in `fields` stands for: the name itself, or the field an
+  /// old name is kept for (damage: beta); empty when it names no field.
+  static std::string field(const std::string& name);
 };
 
 /// A probe: the cell containing the point and the point's barycentric coordinates.
@@ -58,6 +70,35 @@ struct RunTotals {
   double seconds_sources = 0, seconds_damage = 0, seconds_contact = 0, seconds_stress = 0, seconds_output = 0;
   void add(const StepReport& r);
 };
+
+/// What summary.json says about a run beyond the problem's data, gathered by
+/// RunOutput (serial) or ParallelOutput (distributed: global values, on rank 0).
+struct RunSummary {
+  int dimension = 0;
+  long long nodes = 0, cells = 0, free_dofs = 0, contact_nodes = 0;
+  double h_min = 0, h_max = 0;
+  int steps = 0;  // the step reached
+  double t = 0, total_contact_force = 0, max_von_mises = 0, beta_min = 0, beta_max = 0;
+  long long active_contact_nodes = 0;
+  Point beta_min_location{0, 0, 0};
+  std::vector<Point> probes;
+  RunTotals totals;
+  double wall_seconds = 0;
+  SetupTiming setup;
+  int factorizations = 0;
+  int ranks = 0;  // > 0: a distributed run ("engine": "petsc", "ranks", "linear_solver")
+  std::string linear_solver;
+};
+
+/// The text of summary.json (valid JSON whatever the names and paths hold).
+std::string summary_json(const Problem& problem, const RunSummary& summary, const OutputOptions& options);
+
+/// A time as ISO 8601 UTC, e.g. 2024-05-01T12:00:00Z.
+std::string iso8601_utc(std::chrono::system_clock::time_point t);
+
+/// Checks `options` and completes them for the case `case_name`: the default
+/// directory, the fields by their current names, the start time. Throws vpc::Error.
+void prepare_output_options(OutputOptions& options, const std::string& case_name);
 
 class RunOutput {
  public:
@@ -93,6 +134,7 @@ class RunOutput {
   std::ofstream history_, probe_csv_;
   std::vector<std::pair<double, std::string>> pvd_;
   RunTotals totals_;
+  std::vector<double> contact_measure_;  // tributary measure per contact row
 };
 
 }  // namespace vpc

@@ -139,6 +139,7 @@ std::vector<Message> pack_parts(const Problem& p, int n_parts) {
   dof_begin[n_parts] = next_dof;
 
   const std::vector<ContactRow> rows = contact_rows(p, clamped);
+  const std::vector<double> measure = tributary_measures(mesh, p.contact.parts);  // for the output's contact pressure
   std::vector<int> contact_row(n_nodes, -1);
   for (size_t k = 0; k < rows.size(); ++k) contact_row[rows[k].node] = static_cast<int>(k);
 
@@ -180,7 +181,7 @@ std::vector<Message> pack_parts(const Problem& p, int n_parts) {
               n_owned_dofs};
     m.ints.reserve(kHeader + 3 * nodes.size() + (npc + 1) * cells_of[r].size() + d * facets_of[r].size() +
                    3 * contacts.size());
-    m.reals.reserve(3 * nodes.size() + 4 * contacts.size());
+    m.reals.reserve(3 * nodes.size() + 5 * contacts.size());
     for (int v : nodes) {
       m.ints.insert(m.ints.end(), {new_id[v], v, first_dof[v]});
       m.reals.insert(m.reals.end(), mesh.node(v).begin(), mesh.node(v).end());
@@ -194,7 +195,7 @@ std::vector<Message> pack_parts(const Problem& p, int n_parts) {
     for (int v : contacts) {
       const ContactRow& row = rows[contact_row[v]];
       m.ints.insert(m.ints.end(), {contact_row[v], local[v], owner[v] == r ? 1 : 0});
-      m.reals.insert(m.reals.end(), {row.direction[0], row.direction[1], row.direction[2], row.gap});
+      m.reals.insert(m.reals.end(), {row.direction[0], row.direction[1], row.direction[2], row.gap, measure[v]});
     }
     for (int v : nodes) local[v] = -1;
   }
@@ -248,7 +249,8 @@ DistributedMesh unpack_part(MPI_Comm comm, const Message& m) {
     c.owned = *in++ != 0;
     c.direction = {x[0], x[1], x[2]};
     c.gap = x[3];
-    x += 4;
+    c.measure = x[4];
+    x += 5;
     dm.contact.push_back(c);
   }
   dm.dofs = DofMap(n_local, d, clamped);

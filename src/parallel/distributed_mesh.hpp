@@ -33,6 +33,7 @@ struct LocalContactNode {
   bool owned = false;  // the row lives on this rank (its node is owned)
   Point direction{};   // ν, unit
   double gap = 0;      // g at the node
+  double measure = 0;  // its tributary measure on Γ3 (tributary_measures, scheme/problem.hpp)
 };
 
 struct DistributedMesh {

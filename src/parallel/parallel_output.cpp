@@ -79,12 +79,7 @@ void ParallelOutput::resume(int n, std::vector<std::pair<double, std::string>> p
 ParallelOutput::ParallelOutput(const DistributedTimeStepper& stepper, OutputOptions options, std::string linear_solver)
     : stepper_(stepper), options_(std::move(options)), linear_solver_(std::move(linear_solver)),
       comm_(stepper.part().comm), rank_(comm_rank(comm_)), size_(comm_size(comm_)) {
-  if (options_.directory.empty()) options_.directory = fs::path("output") / stepper_.problem().name;
-  for (const auto& f : options_.fields)
-    require(std::find(OutputOptions::field_names().begin(), OutputOptions::field_names().end(), f) !=
-                OutputOptions::field_names().end(),
-            "output: unknown field '{}'; expected one of: {}", f, fmt::join(OutputOptions::field_names(), ", "));
-  require(options_.every >= 0, "output: 'every' must be >= 0 (got {})", options_.every);
+  prepare_output_options(options_, stepper_.problem().name);
   std::string error;
   if (rank_ == 0) {
     std::error_code ec;
@@ -184,16 +179,20 @@ void ParallelOutput::write_fields() {
   VtuField u{"displacement", 3, std::vector<double>(static_cast<size_t>(n_nodes) * 3, 0.0)};
   for (int i = 0; i < n_nodes; ++i)
     for (int c = 0; c < d; ++c) u.values[i * 3 + c] = u_local[i * d + c];
-  VtuField beta{"damage", 1, std::vector<double>(beta_local.data(), beta_local.data() + n_nodes)};
-  // Contact force on Γ3: the force the foundation exerts, −λ ν at each contact node.
+  VtuField beta{"beta", 1, std::vector<double>(beta_local.data(), beta_local.data() + n_nodes)};
+  // Contact force on Γ3: the nodal force the foundation exerts, −λ ν at each
+  // contact node; the pressure: λ over the node's tributary measure.
   VtuField force{"contact_force", 3, std::vector<double>(static_cast<size_t>(n_nodes) * 3, 0.0)};
-  for (const auto& c : part.contact)
+  VtuField pressure{"contact_pressure", 1, std::vector<double>(static_cast<size_t>(n_nodes), 0.0)};
+  for (const auto& c : part.contact) {
     for (int j = 0; j < 3; ++j) force.values[c.local_node * 3 + j] = -s.lambda[c.row] * c.direction[j];
+    pressure.values[c.local_node] = s.lambda[c.row] / c.measure;
+  }
   VtuField vm{"von_mises", 1, {}};
   for (const auto& t : s.sigma) vm.values.push_back(t.von_mises());
   VtuField rank{"rank", 1, std::vector<double>(mesh.n_cells(), static_cast<double>(rank_))};
   std::vector<VtuField> point_data, cell_data;
-  for (auto* f : {&u, &beta, &force})
+  for (auto* f : {&u, &beta, &force, &pressure})
     if (wants(f->name)) point_data.push_back(std::move(*f));
   if (wants("stress")) cell_data.push_back(tensor_field("stress", s.sigma));
   if (wants("strain")) cell_data.push_back(tensor_field("strain", s.eps));
@@ -203,7 +202,8 @@ void ParallelOutput::write_fields() {
   const std::string stem = fmt::format("solution_{:05d}", s.n);
   std::string error;
   try {
-    write_vtu(options_.directory / fmt::format("{}_p{:04d}.vtu", stem, rank_), mesh, point_data, cell_data);
+    write_vtu(options_.directory / fmt::format("{}_p{:04d}.vtu", stem, rank_), mesh, point_data, cell_data,
+              options_.encoding);
   } catch (const std::exception& e) {
     error = e.what();
   }
@@ -251,7 +251,6 @@ void ParallelOutput::finish(double wall_seconds) {
   const Mesh& mesh = part.mesh;
   const Problem& p = stepper_.problem();
   const auto& s = stepper_.state();
-  const RunTotals& t = totals_;
   double hmin = INFINITY, hmax = 0;
   if (mesh.n_cells() > 0) std::tie(hmin, hmax) = mesh.size_range();
   hmin = allreduce_min(comm_, hmin);
@@ -281,58 +280,30 @@ void ParallelOutput::finish(double wall_seconds) {
   MPI_Bcast(xb.data(), 3, MPI_DOUBLE, glo.rank, comm_);
   const int n_factorizations = stepper_.n_factorizations();
   if (rank_ != 0) return;
-  std::string probes = "[";
-  for (size_t i = 0; i < probes_.size(); ++i)
-    probes += fmt::format("{}[{:.17g}, {:.17g}, {:.17g}]", i ? ", " : "", probes_[i].x[0], probes_[i].x[1],
-                          probes_[i].x[2]);
-  probes += "]";
-  const auto& st = stepper_.setup_timing();
-  const std::string json = fmt::format(
-      R"({{
-  "case": "{}",
-  "engine": "petsc",
-  "ranks": {},
-  "linear_solver": "{}",
-  "dimension": {},
-  "mesh": {{"nodes": {}, "cells": {}, "h_min": {:.17g}, "h_max": {:.17g}}},
-  "unknowns": {{"displacement_free": {}, "damage": {}, "contact_nodes": {}}},
-  "elasticity": "{}",
-  "viscoplastic_law": "{}",
-  "damage_source": "{}",
-  "kappa": {:.17g},
-  "final_time": {:.17g},
-  "steps": {},
-  "time_step": {:.17g},
-  "final": {{
-    "t": {:.17g},
-    "total_contact_force": {:.17g},
-    "active_contact_nodes": {},
-    "max_von_mises": {:.17g},
-    "beta_min": {:.17g},
-    "beta_min_location": [{:.17g}, {:.17g}, {:.17g}],
-    "beta_max": {:.17g}
-  }},
-  "checks": {{
-    "all_steps_ok": {},
-    "max_contact_residual": {:.3e},
-    "max_damage_kkt_residual": {:.3e},
-    "max_contact_iterations": {},
-    "max_damage_iterations": {}
-  }},
-  "probes": {},
-  "timing_seconds": {{"wall": {:.6f}, "setup": {:.6f}, "sources": {:.6f}, "damage": {:.6f}, "contact": {:.6f}, "stress": {:.6f}, "output": {:.6f}}},
-  "setup_seconds": {{"assembly": {:.6f}, "factor_K": {:.6f}, "factor_H": {:.6f}, "contact": {:.6f}}},
-  "factorizations": {}
-}}
-)",
-      p.name, size_, linear_solver_, mesh.dim(), part.n_global_nodes, part.n_global_cells, hmin, hmax,
-      part.n_global_dofs, part.n_global_nodes, part.n_contact, p.elasticity.name(), p.law->describe(),
-      p.source->describe(), p.kappa, p.final_time, s.n, p.step(), s.t, s.lambda.sum(),
-      (s.lambda.array() > 0).count(), max_vm, glo.value, xb[0], xb[1], xb[2], bmax, t.all_ok ? "true" : "false",
-      t.max_contact_residual, t.max_damage_residual, t.max_contact_iterations, t.max_damage_iterations, probes,
-      wall_seconds, st.total, t.seconds_sources, t.seconds_damage, t.seconds_contact, t.seconds_stress,
-      t.seconds_output, st.assembly, st.factor_K, st.factor_H, st.contact, n_factorizations);
-  write_file_atomic(options_.directory / "summary.json", json);
+  RunSummary r;
+  r.dimension = mesh.dim();
+  r.nodes = part.n_global_nodes;
+  r.cells = part.n_global_cells;
+  r.h_min = hmin;
+  r.h_max = hmax;
+  r.free_dofs = part.n_global_dofs;
+  r.contact_nodes = part.n_contact;
+  r.steps = s.n;
+  r.t = s.t;
+  r.total_contact_force = s.lambda.sum();
+  r.active_contact_nodes = (s.lambda.array() > 0).count();
+  r.max_von_mises = max_vm;
+  r.beta_min = glo.value;
+  r.beta_min_location = xb;
+  r.beta_max = bmax;
+  for (const auto& pr : probes_) r.probes.push_back(pr.x);
+  r.totals = totals_;
+  r.wall_seconds = wall_seconds;
+  r.setup = stepper_.setup_timing();
+  r.factorizations = n_factorizations;
+  r.ranks = size_;
+  r.linear_solver = linear_solver_;
+  write_file_atomic(options_.directory / "summary.json", summary_json(p, r, options_));
 }
 
 }  // namespace vpc

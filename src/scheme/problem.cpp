@@ -108,3 +108,17 @@ std::vector<ContactRow> contact_rows(const Problem& p, const std::vector<char>& 
 }
 
 }  // namespace vpc
+
+namespace vpc {
+
+std::vector<double> tributary_measures(const Mesh& mesh, const std::vector<std::string>& parts) {
+  std::vector<double> m(static_cast<std::size_t>(mesh.n_nodes()), 0.0);
+  const int nv = mesh.nodes_per_facet();
+  for (int f : mesh.facets_of_parts(parts)) {
+    const double share = mesh.facet_measure(f) / nv;
+    for (int a = 0; a < nv; ++a) m[mesh.facet(f)[a]] += share;
+  }
+  return m;
+}
+
+}  // namespace vpc

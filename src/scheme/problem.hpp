@@ -67,3 +67,14 @@ void check_gap(const std::string& where, double g, int node, const Point& x);
 std::vector<ContactRow> contact_rows(const Problem& p, const std::vector<char>& clamped);
 
 }  // namespace vpc
+
+namespace vpc {
+
+/// The tributary measure of each node on the facets of `parts` (Γ3): the sum over
+/// those facets containing the node of facet measure / vertices per facet (a
+/// length in 2D, an area in 3D, 1 in 1D); 0 at the other nodes. A uniform
+/// pressure p on Γ3 has the P1 nodal forces p × this measure, so a nodal force
+/// divided by it is the contact pressure (VTU field contact_pressure).
+std::vector<double> tributary_measures(const Mesh& mesh, const std::vector<std::string>& parts);
+
+}  // namespace vpc

@@ -26,7 +26,7 @@ expect_error() {
 }
 
 # --- item 10
-[ "$("$vpcontact" --version)" = "vpcontact $version" ] || fail "--version: $("$vpcontact" --version 2>&1)"
+"$vpcontact" --version | grep -Eq "^vpcontact $version \(git ([0-9a-f]{7,40}(-dirty)?|unknown)\)$" || fail "--version: $("$vpcontact" --version 2>&1)"
 "$vpcontact" > help.log 2>&1 || fail "vpcontact alone exits non-zero"
 grep -q "Subcommands:" help.log || fail "vpcontact alone prints no help"
 expect_error "unknown option" "The following argument was not expected: --frobnicate" run paper-1d --frobnicate

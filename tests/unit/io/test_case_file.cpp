@@ -98,7 +98,8 @@ TEST(CaseFile, ValidCaseIsReadCompletely) {
   EXPECT_EQ((*p.contact.direction)[1], -1.0);
   EXPECT_EQ(c.output.times, (std::vector<double>{0.1, 0.5}));
   EXPECT_EQ(c.output.probes.size(), 1u);
-  EXPECT_EQ(c.output.fields.size(), 2u);
+  EXPECT_EQ(c.output.fields, (std::vector<std::string>{"displacement", "beta"}));  // damage: beta's old name
+  EXPECT_EQ(c.output.encoding.compression, VtuCompression::zlib);
   // The φ formula sees the point state.
   PointState s;
   s.sigma = SymTensor{{3, -1, 0, 0, 0, 2}};  // |σ|_VM = 5
@@ -259,6 +260,7 @@ TEST(CaseFile, BadCaseFilesGiveTheirMessages) {
       {"fields = [\"displacement\", \"damage\"]", "fields = [\"displacment\"]", "did you mean 'displacement'?"},
       {"probes = [[1.0, 0.0]]", "probes = [[1.0]]", "expected each probe to be an array of 2 numbers"},
       {"[output]", "[output]\nevery = 2", "give either every or times"},
+      {"[output]", "[output]\ncompression = \"gzip\"", "output.compression: unknown value 'gzip'; expected one of: zlib, none"},
       {"upper = [2.0, 1.0]", "upper = [2.0, 1.0", "bad.toml:9:1: invalid TOML: Error while parsing array"},
       {"[case]", "[case]\n[case]", "invalid TOML"},
   };
