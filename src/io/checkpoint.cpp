@@ -17,7 +17,7 @@ namespace fs = std::filesystem;
 namespace {
 
 constexpr char kMagic[8] = {'V', 'P', 'C', 'C', 'K', 'P', 'T', '\0'};
-constexpr std::uint32_t kVersion = 1;
+constexpr std::uint32_t kVersion = 2;  // 2: the run totals hold the last step's active count
 
 std::uint64_t fnv1a(const char* data, std::size_t n, std::uint64_t h = 1469598103934665603ull) {
   for (std::size_t i = 0; i < n; ++i) h = (h ^ static_cast<unsigned char>(data[i])) * 1099511628211ull;
@@ -152,6 +152,7 @@ fs::path write_checkpoint(const fs::path& dir, const Checkpoint& c, int keep) {
     w.pod<std::int64_t>(r.max_contact_iterations);
     w.pod<std::int64_t>(r.max_damage_iterations);
     w.pod<std::uint8_t>(r.all_ok ? 1 : 0);
+    w.pod<std::int64_t>(r.last_n_active);
   };
   Writer measure;
   payload(measure);
@@ -248,6 +249,7 @@ Checkpoint read_checkpoint(const fs::path& file) {
   t.max_contact_iterations = static_cast<int>(r.pod<std::int64_t>());
   t.max_damage_iterations = static_cast<int>(r.pod<std::int64_t>());
   t.all_ok = r.pod<std::uint8_t>() != 0;
+  t.last_n_active = r.pod<std::int64_t>();
   require(r.done(), "checkpoint '{}': trailing bytes after the payload", name);
   return c;
 }

@@ -102,10 +102,15 @@ void RunTotals::add(const StepReport& r) {
   max_contact_iterations = std::max(max_contact_iterations, r.contact.iterations);
   max_damage_iterations = std::max(max_damage_iterations, r.damage.iterations);
   all_ok = all_ok && r.ok;
+  last_n_active = r.contact.n_active;
   seconds_sources += r.seconds_sources;
   seconds_damage += r.seconds_damage;
   seconds_contact += r.seconds_contact;
   seconds_stress += r.seconds_stress;
+}
+
+long long active_contact_nodes(const RunTotals& totals, const Vector& lambda) {
+  return totals.last_n_active >= 0 ? totals.last_n_active : static_cast<long long>((lambda.array() > 0).count());
 }
 
 std::vector<int> tensor_components(const Elasticity& e) { return e.stress_components(); }
@@ -344,7 +349,7 @@ void RunOutput::finish(double wall_seconds) {
   r.steps = s.n;
   r.t = s.t;
   r.total_contact_force = s.lambda.sum();
-  r.active_contact_nodes = (s.lambda.array() > 0).count();
+  r.active_contact_nodes = active_contact_nodes(totals_, s.lambda);
   for (const auto& x : s.sigma) r.max_von_mises = std::max(r.max_von_mises, x.von_mises());
   Eigen::Index imin = 0;
   r.beta_min = s.beta.minCoeff(&imin);

@@ -67,9 +67,16 @@ struct RunTotals {
   double max_contact_residual = 0, max_damage_residual = 0;
   int max_contact_iterations = 0, max_damage_iterations = 0;
   bool all_ok = true;
+  /// Active contact nodes of the last step, as the contact solver counts them
+  /// (penalty–duality: multipliers above its threshold); −1 before the first step.
+  long long last_n_active = -1;
   double seconds_sources = 0, seconds_damage = 0, seconds_contact = 0, seconds_stress = 0, seconds_output = 0;
   void add(const StepReport& r);
 };
+
+/// The active contact nodes summary.json reports: the last step's count by the
+/// solver's own rule, or (no step yet) the nodes with λ > 0.
+long long active_contact_nodes(const RunTotals& totals, const Vector& lambda);
 
 /// What summary.json says about a run beyond the problem's data, gathered by
 /// RunOutput (serial) or ParallelOutput (distributed: global values, on rank 0).

@@ -291,7 +291,7 @@ void ParallelOutput::finish(double wall_seconds) {
   r.steps = s.n;
   r.t = s.t;
   r.total_contact_force = s.lambda.sum();
-  r.active_contact_nodes = (s.lambda.array() > 0).count();
+  r.active_contact_nodes = active_contact_nodes(totals_, s.lambda);
   r.max_von_mises = max_vm;
   r.beta_min = glo.value;
   r.beta_min_location = xb;

@@ -229,7 +229,9 @@ TEST(RunOutput, TributaryMeasures) {
     sum += m[i];
     if (std::abs(box.node(i)[0] - 0.5) + std::abs(box.node(i)[1] - 0.5) + std::abs(box.node(i)[2]) < 1e-12)
       centre = m[i];
-    if (box.node(i)[2] > 1e-12) EXPECT_EQ(m[i], 0.0);
+    if (box.node(i)[2] > 1e-12) {
+      EXPECT_EQ(m[i], 0.0);
+    }
   }
   EXPECT_NEAR(sum, 1.0, 1e-14);
   EXPECT_NEAR(centre, 0.25, 1e-14);  // the interior node's share: h² whatever the diagonals
