@@ -21,18 +21,29 @@ void tag_sides(Mesh& m, const Point& lo, const Point& hi) {
   }
 }
 
-void check_box(const Point& lo, const Point& hi, int dim, const int* n) {
+/// Checks the box and the mesh size before anything is allocated: `per_box`
+/// simplices per square or cube.
+void check_box(const Point& lo, const Point& hi, int dim, const int* n, int per_box) {
+  double cells = per_box;
   for (int a = 0; a < dim; ++a) {
     require(n[a] >= 1, "mesh generator: number of cells along axis {} must be >= 1 (got {})", a, n[a]);
     require(hi[a] > lo[a], "mesh generator: upper corner must exceed lower corner along axis {}", a);
+    cells *= n[a];
   }
+  check_mesh_size(cells);
 }
 
 }  // namespace
 
+void check_mesh_size(double n_cells) {
+  require(n_cells <= kMaxGeneratedCells,
+          "the mesh would have {:.0f} cells; at most {} are allowed (use fewer cells per edge)", n_cells,
+          kMaxGeneratedCells);
+}
+
 Mesh make_interval(double x0, double x1, int n) {
   const int ns[1] = {n};
-  check_box({x0, 0, 0}, {x1, 0, 0}, 1, ns);
+  check_box({x0, 0, 0}, {x1, 0, 0}, 1, ns, 1);
   Mesh m(1);
   for (int i = 0; i <= n; ++i) m.add_node({x0 + (x1 - x0) * i / n, 0, 0});
   for (int i = 0; i < n; ++i) {
@@ -46,7 +57,7 @@ Mesh make_interval(double x0, double x1, int n) {
 
 Mesh make_rectangle(Point lo, Point hi, int nx, int ny) {
   const int ns[2] = {nx, ny};
-  check_box(lo, hi, 2, ns);
+  check_box(lo, hi, 2, ns, 2);
   Mesh m(2);
   for (int j = 0; j <= ny; ++j)
     for (int i = 0; i <= nx; ++i)
@@ -66,7 +77,7 @@ Mesh make_rectangle(Point lo, Point hi, int nx, int ny) {
 
 Mesh make_box(Point lo, Point hi, int nx, int ny, int nz) {
   const int ns[3] = {nx, ny, nz};
-  check_box(lo, hi, 3, ns);
+  check_box(lo, hi, 3, ns, 6);
   Mesh m(3);
   for (int k = 0; k <= nz; ++k)
     for (int j = 0; j <= ny; ++j)

@@ -7,6 +7,14 @@
 
 namespace vpc {
 
+/// The largest generated mesh (simplices): far beyond what a run can solve, and
+/// small enough to fail at once rather than exhaust memory or overflow int indices.
+inline constexpr int kMaxGeneratedCells = 10'000'000;
+
+/// Throws vpc::Error if a generated mesh of `n_cells` simplices exceeds
+/// kMaxGeneratedCells. Every generator calls it before allocating anything.
+void check_mesh_size(double n_cells);
+
 /// Interval (x0, x1) with n segments; boundary points "left" and "right".
 Mesh make_interval(double x0, double x1, int n);
 

@@ -1,4 +1,5 @@
 // Generators: counts, measures, boundary parts and outward normals.
+#include "core/error.hpp"
 #include "mesh/generators.hpp"
 
 #include <gtest/gtest.h>
@@ -69,6 +70,25 @@ TEST(Mesh, SizeRange) {
 TEST(Mesh, BadGeneratorInputIsAnError) {
   EXPECT_THROW(make_interval(0, 1, 0), std::runtime_error);
   EXPECT_THROW(make_rectangle({0, 0, 0}, {-1, 1, 0}, 2, 2), std::runtime_error);
+}
+
+/// Issue 11 item 2: every generator refuses a mesh beyond kMaxGeneratedCells
+/// before allocating it (these would need terabytes).
+TEST(Mesh, GeneratorsRefuseHugeMeshesBeforeAllocating) {
+  auto message = [](auto make) {
+    try {
+      make();
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_EQ(message([] { make_interval(0, 1, 20'000'000); }),
+            "the mesh would have 20000000 cells; at most 10000000 are allowed (use fewer cells per edge)");
+  EXPECT_EQ(message([] { make_rectangle({0, 0, 0}, {2, 2, 0}, 5000, 5000); }),
+            "the mesh would have 50000000 cells; at most 10000000 are allowed (use fewer cells per edge)");
+  EXPECT_EQ(message([] { make_box({0, 0, 0}, {2, 2, 2}, 100000, 100000, 100000); }),
+            "the mesh would have 6000000000000000 cells; at most 10000000 are allowed (use fewer cells per edge)");
 }
 
 }  // namespace
