@@ -27,6 +27,9 @@ struct SolverChoice {
   /// A failed step is retried as two steps of half the size, at most this many
   /// times nested (0: a failed step is reported as it is).
   int max_halvings = 0;
+  /// The memory a run may use (solvers/memory_estimate.hpp): a size such as "8G",
+  /// or empty for $VPCONTACT_MEMORY_LIMIT, else the machine's available memory.
+  std::string memory_limit;
 };
 
 struct StepReport {
