@@ -19,19 +19,26 @@ namespace {
 /// CHOLMOD's own printing is off (print = 0), so a failure reads as one message.
 thread_local std::string last_cholmod_error;
 
+std::string status_name(int status) {
+  switch (status) {
+    case CHOLMOD_OUT_OF_MEMORY: return "out of memory";
+    case CHOLMOD_TOO_LARGE: return "problem too large";
+    case CHOLMOD_INVALID: return "invalid input";
+    case CHOLMOD_NOT_POSDEF: return "not positive definite";
+    default: return fmt::format("CHOLMOD status {}", status);
+  }
+}
+
 void record_cholmod_error(int status, const char* file, int line, const char* message) {
   const char* base = std::strrchr(file, '/');
-  last_cholmod_error = fmt::format("{} (CHOLMOD status {}, {}:{})", message, status, base ? base + 1 : file, line);
+  const std::string name = status_name(status);
+  last_cholmod_error = fmt::format("{} ({}CHOLMOD status {} at {}:{})", message, name == message ? "" : name + "; ",
+                                   status, base ? base + 1 : file, line);
 }
 
 /// What a failed CHOLMOD call says: its recorded message, else its status.
 std::string cholmod_failure(const cholmod_common& c) {
-  if (!last_cholmod_error.empty()) return last_cholmod_error;
-  switch (c.status) {
-    case CHOLMOD_OUT_OF_MEMORY: return "out of memory";
-    case CHOLMOD_TOO_LARGE: return "problem too large";
-    default: return fmt::format("CHOLMOD status {}", c.status);
-  }
+  return last_cholmod_error.empty() ? status_name(c.status) : last_cholmod_error;
 }
 
 /// CHOLMOD's rcond is (min diag L / max diag L)²: a singular matrix whose last
