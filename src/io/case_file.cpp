@@ -322,12 +322,16 @@ Mesh read_mesh(Section m, const fs::path& base_dir, const std::string& file) {
       if (n[a] < 1 || n[a] > 100000) fail("{}: expected between 1 and 100000 cells per direction, got {}", m.where("cells"), n[a]);
       if (!(hi[a] > lo[a])) fail("{}: expected upper > lower in every direction", m.where("upper"));
     }
+    // How squares and cubes are cut (generators.hpp); an interval has nothing to cut.
+    if (d == 1 && m.has("diagonal"))
+      fail("{}: diagonal applies to the rectangle and box generators only", m.where("diagonal"));
+    const Diagonal diagonal = d == 1 ? Diagonal::right : diagonal_from_name(m.choice("diagonal", diagonal_names(), "right"));
     // The generators check the mesh size (check_mesh_size) before allocating; the
     // other checks above make the size the only thing they can refuse.
     try {
       if (d == 1) mesh = make_interval(lo[0], hi[0], n[0]);
-      if (d == 2) mesh = make_rectangle({lo[0], lo[1], 0}, {hi[0], hi[1], 0}, n[0], n[1]);
-      if (d == 3) mesh = make_box({lo[0], lo[1], lo[2]}, {hi[0], hi[1], hi[2]}, n[0], n[1], n[2]);
+      if (d == 2) mesh = make_rectangle({lo[0], lo[1], 0}, {hi[0], hi[1], 0}, n[0], n[1], diagonal);
+      if (d == 3) mesh = make_box({lo[0], lo[1], lo[2]}, {hi[0], hi[1], hi[2]}, n[0], n[1], n[2], diagonal);
     } catch (const Error& e) {
       fail("{}: {}", m.where("cells"), e.what());
     }
