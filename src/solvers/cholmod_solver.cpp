@@ -125,14 +125,14 @@ class CholmodSolver final : public LinearSolver {
 
   Vector solve(const Vector& b) const override {
     if (n_ == 0) return Vector(0);
-    Eigen::MatrixXd X = b;
-    run_solve(CHOLMOD_A, X);
-    return X.col(0);
+    Vector x(b.size());
+    run_solve(CHOLMOD_A, b.data(), b.rows(), 1, x.data());
+    return x;
   }
   Eigen::MatrixXd solve(const Eigen::MatrixXd& B) const override {
     if (n_ == 0) return Eigen::MatrixXd(0, B.cols());
-    Eigen::MatrixXd X = B;
-    run_solve(CHOLMOD_A, X);
+    Eigen::MatrixXd X(B.rows(), B.cols());
+    run_solve(CHOLMOD_A, B.data(), B.rows(), B.cols(), X.data());
     return X;
   }
   /// The permutation is applied here (k-th entry of PB = row Perm[k] of B), so
@@ -143,14 +143,14 @@ class CholmodSolver final : public LinearSolver {
     Eigen::MatrixXd Y(B.rows(), B.cols());
     for (Eigen::Index j = 0; j < B.cols(); ++j)
       for (Eigen::Index k = 0; k < B.rows(); ++k) Y(k, j) = B(perm[k], j);
-    run_solve(CHOLMOD_L, Y);
+    run_solve(CHOLMOD_L, Y.data(), Y.rows(), Y.cols(), Y.data());
     return Y;
   }
   Eigen::MatrixXd backward(const Eigen::MatrixXd& Y) const override {
     if (n_ == 0) return Eigen::MatrixXd(0, Y.cols());
     const Long* perm = static_cast<const Long*>(L_->Perm);
-    Eigen::MatrixXd X = Y;
-    run_solve(CHOLMOD_Lt, X);
+    Eigen::MatrixXd X(Y.rows(), Y.cols());
+    run_solve(CHOLMOD_Lt, Y.data(), Y.rows(), Y.cols(), X.data());
     Eigen::MatrixXd out(X.rows(), X.cols());
     for (Eigen::Index j = 0; j < X.cols(); ++j)
       for (Eigen::Index k = 0; k < X.rows(); ++k) out(perm[k], j) = X(k, j);
@@ -212,15 +212,15 @@ class CholmodSolver final : public LinearSolver {
     return s;
   }
 
-  /// X ← A⁻¹X, L⁻¹X or L⁻ᵀX (sys), in place.
-  void run_solve(int sys, Eigen::MatrixXd& X) const {
+  /// X = A⁻¹B, L⁻¹B or L⁻ᵀB (sys) for the n × cols blocks B and X (X may be B).
+  void run_solve(int sys, const double* B, Eigen::Index rows, Eigen::Index cols, double* X) const {
     require(factored_, "{}: solve without a successful factorization", what_);
+    require(rows == n_, "{}: a right-hand side of {} rows for a matrix of size {}", what_, rows, n_);
     cholmod_dense b{};
-    b.nrow = static_cast<size_t>(X.rows());
-    b.ncol = static_cast<size_t>(X.cols());
-    b.nzmax = b.d = b.nrow;
-    b.nzmax *= b.ncol;
-    b.x = X.data();
+    b.nrow = b.d = static_cast<size_t>(n_);
+    b.ncol = static_cast<size_t>(cols);
+    b.nzmax = b.nrow * b.ncol;
+    b.x = const_cast<double*>(B);  // read only
     b.xtype = CHOLMOD_REAL;
     b.dtype = CHOLMOD_DOUBLE;
     cholmod_common& c = const_cast<cholmod_common&>(c_);
@@ -230,7 +230,7 @@ class CholmodSolver final : public LinearSolver {
       if (x) cholmod_l_free_dense(&x, &c);
       fail("{}: a solve with the Cholesky factor failed: {}", describe(), cholmod_failure(c));
     }
-    std::copy_n(static_cast<const double*>(x->x), X.size(), X.data());
+    std::copy_n(static_cast<const double*>(x->x), b.nzmax, X);
     cholmod_l_free_dense(&x, &c);
   }
   double rcond() { return cholmod_l_rcond(L_, &c_); }
