@@ -56,6 +56,7 @@ struct Options {
   std::string show_case;                                 // cases --show NAME
   std::vector<std::string> argv;  // for the --resume command and summary.json
   std::chrono::system_clock::time_point started = std::chrono::system_clock::now();  // for summary.json
+  std::string memory_limit;  // solvers/memory_estimate.hpp
 };
 
 /// Whether an option exists on this subcommand and was given.
@@ -148,6 +149,7 @@ vpc::Case load_case(const Options& o, const CLI::App& cmd, const CaseSource& src
   if (o.no_vtu) c.output.vtu = false;
   if (!o.contact_solver.empty()) c.solvers.contact = o.contact_solver;
   if (!o.damage_solver.empty()) c.solvers.damage = o.damage_solver;
+  c.solvers.memory_limit = o.memory_limit;
   if (given(cmd, "--tolerance")) {
     vpc::require(o.tolerance > 0, "--tolerance must be > 0 (got {})", o.tolerance);
     c.solvers.residual_tolerance = o.tolerance;
@@ -382,6 +384,9 @@ void add_case_options(CLI::App* cmd, Options& o) {
   cmd->add_option("--damage-solver", o.damage_solver, "active-set (default) or penalty-duality")
       ->check(CLI::IsMember({"active-set", "penalty-duality"}));
   cmd->add_option("--tolerance", o.tolerance, "largest relative KKT residual accepted at a step (default 1e-8)");
+  cmd->add_option("--memory-limit", o.memory_limit,
+                  "refuse a run estimated to need more memory, e.g. 8G (default: $VPCONTACT_MEMORY_LIMIT, else the "
+                  "memory available; 'unlimited': no check)");
   cmd->add_flag("-q,--quiet", o.quiet, "print nothing but errors");
 }
 

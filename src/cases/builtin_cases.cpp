@@ -132,9 +132,13 @@ Case block_3d(const CaseOverrides& o) {
 std::vector<std::string> builtin_case_names() { return {"paper-1d", "paper-2d", "block-3d"}; }
 
 Case make_builtin_case(const std::string& name, const CaseOverrides& o) {
-  if (name == "paper-1d") return paper_1d(o);
-  if (name == "paper-2d") return paper_2d(o);
-  if (name == "block-3d") return block_3d(o);
+  try {
+    if (name == "paper-1d") return paper_1d(o);
+    if (name == "paper-2d") return paper_2d(o);
+    if (name == "block-3d") return block_3d(o);
+  } catch (const Error& e) {
+    fail("{}{}: {}", name, o.mesh_cells ? fmt::format(" with n = {}", *o.mesh_cells) : "", e.what());
+  }
   fail("unknown case '{}'; built-in cases are: {}", name, fmt::join(builtin_case_names(), ", "));
 }
 

@@ -24,10 +24,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-/// The largest generated mesh (simplices): far beyond what a run can solve, and
-/// small enough to fail at once rather than exhaust memory or overflow int indices.
-constexpr int kMaxGeneratedCells = 10'000'000;
-
 /// Edit distance, for "did you mean".
 size_t edit_distance(const std::string& a, const std::string& b) {
   std::vector<size_t> row(b.size() + 1);
@@ -390,18 +386,18 @@ Mesh read_mesh(Section m, const fs::path& base_dir, const std::string& file) {
       if (n[a] < 1 || n[a] > 100000) fail("{}: expected between 1 and 100000 cells per direction, got {}", m.where("cells"), n[a]);
       if (!(hi[a] > lo[a])) fail("{}: expected upper > lower in every direction", m.where("upper"));
     }
-    // Simplices: 2 per square, 6 per cube. Checked before any memory is taken.
-    double n_cells = d == 1 ? 1 : (d == 2 ? 2 : 6);
-    for (int a = 0; a < d; ++a) n_cells *= n[a];
-    if (n_cells > kMaxGeneratedCells)
-      fail("{}: the mesh would have {:.0f} cells; at most {} are allowed (reduce cells)", m.where("cells"), n_cells,
-           kMaxGeneratedCells);
+    // How squares and cubes are cut (generators.hpp); an interval has nothing to cut.
+    if (d == 1 && m.has("diagonal"))
+      fail("{}: diagonal applies to the rectangle and box generators only", m.where("diagonal"));
+    const Diagonal diagonal = d == 1 ? Diagonal::right : diagonal_from_name(m.choice("diagonal", diagonal_names(), "right"));
+    // The generators check the mesh size (check_mesh_size) before allocating; the
+    // other checks above make the size the only thing they can refuse.
     try {
       if (d == 1) mesh = make_interval(lo[0], hi[0], n[0]);
-      if (d == 2) mesh = make_rectangle({lo[0], lo[1], 0}, {hi[0], hi[1], 0}, n[0], n[1]);
-      if (d == 3) mesh = make_box({lo[0], lo[1], lo[2]}, {hi[0], hi[1], hi[2]}, n[0], n[1], n[2]);
+      if (d == 2) mesh = make_rectangle({lo[0], lo[1], 0}, {hi[0], hi[1], 0}, n[0], n[1], diagonal);
+      if (d == 3) mesh = make_box({lo[0], lo[1], lo[2]}, {hi[0], hi[1], hi[2]}, n[0], n[1], n[2], diagonal);
     } catch (const Error& e) {
-      fail("{}: {}", m.where("generator"), e.what());
+      fail("{}: {}", m.where("cells"), e.what());
     }
   }
   // [[mesh.part]]: re-tag the boundary facets whose centroid satisfies a predicate.

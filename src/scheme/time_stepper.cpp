@@ -1,6 +1,7 @@
 #include "scheme/time_stepper.hpp"
 
 #include "core/error.hpp"
+#include "solvers/memory_estimate.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -61,6 +62,18 @@ TimeStepper::TimeStepper(std::shared_ptr<const Problem> problem, SolverChoice ch
   stage(fmt::format("factorization of K ({} x {}, {} nonzeros)", K_->rows(), K_->cols(), K_->nonZeros()));
   t1 = Clock::now();
   K_factor_ = make_cholmod_solver();
+  {
+    // Refuse a run that cannot fit before the costly factorizations (issue 11);
+    // the factors' sizes come from their symbolic analyses (K's is reused).
+    const double mesh_bytes = 24.0 * mesh.n_nodes() + 4.0 * mesh.cell_array().size() +
+                              (sizeof(CellGeometry) + 3.0 * sizeof(SymTensor)) * mesh.n_cells();
+    const double matrix_bytes = 12.0 * (K_->nonZeros() + M_.nonZeros() + laplacian_.nonZeros() + 2.0 * H.nonZeros());
+    check_memory(estimate_run_memory(mesh_bytes, matrix_bytes, K_factor_->analyze(*K_, "elastic stiffness K"),
+                                     estimate_cholmod_factor(H, "damage matrix H = M + k kappa A"),
+                                     choice_.damage == "active-set",
+                                     static_cast<double>(mesh.nodes_of_parts(p.contact.parts).size())),
+                 memory_limit(choice_.memory_limit), p.name);
+  }
   K_factor_->factorize(*K_, "elastic stiffness K");
   setup_timing_.factor_K = seconds_since(t1);
   stage("factorization of K", setup_timing_.factor_K);

@@ -1,7 +1,7 @@
 #pragma once
 // The narrow linear-algebra interface of the scheme: factorize a symmetric
 // positive definite matrix once, then solve many times. The serial backend is
-// CHOLMOD (supernodal, through Eigen); a distributed backend implements the same.
+// CHOLMOD (supernodal, cholmod_l_*); a distributed backend implements the same.
 #include <Eigen/Dense>
 #include <Eigen/Sparse>
 #include <algorithm>
@@ -12,11 +12,24 @@ namespace vpc {
 using SparseMatrix = Eigen::SparseMatrix<double>;
 using Vector = Eigen::VectorXd;
 
+/// The size of a Cholesky factor from the symbolic analysis alone (no numbers).
+struct FactorEstimate {
+  double rows = 0;             // n
+  double entries = 0;          // values in the factor
+  double factor_bytes = 0;     // values and integer structure, held until the solver goes
+  double workspace_bytes = 0;  // extra at the peak of the numeric factorization
+};
+
 class LinearSolver {
  public:
   virtual ~LinearSolver() = default;
+  /// Symbolic analysis of A (fill-reducing ordering and the factor's structure):
+  /// cheap next to factorize(), and says how large the factor will be. A following
+  /// factorize() of the same matrix (same `what`, same pattern) reuses it.
+  virtual FactorEstimate analyze(const SparseMatrix& A, const char* what) = 0;
   /// Factorizes A (symmetric positive definite; only the lower triangle is read).
-  /// Throws vpc::Error naming `what` if A is not positive definite.
+  /// Throws vpc::Error naming `what` (and A's size) if A is not positive definite
+  /// or the factorization fails (out of memory, too large).
   virtual void factorize(const SparseMatrix& A, const char* what) = 0;
   /// x = A⁻¹ b.
   virtual Vector solve(const Vector& b) const = 0;
@@ -44,7 +57,10 @@ inline int rhs_block_columns(Eigen::Index n, int most = 8) {
   return std::max(1, std::min(most, static_cast<int>(fit)));
 }
 
-/// CHOLMOD supernodal Cholesky.
+/// CHOLMOD supernodal Cholesky (64-bit integer interface).
 std::unique_ptr<LinearSolver> make_cholmod_solver();
+
+/// The size of CHOLMOD's factor of A, from its symbolic analysis only.
+FactorEstimate estimate_cholmod_factor(const SparseMatrix& A, const char* what);
 
 }  // namespace vpc
