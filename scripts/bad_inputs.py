@@ -11,6 +11,7 @@ with build-asan/app/vpcontact too).
 """
 import os
 import pathlib
+import resource
 import subprocess
 import sys
 import tempfile
@@ -114,7 +115,8 @@ def case(frm, to):
     return CASE.replace(frm, to, 1)
 
 
-# (what is wrong, {file name: content}, arguments of `vpcontact check`)
+# (what is wrong, {file name: content}, arguments of `vpcontact check`[, limits]); limits:
+# {"address_space": bytes} runs the command under that RLIMIT_AS.
 INPUTS = [
     # --- case files
     ("not a TOML file (binary)", {"c.toml": b"\x7fELF\x02\x01\x01\x00\x00"}, ["c.toml"]),
@@ -204,6 +206,17 @@ INPUTS = [
     # input is bad only in that --resume names a directory without checkpoints
     ("--resume DIR where DIR is a shell command (nothing is run)", {"x'; touch INJECTED; echo '/y": ""},
      ["run", "paper-1d", "--resume", "x'; touch INJECTED; echo '", "--plot"]),
+    # --- sizes (issue 11 items 2, 3): refused before allocating or factorizing, never a crash
+    ("--n far too large for a built-in case", {}, ["run", "block-3d", "--n", "100000", "-o", "out"]),
+    ("--n too large for a 2D built-in case", {}, ["paper-2d", "--n", "5000"]),
+    ("estimated memory above --memory-limit", {}, ["block-3d", "--n", "20", "--memory-limit", "50M"]),
+    ("--memory-limit that is not a size", {}, ["paper-1d", "--memory-limit", "lots"]),
+    ("CHOLMOD runs out of memory (address space limited to 400 MB)", {},
+     ["block-3d", "--n", "20", "--memory-limit", "unlimited"], {"address_space": 400_000_000}),
+    # --- contact data (items 4, 12)
+    ("contact direction pointing into the body", {"c.toml": case('gap = "0.001*x"', 'gap = "0.001*x"\ndirection = [0, 1]')},
+     ["c.toml"]),
+    ("gap formula that is not finite", {"c.toml": case('gap = "0.001*x"', 'gap = "sqrt(x - 10)"')}, ["c.toml"]),
     # --- at run time
     ("--resume from a folder without checkpoints", {"empty/x": ""},
      ["run", "paper-1d", "--resume", "empty", "--no-vtu"]),
@@ -216,7 +229,8 @@ INPUTS = [
 def main():
     vpcontact = os.path.abspath(sys.argv[1])
     rows, failures = [], []
-    for i, (what, files, args) in enumerate(INPUTS, 1):
+    for i, (what, files, args, *limits) in enumerate(INPUTS, 1):
+        address_space = limits[0].get("address_space") if limits else None
         with tempfile.TemporaryDirectory() as tmp:
             for name, content in files.items():
                 path = pathlib.Path(tmp) / name
@@ -226,7 +240,9 @@ def main():
                 args = ["check", *args]
             quiet = ["-q"] if args[0] in ("run", "check") else []
             p = subprocess.run([vpcontact, *args, *quiet], cwd=tmp, capture_output=True, text=True,
-                               errors="replace", timeout=300)
+                               errors="replace", timeout=300,
+                               preexec_fn=(lambda: resource.setrlimit(resource.RLIMIT_AS, (address_space,) * 2))
+                               if address_space else None)
             if (pathlib.Path(tmp) / "INJECTED").exists():
                 failures.append(f"{what}: a shell ran a command in a file name (INJECTED exists)")
         message = (p.stderr.strip() or p.stdout.strip()).splitlines()
