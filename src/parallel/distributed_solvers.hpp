@@ -1,6 +1,7 @@
 #pragma once
-// The two inequalities of a step on distributed vectors, with the algorithms,
-// tolerances and checks of the serial solvers (src/solvers/):
+// The contact inequality of a step on distributed vectors, with the algorithm,
+// tolerances and checks of the serial solver (src/solvers/); the damage inequality
+// is solved by the serial engine's solver over la/'s PETSc backend.
 //
 // DistributedContactSolver: (3.9) in dual form. S = N K⁻¹ Nᵀ (m × m, m the contact
 //   nodes) is formed once with the factor of K and kept on every rank; a step is
@@ -8,17 +9,11 @@
 //   the ranks, the serial dense active-set box QP (solvers/box_qp.hpp) on every
 //   rank (the same data, so the same λ), and u = u_free − Wλ with W = K⁻¹Nᵀ kept
 //   distributed (or a second solve when W would be too large).
-//
-// DistributedDamageSolver: (3.8), the primal–dual active-set method of
-//   solve_box_qp on distributed vectors: the active sets are distributed (each rank
-//   its own nodes), their agreement and the KKT residual are global reductions;
-//   H = M + kκA is factorized once, the reduced matrix H_FF only when the active
-//   set changes.
+
 #include "parallel/distributed_mesh.hpp"
 #include "parallel/petsc_linear_solver.hpp"
 #include "solvers/box_qp.hpp"
 #include "solvers/contact_solver.hpp"
-#include "solvers/damage_solver.hpp"
 
 #include <memory>
 #include <vector>
@@ -60,34 +55,6 @@ class DistributedContactSolver {
   PVec u_free_, work_, rhs_;
   static constexpr double kMaxWBytesPerRank = 256.0 * 1024 * 1024;
   static constexpr int kBlock = 64;  // right-hand sides per block when forming S
-};
-
-class DistributedDamageSolver {
- public:
-  /// H: the constant matrix M + kκA. Collective.
-  DistributedDamageSolver(MPI_Comm comm, Mat H, const PetscSolverOptions& linear);
-  /// β is the warm start on entry and the solution, exactly in [0, 1], on exit.
-  DamageReport solve(Vec rhs, Vec beta);
-  int n_factorizations() const { return full_.n_factorizations() + n_reduced_factorizations_; }
-
- private:
-  /// Global relative natural KKT residual (box_qp_kkt_residual) from Hx.
-  double kkt_residual(Vec Hx, Vec b, Vec x) const;
-  void solve_free(const std::vector<char>& fixed, Vec b, Vec x);
-
-  MPI_Comm comm_;
-  Mat H_;
-  PetscSolverOptions linear_;
-  PetscLinearSolver full_;
-  PVec diag_, Hx_, r_;
-  std::unique_ptr<PetscLinearSolver> reduced_;
-  PMat HFF_;
-  PVec rf_, xf_;
-  std::vector<char> mask_;
-  bool have_mask_ = false;
-  std::vector<PetscInt> free_local_;
-  long long n_free_global_ = 0;
-  int n_reduced_factorizations_ = 0;
 };
 
 }  // namespace vpc

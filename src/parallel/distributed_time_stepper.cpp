@@ -13,49 +13,6 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
-/// Adds the entries of a local matrix (rows and columns numbered locally) to a
-/// PETSc matrix at the global numbers l2g.
-void add_local_matrix(Mat A, const SparseMatrix& local, const std::vector<PetscInt>& l2g) {
-  std::vector<PetscInt> rows;
-  std::vector<PetscScalar> vals;
-  for (int j = 0; j < local.outerSize(); ++j) {
-    rows.clear();
-    vals.clear();
-    for (SparseMatrix::InnerIterator it(local, j); it; ++it) {
-      rows.push_back(l2g[it.row()]);
-      vals.push_back(it.value());
-    }
-    const PetscInt col = l2g[j];
-    VPC_PETSC(MatSetValues(A, static_cast<PetscInt>(rows.size()), rows.data(), 1, &col, vals.data(), ADD_VALUES));
-  }
-}
-
-/// The distributed sum of the ranks' local matrices: an MPIAIJ matrix with exact
-/// preallocation (MATPREALLOCATOR), marked symmetric positive definite.
-PMat assemble_global(MPI_Comm comm, const SparseMatrix& local, const std::vector<PetscInt>& l2g, PetscInt n_owned,
-                     PetscInt N, int block) {
-  PMat pre, A;
-  VPC_PETSC(MatCreate(comm, pre.out()));
-  VPC_PETSC(MatSetType(pre, MATPREALLOCATOR));
-  VPC_PETSC(MatSetSizes(pre, n_owned, n_owned, N, N));
-  VPC_PETSC(MatSetBlockSize(pre, block));
-  VPC_PETSC(MatSetUp(pre));
-  add_local_matrix(pre, local, l2g);
-  VPC_PETSC(MatAssemblyBegin(pre, MAT_FINAL_ASSEMBLY));
-  VPC_PETSC(MatAssemblyEnd(pre, MAT_FINAL_ASSEMBLY));
-  VPC_PETSC(MatCreate(comm, A.out()));
-  VPC_PETSC(MatSetType(A, MATAIJ));
-  VPC_PETSC(MatSetSizes(A, n_owned, n_owned, N, N));
-  VPC_PETSC(MatSetBlockSize(A, block));
-  VPC_PETSC(MatPreallocatorPreallocate(pre, PETSC_TRUE, A));
-  add_local_matrix(A, local, l2g);
-  VPC_PETSC(MatAssemblyBegin(A, MAT_FINAL_ASSEMBLY));
-  VPC_PETSC(MatAssemblyEnd(A, MAT_FINAL_ASSEMBLY));
-  VPC_PETSC(MatSetOption(A, MAT_SYMMETRIC, PETSC_TRUE));
-  VPC_PETSC(MatSetOption(A, MAT_SPD, PETSC_TRUE));
-  return A;
-}
-
 PVec ghosted(MPI_Comm comm, PetscInt n_owned, PetscInt N, const std::vector<PetscInt>& ghosts) {
   PVec v;
   VPC_PETSC(VecCreateGhost(comm, n_owned, N, static_cast<PetscInt>(ghosts.size()), ghosts.data(), v.out()));
@@ -109,6 +66,7 @@ DistributedTimeStepper::DistributedTimeStepper(std::shared_ptr<const Problem> pr
           choice_.contact, choice_.damage);
   require(choice_.max_halvings == 0, "the PETSc engine does not retry failed steps (--retry-halvings)");
   const MPI_Comm comm = part_.comm;
+  comm_ = la::make_mpi_comm(comm);
   const Mesh& mesh = part_.mesh;
   const int d = mesh.dim();
   require(part_.n_global_dofs > 0, "{}: every node is clamped; nothing to solve", p.name);
@@ -121,14 +79,17 @@ DistributedTimeStepper::DistributedTimeStepper(std::shared_ptr<const Problem> pr
   // Constant matrices: K of (3.9); M and H = M + kκA of (3.8); each rank adds its cells' part.
   stage("assembly");
   auto t1 = Clock::now();
+  std::unique_ptr<la::PetscOperator> H;
   {
     const SparseMatrix K_local = assemble_stiffness(mesh, geo_, p.elasticity, part_.dofs);
-    K_ = assemble_global(comm, K_local, part_.global_dof, part_.n_owned_dofs, part_.n_global_dofs, d);
+    K_ = std::make_unique<la::PetscOperator>(comm_, K_local, part_.global_dof, part_.n_owned_dofs,
+                                             part_.n_global_dofs, d);
     const SparseMatrix M_local = assemble_mass(mesh, geo_);
     const SparseMatrix A_local = assemble_laplacian(mesh, geo_);
-    M_ = assemble_global(comm, M_local, part_.global_node, part_.n_owned_nodes, part_.n_global_nodes, 1);
-    H_ = assemble_global(comm, SparseMatrix(M_local + (p.step() * p.kappa) * A_local), part_.global_node,
-                         part_.n_owned_nodes, part_.n_global_nodes, 1);
+    M_ = std::make_unique<la::PetscOperator>(comm_, M_local, part_.global_node, part_.n_owned_nodes,
+                                             part_.n_global_nodes, 1);
+    H = std::make_unique<la::PetscOperator>(comm_, SparseMatrix(M_local + (p.step() * p.kappa) * A_local),
+                                            part_.global_node, part_.n_owned_nodes, part_.n_global_nodes, 1);
   }
   setup_timing_.assembly = seconds_since(t1);
   stage("assembly", setup_timing_.assembly);
@@ -141,7 +102,7 @@ DistributedTimeStepper::DistributedTimeStepper(std::shared_ptr<const Problem> pr
     PetscHandle<MatNullSpace, MatNullSpaceDestroy> rigid;
     if (linear.kind == "cg-gamg") {
       PVec xyz;
-      VPC_PETSC(MatCreateVecs(K_, xyz.out(), nullptr));
+      VPC_PETSC(MatCreateVecs(K_->mat(), xyz.out(), nullptr));
       VPC_PETSC(VecSetBlockSize(xyz, d));
       PetscScalar* a = nullptr;
       VPC_PETSC(VecGetArray(xyz, &a));
@@ -153,27 +114,29 @@ DistributedTimeStepper::DistributedTimeStepper(std::shared_ptr<const Problem> pr
       VPC_PETSC(VecRestoreArray(xyz, &a));
       VPC_PETSC(MatNullSpaceCreateRigidBody(xyz, rigid.out()));
     }
-    K_solver_->factorize(K_, "elastic stiffness K", rigid.get());
+    K_solver_->factorize(K_->mat(), "elastic stiffness K", rigid.get());
   }
   setup_timing_.factor_K = seconds_since(t1);
   stage("factorization of K", setup_timing_.factor_K);
   stage(fmt::format("factorization of H ({} global nodes)", part_.n_global_nodes));
   t1 = Clock::now();
-  damage_ = std::make_unique<DistributedDamageSolver>(comm, H_, linear);
+  damage_ = make_active_set_damage_solver(std::move(H), la::petsc_factor_factory(comm_, linear), choice_.damage_reduced);
   setup_timing_.factor_H = seconds_since(t1);
   stage("factorization of H", setup_timing_.factor_H);
   stage("contact set-up");
   t1 = Clock::now();
-  contact_ = std::make_unique<DistributedContactSolver>(part_, K_, *K_solver_);
+  contact_ = std::make_unique<DistributedContactSolver>(part_, K_->mat(), *K_solver_);
   setup_timing_.contact = seconds_since(t1);
   stage("contact set-up", setup_timing_.contact);
 
   // Initial state (3.4): u0 = 0, σ0 = 0 (so z0 = 0), β0 = the P1 interpolant.
   state_.u = ghosted(comm, part_.n_owned_dofs, part_.n_global_dofs, part_.ghost_dofs());
-  state_.beta = ghosted(comm, part_.n_owned_nodes, part_.n_global_nodes, part_.ghost_nodes());
+  const auto nodes = std::make_shared<const la::Layout>(
+      comm_, part_.n_owned_nodes, std::vector<long long>(part_.global_node.begin() + part_.n_owned_nodes, part_.global_node.end()),
+      std::vector<long long>(part_.original_node.begin(), part_.original_node.begin() + part_.n_owned_nodes));
+  state_.beta = la::Vector(nodes);
+  fphi_ = la::Vector(nodes);
   VPC_PETSC(VecDuplicate(state_.u, F_.out()));
-  VPC_PETSC(VecDuplicate(state_.beta, rhs_.out()));
-  VPC_PETSC(VecDuplicate(state_.beta, fphi_.out()));
   Vector beta0(mesh.n_nodes());
   for (int i = 0; i < mesh.n_nodes(); ++i) {
     const double b = p.beta0 ? p.beta0(mesh.node(i), 0.0) : 1.0;
@@ -182,15 +145,7 @@ DistributedTimeStepper::DistributedTimeStepper(std::shared_ptr<const Problem> pr
             part_.original_node[i], mesh.node(i)[0], mesh.node(i)[1], mesh.node(i)[2]);
     beta0[i] = b;
   }
-  {
-    Vec lv = nullptr;
-    VPC_PETSC(VecGhostGetLocalForm(state_.beta, &lv));
-    PetscScalar* a = nullptr;
-    VPC_PETSC(VecGetArray(lv, &a));
-    std::copy(beta0.data(), beta0.data() + beta0.size(), a);
-    VPC_PETSC(VecRestoreArray(lv, &a));
-    VPC_PETSC(VecGhostRestoreLocalForm(state_.beta, &lv));
-  }
+  state_.beta.local() = beta0;
   state_.sigma.assign(mesh.n_cells(), SymTensor{});
   state_.eps.assign(mesh.n_cells(), SymTensor{});
   state_.z.assign(mesh.n_cells(), SymTensor{});
@@ -221,7 +176,7 @@ void DistributedTimeStepper::restore(int n, double t, const Vector& u_nodes, con
     VPC_PETSC(VecGhostRestoreLocalForm(v, &lv));
   };
   set_local_form(state_.u, restrict_to_free(part_.dofs, u_nodes));
-  set_local_form(state_.beta, beta_nodes);
+  state_.beta.local() = beta_nodes;
   state_.sigma = std::move(sigma);
   state_.eps = std::move(eps);
   state_.z = std::move(z);
@@ -232,7 +187,7 @@ void DistributedTimeStepper::restore(int n, double t, const Vector& u_nodes, con
 
 Vector DistributedTimeStepper::local_u() const { return extend_from_free(part_.dofs, ghosted_local(state_.u)); }
 
-Vector DistributedTimeStepper::local_beta() const { return ghosted_local(state_.beta); }
+Vector DistributedTimeStepper::local_beta() const { return state_.beta.local(); }
 
 StepReport DistributedTimeStepper::step() {
   require(!done(), "{}: the run is already at the final time", problem_->name);
@@ -262,11 +217,14 @@ StepReport DistributedTimeStepper::step() {
 
   // Step 2: damage (3.8): the box QP with H = M + kκA, r = M β_{n−1} + k F_φ.
   t0 = Clock::now();
-  assemble_ghosted(fphi_, assemble_p0_source(mesh, geo_, phi));
-  VPC_PETSC(MatMult(M_, state_.beta, rhs_));
-  VPC_PETSC(VecAXPY(rhs_, k, fphi_));
-  rep.damage = damage_->solve(rhs_, state_.beta);
-  update_ghosts(state_.beta);
+  fphi_.local() = assemble_p0_source(mesh, geo_, phi);
+  fphi_.add_ghosts_to_owners();
+  Vector rhs, beta = state_.beta.owned();
+  M_->mult(beta, rhs);
+  rhs += k * fphi_.owned();
+  rep.damage = damage_->solve(rhs, beta);
+  state_.beta.owned() = beta;
+  state_.beta.update_ghosts();
   rep.seconds_damage = seconds_since(t0);
 
   // Step 3: history (3.6): z_n = z_{n−1} + k G_{n−1}.
@@ -312,9 +270,9 @@ StepReport DistributedTimeStepper::step() {
   state_.t = rep.t;
   state_.n = n;
 
-  PetscReal nu = 0, nb = 0;
+  PetscReal nu = 0;
   VPC_PETSC(VecNorm(state_.u, NORM_2, &nu));
-  VPC_PETSC(VecNorm(state_.beta, NORM_2, &nb));
+  const double nb = comm_.sum(state_.beta.owned().squaredNorm());
   const double tol = choice_.residual_tolerance;
   rep.ok = rep.contact.converged && rep.damage.converged && rep.contact.residuals.max() <= tol &&
            rep.damage.kkt_residual <= tol && std::isfinite(nu) && std::isfinite(nb);

@@ -3,9 +3,12 @@
 // five steps of TimeStepper::advance, with the elementwise work (G, φ, z, ε, σ)
 // on each rank's own cells, the global vectors and matrices in PETSc (ghosted
 // vectors carry the values of the ghost layer) and the two inequalities solved
-// by DistributedContactSolver and DistributedDamageSolver.
+// by DistributedContactSolver and the damage solver of the serial engine over the
+// PETSc backend of la/ (solvers/damage_solver.hpp).
 #include "fem/cell_geometry.hpp"
 #include "parallel/distributed_mesh.hpp"
+#include "la/petsc.hpp"
+#include "la/vector.hpp"
 #include "parallel/distributed_solvers.hpp"
 #include "scheme/problem.hpp"
 #include "scheme/time_stepper.hpp"
@@ -15,13 +18,14 @@
 
 namespace vpc {
 
-/// The distributed state: u on the free dofs and β on the nodes as ghosted PETSc
-/// vectors (global numbering of DistributedMesh), σ, ε, z on the owned cells,
-/// λ (all contact nodes) on every rank.
+/// The distributed state: u on the free dofs as a ghosted PETSc vector and β on
+/// the nodes as an la::Vector (global numbering of DistributedMesh), σ, ε, z on
+/// the owned cells, λ (all contact nodes) on every rank.
 struct DistributedState {
   int n = 0;
   double t = 0;
-  PVec u, beta;
+  PVec u;
+  la::Vector beta;
   std::vector<SymTensor> sigma, eps, z;
   Vector lambda;
 };
@@ -58,11 +62,13 @@ class DistributedTimeStepper {
   SolverChoice choice_;
   std::vector<CellGeometry> geo_;
   std::vector<int> traction_facets_;
-  PMat K_, M_, H_;
-  PVec F_, rhs_, fphi_;
+  la::Comm comm_;
+  std::unique_ptr<la::PetscOperator> K_, M_;
+  PVec F_;
+  la::Vector fphi_;
   std::unique_ptr<PetscLinearSolver> K_solver_;
   std::unique_ptr<DistributedContactSolver> contact_;
-  std::unique_ptr<DistributedDamageSolver> damage_;
+  std::unique_ptr<DamageSolver> damage_;
   DistributedState state_;
   SetupTiming setup_timing_;
 };

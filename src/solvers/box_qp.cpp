@@ -33,28 +33,38 @@ void DenseBoxQpOperator::solve_free(const std::vector<char>& fixed, const Vector
   for (int a = 0; a < nf; ++a) x[F[a]] = xf[a];
 }
 
-SparseBoxQpOperator::SparseBoxQpOperator(SparseMatrix H, ReducedSolve method)
-    : H_(std::move(H)),
-      diag_(H_.diagonal()),
-      method_(method),
-      full_(make_cholmod_solver()),
-      reduced_(make_cholmod_solver()) {
+const la::Comm& BoxQpOperator::comm() const {
+  static const la::Comm one_process;
+  return one_process;
+}
+
+SparseBoxQpOperator::SparseBoxQpOperator(std::unique_ptr<la::SpdOperator> H, const la::FactorFactory& make_factor,
+                                         ReducedSolve method)
+    : H_(std::move(H)), diag_(H_->diagonal()), method_(method), full_(make_factor("H")), reduced_(make_factor("H_reduced")) {
+  require(method_ != ReducedSolve::capacitance || full_->has_halves(),
+          "damage: reduced = \"capacitance\" needs a factor with triangular halves (CHOLMOD); this linear solver "
+          "has none (use \"automatic\" or \"reduced-factor\")");
+  if (!full_->has_halves()) method_ = ReducedSolve::reduced_factor;
   auto t0 = std::chrono::steady_clock::now();
-  full_->factorize(H_, "box QP matrix");
+  full_->factorize(*H_, "box QP matrix");
   auto t1 = std::chrono::steady_clock::now();
-  (void)full_->forward(Eigen::MatrixXd::Ones(size(), 1));
+  if (full_->has_halves()) (void)full_->forward(Eigen::MatrixXd::Ones(size(), 1));
   auto t2 = std::chrono::steady_clock::now();
   seconds_factor_ = std::chrono::duration<double>(t1 - t0).count();
   seconds_forward_ = std::chrono::duration<double>(t2 - t1).count();
 }
 
+SparseBoxQpOperator::SparseBoxQpOperator(SparseMatrix H, ReducedSolve method)
+    : SparseBoxQpOperator(std::make_unique<la::SparseOperator>(std::move(H)), [](const std::string& name) { return la::make_cholmod_factor(name); }, method) {}
+
 void SparseBoxQpOperator::solve_free(const std::vector<char>& fixed, const Vector& b, Vector& x) {
   std::vector<int> active;
   for (int i = 0; i < size(); ++i)
     if (fixed[i]) active.push_back(i);
-  if (active.empty()) {
-    x = full_->solve(b);
-  } else if (static_cast<int>(active.size()) == size()) {
+  const la::Comm& comm = H_->comm();
+  if (comm.all(active.empty())) {
+    full_->solve(b, x);
+  } else if (comm.all(static_cast<int>(active.size()) == size())) {
     return;  // nothing free
   } else if (use_capacitance(active)) {
     solve_capacitance(active, b, x);
@@ -128,58 +138,55 @@ void SparseBoxQpOperator::solve_reduced_factor(const std::vector<char>& fixed, c
   Vector xa = Vector::Zero(n);
   for (int i = 0; i < n; ++i)
     if (fixed[i]) xa[i] = x[i];
-  const Vector r = b - H_ * xa;
-  if (fixed != reduced_mask_) {
+  Vector r;
+  H_->residual(b, xa, r);
+  if (H_->comm().any(fixed != reduced_mask_)) {
     // The active set changed: factor H_FF (only then; it is reused while A repeats).
     free_ids_.clear();
-    std::vector<int> pos(n, -1);
     for (int i = 0; i < n; ++i)
-      if (!fixed[i]) {
-        pos[i] = static_cast<int>(free_ids_.size());
-        free_ids_.push_back(i);
-      }
-    std::vector<Eigen::Triplet<double>> t;
-    for (int k = 0; k < H_.outerSize(); ++k)
-      for (SparseMatrix::InnerIterator it(H_, k); it; ++it)
-        if (pos[it.row()] >= 0 && pos[it.col()] >= 0) t.emplace_back(pos[it.row()], pos[it.col()], it.value());
-    SparseMatrix HFF(static_cast<Eigen::Index>(free_ids_.size()), static_cast<Eigen::Index>(free_ids_.size()));
-    HFF.setFromTriplets(t.begin(), t.end());
-    reduced_->factorize(HFF, "reduced box QP matrix");
+      if (!fixed[i]) free_ids_.push_back(i);
+    HFF_ = H_->restrict_to_free(fixed);
+    reduced_->factorize(*HFF_, "reduced box QP matrix");
     reduced_mask_ = fixed;
   }
-  Vector rf(static_cast<Eigen::Index>(free_ids_.size()));
-  for (size_t a = 0; a < free_ids_.size(); ++a) rf[a] = r[free_ids_[a]];
-  const Vector xf = reduced_->solve(rf);
+  Vector rf(static_cast<Eigen::Index>(free_ids_.size())), xf(rf.size());
+  for (size_t a = 0; a < free_ids_.size(); ++a) {
+    rf[a] = r[free_ids_[a]];
+    xf[a] = x[free_ids_[a]];  // an iterative solver's initial guess
+  }
+  reduced_->solve(rf, xf);
   for (size_t a = 0; a < free_ids_.size(); ++a) x[free_ids_[a]] = xf[a];
   ++n_reduced_factor_;
 }
 
 double box_qp_kkt_residual(const BoxQpOperator& H, const Vector& b, const Vector& lo, const Vector& hi,
                            const Vector& x) {
-  return box_qp_kkt_residual(H.multiply(x), H.diagonal(), b, lo, hi, x);
+  return box_qp_kkt_residual(H.multiply(x), H.diagonal(), b, lo, hi, x, H.comm());
 }
 
 double box_qp_kkt_residual(const Vector& Hx, const Vector& d, const Vector& b, const Vector& lo,
-                           const Vector& hi, const Vector& x) {
-  if (x.size() == 0) return 0;
+                           const Vector& hi, const Vector& x, const la::Comm& comm) {
   const Vector r = b - Hx;
   // NaN compares false: without this, max(res, NaN) would report a NaN iterate as exact.
-  if (!r.allFinite() || !x.allFinite()) return std::numeric_limits<double>::infinity();
-  double res = 0, scale = x.cwiseAbs().maxCoeff();
+  if (!comm.all(r.allFinite() && x.allFinite())) return std::numeric_limits<double>::infinity();
+  double res = 0, scale = x.size() > 0 ? x.cwiseAbs().maxCoeff() : 0.0;
   for (int i = 0; i < x.size(); ++i) {
     const double p = std::clamp(x[i] + r[i] / d[i], lo[i], hi[i]);
     res = std::max(res, std::abs(x[i] - p));
     scale = std::max(scale, std::abs(b[i] / d[i]));
   }
+  res = comm.max(res);
+  scale = comm.max(scale);
   return scale > 0 ? res / scale : res;
 }
 
 BoxQpResult solve_box_qp(BoxQpOperator& H, const Vector& b, const Vector& lo, const Vector& hi, Vector& x,
                          int max_iterations) {
   const int n = H.size();
+  const la::Comm& comm = H.comm();
   BoxQpResult res;
   if (x.size() != n) x = Vector::Zero(n);
-  if (!b.allFinite()) {  // NaN or Inf data (e.g. a formula): report, never "solve"
+  if (!comm.all(b.allFinite())) {  // NaN or Inf data (e.g. a formula): report, never "solve"
     res.kkt_residual = std::numeric_limits<double>::infinity();
     return res;
   }
@@ -200,7 +207,7 @@ BoxQpResult solve_box_qp(BoxQpOperator& H, const Vector& b, const Vector& lo, co
     // Converged when the active sets repeat, or when x already satisfies KKT to
     // round-off: at a degenerate bound (multiplier exactly 0) round-off could
     // otherwise flip an index between two equivalent sets forever.
-    if (next == state || box_qp_kkt_residual(Vector(b - r), d, b, lo, hi, x) <= kRoundoff) {
+    if (comm.all(next == state) || box_qp_kkt_residual(Vector(b - r), d, b, lo, hi, x, comm) <= kRoundoff) {
       res.converged = true;
       break;
     }
@@ -213,11 +220,15 @@ BoxQpResult solve_box_qp(BoxQpOperator& H, const Vector& b, const Vector& lo, co
     H.solve_free(fixed, b, x);
   }
   // Free components may sit a round-off outside the box; the bounds are exact.
+  long long at_bounds[2] = {0, 0};
   for (int i = 0; i < n; ++i) {
     x[i] = std::clamp(x[i], lo[i], hi[i]);
-    res.n_lower += x[i] == lo[i];
-    res.n_upper += x[i] == hi[i];
+    at_bounds[0] += x[i] == lo[i];
+    at_bounds[1] += x[i] == hi[i];
   }
+  comm.sum(at_bounds, 2);
+  res.n_lower = static_cast<int>(at_bounds[0]);
+  res.n_upper = static_cast<int>(at_bounds[1]);
   res.kkt_residual = box_qp_kkt_residual(H, b, lo, hi, x);
   return res;
 }

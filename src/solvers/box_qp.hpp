@@ -5,11 +5,18 @@
 // on the KKT system). The damage inequality (3.8) is one (H = M + kκA, bounds
 // [0, 1]); the dual of the contact inequality (3.9) is another (H = N K⁻¹ Nᵀ,
 // bounds [0, ∞)). The operator hides how the reduced systems are solved.
+//
+// Written once for one process and for many (la/): vectors are a rank's owned
+// entries, the active sets are local to each rank, and every decision (the sets
+// repeat, the KKT residual, nothing fixed) is a reduction over the operator's
+// communicator, trivial on one process. A dense operator is replicated: each
+// rank solves the same small problem and needs no reduction.
 #include <Eigen/Dense>
 #include <Eigen/Sparse>
 #include <memory>
 #include <vector>
 
+#include "la/factor.hpp"
 #include "solvers/linear_solver.hpp"
 
 namespace vpc {
@@ -17,6 +24,9 @@ namespace vpc {
 class BoxQpOperator {
  public:
   virtual ~BoxQpOperator() = default;
+  /// Where the entries live: one process unless a distributed operator says otherwise.
+  virtual const la::Comm& comm() const;
+  /// Entries on this rank.
   virtual int size() const = 0;
   virtual Vector multiply(const Vector& x) const = 0;
   virtual const Vector& diagonal() const = 0;
@@ -54,13 +64,23 @@ enum class ReducedSolve {
   reduced_factor,
 };
 
-/// H sparse and constant over a run: the factor of H is computed once; reduced
-/// systems use it (capacitance) or a factor of H_FF made when the active set changes.
+/// H sparse (an la::SpdOperator, serial or distributed) and constant over a run:
+/// its factor is computed once; reduced systems use it (capacitance, when the
+/// factor has triangular halves) or a factor of H_FF made when the active set changes.
 class SparseBoxQpOperator final : public BoxQpOperator {
  public:
+  /// `make_factor` makes the factors of H and of the H_FF (a backend's la::Factor).
+  SparseBoxQpOperator(std::unique_ptr<la::SpdOperator> H, const la::FactorFactory& make_factor,
+                      ReducedSolve method = ReducedSolve::automatic);
+  /// One process: H in Eigen, factors by CHOLMOD.
   explicit SparseBoxQpOperator(SparseMatrix H, ReducedSolve method = ReducedSolve::automatic);
-  int size() const override { return static_cast<int>(H_.rows()); }
-  Vector multiply(const Vector& x) const override { return H_ * x; }
+  const la::Comm& comm() const override { return H_->comm(); }
+  int size() const override { return H_->n_owned(); }
+  Vector multiply(const Vector& x) const override {
+    Vector y;
+    H_->mult(x, y);
+    return y;
+  }
   const Vector& diagonal() const override { return diag_; }
   void solve_free(const std::vector<char>& fixed, const Vector& b, Vector& x) override;
   /// Factorizations done (full + reduced), for reports.
@@ -81,10 +101,10 @@ class SparseBoxQpOperator final : public BoxQpOperator {
   void solve_capacitance(const std::vector<int>& active, const Vector& b, Vector& x);
   void solve_reduced_factor(const std::vector<char>& fixed, const Vector& b, Vector& x);
 
-  SparseMatrix H_;
+  std::unique_ptr<la::SpdOperator> H_, HFF_;
   Vector diag_;
   ReducedSolve method_;
-  std::unique_ptr<LinearSolver> full_, reduced_;
+  std::unique_ptr<la::Factor> full_, reduced_;
   std::vector<char> reduced_mask_;
   std::vector<int> free_ids_;
   // Capacitance: columns L⁻¹P e_i of the indices active so far, and the Cholesky
@@ -116,11 +136,11 @@ BoxQpResult solve_box_qp(BoxQpOperator& H, const Vector& b, const Vector& lo, co
 
 /// Relative natural residual of the KKT conditions, ‖x − P(x + D⁻¹(b − Hx))‖∞ / scale,
 /// D = diag(H), P the projection onto the box, scale = max(‖x‖∞, ‖D⁻¹b‖∞). It is zero
-/// iff x solves the QP; it also measures bound violation.
+/// iff x solves the QP; it also measures bound violation. Collective over H.comm().
 double box_qp_kkt_residual(const BoxQpOperator& H, const Vector& b, const Vector& lo, const Vector& hi,
                            const Vector& x);
-/// The same residual from Hx and diag(H).
+/// The same residual from Hx and diag(H) (this rank's entries; maxima over `comm`).
 double box_qp_kkt_residual(const Vector& Hx, const Vector& diag, const Vector& b, const Vector& lo,
-                           const Vector& hi, const Vector& x);
+                           const Vector& hi, const Vector& x, const la::Comm& comm = {});
 
 }  // namespace vpc

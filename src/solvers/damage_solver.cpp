@@ -14,6 +14,8 @@ namespace {
 class ActiveSetDamageSolver final : public DamageSolver {
  public:
   ActiveSetDamageSolver(const SparseMatrix& H, ReducedSolve reduced) : op_(H, reduced) {}
+  ActiveSetDamageSolver(std::unique_ptr<la::SpdOperator> H, const la::FactorFactory& make_factor, ReducedSolve reduced)
+      : op_(std::move(H), make_factor, reduced) {}
   DamageReport solve(const Vector& rhs, Vector& beta) override {
     const int n = op_.size();
     const BoxQpResult r = solve_box_qp(op_, rhs, Vector::Zero(n), Vector::Ones(n), beta);
@@ -103,6 +105,12 @@ std::unique_ptr<DamageSolver> make_damage_solver(const std::string& name, const 
   if (name == "active-set") return std::make_unique<ActiveSetDamageSolver>(H, reduced);
   if (name == "penalty-duality") return std::make_unique<PenaltyDualityDamageSolver>(H, tolerance, max_iterations);
   fail("unknown damage solver '{}'; expected active-set or penalty-duality", name);
+}
+
+std::unique_ptr<DamageSolver> make_active_set_damage_solver(std::unique_ptr<la::SpdOperator> H,
+                                                            const la::FactorFactory& make_factor,
+                                                            ReducedSolve reduced) {
+  return std::make_unique<ActiveSetDamageSolver>(std::move(H), make_factor, reduced);
 }
 
 }  // namespace vpc

@@ -40,4 +40,10 @@ std::unique_ptr<DamageSolver> make_damage_solver(const std::string& name, const 
                                                  double tolerance = 1e-13, int max_iterations = 200000,
                                                  ReducedSolve reduced = ReducedSolve::automatic);
 
+/// The active-set solver over a backend's operator H (owned rows of this rank)
+/// and factors (la/): the same algorithm on one process and on many.
+std::unique_ptr<DamageSolver> make_active_set_damage_solver(std::unique_ptr<la::SpdOperator> H,
+                                                            const la::FactorFactory& make_factor,
+                                                            ReducedSolve reduced = ReducedSolve::automatic);
+
 }  // namespace vpc

@@ -1,0 +1,79 @@
+#pragma once
+// The communicator of the linear-algebra layer: the few collective operations
+// that differ between one process and many. A default Comm is one process: every
+// operation is an inline identity, so the serial build carries no MPI symbol and
+// pays one predictable branch. A distributed Comm (la/mpi_comm.hpp, PETSc build)
+// forwards them to MPI through CommBackend. The pattern is MFEM's: one algorithm,
+// whose only MPI hook is a reduction after a local computation.
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace vpc::la {
+
+/// The collectives of a communicator of several processes.
+class CommBackend {
+ public:
+  virtual ~CommBackend() = default;
+  virtual int rank() const = 0;
+  virtual int size() const = 0;
+  /// Element-wise sums over the ranks, in place.
+  virtual void sum(double* v, int n) const = 0;
+  virtual void sum(long long* v, int n) const = 0;
+  virtual double max(double v) const = 0;
+  virtual double min(double v) const = 0;
+  /// Every rank's value, in rank order.
+  virtual std::vector<long long> all_gather(long long v) const = 0;
+  /// Sends to_rank[r] to rank r; returns what each rank sent to this one.
+  virtual std::vector<std::vector<double>> exchange(const std::vector<std::vector<double>>& to_rank) const = 0;
+  virtual std::vector<std::vector<long long>> exchange(const std::vector<std::vector<long long>>& to_rank) const = 0;
+  /// The message of the lowest rank with failed set, on every rank ("" when none failed).
+  virtual std::string first_failure(bool failed, const std::string& message) const = 0;
+};
+
+class Comm {
+ public:
+  /// One process.
+  Comm() = default;
+  explicit Comm(std::shared_ptr<const CommBackend> backend) : b_(std::move(backend)) {}
+
+  bool serial() const { return !b_; }
+  const CommBackend* backend() const { return b_.get(); }
+  int rank() const { return b_ ? b_->rank() : 0; }
+  int size() const { return b_ ? b_->size() : 1; }
+
+  double sum(double v) const {
+    if (b_) b_->sum(&v, 1);
+    return v;
+  }
+  long long sum(long long v) const {
+    if (b_) b_->sum(&v, 1);
+    return v;
+  }
+  void sum(double* v, int n) const {
+    if (b_ && n > 0) b_->sum(v, n);
+  }
+  void sum(long long* v, int n) const {
+    if (b_ && n > 0) b_->sum(v, n);
+  }
+  double max(double v) const { return b_ ? b_->max(v) : v; }
+  double min(double v) const { return b_ ? b_->min(v) : v; }
+  /// v holds on every rank.
+  bool all(bool v) const { return b_ ? b_->min(v ? 1.0 : 0.0) > 0 : v; }
+  /// v holds on some rank.
+  bool any(bool v) const { return b_ ? b_->max(v ? 1.0 : 0.0) > 0 : v; }
+  std::vector<long long> all_gather(long long v) const { return b_ ? b_->all_gather(v) : std::vector<long long>{v}; }
+  template <typename T>
+  std::vector<std::vector<T>> exchange(const std::vector<std::vector<T>>& to_rank) const {
+    return b_ ? b_->exchange(to_rank) : to_rank;
+  }
+  /// Collective: when `failed` holds on some rank, every rank throws the same
+  /// vpc::Error, with the message of the lowest such rank (no rank left waiting
+  /// in a later collective for one that threw).
+  void throw_if_any(bool failed, const std::string& message) const;
+
+ private:
+  std::shared_ptr<const CommBackend> b_;
+};
+
+}  // namespace vpc::la

@@ -1,0 +1,20 @@
+#include "la/operator.hpp"
+
+namespace vpc::la {
+
+std::unique_ptr<SpdOperator> SparseOperator::restrict_to_free(const std::vector<char>& fixed) const {
+  const int n = n_owned();
+  std::vector<int> pos(n, -1);
+  int n_free = 0;
+  for (int i = 0; i < n; ++i)
+    if (!fixed[i]) pos[i] = n_free++;
+  std::vector<Eigen::Triplet<double>> t;
+  for (int k = 0; k < A_.outerSize(); ++k)
+    for (Eigen::SparseMatrix<double>::InnerIterator it(A_, k); it; ++it)
+      if (pos[it.row()] >= 0 && pos[it.col()] >= 0) t.emplace_back(pos[it.row()], pos[it.col()], it.value());
+  Eigen::SparseMatrix<double> AFF(n_free, n_free);
+  AFF.setFromTriplets(t.begin(), t.end());
+  return std::make_unique<SparseOperator>(std::move(AFF));
+}
+
+}  // namespace vpc::la

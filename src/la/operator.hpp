@@ -1,0 +1,49 @@
+#pragma once
+// A symmetric positive definite operator over the owned entries of a Layout,
+// assembled from the ranks' local contributions: the serial backend is an
+// Eigen::SparseMatrix (SparseOperator, below), the PETSc backend an MPIAIJ
+// matrix (la/petsc.hpp). Vectors here are the owned entries.
+#include "la/comm.hpp"
+
+#include <Eigen/Dense>
+#include <Eigen/Sparse>
+#include <memory>
+#include <vector>
+
+namespace vpc::la {
+
+class SpdOperator {
+ public:
+  virtual ~SpdOperator() = default;
+  virtual const Comm& comm() const = 0;
+  /// Rows owned by this rank.
+  virtual int n_owned() const = 0;
+  /// y = A x.
+  virtual void mult(const Eigen::VectorXd& x, Eigen::VectorXd& y) const = 0;
+  /// r = b − A x.
+  virtual void residual(const Eigen::VectorXd& b, const Eigen::VectorXd& x, Eigen::VectorXd& r) const = 0;
+  virtual Eigen::VectorXd diagonal() const = 0;
+  /// A_FF, F = the owned rows i with fixed[i] == 0, renumbered in order (collective).
+  virtual std::unique_ptr<SpdOperator> restrict_to_free(const std::vector<char>& fixed) const = 0;
+};
+
+/// One process: the whole matrix.
+class SparseOperator final : public SpdOperator {
+ public:
+  explicit SparseOperator(Eigen::SparseMatrix<double> A) : A_(std::move(A)) {}
+  const Comm& comm() const override { return comm_; }
+  int n_owned() const override { return static_cast<int>(A_.rows()); }
+  void mult(const Eigen::VectorXd& x, Eigen::VectorXd& y) const override { y = A_ * x; }
+  void residual(const Eigen::VectorXd& b, const Eigen::VectorXd& x, Eigen::VectorXd& r) const override {
+    r = b - A_ * x;
+  }
+  Eigen::VectorXd diagonal() const override { return A_.diagonal(); }
+  std::unique_ptr<SpdOperator> restrict_to_free(const std::vector<char>& fixed) const override;
+  const Eigen::SparseMatrix<double>& matrix() const { return A_; }
+
+ private:
+  Comm comm_;
+  Eigen::SparseMatrix<double> A_;
+};
+
+}  // namespace vpc::la

@@ -1,0 +1,214 @@
+#include "la/petsc.hpp"
+
+#include <numeric>
+
+namespace vpc::la {
+
+namespace {
+
+class MpiComm final : public CommBackend {
+ public:
+  explicit MpiComm(MPI_Comm comm) : comm_(comm) {}
+  MPI_Comm mpi() const { return comm_; }
+  int rank() const override { return comm_rank(comm_); }
+  int size() const override { return comm_size(comm_); }
+  void sum(double* v, int n) const override { MPI_Allreduce(MPI_IN_PLACE, v, n, MPI_DOUBLE, MPI_SUM, comm_); }
+  void sum(long long* v, int n) const override {
+    MPI_Allreduce(MPI_IN_PLACE, v, n, MPI_LONG_LONG, MPI_SUM, comm_);
+  }
+  double max(double v) const override { return allreduce_max(comm_, v); }
+  double min(double v) const override { return allreduce_min(comm_, v); }
+  std::vector<long long> all_gather(long long v) const override {
+    std::vector<long long> all(size());
+    MPI_Allgather(&v, 1, MPI_LONG_LONG, all.data(), 1, MPI_LONG_LONG, comm_);
+    return all;
+  }
+  std::vector<std::vector<double>> exchange(const std::vector<std::vector<double>>& to) const override {
+    return exchange_as(to, MPI_DOUBLE);
+  }
+  std::vector<std::vector<long long>> exchange(const std::vector<std::vector<long long>>& to) const override {
+    return exchange_as(to, MPI_LONG_LONG);
+  }
+  std::string first_failure(bool failed, const std::string& message) const override {
+    int first = failed ? rank() : size();
+    MPI_Allreduce(MPI_IN_PLACE, &first, 1, MPI_INT, MPI_MIN, comm_);
+    if (first == size()) return {};
+    int n = static_cast<int>(message.size());
+    MPI_Bcast(&n, 1, MPI_INT, first, comm_);
+    std::string text = rank() == first ? message : std::string(static_cast<size_t>(n), ' ');
+    MPI_Bcast(text.data(), n, MPI_CHAR, first, comm_);
+    return text;
+  }
+
+ private:
+  template <typename T>
+  std::vector<std::vector<T>> exchange_as(const std::vector<std::vector<T>>& to, MPI_Datatype type) const {
+    const int p = size();
+    std::vector<int> n_send(p), n_recv(p), at_send(p), at_recv(p);
+    for (int r = 0; r < p; ++r) n_send[r] = static_cast<int>(to[r].size());
+    MPI_Alltoall(n_send.data(), 1, MPI_INT, n_recv.data(), 1, MPI_INT, comm_);
+    std::exclusive_scan(n_send.begin(), n_send.end(), at_send.begin(), 0);
+    std::exclusive_scan(n_recv.begin(), n_recv.end(), at_recv.begin(), 0);
+    std::vector<T> send, recv(static_cast<size_t>(at_recv[p - 1] + n_recv[p - 1]));
+    for (const auto& v : to) send.insert(send.end(), v.begin(), v.end());
+    MPI_Alltoallv(send.data(), n_send.data(), at_send.data(), type, recv.data(), n_recv.data(), at_recv.data(), type,
+                  comm_);
+    std::vector<std::vector<T>> from(p);
+    for (int r = 0; r < p; ++r) from[r].assign(recv.begin() + at_recv[r], recv.begin() + at_recv[r] + n_recv[r]);
+    return from;
+  }
+  MPI_Comm comm_;
+};
+
+MPI_Comm mpi_of(const Comm& comm) {
+  const auto* b = dynamic_cast<const MpiComm*>(comm.backend());
+  return b ? b->mpi() : PETSC_COMM_SELF;
+}
+
+void add_local_matrix(Mat A, const Eigen::SparseMatrix<double>& local, const std::vector<PetscInt>& l2g) {
+  std::vector<PetscInt> rows;
+  std::vector<PetscScalar> vals;
+  for (int j = 0; j < local.outerSize(); ++j) {
+    rows.clear();
+    vals.clear();
+    for (Eigen::SparseMatrix<double>::InnerIterator it(local, j); it; ++it) {
+      rows.push_back(l2g[it.row()]);
+      vals.push_back(it.value());
+    }
+    const PetscInt col = l2g[j];
+    VPC_PETSC(MatSetValues(A, static_cast<PetscInt>(rows.size()), rows.data(), 1, &col, vals.data(), ADD_VALUES));
+  }
+}
+
+/// The caller's storage as the array of a work vector for the length of a scope.
+class Placed {
+ public:
+  Placed(Vec v, const double* a) : v_(v) { VPC_PETSC(VecPlaceArray(v_, a)); }
+  ~Placed() { VecResetArray(v_); }
+  Placed(const Placed&) = delete;
+  Placed& operator=(const Placed&) = delete;
+
+ private:
+  Vec v_;
+};
+
+class PetscFactor final : public Factor {
+ public:
+  PetscFactor(MPI_Comm comm, const std::string& name, const PetscSolverOptions& options)
+      : solver_(comm, "vpc_" + name + "_", options) {}
+  void factorize(const SpdOperator& A, const char* what) override {
+    const auto* op = dynamic_cast<const PetscOperator*>(&A);
+    require(op != nullptr, "internal: PETSc factors PETSc operators only ({})", what);
+    solver_.factorize(op->mat(), what);
+    VPC_PETSC(MatCreateVecs(op->mat(), x_.out(), b_.out()));
+    n_ = op->n_owned();
+  }
+  void solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) const override {
+    if (x.size() != n_) x = Eigen::VectorXd::Zero(n_);
+    Placed pb(b_, b.data()), px(x_, x.data());
+    solver_.solve(b_, x_);
+  }
+  Eigen::MatrixXd solve(const Eigen::MatrixXd& B) const override {
+    Eigen::MatrixXd X = Eigen::MatrixXd::Zero(n_, B.cols());
+    PetscInt N = 0;
+    VPC_PETSC(VecGetSize(b_, &N));
+    MPI_Comm comm = PetscObjectComm(reinterpret_cast<PetscObject>(b_.get()));
+    PMat Bm, Xm;
+    VPC_PETSC(MatCreateDense(comm, n_, PETSC_DECIDE, N, B.cols(), const_cast<double*>(B.data()), Bm.out()));
+    VPC_PETSC(MatCreateDense(comm, n_, PETSC_DECIDE, N, B.cols(), X.data(), Xm.out()));
+    solver_.solve(Bm, Xm);
+    return X;
+  }
+  int n_factorizations() const override { return solver_.n_factorizations(); }
+
+ private:
+  PetscLinearSolver solver_;
+  PVec x_, b_;
+  int n_ = 0;
+};
+
+}  // namespace
+
+Comm make_mpi_comm(MPI_Comm comm) { return Comm(std::make_shared<MpiComm>(comm)); }
+
+namespace {
+
+/// The sum of the ranks' local matrices as an MPIAIJ matrix, with exact preallocation.
+PMat assemble_mpiaij(MPI_Comm mpi, const Eigen::SparseMatrix<double>& local, const std::vector<PetscInt>& l2g,
+                     PetscInt n_owned, PetscInt n_global, int block_size) {
+  PMat pre, A;
+  VPC_PETSC(MatCreate(mpi, pre.out()));
+  VPC_PETSC(MatSetType(pre, MATPREALLOCATOR));
+  VPC_PETSC(MatSetSizes(pre, n_owned, n_owned, n_global, n_global));
+  VPC_PETSC(MatSetBlockSize(pre, block_size));
+  VPC_PETSC(MatSetUp(pre));
+  add_local_matrix(pre, local, l2g);
+  VPC_PETSC(MatAssemblyBegin(pre, MAT_FINAL_ASSEMBLY));
+  VPC_PETSC(MatAssemblyEnd(pre, MAT_FINAL_ASSEMBLY));
+  VPC_PETSC(MatCreate(mpi, A.out()));
+  VPC_PETSC(MatSetType(A, MATAIJ));
+  VPC_PETSC(MatSetSizes(A, n_owned, n_owned, n_global, n_global));
+  VPC_PETSC(MatSetBlockSize(A, block_size));
+  VPC_PETSC(MatPreallocatorPreallocate(pre, PETSC_TRUE, A));
+  add_local_matrix(A, local, l2g);
+  VPC_PETSC(MatAssemblyBegin(A, MAT_FINAL_ASSEMBLY));
+  VPC_PETSC(MatAssemblyEnd(A, MAT_FINAL_ASSEMBLY));
+  VPC_PETSC(MatSetOption(A, MAT_SYMMETRIC, PETSC_TRUE));
+  VPC_PETSC(MatSetOption(A, MAT_SPD, PETSC_TRUE));
+  return A;
+}
+
+}  // namespace
+
+PetscOperator::PetscOperator(Comm comm, const Eigen::SparseMatrix<double>& local, const std::vector<PetscInt>& l2g,
+                             PetscInt n_owned, PetscInt n_global, int block_size)
+    : PetscOperator(comm, assemble_mpiaij(mpi_of(comm), local, l2g, n_owned, n_global, block_size)) {}
+
+PetscOperator::PetscOperator(Comm comm, PMat A) : comm_(std::move(comm)), A_(std::move(A)) {
+  VPC_PETSC(MatCreateVecs(A_, x_.out(), y_.out()));
+  PetscInt n = 0;
+  VPC_PETSC(VecGetLocalSize(x_, &n));
+  n_owned_ = static_cast<int>(n);
+}
+
+void PetscOperator::mult(const Eigen::VectorXd& x, Eigen::VectorXd& y) const {
+  y.resize(n_owned_);
+  Placed px(x_, x.data()), py(y_, y.data());
+  VPC_PETSC(MatMult(A_, x_, y_));
+}
+
+void PetscOperator::residual(const Eigen::VectorXd& b, const Eigen::VectorXd& x, Eigen::VectorXd& r) const {
+  Eigen::VectorXd Ax;
+  mult(x, Ax);
+  r = b - Ax;
+}
+
+Eigen::VectorXd PetscOperator::diagonal() const {
+  Eigen::VectorXd d(n_owned_);
+  Placed py(y_, d.data());
+  VPC_PETSC(MatGetDiagonal(A_, y_));
+  return d;
+}
+
+std::unique_ptr<SpdOperator> PetscOperator::restrict_to_free(const std::vector<char>& fixed) const {
+  PetscInt begin = 0;
+  VPC_PETSC(MatGetOwnershipRange(A_, &begin, nullptr));
+  std::vector<PetscInt> free;
+  for (int i = 0; i < n_owned_; ++i)
+    if (!fixed[i]) free.push_back(begin + i);
+  PIs is;
+  VPC_PETSC(ISCreateGeneral(PetscObjectComm(reinterpret_cast<PetscObject>(A_.get())),
+                            static_cast<PetscInt>(free.size()), free.data(), PETSC_COPY_VALUES, is.out()));
+  PMat AFF;
+  VPC_PETSC(MatCreateSubMatrix(A_, is, is, MAT_INITIAL_MATRIX, AFF.out()));
+  VPC_PETSC(MatSetOption(AFF, MAT_SPD, PETSC_TRUE));
+  return std::make_unique<PetscOperator>(comm_, std::move(AFF));
+}
+
+FactorFactory petsc_factor_factory(Comm comm, PetscSolverOptions options) {
+  return [comm, options](const std::string& name) -> std::unique_ptr<Factor> {
+    return std::make_unique<PetscFactor>(mpi_of(comm), name, options);
+  };
+}
+
+}  // namespace vpc::la

@@ -1,0 +1,45 @@
+#pragma once
+// The PETSc backend of the linear-algebra layer (PETSc build only): an MPI
+// communicator, MPIAIJ operators assembled from the ranks' local matrices, and
+// factors by PetscLinearSolver (MUMPS Cholesky, CG + GAMG, CG + hypre).
+#include "la/factor.hpp"
+#include "la/operator.hpp"
+#include "parallel/petsc_linear_solver.hpp"
+#include "parallel/petsc_util.hpp"
+
+#include <Eigen/Sparse>
+#include <vector>
+
+namespace vpc::la {
+
+/// A Comm whose collectives are MPI's over `comm`.
+Comm make_mpi_comm(MPI_Comm comm);
+
+/// An MPIAIJ matrix, symmetric positive definite; its vectors are the owned rows.
+class PetscOperator final : public SpdOperator {
+ public:
+  /// The sum over the ranks of their local matrices (rows and columns numbered
+  /// locally, global numbers l2g), with exact preallocation. Collective.
+  PetscOperator(Comm comm, const Eigen::SparseMatrix<double>& local, const std::vector<PetscInt>& l2g,
+                PetscInt n_owned, PetscInt n_global, int block_size);
+  /// Adopts an assembled matrix.
+  PetscOperator(Comm comm, PMat A);
+  const Comm& comm() const override { return comm_; }
+  int n_owned() const override { return n_owned_; }
+  void mult(const Eigen::VectorXd& x, Eigen::VectorXd& y) const override;
+  void residual(const Eigen::VectorXd& b, const Eigen::VectorXd& x, Eigen::VectorXd& r) const override;
+  Eigen::VectorXd diagonal() const override;
+  std::unique_ptr<SpdOperator> restrict_to_free(const std::vector<char>& fixed) const override;
+  Mat mat() const { return A_; }
+
+ private:
+  Comm comm_;
+  PMat A_;
+  int n_owned_ = 0;
+  PVec x_, y_;  // work vectors whose arrays are placed on the caller's storage
+};
+
+/// Factors by PetscLinearSolver of the given kind (no triangular halves).
+FactorFactory petsc_factor_factory(Comm comm, PetscSolverOptions options);
+
+}  // namespace vpc::la
