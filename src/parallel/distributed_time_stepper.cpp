@@ -219,11 +219,11 @@ StepReport DistributedTimeStepper::step() {
   t0 = Clock::now();
   fphi_.local() = assemble_p0_source(mesh, geo_, phi);
   fphi_.add_ghosts_to_owners();
-  Vector rhs, beta = state_.beta.owned();
-  M_->mult(beta, rhs);
+  Vector rhs, beta_n = state_.beta.owned();
+  M_->mult(beta_n, rhs);
   rhs += k * fphi_.owned();
-  rep.damage = damage_->solve(rhs, beta);
-  state_.beta.owned() = beta;
+  rep.damage = damage_->solve(rhs, beta_n);
+  state_.beta.owned() = beta_n;
   state_.beta.update_ghosts();
   rep.seconds_damage = seconds_since(t0);
 
