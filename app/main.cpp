@@ -38,19 +38,16 @@ struct Options {
   std::string output, outdir;
   std::vector<std::string> sets;
   double kappa = -1, dt = -1;
-  int n = -1, steps = -1, every = -1, checkpoint_every = -1, halvings = 0;
-  double checkpoint_seconds = 60;
-  bool no_vtu = false, quiet = false, plot = false;
+  int n = -1, steps = -1, every = -1;
+  bool no_vtu = false, plot = false;
   vpc::PlotOptions plot_options;
-  std::string resume;
   std::string contact_solver, damage_solver;
   double tolerance = -1;
-  std::string engine = "auto", linear_solver = "mumps";  // docs/parallel.md
-  std::string show_case;                                 // cases --show NAME
-  std::vector<std::string> argv;  // for the --resume command and summary.json
+  std::string engine = "auto";  // docs/parallel.md
+  std::string show_case;        // cases --show NAME
   std::chrono::system_clock::time_point started = std::chrono::system_clock::now();  // for summary.json
-  std::chrono::steady_clock::time_point started_steady = std::chrono::steady_clock::now();  // for the wall time
   std::string memory_limit;  // solvers/memory_estimate.hpp
+  vpc::RunOptions run;       // quiet, resume, checkpoints, argv (for the --resume command and summary.json), ...
 };
 
 /// Whether an option exists on this subcommand and was given.
@@ -105,7 +102,7 @@ CaseSource case_source(const Options& o) {
 
 /// The output directory the run will write: --resume, -o, the case's, else output/NAME.
 fs::path output_directory(const Options& o, const vpc::CaseInfo& info) {
-  if (!o.resume.empty()) return o.resume;
+  if (!o.run.resume.empty()) return o.run.resume;
   if (!o.output.empty()) return o.output;
   if (!info.output_directory.empty()) return info.output_directory;
   return fs::path("output") / info.name;
@@ -133,7 +130,7 @@ vpc::Case load_case(const Options& o, const CLI::App& cmd, const CaseSource& src
     vpc::apply_case_overrides(*c.problem, ov);
   }
   c.output.directory = outdir;
-  c.output.command_line = o.argv;
+  c.output.command_line = o.run.argv;
   c.output.started = o.started;
   if (given(cmd, "--every")) {
     vpc::require(o.every >= 0, "--every must be >= 0 (got {})", o.every);
@@ -172,18 +169,10 @@ vpc::Case build_case(const Options& o, const CLI::App& cmd, const CaseSource& sr
 
 /// The options of the library's run loop (run/run_case.hpp); no output directory: a check.
 vpc::RunOptions run_options(const Options& o, const vpc::CaseInfo& info, const fs::path& outdir) {
-  vpc::RunOptions r;
-  r.quiet = o.quiet;
+  vpc::RunOptions r = o.run;
   r.header = fmt::format("vpcontact: {} — {}", info.name, info.description);
   r.output_directory = outdir;
-  r.resume = o.resume;
-  r.halvings = o.halvings;
-  r.linear_solver = o.linear_solver;
-  r.checkpoint_every = o.checkpoint_every;
-  r.checkpoint_seconds = o.checkpoint_seconds;
-  r.argv = o.argv;
   if (o.plot) r.after_run = [p = o.plot_options](const fs::path& dir) { vpc::draw_figures(dir, p, true); };
-  r.started = o.started_steady;
   return r;
 }
 
@@ -195,13 +184,14 @@ int on_engine(const Options& o, const vpc::RunOptions& ro, const vpc::EngineTask
 /// Builds the case (build_case) for the run loop; in a distributed run rank 0 builds the mesh and reports.
 vpc::CaseLoader case_loader(const Options& o, const CLI::App& cmd, const CaseSource& src, const fs::path& outdir) {
   return [&o, &cmd, &src, outdir](const vpc::MeshRequest& mesh) {
-    vpc::StageLog log(o.quiet || !mesh.build);
+    vpc::StageLog log(o.run.quiet || !mesh.build);
     return build_case(o, cmd, src, outdir, log, mesh);
   };
 }
 
 int run(const Options& o, const CLI::App& cmd) {
-  vpc::require(o.halvings >= 0 && o.halvings <= 20, "--retry-halvings must be in [0, 20] (got {})", o.halvings);
+  vpc::require(o.run.halvings >= 0 && o.run.halvings <= 20, "--retry-halvings must be in [0, 20] (got {})",
+               o.run.halvings);
   const CaseSource src = case_source(o);
   const vpc::CaseInfo info = header_info(o, src);
   const fs::path outdir = output_directory(o, info);
@@ -264,8 +254,8 @@ void add_case_options(CLI::App* cmd, Options& o) {
                   "refuse a run estimated to need more memory, e.g. 8G (default: $VPCONTACT_MEMORY_LIMIT, else the "
                   "memory available; 'unlimited': no check)");
   cmd->add_option("--engine", o.engine, "auto (PETSc under mpirun, if built with it), serial or petsc");
-  cmd->add_option("--linear-solver", o.linear_solver, "PETSc engine: mumps (default), cg-gamg or cg-hypre");
-  cmd->add_flag("-q,--quiet", o.quiet, "print nothing but errors");
+  cmd->add_option("--linear-solver", o.run.linear_solver, "PETSc engine: mumps (default), cg-gamg or cg-hypre");
+  cmd->add_flag("-q,--quiet", o.run.quiet, "print nothing but errors");
 }
 
 void add_plot_options(CLI::App* cmd, Options& o) {
@@ -295,7 +285,7 @@ int main(int argc, char** argv) {
       "--version", [] { return fmt::format("vpcontact {} (git {})", vpc::version(), vpc::git_commit()); },
       "print the version and exit");
   Options o;
-  o.argv.assign(argv, argv + argc);
+  o.run.argv.assign(argv, argv + argc);
 
   auto* run_cmd = app.add_subcommand("run", "run a case (default: paper-2d)");
   add_case_options(run_cmd, o);
@@ -305,15 +295,15 @@ int main(int argc, char** argv) {
   run_cmd->add_flag("--plot", o.plot,
                     "draw the figures (vpcontact plot) after the run; without python3-matplotlib only a warning");
   add_plot_options(run_cmd, o);
-  run_cmd->add_option("--checkpoint-every", o.checkpoint_every,
+  run_cmd->add_option("--checkpoint-every", o.run.checkpoint_every,
                       "write a checkpoint every this many steps (0: only at the start and the end; default: by time, "
                       "see --checkpoint-seconds)");
-  run_cmd->add_option("--checkpoint-seconds", o.checkpoint_seconds,
+  run_cmd->add_option("--checkpoint-seconds", o.run.checkpoint_seconds,
                       "without --checkpoint-every: write a checkpoint once this many seconds of wall time have passed "
                       "since the last one (default 60)");
-  run_cmd->add_option("--resume", o.resume,
+  run_cmd->add_option("--resume", o.run.resume,
                       "continue an interrupted run of the same case from the newest good checkpoint in this directory");
-  run_cmd->add_option("--retry-halvings", o.halvings,
+  run_cmd->add_option("--retry-halvings", o.run.halvings,
                       "retry a failed step as two half steps, at most this many times nested (default 0)");
   auto* check_cmd = app.add_subcommand("check", "validate a case (parse, mesh, assemble, factorize) without running it");
   add_case_options(check_cmd, o);
