@@ -14,6 +14,14 @@ namespace vpc {
 
 namespace {
 
+/// The signal any rank has received (SIGINT/SIGTERM), 0 if none: every rank
+/// agrees, so that all stop after the same step.
+int interrupt_anywhere(MPI_Comm comm) {
+  int local = interrupt_signal(), any = 0;
+  MPI_Allreduce(&local, &any, 1, MPI_INT, MPI_MAX, comm);
+  return any;
+}
+
 class PetscEngine final : public Engine {
  public:
   PetscEngine(Case c, DistributedMesh part, std::string linear_solver)
@@ -44,11 +52,7 @@ class PetscEngine final : public Engine {
 
   bool root() const override { return rank_ == 0; }
   int ranks() const override { return size_; }
-  int interrupt_anywhere() const override {
-    int local = interrupt_signal(), any = 0;
-    MPI_Allreduce(&local, &any, 1, MPI_INT, MPI_MAX, comm_);
-    return any;
-  }
+  int interrupt_anywhere() const override { return vpc::interrupt_anywhere(comm_); }
   bool root_decides(bool value) const override {
     int v = value;
     MPI_Bcast(&v, 1, MPI_INT, 0, comm_);
@@ -77,9 +81,7 @@ class PetscEngine final : public Engine {
 
 /// Throws Interrupted on every rank if any has received a signal.
 void stop_if_interrupted_anywhere(MPI_Comm comm) {
-  int local = interrupt_signal(), any = 0;
-  MPI_Allreduce(&local, &any, 1, MPI_INT, MPI_MAX, comm);
-  if (any) throw Interrupted(any);
+  if (const int s = interrupt_anywhere(comm)) throw Interrupted(s);
 }
 
 /// The case on every rank, its mesh on rank 0 only: rank 0 builds it and sends
