@@ -45,13 +45,4 @@ ChildResult run_child(const std::vector<std::string>& argv, bool quiet) {
   return result;
 }
 
-std::string shell_quote(std::string_view s) {
-  const bool safe = !s.empty() && s.find_first_not_of("ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz"
-                                                      "0123456789_@%+=:,./-") == std::string_view::npos;
-  if (safe) return std::string(s);
-  std::string q = "'";
-  for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return q + "'";
-}
-
 }  // namespace vpc

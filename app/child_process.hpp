@@ -3,7 +3,6 @@
 // an argument vector (posix_spawn), so no character of a path (', ", ;, $(…),
 // backticks, spaces) is ever interpreted (issue 11, item 1).
 #include <string>
-#include <string_view>
 #include <vector>
 
 namespace vpc {
@@ -20,9 +19,5 @@ struct ChildResult {
 /// inheriting stdin/stdout/stderr (silenced with `quiet`: both go to /dev/null),
 /// and waits for it.
 ChildResult run_child(const std::vector<std::string>& argv, bool quiet = false);
-
-/// `s` quoted for a POSIX shell so that pasting it gives back exactly `s`:
-/// unchanged when it holds only safe characters, else in single quotes ('\'' for ').
-std::string shell_quote(std::string_view s);
 
 }  // namespace vpc

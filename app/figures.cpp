@@ -1,6 +1,7 @@
 #include "figures.hpp"
 
 #include "child_process.hpp"
+#include "run/interrupt.hpp"
 #include "core/error.hpp"
 
 #include <fmt/format.h>

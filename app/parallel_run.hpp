@@ -1,34 +1,17 @@
 #pragma once
-// `vpcontact run` on the distributed engine (PETSc + MPI; docs/parallel.md):
+// `vpcontact run` and `check` on the distributed engine (PETSc + MPI; docs/parallel.md):
 //   mpirun -np P vpcontact run CASE [options]
 // In a build with VPCONTACT_ENABLE_PETSC, a run started by mpirun/mpiexec (any
 // -np, 1 included) uses it; --engine serial|petsc forces one. This header also
 // compiles without PETSc, where it explains what is missing.
-#include "cases/case.hpp"
 #include "core/error.hpp"
-#include "figures.hpp"
+#include "run/run_case.hpp"
 
 #include <cstdlib>
-#include <filesystem>
 #include <functional>
 #include <string>
-#include <vector>
 
 namespace vpc {
-
-struct ParallelRunOptions {
-  bool quiet = false;
-  std::string resume;
-  int halvings = 0;
-  std::string linear_solver = "mumps";  // mumps, cg-gamg, cg-hypre
-  bool plot = false;
-  int checkpoint_every = -1;        // steps; -1: by wall time
-  double checkpoint_seconds = 60;   // without checkpoint_every
-  std::string header;                       // "vpcontact: NAME — description", printed first by rank 0
-  std::filesystem::path output_directory;   // checked by rank 0 before any set-up
-  std::vector<std::string> argv;            // the command line, for the --resume command after a signal
-  PlotOptions plot_options;
-};
 
 /// The number of processes of the MPI job this process was started in, 0 if none.
 inline int mpi_launch_size() {
@@ -61,15 +44,16 @@ inline bool use_petsc_engine(const std::string& engine) {
 #endif
 }
 
-/// Builds the case; rank 0 with its mesh, the other ranks without (MeshRequest).
-using CaseLoader = std::function<Case(const MeshRequest&)>;
+/// What a command does with an engine (run/run_case.hpp): run it, or check the set-up.
+using EngineTask = std::function<int(const EngineSetUp&)>;
 
 #ifdef VPCONTACT_WITH_PETSC
-/// Runs the case on every rank of MPI_COMM_WORLD; returns the exit code. Only
-/// rank 0 builds (reads, generates) the whole mesh; it sends each rank its part.
-int parallel_run(const CaseLoader& load, const ParallelRunOptions& options);
+/// Calls `task` with the PETSc engine on every rank of MPI_COMM_WORLD (PETSc
+/// initialized, one thread per rank); returns the exit code. An error every rank
+/// meets alike is reported once; any other stops every rank (MPI_Abort).
+int parallel_run(const RunOptions& options, const EngineTask& task);
 #else
-inline int parallel_run(const CaseLoader&, const ParallelRunOptions&) {
+inline int parallel_run(const RunOptions&, const EngineTask&) {
   fail("this vpcontact was built without PETSc (docs/parallel.md)");
 }
 #endif

@@ -9,8 +9,7 @@
 #include "cases/shipped_cases.hpp"
 #include "core/error.hpp"
 #include "io/case_file.hpp"
-#include "core/malloc_policy.hpp"
-#include "core/omp_wait_policy.hpp"
+#include "process_policy.hpp"
 #include "io/run_output.hpp"
 #include "scheme/time_stepper.hpp"
 

@@ -14,6 +14,14 @@ class Error : public std::runtime_error {
   explicit Error(const std::string& what) : std::runtime_error(what) {}
 };
 
+/// An Error raised alike on every process of a distributed run (the same step
+/// failed everywhere, or parallel/collective.hpp shared one rank's error): the
+/// program reports it once and ends every process normally, without an abort.
+class CollectiveError : public Error {
+ public:
+  using Error::Error;
+};
+
 /// Throws vpc::Error with a fmt-formatted message.
 template <typename... Args>
 [[noreturn]] void fail(fmt::format_string<Args...> f, Args&&... args) {

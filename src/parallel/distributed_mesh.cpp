@@ -1,5 +1,7 @@
 #include "parallel/distributed_mesh.hpp"
 
+#include "parallel/collective.hpp"
+
 #include "parallel/petsc_util.hpp"
 
 #include <petscmat.h>
@@ -270,24 +272,9 @@ DistributedMesh unpack_part(MPI_Comm comm, const Message& m) {
 DistributedMesh distribute_mesh(MPI_Comm comm, const Problem& problem) {
   const int rank = comm_rank(comm), size = comm_size(comm);
   Message mine;
-  // Rank 0 packs every part; a failure there (e.g. a bad gap) is broadcast so
-  // that the other ranks report it instead of waiting.
-  std::string error;
+  // Rank 0 packs every part; a failure there (e.g. a bad gap) is every rank's.
   std::vector<Message> parts;
-  if (rank == 0) {
-    try {
-      parts = pack_parts(problem, size);
-    } catch (const Error& e) {
-      error = e.what();
-    }
-  }
-  int error_size = static_cast<int>(error.size());
-  MPI_Bcast(&error_size, 1, MPI_INT, 0, comm);
-  if (error_size > 0) {
-    error.resize(error_size);
-    MPI_Bcast(error.data(), error_size, MPI_CHAR, 0, comm);
-    throw Error(error);
-  }
+  on_root(comm, [&] { parts = pack_parts(problem, size); });
   if (rank == 0) {
     for (int r = 1; r < size; ++r) {
       long long sizes[2] = {static_cast<long long>(parts[r].ints.size()), static_cast<long long>(parts[r].reals.size())};

@@ -1,5 +1,7 @@
 #include "parallel/parallel_checkpoint.hpp"
 
+#include "parallel/collective.hpp"
+
 #include <fmt/format.h>
 
 #include <type_traits>
@@ -7,16 +9,6 @@
 namespace vpc {
 
 namespace {
-
-/// Throws the same vpc::Error on every rank when rank 0 reports one.
-void share_error(MPI_Comm comm, std::string error) {
-  int n = static_cast<int>(error.size());
-  MPI_Bcast(&n, 1, MPI_INT, 0, comm);
-  if (n == 0) return;
-  error.resize(n);
-  MPI_Bcast(error.data(), n, MPI_CHAR, 0, comm);
-  throw Error(error);
-}
 
 std::vector<SymTensor> to_tensors(const double* v, size_t n) {
   std::vector<SymTensor> t(n);
@@ -104,43 +96,37 @@ void write_checkpoint(const DistributedTimeStepper& stepper, const std::filesyst
   const Vector C = gather_to_root(comm, owned, clamped.data(), 1, part.n_global_nodes);
   const Vector T = gather_to_root(comm, part.original_cell, cells.data(), 18, part.n_global_cells);
   const std::uint64_t fingerprint = problem_fingerprint(stepper);
-  std::string error;
-  if (comm_rank(comm) == 0) {
-    try {
-      Checkpoint ck;
-      ck.case_name = case_name;
-      ck.fingerprint = fingerprint;
-      State& s = ck.snapshot.state;
-      s.n = st.n;
-      s.t = st.t;
-      s.u = U;
-      s.beta = B;
-      s.lambda = st.lambda;
-      const auto n_cells = static_cast<size_t>(part.n_global_cells);
-      std::vector<double> sig(n_cells * 6), eps(n_cells * 6), z(n_cells * 6);
-      for (size_t c = 0; c < n_cells; ++c)
-        for (int j = 0; j < 6; ++j) {
-          sig[c * 6 + j] = T[c * 18 + j];
-          eps[c * 6 + j] = T[c * 18 + 6 + j];
-          z[c * 6 + j] = T[c * 18 + 12 + j];
-        }
-      s.sigma = to_tensors(sig.data(), n_cells);
-      s.eps = to_tensors(eps.data(), n_cells);
-      s.z = to_tensors(z.data(), n_cells);
-      // u on the free dofs of the serial numbering (node-major, clamped nodes dropped).
-      ck.snapshot.u_free.resize(part.n_global_dofs);
-      Eigen::Index k = 0;
-      for (PetscInt i = 0; i < part.n_global_nodes; ++i)
-        if (C[i] == 0)
-          for (int c = 0; c < d; ++c) ck.snapshot.u_free[k++] = U[i * d + c];
-      ck.pvd = pvd;
-      ck.totals = totals;
-      vpc::write_checkpoint(dir, ck);
-    } catch (const std::exception& e) {
-      error = e.what();
-    }
-  }
-  share_error(comm, error);
+  on_root(comm, [&] {
+    Checkpoint ck;
+    ck.case_name = case_name;
+    ck.fingerprint = fingerprint;
+    State& s = ck.snapshot.state;
+    s.n = st.n;
+    s.t = st.t;
+    s.u = U;
+    s.beta = B;
+    s.lambda = st.lambda;
+    const auto n_cells = static_cast<size_t>(part.n_global_cells);
+    std::vector<double> sig(n_cells * 6), eps(n_cells * 6), z(n_cells * 6);
+    for (size_t c = 0; c < n_cells; ++c)
+      for (int j = 0; j < 6; ++j) {
+        sig[c * 6 + j] = T[c * 18 + j];
+        eps[c * 6 + j] = T[c * 18 + 6 + j];
+        z[c * 6 + j] = T[c * 18 + 12 + j];
+      }
+    s.sigma = to_tensors(sig.data(), n_cells);
+    s.eps = to_tensors(eps.data(), n_cells);
+    s.z = to_tensors(z.data(), n_cells);
+    // u on the free dofs of the serial numbering (node-major, clamped nodes dropped).
+    ck.snapshot.u_free.resize(part.n_global_dofs);
+    Eigen::Index k = 0;
+    for (PetscInt i = 0; i < part.n_global_nodes; ++i)
+      if (C[i] == 0)
+        for (int c = 0; c < d; ++c) ck.snapshot.u_free[k++] = U[i * d + c];
+    ck.pvd = pvd;
+    ck.totals = totals;
+    vpc::write_checkpoint(dir, ck);
+  });
 }
 
 std::optional<ResumePoint> resume_from_checkpoint(DistributedTimeStepper& stepper, const std::filesystem::path& dir,
@@ -149,22 +135,16 @@ std::optional<ResumePoint> resume_from_checkpoint(DistributedTimeStepper& steppe
   const MPI_Comm comm = part.comm;
   const int d = part.mesh.dim();
   std::optional<Checkpoint> ck;
-  std::string error;
-  if (comm_rank(comm) == 0) {
-    try {
-      ck = find_checkpoint(dir, problem_fingerprint(stepper), skipped);
-      if (ck) {
-        const State& s = ck->snapshot.state;
-        const bool fits = s.u.size() == part.n_global_nodes * d && s.beta.size() == part.n_global_nodes &&
-                          static_cast<long long>(s.sigma.size()) == part.n_global_cells &&
-                          s.lambda.size() == part.n_contact;
-        require(fits, "resume: the checkpoint of step {} does not fit this problem", s.n);
-      }
-    } catch (const std::exception& e) {
-      error = e.what();
+  on_root(comm, [&] {
+    ck = find_checkpoint(dir, problem_fingerprint(stepper), skipped);
+    if (ck) {
+      const State& s = ck->snapshot.state;
+      const bool fits = s.u.size() == part.n_global_nodes * d && s.beta.size() == part.n_global_nodes &&
+                        static_cast<long long>(s.sigma.size()) == part.n_global_cells &&
+                        s.lambda.size() == part.n_contact;
+      require(fits, "resume: the checkpoint of step {} does not fit this problem", s.n);
     }
-  }
-  share_error(comm, error);
+  });
   int found = ck.has_value();
   MPI_Bcast(&found, 1, MPI_INT, 0, comm);
   if (!found) return std::nullopt;

@@ -1,5 +1,7 @@
 #include "parallel/parallel_output.hpp"
 
+#include "parallel/collective.hpp"
+
 #include "io/atomic_file.hpp"
 #include "io/vtu_writer.hpp"
 
@@ -37,57 +39,40 @@ void write_pvtu(const fs::path& path, const std::vector<VtuField>& point_data, c
   write_file_atomic(path, xml);
 }
 
-/// Rank 0 learns whether a collective file operation failed anywhere, and every
-/// rank throws the same error (no rank is left waiting).
-void check_everywhere(MPI_Comm comm, const std::string& error) {
-  const bool ok = allreduce_and(comm, error.empty());
-  if (ok) return;
-  require(error.empty(), "{}", error);
-  fail("writing the output failed on another rank (see its message)");
-}
-
 }  // namespace
 
 void ParallelOutput::resume(int n, std::vector<std::pair<double, std::string>> pvd, const RunTotals& totals) {
   totals_ = totals;
-  std::string error;
-  if (rank_ == 0) {
-    try {
-      truncate_csv(options_.directory / "history.csv", n);
-      truncate_csv(options_.directory / "probes.csv", n);
-      history_.open(options_.directory / "history.csv", std::ios::app);
-      probe_csv_.open(options_.directory / "probes.csv", std::ios::app);
-      require(history_.good() && probe_csv_.good(), "cannot append to the CSV files in '{}'",
-              options_.directory.string());
-      // VTU files (serial, pieces, .pvtu) of steps after n belong to the lost part of the run.
-      std::error_code ec;
-      for (const auto& entry : fs::directory_iterator(options_.directory, ec)) {
-        const std::string f = entry.path().filename().string();
-        if (f.rfind("solution_", 0) == 0 && f.size() > 14 && (f.ends_with(".vtu") || f.ends_with(".pvtu")) &&
-            std::atoi(f.c_str() + 9) > n)
-          fs::remove(entry.path(), ec);
-      }
-      pvd_ = std::move(pvd);
-      if (options_.vtu) write_pvd(options_.directory / "solution.pvd", pvd_);
-    } catch (const std::exception& e) {
-      error = e.what();
+  on_root(comm_, [&] {
+    truncate_csv(options_.directory / "history.csv", n);
+    truncate_csv(options_.directory / "probes.csv", n);
+    history_.open(options_.directory / "history.csv", std::ios::app);
+    probe_csv_.open(options_.directory / "probes.csv", std::ios::app);
+    require(history_.good() && probe_csv_.good(), "cannot append to the CSV files in '{}'",
+            options_.directory.string());
+    // VTU files (serial, pieces, .pvtu) of steps after n belong to the lost part of the run.
+    std::error_code ec;
+    for (const auto& entry : fs::directory_iterator(options_.directory, ec)) {
+      const std::string f = entry.path().filename().string();
+      if (f.rfind("solution_", 0) == 0 && f.size() > 14 && (f.ends_with(".vtu") || f.ends_with(".pvtu")) &&
+          std::atoi(f.c_str() + 9) > n)
+        fs::remove(entry.path(), ec);
     }
-  }
-  check_everywhere(comm_, error);
+    pvd_ = std::move(pvd);
+    if (options_.vtu) write_pvd(options_.directory / "solution.pvd", pvd_);
+  });
 }
 
 ParallelOutput::ParallelOutput(const DistributedTimeStepper& stepper, OutputOptions options, std::string linear_solver)
     : stepper_(stepper), options_(std::move(options)), linear_solver_(std::move(linear_solver)),
       comm_(stepper.part().comm), rank_(comm_rank(comm_)), size_(comm_size(comm_)) {
   prepare_output_options(options_, stepper_.problem().name);
-  std::string error;
-  if (rank_ == 0) {
+  on_root(comm_, [&] {
     std::error_code ec;
     fs::create_directories(options_.directory, ec);
-    if (ec || !fs::is_directory(options_.directory))
-      error = fmt::format("cannot create output directory '{}'", options_.directory.string());
-  }
-  check_everywhere(comm_, error);
+    require(!ec && fs::is_directory(options_.directory), "cannot create output directory '{}'",
+            options_.directory.string());
+  });
   // A probe belongs to the rank whose cell contains it best (largest smallest
   // barycentric coordinate; ties: the lowest cell number of the mesh as read, as
   // the serial locate_point chooses).
@@ -105,7 +90,8 @@ ParallelOutput::ParallelOutput(const DistributedTimeStepper& stepper, OutputOpti
       }
     }
     const double best = allreduce_max(comm_, score);
-    require(best > -1e-9, "probe point ({}, {}, {}) lies outside the mesh", x[0], x[1], x[2]);
+    if (best <= -1e-9)  // every rank alike
+      throw CollectiveError(fmt::format("probe point ({}, {}, {}) lies outside the mesh", x[0], x[1], x[2]));
     int mine = score == best ? cell : std::numeric_limits<int>::max(), winner = 0;
     MPI_Allreduce(&mine, &winner, 1, MPI_INT, MPI_MIN, comm_);
     p.mine = score == best && cell == winner;
@@ -114,14 +100,12 @@ ParallelOutput::ParallelOutput(const DistributedTimeStepper& stepper, OutputOpti
 }
 
 void ParallelOutput::start() {
-  if (rank_ == 0) {
+  on_root(comm_, [&] {
     history_.open(options_.directory / "history.csv", std::ios::trunc);
     probe_csv_.open(options_.directory / "probes.csv", std::ios::trunc);
-  }
-  std::string error;
-  if (rank_ == 0 && (!history_.good() || !probe_csv_.good()))
-    error = fmt::format("cannot write history.csv and probes.csv in '{}'", options_.directory.string());
-  check_everywhere(comm_, error);
+    require(history_.good() && probe_csv_.good(), "cannot write history.csv and probes.csv in '{}'",
+            options_.directory.string());
+  });
   if (rank_ == 0) {
     history_ << history_header();
     history_.flush();
@@ -200,14 +184,10 @@ void ParallelOutput::write_fields() {
   if (wants("history_z")) cell_data.push_back(tensor_field("history_z", s.z));
   cell_data.push_back(std::move(rank));  // the partition, for a look at the distribution in ParaView
   const std::string stem = fmt::format("solution_{:05d}", s.n);
-  std::string error;
-  try {
+  collective(comm_, [&] {
     write_vtu(options_.directory / fmt::format("{}_p{:04d}.vtu", stem, rank_), mesh, point_data, cell_data,
               options_.encoding);
-  } catch (const std::exception& e) {
-    error = e.what();
-  }
-  check_everywhere(comm_, error);
+  });
   if (rank_ == 0) {
     std::vector<std::string> pieces;
     for (int r = 0; r < size_; ++r) pieces.push_back(fmt::format("{}_p{:04d}.vtu", stem, r));

@@ -49,7 +49,7 @@ class LinearSolver {
 
 /// Columns per block of dense right-hand sides of n rows: up to `most`, but each
 /// block below 24 MiB. Larger blocks are beyond glibc's largest mmap threshold
-/// (32 MiB, core/malloc_policy.hpp): mapped afresh at every allocation, they cost
+/// (32 MiB; the programs keep freed memory, app/process_policy.hpp): mapped afresh at every allocation, they cost
 /// a page fault per 4 KiB (measured: 2D n = 640, contact set-up 14.8 s with
 /// blocks of 8 × 6.6 MB).
 inline int rhs_block_columns(Eigen::Index n, int most = 8) {

@@ -1,4 +1,4 @@
-#include "progress.hpp"
+#include "run/progress.hpp"
 
 #include <fmt/format.h>
 #include <unistd.h>
@@ -39,7 +39,7 @@ void Progress::update(const StepReport& r) {
   }
 }
 
-void StageLog::operator()(const std::string& stage, double seconds) {
+void StageLog::operator()(const std::string& stage, double seconds) const {
   if (quiet_) return;
   if (seconds < 0)
     fmt::print("  {} ...", stage);

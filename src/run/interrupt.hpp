@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace vpc {
@@ -29,6 +30,10 @@ struct Interrupted : std::runtime_error {
 
 /// Throws Interrupted if a signal has arrived.
 void stop_if_interrupted();
+
+/// `s` quoted for a POSIX shell so that pasting it gives back exactly `s`:
+/// unchanged when it holds only safe characters, else in single quotes ('\'' for ').
+std::string shell_quote(std::string_view s);
 
 /// The command line that continues the run in `dir`: this process's arguments
 /// without any --resume/-o/--output, then `--resume DIR`; under mpirun (size >

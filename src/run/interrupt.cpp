@@ -1,6 +1,4 @@
-#include "interrupt.hpp"
-
-#include "child_process.hpp"
+#include "run/interrupt.hpp"
 
 #include <fmt/format.h>
 
@@ -43,6 +41,15 @@ Interrupted::Interrupted(int s)
 
 void stop_if_interrupted() {
   if (const int s = interrupt_signal()) throw Interrupted(s);
+}
+
+std::string shell_quote(std::string_view s) {
+  const bool safe = !s.empty() && s.find_first_not_of("ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz"
+                                                      "0123456789_@%+=:,./-") == std::string_view::npos;
+  if (safe) return std::string(s);
+  std::string q = "'";
+  for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return q + "'";
 }
 
 std::string resume_command(const std::vector<std::string>& argv, const std::filesystem::path& dir, int mpi_size) {

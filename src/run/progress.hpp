@@ -15,7 +15,7 @@ class StageLog {
  public:
   explicit StageLog(bool quiet) : quiet_(quiet) {}
   /// `seconds` < 0: the stage starts; else it ended after that long.
-  void operator()(const std::string& stage, double seconds);
+  void operator()(const std::string& stage, double seconds) const;
 
  private:
   bool quiet_;

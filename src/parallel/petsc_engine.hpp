@@ -1,0 +1,20 @@
+#pragma once
+// The PETSc engine of the run loop (run/run_case.hpp): DistributedTimeStepper,
+// ParallelOutput and the checkpoints of parallel_checkpoint.hpp on the ranks of
+// a communicator (docs/parallel.md). Only rank 0 builds (reads, generates) the
+// whole mesh; it sends each rank its part.
+#include "run/run_case.hpp"
+
+#include <mpi.h>
+
+namespace vpc {
+
+/// set_up_serial's twin: the case on every rank of `comm`. Collective.
+std::unique_ptr<Engine> set_up_petsc(MPI_Comm comm, const CaseLoader& load, const RunOptions& options);
+
+/// set_up_petsc on `comm`, as an EngineSetUp for run_case.
+inline EngineSetUp petsc_engine(MPI_Comm comm) {
+  return [comm](const CaseLoader& load, const RunOptions& o) { return set_up_petsc(comm, load, o); };
+}
+
+}  // namespace vpc

@@ -1,0 +1,67 @@
+#pragma once
+// What the run loop (run/run_case.hpp) needs of an engine: a stepper, its output
+// and its checkpoints. The serial engine (TimeStepper, RunOutput, io/checkpoint)
+// and the PETSc engine (parallel/petsc_engine.hpp) implement it; in the latter
+// every call is collective and returns the same on every rank.
+#include "run/interrupt.hpp"
+#include "scheme/time_stepper.hpp"
+
+#include <filesystem>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace vpc {
+
+/// Where a resumed run continues: the step and time of its checkpoint.
+struct ResumedAt {
+  int n = 0;
+  double t = 0;
+};
+
+class Engine {
+ public:
+  virtual ~Engine() = default;
+
+  // The scheme.
+  virtual bool done() const = 0;
+  virtual StepReport step() = 0;
+  virtual int n_steps() const = 0;
+  /// The largest relative residual a step accepts (SolverChoice::residual_tolerance).
+  virtual double tolerance() const = 0;
+  /// Whether a failed step is retried with smaller steps (--retry-halvings).
+  virtual bool halves_failed_steps() const { return true; }
+
+  // Output (the output directory of the case) and checkpoints.
+  /// Opens the output (locates the probes); before start() or resume().
+  virtual void open_output() = 0;
+  virtual const std::filesystem::path& directory() const = 0;
+  /// A fresh run: writes step 0.
+  virtual void start() = 0;
+  virtual void record(const StepReport& r) = 0;
+  /// Writes summary.json; `wall_seconds`: the whole run's time.
+  virtual void finish(double wall_seconds) = 0;
+  virtual void checkpoint() = 0;
+  /// Restores the newest good checkpoint for this problem in `dir` and continues
+  /// the output from it; nullopt if there is none (`skipped` says why, per file).
+  virtual std::optional<ResumedAt> resume(const std::filesystem::path& dir, std::vector<std::string>& skipped) = 0;
+
+  // The processes (one, for the serial engine).
+  /// The process that prints and writes the shared files.
+  virtual bool root() const { return true; }
+  /// The MPI ranks, for the resume command (`mpirun -np P`); 0 when not under MPI.
+  virtual int ranks() const { return 0; }
+  /// The signal any process has received (interrupt_signal()), the same everywhere.
+  virtual int interrupt_anywhere() const { return interrupt_signal(); }
+  /// Rank 0's `value`, everywhere (a decision on one clock).
+  virtual bool root_decides(bool value) const { return value; }
+  /// Runs `work` on the root only; its error (vpc::CollectiveError) is every process's.
+  virtual void on_root(const std::function<void()>& work) { work(); }
+};
+
+/// The lines of an engine's description that come from the case: boundary
+/// parts, material, damage, time and solvers, and the set-up time.
+void describe_data(const Problem& problem, const SolverChoice& solvers, double setup_seconds);
+
+}  // namespace vpc

@@ -1,0 +1,62 @@
+#pragma once
+// The run loop, once for every engine and every caller (the command line, the
+// tests, a later Python module): set-up, a fresh start or a resume from a
+// checkpoint, the steps with their output and progress, checkpoints (at step 0,
+// as the schedule says, at the end, when interrupted), summary.json.
+//   RunOptions o; o.output_directory = "out";
+//   RunResult r = run_case([&](const MeshRequest&) { return make_builtin_case("paper-1d"); }, o);
+#include "cases/case.hpp"
+#include "run/engine.hpp"
+
+#include <chrono>
+#include <filesystem>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace vpc {
+
+/// Builds the case; in a distributed run rank 0 with its mesh, the other ranks without (MeshRequest).
+using CaseLoader = std::function<Case(const MeshRequest&)>;
+
+struct RunOptions {
+  bool quiet = false;
+  std::string header;                       // printed first (unless quiet), e.g. "vpcontact: NAME — description"
+  std::filesystem::path output_directory;   // checked before any set-up; empty: no output (a check)
+  std::filesystem::path resume;             // non-empty: continue from the newest good checkpoint there
+  int halvings = 0;                         // --retry-halvings (serial engine)
+  std::string linear_solver = "mumps";      // PETSc engine: mumps, cg-gamg, cg-hypre
+  int checkpoint_every = -1;                // steps; -1: by wall time (CheckpointSchedule)
+  double checkpoint_seconds = 60;
+  std::vector<std::string> argv;            // the command line, for the --resume command after a signal
+  std::function<void(const std::filesystem::path&)> after_run;  // on the root, after a complete run (figures)
+  std::chrono::steady_clock::time_point started = std::chrono::steady_clock::now();  // for the wall time
+};
+
+struct RunResult {
+  int steps = 0;    // the step reached
+  int signal = 0;   // the signal that stopped it after a checkpoint (SIGINT, SIGTERM), 0 if it completed
+  double wall_seconds = 0;
+};
+
+/// Sets up an engine: begin_run, then builds the case and its stepper (assembly,
+/// factorization), reporting the stages, and describes them (unless quiet).
+/// Throws vpc::Error (Interrupted for a signal during set-up).
+using EngineSetUp = std::function<std::unique_ptr<Engine>(const CaseLoader&, const RunOptions&)>;
+
+/// The serial engine (TimeStepper, RunOutput, io/checkpoint).
+std::unique_ptr<Engine> set_up_serial(const CaseLoader& load, const RunOptions& options);
+
+/// Before any set-up: prints the header and checks the output directory (--resume
+/// needs an existing one; a fresh run's is created; both must be writable).
+void begin_run(const RunOptions& options);
+
+/// Runs the case on an engine. Throws vpc::Error for a bad case or option, and
+/// vpc::CollectiveError for a step that failed (every process alike).
+RunResult run_case(const CaseLoader& load, const RunOptions& options, const EngineSetUp& set_up = set_up_serial);
+
+/// Runs a set-up engine: run_case after set-up.
+RunResult run_engine(Engine& engine, const RunOptions& options);
+
+}  // namespace vpc
