@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 
 namespace vpc {
 
@@ -234,6 +235,20 @@ Vector DistributedTimeStepper::local_u() const { return extend_from_free(part_.d
 
 Vector DistributedTimeStepper::local_beta() const { return ghosted_local(state_.beta); }
 
+MinimumAt DistributedTimeStepper::beta_minimum() const {
+  const Vector beta = local_beta();
+  const auto n = static_cast<std::size_t>(part_.n_owned_nodes);
+  const MinimumAt mine = minimum_at({beta.data(), n}, {part_.original_node.data(), n});
+  // MPI_MINLOC keeps the smaller index among equal values: minimum_at's rule.
+  struct {
+    double value;
+    int index;
+  } in{mine.value, mine.index}, out;
+  if (mine.index < 0) in = {INFINITY, std::numeric_limits<int>::max()};  // a rank without owned nodes
+  MPI_Allreduce(&in, &out, 1, MPI_DOUBLE_INT, MPI_MINLOC, part_.comm);
+  return {out.value, out.index};
+}
+
 StepReport DistributedTimeStepper::step() {
   require(!done(), "{}: the run is already at the final time", problem_->name);
   const Problem& p = *problem_;
@@ -293,21 +308,13 @@ StepReport DistributedTimeStepper::step() {
   rep.max_von_mises = allreduce_max(comm, max_vm);
   rep.seconds_stress = seconds_since(t0);
 
-  // β range over the owned nodes; the node of the minimum in the numbering of the mesh as read.
+  // β range over the owned nodes.
+  const MinimumAt lo = beta_minimum();
+  rep.beta_min = lo.value;
+  rep.beta_min_node = lo.index;
   const Vector beta = local_beta();
-  struct {
-    double value;
-    int node;
-  } lo{1e300, -1}, glo;
   double hi = -1e300;
-  for (int i = 0; i < part_.n_owned_nodes; ++i) {
-    if (beta[i] < lo.value || (beta[i] == lo.value && part_.original_node[i] < lo.node))
-      lo = {beta[i], part_.original_node[i]};
-    hi = std::max(hi, beta[i]);
-  }
-  MPI_Allreduce(&lo, &glo, 1, MPI_DOUBLE_INT, MPI_MINLOC, comm);
-  rep.beta_min = glo.value;
-  rep.beta_min_node = glo.node;
+  for (int i = 0; i < part_.n_owned_nodes; ++i) hi = std::max(hi, beta[i]);
   rep.beta_max = allreduce_max(comm, hi);
   state_.t = rep.t;
   state_.n = n;

@@ -43,6 +43,9 @@ class DistributedTimeStepper {
   Vector local_u() const;
   /// β at the part's nodes (owned and ghosts).
   Vector local_beta() const;
+  /// min β and its node in the numbering of the mesh as read, by the rule of
+  /// minimum_at (the serial engine's). Collective; the same on every rank.
+  MinimumAt beta_minimum() const;
   const SetupTiming& setup_timing() const { return setup_timing_; }
   int n_factorizations() const;
   bool keeps_w() const { return contact_->keeps_w(); }
