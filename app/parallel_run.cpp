@@ -101,6 +101,12 @@ int run(const CaseLoader& load, const ParallelRunOptions& o, MPI_Comm comm) {
     remove_temporary_files(o.output_directory);
   });
   Case c = load_everywhere(load, comm);
+  c.solvers.max_halvings = o.halvings;
+  try {  // what the engine refuses (DistributedTimeStepper's rule): said once, before any set-up
+    require_petsc_engine_supports(c.solvers);
+  } catch (const Error& e) {
+    throw CollectiveError(e.what());
+  }
   PetscSolverOptions linear;
   linear.kind = o.linear_solver;
 
@@ -215,7 +221,6 @@ int parallel_run(const CaseLoader& load, const ParallelRunOptions& o) {
   const int rank = comm_rank(comm), size = comm_size(comm);
   // Choices every rank rejects alike: said once, and no abort needed.
   try {
-    require(o.halvings == 0, "--retry-halvings: the PETSc engine does not retry failed steps yet");
     PetscLinearSolver check(comm, "vpc_check_", {o.linear_solver});
   } catch (const Error& e) {
     if (rank == 0) fmt::print(stderr, "vpcontact: error: {}\n", e.what());

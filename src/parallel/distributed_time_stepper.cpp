@@ -100,15 +100,31 @@ Vector ghosted_local(Vec v) {
   return out;
 }
 
+void require_petsc_engine_supports(const SolverChoice& choice) {
+  auto serial_only = [](const std::string& option, const std::string& lacks) {
+    return fmt::format("{}: serial-only for now (the PETSc engine {}); run it with --engine serial", option, lacks);
+  };
+  require(choice.contact == "active-set", "{}",
+          serial_only("--contact-solver (solver.contact) " + choice.contact, "has the active-set contact solver only"));
+  require(choice.damage == "active-set", "{}",
+          serial_only("--damage-solver (solver.damage) " + choice.damage, "has the active-set damage solver only"));
+  require(choice.max_halvings == 0, "{}",
+          serial_only(fmt::format("--retry-halvings {}", choice.max_halvings), "does not retry failed steps"));
+  require(choice.contact_options == ContactSolverOptions{}, "{}",
+          serial_only("SolverChoice::contact_options other than the defaults (tolerance, max_iterations, omega, "
+                      "max_cached_share)",
+                      "does not take them"));
+  require(choice.damage_reduced == ReducedSolve::automatic, "{}",
+          serial_only("SolverChoice::damage_reduced other than automatic",
+                      "has one reduced solve (a new factor; no capacitance method)"));
+}
+
 DistributedTimeStepper::DistributedTimeStepper(std::shared_ptr<const Problem> problem, DistributedMesh part,
                                                SolverChoice choice, PetscSolverOptions linear)
     : problem_(std::move(problem)), part_(std::move(part)), choice_(std::move(choice)) {
   const auto t0 = Clock::now();
   const Problem& p = *problem_;
-  require(choice_.contact == "active-set" && choice_.damage == "active-set",
-          "the PETSc engine has the active-set solvers only (contact '{}', damage '{}' were asked for)",
-          choice_.contact, choice_.damage);
-  require(choice_.max_halvings == 0, "the PETSc engine does not retry failed steps (--retry-halvings)");
+  require_petsc_engine_supports(choice_);
   const MPI_Comm comm = part_.comm;
   const Mesh& mesh = part_.mesh;
   const int d = mesh.dim();

@@ -26,6 +26,14 @@ struct DistributedState {
   Vector lambda;
 };
 
+/// Refuses (vpc::Error, naming the option) what the PETSc engine does not do yet:
+/// the penalty–duality solvers, step halving (max_halvings > 0), ContactSolverOptions
+/// other than the defaults, a damage ReducedSolve other than automatic. They are
+/// serial-only until the engines are one code path (issue 12); nothing is ignored
+/// silently. A function of `choice` only, so every rank decides alike; the
+/// constructor below calls it first, a run loop may call it earlier to report once.
+void require_petsc_engine_supports(const SolverChoice& choice);
+
 class DistributedTimeStepper {
  public:
   /// `problem` supplies the data (its mesh is not used: `part` is this rank's piece).
