@@ -27,7 +27,6 @@ int parallel_run(const RunOptions& o, const EngineTask& task) {
   catch_interrupts();
   try {
     collective(comm, [&] {  // choices every rank rejects alike, before any set-up
-      require(o.halvings == 0, "--retry-halvings: the PETSc engine does not retry failed steps yet");
       PetscLinearSolver check(comm, "vpc_check_", {o.linear_solver});
     });
     rc = task(petsc_engine(comm));

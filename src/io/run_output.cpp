@@ -351,9 +351,9 @@ void RunOutput::finish(double wall_seconds) {
   r.total_contact_force = s.lambda.sum();
   r.active_contact_nodes = active_contact_nodes(totals_, s.lambda);
   for (const auto& x : s.sigma) r.max_von_mises = std::max(r.max_von_mises, x.von_mises());
-  Eigen::Index imin = 0;
-  r.beta_min = s.beta.minCoeff(&imin);
-  r.beta_min_location = mesh.node(static_cast<int>(imin));
+  const MinimumAt lo = minimum_at({s.beta.data(), static_cast<std::size_t>(s.beta.size())});  // as the PETSc engine
+  r.beta_min = lo.value;
+  r.beta_min_location = lo.index >= 0 ? mesh.node(lo.index) : Point{0, 0, 0};
   r.beta_max = s.beta.maxCoeff();
   for (const auto& p : probes_) r.probes.push_back(p.x);
   r.totals = totals_;

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 
 namespace vpc {
 
@@ -56,15 +57,31 @@ Vector ghosted_local(Vec v) {
   return out;
 }
 
+void require_petsc_engine_supports(const SolverChoice& choice) {
+  auto serial_only = [](const std::string& option, const std::string& lacks) {
+    return fmt::format("{}: serial-only for now (the PETSc engine {}); run it with --engine serial", option, lacks);
+  };
+  require(choice.contact == "active-set", "{}",
+          serial_only("--contact-solver (solver.contact) " + choice.contact, "has the active-set contact solver only"));
+  require(choice.damage == "active-set", "{}",
+          serial_only("--damage-solver (solver.damage) " + choice.damage, "has the active-set damage solver only"));
+  require(choice.max_halvings == 0, "{}",
+          serial_only(fmt::format("--retry-halvings {}", choice.max_halvings), "does not retry failed steps"));
+  require(choice.contact_options == ContactSolverOptions{}, "{}",
+          serial_only("SolverChoice::contact_options other than the defaults (tolerance, max_iterations, omega, "
+                      "max_cached_share)",
+                      "does not take them"));
+  require(choice.damage_reduced == ReducedSolve::automatic, "{}",
+          serial_only("SolverChoice::damage_reduced other than automatic",
+                      "has one reduced solve (a new factor; no capacitance method)"));
+}
+
 DistributedTimeStepper::DistributedTimeStepper(std::shared_ptr<const Problem> problem, DistributedMesh part,
                                                SolverChoice choice, PetscSolverOptions linear)
     : problem_(std::move(problem)), part_(std::move(part)), choice_(std::move(choice)) {
   const auto t0 = Clock::now();
   const Problem& p = *problem_;
-  require(choice_.contact == "active-set" && choice_.damage == "active-set",
-          "the PETSc engine has the active-set solvers only (contact '{}', damage '{}' were asked for)",
-          choice_.contact, choice_.damage);
-  require(choice_.max_halvings == 0, "the PETSc engine does not retry failed steps (--retry-halvings)");
+  require_petsc_engine_supports(choice_);
   const MPI_Comm comm = part_.comm;
   comm_ = la::make_mpi_comm(comm);
   const Mesh& mesh = part_.mesh;
@@ -189,6 +206,20 @@ Vector DistributedTimeStepper::local_u() const { return extend_from_free(part_.d
 
 Vector DistributedTimeStepper::local_beta() const { return state_.beta.local(); }
 
+MinimumAt DistributedTimeStepper::beta_minimum() const {
+  const Vector beta = local_beta();
+  const auto n = static_cast<std::size_t>(part_.n_owned_nodes);
+  const MinimumAt mine = minimum_at({beta.data(), n}, {part_.original_node.data(), n});
+  // MPI_MINLOC keeps the smaller index among equal values: minimum_at's rule.
+  struct {
+    double value;
+    int index;
+  } in{mine.value, mine.index}, out;
+  if (mine.index < 0) in = {INFINITY, std::numeric_limits<int>::max()};  // a rank without owned nodes
+  MPI_Allreduce(&in, &out, 1, MPI_DOUBLE_INT, MPI_MINLOC, part_.comm);
+  return {out.value, out.index};
+}
+
 StepReport DistributedTimeStepper::step() {
   require(!done(), "{}: the run is already at the final time", problem_->name);
   const Problem& p = *problem_;
@@ -251,21 +282,13 @@ StepReport DistributedTimeStepper::step() {
   rep.max_von_mises = allreduce_max(comm, max_vm);
   rep.seconds_stress = seconds_since(t0);
 
-  // β range over the owned nodes; the node of the minimum in the numbering of the mesh as read.
+  // β range over the owned nodes.
+  const MinimumAt lo = beta_minimum();
+  rep.beta_min = lo.value;
+  rep.beta_min_node = lo.index;
   const Vector beta = local_beta();
-  struct {
-    double value;
-    int node;
-  } lo{1e300, -1}, glo;
   double hi = -1e300;
-  for (int i = 0; i < part_.n_owned_nodes; ++i) {
-    if (beta[i] < lo.value || (beta[i] == lo.value && part_.original_node[i] < lo.node))
-      lo = {beta[i], part_.original_node[i]};
-    hi = std::max(hi, beta[i]);
-  }
-  MPI_Allreduce(&lo, &glo, 1, MPI_DOUBLE_INT, MPI_MINLOC, comm);
-  rep.beta_min = glo.value;
-  rep.beta_min_node = glo.node;
+  for (int i = 0; i < part_.n_owned_nodes; ++i) hi = std::max(hi, beta[i]);
   rep.beta_max = allreduce_max(comm, hi);
   state_.t = rep.t;
   state_.n = n;

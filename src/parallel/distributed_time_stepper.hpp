@@ -30,6 +30,14 @@ struct DistributedState {
   Vector lambda;
 };
 
+/// Refuses (vpc::Error, naming the option) what the PETSc engine does not do yet:
+/// the penalty–duality solvers, step halving (max_halvings > 0), ContactSolverOptions
+/// other than the defaults, a damage ReducedSolve other than automatic. They are
+/// serial-only until the engines are one code path (issue 12); nothing is ignored
+/// silently. A function of `choice` only, so every rank decides alike; the
+/// constructor below calls it first, a run loop may call it earlier to report once.
+void require_petsc_engine_supports(const SolverChoice& choice);
+
 class DistributedTimeStepper {
  public:
   /// `problem` supplies the data (its mesh is not used: `part` is this rank's piece).
@@ -47,6 +55,9 @@ class DistributedTimeStepper {
   Vector local_u() const;
   /// β at the part's nodes (owned and ghosts).
   Vector local_beta() const;
+  /// min β and its node in the numbering of the mesh as read, by the rule of
+  /// minimum_at (the serial engine's). Collective; the same on every rank.
+  MinimumAt beta_minimum() const;
   const SetupTiming& setup_timing() const { return setup_timing_; }
   int n_factorizations() const;
   bool keeps_w() const { return contact_->keeps_w(); }

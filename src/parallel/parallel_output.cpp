@@ -238,26 +238,22 @@ void ParallelOutput::finish(double wall_seconds) {
   double max_vm = 0;
   for (const auto& x : s.sigma) max_vm = std::max(max_vm, x.von_mises());
   max_vm = allreduce_max(comm_, max_vm);
-  // β min over the owned nodes, its location from the rank that has it.
+  // min β by the serial engine's rule (minimum_at); its location from the rank that owns the node.
+  const MinimumAt lo = stepper_.beta_minimum();
   const Vector beta = stepper_.local_beta();
-  struct {
-    double value;
-    int rank;
-  } lo{INFINITY, rank_}, glo;
-  int at = -1;
   double bmax = -INFINITY;
-  for (int i = 0; i < part.n_owned_nodes; ++i) {
-    if (beta[i] < lo.value) {
-      lo.value = beta[i];
-      at = i;
-    }
-    bmax = std::max(bmax, beta[i]);
-  }
-  MPI_Allreduce(&lo, &glo, 1, MPI_DOUBLE_INT, MPI_MINLOC, comm_);
-  bmax = allreduce_max(comm_, bmax);
   Point xb{0, 0, 0};
-  if (rank_ == glo.rank && at >= 0) xb = mesh.node(at);
-  MPI_Bcast(xb.data(), 3, MPI_DOUBLE, glo.rank, comm_);
+  int owner = size_;
+  for (int i = 0; i < part.n_owned_nodes; ++i) {
+    bmax = std::max(bmax, beta[i]);
+    if (part.original_node[i] == lo.index) {
+      owner = rank_;
+      xb = mesh.node(i);
+    }
+  }
+  bmax = allreduce_max(comm_, bmax);
+  owner = static_cast<int>(allreduce_min(comm_, owner));
+  if (owner < size_) MPI_Bcast(xb.data(), 3, MPI_DOUBLE, owner, comm_);
   const int n_factorizations = stepper_.n_factorizations();
   if (rank_ != 0) return;
   RunSummary r;
@@ -273,7 +269,7 @@ void ParallelOutput::finish(double wall_seconds) {
   r.total_contact_force = s.lambda.sum();
   r.active_contact_nodes = active_contact_nodes(totals_, s.lambda);
   r.max_von_mises = max_vm;
-  r.beta_min = glo.value;
+  r.beta_min = lo.value;
   r.beta_min_location = xb;
   r.beta_max = bmax;
   for (const auto& pr : probes_) r.probes.push_back(pr.x);

@@ -106,6 +106,9 @@ std::unique_ptr<Engine> set_up_petsc(MPI_Comm comm, const CaseLoader& load, cons
   const int rank = comm_rank(comm);
   on_root(comm, [&] { begin_run(o); });
   Case c = load_everywhere(load, comm);
+  c.solvers.max_halvings = o.halvings;
+  // What the engine does not do yet (DistributedTimeStepper's rule): said once, before any set-up.
+  collective(comm, [&] { require_petsc_engine_supports(c.solvers); });
   stop_if_interrupted_anywhere(comm);
   DistributedMesh part = distribute_mesh(comm, *c.problem);
   c.problem->mesh = Mesh();  // from here on, rank 0 too holds its part only

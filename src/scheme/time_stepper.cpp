@@ -22,6 +22,19 @@ double seconds_since(Clock::time_point t0) {
 
 }  // namespace
 
+MinimumAt minimum_at(std::span<const double> values, std::span<const int> index) {
+  MinimumAt best;
+  for (std::size_t i = 0; i < values.size(); ++i)
+    best = minimum_at(best, {values[i], index.empty() ? static_cast<int>(i) : index[i]});
+  return best;
+}
+
+MinimumAt minimum_at(const MinimumAt& a, const MinimumAt& b) {
+  if (a.index < 0) return b;
+  if (b.index < 0) return a;
+  return b.value < a.value || (b.value == a.value && b.index < a.index) ? b : a;
+}
+
 TimeStepper::TimeStepper(std::shared_ptr<const Problem> problem, SolverChoice choice)
     : problem_(std::move(problem)), choice_(std::move(choice)) {
   const auto t0 = Clock::now();
@@ -268,9 +281,9 @@ StepReport TimeStepper::advance(int level, double t_end) {
   rep.max_von_mises = max_vm;
   rep.seconds_stress = seconds_since(t0);
 
-  Eigen::Index imin = 0;
-  rep.beta_min = state_.beta.minCoeff(&imin);
-  rep.beta_min_node = static_cast<int>(imin);
+  const MinimumAt lo = minimum_at({state_.beta.data(), static_cast<std::size_t>(state_.beta.size())});
+  rep.beta_min = lo.value;
+  rep.beta_min_node = lo.index;
   rep.beta_max = state_.beta.maxCoeff();
   state_.t = rep.t;  // state_.n is the grid step: step() sets it
 

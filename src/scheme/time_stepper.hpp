@@ -12,6 +12,7 @@
 
 #include <functional>
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -36,13 +37,28 @@ struct SolverChoice {
   std::string memory_limit;
 };
 
+/// The smallest value and where it is. The one rule for min β in the step
+/// reports and summary.json of both engines and any rank count: among equal
+/// minima (β = 0 or β = 1 at many nodes), the smallest node index in the
+/// numbering of the mesh as read.
+struct MinimumAt {
+  double value = 0;
+  int index = -1;
+};
+/// The minimum of `values` by that rule; `index[i]` is the node number of
+/// values[i] (empty: i itself). `values` empty: index −1. NaN entries are
+/// passed over unless they come first.
+MinimumAt minimum_at(std::span<const double> values, std::span<const int> index = {});
+/// The minimum of two candidates by that rule (the reduction over ranks).
+MinimumAt minimum_at(const MinimumAt& a, const MinimumAt& b);
+
 struct StepReport {
   int n = 0;
   double t = 0;
   ContactReport contact;
   DamageReport damage;
   double beta_min = 1, beta_max = 1;
-  int beta_min_node = 0;
+  int beta_min_node = 0;  // by the rule of minimum_at
   double max_von_mises = 0;
   double seconds_sources = 0, seconds_damage = 0, seconds_contact = 0, seconds_stress = 0;
   /// True when both solvers converged and all residuals are within tolerance.

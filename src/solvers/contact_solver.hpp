@@ -57,6 +57,8 @@ struct ContactSolverOptions {
   /// Active set: Y = L⁻¹PNᵀ is kept (a step then costs one solve) while it takes at
   /// most this share of the memory of K's factor (and 256 MiB); else two solves a step.
   double max_cached_share = 0.5;
+
+  bool operator==(const ContactSolverOptions&) const = default;
 };
 
 /// K and N are copied; K_factor must be the factor of K.

@@ -1,0 +1,346 @@
+#!/usr/bin/env python3
+"""The backend-equivalence test (issue 12): one case, the whole path from the case
+file to the files a run writes, on the serial engine and on the PETSc engine at
+several rank counts.
+
+  equivalence.py --vpcontact BIN --mpiexec MPIEXEC --work DIR [--ranks 1,2,3]
+                 [--refuse REGEX] -- CASE [run options...]
+
+Runs `BIN run CASE OPTIONS --engine serial` once and `MPIEXEC -n P BIN run CASE
+OPTIONS --engine petsc` for each P, then compares what they wrote:
+- every VTU file (the serial solution_NNNNN.vtu against the PETSc engine's pieces
+  solution_NNNNN_pXXXX.vtu, matched by node coordinates and, for cells, by their
+  nodes): every point and cell array, raw or zlib-compressed; the PETSc engine's
+  `rank` array is the only one allowed in one engine only;
+- solution.pvd (the same output times);
+- history.csv and probes.csv: the same header, rows and every column;
+- summary.json: every number and string, except the run's timings, its command
+  line and date, and the PETSc engine's `ranks` and `linear_solver`.
+Numbers agree when |a - b| <= 1e-10 * scale + floor, where scale is the largest
+magnitude of that array or column in the serial run (a field's own unit), and
+floor is 1e-13 * (1 + scale), except for the solvers' residuals (history.csv,
+summary.json "checks"): relative residuals at round-off level, written with 3
+digits in history.csv, agree when |a - b| <= 1e-10. Integers
+(steps, iterations, counts, flags) must be equal.
+
+With --refuse REGEX the case is a feature the PETSc engine does not have yet:
+the serial run must succeed and each PETSc run must fail at once, saying REGEX
+exactly once (rank 0 reports it) and without MPI_Abort. When the engines are
+unified, remove --refuse and the entry must match.
+
+Prints "equivalence: PASSED" or the differences and "equivalence: FAILED".
+Python standard library only.
+"""
+import argparse
+import json
+import math
+import os
+import re
+import shutil
+import struct
+import subprocess
+import sys
+import time
+import zlib
+
+REL = 1e-10
+RESIDUAL_ABS = 1e-10
+# Keys of summary.json that say how a run went, not what it computed.
+# `factorizations` counts how the solvers went about it (the serial damage solver
+# picks capacitance or a reduced factor by measured time), not a result.
+SUMMARY_SKIP = {"timing_seconds", "setup_seconds", "vpcontact", "engine", "ranks", "linear_solver", "factorizations"}
+
+
+class Report:
+    def __init__(self):
+        self.failures = []
+        self.worst = {}  # what -> largest |a - b| / tolerance seen
+
+    def fail(self, msg):
+        self.failures.append(msg)
+
+    def note(self, what, ratio):
+        self.worst[what] = max(self.worst.get(what, 0.0), ratio)
+
+
+# ---------------------------------------------------------------- VTU reading
+
+def read_vtu(path):
+    """{'points': [(x, y, z)], 'cells': [[node, ...]], 'point': {name: (ncomp, values)}, 'cell': {...}}"""
+    with open(path, "rb") as f:
+        data = f.read()
+    head, sep, rest = data.partition(b"<AppendedData")
+    if not sep:
+        raise ValueError(f"{path}: no AppendedData")
+    xml = head.decode()
+    binary = rest[rest.index(b"_") + 1:]
+    compressed = "vtkZLibDataCompressor" in xml
+    if 'header_type="UInt64"' not in xml:
+        raise ValueError(f"{path}: expected header_type UInt64")
+
+    def block(offset):
+        if not compressed:
+            (n,) = struct.unpack_from("<Q", binary, offset)
+            return binary[offset + 8: offset + 8 + n]
+        nb, _, _ = struct.unpack_from("<QQQ", binary, offset)
+        sizes = struct.unpack_from(f"<{nb}Q", binary, offset + 24)
+        pos = offset + 24 + 8 * nb
+        out = bytearray()
+        for s in sizes:
+            out += zlib.decompress(binary[pos: pos + s])
+            pos += s
+        return bytes(out)
+
+    fmt_of = {"Float64": "d", "Int64": "q", "UInt8": "B"}
+    out = {"point": {}, "cell": {}}
+    section = None
+    for m in re.finditer(r"<(/?)(Points|Cells|PointData|CellData)\b[^>]*>|<DataArray ([^>]*)/>", xml):
+        if m.group(2):
+            section = None if m.group(1) else m.group(2)
+            continue
+        attrs = dict(re.findall(r'(\w+)="([^"]*)"', m.group(3)))
+        raw = block(int(attrs["offset"]))
+        code = fmt_of[attrs["type"]]
+        values = struct.unpack(f"<{len(raw) // struct.calcsize(code)}{code}", raw)
+        ncomp = int(attrs.get("NumberOfComponents", "1"))
+        if section == "Points":
+            out["points"] = [tuple(values[i:i + 3]) for i in range(0, len(values), 3)]
+        elif section == "Cells":
+            out[attrs["Name"]] = values
+        elif section == "PointData":
+            out["point"][attrs["Name"]] = (ncomp, values)
+        elif section == "CellData":
+            out["cell"][attrs["Name"]] = (ncomp, values)
+    conn, offs = out.pop("connectivity"), out.pop("offsets")
+    start, cells = 0, []
+    for o in offs:
+        cells.append(conn[start:o])
+        start = o
+    out["cells"] = cells
+    return out
+
+
+def compare_values(rep, what, serial, other, scale, floor, label):
+    tol = REL * scale + floor
+    for i, (a, b) in enumerate(zip(serial, other)):
+        d = abs(a - b)
+        if not d <= tol:  # also catches NaN
+            rep.fail(f"{what}: {label(i)}: serial {a!r}, PETSc {b!r} (|diff| {d:.3e} > {tol:.3e})")
+            return
+        if tol > 0:
+            rep.note(what, d / tol)
+
+
+def scale_of(values):
+    return max((abs(v) for v in values if math.isfinite(v)), default=0.0)
+
+
+def compare_vtu(rep, what, serial_path, pieces):
+    s = read_vtu(serial_path)
+    index = {p: i for i, p in enumerate(s["points"])}
+    if len(index) != len(s["points"]):
+        rep.fail(f"{what}: the serial mesh has coincident nodes; cannot match pieces by coordinates")
+        return
+    cell_index = {tuple(sorted(c)): i for i, c in enumerate(s["cells"])}
+    point_seen, cell_seen = set(), set()
+    names = {"point": set(s["point"]), "cell": set(s["cell"])}
+    for piece in pieces:
+        p = read_vtu(piece)
+        for kind in ("point", "cell"):
+            extra = set(p[kind]) - names[kind] - ({"rank"} if kind == "cell" else set())
+            missing = names[kind] - set(p[kind])
+            if extra or missing:
+                rep.fail(f"{what}: {os.path.basename(piece)}: {kind} arrays differ: only in PETSc {sorted(extra)}, "
+                         f"only in serial {sorted(missing)}")
+                return
+        try:
+            pmap = [index[x] for x in p["points"]]
+        except KeyError as e:
+            rep.fail(f"{what}: {os.path.basename(piece)}: node {e} is not a node of the serial mesh")
+            return
+        cmap = []
+        for c in p["cells"]:
+            key = tuple(sorted(pmap[j] for j in c))
+            if key not in cell_index:
+                rep.fail(f"{what}: {os.path.basename(piece)}: a cell with serial nodes {key} is not a serial cell")
+                return
+            cmap.append(cell_index[key])
+        point_seen.update(pmap)
+        cell_seen.update(cmap)
+        for kind, m in (("point", pmap), ("cell", cmap)):
+            for name in sorted(names[kind]):
+                nc, sv = s[kind][name]
+                nc2, pv = p[kind][name]
+                if nc != nc2 or len(pv) != len(m) * nc:
+                    rep.fail(f"{what}: {name}: {nc2} components x {len(pv) // max(nc2, 1)} in a piece, "
+                             f"serial {nc} components")
+                    return
+                ref = [sv[m[i // nc] * nc + i % nc] for i in range(len(pv))]
+                scale = scale_of(sv)
+                compare_values(rep, f"vtu {name}", ref, pv, scale, 1e-13 * (1 + scale),
+                               lambda i, kind=kind, m=m, nc=nc: f"{os.path.basename(piece)} {kind} "
+                                                                 f"{m[i // nc]} component {i % nc}")
+    if len(point_seen) != len(s["points"]) or len(cell_seen) != len(s["cells"]):
+        rep.fail(f"{what}: the pieces cover {len(point_seen)} of {len(s['points'])} nodes and {len(cell_seen)} of "
+                 f"{len(s['cells'])} cells")
+
+
+# ---------------------------------------------------------------- CSV, PVD, JSON
+
+def read_csv(path):
+    with open(path) as f:
+        lines = [l.rstrip("\n") for l in f if l.strip()]
+    return lines[0].split(","), [l.split(",") for l in lines[1:]]
+
+
+def is_int(text):
+    return re.fullmatch(r"-?\d+", text) is not None
+
+
+def compare_csv(rep, name, serial_path, other_path):
+    sh, srows = read_csv(serial_path)
+    ph, prows = read_csv(other_path)
+    if sh != ph:
+        rep.fail(f"{name}: headers differ: serial {sh}, PETSc {ph}")
+        return
+    if len(srows) != len(prows):
+        rep.fail(f"{name}: {len(srows)} rows in serial, {len(prows)} in PETSc")
+        return
+    for j, col in enumerate(sh):
+        sv, pv = [r[j] for r in srows], [r[j] for r in prows]
+        if all(is_int(v) for v in sv):
+            for i, (a, b) in enumerate(zip(sv, pv)):
+                if a != b:
+                    rep.fail(f"{name} {col}: row {i + 1} (step {srows[i][0]}): serial {a}, PETSc {b}")
+                    break
+            continue
+        sf, pf = [float(v) for v in sv], [float(v) for v in pv]
+        residual = "residual" in col or col.startswith("contact_") and col != "contact_iterations"
+        scale = scale_of(sf)
+        floor = RESIDUAL_ABS if residual else 1e-13 * (1 + scale)
+        compare_values(rep, f"{name} {col}", sf, pf, 0 if residual else scale, floor,
+                       lambda i: f"row {i + 1} (step {srows[i][0]})")
+
+
+def pvd_times(path):
+    with open(path) as f:
+        return [float(t) for t in re.findall(r'timestep="([^"]*)"', f.read())]
+
+
+def compare_json(rep, path, a, b):
+    if isinstance(a, dict) and isinstance(b, dict):
+        for k in sorted(set(a) | set(b)):
+            if k in SUMMARY_SKIP:
+                continue
+            if k not in a or k not in b:
+                rep.fail(f"summary.json {path}{k}: only in {'serial' if k in a else 'PETSc'}")
+                continue
+            compare_json(rep, f"{path}{k}.", a[k], b[k])
+    elif isinstance(a, list) and isinstance(b, list):
+        if len(a) != len(b):
+            rep.fail(f"summary.json {path}: {len(a)} entries in serial, {len(b)} in PETSc")
+            return
+        for i, (x, y) in enumerate(zip(a, b)):
+            compare_json(rep, f"{path}{i}.", x, y)
+    elif isinstance(a, bool) or isinstance(a, str) or a is None or isinstance(a, int) and isinstance(b, int):
+        if a != b:
+            rep.fail(f"summary.json {path.rstrip('.')}: serial {a!r}, PETSc {b!r}")
+    elif isinstance(a, (int, float)) and isinstance(b, (int, float)):
+        if "residual" in path:
+            compare_values(rep, "summary.json residuals", [a], [b], 0, RESIDUAL_ABS, lambda i: path.rstrip("."))
+        else:
+            scale = abs(a)
+            compare_values(rep, "summary.json", [a], [b], scale, 1e-13 * (1 + scale), lambda i: path.rstrip("."))
+    else:
+        rep.fail(f"summary.json {path.rstrip('.')}: serial {a!r}, PETSc {b!r}")
+
+
+def compare_runs(rep, serial_dir, petsc_dir, ranks):
+    files = sorted(os.listdir(serial_dir))
+    stems = [f[:-4] for f in files if re.fullmatch(r"solution_\d{5}\.vtu", f)]
+    pstems = sorted(f[:-5] for f in os.listdir(petsc_dir) if re.fullmatch(r"solution_\d{5}\.pvtu", f))
+    if stems != pstems:
+        rep.fail(f"output steps differ: serial {stems}, PETSc {pstems}")
+    if os.path.exists(os.path.join(serial_dir, "solution.pvd")):
+        st, pt = pvd_times(os.path.join(serial_dir, "solution.pvd")), pvd_times(os.path.join(petsc_dir, "solution.pvd"))
+        if st != pt:
+            rep.fail(f"solution.pvd: output times differ: serial {st}, PETSc {pt}")
+    for stem in stems:
+        pieces = [os.path.join(petsc_dir, f"{stem}_p{r:04d}.vtu") for r in range(ranks)]
+        if not all(os.path.exists(p) for p in pieces):
+            rep.fail(f"{stem}: missing PETSc pieces")
+            continue
+        compare_vtu(rep, stem, os.path.join(serial_dir, stem + ".vtu"), pieces)
+    for name in ("history.csv", "probes.csv"):
+        compare_csv(rep, name, os.path.join(serial_dir, name), os.path.join(petsc_dir, name))
+    with open(os.path.join(serial_dir, "summary.json")) as f:
+        sj = json.load(f)
+    with open(os.path.join(petsc_dir, "summary.json")) as f:
+        pj = json.load(f)
+    compare_json(rep, "", sj, pj)
+    return len(stems)
+
+
+# ---------------------------------------------------------------- running
+
+def run(cmd, env):
+    t0 = time.monotonic()
+    p = subprocess.run(cmd, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    return p, time.monotonic() - t0
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--vpcontact", required=True)
+    ap.add_argument("--mpiexec", required=True)
+    ap.add_argument("--work", required=True)
+    ap.add_argument("--ranks", default="1,2,3")
+    ap.add_argument("--refuse", default=None)
+    ap.add_argument("case", nargs=argparse.REMAINDER)
+    a = ap.parse_args()
+    case = [x for x in a.case if x != "--"]
+    env = dict(os.environ, OMP_NUM_THREADS="1")
+    shutil.rmtree(a.work, ignore_errors=True)
+    os.makedirs(a.work)
+    ok = True
+
+    serial_dir = os.path.join(a.work, "serial")
+    p, secs = run([a.vpcontact, "run", *case, "--engine", "serial", "-q", "-o", serial_dir], env)
+    print(f"serial: exit {p.returncode}, {secs:.2f} s")
+    if p.returncode != 0:
+        print(p.stdout + p.stderr)
+        print("equivalence: FAILED (the serial run failed)")
+        return 1
+    for ranks in [int(r) for r in a.ranks.split(",")]:
+        out = os.path.join(a.work, f"np{ranks}")
+        p, secs = run([a.mpiexec, "-n", str(ranks), "--oversubscribe", a.vpcontact, "run", *case, "--engine", "petsc",
+                       "-q", "-o", out], env)
+        text = p.stdout + p.stderr
+        if a.refuse is not None:
+            said = len(re.findall(a.refuse, text))
+            good = p.returncode != 0 and said == 1 and "MPI_Abort" not in text and "MPI_ABORT" not in text
+            print(f"PETSc on {ranks} rank{'s' if ranks > 1 else ''}: exit {p.returncode}, {secs:.2f} s: "
+                  f"{'refused as expected' if good else 'NOT REFUSED AS EXPECTED'} ({said} x /{a.refuse}/)")
+            print("  " + text.strip().replace("\n", "\n  "))
+            ok &= good
+            continue
+        if p.returncode != 0:
+            print(f"PETSc on {ranks} ranks: exit {p.returncode}\n{text}")
+            ok = False
+            continue
+        rep = Report()
+        n_vtu = compare_runs(rep, serial_dir, out, ranks)
+        worst = max(rep.worst.values(), default=0.0)
+        print(f"PETSc on {ranks} rank{'s' if ranks > 1 else ''}: {secs:.2f} s; {n_vtu} VTU steps, history, probes, "
+              f"summary: {'match' if not rep.failures else 'DIFFER'} (largest |diff| / tolerance {worst:.2e})")
+        for f in rep.failures[:20]:
+            print("  differs: " + f)
+        if len(rep.failures) > 20:
+            print(f"  ... and {len(rep.failures) - 20} more")
+        ok &= not rep.failures
+    print(f"equivalence: {'PASSED' if ok else 'FAILED'}")
+    return 0 if ok else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())
