@@ -32,25 +32,28 @@ check_interrupted() {  # NAME EXPECTED_RC RC LOG
   echo "$dir: exit $rc, resumed with: $resume"
 }
 
-# SIGTERM from timeout(1), two seconds in: well into the time steps.
+# A signal once a few steps are written (never during set-up, however loaded the
+# machine): SIGTERM as timeout(1) or a batch system sends it, SIGINT as Ctrl-C.
+interrupt_after_steps() {  # SIGNAL DIR LOG
+  local sig=$1 dir=$2 log=$3
+  "$vpcontact" "${args[@]}" -o "$dir" > "$log" 2>&1 &
+  local pid=$!
+  for _ in $(seq 1 1200); do
+    [ -f "$dir/history.csv" ] && [ "$(wc -l < "$dir/history.csv")" -gt 5 ] && break
+    sleep 0.05
+  done
+  kill -"$sig" "$pid"
+  wait "$pid"
+}
 dir="term run's \$dir"
-timeout --preserve-status -s TERM 2 "$vpcontact" "${args[@]}" -o "$dir" > term.log 2>&1
+interrupt_after_steps TERM "$dir" term.log
 check_interrupted "$dir" 143 $? term.log
-
-# SIGINT once a few steps are written (as Ctrl-C).
 dir="int run"
-"$vpcontact" "${args[@]}" -o "$dir" > int.log 2>&1 &
-pid=$!
-for _ in $(seq 1 400); do
-  [ -f "$dir/history.csv" ] && [ "$(wc -l < "$dir/history.csv")" -gt 5 ] && break
-  sleep 0.05
-done
-kill -INT "$pid"
-wait "$pid"
+interrupt_after_steps INT "$dir" int.log
 check_interrupted "$dir" 130 $? int.log
 
 # SIGINT during set-up (the factorization of K): a clean exit with 130.
-"$vpcontact" run block-3d --n 20 -o setup > setup.log 2>&1 &
+"$vpcontact" run block-3d --n 30 -o setup > setup.log 2>&1 &
 pid=$!
 for _ in $(seq 1 600); do grep -q "factorization of K" setup.log && break; sleep 0.05; done
 kill -INT "$pid"
