@@ -4,7 +4,7 @@
 // In a build with VPCONTACT_ENABLE_PETSC, a run started by mpirun/mpiexec (any
 // -np, 1 included) uses it; --engine serial|petsc forces one. This header also
 // compiles without PETSc, where it explains what is missing.
-#include "cases/case.hpp"
+#include "io/case.hpp"
 #include "core/error.hpp"
 #include "figures.hpp"
 

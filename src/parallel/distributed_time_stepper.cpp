@@ -168,20 +168,15 @@ DistributedTimeStepper::DistributedTimeStepper(std::shared_ptr<const Problem> pr
   setup_timing_.contact = seconds_since(t1);
   stage("contact set-up", setup_timing_.contact);
 
-  // Initial state (3.4): u0 = 0, σ0 = 0 (so z0 = 0), β0 = the P1 interpolant.
+  // Initial state (3.4): u0 = 0, σ0 = 0 (so z0 = 0), β0 = the P1 interpolant (in [0, 1]:
+  // Problem::validate, on the rank that read the case).
   state_.u = ghosted(comm, part_.n_owned_dofs, part_.n_global_dofs, part_.ghost_dofs());
   state_.beta = ghosted(comm, part_.n_owned_nodes, part_.n_global_nodes, part_.ghost_nodes());
   VPC_PETSC(VecDuplicate(state_.u, F_.out()));
   VPC_PETSC(VecDuplicate(state_.beta, rhs_.out()));
   VPC_PETSC(VecDuplicate(state_.beta, fphi_.out()));
   Vector beta0(mesh.n_nodes());
-  for (int i = 0; i < mesh.n_nodes(); ++i) {
-    const double b = p.beta0 ? p.beta0(mesh.node(i), 0.0) : 1.0;
-    require(std::isfinite(b) && b >= 0 && b <= 1,
-            "{}: initial damage beta0 must lie in [0, 1]; it is {} at node {} ({}, {}, {})", p.name, b,
-            part_.original_node[i], mesh.node(i)[0], mesh.node(i)[1], mesh.node(i)[2]);
-    beta0[i] = b;
-  }
+  for (int i = 0; i < mesh.n_nodes(); ++i) beta0[i] = p.beta0 ? p.beta0(mesh.node(i), 0.0) : 1.0;
   {
     Vec lv = nullptr;
     VPC_PETSC(VecGhostGetLocalForm(state_.beta, &lv));
