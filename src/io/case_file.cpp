@@ -266,17 +266,6 @@ class Section {
 };
 
 
-/// Runs a check of Problem (scheme/problem.hpp) on a value read at `where`, and puts
-/// that location before its message: each datum is checked in one place.
-template <typename Check>
-auto checked_at(const std::string& where, Check&& check) {
-  try {
-    return check();
-  } catch (const Error& e) {
-    fail("{}: {}", where, e.what());
-  }
-}
-
 VectorField vector_field(std::vector<std::shared_ptr<const Expression>> e) {
   return [e = std::move(e)](const Point& x, double t) {
     Point v{0, 0, 0};
@@ -425,11 +414,7 @@ Mesh read_mesh_file(Section& m, const fs::path& base_dir) {
   const fs::path path = base_dir / m.string("file");
   GmshOptions g;
   g.size_factor = m.positive("size_factor", 1.0);
-  try {
-    return read_gmsh(path, g);
-  } catch (const Error& e) {
-    fail("{}: {}", m.where("file"), e.what());
-  }
+  return located(m.where("file"), [&] { return read_gmsh(path, g); });
 }
 
 /// The cells per direction of a generated mesh: one number for all, or one each;
@@ -472,13 +457,11 @@ Mesh generate_mesh(Section& m) {
   const Diagonal diagonal = d == 1 ? Diagonal::right : diagonal_from_name(m.choice("diagonal", diagonal_names(), "right"));
   // The generators check the mesh size (check_mesh_size) before allocating; the
   // other checks above make the size the only thing they can refuse.
-  try {
+  return located(m.where("cells"), [&] {
     if (d == 1) return make_interval(lo[0], hi[0], n[0]);
     if (d == 2) return make_rectangle({lo[0], lo[1], 0}, {hi[0], hi[1], 0}, n[0], n[1], diagonal);
     return make_box({lo[0], lo[1], lo[2]}, {hi[0], hi[1], hi[2]}, n[0], n[1], n[2], diagonal);
-  } catch (const Error& e) {
-    fail("{}: {}", m.where("cells"), e.what());
-  }
+  });
 }
 
 /// [[mesh.part]]: re-tag the boundary facets whose centroid satisfies a predicate.
@@ -539,7 +522,7 @@ Elasticity read_elasticity(Section e, int d, const std::string& file) {
   const std::string kind = e.choice("kind", {"1d", "plane-stress", "plane-strain", "isotropic"}, default_kind);
   const double young = e.number("E");
   const double nu = d == 1 ? e.number("nu", 0.0) : e.number("nu");
-  const Elasticity elasticity = checked_at(e.where_section(), [&] { return Elasticity::from_name(kind, young, nu); });
+  const Elasticity elasticity = located(e.where_section(), [&] { return Elasticity::from_name(kind, young, nu); });
   if (elasticity.dim() != d)
     fail("{}: elasticity '{}' is for d = {} but the mesh has d = {}", e.where("kind"), kind, elasticity.dim(), d);
   e.finish();
@@ -599,11 +582,11 @@ std::shared_ptr<const DamageSource> read_damage_source(Section& dm) {
 
 void read_damage(Section dm, Problem& p) {
   p.kappa = dm.number("kappa", 1.0);
-  checked_at(dm.where("kappa"), [&] { check_kappa(p.kappa); });
+  located(dm.where("kappa"), [&] { check_kappa(p.kappa); });
   const auto b0 = dm.has("beta0") ? dm.expression("beta0", Expression::Kind::Space) : nullptr;
   if (b0) {
     p.beta0 = [b0](const Point& x, double) { return (*b0)(x); };
-    checked_at(dm.where("beta0"), [&] { check_beta0(p.mesh, p.beta0); });
+    located(dm.where("beta0"), [&] { check_beta0(p.mesh, p.beta0); });
   } else {
     p.beta0 = [](const Point&, double) { return 1.0; };
   }
@@ -642,7 +625,7 @@ std::optional<Point> read_contact_direction(Section& ct, int d) {
 void read_contact(Section ct, Problem& p) {
   const auto gap = ct.has("gap") ? ct.expression("gap", Expression::Kind::Space) : nullptr;
   p.contact.gap = [gap](const Point& x, double) { return gap ? (*gap)(x) : 0.0; };
-  checked_at(ct.where("gap"), [&] { check_gap(p.mesh, p.contact); });
+  located(ct.where("gap"), [&] { check_gap(p.mesh, p.contact); });
   p.contact.direction = read_contact_direction(ct, p.mesh.dim());
   ct.finish();
 }
@@ -650,14 +633,14 @@ void read_contact(Section ct, Problem& p) {
 void read_time(Section tm, Problem& p, const std::string& file) {
   if (!tm.exists()) fail("{}: missing section [time] (T and steps or dt)", file);
   p.final_time = tm.number("T", 1.0);
-  checked_at(tm.where("T"), [&] { check_final_time(p.final_time); });
+  located(tm.where("T"), [&] { check_final_time(p.final_time); });
   if (tm.has("steps") == tm.has("dt")) fail("{}: give exactly one of steps and dt", tm.where_section());
   if (tm.has("steps")) {
     p.n_steps = tm.integer("steps");
-    checked_at(tm.where("steps"), [&] { check_n_steps(p.n_steps); });
+    located(tm.where("steps"), [&] { check_n_steps(p.n_steps); });
   } else {
     const double k = tm.number("dt");
-    p.n_steps = checked_at(tm.where("dt"), [&] { return steps_of_time_step(p.final_time, k); });
+    p.n_steps = located(tm.where("dt"), [&] { return steps_of_time_step(p.final_time, k); });
   }
   tm.finish();
 }
@@ -763,7 +746,7 @@ Case parse_case(std::string_view text, const std::string& name, const fs::path& 
   c.solvers = read_solver(top.table("solver"));
   top.finish();
   // Without the mesh (a rank that did not build it): validated by the rank that has it.
-  if (mesh_request.build) checked_at(name, [&] { p->validate(); });
+  if (mesh_request.build) located(name, [&] { p->validate(); });
   c.problem = std::move(p);
   return c;
 }

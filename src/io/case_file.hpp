@@ -14,7 +14,7 @@ namespace vpc {
 /// Changes to a case's keys before it is read, from the command line: each is
 /// checked as the file's own value would be, and errors name the option.
 struct CaseOverrides {
-  std::vector<std::string> sets;     // --set key.path=value (the value in TOML syntax; a bare word is a string)
+  std::vector<std::string> sets{};   // --set key.path=value (the value in TOML syntax; a bare word is a string)
   std::optional<double> kappa{};     // --kappa: damage.kappa
   std::optional<int> steps{};        // --steps: time.steps
   std::optional<double> time_step{}; // --dt: time.dt

@@ -48,29 +48,15 @@ void check_gap(const Mesh& mesh, const ContactSpec& contact) {
   }
 }
 
-namespace {
-
-/// Runs one datum's check with the problem's name before its message.
-template <typename Check>
-void named(const std::string& where, Check&& check) {
-  try {
-    check();
-  } catch (const Error& e) {
-    fail("{}: {}", where, e.what());
-  }
-}
-
-}  // namespace
-
 void Problem::validate() const {
   const std::string where = name.empty() ? "problem" : name;
   require(mesh.n_cells() > 0, "{}: the mesh has no cells", where);
   require(elasticity.dim() == mesh.dim(),
           "{}: elasticity '{}' is for d = {} but the mesh has d = {}", where, elasticity.name(),
           elasticity.dim(), mesh.dim());
-  named(where, [&] { check_kappa(kappa); });
-  named(where, [&] { check_final_time(final_time); });
-  named(where, [&] { check_n_steps(n_steps); });
+  located(where, [&] { check_kappa(kappa); });
+  located(where, [&] { check_final_time(final_time); });
+  located(where, [&] { check_n_steps(n_steps); });
   require(law != nullptr, "{}: no viscoplastic law G", where);
   require(source != nullptr, "{}: no damage source phi", where);
   require(!clamped.empty(), "{}: no clamped part Γ1 given (meas Γ1 > 0 is required)", where);
@@ -82,8 +68,8 @@ void Problem::validate() const {
   for (const auto& p : traction)
     require(mesh.part_size(p) > 0, "{}: traction part '{}' has no boundary facets in the mesh", where, p);
   require(static_cast<bool>(contact.gap), "{}: no gap function g", where);
-  named(where, [&] { check_gap(mesh, contact); });
-  named(where, [&] { check_beta0(mesh, beta0); });
+  located(where, [&] { check_gap(mesh, contact); });
+  located(where, [&] { check_beta0(mesh, beta0); });
   if (contact.direction) {
     const Point& v = *contact.direction;
     require(std::hypot(v[0], v[1], v[2]) > 0, "{}: the contact direction must be a non-zero vector", where);
