@@ -7,7 +7,6 @@
 #include "figures.hpp"
 
 #include "cases/builtin_cases.hpp"
-#include "cases/shipped_cases.hpp"
 #include "core/error.hpp"
 #include "io/atomic_file.hpp"
 #include "io/case_file.hpp"
@@ -88,37 +87,21 @@ StudyInput manufactured_input(const ConvergeOptions& o) {
   return in;
 }
 
-bool is_case_file(const std::string& s) { return s.size() > 5 && (s.ends_with(".toml") || fs::is_regular_file(s)); }
-
 StudyInput case_input(const ConvergeOptions& o) {
-  CaseOverrides ov;
+  CaseOverrides ov{.sets = o.sets};
   if (given("--kappa")) ov.kappa = o.kappa;
   if (given("--steps")) ov.steps = o.steps;
-  Case c;
-  const auto& builtins = builtin_case_names();
-  const bool builtin = std::find(builtins.begin(), builtins.end(), o.case_name) != builtins.end();
-  if (builtin && o.sets.empty()) {
-    if (given("--n")) ov.mesh_cells = o.n;
-    c = make_builtin_case(o.case_name, ov);
-  } else {
-    std::vector<std::string> sets = o.sets;
-    if (given("--n")) sets.insert(sets.begin(), fmt::format("mesh.cells={}", o.n));
-    if (!is_case_file(o.case_name)) {
-      const auto& shipped = shipped_cases();
-      auto it = std::find_if(shipped.begin(), shipped.end(), [&](const auto& s) { return s.name == o.case_name; });
-      if (it == shipped.end()) {
-        std::vector<std::string> names;
-        for (const auto& s : shipped) names.emplace_back(s.name);
-        fail("unknown case '{}'; built-in cases are: {}; manufactured: mms-LAW-Dd (LAW = elastic, maxwell, "
-             "perzyna; D = 1, 2, 3); or give a case file, NAME.toml",
-             o.case_name, fmt::join(names, ", "));
-      }
-      c = parse_case(it->text, std::string(it->name) + ".toml (built-in)", fs::path(VPC_SOURCE_DIR) / "cases", sets);
-    } else {
-      c = read_case_file(o.case_name, sets);
-    }
-    apply_case_overrides(*c.problem, ov);
+  MeshRequest mesh;
+  if (given("--n")) {
+    require(o.n >= 1, "--n must be >= 1 (got {})", o.n);
+    mesh.cells = o.n;
   }
+  const auto builtins = builtin_case_names();
+  if (!is_case_file(o.case_name) && std::find(builtins.begin(), builtins.end(), o.case_name) == builtins.end())
+    fail("unknown case '{}'; built-in cases are: {}; manufactured: mms-LAW-Dd (LAW = elastic, maxwell, "
+         "perzyna; D = 1, 2, 3); or give a case file, NAME.toml",
+         o.case_name, fmt::join(builtins, ", "));
+  const Case c = load_case(o.case_name, ov, mesh);
   StudyInput in;
   in.name = c.name;
   in.description = c.description;

@@ -56,50 +56,6 @@ bool given(const CLI::App& cmd, const std::string& name) {
   return opt != nullptr && opt->count() > 0;
 }
 
-bool is_case_file(const std::string& s) {
-  return s.size() > 5 && (s.ends_with(".toml") || fs::is_regular_file(s));
-}
-
-const vpc::ShippedCase* find_shipped(const std::string& name) {
-  const auto& shipped = vpc::shipped_cases();
-  auto it = std::find_if(shipped.begin(), shipped.end(), [&](const auto& s) { return s.name == name; });
-  return it == shipped.end() ? nullptr : &*it;
-}
-
-[[noreturn]] void unknown_case(const std::string& name) {
-  std::vector<std::string> names;
-  for (const auto& s : vpc::shipped_cases()) names.emplace_back(s.name);
-  vpc::fail("unknown case '{}'; built-in cases are: {} (or give a case file, NAME.toml)", name, fmt::join(names, ", "));
-}
-
-/// The case named on the command line, before anything is built: its TOML (a
-/// case file, or a built-in case's compiled-in text) and whether the C++
-/// built-in is used (a built-in case without --set).
-struct CaseSource {
-  std::string text;
-  std::string name;   // for messages: the file, or "NAME.toml (built-in)"
-  fs::path base_dir;  // where its meshes are found
-  bool cpp_builtin = false;
-};
-
-CaseSource case_source(const Options& o) {
-  CaseSource src;
-  if (is_case_file(o.case_name)) {
-    src.text = vpc::read_text_file(o.case_name, "case file");
-    src.name = o.case_name;
-    src.base_dir = fs::path(o.case_name).parent_path();
-    return src;
-  }
-  const vpc::ShippedCase* shipped = find_shipped(o.case_name);
-  if (!shipped) unknown_case(o.case_name);
-  const auto& builtins = vpc::builtin_case_names();
-  src.cpp_builtin = o.sets.empty() && std::find(builtins.begin(), builtins.end(), o.case_name) != builtins.end();
-  src.text = shipped->text;
-  src.name = std::string(shipped->name) + ".toml (built-in)";
-  src.base_dir = fs::path(VPC_SOURCE_DIR) / "cases";  // shipped cases find their meshes in the source tree
-  return src;
-}
-
 /// The output directory the run will write: --resume, -o, the case's, else output/NAME.
 fs::path output_directory(const Options& o, const vpc::CaseInfo& info) {
   if (!o.run.resume.empty()) return o.run.resume;
@@ -109,26 +65,18 @@ fs::path output_directory(const Options& o, const vpc::CaseInfo& info) {
 }
 
 /// The case with the command-line overrides; its output directory is `outdir`.
-vpc::Case load_case(const Options& o, const CLI::App& cmd, const CaseSource& src, const fs::path& outdir,
+vpc::Case load_case(const Options& o, const CLI::App& cmd, const vpc::CaseSource& src, const fs::path& outdir,
                     const vpc::MeshRequest& mesh = {}) {
-  vpc::CaseOverrides ov;
-  ov.build_mesh = mesh.build;
+  vpc::CaseOverrides ov{.sets = o.sets};
   if (given(cmd, "--kappa")) ov.kappa = o.kappa;
   if (given(cmd, "--steps")) ov.steps = o.steps;
   if (given(cmd, "--dt")) ov.time_step = o.dt;
-  vpc::Case c;
-  if (src.cpp_builtin) {
-    if (given(cmd, "--n")) ov.mesh_cells = o.n;
-    c = vpc::make_builtin_case(o.case_name, ov);
-  } else {
-    vpc::MeshRequest request = mesh;
-    if (given(cmd, "--n")) {
-      vpc::require(o.n >= 1, "--n must be >= 1 (got {})", o.n);
-      request.cells = o.n;
-    }
-    c = vpc::parse_case(src.text, src.name, src.base_dir, o.sets, request);
-    vpc::apply_case_overrides(*c.problem, ov);
+  vpc::MeshRequest request = mesh;
+  if (given(cmd, "--n")) {
+    vpc::require(o.n >= 1, "--n must be >= 1 (got {})", o.n);
+    request.cells = o.n;
   }
+  vpc::Case c = vpc::load_case(src, ov, request);
   c.output.directory = outdir;
   c.output.command_line = o.run.argv;
   c.output.started = o.started;
@@ -149,17 +97,17 @@ vpc::Case load_case(const Options& o, const CLI::App& cmd, const CaseSource& src
 }
 
 /// The case header's name and description, as the case will give them.
-vpc::CaseInfo header_info(const Options& o, const CaseSource& src) {
-  vpc::CaseInfo info = vpc::case_info(src.text, src.name, o.sets);
-  if (src.cpp_builtin || !is_case_file(o.case_name)) info.name = o.case_name;
+vpc::CaseInfo header_info(const Options& o, const vpc::CaseSource& src) {
+  vpc::CaseInfo info = vpc::case_info(src.text, src.name, {.sets = o.sets});
+  if (src.builtin) info.name = o.case_name;
   return info;
 }
 
 /// Builds the case, reported as the first set-up stage.
-vpc::Case build_case(const Options& o, const CLI::App& cmd, const CaseSource& src, const fs::path& outdir,
+vpc::Case build_case(const Options& o, const CLI::App& cmd, const vpc::CaseSource& src, const fs::path& outdir,
                      vpc::StageLog& log, const vpc::MeshRequest& mesh = {}) {
   const auto t = std::chrono::steady_clock::now();
-  log(is_case_file(o.case_name) ? fmt::format("reading {} and building the mesh", o.case_name)
+  log(vpc::is_case_file(o.case_name) ? fmt::format("reading {} and building the mesh", o.case_name)
                                 : std::string("building the mesh"),
       -1);
   vpc::Case c = load_case(o, cmd, src, outdir, mesh);
@@ -182,7 +130,7 @@ int on_engine(const Options& o, const vpc::RunOptions& ro, const vpc::EngineTask
 }
 
 /// Builds the case (build_case) for the run loop; in a distributed run rank 0 builds the mesh and reports.
-vpc::CaseLoader case_loader(const Options& o, const CLI::App& cmd, const CaseSource& src, const fs::path& outdir) {
+vpc::CaseLoader case_loader(const Options& o, const CLI::App& cmd, const vpc::CaseSource& src, const fs::path& outdir) {
   return [&o, &cmd, &src, outdir](const vpc::MeshRequest& mesh) {
     vpc::StageLog log(o.run.quiet || !mesh.build);
     return build_case(o, cmd, src, outdir, log, mesh);
@@ -192,7 +140,7 @@ vpc::CaseLoader case_loader(const Options& o, const CLI::App& cmd, const CaseSou
 int run(const Options& o, const CLI::App& cmd) {
   vpc::require(o.run.halvings >= 0 && o.run.halvings <= 20, "--retry-halvings must be in [0, 20] (got {})",
                o.run.halvings);
-  const CaseSource src = case_source(o);
+  const vpc::CaseSource src = vpc::case_source(o.case_name);
   const vpc::CaseInfo info = header_info(o, src);
   const fs::path outdir = output_directory(o, info);
   const vpc::RunOptions ro = run_options(o, info, outdir);
@@ -204,7 +152,7 @@ int run(const Options& o, const CLI::App& cmd) {
 
 /// Set-up (parse, mesh, assemble, factorize) without a run.
 int check(const Options& o, const CLI::App& cmd) {
-  const CaseSource src = case_source(o);
+  const vpc::CaseSource src = vpc::case_source(o.case_name);
   const vpc::CaseInfo info = header_info(o, src);
   const vpc::RunOptions ro = run_options(o, info, {});
   return on_engine(o, ro, [&](const vpc::EngineSetUp& set_up) {
@@ -223,9 +171,7 @@ std::string builtin_case_list() {
 
 int cases(const Options& o) {
   if (!o.show_case.empty()) {
-    const vpc::ShippedCase* s = find_shipped(o.show_case);
-    if (!s) unknown_case(o.show_case);
-    fmt::print("{}", s->text);
+    fmt::print("{}", vpc::case_source(o.show_case).text);
     return 0;
   }
   fmt::print("{}", builtin_case_list());

@@ -6,7 +6,6 @@
 // with the cached factor of K, solver iterations, factor and model memory and the
 // peak resident memory. bench/run_benchmarks.py repeats runs and tabulates medians.
 #include "cases/builtin_cases.hpp"
-#include "cases/shipped_cases.hpp"
 #include "core/error.hpp"
 #include "io/case_file.hpp"
 #include "process_policy.hpp"
@@ -56,23 +55,14 @@ int main(int argc, char** argv) {
   app.add_option("--repeat-solves", repeat_solves, "solves timed for the one-solve cost")->capture_default_str();
   app.add_option("--output", outdir, "scratch output directory")->capture_default_str();
   std::vector<std::string> sets;
-  app.add_option("--set", sets, "override a key of the case's TOML twin, e.g. --set damage.c=1 (repeatable)");
+  app.add_option("--set", sets, "override a key of the case, e.g. --set damage.c=1 (repeatable)");
   std::string reduced = "auto";
   app.add_option("--damage-reduced", reduced, "damage active set: auto, capacitance or factor")->capture_default_str();
   CLI11_PARSE(app, argc, argv);
 
   try {
     const auto t_run = Clock::now();
-    vpc::Case c;
-    if (sets.empty()) {
-      c = vpc::make_builtin_case(name, {.mesh_cells = n, .steps = steps});
-    } else {  // the TOML twin of the built-in case, with the overrides
-      const auto& shipped = vpc::shipped_cases();
-      auto it = std::find_if(shipped.begin(), shipped.end(), [&](const auto& s) { return s.name == name; });
-      vpc::require(it != shipped.end(), "--set: '{}' has no TOML twin", name);
-      sets.insert(sets.begin(), {fmt::format("mesh.cells={}", n), fmt::format("time.steps={}", steps)});
-      c = vpc::parse_case(it->text, name + ".toml", std::filesystem::path(VPC_SOURCE_DIR) / "cases", sets);
-    }
+    vpc::Case c = vpc::load_case(name, {.sets = sets, .steps = steps}, {.cells = n});
     vpc::require(reduced == "auto" || reduced == "capacitance" || reduced == "factor",
                  "--damage-reduced: expected auto, capacitance or factor, got '{}'", reduced);
     c.solvers.damage_reduced = reduced == "capacitance" ? vpc::ReducedSolve::capacitance

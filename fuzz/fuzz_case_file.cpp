@@ -118,7 +118,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const std::string_view text(reinterpret_cast<const char*>(data), size);
   if (!worth_parsing(text)) return -1;  // not added to the corpus
   try {
-    const vpc::Case c = vpc::parse_case(text, "fuzz.toml", case_dir(), overrides(text));
+    const vpc::Case c = vpc::parse_case(text, "fuzz.toml", case_dir(), {.sets = overrides(text)});
     // The data that is evaluated only when a run starts.
     const vpc::Problem& p = *c.problem;
     const vpc::Point x = p.mesh.node(0);

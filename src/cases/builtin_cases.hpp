@@ -1,28 +1,35 @@
 #pragma once
-// The built-in cases: the paper's two examples (SPEC §4) and a 3D block.
-#include "cases/case.hpp"
+// The built-in cases are the case files cases/*.toml, compiled into the program
+// (shipped_cases.hpp); this finds one by name, or reads a case file.
+#include "io/case_file.hpp"
 
-#include <optional>
+#include <filesystem>
 #include <string>
 #include <vector>
 
 namespace vpc {
 
-/// Overrides of a case's discretization and data; unset means the case's default.
-struct CaseOverrides {
-  std::optional<int> mesh_cells{};   // cells per unit edge count n (1D: n segments; 2D: n × n; 3D: n³ cubes)
-  std::optional<double> kappa{};
-  std::optional<int> steps{};      // N, so k = T / N
-  std::optional<double> time_step{};// k; N = T / k must be an integer
-  bool build_mesh = true;            // false: an empty mesh (a rank > 0 of a distributed run; MeshRequest)
+std::vector<std::string> builtin_case_names();
+
+/// A case's TOML before anything is built: a case file's, or a built-in case's
+/// compiled-in text (whose meshes are found in the source tree's cases/).
+struct CaseSource {
+  std::string text;
+  std::string name;                // for messages: the file, or "NAME.toml (built-in)"
+  std::filesystem::path base_dir;  // where its meshes are found
+  bool builtin = false;
 };
 
-/// Applies κ, N or k overrides to a problem (built-in or from a case file);
-/// the mesh size is the case's business (built-ins: `n`; files: mesh.cells).
-void apply_case_overrides(Problem& p, const CaseOverrides& overrides);
+/// Whether `s` names a case file rather than a built-in case: a name ending in
+/// .toml, or an existing file.
+bool is_case_file(const std::string& s);
 
-std::vector<std::string> builtin_case_names();
-/// Builds a built-in case; throws vpc::Error for an unknown name or a bad override.
-Case make_builtin_case(const std::string& name, const CaseOverrides& overrides = {});
+/// The source of `name_or_file`; throws vpc::Error for an unknown built-in case,
+/// listing them.
+CaseSource case_source(const std::string& name_or_file);
+
+/// Reads a case with command-line overrides (parse_case).
+Case load_case(const CaseSource& source, const CaseOverrides& overrides = {}, const MeshRequest& mesh = {});
+Case load_case(const std::string& name_or_file, const CaseOverrides& overrides = {}, const MeshRequest& mesh = {});
 
 }  // namespace vpc

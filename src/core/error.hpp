@@ -34,4 +34,15 @@ void require(bool ok, fmt::format_string<Args...> f, Args&&... args) {
   if (!ok) throw Error(fmt::format(f, std::forward<Args>(args)...));
 }
 
+/// Runs `check` and puts `where` (a file:line:column, an option, a case name) before
+/// the message of a vpc::Error it throws: a check written once, located by its caller.
+template <typename Check>
+auto located(const std::string& where, Check&& check) {
+  try {
+    return check();
+  } catch (const Error& e) {
+    throw Error(where + ": " + e.what());
+  }
+}
+
 }  // namespace vpc

@@ -12,11 +12,9 @@ CellGeometry cell_geometry(int dim, const Point* x) {
   Eigen::Matrix3d J = Eigen::Matrix3d::Identity();
   for (int a = 1; a <= dim; ++a)
     for (int i = 0; i < dim; ++i) J(i, a - 1) = x[a][i] - x[0][i];
-  const double det = J.determinant();
-  static const double factorial[4] = {1, 1, 2, 6};
   CellGeometry g;
-  g.volume = std::abs(det) / factorial[dim];
-  if (!(g.volume > 0) || !std::isfinite(det)) return g;
+  g.volume = simplex_measure(dim, x);
+  if (!(g.volume > 0) || !std::isfinite(g.volume)) return g;
   const Eigen::Matrix3d JinvT = J.inverse().transpose();
   for (int i = 0; i < dim; ++i) {
     double s = 0;

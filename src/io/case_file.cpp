@@ -80,11 +80,24 @@ double number_value(const toml::node& n) {
   return *n.value_exact<double>();
 }
 
+/// Where a case's values come from: its file, and the command-line option behind
+/// each key that an override set (such a value has no line in the file).
+struct Origins {
+  std::string file;
+  std::map<std::string, std::string> of_key;  // key path -> "--kappa -1", "--set damage.kappa=-1"
+
+  std::string of(const std::string& key_path) const {
+    const auto it = of_key.find(key_path);
+    return it == of_key.end() ? "--set " + key_path : it->second;
+  }
+};
+
 /// One table of the case file. Every key asked for (present or not) is known;
 /// finish() rejects keys nobody asked for.
 class Section {
  public:
-  Section(const toml::table* t, std::string path, const std::string& file) : t_(t), path_(std::move(path)), file_(file) {}
+  Section(const toml::table* t, std::string path, const Origins& origins)
+      : t_(t), path_(std::move(path)), origins_(origins), file_(origins.file) {}
 
   bool exists() const { return t_ != nullptr; }
   const std::string& path() const { return path_; }
@@ -99,7 +112,7 @@ class Section {
   /// "file:line:col: key" for a present key, "file: [section] key" otherwise.
   std::string where(const std::string& k) {
     const toml::node* n = get(k);
-    if (n && n->source().begin.line == 0) return fmt::format("--set {}", key_path(k));
+    if (n && n->source().begin.line == 0) return origins_.of(key_path(k));
     if (n) return fmt::format("{}: {}", location(*n, file_), key_path(k));
     return where_section() + ": " + key_path(k);
   }
@@ -217,7 +230,7 @@ class Section {
   Section table(const std::string& k) {
     const toml::node* n = get(k);
     if (n && !n->is_table()) expected(k, "a table");
-    return Section(n ? n->as_table() : nullptr, key_path(k), file_);
+    return Section(n ? n->as_table() : nullptr, key_path(k), origins_);
   }
 
   /// Keys present but never asked for are errors.
@@ -247,9 +260,11 @@ class Section {
  private:
   const toml::table* t_;
   std::string path_;
+  const Origins& origins_;
   const std::string& file_;
   std::set<std::string> known_;
 };
+
 
 VectorField vector_field(std::vector<std::shared_ptr<const Expression>> e) {
   return [e = std::move(e)](const Point& x, double t) {
@@ -259,9 +274,11 @@ VectorField vector_field(std::vector<std::shared_ptr<const Expression>> e) {
   };
 }
 
-/// Keys of one section that exclude each other: a --set of a key on one side
+// ---------------------------------------------------------------- overrides
+
+/// Keys of one section that exclude each other: an override of a key on one side
 /// replaces the keys of the other side that the file gives (the file's `dt` gives
-/// way to `--set time.steps=200`). `b_too` lists keys that go with b's side.
+/// way to `--set time.steps=200`).
 struct ExclusiveKeys {
   std::string_view section;
   std::vector<std::string_view> a, b;
@@ -278,7 +295,7 @@ const std::vector<ExclusiveKeys>& exclusive_keys() {
   return pairs;
 }
 
-/// The keys of `section` that a --set of `key` replaces (see exclusive_keys).
+/// The keys of `section` that an override of `key` replaces (see exclusive_keys).
 std::vector<std::string> replaced_keys(const std::string& section, const std::string& key, const toml::table& t) {
   std::vector<std::string> out;
   for (const auto& e : exclusive_keys()) {
@@ -298,126 +315,186 @@ std::vector<std::string> replaced_keys(const std::string& section, const std::st
   return out;
 }
 
-/// Applies `key.path=value` overrides to the parsed table. A key that excludes
-/// one of the file's (exclusive_keys) replaces it; two overrides that exclude
-/// each other are an error.
-void apply_overrides(toml::table& root, const std::vector<std::string>& overrides) {
-  std::map<std::string, std::string> given;  // full key -> the override that set it
-  for (const auto& o : overrides) {
-    const auto eq = o.find('=');
-    require(eq != std::string::npos && eq > 0, "--set {}: expected key=value (e.g. damage.kappa=0.1)", o);
-    std::string key = o.substr(0, eq), value = o.substr(eq + 1);
-    key.erase(key.find_last_not_of(" \t") + 1);
-    std::vector<std::string> parts;
-    std::stringstream ss(key);
-    for (std::string p; std::getline(ss, p, '.');) {
-      require(!p.empty(), "--set {}: empty part in the key '{}'", o, key);
-      parts.push_back(p);
+/// One key set from the command line.
+struct KeyOverride {
+  std::vector<std::string> key;  // its path, e.g. {"time", "steps"}
+  std::string value;             // TOML; a bare word is taken as a string
+  std::string origin;            // for messages: "--set time.steps=50", "--steps 50"
+  bool generated_mesh_only = false;  // --n: refused for a mesh file
+  std::string key_path() const { return fmt::format("{}", fmt::join(key, ".")); }
+};
+
+/// `--set key.path=value`.
+KeyOverride parse_set(const std::string& o) {
+  KeyOverride ov{{}, {}, "--set " + o};
+  const auto eq = o.find('=');
+  require(eq != std::string::npos && eq > 0, "--set {}: expected key=value (e.g. damage.kappa=0.1)", o);
+  std::string key = o.substr(0, eq);
+  ov.value = o.substr(eq + 1);
+  key.erase(key.find_last_not_of(" \t") + 1);
+  std::stringstream ss(key);
+  for (std::string p; std::getline(ss, p, '.');) {
+    require(!p.empty(), "--set {}: empty part in the key '{}'", o, key);
+    ov.key.push_back(p);
+  }
+  require(!ov.key.empty(), "--set {}: expected key=value (e.g. damage.kappa=0.1)", o);
+  return ov;
+}
+
+/// The overrides in the order they apply: --set, then --n, --kappa, --steps, --dt.
+std::vector<KeyOverride> key_overrides(const CaseOverrides& o, int cells) {
+  std::vector<KeyOverride> out;
+  for (const auto& s : o.sets) out.push_back(parse_set(s));
+  if (cells > 0) out.push_back({{"mesh", "cells"}, fmt::format("{}", cells), fmt::format("--n {}", cells), true});
+  // 17 digits: the value that TOML reads back is the option's double.
+  if (o.kappa) out.push_back({{"damage", "kappa"}, fmt::format("{:.17g}", *o.kappa), fmt::format("--kappa {}", *o.kappa)});
+  if (o.steps) out.push_back({{"time", "steps"}, fmt::format("{}", *o.steps), fmt::format("--steps {}", *o.steps)});
+  if (o.time_step)
+    out.push_back({{"time", "dt"}, fmt::format("{:.17g}", *o.time_step), fmt::format("--dt {}", *o.time_step)});
+  return out;
+}
+
+/// The value of an override as a TOML node (in a one-key table).
+toml::table override_value(const KeyOverride& ov) {
+  try {
+    return toml::parse(std::string_view("v = " + ov.value), std::string_view(ov.origin));
+  } catch (const toml::parse_error&) {
+    toml::table bare;
+    bare.insert_or_assign("v", ov.value);  // a bare word: a string
+    return bare;
+  }
+}
+
+/// The table that holds an override's key, created where missing.
+toml::table& table_of(toml::table& root, const KeyOverride& ov) {
+  toml::table* t = &root;
+  for (size_t i = 0; i + 1 < ov.key.size(); ++i) {
+    toml::node* n = t->get(ov.key[i]);
+    if (!n) {
+      t->insert_or_assign(ov.key[i], toml::table{});
+      n = t->get(ov.key[i]);
     }
-    require(!parts.empty(), "--set {}: expected key=value (e.g. damage.kappa=0.1)", o);
-    toml::table parsed;
-    try {
-      parsed = toml::parse(std::string_view("v = " + value), std::string_view("--set " + o));
-    } catch (const toml::parse_error&) {
-      parsed = toml::table{};
-      parsed.insert_or_assign("v", value);  // a bare word: a string
-    }
-    toml::table* t = &root;
-    std::string section;
-    for (size_t i = 0; i + 1 < parts.size(); ++i) {
-      toml::node* n = t->get(parts[i]);
-      if (!n) {
-        t->insert_or_assign(parts[i], toml::table{});
-        n = t->get(parts[i]);
-      }
-      require(n->is_table(), "--set {}: '{}' is not a table in the case file", o, parts[i]);
-      t = n->as_table();
-      section += (i ? "." : "") + parts[i];
-    }
-    for (const auto& other : replaced_keys(section, parts.back(), *t)) {
+    require(n->is_table(), "{}: '{}' is not a table in the case file", ov.origin, ov.key[i]);
+    t = n->as_table();
+  }
+  return *t;
+}
+
+/// `--n N` sets the cells per edge of a generated mesh only (a mesh file has no cells to set).
+void check_generated_cells(const toml::table& root, const KeyOverride& ov, const std::string& file) {
+  const auto mesh_file = root["mesh"]["file"].value<std::string>();
+  if (ov.generated_mesh_only && mesh_file)
+    fail("{}: --n sets the cells per edge of a generated mesh only; {} reads its mesh from '{}' (refine that mesh "
+         "with --set mesh.size_factor=..., or in Gmsh)", ov.origin, file, *mesh_file);
+}
+
+/// Applies the overrides to the parsed table and records their origins. A key that
+/// excludes one of the file's (exclusive_keys) replaces it; two overrides that
+/// exclude each other are an error.
+void apply_overrides(toml::table& root, const std::vector<KeyOverride>& overrides, Origins& origins) {
+  for (const auto& ov : overrides) {
+    check_generated_cells(root, ov, origins.file);
+    const toml::table value = override_value(ov);
+    toml::table& t = table_of(root, ov);
+    const std::string section = fmt::format("{}", fmt::join(ov.key.begin(), ov.key.end() - 1, "."));
+    for (const auto& other : replaced_keys(section, ov.key.back(), t)) {
       const std::string full = section + "." + other;
-      if (auto it = given.find(full); it != given.end())
-        fail("--set {}: conflicts with --set {} (give only one of {} and {})", o, it->second, key, full);
-      t->erase(other);
+      if (auto it = origins.of_key.find(full); it != origins.of_key.end())
+        fail("{}: conflicts with {} (give only one of {} and {})", ov.origin, it->second, ov.key_path(), full);
+      t.erase(other);
     }
-    given[key] = o;
-    parsed["v"].visit([&](auto&& node) { t->insert_or_assign(parts.back(), node); });
+    origins.of_key[ov.key_path()] = ov.origin;
+    value["v"].visit([&](auto&& node) { t.insert_or_assign(ov.key.back(), node); });
   }
 }
 
-/// `vpcontact run CASE --n N`: N cells per edge of a generated mesh.
-void set_generated_cells(toml::table& root, int n, const std::string& file) {
-  toml::table* m = root["mesh"].as_table();
-  if (!m) return;  // parse_case reports the missing [mesh]
-  if (const auto mesh_file = (*m)["file"].value<std::string>())
-    fail("--n {}: --n sets the cells per edge of a generated mesh only; {} reads its mesh from '{}' (refine that "
-         "mesh with --set mesh.size_factor=..., or in Gmsh)", n, file, *mesh_file);
-  m->insert_or_assign("cells", n);
+// ---------------------------------------------------------------- [mesh]
+
+Mesh read_mesh_file(Section& m, const fs::path& base_dir) {
+  const fs::path path = base_dir / m.string("file");
+  GmshOptions g;
+  g.size_factor = m.positive("size_factor", 1.0);
+  return located(m.where("file"), [&] { return read_gmsh(path, g); });
 }
 
-Mesh read_mesh(Section m, const fs::path& base_dir, const std::string& file) {
-  if (!m.exists()) fail("{}: missing section [mesh]", file);
-  Mesh mesh;
-  if (m.has("file")) {
-    const fs::path path = base_dir / m.string("file");
-    GmshOptions g;
-    g.size_factor = m.positive("size_factor", 1.0);
-    try {
-      mesh = read_gmsh(path, g);
-    } catch (const Error& e) {
-      fail("{}: {}", m.where("file"), e.what());
-    }
+/// The cells per direction of a generated mesh: one number for all, or one each;
+/// `cells_multiple_of` (with `cells_reason`) states what the case's geometry needs.
+std::vector<int> read_cells(Section& m, int d) {
+  std::vector<int> n;
+  const toml::node* c = m.get("cells");
+  if (c && c->is_integer()) {
+    n.assign(d, m.integer("cells"));
   } else {
-    const std::string gen = m.choice("generator", {"interval", "rectangle", "box"});
-    const int d = gen == "interval" ? 1 : (gen == "rectangle" ? 2 : 3);
-    const auto lo = m.numbers("lower", d), hi = m.numbers("upper", d);
-    std::vector<int> n;
-    const toml::node* c = m.get("cells");
-    if (c && c->is_integer()) {
-      n.assign(d, m.integer("cells"));
-    } else {
-      for (double v : m.numbers("cells", d)) {
-        if (v != std::floor(v)) fail("{}: expected whole numbers of cells", m.where("cells"));
-        if (v < 1 || v > 100000) fail("{}: expected between 1 and 100000 cells per direction, got {}", m.where("cells"), v);
-        n.push_back(static_cast<int>(v));
-      }
-    }
-    for (int a = 0; a < d; ++a) {
-      if (n[a] < 1 || n[a] > 100000) fail("{}: expected between 1 and 100000 cells per direction, got {}", m.where("cells"), n[a]);
-      if (!(hi[a] > lo[a])) fail("{}: expected upper > lower in every direction", m.where("upper"));
-    }
-    // How squares and cubes are cut (generators.hpp); an interval has nothing to cut.
-    if (d == 1 && m.has("diagonal"))
-      fail("{}: diagonal applies to the rectangle and box generators only", m.where("diagonal"));
-    const Diagonal diagonal = d == 1 ? Diagonal::right : diagonal_from_name(m.choice("diagonal", diagonal_names(), "right"));
-    // The generators check the mesh size (check_mesh_size) before allocating; the
-    // other checks above make the size the only thing they can refuse.
-    try {
-      if (d == 1) mesh = make_interval(lo[0], hi[0], n[0]);
-      if (d == 2) mesh = make_rectangle({lo[0], lo[1], 0}, {hi[0], hi[1], 0}, n[0], n[1], diagonal);
-      if (d == 3) mesh = make_box({lo[0], lo[1], lo[2]}, {hi[0], hi[1], hi[2]}, n[0], n[1], n[2], diagonal);
-    } catch (const Error& e) {
-      fail("{}: {}", m.where("cells"), e.what());
+    for (double v : m.numbers("cells", d)) {
+      if (v != std::floor(v)) fail("{}: expected whole numbers of cells", m.where("cells"));
+      if (v < 1 || v > 100000) fail("{}: expected between 1 and 100000 cells per direction, got {}", m.where("cells"), v);
+      n.push_back(static_cast<int>(v));
     }
   }
-  // [[mesh.part]]: re-tag the boundary facets whose centroid satisfies a predicate.
-  if (m.has("part")) {
-    const toml::node* parts = m.get("part");
-    if (!parts->is_array_of_tables()) m.expected("part", "an array of tables [[mesh.part]] with name and where");
-    int i = 0;
-    for (const auto& node : *parts->as_array()) {
-      Section p(node.as_table(), fmt::format("mesh.part[{}]", i++), file);
-      const std::string name = p.string("name");
-      const auto where = p.expression("where", Expression::Kind::Space);
-      p.finish();
-      mesh.tag_facets(name, [&](const Point& x) { return (*where)(x) != 0.0; });
-      if (mesh.part_size(name) == 0)
-        fail("{}: the predicate \"{}\" selects no boundary facet", p.where("where"), where->text());
-    }
+  const int multiple = m.integer("cells_multiple_of", 1);
+  if (multiple < 1) fail("{}: expected an integer >= 1", m.where("cells_multiple_of"));
+  const std::string reason = m.string("cells_reason", "");
+  for (int a = 0; a < d; ++a) {
+    if (n[a] < 1 || n[a] > 100000)
+      fail("{}: expected between 1 and 100000 cells per direction, got {}", m.where("cells"), n[a]);
+    if (n[a] % multiple != 0)
+      fail("{}: the number of cells per edge n must be a multiple of {}{}; got {}", m.where("cells"), multiple,
+           reason.empty() ? "" : " (" + reason + ")", n[a]);
   }
+  return n;
+}
+
+Mesh generate_mesh(Section& m) {
+  const std::string gen = m.choice("generator", {"interval", "rectangle", "box"});
+  const int d = gen == "interval" ? 1 : (gen == "rectangle" ? 2 : 3);
+  const auto lo = m.numbers("lower", d), hi = m.numbers("upper", d);
+  const std::vector<int> n = read_cells(m, d);
+  for (int a = 0; a < d; ++a)
+    if (!(hi[a] > lo[a])) fail("{}: expected upper > lower in every direction", m.where("upper"));
+  // How squares and cubes are cut (generators.hpp); an interval has nothing to cut.
+  if (d == 1 && m.has("diagonal"))
+    fail("{}: diagonal applies to the rectangle and box generators only", m.where("diagonal"));
+  const Diagonal diagonal = d == 1 ? Diagonal::right : diagonal_from_name(m.choice("diagonal", diagonal_names(), "right"));
+  // The generators check the mesh size (check_mesh_size) before allocating; the
+  // other checks above make the size the only thing they can refuse.
+  return located(m.where("cells"), [&] {
+    if (d == 1) return make_interval(lo[0], hi[0], n[0]);
+    if (d == 2) return make_rectangle({lo[0], lo[1], 0}, {hi[0], hi[1], 0}, n[0], n[1], diagonal);
+    return make_box({lo[0], lo[1], lo[2]}, {hi[0], hi[1], hi[2]}, n[0], n[1], n[2], diagonal);
+  });
+}
+
+/// [[mesh.part]]: re-tag the boundary facets whose centroid satisfies a predicate.
+void read_mesh_parts(Section& m, Mesh& mesh, const Origins& origins) {
+  if (!m.has("part")) return;
+  const toml::node* parts = m.get("part");
+  if (!parts->is_array_of_tables()) m.expected("part", "an array of tables [[mesh.part]] with name and where");
+  int i = 0;
+  for (const auto& node : *parts->as_array()) {
+    Section p(node.as_table(), fmt::format("mesh.part[{}]", i++), origins);
+    const std::string name = p.string("name");
+    const auto where = p.expression("where", Expression::Kind::Space);
+    p.finish();
+    mesh.tag_facets(name, [&](const Point& x) { return (*where)(x) != 0.0; });
+    if (mesh.part_size(name) == 0)
+      fail("{}: the predicate \"{}\" selects no boundary facet", p.where("where"), where->text());
+  }
+}
+
+/// [mesh], built, or an empty mesh of the requested dimension (a rank that does not build it).
+Mesh read_mesh(Section m, const fs::path& base_dir, const Origins& origins, const MeshRequest& request) {
+  if (!m.exists()) fail("{}: missing section [mesh]", origins.file);
+  if (!request.build) {
+    require(request.dim >= 1 && request.dim <= 3, "{}: the mesh dimension must be 1, 2 or 3", origins.file);
+    return Mesh(request.dim);  // [mesh] is read by the rank that builds the mesh
+  }
+  Mesh mesh = m.has("file") ? read_mesh_file(m, base_dir) : generate_mesh(m);
+  read_mesh_parts(m, mesh, origins);
   m.finish();
   return mesh;
 }
+
+// ---------------------------------------------------------------- [boundary], [elasticity], laws
 
 /// `check`: whether the parts must exist in `mesh` (not on a rank that did not build it).
 std::vector<std::string> read_parts(Section& b, const std::string& key, const Mesh& mesh, bool required, bool check) {
@@ -431,11 +508,30 @@ std::vector<std::string> read_parts(Section& b, const std::string& key, const Me
   return parts;
 }
 
+void read_boundary(Section b, Problem& p, bool check, const std::string& file) {
+  if (!b.exists()) fail("{}: missing section [boundary] (clamped and contact parts)", file);
+  p.clamped = read_parts(b, "clamped", p.mesh, true, check);
+  p.contact.parts = read_parts(b, "contact", p.mesh, true, check);
+  p.traction = read_parts(b, "traction", p.mesh, false, check);
+  b.finish();
+}
+
+Elasticity read_elasticity(Section e, int d, const std::string& file) {
+  if (!e.exists()) fail("{}: missing section [elasticity] (kind, E, nu)", file);
+  const std::string default_kind = d == 1 ? "1d" : (d == 3 ? "isotropic" : "");
+  const std::string kind = e.choice("kind", {"1d", "plane-stress", "plane-strain", "isotropic"}, default_kind);
+  const double young = e.number("E");
+  const double nu = d == 1 ? e.number("nu", 0.0) : e.number("nu");
+  const Elasticity elasticity = located(e.where_section(), [&] { return Elasticity::from_name(kind, young, nu); });
+  if (elasticity.dim() != d)
+    fail("{}: elasticity '{}' is for d = {} but the mesh has d = {}", e.where("kind"), kind, elasticity.dim(), d);
+  e.finish();
+  return elasticity;
+}
+
 Parameters law_parameters(Section& s) {
   Parameters p;
-  for (const auto& k : s.remaining()) {
-    p.set(k, s.number(k));
-  }
+  for (const auto& k : s.remaining()) p.set(k, s.number(k));
   return p;
 }
 
@@ -452,204 +548,206 @@ void unknown_parameter(Section& s, const Parameters& params, const std::string& 
        did_you_mean(unused.front(), candidates), names.empty() ? "(none)" : fmt::format("{}", fmt::join(names, ", ")));
 }
 
+/// [viscoplasticity]: G, named, with its parameters (Perzyna's E defaults to ℰ's).
+std::shared_ptr<const ViscoplasticLaw> read_viscoplasticity(Section v, double young) {
+  const std::string law = v.choice("law", viscoplastic_law_names(), "elastic");
+  Parameters params = law_parameters(v);
+  if (law.rfind("perzyna", 0) == 0 && !params.has("E")) params.set("E", young);
+  try {
+    return make_viscoplastic_law(law, params);
+  } catch (const Error& err) {
+    unknown_parameter(v, params, "viscoplastic law '" + law + "'", viscoplastic_law_parameters(law));
+    fail("{}: [viscoplasticity]: {}", v.where_section(), err.what());
+  }
+}
+
+// ---------------------------------------------------------------- [damage]
+
+/// φ: a formula (`phi`), or a named source with its parameters.
+std::shared_ptr<const DamageSource> read_damage_source(Section& dm) {
+  if (dm.has("phi")) {
+    if (dm.has("source") && dm.string("source") != "expression")
+      fail("{}: give either source = \"<name>\" or phi = \"<formula>\", not both", dm.where("phi"));
+    return std::make_shared<ExpressionSource>(dm.expression("phi", Expression::Kind::PointState));
+  }
+  const std::string src = dm.choice("source", damage_source_names(), "zero");
+  Parameters params = law_parameters(dm);
+  try {
+    return make_damage_source(src, params);
+  } catch (const Error& err) {
+    unknown_parameter(dm, params, "damage source '" + src + "'", damage_source_parameters(src));
+    fail("{}: [damage]: {}", dm.where_section(), err.what());
+  }
+}
+
+void read_damage(Section dm, Problem& p) {
+  p.kappa = dm.number("kappa", 1.0);
+  located(dm.where("kappa"), [&] { check_kappa(p.kappa); });
+  const auto b0 = dm.has("beta0") ? dm.expression("beta0", Expression::Kind::Space) : nullptr;
+  if (b0) {
+    p.beta0 = [b0](const Point& x, double) { return (*b0)(x); };
+    located(dm.where("beta0"), [&] { check_beta0(p.mesh, p.beta0); });
+  } else {
+    p.beta0 = [](const Point&, double) { return 1.0; };
+  }
+  p.source = read_damage_source(dm);
+  dm.finish();
+}
+
+// ---------------------------------------------------------------- [loads], [contact], [time]
+
+void read_loads(Section l, Problem& p) {
+  auto load = [&](const char* key, bool& uniform) {
+    if (!l.has(key)) return VectorField{};
+    auto e = l.expressions(key, p.mesh.dim(), Expression::Kind::SpaceTime);
+    uniform = std::none_of(e.begin(), e.end(), [](const auto& f) { return f->uses_position(); });
+    return vector_field(std::move(e));
+  };
+  p.f0 = load("f0", p.f0_uniform);
+  p.f2 = load("f2", p.f2_uniform);
+  l.finish();
+}
+
+/// `direction`: "normal" (unset) or a fixed non-zero vector.
+std::optional<Point> read_contact_direction(Section& ct, int d) {
+  if (!ct.has("direction")) return std::nullopt;
+  if (ct.get("direction")->is_string()) {
+    ct.choice("direction", {"normal"});
+    return std::nullopt;
+  }
+  const auto v = ct.numbers("direction", d);
+  Point dir{0, 0, 0};
+  for (int i = 0; i < d; ++i) dir[i] = v[i];
+  if (std::hypot(dir[0], dir[1], dir[2]) == 0) fail("{}: expected a non-zero vector", ct.where("direction"));
+  return dir;
+}
+
+void read_contact(Section ct, Problem& p) {
+  const auto gap = ct.has("gap") ? ct.expression("gap", Expression::Kind::Space) : nullptr;
+  p.contact.gap = [gap](const Point& x, double) { return gap ? (*gap)(x) : 0.0; };
+  located(ct.where("gap"), [&] { check_gap(p.mesh, p.contact); });
+  p.contact.direction = read_contact_direction(ct, p.mesh.dim());
+  ct.finish();
+}
+
+void read_time(Section tm, Problem& p, const std::string& file) {
+  if (!tm.exists()) fail("{}: missing section [time] (T and steps or dt)", file);
+  p.final_time = tm.number("T", 1.0);
+  located(tm.where("T"), [&] { check_final_time(p.final_time); });
+  if (tm.has("steps") == tm.has("dt")) fail("{}: give exactly one of steps and dt", tm.where_section());
+  if (tm.has("steps")) {
+    p.n_steps = tm.integer("steps");
+    located(tm.where("steps"), [&] { check_n_steps(p.n_steps); });
+  } else {
+    const double k = tm.number("dt");
+    p.n_steps = located(tm.where("dt"), [&] { return steps_of_time_step(p.final_time, k); });
+  }
+  tm.finish();
+}
+
+// ---------------------------------------------------------------- [output], [solver]
+
+std::vector<std::string> read_fields(Section& out) {
+  std::vector<std::string> fields = out.strings("fields");
+  for (auto& f : fields) {
+    const std::string field = OutputOptions::field(f);  // "damage": the old name of "beta"
+    if (field.empty()) {
+      const auto& names = OutputOptions::field_names();
+      fail("{}: unknown field '{}'; expected some of: {}{}", out.where("fields"), f, fmt::join(names, ", "),
+           did_you_mean(f, std::set<std::string>(names.begin(), names.end())));
+    }
+    f = field;
+  }
+  return fields;
+}
+
+std::vector<Point> read_probes(Section& out, int d) {
+  std::vector<Point> probes;
+  for (const auto& pt : out.array("probes", "an array of points, e.g. [[0.25], [1.0]]")) {
+    if (!pt.is_array() || static_cast<int>(pt.as_array()->size()) != d)
+      fail("{}: expected each probe to be an array of {} numbers", out.where("probes"), d);
+    Point x{0, 0, 0};
+    for (int i = 0; i < d; ++i) {
+      const toml::node& v = (*pt.as_array())[i];
+      if (!v.is_number() || !std::isfinite(number_value(v)))
+        fail("{}: expected finite numbers in probe coordinates", out.where("probes"));
+      x[i] = number_value(v);
+    }
+    probes.push_back(x);
+  }
+  return probes;
+}
+
+/// [output]; by default every tenth of the run.
+OutputOptions read_output(Section out, const Problem& p) {
+  OutputOptions o;
+  o.directory = out.string("directory", "");
+  if (out.has("every") && out.has("times")) fail("{}: give either every or times, not both", out.where_section());
+  o.every = out.integer("every", std::max(1, p.n_steps / 10));
+  if (o.every < 0) fail("{}: expected every >= 0", out.where("every"));
+  if (out.has("times")) {
+    o.times = out.numbers("times", 0);
+    for (double t : o.times)
+      if (t < 0 || t > p.final_time) fail("{}: output time {} is outside [0, T = {}]", out.where("times"), t, p.final_time);
+  }
+  o.vtu = out.boolean("vtu", true);
+  if (out.has("fields")) o.fields = read_fields(out);
+  o.encoding.compression = vtu_compression(out.choice("compression", {"zlib", "none"}, "zlib"));
+  if (out.has("probes")) o.probes = read_probes(out, p.mesh.dim());
+  out.finish();
+  return o;
+}
+
+SolverChoice read_solver(Section sv) {
+  SolverChoice s;
+  s.contact = sv.choice("contact", {"active-set", "penalty-duality"}, "active-set");
+  s.damage = sv.choice("damage", {"active-set", "penalty-duality"}, "active-set");
+  s.residual_tolerance = sv.positive("tolerance", 1e-8);
+  sv.finish();
+  return s;
+}
+
+/// The TOML text with the overrides applied.
+toml::table parse_toml(std::string_view text, const std::vector<KeyOverride>& overrides, Origins& origins) {
+  toml::table root;
+  try {
+    root = toml::parse(text, std::string_view(origins.file));
+  } catch (const toml::parse_error& e) {
+    fail("{}:{}:{}: invalid TOML: {}", origins.file, e.source().begin.line, e.source().begin.column, e.description());
+  }
+  apply_overrides(root, overrides, origins);
+  return root;
+}
+
 }  // namespace
 
 Case parse_case(std::string_view text, const std::string& name, const fs::path& base_dir,
-                const std::vector<std::string>& overrides, const MeshRequest& mesh_request) {
-  toml::table root;
-  try {
-    root = toml::parse(text, std::string_view(name));
-  } catch (const toml::parse_error& e) {
-    fail("{}:{}:{}: invalid TOML: {}", name, e.source().begin.line, e.source().begin.column, e.description());
-  }
-  if (mesh_request.cells > 0) set_generated_cells(root, mesh_request.cells, name);
-  apply_overrides(root, overrides);
-
-  Section top(&root, "", name);
+                const CaseOverrides& overrides, const MeshRequest& mesh_request) {
+  Origins origins{name, {}};
+  const toml::table root = parse_toml(text, key_overrides(overrides, mesh_request.cells), origins);
+  Section top(&root, "", origins);
   Case c;
-  auto p = std::make_shared<Problem>();
-  c.problem = p;
-
   Section info = top.table("case");
   c.name = info.string("name", fs::path(name).stem().string());
   c.description = info.string("description", "case file " + name);
   info.finish();
+
+  auto p = std::make_shared<Problem>();
   p->name = c.name;
-
-  if (mesh_request.build) {
-    p->mesh = read_mesh(top.table("mesh"), base_dir, name);
-  } else {
-    require(mesh_request.dim >= 1 && mesh_request.dim <= 3, "{}: the mesh dimension must be 1, 2 or 3", name);
-    (void)top.table("mesh");  // read by the rank that builds the mesh
-    p->mesh = Mesh(mesh_request.dim);
-  }
-  const int d = p->mesh.dim();
-
-  Section b = top.table("boundary");
-  if (!b.exists()) fail("{}: missing section [boundary] (clamped and contact parts)", name);
-  p->clamped = read_parts(b, "clamped", p->mesh, true, mesh_request.build);
-  p->contact.parts = read_parts(b, "contact", p->mesh, true, mesh_request.build);
-  p->traction = read_parts(b, "traction", p->mesh, false, mesh_request.build);
-  b.finish();
-
-  Section e = top.table("elasticity");
-  if (!e.exists()) fail("{}: missing section [elasticity] (kind, E, nu)", name);
-  const std::string default_kind = d == 1 ? "1d" : (d == 3 ? "isotropic" : "");
-  const std::string kind = e.choice("kind", {"1d", "plane-stress", "plane-strain", "isotropic"}, default_kind);
-  const double young = e.number("E");
-  const double nu = d == 1 ? e.number("nu", 0.0) : e.number("nu");
-  try {
-    p->elasticity = Elasticity::from_name(kind, young, nu);
-  } catch (const Error& err) {
-    fail("{}: {}", e.where_section(), err.what());
-  }
-  if (p->elasticity.dim() != d) fail("{}: elasticity '{}' is for d = {} but the mesh has d = {}", e.where("kind"), kind, p->elasticity.dim(), d);
-  e.finish();
-
-  Section v = top.table("viscoplasticity");
-  {
-    const std::string law = v.choice("law", viscoplastic_law_names(), "elastic");
-    Parameters params = law_parameters(v);
-    if (law.rfind("perzyna", 0) == 0 && !params.has("E")) params.set("E", young);  // E of ℰ by default
-    try {
-      p->law = make_viscoplastic_law(law, params);
-    } catch (const Error& err) {
-      unknown_parameter(v, params, "viscoplastic law '" + law + "'", viscoplastic_law_parameters(law));
-      fail("{}: [viscoplasticity]: {}", v.where_section(), err.what());
-    }
-  }
-
-  Section dm = top.table("damage");
-  p->kappa = dm.number("kappa", 1.0);
-  if (p->kappa < 0) fail("{}: expected kappa >= 0, got {}", dm.where("kappa"), p->kappa);
-  p->beta0 = [b0 = dm.has("beta0") ? dm.expression("beta0", Expression::Kind::Space) : nullptr](const Point& x, double) {
-    return b0 ? (*b0)(x) : 1.0;
-  };
-  if (dm.has("beta0"))
-    for (int i = 0; i < p->mesh.n_nodes(); ++i) {
-      const double b0 = p->beta0(p->mesh.node(i), 0.0);
-      if (!(b0 >= 0 && b0 <= 1))
-        fail("{}: beta0 must lie in [0, 1]; it is {} at node {} ({}, {}, {})", dm.where("beta0"), b0, i,
-             p->mesh.node(i)[0], p->mesh.node(i)[1], p->mesh.node(i)[2]);
-    }
-  if (dm.has("phi")) {
-    if (dm.has("source") && dm.string("source") != "expression")
-      fail("{}: give either source = \"<name>\" or phi = \"<formula>\", not both", dm.where("phi"));
-    p->source = std::make_shared<ExpressionSource>(dm.expression("phi", Expression::Kind::PointState));
-    dm.finish();
-  } else {
-    std::vector<std::string> names = damage_source_names();
-    const std::string src = dm.choice("source", names, "zero");
-    Parameters params = law_parameters(dm);
-    try {
-      p->source = make_damage_source(src, params);
-    } catch (const Error& err) {
-      unknown_parameter(dm, params, "damage source '" + src + "'", damage_source_parameters(src));
-      fail("{}: [damage]: {}", dm.where_section(), err.what());
-    }
-  }
-
-  Section l = top.table("loads");
-  auto load = [&](const char* key, bool& uniform) {
-    if (!l.has(key)) return VectorField{};
-    auto e = l.expressions(key, d, Expression::Kind::SpaceTime);
-    uniform = std::none_of(e.begin(), e.end(), [](const auto& f) { return f->uses_position(); });
-    return vector_field(std::move(e));
-  };
-  p->f0 = load("f0", p->f0_uniform);
-  p->f2 = load("f2", p->f2_uniform);
-  l.finish();
-
-  Section ct = top.table("contact");
-  {
-    const auto gap = ct.has("gap") ? ct.expression("gap", Expression::Kind::Space) : nullptr;
-    p->contact.gap = [gap](const Point& x, double) { return gap ? (*gap)(x) : 0.0; };
-    for (int i : p->mesh.nodes_of_parts(p->contact.parts)) {
-      check_gap(ct.where("gap"), p->contact.gap(p->mesh.node(i), 0.0), i, p->mesh.node(i));
-    }
-    if (ct.has("direction")) {
-      const toml::node* n = ct.get("direction");
-      if (n->is_string()) {
-        ct.choice("direction", {"normal"});
-      } else {
-        const auto v3 = ct.numbers("direction", d);
-        Point dir{0, 0, 0};
-        for (int i = 0; i < d; ++i) dir[i] = v3[i];
-        if (std::hypot(dir[0], dir[1], dir[2]) == 0) fail("{}: expected a non-zero vector", ct.where("direction"));
-        p->contact.direction = dir;
-      }
-    }
-    ct.finish();
-  }
-
-  Section tm = top.table("time");
-  if (!tm.exists()) fail("{}: missing section [time] (T and steps or dt)", name);
-  p->final_time = tm.positive("T", 1.0);
-  if (tm.has("steps") == tm.has("dt")) fail("{}: give exactly one of steps and dt", tm.where_section());
-  if (tm.has("steps")) {
-    p->n_steps = tm.integer("steps");
-    if (p->n_steps < 1) fail("{}: expected steps >= 1, got {}", tm.where("steps"), p->n_steps);
-  } else {
-    const double k = tm.positive("dt", 0.0);
-    const double n = p->final_time / k;
-    if (std::abs(n - std::round(n)) > 1e-9 * n || n > 1e8)
-      fail("{}: the time step {} does not divide T = {} into whole steps", tm.where("dt"), k, p->final_time);
-    p->n_steps = static_cast<int>(std::round(n));
-  }
-  tm.finish();
-
-  Section out = top.table("output");
-  c.output.directory = out.string("directory", "");
-  if (out.has("every") && out.has("times")) fail("{}: give either every or times, not both", out.where_section());
-  c.output.every = out.integer("every", std::max(1, p->n_steps / 10));
-  if (c.output.every < 0) fail("{}: expected every >= 0", out.where("every"));
-  if (out.has("times")) {
-    c.output.times = out.numbers("times", 0);
-    for (double t : c.output.times)
-      if (t < 0 || t > p->final_time) fail("{}: output time {} is outside [0, T = {}]", out.where("times"), t, p->final_time);
-  }
-  c.output.vtu = out.boolean("vtu", true);
-  if (out.has("fields")) {
-    c.output.fields = out.strings("fields");
-    for (auto& f : c.output.fields) {
-      const std::string field = OutputOptions::field(f);  // "damage": the old name of "beta"
-      if (field.empty()) {
-        const std::set<std::string> known(OutputOptions::field_names().begin(), OutputOptions::field_names().end());
-        fail("{}: unknown field '{}'; expected some of: {}{}", out.where("fields"), f, fmt::join(OutputOptions::field_names(), ", "), did_you_mean(f, known));
-      }
-      f = field;
-    }
-  }
-  c.output.encoding.compression = vtu_compression(out.choice("compression", {"zlib", "none"}, "zlib"));
-  if (out.has("probes")) {
-    const auto& arr = out.array("probes", "an array of points, e.g. [[0.25], [1.0]]");
-    for (const auto& pt : arr) {
-      if (!pt.is_array() || static_cast<int>(pt.as_array()->size()) != d)
-        fail("{}: expected each probe to be an array of {} numbers", out.where("probes"), d);
-      Point x{0, 0, 0};
-      for (int i = 0; i < d; ++i) {
-        const toml::node& v = (*pt.as_array())[i];
-        if (!v.is_number() || !std::isfinite(number_value(v)))
-          fail("{}: expected finite numbers in probe coordinates", out.where("probes"));
-        x[i] = number_value(v);
-      }
-      c.output.probes.push_back(x);
-    }
-  }
-  out.finish();
-
-  Section sv = top.table("solver");
-  c.solvers.contact = sv.choice("contact", {"active-set", "penalty-duality"}, "active-set");
-  c.solvers.damage = sv.choice("damage", {"active-set", "penalty-duality"}, "active-set");
-  c.solvers.residual_tolerance = sv.positive("tolerance", 1e-8);
-  sv.finish();
-
+  p->mesh = read_mesh(top.table("mesh"), base_dir, origins, mesh_request);
+  read_boundary(top.table("boundary"), *p, mesh_request.build, name);
+  p->elasticity = read_elasticity(top.table("elasticity"), p->mesh.dim(), name);
+  p->law = read_viscoplasticity(top.table("viscoplasticity"), p->elasticity.young());
+  read_damage(top.table("damage"), *p);
+  read_loads(top.table("loads"), *p);
+  read_contact(top.table("contact"), *p);
+  read_time(top.table("time"), *p, name);
+  c.output = read_output(top.table("output"), *p);
+  c.solvers = read_solver(top.table("solver"));
   top.finish();
-  try {
-    if (mesh_request.build) p->validate();  // without the mesh: validated by the rank that has it
-  } catch (const Error& err) {
-    fail("{}: {}", name, err.what());
-  }
+  // Without the mesh (a rank that did not build it): validated by the rank that has it.
+  if (mesh_request.build) located(name, [&] { p->validate(); });
+  c.problem = std::move(p);
   return c;
 }
 
@@ -662,11 +760,11 @@ std::string case_description(std::string_view text) {
   }
 }
 
-CaseInfo case_info(std::string_view text, const std::string& name, const std::vector<std::string>& overrides) {
+CaseInfo case_info(std::string_view text, const std::string& name, const CaseOverrides& overrides) {
   CaseInfo info{fs::path(name).stem().string(), "case file " + name, ""};
   try {
-    toml::table t = toml::parse(text, std::string_view(name));
-    apply_overrides(t, overrides);
+    Origins origins{name, {}};
+    const toml::table t = parse_toml(text, key_overrides(overrides, 0), origins);
     info.name = t["case"]["name"].value_or(info.name);
     info.description = t["case"]["description"].value_or(info.description);
     info.output_directory = t["output"]["directory"].value_or(std::string());
@@ -684,7 +782,7 @@ std::string read_text_file(const fs::path& file, std::string_view what) {
   return ss.str();
 }
 
-Case read_case_file(const fs::path& file, const std::vector<std::string>& overrides, const MeshRequest& mesh) {
+Case read_case_file(const fs::path& file, const CaseOverrides& overrides, const MeshRequest& mesh) {
   return parse_case(read_text_file(file, "case file"), file.string(), file.parent_path(), overrides, mesh);
 }
 

@@ -1,7 +1,6 @@
 #include "mesh/gmsh_reader.hpp"
 
 #include "core/error.hpp"
-#include "fem/cell_geometry.hpp"
 
 #include "mesh/gmsh_model.hpp"
 
@@ -264,7 +263,7 @@ void read_cells(const std::string& file, const GmshModel& model, Mesh& mesh,
       xc[a] = mesh.node(v[a]);
     }
     mesh.add_cell(v);
-    measure[c] = cell_geometry(d, xc).volume;
+    measure[c] = simplex_measure(d, xc);
     max_measure = std::max(max_measure, measure[c]);
   }
   // Degenerate cells are reported here, with Gmsh's element tag, rather than later

@@ -2,6 +2,8 @@
 
 #include "core/error.hpp"
 
+#include <Eigen/Dense>
+
 #include <algorithm>
 #include <cmath>
 #include <map>
@@ -152,6 +154,14 @@ Point cross(const Point& a, const Point& b) {
 double dot(const Point& a, const Point& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 double norm(const Point& a) { return std::sqrt(dot(a, a)); }
 }  // namespace
+
+double simplex_measure(int dim, const Point* x) {
+  Eigen::Matrix3d J = Eigen::Matrix3d::Identity();
+  for (int a = 1; a <= dim; ++a)
+    for (int i = 0; i < dim; ++i) J(i, a - 1) = x[a][i] - x[0][i];
+  static const double factorial[4] = {1, 1, 2, 6};
+  return std::abs(J.determinant()) / factorial[dim];
+}
 
 double Mesh::facet_measure(int f) const {
   const int* v = facet(f);

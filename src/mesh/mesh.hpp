@@ -1,7 +1,8 @@
 #pragma once
 // Simplicial mesh in d = 1, 2, 3 with boundary facets grouped into named parts.
-// Generators and (later) the Gmsh reader both produce this; a part is what a
-// Gmsh physical group is, so the rest of the code never knows where a mesh came from.
+// The generators and the Gmsh reader both produce this; a part is what a Gmsh
+// physical group is (or a [[mesh.part]] predicate of a case file names), so the
+// rest of the code never knows where a mesh came from.
 #include "core/sym_tensor.hpp"
 
 #include <functional>
@@ -81,5 +82,10 @@ class Mesh {
   std::vector<std::string> part_names_;
   mutable std::vector<int> facet_cell_;  // owning cell per facet, computed lazily
 };
+
+/// Measure (length, area, volume) of the simplex with vertices x[0..dim]:
+/// |det J| / dim! with J = [x1 − x0, ..., xd − x0]; the element geometry of
+/// fem/cell_geometry.hpp uses it, so a reader's degeneracy check sees the same value.
+double simplex_measure(int dim, const Point* x);
 
 }  // namespace vpc

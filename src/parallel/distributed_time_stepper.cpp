@@ -146,7 +146,8 @@ DistributedTimeStepper::DistributedTimeStepper(std::shared_ptr<const Problem> pr
   setup_timing_.contact = seconds_since(t1);
   stage("contact set-up", setup_timing_.contact);
 
-  // Initial state (3.4): u0 = 0, σ0 = 0 (so z0 = 0), β0 = the P1 interpolant.
+  // Initial state (3.4): u0 = 0, σ0 = 0 (so z0 = 0), β0 = the P1 interpolant (in [0, 1]:
+  // Problem::validate, on the rank that read the case).
   state_.u = ghosted(comm, part_.n_owned_dofs, part_.n_global_dofs, part_.ghost_dofs());
   const auto nodes = std::make_shared<const la::Layout>(
       comm_, part_.n_owned_nodes, std::vector<long long>(part_.global_node.begin() + part_.n_owned_nodes, part_.global_node.end()),
@@ -155,13 +156,7 @@ DistributedTimeStepper::DistributedTimeStepper(std::shared_ptr<const Problem> pr
   fphi_ = la::Vector(nodes);
   VPC_PETSC(VecDuplicate(state_.u, F_.out()));
   Vector beta0(mesh.n_nodes());
-  for (int i = 0; i < mesh.n_nodes(); ++i) {
-    const double b = p.beta0 ? p.beta0(mesh.node(i), 0.0) : 1.0;
-    require(std::isfinite(b) && b >= 0 && b <= 1,
-            "{}: initial damage beta0 must lie in [0, 1]; it is {} at node {} ({}, {}, {})", p.name, b,
-            part_.original_node[i], mesh.node(i)[0], mesh.node(i)[1], mesh.node(i)[2]);
-    beta0[i] = b;
-  }
+  for (int i = 0; i < mesh.n_nodes(); ++i) beta0[i] = p.beta0 ? p.beta0(mesh.node(i), 0.0) : 1.0;
   state_.beta.local() = beta0;
   state_.sigma.assign(mesh.n_cells(), SymTensor{});
   state_.eps.assign(mesh.n_cells(), SymTensor{});

@@ -1,6 +1,8 @@
 #pragma once
-// The distributed counterpart of LinearSolver: factorize (or precondition) a
-// constant symmetric positive definite PETSc matrix once, solve many times.
+// The PETSc engine's linear solver: factorize (or precondition) a constant
+// symmetric positive definite PETSc matrix once, solve many times. It is not a
+// LinearSolver (solvers/linear_solver.hpp): no symbolic estimate (analyze), no
+// triangular halves (forward/backward), vectors and matrices are PETSc's.
 //   "mumps"     Cholesky by MUMPS (distributed direct; the default)
 //   "cg-gamg"   conjugate gradients with PETSc's algebraic multigrid (rigid-body
 //               near-null space for elasticity when coordinates are given)
@@ -25,7 +27,8 @@ class PetscLinearSolver {
  public:
   /// `prefix`: the PETSc options prefix of this solver (e.g. "vpc_K_").
   PetscLinearSolver(MPI_Comm comm, const std::string& prefix, PetscSolverOptions options = {});
-  /// Sets up the solver for A (kept by reference: A must live as long as this).
+  /// Sets up the solver for A (its KSP takes a PETSc reference to A, so the caller
+  /// may destroy its handle).
   /// `near_null_space`: rigid-body modes for AMG on elasticity (may be null).
   /// Throws vpc::Error naming `what` if the factorization fails.
   void factorize(Mat A, const char* what, MatNullSpace near_null_space = nullptr);

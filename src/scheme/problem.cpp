@@ -7,15 +7,56 @@
 
 namespace vpc {
 
+void check_kappa(double kappa) {
+  require(std::isfinite(kappa) && kappa >= 0, "kappa must be >= 0 (got {})", kappa);
+}
+
+void check_final_time(double final_time) {
+  require(std::isfinite(final_time) && final_time > 0, "the final time T must be > 0 (got {})", final_time);
+}
+
+void check_n_steps(int n_steps) {
+  require(n_steps >= 1, "the number of time steps must be >= 1 (got {})", n_steps);
+}
+
+int steps_of_time_step(double final_time, double k) {
+  require(std::isfinite(k) && k > 0, "the time step must be > 0 (got {})", k);
+  const double n = final_time / k;
+  require(n <= 1e8, "the time step {} gives {:.3g} steps over T = {}; at most 1e8", k, n, final_time);
+  require(std::abs(n - std::round(n)) <= 1e-9 * n,
+          "the time step {} does not divide the final time T = {} into whole steps", k, final_time);
+  return static_cast<int>(std::round(n));
+}
+
+void check_beta0(const Mesh& mesh, const ScalarField& beta0) {
+  if (!beta0) return;  // β0 = 1
+  for (int i = 0; i < mesh.n_nodes(); ++i) {
+    const Point& x = mesh.node(i);
+    const double b = beta0(x, 0.0);
+    require(std::isfinite(b) && b >= 0 && b <= 1, "initial damage beta0 must lie in [0, 1]; it is {} at node {} ({}, {}, {})",
+            b, i, x[0], x[1], x[2]);
+  }
+}
+
+void check_gap(const Mesh& mesh, const ContactSpec& contact) {
+  for (int i : mesh.nodes_of_parts(contact.parts)) {
+    const Point& x = mesh.node(i);
+    const double g = contact.gap(x, 0.0);
+    // NaN compares false with everything: test finiteness first so that it is not called negative.
+    require(std::isfinite(g), "the gap g is not finite ({}) at contact node {} ({}, {}, {})", g, i, x[0], x[1], x[2]);
+    require(g >= 0, "the gap g must be >= 0; it is {} at contact node {} ({}, {}, {})", g, i, x[0], x[1], x[2]);
+  }
+}
+
 void Problem::validate() const {
   const std::string where = name.empty() ? "problem" : name;
   require(mesh.n_cells() > 0, "{}: the mesh has no cells", where);
   require(elasticity.dim() == mesh.dim(),
           "{}: elasticity '{}' is for d = {} but the mesh has d = {}", where, elasticity.name(),
           elasticity.dim(), mesh.dim());
-  require(std::isfinite(kappa) && kappa >= 0, "{}: kappa (damage diffusion) must be >= 0 (got {})", where, kappa);
-  require(std::isfinite(final_time) && final_time > 0, "{}: final time T must be > 0 (got {})", where, final_time);
-  require(n_steps >= 1, "{}: the number of time steps must be >= 1 (got {})", where, n_steps);
+  located(where, [&] { check_kappa(kappa); });
+  located(where, [&] { check_final_time(final_time); });
+  located(where, [&] { check_n_steps(n_steps); });
   require(law != nullptr, "{}: no viscoplastic law G", where);
   require(source != nullptr, "{}: no damage source phi", where);
   require(!clamped.empty(), "{}: no clamped part Γ1 given (meas Γ1 > 0 is required)", where);
@@ -27,6 +68,8 @@ void Problem::validate() const {
   for (const auto& p : traction)
     require(mesh.part_size(p) > 0, "{}: traction part '{}' has no boundary facets in the mesh", where, p);
   require(static_cast<bool>(contact.gap), "{}: no gap function g", where);
+  located(where, [&] { check_gap(mesh, contact); });
+  located(where, [&] { check_beta0(mesh, beta0); });
   if (contact.direction) {
     const Point& v = *contact.direction;
     require(std::hypot(v[0], v[1], v[2]) > 0, "{}: the contact direction must be a non-zero vector", where);
@@ -70,14 +113,6 @@ void check_direction(const Problem& p, int node, const Point& direction, const P
 
 }  // namespace
 
-void check_gap(const std::string& where, double g, int node, const Point& x) {
-  // NaN compares false with everything: test finiteness first so that it is not called negative.
-  require(std::isfinite(g), "{}: the gap g is not finite ({}) at contact node {} ({}, {}, {})", where, g, node, x[0],
-          x[1], x[2]);
-  require(g >= 0, "{}: the gap g must be >= 0; it is {} at contact node {} ({}, {}, {})", where, g, node, x[0], x[1],
-          x[2]);
-}
-
 std::vector<ContactRow> contact_rows(const Problem& p, const std::vector<char>& clamped) {
   const Mesh& mesh = p.mesh;
   std::vector<Point> normal(mesh.n_nodes(), Point{0, 0, 0});
@@ -99,9 +134,7 @@ std::vector<ContactRow> contact_rows(const Problem& p, const std::vector<char>& 
     Point v = p.contact.direction ? *p.contact.direction : normal[node];
     const double l = length(v);
     for (double& c : v) c /= l;
-    const double g = p.contact.gap(x, 0.0);
-    check_gap(p.name, g, node, x);
-    rows.push_back({node, v, g});
+    rows.push_back({node, v, p.contact.gap(x, 0.0)});
   }
   require(!rows.empty(), "{}: the contact part has no free nodes (all are clamped or it is empty)", p.name);
   return rows;

@@ -1,7 +1,7 @@
 #pragma once
 // Everything that defines one instance of Problem 2.1 and its discretization:
 // mesh and boundary parts, ℰ, G, φ, κ, loads, gap, initial damage and times.
-// Built-in cases fill it in C++; case files fill the same struct.
+// Case files (cases/*.toml included) and the manufactured cases fill it.
 #include "fem/assembly.hpp"
 #include "material/damage_source.hpp"
 #include "material/elasticity.hpp"
@@ -40,9 +40,23 @@ struct Problem {
   int n_steps = 100;  // k = T / N
 
   double step() const { return final_time / n_steps; }
-  /// Throws vpc::Error describing the first invalid datum.
+  /// Throws vpc::Error describing the first invalid datum (the checks below and
+  /// the parts, the law, the source). The one place each datum is checked.
   void validate() const;
 };
+
+// The checks of Problem::validate that concern one datum, for a reader that knows
+// where the datum came from (a case file's line, an option) and puts that before
+// the message. Each throws vpc::Error saying what was expected.
+void check_kappa(double kappa);
+void check_final_time(double final_time);
+void check_n_steps(int n_steps);
+/// N = T / k; throws unless k > 0 divides T into whole steps (to a relative 1e-9).
+int steps_of_time_step(double final_time, double k);
+/// β0 in [0, 1] at every node.
+void check_beta0(const Mesh& mesh, const ScalarField& beta0);
+/// g finite and ≥ 0 at every node of Γ3.
+void check_gap(const Mesh& mesh, const ContactSpec& contact);
 
 /// Γ2: the given traction parts, or every boundary facet in neither Γ1 nor Γ3.
 std::vector<int> traction_facets(const Problem& p);
@@ -56,12 +70,8 @@ struct ContactRow {
   double gap = 0;
 };
 
-/// Throws vpc::Error, prefixed by `where`, when the gap g at contact node `node` (at x)
-/// is not finite or is negative (one message for each).
-void check_gap(const std::string& where, double g, int node, const Point& x);
-
 /// The contact rows in increasing node order; clamped[i] marks the nodes of Γ1
-/// (u = 0 there already). Throws vpc::Error for a negative or non-finite gap, for a
+/// (u = 0 there already); the gap was checked by Problem::validate. Throws vpc::Error for a
 /// fixed direction at 90° or more from the outward normal at some node (it would
 /// point into the body), or when no free node is left on Γ3.
 std::vector<ContactRow> contact_rows(const Problem& p, const std::vector<char>& clamped);

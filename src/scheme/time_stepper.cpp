@@ -104,16 +104,11 @@ TimeStepper::TimeStepper(std::shared_ptr<const Problem> problem, SolverChoice ch
   setup_timing_.contact = seconds_since(t1);
   stage("contact set-up", setup_timing_.contact);
 
-  // Initial state (3.4): u0 = 0, σ0 = 0 (so z0 = σ0 − ℰε(u0) = 0), β0 = P1 interpolant.
+  // Initial state (3.4): u0 = 0, σ0 = 0 (so z0 = σ0 − ℰε(u0) = 0), β0 = P1 interpolant
+  // (in [0, 1]: Problem::validate).
   state_.u = Vector::Zero(dofs_.n_full());
   state_.beta.resize(mesh.n_nodes());
-  for (int i = 0; i < mesh.n_nodes(); ++i) {
-    const double b = p.beta0 ? p.beta0(mesh.node(i), 0.0) : 1.0;
-    require(std::isfinite(b) && b >= 0 && b <= 1,
-            "{}: initial damage beta0 must lie in [0, 1]; it is {} at node {} ({}, {}, {})", p.name, b, i,
-            mesh.node(i)[0], mesh.node(i)[1], mesh.node(i)[2]);
-    state_.beta[i] = b;
-  }
+  for (int i = 0; i < mesh.n_nodes(); ++i) state_.beta[i] = p.beta0 ? p.beta0(mesh.node(i), 0.0) : 1.0;
   state_.sigma.assign(mesh.n_cells(), SymTensor{});
   state_.eps.assign(mesh.n_cells(), SymTensor{});
   state_.z.assign(mesh.n_cells(), SymTensor{});

@@ -28,12 +28,13 @@ int run(int argc, char** argv) {
   vpc::require(argc >= 2, "usage: vpcontact_mpi_compare CASE [--n N] [--steps S] [--kappa K] [--linear KIND] [--elasticity KIND]");
   const std::string name = argv[1];
   vpc::CaseOverrides ov;
+  vpc::MeshRequest mesh;
   vpc::PetscSolverOptions linear;
   double tolerance = 1e-10;
   std::string elasticity;  // --elasticity KIND replaces the case's ℰ (same E, ν)
   for (int i = 2; i + 1 < argc; i += 2) {
     const std::string key = argv[i], value = argv[i + 1];
-    if (key == "--n") ov.mesh_cells = std::stoi(value);
+    if (key == "--n") mesh.cells = std::stoi(value);
     else if (key == "--steps") ov.steps = std::stoi(value);
     else if (key == "--kappa") ov.kappa = std::stod(value);
     else if (key == "--linear") linear.kind = value;
@@ -41,7 +42,7 @@ int run(int argc, char** argv) {
     else if (key == "--elasticity") elasticity = value;
     else vpc::fail("unknown option '{}'", key);
   }
-  vpc::Case c = vpc::make_builtin_case(name, ov);
+  vpc::Case c = vpc::load_case(name, ov, mesh);
   // E.g. plane strain for paper-2d: σ33 and z33 are carried by both engines.
   if (!elasticity.empty())
     c.problem->elasticity = vpc::Elasticity::from_name(elasticity, c.problem->elasticity.young(),

@@ -247,12 +247,7 @@ TEST(ConvergenceMms, BrokenSchemesFailTheRateCheck) {
   EXPECT_FALSE(rates_ok(r, kSpatialRates, kTol, false, &report)) << "lag at t_n passed: " << report;
 }
 
-Case small_case(const std::string& name, int n, int steps) {
-  CaseOverrides o;
-  o.mesh_cells = n;
-  o.steps = steps;
-  return make_builtin_case(name, o);
-}
+Case small_case(const std::string& name, int n, int steps) { return load_case(name, {.steps = steps}, {.cells = n}); }
 
 ConvergenceResult run_case(const Case& c, RefinementSequence seq, int levels) {
   ConvergenceOptions co;

@@ -69,7 +69,7 @@ TEST(Paper1D, ElasticLimitMatchesAnalyticSolution) {
   // λ → ∞: no viscoplasticity, σ(x) = t(L − x) + σ_L, free tip t L²/(2E) = t/2:
   // contact at t = 0.5, then σ_L = (g − t/2) E / L (SPEC §4.1). P1 in 1D is
   // nodally exact and the P0 stress is the exact stress at the midpoint.
-  Case c = make_builtin_case("paper-1d");
+  Case c = load_case("paper-1d");
   c.problem->law = make_viscoplastic_law("perzyna", {{"E", 1}, {"lambda", 1e14}, {"sigma_y", 1}});
   TimeStepper s(c.problem);
   const Mesh& m = s.mesh();
@@ -94,7 +94,7 @@ TEST(Paper1D, ElasticLimitMatchesAnalyticSolution) {
 }
 
 TEST(Paper1D, ContactStartsAtHalfTimeAndViscoplasticityRelaxes) {
-  const RunResult r = run(make_builtin_case("paper-1d"));
+  const RunResult r = run(load_case("paper-1d"));
   ASSERT_EQ(r.reports.size(), 100u);
   for (const auto& rep : r.reports) {
     if (rep.t < 0.5 - 1e-9) {
@@ -113,7 +113,7 @@ TEST(Paper1D, ContactStartsAtHalfTimeAndViscoplasticityRelaxes) {
 TEST(Paper1D, SmallKappaMakesTheUpperBoundActiveAndSolversAgree) {
   // SPEC §4.3: κ ≤ 0.01 makes β ≤ 1 active near the contact end once the rod there
   // is compressed; the active set changes during the run.
-  Case c = make_builtin_case("paper-1d", {.kappa = 0.001});
+  Case c = load_case("paper-1d", {.kappa = 0.001});
   const RunResult r = run(c);
   // Step 1 keeps β0 = 1 (φ0 = 0); from step 2 the stretched rod damages
   // everywhere, and β returns to the bound 1 only where contact compresses it.
@@ -128,10 +128,10 @@ TEST(Paper1D, SmallKappaMakesTheUpperBoundActiveAndSolversAgree) {
   expect_solvers_agree(c, 1e-7);
 }
 
-TEST(Paper1D, ActiveSetAndPenaltyDualityAgree) { expect_solvers_agree(make_builtin_case("paper-1d"), 1e-7); }
+TEST(Paper1D, ActiveSetAndPenaltyDualityAgree) { expect_solvers_agree(load_case("paper-1d"), 1e-7); }
 
 TEST(Paper2D, ChecksHoldAndSolversAgree) {
-  Case c = make_builtin_case("paper-2d", {.mesh_cells = 20});
+  Case c = load_case("paper-2d", {}, {.cells = 20});
   const RunResult r = run(c);
   for (const auto& rep : r.reports) EXPECT_EQ(rep.contact.n_active, 5);  // SPEC §4.3: all in contact
   // Equilibrium of vertical forces: contact + clamp carry the weight 10 t |Ω|;
@@ -144,7 +144,7 @@ TEST(Paper2D, ChecksHoldAndSolversAgree) {
 }
 
 TEST(Block3D, PressedBlockRunsAndSolversAgree) {
-  Case c = make_builtin_case("block-3d", {.mesh_cells = 5, .steps = 20});
+  Case c = load_case("block-3d", {.steps = 20}, {.cells = 5});
   const RunResult r = run(c);
   EXPECT_GT(r.reports.back().contact.n_active, 0);
   EXPECT_GT(r.reports.back().contact.total_force, 0.0);
@@ -155,7 +155,7 @@ TEST(Block3D, PressedBlockRunsAndSolversAgree) {
 TEST(Block3D, ContactWithLiftOffChangesTheActiveSet) {
   // A wide contact zone under a body pulled sideways and down: part of the zone
   // lifts off, so the active set is a strict subset and the solvers must agree.
-  Case c = make_builtin_case("block-3d", {.mesh_cells = 5, .steps = 10});
+  Case c = load_case("block-3d", {.steps = 10}, {.cells = 5});
   c.problem->mesh.tag_facets("contact", [](const Point& x) { return std::abs(x[2]) < 1e-12; });
   c.problem->f0 = [](const Point&, double t) { return Point{40 * t, 0, -10 * t}; };
   const RunResult r = run(c);

@@ -1,7 +1,6 @@
 // Case files: a valid case, its built-in twins, expressions, overrides, and a
 // table of bad case files with the message each must give.
 #include "cases/builtin_cases.hpp"
-#include "cases/shipped_cases.hpp"
 #include "core/error.hpp"
 #include "core/expression.hpp"
 #include "io/case_file.hpp"
@@ -65,7 +64,7 @@ fields = ["displacement", "damage"]
 
 std::string error_of(const std::string& text, const std::vector<std::string>& sets = {}) {
   try {
-    parse_case(text, "bad.toml", ".", sets);
+    parse_case(text, "bad.toml", ".", {.sets = sets});
   } catch (const Error& e) {
     return e.what();
   }
@@ -110,34 +109,35 @@ TEST(CaseFile, ValidCaseIsReadCompletely) {
 }
 
 TEST(CaseFile, OverridesApplyBeforeValidation) {
-  const Case c = parse_case(kValid, "ok.toml", ".", {"damage.kappa=2", "mesh.cells=[20, 10]", "case.name=renamed"});
+  const Case c = parse_case(kValid, "ok.toml", ".", {.sets = {"damage.kappa=2", "mesh.cells=[20, 10]", "case.name=renamed"}});
   EXPECT_DOUBLE_EQ(c.problem->kappa, 2.0);
   EXPECT_EQ(c.problem->mesh.n_cells(), 2 * 20 * 10);
   EXPECT_EQ(c.name, "renamed");
   EXPECT_NE(error_of(kValid, {"damage.kappa"}).find("expected key=value"), std::string::npos);
-  EXPECT_NE(error_of(kValid, {"damage.kappa=-1"}).find("--set damage.kappa: expected kappa >= 0"), std::string::npos)
+  EXPECT_NE(error_of(kValid, {"damage.kappa=-1"}).find("--set damage.kappa=-1: kappa must be >= 0 (got -1)"),
+            std::string::npos)
       << error_of(kValid, {"damage.kappa=-1"});
 }
 
 // Issue 11, item 11: a --set of a key that excludes one of the file's replaces it.
 TEST(CaseFile, OverridesReplaceTheKeysTheyExclude) {
   // The file gives dt = 0.05 (10 steps) and output times.
-  Case c = parse_case(kValid, "ok.toml", ".", {"time.steps=20", "output.every=2"});
+  Case c = parse_case(kValid, "ok.toml", ".", {.sets = {"time.steps=20", "output.every=2"}});
   EXPECT_EQ(c.problem->n_steps, 20);
   EXPECT_EQ(c.output.every, 2);
   EXPECT_TRUE(c.output.times.empty());
   const std::string with_steps = variant("dt = 0.05", "steps = 10");
   const std::string with_every = variant("times = [0.1, 0.5]", "every = 3");
-  c = parse_case(with_every, "ok.toml", ".", {"time.dt=0.1", "output.times=[0.2]"});
+  c = parse_case(with_every, "ok.toml", ".", {.sets = {"time.dt=0.1", "output.times=[0.2]"}});
   EXPECT_EQ(c.problem->n_steps, 5);
   EXPECT_EQ(c.output.times, (std::vector<double>{0.2}));
-  c = parse_case(with_steps, "ok.toml", ".", {"time.dt=0.25"});
+  c = parse_case(with_steps, "ok.toml", ".", {.sets = {"time.dt=0.25"}});
   EXPECT_EQ(c.problem->n_steps, 2);
   // phi replaces a named source and its parameters; a source replaces phi.
   const std::string with_source = variant("phi = \"-0.01*vm*beta\"", "source = \"von-mises\"\nc = 0.5");
-  c = parse_case(with_source, "ok.toml", ".", {"damage.phi=-vm"});
+  c = parse_case(with_source, "ok.toml", ".", {.sets = {"damage.phi=-vm"}});
   EXPECT_NE(c.problem->source->describe().find("vm"), std::string::npos) << c.problem->source->describe();
-  c = parse_case(kValid, "ok.toml", ".", {"damage.source=zero"});
+  c = parse_case(kValid, "ok.toml", ".", {.sets = {"damage.source=zero"}});
   EXPECT_EQ(c.problem->source->describe().find("vm"), std::string::npos) << c.problem->source->describe();
   // Two overrides that exclude each other: an error naming both.
   EXPECT_NE(error_of(kValid, {"time.steps=10", "time.dt=0.1"}).find("--set time.dt=0.1: conflicts with --set time.steps=10"),
@@ -163,7 +163,7 @@ TEST(CaseFile, CellsOfTheCommandLineApplyToGeneratedMeshesOnly) {
 }
 
 TEST(CaseFile, CaseInfoWithoutBuildingAnything) {
-  const CaseInfo info = case_info(variant("[output]", "[output]\ndirectory = \"out/x\""), "dir/ok.toml", {"case.name=n2"});
+  const CaseInfo info = case_info(variant("[output]", "[output]\ndirectory = \"out/x\""), "dir/ok.toml", {.sets = {"case.name=n2"}});
   EXPECT_EQ(info.name, "n2");
   EXPECT_EQ(info.description, "case file dir/ok.toml");
   EXPECT_EQ(info.output_directory, "out/x");
@@ -186,7 +186,7 @@ TEST(CaseFile, WithoutTheMeshForRanksThatReceiveTheirPart) {
   EXPECT_EQ(c.problem->law->describe(), full.problem->law->describe());
   EXPECT_NEAR(c.problem->contact.gap({1.5, 0, 0}, 0), 0.0015, 1e-15);
   // The built-in cases likewise.
-  const Case b = make_builtin_case("paper-2d", {.mesh_cells = 20, .build_mesh = false});
+  const Case b = load_case("paper-2d", {}, {.build = false, .dim = 2, .cells = 20});
   EXPECT_EQ(b.problem->mesh.dim(), 2);
   EXPECT_EQ(b.problem->mesh.n_cells(), 0);
 }
@@ -240,17 +240,17 @@ TEST(CaseFile, BadCaseFilesGiveTheirMessages) {
       {"f0 = [\"0\", \"-5*t\"]", "f0 = [\"0\", \"-5*T\"]",
        "bad.toml:35:12: loads.f0[1]: invalid expression \"-5*T\": Unexpected token \"T\""},
       {"gap = \"0.001*x\"", "gap = \"0.001*t\"", "contact.gap: invalid expression"},
-      {"gap = \"0.001*x\"", "gap = \"-0.001*x\"", "the gap g must be >= 0"},
+      {"gap = \"0.001*x\"", "gap = \"-0.001*x\"", "contact.gap: the gap g must be >= 0"},
       {"gap = \"0.001*x\"", "gap = \"sqrt(x - 10)\"", "contact.gap: the gap g is not finite"},
       {"direction = [0, -1]", "direction = [0, 0]", "contact.direction: expected a non-zero vector"},
       {"direction = [0, -1]", "direction = \"up\"", "contact.direction: unknown value 'up'; expected one of: normal"},
-      {"dt = 0.05", "dt = 0.03", "bad.toml:43:6: time.dt: the time step 0.03 does not divide T = 0.5 into whole steps"},
-      {"dt = 0.05", "dt = -0.05", "time.dt: expected a number > 0"},
-      {"dt = 0.05", "steps = 0", "time.steps: expected steps >= 1, got 0"},
+      {"dt = 0.05", "dt = 0.03", "bad.toml:43:6: time.dt: the time step 0.03 does not divide the final time T = 0.5 into whole steps"},
+      {"dt = 0.05", "dt = -0.05", "time.dt: the time step must be > 0 (got -0.05)"},
+      {"dt = 0.05", "steps = 0", "time.steps: the number of time steps must be >= 1 (got 0)"},
       {"dt = 0.05", "dt = 0.05\nsteps = 10", "give exactly one of steps and dt"},
-      {"T = 0.5", "T = 0", "time.T: expected a number > 0"},
-      {"kappa = 0.5", "kappa = -0.5", "damage.kappa: expected kappa >= 0"},
-      {"beta0 = \"1 - 0.1*x/2\"", "beta0 = \"1.5\"", "beta0 must lie in [0, 1]"},
+      {"T = 0.5", "T = 0", "time.T: the final time T must be > 0 (got 0)"},
+      {"kappa = 0.5", "kappa = -0.5", "damage.kappa: kappa must be >= 0 (got -0.5)"},
+      {"beta0 = \"1 - 0.1*x/2\"", "beta0 = \"1.5\"", "damage.beta0: initial damage beta0 must lie in [0, 1]; it is 1.5 at node 0"},
       {"phi = \"-0.01*vm*beta\"", "phi = \"-0.01*vm*beta\"\nsource = \"von-mises\"", "give either source"},
       {"law = \"perzyna-von-mises\"", "law = \"perzina\"", "did you mean 'perzyna'?"},
       {"lambda = 10.0", "lamda = 10.0", "viscoplasticity.lamda: unknown key or parameter of the viscoplastic law "
@@ -278,27 +278,39 @@ TEST(CaseFile, MeshFileErrorsNameThePath) {
   EXPECT_NE(msg.find("no/such/mesh.msh"), std::string::npos) << msg;
 }
 
-/// The shipped case files give exactly the built-in cases' results.
-TEST(CaseFile, ShippedCasesEqualTheirBuiltinTwins) {
-  for (const auto& name : builtin_case_names()) {
-    SCOPED_TRACE(name);
-    auto it = std::find_if(shipped_cases().begin(), shipped_cases().end(), [&](const auto& s) { return s.name == name; });
-    ASSERT_NE(it, shipped_cases().end()) << "no cases/" << name << ".toml";
-    const ShippedCase& s = *it;
-    const Case file = parse_case(s.text, std::string(s.name) + ".toml", ".", {"time.steps=5"});
-    Case builtin = make_builtin_case(std::string(s.name), {.steps = 5});
-    EXPECT_EQ(file.name, builtin.name);
-    EXPECT_EQ(file.output.probes, builtin.output.probes);
-    TimeStepper a(file.problem), b(builtin.problem);
-    while (!a.done()) {
-      a.step();
-      b.step();
+/// The built-in cases are the shipped case files: the command-line options are
+/// overrides of their keys, checked as the file's values, with the option named.
+TEST(CaseFile, CommandLineOptionsAreKeyOverrides) {
+  const Case a = load_case("paper-2d", {.kappa = 0.5, .steps = 20}, {.cells = 10});
+  const Case b = load_case("paper-2d", {.sets = {"damage.kappa=0.5", "time.steps=20", "mesh.cells=10"}});
+  EXPECT_EQ(a.problem->kappa, 0.5);
+  EXPECT_EQ(a.problem->n_steps, 20);
+  EXPECT_EQ(a.problem->mesh.n_cells(), 2 * 10 * 10);
+  EXPECT_EQ(a.problem->mesh.nodes(), b.problem->mesh.nodes());
+  EXPECT_EQ(a.output.every, 2);  // every tenth of the run, after the override
+  EXPECT_EQ(load_case("paper-1d", {.time_step = 0.02}).problem->n_steps, 50);
+  const auto message = [](const CaseOverrides& o, const MeshRequest& m = {}) {
+    try {
+      load_case("paper-2d", o, m);
+    } catch (const Error& e) {
+      return std::string(e.what());
     }
-    EXPECT_EQ(a.contact_nodes(), b.contact_nodes());
-    EXPECT_EQ((a.state().u - b.state().u).cwiseAbs().maxCoeff(), 0.0);
-    EXPECT_EQ((a.state().beta - b.state().beta).cwiseAbs().maxCoeff(), 0.0);
-    EXPECT_EQ((a.state().lambda - b.state().lambda).cwiseAbs().maxCoeff(), 0.0);
-  }
+    return std::string("(no error)");
+  };
+  const std::vector<std::pair<std::string, std::string>> table = {
+      {message({}, {.cells = 12}), "--n 12: the number of cells per edge n must be a multiple of 5 (so that x = 0.8 "
+                                   "and 1.2 are nodes); got 12"},
+      {message({.sets = {"mesh.cells=[20, 12]"}}), "--set mesh.cells=[20, 12]: the number of cells per edge n must be "
+                                                   "a multiple of 5"},
+      {message({.kappa = -1.0}), "--kappa -1: kappa must be >= 0 (got -1)"},
+      {message({.steps = 0}), "--steps 0: the number of time steps must be >= 1 (got 0)"},
+      {message({.time_step = -0.01}), "--dt -0.01: the time step must be > 0 (got -0.01)"},
+      {message({.time_step = 0.03}), "--dt 0.03: the time step 0.03 does not divide the final time T = 1"},
+      {message({.sets = {"time.dt=0.1"}, .steps = 5}), "--steps 5: conflicts with --set time.dt=0.1"},
+      {message({}, {.cells = 100000}), "--n 100000: the mesh would have"},
+      {message({.sets = {"mesh.file=x.msh"}}, {.cells = 10}), "--n 10: --n sets the cells per edge of a generated mesh only"},
+  };
+  for (const auto& [got, expected] : table) EXPECT_NE(got.find(expected), std::string::npos) << got;
 }
 
 }  // namespace

@@ -22,7 +22,7 @@ fs::path fresh_dir(const std::string& name) {
   return d;
 }
 
-std::shared_ptr<Problem> small_2d() { return make_builtin_case("paper-2d", {.mesh_cells = 10, .steps = 10}).problem; }
+std::shared_ptr<Problem> small_2d() { return load_case("paper-2d", {.steps = 10}, {.cells = 10}).problem; }
 
 Checkpoint checkpoint_of(const TimeStepper& s) {
   RunTotals totals;
@@ -112,7 +112,7 @@ TEST(Checkpoint, BadFilesAreRejectedWithAReason) {
     EXPECT_NE(std::string(e.what()).find("not a vpcontact checkpoint"), std::string::npos) << e.what();
   }
   // Another problem's checkpoint is not taken.
-  TimeStepper other(make_builtin_case("paper-2d", {.mesh_cells = 5, .steps = 10}).problem);
+  TimeStepper other(load_case("paper-2d", {.steps = 10}, {.cells = 5}).problem);
   std::vector<std::string> skipped;
   EXPECT_FALSE(find_checkpoint(dir, problem_fingerprint(other), &skipped).has_value());
   EXPECT_EQ(skipped.size(), 3u);

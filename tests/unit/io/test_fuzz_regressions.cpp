@@ -56,7 +56,7 @@ std::string variant(const std::string& from, const std::string& to) {
 
 std::string error_of(const std::string& text, const std::vector<std::string>& sets = {}) {
   try {
-    parse_case(text, "fuzz.toml", ".", sets);
+    parse_case(text, "fuzz.toml", ".", {.sets = sets});
   } catch (const Error& e) {
     return e.what();
   }

@@ -11,7 +11,7 @@ namespace {
 // penalty–duality multiplier is counted against its own tolerance).
 TEST(ActiveContact, BothSolversCountTheSameNodes) {
   // A Hertz-like contact: the whole base over a parabolic gap, the zone grows from x = 1.
-  auto p = make_builtin_case("paper-2d", {.mesh_cells = 10, .steps = 4}).problem;
+  auto p = load_case("paper-2d", {.steps = 4}, {.cells = 10}).problem;
   p->contact.parts = {"bottom"};
   p->contact.gap = [](const Point& x, double) { return 0.05 * (x[0] - 1) * (x[0] - 1); };
   SolverChoice pd;

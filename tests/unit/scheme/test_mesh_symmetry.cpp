@@ -25,7 +25,7 @@ std::pair<double, double> mirror_asymmetry(const std::string& diagonal) {
   const auto it = std::find_if(shipped.begin(), shipped.end(), [](const auto& s) { return s.name == "paper-2d"; });
   EXPECT_NE(it, shipped.end());
   const Case c = parse_case(it->text, "paper-2d.toml", ".",
-                            {"mesh.cells=[10, 10]", "mesh.diagonal=\"" + diagonal + "\"", "time.steps=5"});
+                            {.sets = {"mesh.cells=[10, 10]", "mesh.diagonal=\"" + diagonal + "\"", "time.steps=5"}});
   TimeStepper s(c.problem, c.solvers);
   while (!s.done()) EXPECT_TRUE(s.step().ok);
   const Mesh& m = s.mesh();
@@ -60,10 +60,10 @@ TEST(MeshSymmetry, UnknownDiagonalInCaseFileListsValues) {
   const auto& shipped = shipped_cases();
   const auto it = std::find_if(shipped.begin(), shipped.end(), [](const auto& s) { return s.name == "paper-2d"; });
   try {
-    parse_case(it->text, "paper-2d.toml", ".", {"mesh.diagonal=\"diagonal\""});
+    parse_case(it->text, "paper-2d.toml", ".", {.sets = {"mesh.diagonal=\"diagonal\""}});
     FAIL();
   } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find("--set mesh.diagonal: unknown value 'diagonal'; expected one of: right, left, "
+    EXPECT_NE(std::string(e.what()).find("--set mesh.diagonal=\"diagonal\": unknown value 'diagonal'; expected one of: right, left, "
                                          "alternate, crossed"),
               std::string::npos)
         << e.what();

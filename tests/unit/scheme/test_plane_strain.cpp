@@ -13,7 +13,7 @@ namespace {
 
 /// paper-2d on 10 × 10 squares with 4 steps, in plane strain with law `law`.
 std::shared_ptr<Problem> plane_strain_block(const std::string& law) {
-  auto p = make_builtin_case("paper-2d", {.mesh_cells = 10, .steps = 4}).problem;
+  auto p = load_case("paper-2d", {.steps = 4}, {.cells = 10}).problem;
   p->elasticity = Elasticity(Elasticity::Kind::PlaneStrain, 1000.0, 0.3);
   p->law = make_viscoplastic_law(law, {});
   return p;
@@ -68,7 +68,7 @@ TEST(PlaneStrain, ViscoplasticLawEvolvesZ33) {
   }
   EXPECT_GT(max_z33, 0.0);
 
-  TimeStepper stress(make_builtin_case("paper-2d", {.mesh_cells = 10, .steps = 4}).problem);
+  TimeStepper stress(load_case("paper-2d", {.steps = 4}, {.cells = 10}).problem);
   while (!stress.done()) ASSERT_TRUE(stress.step().ok);
   for (std::size_t c = 0; c < stress.state().z.size(); ++c) {
     EXPECT_EQ(stress.state().sigma[c][2], 0.0);

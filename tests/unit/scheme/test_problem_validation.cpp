@@ -20,7 +20,7 @@ std::string error_of(const std::function<void()>& f) {
   return "(no error)";
 }
 
-std::shared_ptr<Problem> paper_2d() { return make_builtin_case("paper-2d", {.mesh_cells = 5}).problem; }
+std::shared_ptr<Problem> paper_2d() { return load_case("paper-2d", {}, {.cells = 5}).problem; }
 
 TEST(ProblemValidation, EmptyContactPart) {
   auto p = paper_2d();
@@ -114,17 +114,17 @@ TEST(ProblemValidation, NonFiniteGapIsCalledNotFinite) {
 }
 
 TEST(ProblemValidation, BuiltinOverrides) {
-  EXPECT_NE(error_of([] { make_builtin_case("paper-2d", {.mesh_cells = 7}); }).find("multiple of 5"),
+  EXPECT_NE(error_of([] { load_case("paper-2d", {}, {.cells = 7}); }).find("multiple of 5"),
             std::string::npos);
-  EXPECT_NE(error_of([] { make_builtin_case("paper-1d", {.time_step = -0.01}); }).find("time step must be > 0"),
+  EXPECT_NE(error_of([] { load_case("paper-1d", {.time_step = -0.01}); }).find("time step must be > 0"),
             std::string::npos);
-  EXPECT_NE(error_of([] { make_builtin_case("paper-1d", {.kappa = -1.0}); }).find("kappa must be >= 0"),
+  EXPECT_NE(error_of([] { load_case("paper-1d", {.kappa = -1.0}); }).find("kappa must be >= 0"),
             std::string::npos);
-  EXPECT_NE(error_of([] { make_builtin_case("paper-3d"); }).find("unknown case 'paper-3d'"), std::string::npos);
+  EXPECT_NE(error_of([] { load_case("paper-3d"); }).find("unknown case 'paper-3d'"), std::string::npos);
 }
 
 TEST(ProblemValidation, SteppingPastTheEnd) {
-  auto p = make_builtin_case("paper-1d", {.mesh_cells = 10, .steps = 2}).problem;
+  auto p = load_case("paper-1d", {.steps = 2}, {.cells = 10}).problem;
   TimeStepper s(p);
   s.step();
   s.step();
@@ -144,7 +144,7 @@ namespace {
 TEST(UniformLoads, GiveTheSameRunAsQuadrature) {
   for (const char* name : {"paper-2d", "block-3d"}) {
     SCOPED_TRACE(name);
-    auto quadrature = make_builtin_case(name, {.mesh_cells = 5, .steps = 4}).problem;
+    auto quadrature = load_case(name, {.steps = 4}, {.cells = 5}).problem;
     const int d = quadrature->mesh.dim();
     quadrature->f2 = [d](const Point&, double t) { return Point{0.5 * t, d == 3 ? 0.25 : -0.25 * t, 0}; };
     quadrature->f0_uniform = quadrature->f2_uniform = false;

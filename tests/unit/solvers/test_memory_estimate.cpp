@@ -127,7 +127,7 @@ TEST(CholmodErrors, NotPositiveDefiniteNamesMatrixAndSize) {
 // A run beyond the memory limit is refused before any factorization, at once,
 // naming the estimate by part and the limit.
 TEST(MemoryEstimate, TimeStepperRefusesRunBeyondLimit) {
-  auto c = make_builtin_case("block-3d", {.mesh_cells = 10});
+  auto c = load_case("block-3d", {}, {.cells = 10});
   SolverChoice choice;
   choice.memory_limit = "1M";
   const auto t0 = std::chrono::steady_clock::now();

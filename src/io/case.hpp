@@ -1,6 +1,6 @@
 #pragma once
 // A case: a Problem plus how to run it (solvers) and what to write (output).
-// Built-in cases and case files both produce one.
+// Case files produce one (the built-in cases are case files compiled in).
 #include "io/run_output.hpp"
 #include "scheme/problem.hpp"
 #include "scheme/time_stepper.hpp"
