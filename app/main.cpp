@@ -46,7 +46,7 @@ struct Options {
   std::string engine = "auto";  // docs/parallel.md
   std::string show_case;        // cases --show NAME
   std::chrono::system_clock::time_point started = std::chrono::system_clock::now();  // for summary.json
-  std::string memory_limit;  // solvers/memory_estimate.hpp
+  std::string memory_limit;  // la/memory_estimate.hpp
   vpc::RunOptions run;       // quiet, resume, checkpoints, argv (for the --resume command and summary.json), ...
 };
 

@@ -2,8 +2,8 @@
 
 #include "parallel/collective.hpp"
 #include "parallel/petsc_engine.hpp"
-#include "parallel/petsc_linear_solver.hpp"
-#include "solvers/blas_threads.hpp"
+#include "la/petsc_linear_solver.hpp"
+#include "la/blas_threads.hpp"
 
 #include <fmt/format.h>
 #include <omp.h>

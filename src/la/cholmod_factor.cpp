@@ -1,7 +1,7 @@
-// The serial backend of la::Factor: the CHOLMOD solver of solvers/cholmod_solver.cpp.
+// The serial backend of la::Factor: the CHOLMOD solver of la/cholmod_solver.cpp.
 #include "core/error.hpp"
 #include "la/factor.hpp"
-#include "solvers/linear_solver.hpp"
+#include "la/linear_solver.hpp"
 
 namespace vpc::la {
 

@@ -3,7 +3,7 @@
 // solve for one right-hand side or a block. The triangular halves of a Cholesky
 // factor A = PᵀLLᵀP (forward(B) = L⁻¹PB, backward(Y) = PᵀL⁻ᵀY) are an optional
 // capability: CHOLMOD has them, MUMPS and CG do not (has_halves()).
-// Backends: make_cholmod_factor (serial, solvers/cholmod_solver.cpp) and
+// Backends: make_cholmod_factor (serial, la/cholmod_solver.cpp) and
 // make_petsc_factor (la/petsc.hpp: MUMPS, CG + GAMG, CG + hypre).
 #include "la/operator.hpp"
 

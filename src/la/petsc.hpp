@@ -4,8 +4,8 @@
 // factors by PetscLinearSolver (MUMPS Cholesky, CG + GAMG, CG + hypre).
 #include "la/factor.hpp"
 #include "la/operator.hpp"
-#include "parallel/petsc_linear_solver.hpp"
-#include "parallel/petsc_util.hpp"
+#include "la/petsc_linear_solver.hpp"
+#include "la/petsc_util.hpp"
 
 #include <Eigen/Sparse>
 #include <vector>

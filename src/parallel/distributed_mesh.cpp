@@ -2,7 +2,7 @@
 
 #include "parallel/collective.hpp"
 
-#include "parallel/petsc_util.hpp"
+#include "la/petsc_util.hpp"
 
 #include <petscmat.h>
 

@@ -11,7 +11,7 @@
 //   distributed (or a second solve when W would be too large).
 
 #include "parallel/distributed_mesh.hpp"
-#include "parallel/petsc_linear_solver.hpp"
+#include "la/petsc_linear_solver.hpp"
 #include "solvers/box_qp.hpp"
 #include "solvers/contact_solver.hpp"
 

@@ -4,8 +4,8 @@
 // checkpoint, the steps with their output and progress, checkpoints (at step 0,
 // as the schedule says, at the end, when interrupted), summary.json.
 //   RunOptions o; o.output_directory = "out";
-//   RunResult r = run_case([&](const MeshRequest&) { return make_builtin_case("paper-1d"); }, o);
-#include "cases/case.hpp"
+//   RunResult r = run_case([&](const MeshRequest&) { return load_case("paper-1d"); }, o);
+#include "io/case.hpp"
 #include "run/engine.hpp"
 
 #include <chrono>

@@ -1,7 +1,7 @@
 #include "scheme/time_stepper.hpp"
 
 #include "core/error.hpp"
-#include "solvers/memory_estimate.hpp"
+#include "la/memory_estimate.hpp"
 
 #include <algorithm>
 #include <chrono>

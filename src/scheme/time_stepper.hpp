@@ -32,7 +32,7 @@ struct SolverChoice {
   /// Optional: told as each setup stage starts (seconds < 0) and when it ends
   /// (its wall time), so that a long setup shows what it is doing (vpcontact run/check).
   std::function<void(const std::string& stage, double seconds)> on_setup_stage;
-  /// The memory a run may use (solvers/memory_estimate.hpp): a size such as "8G",
+  /// The memory a run may use (la/memory_estimate.hpp): a size such as "8G",
   /// or empty for $VPCONTACT_MEMORY_LIMIT, else the machine's available memory.
   std::string memory_limit;
 };

@@ -17,7 +17,7 @@
 #include <vector>
 
 #include "la/factor.hpp"
-#include "solvers/linear_solver.hpp"
+#include "la/linear_solver.hpp"
 
 namespace vpc {
 

@@ -4,7 +4,7 @@
 // K the constant elastic stiffness on the free dofs, one row of N per contact
 // node (its contact direction). The multipliers λ ≥ 0 are the nodal contact
 // forces: K u = F − Nᵀλ, λ ⟂ (g − N u) ≥ 0. Neither solver knows about meshes.
-#include "solvers/linear_solver.hpp"
+#include "la/linear_solver.hpp"
 
 #include <memory>
 #include <string>

@@ -8,7 +8,7 @@
 // P the projection onto the box; θ = q + ω E x is the Lagrange multiplier
 // (θ_i ≥ 0 where the upper bound is active, ≤ 0 at the lower). The matrix
 // H + ωEᵀE is constant, so it is factorized once. Convergence is linear.
-#include "solvers/linear_solver.hpp"
+#include "la/linear_solver.hpp"
 
 #include <functional>
 

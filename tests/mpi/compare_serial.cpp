@@ -7,7 +7,7 @@
 // and σ after every step, relative to their max norms. Exit 0 only if all hold.
 #include "cases/builtin_cases.hpp"
 #include "parallel/distributed_time_stepper.hpp"
-#include "parallel/petsc_util.hpp"
+#include "la/petsc_util.hpp"
 
 #include <fmt/format.h>
 

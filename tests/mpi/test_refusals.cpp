@@ -5,7 +5,7 @@
 // "expected refusal" entries of the equivalence matrix (CMakeLists.txt).
 #include "cases/builtin_cases.hpp"
 #include "parallel/distributed_time_stepper.hpp"
-#include "parallel/petsc_util.hpp"
+#include "la/petsc_util.hpp"
 
 #include <gtest/gtest.h>
 
@@ -16,7 +16,7 @@ namespace {
 
 /// The message the constructor throws with `choice` ("" if none); collective.
 std::string refusal(const SolverChoice& choice) {
-  const Case c = make_builtin_case("paper-1d", {.mesh_cells = 12, .steps = 2});
+  const Case c = load_case("paper-1d", {.steps = 2}, {.cells = 12});
   try {
     DistributedTimeStepper stepper(c.problem, distribute_mesh(PETSC_COMM_WORLD, *c.problem), choice);
   } catch (const Error& e) {

@@ -2,7 +2,7 @@
 // constant strain state is reproduced exactly in 2D and 3D on distorted meshes.
 #include "fem/assembly.hpp"
 #include "mesh/generators.hpp"
-#include "solvers/linear_solver.hpp"
+#include "la/linear_solver.hpp"
 
 #include <gtest/gtest.h>
 

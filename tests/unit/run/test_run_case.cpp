@@ -107,7 +107,7 @@ TEST(RunCase, SerialRunThenResumeFromItsLastCheckpoint) {
   RunOptions o = quiet();
   o.output_directory = fresh_dir("serial");
   const CaseLoader load = [&](const MeshRequest&) {
-    Case c = make_builtin_case("paper-1d", {.steps = 6});
+    Case c = load_case("paper-1d", {.steps = 6});
     c.output.directory = o.output_directory;
     return c;
   };

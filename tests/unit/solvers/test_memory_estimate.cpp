@@ -1,7 +1,7 @@
 // Issue 11 items 2 and 3: the memory estimate (CHOLMOD's symbolic analysis gives
 // the factor's size before the numeric factorization), the limit, the refusal, and
 // CHOLMOD failures as clean vpc::Errors.
-#include "solvers/memory_estimate.hpp"
+#include "la/memory_estimate.hpp"
 
 #include "cases/builtin_cases.hpp"
 #include "core/error.hpp"

@@ -1,7 +1,7 @@
 #pragma once
 // The PETSc engine's linear solver: factorize (or precondition) a constant
 // symmetric positive definite PETSc matrix once, solve many times. It is not a
-// LinearSolver (solvers/linear_solver.hpp): no symbolic estimate (analyze), no
+// LinearSolver (la/linear_solver.hpp): no symbolic estimate (analyze), no
 // triangular halves (forward/backward), vectors and matrices are PETSc's.
 //   "mumps"     Cholesky by MUMPS (distributed direct; the default)
 //   "cg-gamg"   conjugate gradients with PETSc's algebraic multigrid (rigid-body
@@ -11,7 +11,7 @@
 // and stop at a relative residual of `rtol` (default 1e-12). Every KSP also reads
 // the PETSc options under its prefix (e.g. -vpc_K_ksp_monitor), so any PETSc
 // solver can be chosen from the command line or PETSC_OPTIONS.
-#include "parallel/petsc_util.hpp"
+#include "la/petsc_util.hpp"
 
 #include <string>
 

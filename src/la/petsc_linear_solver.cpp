@@ -1,4 +1,4 @@
-#include "parallel/petsc_linear_solver.hpp"
+#include "la/petsc_linear_solver.hpp"
 
 namespace vpc {
 

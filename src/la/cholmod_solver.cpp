@@ -1,7 +1,7 @@
 #include "core/error.hpp"
-#include "solvers/blas_threads.hpp"
-#include "solvers/linear_solver.hpp"
-#include "solvers/memory_estimate.hpp"
+#include "la/blas_threads.hpp"
+#include "la/linear_solver.hpp"
+#include "la/memory_estimate.hpp"
 
 #include <cholmod.h>
 

@@ -1,4 +1,4 @@
-#include "solvers/memory_estimate.hpp"
+#include "la/memory_estimate.hpp"
 
 #include "core/error.hpp"
 

@@ -1,4 +1,4 @@
-#include "solvers/blas_threads.hpp"
+#include "la/blas_threads.hpp"
 
 #include <dlfcn.h>
 

@@ -1,4 +1,4 @@
-#include "parallel/petsc_util.hpp"
+#include "la/petsc_util.hpp"
 
 #include <fmt/format.h>
 

@@ -2,7 +2,7 @@
 // The narrow linear-algebra interface of the serial scheme: factorize a symmetric
 // positive definite matrix once, then solve many times. Its one implementation is
 // CHOLMOD (supernodal, cholmod_l_*). The PETSc engine does not implement it: it has
-// its own PetscLinearSolver (parallel/petsc_linear_solver.hpp), without analyze()
+// its own PetscLinearSolver (la/petsc_linear_solver.hpp), without analyze()
 // or the triangular halves.
 #include <Eigen/Dense>
 #include <Eigen/Sparse>
