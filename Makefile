@@ -46,7 +46,7 @@ test-sanitize: deps
 test-mpi:
 	@bash scripts/install-deps.sh --mpi
 	@cmake -S . -B $(MPI_BUILD) -DCMAKE_BUILD_TYPE=Release -DVPCONTACT_ENABLE_PETSC=ON -DVPCONTACT_BENCHMARKS=OFF > /dev/null
-	@cmake --build $(MPI_BUILD) -j $(JOBS) --target vpcontact vpcontact_mpi_compare
+	@cmake --build $(MPI_BUILD) -j $(JOBS) --target vpcontact_mpi_tests
 	cd $(MPI_BUILD) && OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 \
 	  ctest --output-on-failure -L mpi
 

@@ -6,11 +6,11 @@ namespace vpc::la {
 
 void Comm::throw_if_any(bool failed, const std::string& message) const {
   if (!b_) {
-    if (failed) throw Error(message);
+    if (failed) throw CollectiveError(message);
     return;
   }
   const std::string first = b_->first_failure(failed, message.empty() ? "an error on another rank" : message);
-  if (!first.empty()) throw Error(first);
+  if (!first.empty()) throw CollectiveError(first);
 }
 
 }  // namespace vpc::la

@@ -68,7 +68,7 @@ class Comm {
     return b_ ? b_->exchange(to_rank) : to_rank;
   }
   /// Collective: when `failed` holds on some rank, every rank throws the same
-  /// vpc::Error, with the message of the lowest such rank (no rank left waiting
+  /// vpc::CollectiveError (reported once by the program), with the message of the lowest such rank (no rank left waiting
   /// in a later collective for one that threw).
   void throw_if_any(bool failed, const std::string& message) const;
 
