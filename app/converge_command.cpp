@@ -92,10 +92,7 @@ StudyInput case_input(const ConvergeOptions& o) {
   if (given("--kappa")) ov.kappa = o.kappa;
   if (given("--steps")) ov.steps = o.steps;
   MeshRequest mesh;
-  if (given("--n")) {
-    require(o.n >= 1, "--n must be >= 1 (got {})", o.n);
-    mesh.cells = o.n;
-  }
+  if (given("--n")) mesh.cells = o.n;
   const auto builtins = builtin_case_names();
   if (!is_case_file(o.case_name) && std::find(builtins.begin(), builtins.end(), o.case_name) == builtins.end())
     fail("unknown case '{}'; built-in cases are: {}; manufactured: mms-LAW-Dd (LAW = elastic, maxwell, "

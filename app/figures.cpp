@@ -36,9 +36,6 @@ std::string missing_plot_tools(const std::string& python) {
 }  // namespace
 
 void draw_figures(const fs::path& outdir, const PlotOptions& options, bool after_run) {
-  require(options.format == "png" || options.format == "pdf" || options.format == "svg",
-          "plot: --format must be png, pdf or svg (got '{}')", options.format);
-  require(options.dpi > 0 && options.dpi <= 2400, "plot: --dpi must be in (0, 2400] (got {})", options.dpi);
   const fs::path script = plot_script();
   require(fs::is_regular_file(script), "plot: the figure script '{}' is missing", script.string());
   std::error_code ec;

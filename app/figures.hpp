@@ -8,6 +8,7 @@
 
 namespace vpc {
 
+/// Checked where they are read (the command line: add_plot_options).
 struct PlotOptions {
   std::string format = "png";  // png, pdf or svg
   double dpi = 150;

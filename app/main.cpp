@@ -72,10 +72,7 @@ vpc::Case load_case(const Options& o, const CLI::App& cmd, const vpc::CaseSource
   if (given(cmd, "--steps")) ov.steps = o.steps;
   if (given(cmd, "--dt")) ov.time_step = o.dt;
   vpc::MeshRequest request = mesh;
-  if (given(cmd, "--n")) {
-    vpc::require(o.n >= 1, "--n must be >= 1 (got {})", o.n);
-    request.cells = o.n;
-  }
+  if (given(cmd, "--n")) request.cells = o.n;
   vpc::Case c = vpc::load_case(src, ov, request);
   c.output.directory = outdir;
   c.output.command_line = o.run.argv;

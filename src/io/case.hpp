@@ -6,6 +6,7 @@
 #include "scheme/time_stepper.hpp"
 
 #include <memory>
+#include <optional>
 #include <string>
 
 namespace vpc {
@@ -18,7 +19,8 @@ namespace vpc {
 struct MeshRequest {
   bool build = true;
   int dim = 0;
-  int cells = 0;  // `--n`: cells per edge of a generated mesh (0: the case's own)
+  std::optional<int> cells;  // `--n`: cells per edge of a generated mesh (unset: the case's own),
+                             // checked by the case file's mesh.cells rules
 };
 
 struct Case {

@@ -342,10 +342,10 @@ KeyOverride parse_set(const std::string& o) {
 }
 
 /// The overrides in the order they apply: --set, then --n, --kappa, --steps, --dt.
-std::vector<KeyOverride> key_overrides(const CaseOverrides& o, int cells) {
+std::vector<KeyOverride> key_overrides(const CaseOverrides& o, std::optional<int> cells) {
   std::vector<KeyOverride> out;
   for (const auto& s : o.sets) out.push_back(parse_set(s));
-  if (cells > 0) out.push_back({{"mesh", "cells"}, fmt::format("{}", cells), fmt::format("--n {}", cells), true});
+  if (cells) out.push_back({{"mesh", "cells"}, fmt::format("{}", *cells), fmt::format("--n {}", *cells), true});
   // 17 digits: the value that TOML reads back is the option's double.
   if (o.kappa) out.push_back({{"damage", "kappa"}, fmt::format("{:.17g}", *o.kappa), fmt::format("--kappa {}", *o.kappa)});
   if (o.steps) out.push_back({{"time", "steps"}, fmt::format("{}", *o.steps), fmt::format("--steps {}", *o.steps)});
@@ -764,7 +764,7 @@ CaseInfo case_info(std::string_view text, const std::string& name, const CaseOve
   CaseInfo info{fs::path(name).stem().string(), "case file " + name, ""};
   try {
     Origins origins{name, {}};
-    const toml::table t = parse_toml(text, key_overrides(overrides, 0), origins);
+    const toml::table t = parse_toml(text, key_overrides(overrides, std::nullopt), origins);
     info.name = t["case"]["name"].value_or(info.name);
     info.description = t["case"]["description"].value_or(info.description);
     info.output_directory = t["output"]["directory"].value_or(std::string());

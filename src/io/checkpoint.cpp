@@ -190,14 +190,6 @@ bool CheckpointSchedule::due(int n) const {
   return std::chrono::duration<double>(Clock::now() - last_).count() >= seconds_;
 }
 
-void remove_checkpoints(const fs::path& dir) {
-  std::error_code ec;
-  std::vector<fs::path> all;
-  for (const auto& e : fs::directory_iterator(dir, ec))
-    if (step_of(e.path()) >= 0) all.push_back(e.path());
-  for (const auto& f : all) fs::remove(f, ec);
-}
-
 Checkpoint read_checkpoint(const fs::path& file) {
   std::ifstream in(file, std::ios::binary);
   require(in.good(), "checkpoint '{}': cannot read it", file.string());

@@ -65,9 +65,6 @@ class CheckpointSchedule {
   Clock::time_point last_ = Clock::now();
 };
 
-/// Removes every checkpoint_NNNNN.bin in `dir` (a fresh run replaces an old one's).
-void remove_checkpoints(const std::filesystem::path& dir);
-
 /// Reads a checkpoint; throws vpc::Error naming the file and what is wrong.
 Checkpoint read_checkpoint(const std::filesystem::path& file);
 

@@ -118,8 +118,6 @@ class RunOutput {
   void resume(int n, std::vector<std::pair<double, std::string>> pvd, const RunTotals& totals);
   /// Records one accepted step; writes VTU at output steps.
   void record(const StepReport& report);
-  /// Seconds spent writing during the steps (record()).
-  double output_seconds() const { return totals_.seconds_output; }
   const RunTotals& totals() const { return totals_; }
   const std::vector<std::pair<double, std::string>>& pvd_entries() const { return pvd_; }
   /// Writes summary.json; `wall_seconds` is the whole run's time.

@@ -308,6 +308,8 @@ TEST(CaseFile, CommandLineOptionsAreKeyOverrides) {
       {message({.time_step = 0.03}), "--dt 0.03: the time step 0.03 does not divide the final time T = 1"},
       {message({.sets = {"time.dt=0.1"}, .steps = 5}), "--steps 5: conflicts with --set time.dt=0.1"},
       {message({}, {.cells = 100000}), "--n 100000: the mesh would have"},
+      {message({}, {.cells = 0}), "--n 0: expected between 1 and 100000 cells per direction, got 0"},
+      {message({}, {.cells = -3}), "--n -3: expected between 1 and 100000 cells per direction, got -3"},
       {message({.sets = {"mesh.file=x.msh"}}, {.cells = 10}), "--n 10: --n sets the cells per edge of a generated mesh only"},
   };
   for (const auto& [got, expected] : table) EXPECT_NE(got.find(expected), std::string::npos) << got;

@@ -3,6 +3,7 @@
 #include "cases/builtin_cases.hpp"
 #include "core/error.hpp"
 #include "io/checkpoint.hpp"
+#include "io/output_files.hpp"
 
 #include <gtest/gtest.h>
 
@@ -149,7 +150,7 @@ TEST(Checkpoint, ANewTimelineReplacesTheOldOnes) {
   EXPECT_TRUE(fs::exists(dir / "checkpoint_00001.bin"));
   EXPECT_FALSE(fs::exists(dir / "checkpoint_00003.bin"));
   EXPECT_FALSE(fs::exists(dir / "checkpoint_00004.bin"));
-  remove_checkpoints(dir);
+  remove_run_outputs(dir);  // what a fresh run does
   EXPECT_FALSE(fs::exists(dir / "checkpoint_00001.bin"));
   std::vector<std::string> skipped;
   EXPECT_FALSE(find_checkpoint(dir, problem_fingerprint(s), &skipped).has_value());
