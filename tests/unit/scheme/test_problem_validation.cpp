@@ -1,4 +1,5 @@
 // Invalid problems give a clear vpc::Error naming what is wrong, never a crash.
+#include "../error_of.hpp"
 #include "cases/builtin_cases.hpp"
 #include "core/error.hpp"
 #include "scheme/time_stepper.hpp"
@@ -10,15 +11,6 @@
 
 namespace vpc {
 namespace {
-
-std::string error_of(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "(no error)";
-}
 
 std::shared_ptr<Problem> paper_2d() { return load_case("paper-2d", {}, {.cells = 5}).problem; }
 

@@ -1,6 +1,7 @@
 // Contact solvers (solvers/contact_solver): a spring system whose contact force is
 // known by hand, a 2D elastic block touching a sloped obstacle on part of its
 // base (active-set vs penalty–duality), warm starts, and the error paths.
+#include "../error_of.hpp"
 #include "solvers/contact_solver.hpp"
 
 #include "core/error.hpp"
@@ -289,15 +290,6 @@ TEST(ContactSolver, DoesNotDependOnCallersStiffnessAfterConstruction) {
 }
 
 // ---------------------------------------------------------------- error paths
-
-std::string error_of(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "<no vpc::Error thrown>";
-}
 
 TEST(ContactSolverErrors, UnknownNameIsNamed) {
   const Springs s;

@@ -1,6 +1,7 @@
 // Issue 11 items 2 and 3: the memory estimate (CHOLMOD's symbolic analysis gives
 // the factor's size before the numeric factorization), the limit, the refusal, and
 // CHOLMOD failures as clean vpc::Errors.
+#include "../error_of.hpp"
 #include "la/memory_estimate.hpp"
 
 #include "cases/builtin_cases.hpp"
@@ -20,15 +21,6 @@
 
 namespace vpc {
 namespace {
-
-std::string error_of(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "(no error)";
-}
 
 TEST(MemoryEstimate, ParsesSizes) {
   EXPECT_EQ(parse_memory_size("512M", "x"), 512.0 * 1024 * 1024);
