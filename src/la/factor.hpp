@@ -5,10 +5,12 @@
 // capability: CHOLMOD has them, MUMPS and CG do not (has_halves()).
 // Backends: make_cholmod_factor (serial, la/cholmod_solver.cpp) and
 // make_petsc_factor (la/petsc.hpp: MUMPS, CG + GAMG, CG + hypre).
+#include "la/linear_solver.hpp"
 #include "la/operator.hpp"
 
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 
 namespace vpc::la {
@@ -19,6 +21,13 @@ class Factor {
   /// Factorizes A (kept by reference by iterative backends: A must outlive the
   /// next factorize). Throws vpc::Error naming `what` when it fails.
   virtual void factorize(const SpdOperator& A, const char* what) = 0;
+  /// The factor's size from a symbolic analysis alone (a following factorize of
+  /// the same A reuses it); nullopt where the backend cannot say (PETSc).
+  virtual std::optional<FactorEstimate> analyze(const SpdOperator&, const char*) { return std::nullopt; }
+  /// The coordinate (x, y or z) each owned row stands for, rows in blocks of `dim`
+  /// per node: algebraic multigrid builds the rigid-body modes of elasticity from
+  /// them. Before factorize; ignored by direct solvers.
+  virtual void set_coordinates(const Eigen::VectorXd& /*coordinates*/, int /*dim*/) {}
   /// x = A⁻¹ b on the owned entries; x on entry is an iterative solver's initial guess.
   virtual void solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) const = 0;
   /// X = A⁻¹ B for a block of right-hand sides (owned rows).

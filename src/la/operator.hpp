@@ -25,6 +25,9 @@ class SpdOperator {
   virtual Eigen::VectorXd diagonal() const = 0;
   /// A_FF, F = the owned rows i with fixed[i] == 0, renumbered in order (collective).
   virtual std::unique_ptr<SpdOperator> restrict_to_free(const std::vector<char>& fixed) const = 0;
+  /// A + B, B given on the owned rows and columns (n_owned × n_owned, owned
+  /// numbering): penalty–duality's H + ωEᵀE (collective).
+  virtual std::unique_ptr<SpdOperator> plus(const Eigen::SparseMatrix<double>& owned_block) const = 0;
 };
 
 /// One process: the whole matrix.
@@ -39,6 +42,9 @@ class SparseOperator final : public SpdOperator {
   }
   Eigen::VectorXd diagonal() const override { return A_.diagonal(); }
   std::unique_ptr<SpdOperator> restrict_to_free(const std::vector<char>& fixed) const override;
+  std::unique_ptr<SpdOperator> plus(const Eigen::SparseMatrix<double>& B) const override {
+    return std::make_unique<SparseOperator>(A_ + B);
+  }
   const Eigen::SparseMatrix<double>& matrix() const { return A_; }
 
  private:

@@ -96,10 +96,25 @@ class PetscFactor final : public Factor {
  public:
   PetscFactor(MPI_Comm comm, const std::string& name, const PetscSolverOptions& options)
       : solver_(comm, "vpc_" + name + "_", options) {}
+  void set_coordinates(const Eigen::VectorXd& coordinates, int dim) override {
+    coordinates_ = coordinates;
+    dim_ = dim;
+  }
   void factorize(const SpdOperator& A, const char* what) override {
     const auto* op = dynamic_cast<const PetscOperator*>(&A);
     require(op != nullptr, "internal: PETSc factors PETSc operators only ({})", what);
-    solver_.factorize(op->mat(), what);
+    // Rigid-body modes (the near-null space of elasticity) for algebraic multigrid.
+    PetscHandle<MatNullSpace, MatNullSpaceDestroy> rigid;
+    if (solver_.kind() == "cg-gamg" && coordinates_.size() == op->n_owned() && dim_ > 0) {
+      PVec xyz;
+      VPC_PETSC(MatCreateVecs(op->mat(), xyz.out(), nullptr));
+      VPC_PETSC(VecSetBlockSize(xyz, dim_));
+      {
+        Placed p(xyz, coordinates_.data());
+        VPC_PETSC(MatNullSpaceCreateRigidBody(xyz, rigid.out()));
+      }
+    }
+    solver_.factorize(op->mat(), what, rigid.get());
     VPC_PETSC(MatCreateVecs(op->mat(), x_.out(), b_.out()));
     n_ = op->n_owned();
   }
@@ -125,6 +140,8 @@ class PetscFactor final : public Factor {
   PetscLinearSolver solver_;
   PVec x_, b_;
   int n_ = 0;
+  Eigen::VectorXd coordinates_;
+  int dim_ = 0;
 };
 
 }  // namespace
@@ -203,6 +220,50 @@ std::unique_ptr<SpdOperator> PetscOperator::restrict_to_free(const std::vector<c
   VPC_PETSC(MatCreateSubMatrix(A_, is, is, MAT_INITIAL_MATRIX, AFF.out()));
   VPC_PETSC(MatSetOption(AFF, MAT_SPD, PETSC_TRUE));
   return std::make_unique<PetscOperator>(comm_, std::move(AFF));
+}
+
+std::unique_ptr<SpdOperator> PetscOperator::plus(const Eigen::SparseMatrix<double>& B) const {
+  PMat C;
+  VPC_PETSC(MatDuplicate(A_, MAT_COPY_VALUES, C.out()));
+  VPC_PETSC(MatSetOption(C, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_FALSE));
+  PetscInt begin = 0;
+  VPC_PETSC(MatGetOwnershipRange(A_, &begin, nullptr));
+  std::vector<PetscInt> l2g(static_cast<size_t>(n_owned_));
+  std::iota(l2g.begin(), l2g.end(), begin);
+  add_local_matrix(C, B, l2g);
+  VPC_PETSC(MatAssemblyBegin(C, MAT_FINAL_ASSEMBLY));
+  VPC_PETSC(MatAssemblyEnd(C, MAT_FINAL_ASSEMBLY));
+  VPC_PETSC(MatSetOption(C, MAT_SPD, PETSC_TRUE));
+  return std::make_unique<PetscOperator>(comm_, std::move(C));
+}
+
+namespace {
+
+class PetscBackend final : public Backend {
+ public:
+  PetscBackend(Comm comm, PetscSolverOptions options) : comm_(std::move(comm)), options_(std::move(options)) {}
+  const Comm& comm() const override { return comm_; }
+  std::unique_ptr<SpdOperator> assemble(const Eigen::SparseMatrix<double>& local, const Layout& layout,
+                                        int block_size) const override {
+    std::vector<PetscInt> l2g(static_cast<size_t>(layout.n_local()));
+    std::iota(l2g.begin(), l2g.begin() + layout.n_owned(), static_cast<PetscInt>(layout.begin()));
+    std::copy(layout.ghosts().begin(), layout.ghosts().end(), l2g.begin() + layout.n_owned());
+    return std::make_unique<PetscOperator>(comm_, local, l2g, layout.n_owned(), layout.n_global(), block_size);
+  }
+  std::unique_ptr<Factor> factor(const std::string& name) const override {
+    return std::make_unique<PetscFactor>(mpi_of(comm_), name, options_);
+  }
+  std::string describe() const override { return "PETSc " + options_.kind; }
+
+ private:
+  Comm comm_;
+  PetscSolverOptions options_;
+};
+
+}  // namespace
+
+std::shared_ptr<const Backend> make_petsc_backend(Comm comm, PetscSolverOptions options) {
+  return std::make_shared<const PetscBackend>(std::move(comm), std::move(options));
 }
 
 FactorFactory petsc_factor_factory(Comm comm, PetscSolverOptions options) {

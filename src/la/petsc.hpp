@@ -2,6 +2,7 @@
 // The PETSc backend of the linear-algebra layer (PETSc build only): an MPI
 // communicator, MPIAIJ operators assembled from the ranks' local matrices, and
 // factors by PetscLinearSolver (MUMPS Cholesky, CG + GAMG, CG + hypre).
+#include "la/backend.hpp"
 #include "la/factor.hpp"
 #include "la/operator.hpp"
 #include "la/petsc_linear_solver.hpp"
@@ -30,6 +31,7 @@ class PetscOperator final : public SpdOperator {
   void residual(const Eigen::VectorXd& b, const Eigen::VectorXd& x, Eigen::VectorXd& r) const override;
   Eigen::VectorXd diagonal() const override;
   std::unique_ptr<SpdOperator> restrict_to_free(const std::vector<char>& fixed) const override;
+  std::unique_ptr<SpdOperator> plus(const Eigen::SparseMatrix<double>& owned_block) const override;
   Mat mat() const { return A_; }
 
  private:
@@ -38,6 +40,9 @@ class PetscOperator final : public SpdOperator {
   int n_owned_ = 0;
   PVec x_, y_;  // work vectors whose arrays are placed on the caller's storage
 };
+
+/// The PETSc backend over `comm` (make_mpi_comm), factors of the given kind.
+std::shared_ptr<const Backend> make_petsc_backend(Comm comm, PetscSolverOptions options);
 
 /// Factors by PetscLinearSolver of the given kind (no triangular halves).
 FactorFactory petsc_factor_factory(Comm comm, PetscSolverOptions options);

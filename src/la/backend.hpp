@@ -1,0 +1,36 @@
+#pragma once
+// A backend of the linear-algebra layer: what the scheme needs to turn the local
+// matrices of this process's cells into global operators and to factorize them.
+// The scheme (scheme/time_stepper.hpp) is written once over it, as deal.II's
+// step-40 over LinearAlgebraPETSc or DOLFINx over its la::MatSet callable:
+//   serial_backend()        one process: Eigen matrices, CHOLMOD (with triangular halves)
+//   make_petsc_backend(...) MPI: MPIAIJ matrices, MUMPS / CG + GAMG / CG + hypre (la/petsc.hpp)
+#include "la/factor.hpp"
+#include "la/layout.hpp"
+
+#include <memory>
+#include <string>
+
+namespace vpc::la {
+
+class Backend {
+ public:
+  virtual ~Backend() = default;
+  virtual const Comm& comm() const = 0;
+  /// The sum over the processes of their local matrices, whose rows and columns
+  /// are the local entries of `layout` (owned, then ghosts). Collective.
+  virtual std::unique_ptr<SpdOperator> assemble(const Eigen::SparseMatrix<double>& local, const Layout& layout,
+                                                int block_size) const = 0;
+  /// A factor for a matrix called `name` (K, H, ...: PETSc reads its options under vpc_<name>_).
+  virtual std::unique_ptr<Factor> factor(const std::string& name) const = 0;
+  FactorFactory factory() const {
+    return [this](const std::string& name) { return factor(name); };
+  }
+  /// For reports: "CHOLMOD", "PETSc mumps", ...
+  virtual std::string describe() const = 0;
+};
+
+/// One process: Eigen::SparseMatrix operators, CHOLMOD factors.
+std::shared_ptr<const Backend> serial_backend();
+
+}  // namespace vpc::la
