@@ -28,6 +28,8 @@ class Backend {
   }
   /// For reports: "CHOLMOD", "PETSc mumps", ...
   virtual std::string describe() const = 0;
+  /// The linear solver's name as the options say it: "cholmod", "mumps", "cg-gamg", "cg-hypre".
+  virtual std::string linear_solver() const = 0;
 };
 
 /// One process: Eigen::SparseMatrix operators, CHOLMOD factors.

@@ -63,6 +63,7 @@ class SerialBackend final : public Backend {
   }
   std::unique_ptr<Factor> factor(const std::string& name) const override { return make_cholmod_factor(name); }
   std::string describe() const override { return "CHOLMOD"; }
+  std::string linear_solver() const override { return "cholmod"; }
 
  private:
   Comm comm_;

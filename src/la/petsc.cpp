@@ -254,6 +254,7 @@ class PetscBackend final : public Backend {
     return std::make_unique<PetscFactor>(mpi_of(comm_), name, options_);
   }
   std::string describe() const override { return "PETSc " + options_.kind; }
+  std::string linear_solver() const override { return options_.kind; }
 
  private:
   Comm comm_;

@@ -36,113 +36,135 @@ MinimumAt minimum_at(const MinimumAt& a, const MinimumAt& b) {
 }
 
 TimeStepper::TimeStepper(std::shared_ptr<const Problem> problem, SolverChoice choice)
-    : problem_(std::move(problem)), choice_(std::move(choice)) {
+    : TimeStepper((problem->validate(), problem), whole_mesh_part(problem), la::serial_backend(), std::move(choice)) {}
+
+TimeStepper::TimeStepper(std::shared_ptr<const Problem> problem, MeshPart part,
+                         std::shared_ptr<const la::Backend> backend, SolverChoice choice)
+    : problem_(std::move(problem)), part_(std::move(part)), backend_(std::move(backend)), choice_(std::move(choice)) {
   const auto t0 = Clock::now();
   const Problem& p = *problem_;
-  p.validate();
-  const Mesh& mesh = p.mesh;
+  const Mesh& mesh = part_.mesh();
   const int d = mesh.dim();
+  require(part_.n_global_dofs > 0, "{}: every node is clamped; nothing to solve", p.name);
   geo_ = compute_geometry(mesh);
-
-  // V^h: P1 vectors vanishing on Γ1 (2.4).
-  dofs_ = DofMap(mesh.n_nodes(), d, mesh.nodes_of_parts(p.clamped));
-  require(dofs_.n_free() > 0, "{}: every node is clamped; nothing to solve", p.name);
-
-  // Γ2: the given parts, or everything that is neither Γ1 nor Γ3.
-  traction_facets_ = traction_facets(p);
 
   // Loads uniform in space: (f(t), ψ_a e_i) = f_i(t) ∫ψ_a, with the same quadrature.
   const VectorField unit = [](const Point&, double) { return Point{1, 0, 0}; };
   auto basis_integral = [&](const VectorField& f0, const VectorField& f2) {
-    const Vector F = assemble_load(mesh, geo_, traction_facets_, f0, f2, 0.0);
+    const Vector F = assemble_load(mesh, geo_, part_.traction_facets, f0, f2, 0.0);
     return Vector(Eigen::Map<const Vector, 0, Eigen::InnerStride<>>(F.data(), mesh.n_nodes(), Eigen::InnerStride<>(d)));
   };
   if (p.f0 && p.f0_uniform) basis_integral_cells_ = basis_integral(unit, nullptr);
   if (p.f2 && p.f2_uniform) basis_integral_traction_ = basis_integral(nullptr, unit);
 
-  // Constant matrices: K of (3.9), factorized once; H = M + kκA of (3.8).
-  auto stage = [&](const std::string& what, double seconds = -1) {
-    if (choice_.on_setup_stage) choice_.on_setup_stage(what, seconds);
-  };
-  stage("assembly");
-  auto t1 = Clock::now();
-  K_ = std::make_shared<SparseMatrix>(assemble_stiffness(mesh, geo_, p.elasticity, dofs_));
-  M_ = assemble_mass(mesh, geo_);
-  laplacian_ = assemble_laplacian(mesh, geo_);
-  const SparseMatrix H = M_ + (p.step() * p.kappa) * laplacian_;
-  setup_timing_.assembly = seconds_since(t1);
-  stage("assembly", setup_timing_.assembly);
-  stage(fmt::format("factorization of K ({} x {}, {} nonzeros)", K_->rows(), K_->cols(), K_->nonZeros()));
-  t1 = Clock::now();
-  K_factor_ = make_cholmod_solver();
-  {
-    // Refuse a run that cannot fit before the costly factorizations (issue 11);
-    // the factors' sizes come from their symbolic analyses (K's is reused).
-    const double mesh_bytes = 24.0 * mesh.n_nodes() + 4.0 * mesh.cell_array().size() +
-                              (sizeof(CellGeometry) + 3.0 * sizeof(SymTensor)) * mesh.n_cells();
-    const double matrix_bytes = 12.0 * (K_->nonZeros() + M_.nonZeros() + laplacian_.nonZeros() + 2.0 * H.nonZeros());
-    check_memory(estimate_run_memory(mesh_bytes, matrix_bytes, K_factor_->analyze(*K_, "elastic stiffness K"),
-                                     estimate_cholmod_factor(H, "damage matrix H = M + k kappa A"),
-                                     choice_.damage == "active-set",
-                                     static_cast<double>(mesh.nodes_of_parts(p.contact.parts).size())),
-                 memory_limit(choice_.memory_limit), p.name);
-  }
-  K_factor_->factorize(*K_, "elastic stiffness K");
-  setup_timing_.factor_K = seconds_since(t1);
-  stage("factorization of K", setup_timing_.factor_K);
-  stage(fmt::format("factorization of H ({} x {}, {} nonzeros)", H.rows(), H.cols(), H.nonZeros()));
-  t1 = Clock::now();
-  damage_ = make_damage_solver(choice_.damage, H, 1e-13, 200000, choice_.damage_reduced);
-  setup_timing_.factor_H = seconds_since(t1);
-  stage("factorization of H", setup_timing_.factor_H);
-
-  stage("contact set-up");
-  t1 = Clock::now();
-  setup_contact();
-  contact_ = make_contact_solver(choice_.contact, std::shared_ptr<const SparseMatrix>(K_), K_factor_, N_,
-                                 choice_.contact_options);
-  setup_timing_.contact = seconds_since(t1);
-  stage("contact set-up", setup_timing_.contact);
+  assemble_and_factorize();
 
   // Initial state (3.4): u0 = 0, σ0 = 0 (so z0 = σ0 − ℰε(u0) = 0), β0 = P1 interpolant
   // (in [0, 1]: Problem::validate).
-  state_.u = Vector::Zero(dofs_.n_full());
+  f_ = la::Vector(part_.dof_layout);
+  u_ = la::Vector(part_.dof_layout);
+  phi_ = la::Vector(part_.node_layout);
+  beta_ = la::Vector(part_.node_layout);
+  state_.u = Vector::Zero(part_.dofs.n_full());
   state_.beta.resize(mesh.n_nodes());
   for (int i = 0; i < mesh.n_nodes(); ++i) state_.beta[i] = p.beta0 ? p.beta0(mesh.node(i), 0.0) : 1.0;
   state_.sigma.assign(mesh.n_cells(), SymTensor{});
   state_.eps.assign(mesh.n_cells(), SymTensor{});
   state_.z.assign(mesh.n_cells(), SymTensor{});
-  state_.lambda = Vector::Zero(static_cast<Eigen::Index>(contact_nodes_.size()));
-  u_free_ = Vector::Zero(dofs_.n_free());
+  state_.lambda = Vector::Zero(part_.n_contact);
+  u_free_ = Vector::Zero(part_.n_owned_dofs);
   setup_timing_.total = seconds_since(t0);
 }
 
-void TimeStepper::setup_contact() {
+void TimeStepper::assemble_and_factorize() {
   const Problem& p = *problem_;
-  const Mesh& mesh = p.mesh;
+  const Mesh& mesh = part_.mesh();
   const int d = mesh.dim();
-  std::vector<char> clamped(mesh.n_nodes(), 0);
-  for (int node : mesh.nodes_of_parts(p.clamped)) clamped[node] = 1;
+  auto stage = [&](const std::string& what, double seconds = -1) {
+    if (choice_.on_setup_stage) choice_.on_setup_stage(what, seconds);
+  };
+  // Constant matrices: K of (3.9), factorized once; H = M + kκA of (3.8). Each
+  // process assembles its cells; the backend sums the parts.
+  stage("assembly");
+  auto t1 = Clock::now();
+  const SparseMatrix K_local = assemble_stiffness(mesh, geo_, p.elasticity, part_.dofs);
+  K_ = backend_->assemble(K_local, *part_.dof_layout, d);
+  M_local_ = assemble_mass(mesh, geo_);
+  A_local_ = assemble_laplacian(mesh, geo_);
+  M_ = backend_->assemble(M_local_, *part_.node_layout, 1);
+  const SparseMatrix H_local = M_local_ + (p.step() * p.kappa) * A_local_;
+  auto H = backend_->assemble(H_local, *part_.node_layout, 1);
+  setup_timing_.assembly = seconds_since(t1);
+  stage("assembly", setup_timing_.assembly);
+
+  stage(fmt::format("factorization of K ({} dofs, {})", part_.n_global_dofs, backend_->describe()));
+  t1 = Clock::now();
+  K_factor_ = backend_->factor("K");
+  // Refuse a run that cannot fit before the costly factorizations (issue 11); the
+  // factors' sizes come from their symbolic analyses (K's is reused), where the
+  // backend has them (CHOLMOD).
+  if (const auto K_size = K_factor_->analyze(*K_, "elastic stiffness K")) {
+    const auto H_size = backend_->factor("H")->analyze(*H, "damage matrix H = M + k kappa A");
+    const double mesh_bytes = 24.0 * mesh.n_nodes() + 4.0 * mesh.cell_array().size() +
+                              (sizeof(CellGeometry) + 3.0 * sizeof(SymTensor)) * mesh.n_cells();
+    const double matrix_bytes =
+        12.0 * (K_local.nonZeros() + M_local_.nonZeros() + A_local_.nonZeros() + 2.0 * H_local.nonZeros());
+    check_memory(estimate_run_memory(mesh_bytes, matrix_bytes, *K_size, H_size.value_or(FactorEstimate{}),
+                                     choice_.damage == "active-set", part_.n_contact),
+                 memory_limit(choice_.memory_limit), p.name);
+  }
+  Vector coordinates(part_.n_owned_dofs);  // GAMG's rigid-body modes
+  for (int i = 0; i < part_.n_owned_nodes; ++i)
+    for (int c = 0; c < d; ++c)
+      if (const int k = part_.dofs.free_index(part_.dofs.full_index(i, c)); k >= 0) coordinates[k] = mesh.node(i)[c];
+  K_factor_->set_coordinates(coordinates, d);
+  K_factor_->factorize(*K_, "elastic stiffness K");
+  setup_timing_.factor_K = seconds_since(t1);
+  stage("factorization of K", setup_timing_.factor_K);
+
+  stage(fmt::format("factorization of H ({} nodes)", part_.n_global_nodes));
+  t1 = Clock::now();
+  damage_ = make_damage_solver(choice_.damage, std::move(H), backend_->factory(), choice_.damage_reduced);
+  setup_timing_.factor_H = seconds_since(t1);
+  stage("factorization of H", setup_timing_.factor_H);
+
+  stage("contact set-up");
+  t1 = Clock::now();
+  contact_ = make_contact_solver(choice_.contact, K_, K_factor_, contact_constraints(), backend_->factory(),
+                                 choice_.contact_options);
+  setup_timing_.contact = seconds_since(t1);
+  stage("contact set-up", setup_timing_.contact);
+}
+
+ContactConstraints TimeStepper::contact_constraints() {
+  const int d = part_.mesh().dim();
+  ContactConstraints c;
+  c.m = part_.n_contact;
   std::vector<Eigen::Triplet<double>> t;
   std::vector<double> gaps;
-  for (const ContactRow& r : contact_rows(p, clamped)) {
-    const int row = static_cast<int>(contact_nodes_.size());
-    for (int c = 0; c < d; ++c)
-      if (r.direction[c] != 0) t.emplace_back(row, dofs_.free_index(dofs_.full_index(r.node, c)), r.direction[c]);
-    contact_nodes_.push_back(r.node);
-    contact_dir_.push_back(r.direction);
-    gaps.push_back(r.gap);
+  for (const PartContactNode& node : part_.contact) {
+    contact_nodes_.push_back(node.local_node);
+    contact_dir_.push_back(node.direction);
+    if (!node.owned) continue;
+    const int row = static_cast<int>(c.rows.size());
+    for (int i = 0; i < d; ++i)
+      if (node.direction[i] != 0)
+        t.emplace_back(row, part_.dofs.free_index(part_.dofs.full_index(node.local_node, i)), node.direction[i]);
+    c.rows.push_back(node.row);
+    gaps.push_back(node.gap);
   }
-  N_.resize(static_cast<Eigen::Index>(contact_nodes_.size()), dofs_.n_free());
-  N_.setFromTriplets(t.begin(), t.end());
-  gap_ = Eigen::Map<Vector>(gaps.data(), static_cast<Eigen::Index>(gaps.size()));
+  c.N.resize(static_cast<Eigen::Index>(c.rows.size()), part_.n_owned_dofs);
+  c.N.setFromTriplets(t.begin(), t.end());
+  c.gap = Eigen::Map<Vector>(gaps.data(), static_cast<Eigen::Index>(gaps.size()));
+  return c;
 }
 
 double TimeStepper::factor_bytes() const { return K_factor_->factor_bytes() + damage_->factor_bytes(); }
 
 double TimeStepper::model_bytes() const {
-  const Mesh& m = problem_->mesh;
-  const double matrices = 12.0 * (K_->nonZeros() + M_.nonZeros() + N_.nonZeros());  // value + row index
+  const Mesh& m = part_.mesh();
+  const double matrices = 12.0 * (2.0 * M_local_.nonZeros() + 2.0 * A_local_.nonZeros()) +
+                          12.0 * static_cast<double>(m.dim() * m.dim()) * M_local_.nonZeros();  // M, A, K (value + index)
   const double mesh = 24.0 * m.n_nodes() + 4.0 * m.cell_array().size() + sizeof(CellGeometry) * geo_.size();
   const double state = 8.0 * (state_.u.size() + state_.beta.size() + u_free_.size()) +
                        3.0 * sizeof(SymTensor) * state_.sigma.size();
@@ -174,8 +196,8 @@ DamageSolver& TimeStepper::damage_solver(int level) {
   auto& solver = halved_damage_[level - 1];
   if (!solver) {
     const double k = problem_->step() / (1 << level);
-    solver = make_damage_solver(choice_.damage, SparseMatrix(M_ + (k * problem_->kappa) * laplacian_), 1e-13, 200000,
-                                choice_.damage_reduced);
+    auto H = backend_->assemble(SparseMatrix(M_local_ + (k * problem_->kappa) * A_local_), *part_.node_layout, 1);
+    solver = make_damage_solver(choice_.damage, std::move(H), backend_->factory(), choice_.damage_reduced);
   }
   return *solver;
 }
@@ -194,7 +216,7 @@ StepReport TimeStepper::advance_or_halve(int level, double t_end) {
   if (level >= choice_.max_halvings) return advance(level, t_end);
   const Snapshot before = snapshot();
   StepReport rep = advance(level, t_end);
-  if (rep.ok) return rep;
+  if (rep.ok) return rep;  // the same on every process: rep is
   restore(before);
   const double t_mid = before.state.t + problem_->step() / (1 << (level + 1));
   const StepReport first = advance_or_halve(level + 1, t_mid);
@@ -210,10 +232,10 @@ StepReport TimeStepper::advance_or_halve(int level, double t_end) {
 
 Vector TimeStepper::load(double t) const {
   const Problem& p = *problem_;
-  const Mesh& mesh = p.mesh;
+  const Mesh& mesh = part_.mesh();
   const int d = mesh.dim();
   const bool f0_once = basis_integral_cells_.size() > 0, f2_once = basis_integral_traction_.size() > 0;
-  Vector F = assemble_load(mesh, geo_, traction_facets_, f0_once ? nullptr : p.f0, f2_once ? nullptr : p.f2, t);
+  Vector F = assemble_load(mesh, geo_, part_.traction_facets, f0_once ? nullptr : p.f0, f2_once ? nullptr : p.f2, t);
   for (auto [once, f, w] : {std::tuple{f0_once, &p.f0, &basis_integral_cells_},
                             std::tuple{f2_once, &p.f2, &basis_integral_traction_}}) {
     if (!once) continue;
@@ -224,9 +246,22 @@ Vector TimeStepper::load(double t) const {
   return F;
 }
 
+void TimeStepper::beta_range(StepReport& rep) const {
+  const la::Comm& comm = part_.comm;
+  const auto n = static_cast<std::size_t>(part_.n_owned_nodes);
+  const MinimumAt mine = minimum_at({state_.beta.data(), n}, {part_.original_node.data(), n});
+  // minimum_at's rule over the processes: the least value, then the least node holding it.
+  const double lo = comm.min(mine.index < 0 ? INFINITY : mine.value);
+  const double at = comm.min(mine.index >= 0 && mine.value == lo ? mine.index : INFINITY);
+  rep.beta_min = lo;
+  rep.beta_min_node = std::isfinite(at) ? static_cast<int>(at) : mine.index;
+  rep.beta_max = comm.max(n ? state_.beta.head(static_cast<Eigen::Index>(n)).maxCoeff() : -INFINITY);
+}
+
 StepReport TimeStepper::advance(int level, double t_end) {
   const Problem& p = *problem_;
-  const Mesh& mesh = p.mesh;
+  const Mesh& mesh = part_.mesh();
+  const la::Comm& comm = part_.comm;
   const int n_cells = mesh.n_cells();
   const double k = p.step() / (1 << level);
   StepReport rep;
@@ -249,8 +284,17 @@ StepReport TimeStepper::advance(int level, double t_end) {
 
   // Step 2: damage (3.8): the box QP with H = M + kκA, r = M β_{n−1} + k F_φ.
   t0 = Clock::now();
-  const Vector rhs = M_ * state_.beta + k * assemble_p0_source(mesh, geo_, phi);
-  rep.damage = damage_solver(level).solve(rhs, state_.beta);
+  beta_.local() = state_.beta;
+  phi_.local() = assemble_p0_source(mesh, geo_, phi);
+  phi_.add_ghosts_to_owners();
+  Vector rhs;
+  M_->mult(beta_.owned(), rhs);
+  rhs += k * phi_.owned();
+  Vector beta = beta_.owned();
+  rep.damage = damage_solver(level).solve(rhs, beta);
+  beta_.owned() = beta;
+  beta_.update_ghosts();
+  state_.beta = beta_.local();
   rep.seconds_damage = seconds_since(t0);
 
   // Step 3: history (3.6): z_n = z_{n−1} + k G_{n−1}.
@@ -259,9 +303,12 @@ StepReport TimeStepper::advance(int level, double t_end) {
 
   // Step 4: contact (3.9): K u_n = F_n − Bᵀz_n − Nᵀλ with Signorini conditions.
   t0 = Clock::now();
-  const Vector F = restrict_to_free(dofs_, load(rep.t) - assemble_stress_divergence(mesh, geo_, state_.z));
-  rep.contact = contact_->solve(F, gap_, u_free_, state_.lambda);
-  state_.u = extend_from_free(dofs_, u_free_);
+  f_.local() = restrict_to_free(part_.dofs, load(rep.t) - assemble_stress_divergence(mesh, geo_, state_.z));
+  f_.add_ghosts_to_owners();
+  rep.contact = contact_->solve(f_.owned(), u_free_, state_.lambda);
+  u_.owned() = u_free_;
+  u_.update_ghosts();
+  state_.u = extend_from_free(part_.dofs, u_.local());
   rep.seconds_contact = seconds_since(t0);
 
   // Step 5: stress (3.6): σ_n = ℰε(u_n) + z_n.
@@ -273,18 +320,16 @@ StepReport TimeStepper::advance(int level, double t_end) {
     state_.sigma[c] = p.elasticity.apply(state_.eps[c]) + state_.z[c];
     max_vm = std::max(max_vm, state_.sigma[c].von_mises());
   }
-  rep.max_von_mises = max_vm;
+  rep.max_von_mises = comm.max(max_vm);
   rep.seconds_stress = seconds_since(t0);
 
-  const MinimumAt lo = minimum_at({state_.beta.data(), static_cast<std::size_t>(state_.beta.size())});
-  rep.beta_min = lo.value;
-  rep.beta_min_node = lo.index;
-  rep.beta_max = state_.beta.maxCoeff();
+  beta_range(rep);
   state_.t = rep.t;  // state_.n is the grid step: step() sets it
 
   const double tol = choice_.residual_tolerance;
+  const bool finite = std::isfinite(comm.sum(u_free_.squaredNorm() + beta.squaredNorm()));
   rep.ok = rep.contact.converged && rep.damage.converged && rep.contact.residuals.max() <= tol &&
-           rep.damage.kkt_residual <= tol && std::isfinite(state_.u.norm()) && std::isfinite(state_.beta.norm());
+           rep.damage.kkt_residual <= tol && finite;
   return rep;
 }
 

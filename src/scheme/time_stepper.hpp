@@ -1,10 +1,14 @@
 #pragma once
-// The fully discrete scheme of SPEC §2 (the paper's Problem 3.1, (3.4)–(3.9)).
-// Setup assembles and factorizes everything that is constant over the run
-// (K, M + kκA, the contact constraint rows); step() performs steps 1–5 in order.
+// The fully discrete scheme of SPEC §2 (the paper's Problem 3.1, (3.4)–(3.9)),
+// once for every backend. Setup assembles and factorizes everything that is
+// constant over the run (K, M + kκA, the contact constraint rows); step()
+// performs steps 1–5 in order.
 #include "fem/assembly.hpp"
 #include "fem/cell_geometry.hpp"
 #include "fem/dof_map.hpp"
+#include "la/backend.hpp"
+#include "la/vector.hpp"
+#include "scheme/mesh_part.hpp"
 #include "scheme/problem.hpp"
 #include "scheme/state.hpp"
 #include "solvers/contact_solver.hpp"
@@ -17,6 +21,8 @@
 #include <vector>
 
 namespace vpc {
+
+struct ContactConstraints;  // solvers/contact_solver.hpp
 
 struct SolverChoice {
   std::string contact = "active-set";  // or "penalty-duality"
@@ -67,81 +73,104 @@ struct StepReport {
   int substeps = 1;
 };
 
-/// Everything a step changes: the state and the solvers' warm starts. Restoring
-/// a snapshot makes the following steps bit-identical to a run that never left it.
+/// Everything a step changes, on this process: the state and the solvers' warm
+/// starts. Restoring a snapshot makes the following steps bit-identical to a run
+/// that never left it.
 struct Snapshot {
   State state;
-  Vector u_free;
-  Vector contact_warm, damage_warm;
+  Vector u_free;                     // owned free dofs
+  Vector contact_warm, damage_warm;  // ContactSolver / DamageSolver::warm_state
 };
 
 /// Where the setup time goes (seconds).
 struct SetupTiming {
   double total = 0;
   double assembly = 0;  // K, M, A
-  double factor_K = 0;  // CHOLMOD factorization of K
+  double factor_K = 0;  // factorization of K
   double factor_H = 0;  // the damage solver's setup (factor of M + kκA)
   double contact = 0;   // contact rows N and the contact solver's setup (S = N K⁻¹ Nᵀ)
 };
 
+/// Advances the scheme on this process's part of the mesh (scheme/mesh_part.hpp)
+/// over a linear-algebra backend (la/backend.hpp): one class for one process and
+/// for many. Elementwise work (G, φ, z, ε, σ) runs on the part's cells; vectors
+/// of unknowns are the owned entries; every decision is a reduction over the
+/// backend's communicator, so every process gets the same report.
 class TimeStepper {
  public:
+  /// One process: the whole mesh, Eigen + CHOLMOD. Validates the problem.
   TimeStepper(std::shared_ptr<const Problem> problem, SolverChoice choice = {});
+  /// This process's part over a backend (the problem was validated where the part
+  /// was made: distribute_mesh). Collective.
+  TimeStepper(std::shared_ptr<const Problem> problem, MeshPart part, std::shared_ptr<const la::Backend> backend,
+              SolverChoice choice = {});
 
   const Problem& problem() const { return *problem_; }
-  const Mesh& mesh() const { return problem_->mesh; }
+  const MeshPart& part() const { return part_; }
+  /// The part's mesh (the whole mesh on one process).
+  const Mesh& mesh() const { return part_.mesh(); }
+  const la::Comm& comm() const { return part_.comm; }
+  const la::Backend& backend() const { return *backend_; }
+  const SolverChoice& solvers() const { return choice_; }
+  /// This process's state: u and β at the part's nodes (owned, then ghosts), σ, ε,
+  /// z on its cells, λ for all contact rows.
   const State& state() const { return state_; }
   bool done() const { return state_.n >= problem_->n_steps; }
   /// Advances from step n − 1 to n (steps 1–5 of SPEC §2); with
-  /// SolverChoice::max_halvings, a failed step is redone as two half steps.
+  /// SolverChoice::max_halvings, a failed step is redone as two half steps. Collective.
   StepReport step();
 
   Snapshot snapshot() const;
-  /// Restores a snapshot of a run of the same problem; throws vpc::Error if the sizes differ.
+  /// Restores a snapshot of a run of the same problem and part; throws vpc::Error if the sizes differ.
   void restore(const Snapshot& s);
 
-  /// Contact nodes (rows of N) and their directions ν.
+  /// The local node and direction ν of each contact row the part touches (part().contact).
   const std::vector<int>& contact_nodes() const { return contact_nodes_; }
   const std::vector<Point>& contact_directions() const { return contact_dir_; }
-  const DofMap& dofs() const { return dofs_; }
+  const DofMap& dofs() const { return part_.dofs; }
   int n_factorizations() const;
-  /// The cached factor of K (for benchmarks: the cost of one solve).
-  const LinearSolver& stiffness_factor() const { return *K_factor_; }
-  /// Memory of the factors of K and of the damage matrix (bytes).
+  /// The factor of K (for benchmarks: the cost of one solve).
+  const la::Factor& stiffness_factor() const { return *K_factor_; }
+  /// One line on how the contact step solves (ContactSolver::describe).
+  std::string contact_method() const { return contact_->describe(); }
+  /// Memory of the factors of K and of the damage matrix (bytes; this process).
   double factor_bytes() const;
-  /// Memory of the mesh, the constant matrices and the state (bytes, estimated from sizes).
+  /// Memory of the mesh, the constant matrices and the state (bytes, estimated from sizes; this process).
   double model_bytes() const;
   double setup_seconds() const { return setup_timing_.total; }
   const SetupTiming& setup_timing() const { return setup_timing_; }
 
  private:
-  void setup_contact();
+  void assemble_and_factorize();
+  ContactConstraints contact_constraints();
   /// Steps 1–5 from the current state to time t_end with the step k / 2^level.
   StepReport advance(int level, double t_end);
   /// The same, halving on failure down to max_halvings levels.
   StepReport advance_or_halve(int level, double t_end);
   DamageSolver& damage_solver(int level);
-  /// F_n of (3.3) without the Bᵀz term: the loads f0, f2 at time t (full dofs).
+  /// F_n of (3.3) without the Bᵀz term: the loads f0, f2 at time t (the part's full dofs).
   Vector load(double t) const;
+  /// min β over all processes by minimum_at's rule, and max β.
+  void beta_range(StepReport& rep) const;
 
   std::shared_ptr<const Problem> problem_;
+  MeshPart part_;
+  std::shared_ptr<const la::Backend> backend_;
   SolverChoice choice_;
   std::vector<CellGeometry> geo_;
-  DofMap dofs_;
-  std::shared_ptr<SparseMatrix> K_;  // shared with the contact solver
-  SparseMatrix M_, N_;
-  std::vector<int> traction_facets_;
+  std::shared_ptr<la::SpdOperator> K_;  // shared with the contact solver
+  std::unique_ptr<la::SpdOperator> M_;
+  SparseMatrix M_local_, A_local_;      // the part's mass and Laplacian (H for halved steps)
   Vector basis_integral_cells_, basis_integral_traction_;  // ∫ψ_a over Ω and Γ2 (for uniform f0, f2)
   std::vector<int> contact_nodes_;
   std::vector<Point> contact_dir_;
-  Vector gap_;
-  std::shared_ptr<LinearSolver> K_factor_;
+  std::shared_ptr<la::Factor> K_factor_;
   std::unique_ptr<ContactSolver> contact_;
   std::unique_ptr<DamageSolver> damage_;  // for the step k
   std::vector<std::unique_ptr<DamageSolver>> halved_damage_;  // for k / 2^level, made when needed
-  SparseMatrix laplacian_;
+  la::Vector f_, phi_, u_, beta_;  // ghosted work vectors: the load, F_φ, u_free, β
   State state_;
-  Vector u_free_;  // warm start of the contact solver
+  Vector u_free_;  // owned free dofs: the contact solver's warm start
   SetupTiming setup_timing_;
 };
 

@@ -1,0 +1,57 @@
+#pragma once
+// This process's part of the discretization: its cells, the nodes they touch
+// (owned first, then the ghost layer owned by other processes), the free
+// displacement dofs of those nodes (V^h, (2.4)) in the same order, the Γ2 facets
+// of its cells and the contact rows (3.9) it touches, with the global numbering
+// of nodes and dofs as la::Layouts. The scheme (scheme/time_stepper.hpp) runs on
+// a part; on one process the part is the whole mesh in its own numbering
+// (whole_mesh_part), on many it comes from distribute_mesh (parallel/).
+#include "fem/dof_map.hpp"
+#include "la/layout.hpp"
+#include "mesh/mesh.hpp"
+
+#include <memory>
+#include <vector>
+
+namespace vpc {
+
+struct Problem;
+
+/// A contact node (a row of N) that the part touches.
+struct PartContactNode {
+  int row = 0;         // the row of N, in the numbering of the whole mesh (increasing node order)
+  int local_node = 0;  // in the part's mesh
+  bool owned = false;  // the row lives on this process (its node is owned)
+  Point direction{};   // ν, unit
+  double gap = 0;      // g at the node
+  double measure = 0;  // its tributary measure on Γ3 (for the contact pressure)
+};
+
+struct MeshPart {
+  la::Comm comm;
+  std::shared_ptr<const Mesh> mesh_ptr;  // owned cells; owned nodes first, then the ghost layer
+  int n_owned_nodes = 0;
+  std::vector<long long> global_node;  // global (partitioned) number per local node
+  std::vector<int> original_node;      // number in the mesh as read, per local node
+  std::vector<int> original_cell;      // number in the mesh as read, per cell
+  std::vector<int> traction_facets;    // Γ2 facets of the part's mesh
+  DofMap dofs;                         // local free dofs: owned first, then ghosts
+  int n_owned_dofs = 0;
+  std::vector<long long> global_dof;   // global free dof per local free dof
+  std::vector<PartContactNode> contact;  // owned and ghost contact nodes, by row
+  int n_contact = 0;                     // m: rows of N over all processes
+  long long n_global_nodes = 0, n_global_dofs = 0, n_global_cells = 0;
+  std::shared_ptr<const la::Layout> node_layout, dof_layout;
+
+  const Mesh& mesh() const { return *mesh_ptr; }
+  int n_local_nodes() const { return mesh().n_nodes(); }
+  /// Builds node_layout and dof_layout from the numbers above. Collective.
+  void make_layouts();
+};
+
+/// One process: the problem's mesh as it is (shared, not copied), every node
+/// owned, Γ2 and the contact rows of the problem. Throws vpc::Error for a contact
+/// direction into the body or a Γ3 without a free node (contact_rows).
+MeshPart whole_mesh_part(std::shared_ptr<const Problem> problem);
+
+}  // namespace vpc
