@@ -1,6 +1,7 @@
 #include "io/checkpoint.hpp"
 
 #include "core/error.hpp"
+#include "fem/assembly.hpp"
 #include "io/atomic_file.hpp"
 
 #include <fmt/format.h>
@@ -117,11 +118,157 @@ int step_of(const fs::path& p) {
 
 std::uint64_t problem_fingerprint(const TimeStepper& s) {
   const Problem& p = s.problem();
-  const std::string key = fmt::format("{}|{}|{}|{}|{}|{}|{}|{:.17g}|{:.17g}|{}|{}|{}", p.name, p.mesh.dim(),
-                                      p.mesh.n_nodes(), p.mesh.n_cells(), s.dofs().n_free(), s.contact_nodes().size(),
-                                      p.n_steps, p.final_time, p.kappa, p.elasticity.name(), p.law->describe(),
-                                      p.source->describe());
+  const MeshPart& part = s.part();
+  const std::string key =
+      fmt::format("{}|{}|{}|{}|{}|{}|{}|{:.17g}|{:.17g}|{}|{}|{}", p.name, part.dofs.dim(), part.n_global_nodes,
+                  part.n_global_cells, part.n_global_dofs, part.n_contact, p.n_steps, p.final_time, p.kappa,
+                  p.elasticity.name(), p.law->describe(), p.source->describe());
   return fnv1a(key.data(), key.size());
+}
+
+namespace {
+
+/// The part's cells as a layout (no ghosts) in the numbering of the mesh as read.
+la::Layout cell_layout(const MeshPart& part) {
+  const int n = part.mesh().n_cells();
+  if (part.comm.serial()) return la::Layout(n);
+  return la::Layout(part.comm, n, {}, {part.original_cell.begin(), part.original_cell.end()});
+}
+
+/// The owned entries of `layout`, `width` values each (values[i * width + j]), on
+/// rank 0 in the original numbering, `width` values per entry. Collective.
+Vector gather_blocks(const la::Layout& layout, const double* values, int width) {
+  Vector global, component(layout.n_owned());
+  for (int j = 0; j < width; ++j) {
+    for (int i = 0; i < layout.n_owned(); ++i) component[i] = values[static_cast<std::size_t>(i) * width + j];
+    const Vector g = layout.gather(component);
+    global.resize(g.size() * width);  // the same size for every j: nothing lost
+    for (Eigen::Index i = 0; i < g.size(); ++i) global[i * width + j] = g[i];
+  }
+  return global;
+}
+
+/// The inverse: `global` (rank 0) into every local entry (owned, then ghosts). Collective.
+Vector scatter_blocks(const la::Layout& layout, const Vector& global, int width) {
+  Vector local(static_cast<Eigen::Index>(layout.n_local()) * width), g, component;
+  for (int j = 0; j < width; ++j) {
+    g.resize(global.size() / width);
+    for (Eigen::Index i = 0; i < g.size(); ++i) g[i] = global[i * width + j];
+    layout.scatter(g, component);
+    for (int i = 0; i < layout.n_local(); ++i) local[static_cast<Eigen::Index>(i) * width + j] = component[i];
+  }
+  return local;
+}
+
+/// σ, ε, z of each cell as 18 values (cell-major), and back.
+std::vector<double> pack_cells(const State& s) {
+  std::vector<double> v;
+  v.reserve(s.sigma.size() * 18);
+  for (std::size_t c = 0; c < s.sigma.size(); ++c)
+    for (const auto* t : {&s.sigma[c], &s.eps[c], &s.z[c]}) v.insert(v.end(), t->c.begin(), t->c.end());
+  return v;
+}
+void unpack_cells(const Vector& v, State& s) {
+  const auto n = static_cast<std::size_t>(v.size() / 18);
+  s.sigma.resize(n);
+  s.eps.resize(n);
+  s.z.resize(n);
+  for (std::size_t c = 0; c < n; ++c)
+    for (auto [k, t] : {std::pair{0, &s.sigma[c]}, std::pair{1, &s.eps[c]}, std::pair{2, &s.z[c]}})
+      std::copy_n(v.data() + c * 18 + k * 6, 6, t->c.begin());
+}
+
+std::vector<double> to_std(const Vector& v) { return {v.data(), v.data() + v.size()}; }
+Vector to_eigen(const std::vector<double>& v) {
+  return Eigen::Map<const Vector>(v.data(), static_cast<Eigen::Index>(v.size()));
+}
+
+}  // namespace
+
+Snapshot gather_snapshot(const TimeStepper& stepper) {
+  const MeshPart& part = stepper.part();
+  const la::Comm& comm = stepper.comm();
+  const la::Layout& nodes = *part.node_layout;
+  const int d = part.dofs.dim();
+  const Snapshot mine = stepper.snapshot();
+  const State& st = mine.state;
+  Vector clamped(part.n_local_nodes());
+  for (int i = 0; i < part.n_local_nodes(); ++i) clamped[i] = part.dofs.free_index(part.dofs.full_index(i, 0)) < 0;
+  Snapshot g;
+  g.state.u = gather_blocks(nodes, st.u.data(), d);
+  g.state.beta = nodes.gather(st.beta);
+  const Vector C = nodes.gather(clamped);
+  const std::vector<double> cells = pack_cells(st);
+  unpack_cells(gather_blocks(cell_layout(part), cells.data(), 18), g.state);
+  // The damage solver's warm start: a node field (owned entries), or none.
+  if (comm.any(mine.damage_warm.size() > 0)) {
+    comm.throw_if_any(mine.damage_warm.size() != part.n_owned_nodes,
+                      "internal: the damage solver's warm state is not a node field");
+    g.damage_warm = nodes.gather(mine.damage_warm);
+  }
+  if (comm.rank() != 0) return {};
+  g.state.n = st.n;
+  g.state.t = st.t;
+  g.state.lambda = st.lambda;     // every process holds all of λ
+  g.contact_warm = mine.contact_warm;  // one value per contact row, the same everywhere
+  // u on the free dofs in the numbering of the mesh as read (DofMap's: node-major, Γ1 nodes dropped).
+  g.u_free.resize(part.n_global_dofs);
+  Eigen::Index k = 0;
+  for (Eigen::Index i = 0; i < C.size(); ++i)
+    if (C[i] == 0)
+      for (int c = 0; c < d; ++c) g.u_free[k++] = g.state.u[i * d + c];
+  return g;
+}
+
+void write_checkpoint(const TimeStepper& stepper, const fs::path& dir, const std::string& case_name,
+                      const std::vector<std::pair<double, std::string>>& pvd, const RunTotals& totals) {
+  Snapshot s = gather_snapshot(stepper);
+  const std::uint64_t fingerprint = problem_fingerprint(stepper);
+  la::on_root(stepper.comm(), [&] { write_checkpoint(dir, {case_name, fingerprint, std::move(s), pvd, totals}); });
+}
+
+std::optional<ResumePoint> resume_from_checkpoint(TimeStepper& stepper, const fs::path& dir,
+                                                  std::vector<std::string>* skipped) {
+  const MeshPart& part = stepper.part();
+  const la::Comm& comm = stepper.comm();
+  const la::Layout& nodes = *part.node_layout;
+  const int d = part.dofs.dim();
+  std::optional<Checkpoint> ck;
+  la::on_root(comm, [&] {
+    ck = find_checkpoint(dir, problem_fingerprint(stepper), skipped);
+    if (!ck) return;
+    const Snapshot& s = ck->snapshot;
+    const long long n_nodes = part.n_global_nodes;
+    const bool fits = s.state.u.size() == n_nodes * d && s.state.beta.size() == n_nodes &&
+                      static_cast<long long>(s.state.sigma.size()) == part.n_global_cells &&
+                      s.state.lambda.size() == part.n_contact &&
+                      (s.damage_warm.size() == 0 || s.damage_warm.size() == n_nodes);
+    require(fits, "resume: the checkpoint of step {} in '{}' does not fit this problem", s.state.n, dir.string());
+  });
+  // What every process needs of rank 0's checkpoint: found, n, t, whether there is a damage warm start; λ; the
+  // contact warm start.
+  Checkpoint none;
+  const Checkpoint& c = ck ? *ck : none;
+  const State& saved = c.snapshot.state;
+  const auto head = la::broadcast(comm, std::vector<double>{ck ? 1.0 : 0.0, static_cast<double>(saved.n), saved.t,
+                                                            c.snapshot.damage_warm.size() > 0 ? 1.0 : 0.0});
+  if (head[0] == 0) return std::nullopt;
+  Snapshot s;
+  s.state.n = static_cast<int>(head[1]);
+  s.state.t = head[2];
+  s.state.lambda = to_eigen(la::broadcast(comm, to_std(saved.lambda)));
+  s.contact_warm = to_eigen(la::broadcast(comm, to_std(c.snapshot.contact_warm)));
+  s.state.u = scatter_blocks(nodes, saved.u, d);
+  nodes.scatter(saved.beta, s.state.beta);
+  unpack_cells(scatter_blocks(cell_layout(part), to_eigen(pack_cells(saved)), 18), s.state);
+  s.u_free = restrict_to_free(part.dofs, s.state.u).head(part.n_owned_dofs);
+  if (head[3] != 0) {
+    Vector w;
+    nodes.scatter(c.snapshot.damage_warm, w);
+    s.damage_warm = w.head(part.n_owned_nodes);
+  }
+  stepper.restore(s);
+  return ResumePoint{s.state.n, s.state.t, c.pvd, c.totals};
 }
 
 fs::path write_checkpoint(const fs::path& dir, const Checkpoint& c, int keep) {

@@ -15,6 +15,10 @@
 //            run totals (f64 ×7, i64 ×2, u8 all_ok).
 // A file whose magic, version, size, checksum or fingerprint does not match is
 // not a good checkpoint; resume takes the newest good one.
+//
+// The state is kept in the numbering of the mesh as read, gathered to rank 0 on
+// any number of processes: a checkpoint written on P processes resumes on any
+// other number, on any backend.
 #include "io/run_output.hpp"
 #include "scheme/time_stepper.hpp"
 
@@ -36,9 +40,34 @@ struct Checkpoint {
   RunTotals totals;
 };
 
-/// A number identifying the discrete problem (sizes, times, κ, names): a
-/// checkpoint only resumes the problem it was written for.
+/// A number identifying the discrete problem (global sizes, times, κ, names): a
+/// checkpoint only resumes the problem it was written for, on any process count.
 std::uint64_t problem_fingerprint(const TimeStepper& stepper);
+
+/// The stepper's state and warm starts gathered to rank 0 in the numbering of
+/// the mesh as read (on one process: its snapshot()); other processes get an
+/// empty snapshot. Collective.
+Snapshot gather_snapshot(const TimeStepper& stepper);
+
+/// Writes the stepper's checkpoint (gather_snapshot) on rank 0, with the output's
+/// PVD entries and run totals (rank 0's). Collective.
+void write_checkpoint(const TimeStepper& stepper, const std::filesystem::path& dir, const std::string& case_name,
+                      const std::vector<std::pair<double, std::string>>& pvd, const RunTotals& totals);
+
+/// Where a resumed run continues: step, time (on every process), the PVD entries
+/// and the run totals of the checkpoint (on rank 0; empty elsewhere).
+struct ResumePoint {
+  int n = 0;
+  double t = 0;
+  std::vector<std::pair<double, std::string>> pvd;
+  RunTotals totals;
+};
+
+/// Rank 0 finds the newest good checkpoint for this problem in `dir` (`skipped`,
+/// on rank 0: the files passed over and why) and every process restores its part
+/// of it; nullopt on every process when there is none. Collective.
+std::optional<ResumePoint> resume_from_checkpoint(TimeStepper& stepper, const std::filesystem::path& dir,
+                                                  std::vector<std::string>* skipped = nullptr);
 
 /// Writes OUTDIR/checkpoint_NNNNN.bin atomically and keeps only the newest `keep`;
 /// removes those of later steps (damaged, or of a timeline this run replaced).

@@ -87,13 +87,36 @@ void prepare_output_options(OutputOptions& o, const std::string& case_name) {
 RunOutput::RunOutput(const TimeStepper& stepper, OutputOptions options)
     : stepper_(stepper), options_(std::move(options)) {
   prepare_output_options(options_, stepper_.problem().name);
-  std::error_code ec;
-  fs::create_directories(options_.directory, ec);
-  require(!ec && fs::is_directory(options_.directory), "cannot create output directory '{}'",
-          options_.directory.string());
-  for (const auto& p : options_.probes) probes_.push_back(locate_point(stepper_.mesh(), p));
-  const std::vector<double> m = tributary_measures(stepper_.mesh(), stepper_.problem().contact.parts);
-  for (int node : stepper_.contact_nodes()) contact_measure_.push_back(m[node]);
+  for (const auto& x : options_.probes) probes_.push_back(locate_probe(x));
+}
+
+RunOutput::Probe RunOutput::locate_probe(const Point& x) const {
+  // The probe belongs to the process whose cell contains it best (largest
+  // smallest barycentric coordinate; ties: the lowest cell number of the mesh as
+  // read): on one process, locate_point's choice.
+  const la::Comm& comm = stepper_.comm();
+  const MeshPart& part = stepper_.part();
+  const Mesh& mesh = part.mesh();
+  Probe p;
+  p.where.x = x;
+  double score = -INFINITY, cell = INFINITY;
+  if (mesh.n_cells() > 0) {
+    try {
+      p.where = locate_point(mesh, x);
+      score = *std::min_element(p.where.lambda.begin(), p.where.lambda.begin() + mesh.dim() + 1);
+      cell = part.original_cell[p.where.cell];
+    } catch (const Error&) {
+    }
+  }
+  const double best = comm.max(score);
+  if (best <= -1e-9) {  // every process alike
+    const std::string what = fmt::format("probe point ({}, {}, {}) lies outside the mesh", x[0], x[1], x[2]);
+    if (comm.serial()) throw Error(what);
+    comm.throw_if_any(true, what);
+  }
+  const double winner = comm.min(score == best ? cell : INFINITY);
+  p.mine = score == best && cell == winner;
+  return p;
 }
 
 void RunTotals::add(const StepReport& r) {
@@ -158,55 +181,102 @@ void truncate_csv(const fs::path& path, int n) {
 }
 
 void RunOutput::open_csv(bool append) {
-  const auto mode = append ? std::ios::app : std::ios::trunc;
-  history_.open(options_.directory / "history.csv", mode);
-  require(history_.good(), "cannot write '{}'", (options_.directory / "history.csv").string());
-  probe_csv_.open(options_.directory / "probes.csv", mode);
-  require(probe_csv_.good(), "cannot write '{}'", (options_.directory / "probes.csv").string());
+  la::on_root(stepper_.comm(), [&] {
+    const auto mode = append ? std::ios::app : std::ios::trunc;
+    history_.open(options_.directory / "history.csv", mode);
+    require(history_.good(), "cannot write '{}'", (options_.directory / "history.csv").string());
+    probe_csv_.open(options_.directory / "probes.csv", mode);
+    require(probe_csv_.good(), "cannot write '{}'", (options_.directory / "probes.csv").string());
+  });
 }
 
 void RunOutput::start() {
   open_csv(false);
-  history_ << history_header();
-  history_.flush();
-  probe_csv_ << probes_header(stepper_.problem().elasticity, probes_.size());
+  if (root()) {
+    history_ << history_header();
+    history_.flush();
+    probe_csv_ << probes_header(stepper_.problem().elasticity, probes_.size());
+  }
   write_probe_row();
   write_fields();
 }
 
+namespace {
+
+/// A file of the solution at a step after n: a one-process VTU, a piece or a .pvtu.
+bool solution_after(const std::string& f, int n) {
+  return f.starts_with("solution_") && f.size() > 14 && (f.ends_with(".vtu") || f.ends_with(".pvtu")) &&
+         std::atoi(f.c_str() + 9) > n;
+}
+
+/// The .pvtu file that assembles the processes' pieces.
+void write_pvtu(const fs::path& path, const std::vector<VtuField>& point_data, const std::vector<VtuField>& cell_data,
+                const std::vector<std::string>& pieces) {
+  std::string xml = "<?xml version=\"1.0\"?>\n";
+  xml += "<VTKFile type=\"PUnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n";
+  xml += "  <PUnstructuredGrid GhostLevel=\"0\">\n    <PPointData>\n";
+  auto arrays = [&](const std::vector<VtuField>& fields) {
+    for (const auto& f : fields)
+      xml += fmt::format("      <PDataArray type=\"Float64\" Name=\"{}\" NumberOfComponents=\"{}\"/>\n", f.name,
+                         f.n_components);
+  };
+  arrays(point_data);
+  xml += "    </PPointData>\n    <PCellData>\n";
+  arrays(cell_data);
+  xml += "    </PCellData>\n    <PPoints>\n      <PDataArray type=\"Float64\" NumberOfComponents=\"3\"/>\n";
+  xml += "    </PPoints>\n";
+  for (const auto& p : pieces) xml += fmt::format("    <Piece Source=\"{}\"/>\n", p);
+  xml += "  </PUnstructuredGrid>\n</VTKFile>\n";
+  write_file_atomic(path, xml);
+}
+
+}  // namespace
+
 void RunOutput::resume(int n, std::vector<std::pair<double, std::string>> pvd, const RunTotals& totals) {
-  truncate_csv(options_.directory / "history.csv", n);
-  truncate_csv(options_.directory / "probes.csv", n);
-  open_csv(true);
   totals_ = totals;
   pvd_ = std::move(pvd);
-  // VTU files of steps after n belong to the lost part of the run.
-  std::error_code ec;
-  for (const auto& entry : fs::directory_iterator(options_.directory, ec)) {
-    const std::string f = entry.path().filename().string();
-    if (f.rfind("solution_", 0) == 0 && f.size() == 19 && f.ends_with(".vtu") && std::atoi(f.c_str() + 9) > n)
-      fs::remove(entry.path(), ec);
-  }
-  if (options_.vtu) write_pvd(options_.directory / "solution.pvd", pvd_);
+  la::on_root(stepper_.comm(), [&] {
+    truncate_csv(options_.directory / "history.csv", n);
+    truncate_csv(options_.directory / "probes.csv", n);
+  });
+  open_csv(true);
+  la::on_root(stepper_.comm(), [&] {
+    // VTU files of steps after n belong to the lost part of the run.
+    std::error_code ec;
+    for (const auto& entry : fs::directory_iterator(options_.directory, ec))
+      if (solution_after(entry.path().filename().string(), n)) fs::remove(entry.path(), ec);
+    if (options_.vtu) write_pvd(options_.directory / "solution.pvd", pvd_);
+  });
 }
 
 void RunOutput::write_probe_row() {
   const State& s = stepper_.state();
   const Mesh& mesh = stepper_.mesh();
   const int d = mesh.dim();
-  probe_csv_ << fmt::format("{},{:.17g}", s.n, s.t);
-  for (const auto& p : probes_) {
+  const auto comps = tensor_components(stepper_.problem().elasticity);
+  const std::size_t per_probe = d + comps.size() + 2;
+  // The owner of each probe fills its values, the others zeros: the sum is exact.
+  std::vector<double> values(probes_.size() * per_probe, 0.0);
+  for (std::size_t k = 0; k < probes_.size(); ++k) {
+    if (!probes_[k].mine) continue;
+    const ProbeLocation& p = probes_[k].where;
     const int* v = mesh.cell(p.cell);
+    double* out = &values[k * per_probe];
     for (int i = 0; i < d; ++i) {
       double u = 0;
       for (int a = 0; a <= d; ++a) u += p.lambda[a] * s.u[v[a] * d + i];
-      probe_csv_ << fmt::format(",{:.17g}", u);
+      *out++ = u;
     }
-    for (int c : tensor_components(stepper_.problem().elasticity)) probe_csv_ << fmt::format(",{:.17g}", s.sigma[p.cell][c]);
+    for (int c : comps) *out++ = s.sigma[p.cell][c];
+    *out++ = s.sigma[p.cell].von_mises();
     double b = 0;
     for (int a = 0; a <= d; ++a) b += p.lambda[a] * s.beta[v[a]];
-    probe_csv_ << fmt::format(",{:.17g},{:.17g}", s.sigma[p.cell].von_mises(), b);
+    *out++ = b;
   }
+  stepper_.comm().sum(values.data(), static_cast<int>(values.size()));
+  if (!root()) return;
+  probe_csv_ << fmt::format("{},{:.17g}", s.n, s.t);
+  for (double v : values) probe_csv_ << fmt::format(",{:.17g}", v);
   probe_csv_ << "\n";
   probe_csv_.flush();
 }
@@ -215,19 +285,19 @@ void RunOutput::write_fields() {
   if (!options_.vtu) return;
   const State& s = stepper_.state();
   const Mesh& mesh = stepper_.mesh();
-  const int d = mesh.dim();
-  VtuField u{"displacement", 3, std::vector<double>(static_cast<size_t>(mesh.n_nodes()) * 3, 0.0)};
-  for (int i = 0; i < mesh.n_nodes(); ++i)
+  const la::Comm& comm = stepper_.comm();
+  const int d = mesh.dim(), n_nodes = mesh.n_nodes();
+  VtuField u{"displacement", 3, std::vector<double>(static_cast<size_t>(n_nodes) * 3, 0.0)};
+  for (int i = 0; i < n_nodes; ++i)
     for (int c = 0; c < d; ++c) u.values[i * 3 + c] = s.u[i * d + c];
-  VtuField beta{"beta", 1, std::vector<double>(s.beta.data(), s.beta.data() + s.beta.size())};
+  VtuField beta{"beta", 1, std::vector<double>(s.beta.data(), s.beta.data() + n_nodes)};
   // Contact force on Γ3: the nodal force the foundation exerts, −λ ν at each
   // contact node; the pressure: λ over the node's tributary measure.
-  VtuField force{"contact_force", 3, std::vector<double>(static_cast<size_t>(mesh.n_nodes()) * 3, 0.0)};
-  VtuField pressure{"contact_pressure", 1, std::vector<double>(static_cast<size_t>(mesh.n_nodes()), 0.0)};
-  const auto& nodes = stepper_.contact_nodes();
-  for (size_t k = 0; k < nodes.size(); ++k) {
-    for (int c = 0; c < 3; ++c) force.values[nodes[k] * 3 + c] = -s.lambda[k] * stepper_.contact_directions()[k][c];
-    pressure.values[nodes[k]] = s.lambda[k] / contact_measure_[k];
+  VtuField force{"contact_force", 3, std::vector<double>(static_cast<size_t>(n_nodes) * 3, 0.0)};
+  VtuField pressure{"contact_pressure", 1, std::vector<double>(static_cast<size_t>(n_nodes), 0.0)};
+  for (const auto& c : stepper_.part().contact) {
+    for (int j = 0; j < 3; ++j) force.values[c.local_node * 3 + j] = -s.lambda[c.row] * c.direction[j];
+    pressure.values[c.local_node] = s.lambda[c.row] / c.measure;
   }
   VtuField vm{"von_mises", 1, {}};
   for (const auto& t : s.sigma) vm.values.push_back(t.von_mises());
@@ -238,8 +308,23 @@ void RunOutput::write_fields() {
   if (wants("strain")) cell_data.push_back(tensor_field("strain", s.eps));
   if (wants("von_mises")) cell_data.push_back(std::move(vm));
   if (wants("history_z")) cell_data.push_back(tensor_field("history_z", s.z));
-  const std::string file = fmt::format("solution_{:05d}.vtu", s.n);
-  write_vtu(options_.directory / file, mesh, point_data, cell_data, options_.encoding);
+  const std::string stem = fmt::format("solution_{:05d}", s.n);
+  std::string file = stem + ".vtu";
+  if (comm.size() == 1) {
+    write_vtu(options_.directory / file, mesh, point_data, cell_data, options_.encoding);
+  } else {
+    // Each process its piece, with the partition as a field (to look at it in ParaView).
+    cell_data.push_back({"rank", 1, std::vector<double>(mesh.n_cells(), static_cast<double>(comm.rank()))});
+    la::collective(comm, [&] {
+      write_vtu(options_.directory / fmt::format("{}_p{:04d}.vtu", stem, comm.rank()), mesh, point_data, cell_data,
+                options_.encoding);
+    });
+    file = stem + ".pvtu";
+    std::vector<std::string> pieces;
+    for (int r = 0; r < comm.size(); ++r) pieces.push_back(fmt::format("{}_p{:04d}.vtu", stem, r));
+    la::on_root(comm, [&] { write_pvtu(options_.directory / file, point_data, cell_data, pieces); });
+  }
+  if (!root()) return;
   pvd_.emplace_back(s.t, file);
   write_pvd(options_.directory / "solution.pvd", pvd_);
 }
@@ -251,8 +336,10 @@ void RunOutput::record(const StepReport& r) {
 }
 
 void RunOutput::record_untimed(const StepReport& r) {
-  history_ << history_row(r);
-  history_.flush();
+  if (root()) {
+    history_ << history_row(r);
+    history_.flush();
+  }
   write_probe_row();
   totals_.add(r);
   if (is_output_step(r.n)) write_fields();
@@ -336,31 +423,56 @@ std::string summary_json(const Problem& p, const RunSummary& r, const OutputOpti
   return j.dump(2, ' ', false, Json::error_handler_t::replace) + "\n";
 }
 
-void RunOutput::finish(double wall_seconds) {
-  const Mesh& mesh = stepper_.mesh();
+RunSummary RunOutput::summary(double wall_seconds) const {
+  const MeshPart& part = stepper_.part();
+  const Mesh& mesh = part.mesh();
+  const la::Comm& comm = stepper_.comm();
   const State& s = stepper_.state();
   RunSummary r;
   r.dimension = mesh.dim();
-  r.nodes = mesh.n_nodes();
-  r.cells = mesh.n_cells();
-  std::tie(r.h_min, r.h_max) = mesh.size_range();
-  r.free_dofs = stepper_.dofs().n_free();
-  r.contact_nodes = static_cast<long long>(stepper_.contact_nodes().size());
+  r.nodes = part.n_global_nodes;
+  r.cells = part.n_global_cells;
+  r.free_dofs = part.n_global_dofs;
+  r.contact_nodes = part.n_contact;
+  double h_min = INFINITY, h_max = 0;
+  if (mesh.n_cells() > 0) std::tie(h_min, h_max) = mesh.size_range();
+  r.h_min = comm.min(h_min);
+  r.h_max = comm.max(h_max);
+  for (const auto& x : s.sigma) r.max_von_mises = std::max(r.max_von_mises, x.von_mises());
+  r.max_von_mises = comm.max(r.max_von_mises);
+  // min β by the rule of the step reports (TimeStepper::beta_range, minimum_at);
+  // its location from the process that owns the node (the others add zeros).
+  const auto n = static_cast<std::size_t>(part.n_owned_nodes);
+  const MinimumAt mine = minimum_at({s.beta.data(), n}, {part.original_node.data(), n});
+  r.beta_min = comm.min(mine.index < 0 ? INFINITY : mine.value);
+  const double at = comm.min(mine.index >= 0 && mine.value == r.beta_min ? mine.index : INFINITY);
+  r.beta_max = comm.max(n ? s.beta.head(static_cast<Eigen::Index>(n)).maxCoeff() : -INFINITY);
+  Point x{0, 0, 0};
+  for (std::size_t i = 0; i < n; ++i)
+    if (part.original_node[i] == at) x = mesh.node(static_cast<int>(i));
+  comm.sum(x.data(), 3);
+  r.beta_min_location = x;
   r.steps = s.n;
   r.t = s.t;
   r.total_contact_force = s.lambda.sum();
   r.active_contact_nodes = active_contact_nodes(totals_, s.lambda);
-  for (const auto& x : s.sigma) r.max_von_mises = std::max(r.max_von_mises, x.von_mises());
-  const MinimumAt lo = minimum_at({s.beta.data(), static_cast<std::size_t>(s.beta.size())});  // as the PETSc engine
-  r.beta_min = lo.value;
-  r.beta_min_location = lo.index >= 0 ? mesh.node(lo.index) : Point{0, 0, 0};
-  r.beta_max = s.beta.maxCoeff();
-  for (const auto& p : probes_) r.probes.push_back(p.x);
+  for (const auto& p : probes_) r.probes.push_back(p.where.x);
   r.totals = totals_;
   r.wall_seconds = wall_seconds;
   r.setup = stepper_.setup_timing();
   r.factorizations = stepper_.n_factorizations();
-  write_file_atomic(options_.directory / "summary.json", summary_json(stepper_.problem(), r, options_));
+  if (!comm.serial()) {  // the PETSc backend, on one rank too
+    r.ranks = comm.size();
+    r.linear_solver = stepper_.backend().linear_solver();
+  }
+  return r;
+}
+
+void RunOutput::finish(double wall_seconds) {
+  const RunSummary r = summary(wall_seconds);
+  la::on_root(stepper_.comm(), [&] {
+    write_file_atomic(options_.directory / "summary.json", summary_json(stepper_.problem(), r, options_));
+  });
 }
 
 }  // namespace vpc

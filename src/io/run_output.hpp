@@ -1,13 +1,18 @@
 #pragma once
-// What a run writes into its output directory:
+// What a run writes into its output directory, on one process or many:
 //   solution_NNNNN.vtu + solution.pvd  fields at output times (u, σ, ε, |σ|_VM, β, z,
 //                                      contact force and pressure on Γ3), zlib-compressed
-//                                      by default (io/vtu_writer.hpp)
+//                                      by default (io/vtu_writer.hpp); on several
+//                                      processes each writes its piece
+//                                      solution_NNNNN_pRRRR.vtu (with a "rank" cell
+//                                      field) and rank 0 the solution_NNNNN.pvtu
+//                                      that the .pvd lists
 //   history.csv                        one row per step: contact and damage solver
 //                                      iterations and residuals, active set, β range
 //   probes.csv                         u, σ, β at the probe points, every step
 //   summary.json                       the run's data, final values and checks, and
 //                                      what made it (version, commit, command line, date)
+// The shared files (CSV, .pvd, .pvtu, summary.json) are written by rank 0.
 #include "io/vtu_writer.hpp"
 #include "scheme/time_stepper.hpp"
 
@@ -52,7 +57,7 @@ ProbeLocation locate_point(const Mesh& mesh, const Point& x);
 /// Elasticity::stress_components (plane strain: 11, 22, 33, 12).
 std::vector<int> tensor_components(const Elasticity& e);
 
-// The CSV formats, shared by the serial and the distributed engine's output.
+// The CSV formats.
 /// history.csv: the header line, and the row of one step (both end in a newline).
 std::string history_header();
 std::string history_row(const StepReport& r);
@@ -78,8 +83,8 @@ struct RunTotals {
 /// solver's own rule, or (no step yet) the nodes with λ > 0.
 long long active_contact_nodes(const RunTotals& totals, const Vector& lambda);
 
-/// What summary.json says about a run beyond the problem's data, gathered by
-/// RunOutput (serial) or ParallelOutput (distributed: global values, on rank 0).
+/// What summary.json says about a run beyond the problem's data: global values,
+/// gathered by RunOutput on rank 0.
 struct RunSummary {
   int dimension = 0;
   long long nodes = 0, cells = 0, free_dofs = 0, contact_nodes = 0;
@@ -93,7 +98,7 @@ struct RunSummary {
   double wall_seconds = 0;
   SetupTiming setup;
   int factorizations = 0;
-  int ranks = 0;  // > 0: a distributed run ("engine": "petsc", "ranks", "linear_solver")
+  int ranks = 0;  // > 0: a run over MPI ("engine": "petsc", "ranks", "linear_solver")
   std::string linear_solver;
 };
 
@@ -107,17 +112,22 @@ std::string iso8601_utc(std::chrono::system_clock::time_point t);
 /// directory, the fields by their current names, the start time. Throws vpc::Error.
 void prepare_output_options(OutputOptions& options, const std::string& case_name);
 
+/// The one writer of a run's files, for every backend and process count. Every
+/// member is collective (each process writes its piece; rank 0 the shared files).
 class RunOutput {
  public:
+  /// Locates the probes. The directory exists (begin_run, run/run_case.hpp made it).
   RunOutput(const TimeStepper& stepper, OutputOptions options);
   /// Writes the initial state (step 0).
   void start();
   /// Continues the files of an interrupted run from step `n` (the state of the
   /// stepper): history.csv and probes.csv keep their rows up to step n, the PVD
-  /// collection its entries up to n (VTU files of later steps are removed).
+  /// collection its entries up to n (VTU files, pieces and .pvtu of later steps are
+  /// removed). `pvd` and `totals` matter on rank 0 only.
   void resume(int n, std::vector<std::pair<double, std::string>> pvd, const RunTotals& totals);
   /// Records one accepted step; writes VTU at output steps.
   void record(const StepReport& report);
+  /// On rank 0 (the others do not keep them).
   const RunTotals& totals() const { return totals_; }
   const std::vector<std::pair<double, std::string>>& pvd_entries() const { return pvd_; }
   /// Writes summary.json; `wall_seconds` is the whole run's time.
@@ -126,20 +136,26 @@ class RunOutput {
   const std::filesystem::path& directory() const { return options_.directory; }
 
  private:
+  struct Probe {
+    ProbeLocation where;  // the point; its cell and coordinates where `mine`
+    bool mine = false;    // this process owns the probe (the cell containing it best)
+  };
+  Probe locate_probe(const Point& x) const;
+  bool root() const { return stepper_.comm().rank() == 0; }
   void record_untimed(const StepReport& report);
   void open_csv(bool append);
   void write_fields();
   void write_probe_row();
   bool is_output_step(int n) const;
   bool wants(const std::string& field) const;
+  RunSummary summary(double wall_seconds) const;
 
   const TimeStepper& stepper_;
   OutputOptions options_;
-  std::vector<ProbeLocation> probes_;
-  std::ofstream history_, probe_csv_;
+  std::vector<Probe> probes_;
+  std::ofstream history_, probe_csv_;  // rank 0
   std::vector<std::pair<double, std::string>> pvd_;
   RunTotals totals_;
-  std::vector<double> contact_measure_;  // tributary measure per contact row
 };
 
 }  // namespace vpc

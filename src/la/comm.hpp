@@ -5,6 +5,7 @@
 // pays one predictable branch. A distributed Comm (la/mpi_comm.hpp, PETSc build)
 // forwards them to MPI through CommBackend. The pattern is MFEM's: one algorithm,
 // whose only MPI hook is a reduction after a local computation.
+#include <exception>
 #include <memory>
 #include <string>
 #include <vector>
@@ -75,5 +76,43 @@ class Comm {
  private:
   std::shared_ptr<const CommBackend> b_;
 };
+
+/// Runs `work` on every process; if it throws on any, every process throws the
+/// error of the lowest rank that failed (Comm::throw_if_any). `work` must not wait
+/// for other processes (they may have failed before meeting it). On one process
+/// it is `work()` itself, whose exception passes unchanged.
+template <typename F>
+void collective(const Comm& comm, F&& work) {
+  if (comm.serial()) {
+    work();
+    return;
+  }
+  std::string message;
+  try {
+    work();
+  } catch (const std::exception& e) {
+    message = e.what();
+    comm.throw_if_any(true, message);
+  }
+  comm.throw_if_any(false, message);
+}
+
+/// Runs `work` on rank 0 only; its error is every process's. Collective.
+template <typename F>
+void on_root(const Comm& comm, F&& work) {
+  collective(comm, [&] {
+    if (comm.rank() == 0) work();
+  });
+}
+
+/// Rank 0's `values` on every process (the others' are replaced), exactly. Collective.
+template <typename T>
+std::vector<T> broadcast(const Comm& comm, std::vector<T> values) {
+  if (comm.serial()) return values;
+  std::vector<std::vector<T>> out(comm.size());
+  if (comm.rank() == 0)
+    for (auto& v : out) v = values;
+  return comm.exchange(out)[0];
+}
 
 }  // namespace vpc::la
