@@ -1,15 +1,15 @@
 #pragma once
-// The PETSc engine of the run loop (run/run_case.hpp): DistributedTimeStepper,
-// ParallelOutput and the checkpoints of parallel_checkpoint.hpp on the ranks of
-// a communicator (docs/parallel.md). Only rank 0 builds (reads, generates) the
-// whole mesh; it sends each rank its part.
+// The run loop's engine (run/engine.hpp, make_engine) on the ranks of an MPI
+// communicator, over the PETSc backend (docs/parallel.md). Only rank 0 builds
+// (reads, generates) the whole mesh; it sends each rank its part.
 #include "run/run_case.hpp"
 
 #include <mpi.h>
 
 namespace vpc {
 
-/// set_up_serial's twin: the case on every rank of `comm`. Collective.
+/// set_up_serial on the ranks of `comm`: the case on every rank, the mesh
+/// distributed, the PETSc backend. Collective.
 std::unique_ptr<Engine> set_up_petsc(MPI_Comm comm, const CaseLoader& load, const RunOptions& options);
 
 /// set_up_petsc on `comm`, as an EngineSetUp for run_case.

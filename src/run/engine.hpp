@@ -1,13 +1,14 @@
 #pragma once
 // What the run loop (run/run_case.hpp) needs of an engine: a stepper, its output
-// and its checkpoints. The serial engine (TimeStepper, RunOutput, io/checkpoint)
-// and the PETSc engine (parallel/petsc_engine.hpp) implement it; in the latter
-// every call is collective and returns the same on every rank.
+// and its checkpoints. make_engine builds the one implementation (TimeStepper,
+// RunOutput, io/checkpoint) on one process or on many (parallel/petsc_engine.hpp
+// sets that up); every call is collective and returns the same on every process.
 #include "run/interrupt.hpp"
 #include "scheme/time_stepper.hpp"
 
 #include <filesystem>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -30,8 +31,6 @@ class Engine {
   virtual int n_steps() const = 0;
   /// The largest relative residual a step accepts (SolverChoice::residual_tolerance).
   virtual double tolerance() const = 0;
-  /// Whether a failed step is retried with smaller steps (--retry-halvings).
-  virtual bool halves_failed_steps() const { return true; }
 
   // Output (the output directory of the case) and checkpoints.
   /// Opens the output (locates the probes); before start() or resume().
@@ -59,6 +58,13 @@ class Engine {
   /// Runs `work` on the root only; its error (vpc::CollectiveError) is every process's.
   virtual void on_root(const std::function<void()>& work) { work(); }
 };
+
+struct Case;  // io/case.hpp
+
+/// The engine over `stepper` (one process, or this process's part), its output
+/// and checkpoints, for the case `c`; unless quiet, rank 0 prints what set-up
+/// found. Collective.
+std::unique_ptr<Engine> make_engine(Case c, std::unique_ptr<TimeStepper> stepper, bool quiet);
 
 /// The lines of an engine's description that come from the case: boundary
 /// parts, material, damage, time and solvers, and the set-up time.

@@ -25,7 +25,7 @@ struct RunOptions {
   std::string header;                       // printed first (unless quiet), e.g. "vpcontact: NAME — description"
   std::filesystem::path output_directory;   // checked before any set-up; empty: no output (a check)
   std::filesystem::path resume;             // non-empty: continue from the newest good checkpoint there
-  int halvings = 0;                         // --retry-halvings (serial engine)
+  int halvings = 0;                         // --retry-halvings
   std::string linear_solver = "mumps";      // PETSc engine: mumps, cg-gamg, cg-hypre
   int checkpoint_every = -1;                // steps; -1: by wall time (CheckpointSchedule)
   double checkpoint_seconds = 60;
@@ -45,7 +45,7 @@ struct RunResult {
 /// Throws vpc::Error (Interrupted for a signal during set-up).
 using EngineSetUp = std::function<std::unique_ptr<Engine>(const CaseLoader&, const RunOptions&)>;
 
-/// The serial engine (TimeStepper, RunOutput, io/checkpoint).
+/// The engine on one process (TimeStepper over the serial backend: Eigen + CHOLMOD).
 std::unique_ptr<Engine> set_up_serial(const CaseLoader& load, const RunOptions& options);
 
 /// Before any set-up: prints the header and checks the output directory (--resume

@@ -1,0 +1,107 @@
+// The one engine of the run loop: a TimeStepper (on one process or on this
+// process's part of a distributed mesh), RunOutput and the checkpoints of
+// io/checkpoint.hpp. Whatever concerns the processes goes through la::Comm, so
+// on one process every collective is the identity.
+#include "io/checkpoint.hpp"
+#include "io/run_output.hpp"
+#include "run/progress.hpp"
+#include "run/run_case.hpp"
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include <cmath>
+#include <optional>
+
+namespace vpc {
+
+namespace {
+
+class StepperEngine final : public Engine {
+ public:
+  StepperEngine(Case c, std::unique_ptr<TimeStepper> stepper) : case_(std::move(c)), stepper_(std::move(stepper)) {}
+
+  bool done() const override { return stepper_->done(); }
+  StepReport step() override { return stepper_->step(); }
+  int n_steps() const override { return stepper_->problem().n_steps; }
+  double tolerance() const override { return case_.solvers.residual_tolerance; }
+
+  void open_output() override { output_.emplace(*stepper_, case_.output); }
+  const std::filesystem::path& directory() const override { return output_->directory(); }
+  void start() override { output_->start(); }
+  void record(const StepReport& r) override { output_->record(r); }
+  void finish(double wall_seconds) override { output_->finish(wall_seconds); }
+  void checkpoint() override {
+    write_checkpoint(*stepper_, output_->directory(), case_.name, output_->pvd_entries(), output_->totals());
+  }
+  std::optional<ResumedAt> resume(const std::filesystem::path& dir, std::vector<std::string>& skipped) override {
+    auto saved = resume_from_checkpoint(*stepper_, dir, &skipped);
+    if (!saved) return std::nullopt;
+    output_->resume(saved->n, std::move(saved->pvd), saved->totals);
+    return ResumedAt{saved->n, saved->t};
+  }
+
+  bool root() const override { return comm().rank() == 0; }
+  int ranks() const override { return comm().serial() ? 0 : comm().size(); }
+  int interrupt_anywhere() const override { return static_cast<int>(comm().max(interrupt_signal())); }
+  bool root_decides(bool value) const override { return comm().sum(root() && value ? 1.0 : 0.0) > 0; }
+  void on_root(const std::function<void()>& work) override { la::on_root(comm(), work); }
+
+  /// What set-up found, in global numbers; rank 0 prints it. Collective.
+  void describe() const {
+    const MeshPart& part = stepper_->part();
+    double h_min = INFINITY, h_max = 0;
+    if (part.mesh().n_cells() > 0) std::tie(h_min, h_max) = part.mesh().size_range();
+    h_min = comm().min(h_min);
+    h_max = comm().max(h_max);
+    if (!root()) return;
+    if (!comm().serial())
+      fmt::print("  PETSc engine on {} MPI rank{}: linear solver {}; {}\n", comm().size(), comm().size() > 1 ? "s" : "",
+                 stepper_->backend().linear_solver(), stepper_->contact_method());
+    fmt::print("  mesh: d = {}, {} nodes, {} cells, h in [{:.3g}, {:.3g}]; {} free displacement dofs, {} contact "
+               "nodes\n",
+               part.dofs.dim(), part.n_global_nodes, part.n_global_cells, h_min, h_max, part.n_global_dofs,
+               part.n_contact);
+    describe_data(stepper_->problem(), case_.solvers, stepper_->setup_seconds());
+  }
+
+ private:
+  const la::Comm& comm() const { return stepper_->comm(); }
+
+  Case case_;
+  std::unique_ptr<TimeStepper> stepper_;
+  std::optional<RunOutput> output_;
+};
+
+}  // namespace
+
+void describe_data(const Problem& p, const SolverChoice& solvers, double setup_seconds) {
+  fmt::print("  Γ1 (clamped): {}; Γ3 (contact): {}\n", fmt::join(p.clamped, ", "), fmt::join(p.contact.parts, ", "));
+  fmt::print("  elasticity: {} (E = {}, nu = {}); G: {}; phi: {}\n", p.elasticity.name(), p.elasticity.young(),
+             p.elasticity.poisson(), p.law->describe(), p.source->describe());
+  fmt::print("  kappa = {}; T = {}, k = {}, N = {}; solvers: contact {}, damage {}; setup {:.3f} s\n", p.kappa,
+             p.final_time, p.step(), p.n_steps, solvers.contact, solvers.damage, setup_seconds);
+  std::fflush(stdout);
+}
+
+std::unique_ptr<Engine> make_engine(Case c, std::unique_ptr<TimeStepper> stepper, bool quiet) {
+  auto engine = std::make_unique<StepperEngine>(std::move(c), std::move(stepper));
+  if (!quiet) engine->describe();
+  return engine;
+}
+
+std::unique_ptr<Engine> set_up_serial(const CaseLoader& load, const RunOptions& o) {
+  begin_run(o);
+  stop_if_interrupted();
+  Case c = load({});
+  StageLog log(o.quiet);
+  c.solvers.max_halvings = o.halvings;
+  c.solvers.on_setup_stage = [log](const std::string& stage, double seconds) {  // a copy: it outlives set-up
+    log(stage, seconds);
+    if (seconds >= 0) stop_if_interrupted();
+  };
+  auto stepper = std::make_unique<TimeStepper>(c.problem, c.solvers);
+  return make_engine(std::move(c), std::move(stepper), o.quiet);
+}
+
+}  // namespace vpc
