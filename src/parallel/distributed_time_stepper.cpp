@@ -137,7 +137,7 @@ DistributedTimeStepper::DistributedTimeStepper(std::shared_ptr<const Problem> pr
   stage("factorization of K", setup_timing_.factor_K);
   stage(fmt::format("factorization of H ({} global nodes)", part_.n_global_nodes));
   t1 = Clock::now();
-  damage_ = make_active_set_damage_solver(std::move(H), la::petsc_factor_factory(comm_, linear), choice_.damage_reduced);
+  damage_ = make_damage_solver("active-set", std::move(H), la::petsc_factor_factory(comm_, linear), choice_.damage_reduced);
   setup_timing_.factor_H = seconds_since(t1);
   stage("factorization of H", setup_timing_.factor_H);
   stage("contact set-up");

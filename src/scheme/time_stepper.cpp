@@ -66,22 +66,23 @@ TimeStepper::TimeStepper(std::shared_ptr<const Problem> problem, SolverChoice ch
   };
   stage("assembly");
   auto t1 = Clock::now();
-  K_ = std::make_shared<SparseMatrix>(assemble_stiffness(mesh, geo_, p.elasticity, dofs_));
+  K_ = std::make_shared<const la::SparseOperator>(assemble_stiffness(mesh, geo_, p.elasticity, dofs_));
   M_ = assemble_mass(mesh, geo_);
   laplacian_ = assemble_laplacian(mesh, geo_);
   const SparseMatrix H = M_ + (p.step() * p.kappa) * laplacian_;
   setup_timing_.assembly = seconds_since(t1);
   stage("assembly", setup_timing_.assembly);
-  stage(fmt::format("factorization of K ({} x {}, {} nonzeros)", K_->rows(), K_->cols(), K_->nonZeros()));
+  stage(fmt::format("factorization of K ({} x {}, {} nonzeros)", K_->matrix().rows(), K_->matrix().cols(),
+                    K_->matrix().nonZeros()));
   t1 = Clock::now();
-  K_factor_ = make_cholmod_solver();
+  K_factor_ = la::make_cholmod_factor("K");
   {
     // Refuse a run that cannot fit before the costly factorizations (issue 11);
     // the factors' sizes come from their symbolic analyses (K's is reused).
     const double mesh_bytes = 24.0 * mesh.n_nodes() + 4.0 * mesh.cell_array().size() +
                               (sizeof(CellGeometry) + 3.0 * sizeof(SymTensor)) * mesh.n_cells();
-    const double matrix_bytes = 12.0 * (K_->nonZeros() + M_.nonZeros() + laplacian_.nonZeros() + 2.0 * H.nonZeros());
-    check_memory(estimate_run_memory(mesh_bytes, matrix_bytes, K_factor_->analyze(*K_, "elastic stiffness K"),
+    const double matrix_bytes = 12.0 * (K_->matrix().nonZeros() + M_.nonZeros() + laplacian_.nonZeros() + 2.0 * H.nonZeros());
+    check_memory(estimate_run_memory(mesh_bytes, matrix_bytes, *K_factor_->analyze(*K_, "elastic stiffness K"),
                                      estimate_cholmod_factor(H, "damage matrix H = M + k kappa A"),
                                      choice_.damage == "active-set",
                                      static_cast<double>(mesh.nodes_of_parts(p.contact.parts).size())),
@@ -99,7 +100,9 @@ TimeStepper::TimeStepper(std::shared_ptr<const Problem> problem, SolverChoice ch
   stage("contact set-up");
   t1 = Clock::now();
   setup_contact();
-  contact_ = make_contact_solver(choice_.contact, std::shared_ptr<const SparseMatrix>(K_), K_factor_, N_,
+  ContactConstraints constraints{static_cast<int>(N_.rows()), {}, N_, gap_};
+  for (int i = 0; i < constraints.m; ++i) constraints.rows.push_back(i);
+  contact_ = make_contact_solver(choice_.contact, K_, K_factor_, std::move(constraints), la::make_cholmod_factor,
                                  choice_.contact_options);
   setup_timing_.contact = seconds_since(t1);
   stage("contact set-up", setup_timing_.contact);
@@ -142,7 +145,7 @@ double TimeStepper::factor_bytes() const { return K_factor_->factor_bytes() + da
 
 double TimeStepper::model_bytes() const {
   const Mesh& m = problem_->mesh;
-  const double matrices = 12.0 * (K_->nonZeros() + M_.nonZeros() + N_.nonZeros());  // value + row index
+  const double matrices = 12.0 * (K_->matrix().nonZeros() + M_.nonZeros() + N_.nonZeros());  // value + row index
   const double mesh = 24.0 * m.n_nodes() + 4.0 * m.cell_array().size() + sizeof(CellGeometry) * geo_.size();
   const double state = 8.0 * (state_.u.size() + state_.beta.size() + u_free_.size()) +
                        3.0 * sizeof(SymTensor) * state_.sigma.size();
@@ -260,7 +263,7 @@ StepReport TimeStepper::advance(int level, double t_end) {
   // Step 4: contact (3.9): K u_n = F_n − Bᵀz_n − Nᵀλ with Signorini conditions.
   t0 = Clock::now();
   const Vector F = restrict_to_free(dofs_, load(rep.t) - assemble_stress_divergence(mesh, geo_, state_.z));
-  rep.contact = contact_->solve(F, gap_, u_free_, state_.lambda);
+  rep.contact = contact_->solve(F, u_free_, state_.lambda);
   state_.u = extend_from_free(dofs_, u_free_);
   rep.seconds_contact = seconds_since(t0);
 

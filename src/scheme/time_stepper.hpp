@@ -106,7 +106,7 @@ class TimeStepper {
   const DofMap& dofs() const { return dofs_; }
   int n_factorizations() const;
   /// The cached factor of K (for benchmarks: the cost of one solve).
-  const LinearSolver& stiffness_factor() const { return *K_factor_; }
+  const la::Factor& stiffness_factor() const { return *K_factor_; }
   /// Memory of the factors of K and of the damage matrix (bytes).
   double factor_bytes() const;
   /// Memory of the mesh, the constant matrices and the state (bytes, estimated from sizes).
@@ -128,14 +128,14 @@ class TimeStepper {
   SolverChoice choice_;
   std::vector<CellGeometry> geo_;
   DofMap dofs_;
-  std::shared_ptr<SparseMatrix> K_;  // shared with the contact solver
+  std::shared_ptr<const la::SparseOperator> K_;  // shared with the contact solver
   SparseMatrix M_, N_;
   std::vector<int> traction_facets_;
   Vector basis_integral_cells_, basis_integral_traction_;  // ∫ψ_a over Ω and Γ2 (for uniform f0, f2)
   std::vector<int> contact_nodes_;
   std::vector<Point> contact_dir_;
   Vector gap_;
-  std::shared_ptr<LinearSolver> K_factor_;
+  std::shared_ptr<la::Factor> K_factor_;
   std::unique_ptr<ContactSolver> contact_;
   std::unique_ptr<DamageSolver> damage_;  // for the step k
   std::vector<std::unique_ptr<DamageSolver>> halved_damage_;  // for k / 2^level, made when needed
