@@ -2,7 +2,7 @@
 
 #include "parallel/collective.hpp"
 
-#include "la/petsc_util.hpp"
+#include "la/petsc.hpp"
 
 #include <petscmat.h>
 
@@ -10,14 +10,6 @@
 #include <cmath>
 
 namespace vpc {
-
-std::vector<PetscInt> DistributedMesh::ghost_nodes() const {
-  return {global_node.begin() + n_owned_nodes, global_node.end()};
-}
-
-std::vector<PetscInt> DistributedMesh::ghost_dofs() const {
-  return {global_dof.begin() + n_owned_dofs, global_dof.end()};
-}
 
 namespace {
 
@@ -204,48 +196,50 @@ std::vector<Message> pack_parts(const Problem& p, int n_parts) {
   return out;
 }
 
-DistributedMesh unpack_part(MPI_Comm comm, const Message& m) {
-  DistributedMesh dm;
-  dm.comm = comm;
+MeshPart unpack_part(MPI_Comm comm, const Message& m) {
+  MeshPart dm;
+  dm.comm = la::make_mpi_comm(comm);
+  auto mesh = std::make_shared<Mesh>();
   const auto* h = m.ints.data();
   const int d = static_cast<int>(h[0]), n_local = static_cast<int>(h[1]);
   dm.n_owned_nodes = static_cast<int>(h[2]);
   const int n_cells = static_cast<int>(h[3]), n_facets = static_cast<int>(h[4]), n_contacts = static_cast<int>(h[5]);
   dm.n_contact = static_cast<int>(h[6]);
-  dm.n_global_nodes = static_cast<PetscInt>(h[7]);
-  dm.n_global_dofs = static_cast<PetscInt>(h[8]);
+  dm.n_global_nodes = h[7];
+  dm.n_global_dofs = h[8];
   dm.n_global_cells = h[9];
-  dm.node_begin = static_cast<PetscInt>(h[10]);
-  dm.dof_begin = static_cast<PetscInt>(h[11]);
+  const long long dof_begin = h[11];
   dm.n_owned_dofs = static_cast<int>(h[12]);
   const long long* in = h + kHeader;
   const double* x = m.reals.data();
-  dm.mesh = Mesh(d);
+  *mesh = Mesh(d);
   std::vector<long long> first_dof(n_local);
   std::vector<int> clamped;
   dm.global_node.resize(n_local);
   dm.original_node.resize(n_local);
   for (int i = 0; i < n_local; ++i) {
-    dm.global_node[i] = static_cast<PetscInt>(*in++);
+    dm.global_node[i] = *in++;
     dm.original_node[i] = static_cast<int>(*in++);
     first_dof[i] = *in++;
     if (first_dof[i] < 0) clamped.push_back(i);
-    dm.mesh.add_node({x[0], x[1], x[2]});
+    mesh->add_node({x[0], x[1], x[2]});
     x += 3;
   }
   int nodes[4];
   dm.original_cell.resize(n_cells);
   for (int c = 0; c < n_cells; ++c) {
     for (int a = 0; a <= d; ++a) nodes[a] = static_cast<int>(*in++);
-    dm.mesh.add_cell(nodes);
+    mesh->add_cell(nodes);
     dm.original_cell[c] = static_cast<int>(*in++);
   }
   for (int f = 0; f < n_facets; ++f) {
     for (int a = 0; a < d; ++a) nodes[a] = static_cast<int>(*in++);
-    dm.mesh.add_facet(nodes, "traction");
+    mesh->add_facet(nodes, "traction");
+    dm.traction_facets.push_back(f);
   }
+  dm.mesh_ptr = std::move(mesh);
   for (int k = 0; k < n_contacts; ++k) {
-    LocalContactNode c;
+    PartContactNode c;
     c.row = static_cast<int>(*in++);
     c.local_node = static_cast<int>(*in++);
     c.owned = *in++ != 0;
@@ -260,21 +254,25 @@ DistributedMesh unpack_part(MPI_Comm comm, const Message& m) {
   for (int i = 0; i < n_local; ++i)
     for (int c = 0; c < d; ++c) {
       const int k = dm.dofs.free_index(dm.dofs.full_index(i, c));
-      if (k >= 0) dm.global_dof[k] = static_cast<PetscInt>(first_dof[i] + c);
+      if (k >= 0) dm.global_dof[k] = first_dof[i] + c;
     }
   for (int k = 0; k < dm.n_owned_dofs; ++k)
-    require(dm.global_dof[k] == dm.dof_begin + k, "internal: the owned dofs of a part are not contiguous");
+    require(dm.global_dof[k] == dof_begin + k, "internal: the owned dofs of a part are not contiguous");
+  dm.make_layouts();
   return dm;
 }
 
 }  // namespace
 
-DistributedMesh distribute_mesh(MPI_Comm comm, const Problem& problem) {
+MeshPart distribute_mesh(MPI_Comm comm, const Problem& problem) {
   const int rank = comm_rank(comm), size = comm_size(comm);
   Message mine;
   // Rank 0 packs every part; a failure there (e.g. a bad gap) is every rank's.
   std::vector<Message> parts;
-  on_root(comm, [&] { parts = pack_parts(problem, size); });
+  on_root(comm, [&] {
+    problem.validate();
+    parts = pack_parts(problem, size);
+  });
   if (rank == 0) {
     for (int r = 1; r < size; ++r) {
       long long sizes[2] = {static_cast<long long>(parts[r].ints.size()), static_cast<long long>(parts[r].reals.size())};

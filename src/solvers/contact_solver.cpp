@@ -10,85 +10,109 @@
 
 namespace vpc {
 
+namespace {
+
+/// λ's entries (m numbers) at this rank's constraint rows.
+Vector local_rows(const ContactConstraints& c, const Vector& lambda) {
+  Vector l(static_cast<Eigen::Index>(c.rows.size()));
+  for (size_t k = 0; k < c.rows.size(); ++k) l[static_cast<Eigen::Index>(k)] = lambda[c.rows[k]];
+  return l;
+}
+
+}  // namespace
+
 double ContactResiduals::max() const {
   return std::max({equilibrium, penetration, negative_force, complementarity});
 }
 
-ContactResiduals contact_residuals(const SparseMatrix& K, const SparseMatrix& N, const Vector& F,
-                                   const Vector& g, const Vector& u, const Vector& lambda) {
+ContactResiduals contact_residuals(const la::SpdOperator& K, const ContactConstraints& c, const Vector& F,
+                                   const Vector& u, const Vector& lambda) {
+  const la::Comm& comm = K.comm();
   ContactResiduals r;
-  if (!F.allFinite() || !u.allFinite() || !lambda.allFinite() || !g.allFinite()) {
+  if (!comm.all(F.allFinite() && u.allFinite() && c.gap.allFinite()) || !lambda.allFinite()) {
     const double inf = std::numeric_limits<double>::infinity();  // NaN would compare as "small"
     return {inf, inf, inf, inf};
   }
-  // K is symmetric and stored whole: Kᵀu is the same product, and Eigen spreads
-  // a row-major one (which Kᵀ is) over the OpenMP threads.
-  const Vector Ku = K.transpose() * u;
-  const Vector s = g - N * u;  // the gap left: ≥ 0
-  auto inf = [](const Vector& v) { return v.size() ? v.cwiseAbs().maxCoeff() : 0.0; };
+  Vector Ku;
+  if (const auto* s = dynamic_cast<const la::SparseOperator*>(&K)) {
+    // K is symmetric and stored whole: Kᵀu is the same product, and Eigen spreads
+    // a row-major one (which Kᵀ is) over the OpenMP threads.
+    Ku = s->matrix().transpose() * u;
+  } else {
+    K.mult(u, Ku);
+  }
+  const Vector lambda_local = local_rows(c, lambda);
+  const Vector s = c.gap - c.N * u;  // the gap left: ≥ 0
+  auto inf = [&](const Vector& v) { return comm.max(v.size() ? v.cwiseAbs().maxCoeff() : 0.0); };
   const double f_scale = std::max({inf(F), inf(Ku), 1e-300});
-  r.equilibrium = inf(Vector(Ku - F + N.transpose() * lambda)) / f_scale;
-  const double u_scale = std::max({inf(u), inf(g), 1e-300});
-  const double l_scale = std::max({inf(lambda), f_scale});
+  r.equilibrium = inf(Vector(Ku - F + c.N.transpose() * lambda_local)) / f_scale;
+  const double u_scale = std::max({inf(u), inf(c.gap), 1e-300});
+  const double l_scale = std::max({lambda.size() ? lambda.cwiseAbs().maxCoeff() : 0.0, f_scale});
   for (int i = 0; i < s.size(); ++i) {
     r.penetration = std::max(r.penetration, -s[i] / u_scale);
-    r.negative_force = std::max(r.negative_force, -lambda[i] / l_scale);
-    r.complementarity = std::max(r.complementarity, std::abs(lambda[i] * s[i]) / (l_scale * u_scale));
+    r.negative_force = std::max(r.negative_force, -lambda_local[i] / l_scale);
+    r.complementarity = std::max(r.complementarity, std::abs(lambda_local[i] * s[i]) / (l_scale * u_scale));
   }
+  r.penetration = comm.max(r.penetration);
+  r.negative_force = comm.max(r.negative_force);
+  r.complementarity = comm.max(r.complementarity);
   return r;
 }
 
 namespace {
 
-/// `active_threshold`: see ContactReport::n_active.
-void finish_report(ContactReport& rep, const SparseMatrix& K, const SparseMatrix& N, const Vector& F,
-                   const Vector& g, const Vector& u, const Vector& lambda, double active_threshold = 0) {
+/// `active_threshold`: see ContactReport::n_active. λ is replicated: no reduction.
+ContactReport make_report(const la::SpdOperator& K, const ContactConstraints& c, const Vector& F, const Vector& u,
+                          const Vector& lambda, const BoxQpResult& qp, double active_threshold = 0) {
+  ContactReport rep;
+  rep.converged = qp.converged;
+  rep.iterations = qp.iterations;
   rep.active_threshold = active_threshold;
   rep.n_active = static_cast<int>((lambda.array() > active_threshold).count());
   rep.total_force = lambda.sum();
-  rep.residuals = contact_residuals(K, N, F, g, u, lambda);
+  rep.residuals = contact_residuals(K, c, F, u, lambda);
+  return rep;
+}
+
+/// The columns j0 .. j0+nb−1 of Nᵀ, owned rows: each rank fills the columns of its
+/// own constraint rows (zero elsewhere), so a block solve with it is collective.
+Eigen::MatrixXd transposed_rows(const ContactConstraints& c, int j0, int nb) {
+  Eigen::MatrixXd B = Eigen::MatrixXd::Zero(c.N.cols(), nb);
+  const SparseMatrix Nt = c.N.transpose();
+  for (int k = 0; k < Nt.outerSize(); ++k) {
+    const int j = c.rows[k] - j0;
+    if (j < 0 || j >= nb) continue;
+    for (SparseMatrix::InnerIterator it(Nt, k); it; ++it) B(it.row(), j) = it.value();
+  }
+  return B;
+}
+
+/// The same block size on every rank (block solves are collective).
+int common_block_columns(const la::Comm& comm, Eigen::Index n_owned, int most) {
+  return static_cast<int>(comm.min(rhs_block_columns(n_owned, most)));
+}
+
+/// m numbers, the same on every rank, from this rank's rows' values (one owner per row: the sum is exact).
+Vector replicate(const la::Comm& comm, const ContactConstraints& c, const Vector& local) {
+  Vector all = Vector::Zero(c.m);
+  for (size_t k = 0; k < c.rows.size(); ++k) all[c.rows[k]] = local[static_cast<Eigen::Index>(k)];
+  comm.sum(all.data(), c.m);
+  return all;
 }
 
 class ActiveSetContactSolver final : public ContactSolver {
  public:
-  ActiveSetContactSolver(std::shared_ptr<const SparseMatrix> K, std::shared_ptr<const LinearSolver> factor,
-                         const SparseMatrix& N, double max_cached_share)
-      : K_(std::move(K)), N_(N), factor_(std::move(factor)) {
-    // With K = PᵀLLᵀP: Y = L⁻¹PNᵀ (the forward half of K⁻¹Nᵀ) and S = N K⁻¹Nᵀ = YᵀY,
-    // formed once (K and N never change). A column of Y is nonzero only on the
-    // elimination-tree path of its contact dof, so Y is small and kept sparse.
-    const int m = static_cast<int>(N.rows());
-    const SparseMatrix Nt = N.transpose();
-    const double max_bytes = std::min(kMaxYBytes, max_cached_share * factor_->factor_bytes());
-    std::vector<Eigen::Triplet<double>> t;
-    bool keep_y = max_cached_share > 0;
-    const int block = rhs_block_columns(N.cols());  // dense blocks of right-hand sides
-    for (int j0 = 0; j0 < m && keep_y; j0 += block) {
-      const int nb = std::min(block, m - j0);
-      const Eigen::MatrixXd Yb = factor_->forward(Eigen::MatrixXd(Nt.middleCols(j0, nb)));
-      for (int j = 0; j < nb; ++j)
-        for (Eigen::Index i = 0; i < Yb.rows(); ++i)
-          if (Yb(i, j) != 0) t.emplace_back(static_cast<int>(i), j0 + j, Yb(i, j));
-      keep_y = 12.0 * static_cast<double>(t.size()) <= max_bytes;  // value + row index per entry
-    }
-    Eigen::MatrixXd S(m, m);
-    if (keep_y) {
-      Y_.resize(N.cols(), m);
-      Y_.setFromTriplets(t.begin(), t.end());
-      S = Eigen::MatrixXd(SparseMatrix(Y_.transpose() * Y_));
-    } else {  // Y too large: S from full solves; a step then costs two solves
-      Y_ = SparseMatrix();
-      for (int j0 = 0; j0 < m; j0 += block) {
-        const int nb = std::min(block, m - j0);
-        S.middleCols(j0, nb) = N * factor_->solve(Eigen::MatrixXd(Nt.middleCols(j0, nb)));
-      }
-    }
+  ActiveSetContactSolver(std::shared_ptr<const la::SpdOperator> K, std::shared_ptr<const la::Factor> factor,
+                         ContactConstraints c, double max_cached_share)
+      : K_(std::move(K)), c_(std::move(c)), factor_(std::move(factor)) {
+    Eigen::MatrixXd S = factor_->has_halves() ? dual_matrix_from_halves(max_cached_share)
+                                              : dual_matrix_from_solves(max_cached_share);
     S = 0.5 * (S + S.transpose()).eval();
     S_ = std::make_unique<DenseBoxQpOperator>(std::move(S));
   }
 
-  ContactReport solve(const Vector& F, const Vector& g, Vector& u, Vector& lambda) override {
-    const int m = static_cast<int>(N_.rows());
+  ContactReport solve(const Vector& F, Vector& u, Vector& lambda) override {
+    const int m = c_.m;
     if (lambda.size() != m) lambda = Vector::Zero(m);
     const Vector lo = Vector::Zero(m), hi = Vector::Constant(m, std::numeric_limits<double>::infinity());
     BoxQpResult r;
@@ -96,95 +120,168 @@ class ActiveSetContactSolver final : public ContactSolver {
       // One solve in two halves: y = L⁻¹PF; the dual QP min ½λᵀSλ − (N K⁻¹F − g)ᵀλ,
       // λ ≥ 0, with N K⁻¹F = Yᵀy; then u = PᵀL⁻ᵀ(y − Yλ) = K⁻¹(F − Nᵀλ).
       const Vector y = factor_->forward(F);
-      r = solve_box_qp(*S_, Vector(Y_.transpose() * y - g), lo, hi, lambda);
+      r = solve_box_qp(*S_, Vector(Y_.transpose() * y - replicate(comm(), c_, c_.gap)), lo, hi, lambda);
       u = factor_->backward(Vector(y - Y_ * lambda));
     } else {
-      const Vector u_free = factor_->solve(F);  // the solution without contact
-      r = solve_box_qp(*S_, Vector(N_ * u_free - g), lo, hi, lambda);
-      u = factor_->solve(Vector(F - N_.transpose() * lambda));
+      Vector u_free = u;  // the solution without contact (u: an iterative solver's initial guess)
+      factor_->solve(F, u_free);
+      r = solve_box_qp(*S_, replicate(comm(), c_, Vector(c_.N * u_free - c_.gap)), lo, hi, lambda);
+      if (W_.cols() == m) {
+        u = u_free - W_ * lambda;
+      } else {
+        u = u_free;
+        factor_->solve(Vector(F - c_.N.transpose() * local_rows(c_, lambda)), u);
+      }
     }
-    ContactReport rep;
-    rep.converged = r.converged;
-    rep.iterations = r.iterations;
-    finish_report(rep, *K_, N_, F, g, u, lambda);
-    return rep;
+    return make_report(*K_, c_, F, u, lambda, r);
   }
   std::string name() const override { return "active-set"; }
-  /// Whether Y is kept (one solve per step).
-  bool caches_y() const { return Y_.cols() > 0; }
+  std::string describe() const override {
+    if (Y_.cols() > 0) return "one solve per step (K's halves)";
+    if (W_.cols() > 0) return "one solve per step (K⁻¹Nᵀ kept)";
+    return "two solves per step";
+  }
 
  private:
-  std::shared_ptr<const SparseMatrix> K_;  // for the reported residuals
-  SparseMatrix N_;
-  std::shared_ptr<const LinearSolver> factor_;
+  const la::Comm& comm() const { return K_->comm(); }
+
+  /// With K = PᵀLLᵀP: Y = L⁻¹PNᵀ (the forward half of K⁻¹Nᵀ) and S = N K⁻¹Nᵀ = YᵀY,
+  /// formed once (K and N never change). A column of Y is nonzero only on the
+  /// elimination-tree path of its contact dof, so Y is small and kept sparse.
+  /// A factor with halves is one process's (CHOLMOD): N is whole here.
+  Eigen::MatrixXd dual_matrix_from_halves(double max_cached_share) {
+    const int m = c_.m;
+    const double max_bytes = std::min(kMaxCachedBytes, max_cached_share * factor_->factor_bytes());
+    std::vector<Eigen::Triplet<double>> t;
+    bool keep_y = max_cached_share > 0;
+    const int block = rhs_block_columns(c_.N.cols());  // dense blocks of right-hand sides
+    for (int j0 = 0; j0 < m && keep_y; j0 += block) {
+      const int nb = std::min(block, m - j0);
+      const Eigen::MatrixXd Yb = factor_->forward(transposed_rows(c_, j0, nb));
+      for (int j = 0; j < nb; ++j)
+        for (Eigen::Index i = 0; i < Yb.rows(); ++i)
+          if (Yb(i, j) != 0) t.emplace_back(static_cast<int>(i), j0 + j, Yb(i, j));
+      keep_y = 12.0 * static_cast<double>(t.size()) <= max_bytes;  // value + row index per entry
+    }
+    if (!keep_y) return dual_matrix_from_solves(0);  // Y too large: a step then costs two solves
+    Y_.resize(c_.N.cols(), m);
+    Y_.setFromTriplets(t.begin(), t.end());
+    return Eigen::MatrixXd(SparseMatrix(Y_.transpose() * Y_));
+  }
+
+  /// S = N K⁻¹Nᵀ by block solves X = K⁻¹Nᵀ (collective: every rank solves the same
+  /// blocks); S's rows are computed where N's rows live, then summed over the ranks
+  /// (one owner per row: exact, the same S everywhere). X is kept as W when it fits
+  /// on every rank (a step is then one solve: u = u_free − Wλ).
+  Eigen::MatrixXd dual_matrix_from_solves(double max_cached_share) {
+    const int m = c_.m;
+    const auto n_owned = c_.N.cols();
+    double max_bytes = max_cached_share > 0 ? kMaxCachedBytes : 0;
+    if (factor_->factor_bytes() > 0) max_bytes = std::min(max_bytes, max_cached_share * factor_->factor_bytes());
+    const bool keep_w = !factor_->has_halves() &&
+                        comm().max(static_cast<double>(n_owned) * m * sizeof(double)) <= max_bytes;
+    if (keep_w) W_.resize(n_owned, m);
+    Eigen::MatrixXd S = Eigen::MatrixXd::Zero(m, m);
+    const int block = factor_->has_halves() ? rhs_block_columns(n_owned) : common_block_columns(comm(), n_owned, 64);
+    for (int j0 = 0; j0 < m; j0 += block) {
+      const int nb = std::min(block, m - j0);
+      const Eigen::MatrixXd X = factor_->solve(transposed_rows(c_, j0, nb));
+      if (keep_w) W_.middleCols(j0, nb) = X;
+      const Eigen::MatrixXd NX = c_.N * X;
+      for (size_t k = 0; k < c_.rows.size(); ++k) S.block(c_.rows[k], j0, 1, nb) = NX.row(static_cast<Eigen::Index>(k));
+    }
+    comm().sum(S.data(), m * m);
+    return S;
+  }
+
+  std::shared_ptr<const la::SpdOperator> K_;  // for the reported residuals
+  ContactConstraints c_;
+  std::shared_ptr<const la::Factor> factor_;
   std::unique_ptr<DenseBoxQpOperator> S_;
-  SparseMatrix Y_;  // L⁻¹PNᵀ, or empty when too large
-  static constexpr double kMaxYBytes = 256.0 * 1024 * 1024;
+  SparseMatrix Y_;     // L⁻¹PNᵀ (factors with halves), or empty
+  Eigen::MatrixXd W_;  // K⁻¹Nᵀ on the owned rows (factors without halves), or empty
+  static constexpr double kMaxCachedBytes = 256.0 * 1024 * 1024;
 };
 
 /// The iteration contracts at the rate |ωc − 1| / (ωc + 1) along a constraint of
 /// compliance c = N_i K⁻¹ N_iᵀ, so ω = 1 / mean(c) (not the stiffness scale).
-double default_omega(const LinearSolver& factor, const SparseMatrix& N) {
-  const SparseMatrix Nt = N.transpose();
-  const int m = static_cast<int>(N.rows());
+double default_omega(const la::Comm& comm, const la::Factor& factor, const ContactConstraints& c) {
   double sum = 0;
-  for (int j0 = 0; j0 < m; j0 += 64) {
-    const int nb = std::min(64, m - j0);
-    const Eigen::MatrixXd B(Nt.middleCols(j0, nb));
+  for (int j0 = 0; j0 < c.m; j0 += 64) {
+    const int nb = std::min(64, c.m - j0);
+    const Eigen::MatrixXd B = transposed_rows(c, j0, nb);
     sum += (B.transpose() * factor.solve(B)).trace();
   }
-  return m / sum;
+  return c.m / comm.sum(sum);
 }
 
 class PenaltyDualityContactSolver final : public ContactSolver {
  public:
-  PenaltyDualityContactSolver(std::shared_ptr<const SparseMatrix> K, const LinearSolver& factor,
-                              const SparseMatrix& N, const ContactSolverOptions& opt)
-      : K_(std::move(K)), N_(N), opt_(opt), pd_(*K_, N, opt.omega > 0 ? opt.omega : default_omega(factor, N)) {}
+  PenaltyDualityContactSolver(std::shared_ptr<const la::SpdOperator> K, const la::Factor& K_factor,
+                              ContactConstraints c, const la::FactorFactory& make_factor,
+                              const ContactSolverOptions& opt)
+      : K_(std::move(K)), c_(std::move(c)), opt_(opt),
+        pd_(*K_, c_.N, opt.omega > 0 ? opt.omega : default_omega(K_->comm(), K_factor, c_), make_factor, "K_pd") {}
 
-  ContactReport solve(const Vector& F, const Vector& g, Vector& u, Vector& lambda) override {
-    const int m = static_cast<int>(N_.rows());
-    const Vector lo = Vector::Constant(m, -std::numeric_limits<double>::infinity());
-    const PenaltyDualityResult r = pd_.solve(F, lo, g, u, lambda, opt_.tolerance, opt_.max_iterations);
-    ContactReport rep;
-    rep.converged = r.converged;
-    rep.iterations = r.iterations;
+  ContactReport solve(const Vector& F, Vector& u, Vector& lambda) override {
+    const auto rows = static_cast<Eigen::Index>(c_.rows.size());
+    const Vector lo = Vector::Constant(rows, -std::numeric_limits<double>::infinity());
+    Vector theta = lambda.size() == c_.m ? local_rows(c_, lambda) : Vector();
+    const PenaltyDualityResult r = pd_.solve(F, lo, c_.gap, u, theta, opt_.tolerance, opt_.max_iterations);
+    lambda = replicate(K_->comm(), c_, theta);
     // The force scale of PenaltyDuality::solve's KKT test (b = F there).
-    const auto inf = [](const Vector& v) { return v.size() ? v.cwiseAbs().maxCoeff() : 0.0; };
-    const double force_scale = std::max(inf(lambda), inf(F));
-    finish_report(rep, *K_, N_, F, g, u, lambda, opt_.tolerance * force_scale);
-    return rep;
+    const double force_scale =
+        std::max(lambda.size() ? lambda.cwiseAbs().maxCoeff() : 0.0, K_->comm().max(F.size() ? F.cwiseAbs().maxCoeff() : 0.0));
+    return make_report(*K_, c_, F, u, lambda, {r.converged, r.iterations}, opt_.tolerance * force_scale);
   }
   std::string name() const override { return "penalty-duality"; }
-  Vector warm_state() const override { return pd_.multiplier_state(); }
-  void set_warm_state(const Vector& q) override { pd_.set_multiplier_state(q); }
+  std::string describe() const override { return "penalty-duality, factor of K + omega N^T N"; }
+  Vector warm_state() const override {
+    const bool started = pd_.multiplier_state().size() == static_cast<Eigen::Index>(c_.rows.size());
+    return K_->comm().all(started) ? replicate(K_->comm(), c_, pd_.multiplier_state()) : Vector();
+  }
+  void set_warm_state(const Vector& q) override {
+    pd_.set_multiplier_state(q.size() == c_.m ? local_rows(c_, q) : Vector());
+  }
 
  private:
-  std::shared_ptr<const SparseMatrix> K_;  // for the reported residuals
-  SparseMatrix N_;
+  std::shared_ptr<const la::SpdOperator> K_;  // for the reported residuals
+  ContactConstraints c_;
   ContactSolverOptions opt_;
   PenaltyDuality pd_;
 };
 
 }  // namespace
 
-std::unique_ptr<ContactSolver> make_contact_solver(const std::string& name, const SparseMatrix& K,
-                                                   std::shared_ptr<const LinearSolver> K_factor,
-                                                   const SparseMatrix& N, const ContactSolverOptions& opt) {
-  return make_contact_solver(name, std::make_shared<const SparseMatrix>(K), std::move(K_factor), N, opt);
+std::unique_ptr<ContactSolver> make_contact_solver(const std::string& name, std::shared_ptr<const la::SpdOperator> K,
+                                                   std::shared_ptr<const la::Factor> K_factor,
+                                                   ContactConstraints constraints, const la::FactorFactory& make_factor,
+                                                   const ContactSolverOptions& opt) {
+  require(K != nullptr, "contact solver: no stiffness matrix");
+  require(constraints.m > 0, "contact solver: there are no contact unknowns (is the contact part empty?)");
+  require(K_factor != nullptr, "contact solver: needs the factor of K");
+  const auto rows = static_cast<Eigen::Index>(constraints.rows.size());
+  require(constraints.N.rows() == rows && constraints.gap.size() == rows && constraints.N.cols() == K->n_owned(),
+          "internal: contact constraints of {} rows x {} columns for {} rows, {} gaps and {} owned dofs",
+          constraints.N.rows(), constraints.N.cols(), rows, constraints.gap.size(), K->n_owned());
+  if (name == "active-set")
+    return std::make_unique<ActiveSetContactSolver>(std::move(K), std::move(K_factor), std::move(constraints),
+                                                    opt.max_cached_share);
+  if (name == "penalty-duality")
+    return std::make_unique<PenaltyDualityContactSolver>(std::move(K), *K_factor, std::move(constraints), make_factor,
+                                                         opt);
+  fail("unknown contact solver '{}'; expected active-set or penalty-duality", name);
 }
 
-std::unique_ptr<ContactSolver> make_contact_solver(const std::string& name, std::shared_ptr<const SparseMatrix> K_ptr,
-                                                   std::shared_ptr<const LinearSolver> K_factor,
-                                                   const SparseMatrix& N, const ContactSolverOptions& opt) {
-  require(K_ptr != nullptr, "contact solver: no stiffness matrix");
-  const SparseMatrix& K = *K_ptr;
-  require(N.rows() > 0, "contact solver: there are no contact unknowns (is the contact part empty?)");
-  require(K_factor != nullptr && K_factor->size() == K.rows(), "contact solver: needs the factor of K");
-  if (name == "active-set") return std::make_unique<ActiveSetContactSolver>(std::move(K_ptr), std::move(K_factor), N,
-                                                                            opt.max_cached_share);
-  if (name == "penalty-duality") return std::make_unique<PenaltyDualityContactSolver>(std::move(K_ptr), *K_factor, N, opt);
-  fail("unknown contact solver '{}'; expected active-set or penalty-duality", name);
+std::unique_ptr<ContactSolver> make_contact_solver(const std::string& name, const SparseMatrix& K,
+                                                   const SparseMatrix& N, const Vector& gap,
+                                                   const ContactSolverOptions& opt) {
+  auto op = std::make_shared<const la::SparseOperator>(K);
+  std::shared_ptr<la::Factor> factor = la::make_cholmod_factor("K");
+  factor->factorize(*op, "elastic stiffness K");
+  ContactConstraints c{static_cast<int>(N.rows()), {}, N, gap};
+  for (int i = 0; i < c.m; ++i) c.rows.push_back(i);
+  return make_contact_solver(name, std::move(op), std::move(factor), std::move(c), la::make_cholmod_factor, opt);
 }
 
 }  // namespace vpc

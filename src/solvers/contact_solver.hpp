@@ -4,7 +4,13 @@
 // K the constant elastic stiffness on the free dofs, one row of N per contact
 // node (its contact direction). The multipliers λ ≥ 0 are the nodal contact
 // forces: K u = F − Nᵀλ, λ ⟂ (g − N u) ≥ 0. Neither solver knows about meshes.
-#include "la/linear_solver.hpp"
+//
+// Written once over la/ for one process and for many: u, F are this rank's owned
+// free dofs; the rows of N are distributed by contact node (a row lives on the rank
+// that owns its node, with all its dofs); λ is replicated (m numbers, the same on
+// every rank): the dual QP with the dense S = N K⁻¹ Nᵀ is small and solved alike on
+// every rank. On one process the rows are 0..m−1 and N is the whole matrix.
+#include "la/factor.hpp"
 
 #include <memory>
 #include <string>
@@ -34,18 +40,29 @@ struct ContactReport {
   ContactResiduals residuals;
 };
 
-ContactResiduals contact_residuals(const SparseMatrix& K, const SparseMatrix& N, const Vector& F,
-                                   const Vector& g, const Vector& u, const Vector& lambda);
+/// This process's rows of N (3.9): the contact nodes it owns.
+struct ContactConstraints {
+  int m = 0;              // rows over all processes
+  std::vector<int> rows;  // the global row (0..m-1) of each local row, increasing
+  SparseMatrix N;         // local rows × owned free dofs
+  Vector gap;             // g of each local row
+};
+
+/// Residuals of (3.9) at (u owned, λ replicated), reductions over K.comm(); same definitions as today.
+ContactResiduals contact_residuals(const la::SpdOperator& K, const ContactConstraints& c, const Vector& F,
+                                   const Vector& u, const Vector& lambda);
 
 class ContactSolver {
  public:
   virtual ~ContactSolver() = default;
-  /// Solves for u (free dofs) and λ (one per row of N); both are warm starts on entry.
-  virtual ContactReport solve(const Vector& F, const Vector& g, Vector& u, Vector& lambda) = 0;
+  /// F, u: owned free dofs (u is the warm start on entry); lambda: m numbers (replicated). Collective.
+  virtual ContactReport solve(const Vector& F, Vector& u, Vector& lambda) = 0;
   virtual std::string name() const = 0;
-  /// Internal warm-start state carried from step to step (penalty–duality's
-  /// multiplier; empty for the active-set method, whose warm start is the
-  /// solution itself): saved in checkpoints so that a resumed run is bit-identical.
+  /// One line for the run's description, e.g. "one solve per step (K's halves)" / "two solves per step".
+  virtual std::string describe() const = 0;
+  /// Warm-start state (penalty–duality's multiplier), as m numbers, the same on every rank; empty for
+  /// active set, whose warm start is the solution itself: saved in checkpoints so that a resumed run is
+  /// bit-identical.
   virtual Vector warm_state() const { return {}; }
   virtual void set_warm_state(const Vector&) {}
 };
@@ -54,24 +71,28 @@ struct ContactSolverOptions {
   double tolerance = 1e-12;    // penalty–duality stopping tolerance
   int max_iterations = 200000; // penalty–duality; the active-set method stops far earlier
   double omega = 0;            // penalty–duality ω; 0: 1 / (mean compliance N_i K⁻¹ N_iᵀ)
-  /// Active set: Y = L⁻¹PNᵀ is kept (a step then costs one solve) while it takes at
-  /// most this share of the memory of K's factor (and 256 MiB); else two solves a step.
+  /// Active set: Y = L⁻¹PNᵀ (or W = K⁻¹Nᵀ without halves) is kept (a step then costs
+  /// one solve) while it takes at most this share of the memory of K's factor (where
+  /// the backend says it) and 256 MiB (on every rank); else two solves a step.
   double max_cached_share = 0.5;
 
   bool operator==(const ContactSolverOptions&) const = default;
 };
 
-/// K and N are copied; K_factor must be the factor of K.
-/// "active-set": primal–dual active set on the contact unknowns (the dual QP with
-/// S = N K⁻¹ Nᵀ = YᵀY with Y = L⁻¹PNᵀ, formed once with the cached factor
-/// K = PᵀLLᵀP); one solve with K per step, as a forward and a backward half.
-/// "penalty-duality": the paper's Bermúdez–Moreno iteration on u (cross-check).
+/// K (assembled, owned rows) and its factor; `make_factor` makes penalty–duality's factor of K + ωNᵀN.
+/// "active-set": primal–dual active set on the contact unknowns, the dual QP with
+/// S = N K⁻¹ Nᵀ. With a factor that has triangular halves (CHOLMOD, K = PᵀLLᵀP),
+/// S = YᵀY with Y = L⁻¹PNᵀ kept sparse, and a step is one solve in two halves; else
+/// W = K⁻¹Nᵀ is formed by block solves and kept (a step is one solve, u = u_free − Wλ),
+/// or, when too large, a step is two solves. "penalty-duality": the paper's
+/// Bermúdez–Moreno iteration on u (cross-check), factor of K + ωNᵀN.
+std::unique_ptr<ContactSolver> make_contact_solver(const std::string& name, std::shared_ptr<const la::SpdOperator> K,
+                                                   std::shared_ptr<const la::Factor> K_factor,
+                                                   ContactConstraints constraints, const la::FactorFactory& make_factor,
+                                                   const ContactSolverOptions& opt = {});
+/// One process, for tests and benchmarks: K and N in Eigen, CHOLMOD.
 std::unique_ptr<ContactSolver> make_contact_solver(const std::string& name, const SparseMatrix& K,
-                                                   std::shared_ptr<const LinearSolver> K_factor,
-                                                   const SparseMatrix& N, const ContactSolverOptions& opt = {});
-/// The same, sharing K instead of copying it (K must not change afterwards).
-std::unique_ptr<ContactSolver> make_contact_solver(const std::string& name, std::shared_ptr<const SparseMatrix> K,
-                                                   std::shared_ptr<const LinearSolver> K_factor,
-                                                   const SparseMatrix& N, const ContactSolverOptions& opt = {});
+                                                   const SparseMatrix& N, const Vector& gap,
+                                                   const ContactSolverOptions& opt = {});
 
 }  // namespace vpc

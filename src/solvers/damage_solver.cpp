@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace vpc {
 
@@ -13,7 +14,6 @@ namespace {
 
 class ActiveSetDamageSolver final : public DamageSolver {
  public:
-  ActiveSetDamageSolver(const SparseMatrix& H, ReducedSolve reduced) : op_(H, reduced) {}
   ActiveSetDamageSolver(std::unique_ptr<la::SpdOperator> H, const la::FactorFactory& make_factor, ReducedSolve reduced)
       : op_(std::move(H), make_factor, reduced) {}
   DamageReport solve(const Vector& rhs, Vector& beta) override {
@@ -35,54 +35,75 @@ SparseMatrix identity(int n) {
   return I;
 }
 
+/// The 2-norm of a vector of owned entries.
+double norm(const la::Comm& comm, const Vector& v) { return std::sqrt(comm.sum(v.squaredNorm())); }
+
 /// With E = I the iteration contracts like |ω − μ| / (ω + μ) over the eigenvalues
 /// μ of H: ω = √(μ_min μ_max) balances the two ends (the mean diagonal, tried
-/// first, made the iteration count grow like h⁻²). μ_max by power iteration;
+/// first, made the iteration count grow like h⁻²). μ_max by power iteration (from
+/// 1 + i / (n − 1) at global index i, the same start on any number of ranks);
 /// μ_min ≥ the smallest eigenvalue of the mass part, estimated as half the
 /// smallest diagonal entry (exact for the P1 mass matrix in 1D up to a factor).
-double default_omega(const SparseMatrix& H) {
-  const int n = static_cast<int>(H.rows());
-  Vector v = Vector::Ones(n) + Vector::LinSpaced(n, 0.0, 1.0);
-  double mu_max = 0;
-  for (int it = 0; it < 30; ++it) {
-    const Vector w = H * v;
-    mu_max = w.norm() / v.norm();
-    v = w / w.norm();
+double default_omega(const la::SpdOperator& H) {
+  const la::Comm& comm = H.comm();
+  const int n = H.n_owned();
+  const std::vector<long long> sizes = comm.all_gather(n);
+  long long first = 0, total = 0;
+  for (int r = 0; r < comm.size(); ++r) {
+    if (r < comm.rank()) first += sizes[r];
+    total += sizes[r];
   }
-  const double mu_min = 0.5 * H.diagonal().minCoeff();
+  Vector v = Vector::Ones(n) + Vector(Vector::LinSpaced(total, 0.0, 1.0)).segment(first, n);
+  double mu_max = 0;
+  Vector w;
+  for (int it = 0; it < 30; ++it) {
+    H.mult(v, w);
+    const double w_norm = norm(comm, w);
+    mu_max = w_norm / norm(comm, v);
+    v = w / w_norm;
+  }
+  const Vector diag = H.diagonal();
+  const double mu_min =
+      0.5 * comm.min(n > 0 ? diag.minCoeff() : std::numeric_limits<double>::infinity());
   return std::sqrt(std::max(mu_min, 1e-300) * std::max(mu_max, mu_min));
 }
 
 class PenaltyDualityDamageSolver final : public DamageSolver {
  public:
-  PenaltyDualityDamageSolver(const SparseMatrix& H, double tol, int maxit)
-      : H_(H), pd_(H, identity(static_cast<int>(H.rows())), default_omega(H)), tol_(tol), maxit_(maxit) {}
+  PenaltyDualityDamageSolver(std::unique_ptr<la::SpdOperator> H, const la::FactorFactory& make_factor, double tol,
+                             int maxit)
+      : H_(std::move(H)), diag_(H_->diagonal()),
+        pd_(*H_, identity(H_->n_owned()), default_omega(*H_), make_factor, "H_pd"), tol_(tol), maxit_(maxit) {}
   DamageReport solve(const Vector& rhs, Vector& beta) override {
     const int n = static_cast<int>(rhs.size());
+    const la::Comm& comm = H_->comm();
     Vector theta;
     // Converged also when the projection onto [0, 1] satisfies the KKT conditions
     // to the tolerance (the measure reported for both damage solvers): at a
     // degenerate bound (β = 1 with a zero multiplier, e.g. β0 = 1) the
     // multiplier test alone converges only linearly.
     const Vector lo = Vector::Zero(n), hi = Vector::Ones(n);
-    const Vector diag = H_.diagonal();
     auto accept = [&](const Vector& x) {
       const Vector p = x.cwiseMax(0.0).cwiseMin(1.0);
-      return box_qp_kkt_residual(H_ * p, diag, rhs, lo, hi, p) <= tol_;
+      return box_qp_kkt_residual(product(p), diag_, rhs, lo, hi, p, comm) <= tol_;
     };
     const PenaltyDualityResult r = pd_.solve(rhs, lo, hi, beta, theta, tol_, maxit_, accept);
     DamageReport rep{r.converged, r.iterations, 0, 0, 0};
     // The iterate meets the box only to O(tolerance), from either side: project,
     // as the scheme requires β ∈ K^h exactly, snapping values within the
     // tolerance of a bound onto it, and report the KKT residual after that.
+    long long at_bounds[2] = {0, 0};
     for (int i = 0; i < n; ++i) {
       beta[i] = std::clamp(beta[i], 0.0, 1.0);
       if (beta[i] < tol_) beta[i] = 0.0;
       if (beta[i] > 1.0 - tol_) beta[i] = 1.0;
-      rep.n_lower += beta[i] == 0.0;
-      rep.n_upper += beta[i] == 1.0;
+      at_bounds[0] += beta[i] == 0.0;
+      at_bounds[1] += beta[i] == 1.0;
     }
-    rep.kkt_residual = box_qp_kkt_residual(H_ * beta, H_.diagonal(), rhs, Vector::Zero(n), Vector::Ones(n), beta);
+    comm.sum(at_bounds, 2);
+    rep.n_lower = static_cast<int>(at_bounds[0]);
+    rep.n_upper = static_cast<int>(at_bounds[1]);
+    rep.kkt_residual = box_qp_kkt_residual(product(beta), diag_, rhs, lo, hi, beta, comm);
     return rep;
   }
   std::string name() const override { return "penalty-duality"; }
@@ -92,7 +113,13 @@ class PenaltyDualityDamageSolver final : public DamageSolver {
   double factor_bytes() const override { return pd_.factor_bytes(); }
 
  private:
-  SparseMatrix H_;
+  Vector product(const Vector& x) const {
+    Vector y;
+    H_->mult(x, y);
+    return y;
+  }
+  std::unique_ptr<la::SpdOperator> H_;
+  Vector diag_;
   PenaltyDuality pd_;
   double tol_;
   int maxit_;
@@ -100,17 +127,19 @@ class PenaltyDualityDamageSolver final : public DamageSolver {
 
 }  // namespace
 
-std::unique_ptr<DamageSolver> make_damage_solver(const std::string& name, const SparseMatrix& H, double tolerance,
-                                                 int max_iterations, ReducedSolve reduced) {
-  if (name == "active-set") return std::make_unique<ActiveSetDamageSolver>(H, reduced);
-  if (name == "penalty-duality") return std::make_unique<PenaltyDualityDamageSolver>(H, tolerance, max_iterations);
+std::unique_ptr<DamageSolver> make_damage_solver(const std::string& name, std::unique_ptr<la::SpdOperator> H,
+                                                 const la::FactorFactory& make_factor, ReducedSolve reduced,
+                                                 double tolerance, int max_iterations) {
+  if (name == "active-set") return std::make_unique<ActiveSetDamageSolver>(std::move(H), make_factor, reduced);
+  if (name == "penalty-duality")
+    return std::make_unique<PenaltyDualityDamageSolver>(std::move(H), make_factor, tolerance, max_iterations);
   fail("unknown damage solver '{}'; expected active-set or penalty-duality", name);
 }
 
-std::unique_ptr<DamageSolver> make_active_set_damage_solver(std::unique_ptr<la::SpdOperator> H,
-                                                            const la::FactorFactory& make_factor,
-                                                            ReducedSolve reduced) {
-  return std::make_unique<ActiveSetDamageSolver>(std::move(H), make_factor, reduced);
+std::unique_ptr<DamageSolver> make_damage_solver(const std::string& name, const SparseMatrix& H, double tolerance,
+                                                 int max_iterations, ReducedSolve reduced) {
+  return make_damage_solver(name, std::make_unique<la::SparseOperator>(H), la::make_cholmod_factor, reduced,
+                            tolerance, max_iterations);
 }
 
 }  // namespace vpc

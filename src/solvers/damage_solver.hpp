@@ -20,12 +20,14 @@ struct DamageReport {
 class DamageSolver {
  public:
   virtual ~DamageSolver() = default;
-  /// β is the warm start on entry and the solution, exactly in [0, 1], on exit.
+  /// rhs, β: owned entries. β is the warm start on entry and the solution, exactly
+  /// in [0, 1], on exit. Collective.
   virtual DamageReport solve(const Vector& rhs, Vector& beta) = 0;
   virtual std::string name() const = 0;
   /// Internal warm-start state carried from step to step (penalty–duality's
-  /// multiplier; empty for the active-set method, whose warm start is the
-  /// solution itself): saved in checkpoints so that a resumed run is bit-identical.
+  /// multiplier, this rank's owned entries: a node field; empty for the active-set
+  /// method, whose warm start is the solution itself): saved in checkpoints so that
+  /// a resumed run is bit-identical.
   virtual Vector warm_state() const { return {}; }
   virtual void set_warm_state(const Vector&) {}
   /// Sparse factorizations done so far (constant-matrix factor plus reduced ones).
@@ -34,16 +36,18 @@ class DamageSolver {
   virtual double factor_bytes() const = 0;
 };
 
-/// "active-set" (primal–dual active set, factor of H cached; reduced systems by
-/// `reduced`, see ReducedSolve) or "penalty-duality" (Bermúdez–Moreno, factor of H + ωI).
+/// H: the assembled operator (owned rows of this rank), `make_factor` a backend's
+/// factors (la/): the same algorithms on one process and on many. "active-set"
+/// (primal–dual active set, factor of H cached; reduced systems by `reduced`, see
+/// ReducedSolve) or "penalty-duality" (Bermúdez–Moreno, factor of H + ωI).
+/// Collective.
+std::unique_ptr<DamageSolver> make_damage_solver(const std::string& name, std::unique_ptr<la::SpdOperator> H,
+                                                 const la::FactorFactory& make_factor,
+                                                 ReducedSolve reduced = ReducedSolve::automatic,
+                                                 double tolerance = 1e-13, int max_iterations = 200000);
+/// One process: H in Eigen, CHOLMOD.
 std::unique_ptr<DamageSolver> make_damage_solver(const std::string& name, const SparseMatrix& H,
                                                  double tolerance = 1e-13, int max_iterations = 200000,
                                                  ReducedSolve reduced = ReducedSolve::automatic);
-
-/// The active-set solver over a backend's operator H (owned rows of this rank)
-/// and factors (la/): the same algorithm on one process and on many.
-std::unique_ptr<DamageSolver> make_active_set_damage_solver(std::unique_ptr<la::SpdOperator> H,
-                                                            const la::FactorFactory& make_factor,
-                                                            ReducedSolve reduced = ReducedSolve::automatic);
 
 }  // namespace vpc

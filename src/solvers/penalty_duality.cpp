@@ -8,12 +8,17 @@
 
 namespace vpc {
 
-PenaltyDuality::PenaltyDuality(const SparseMatrix& H, SparseMatrix E, double omega)
-    : E_(std::move(E)), Et_(E_.transpose()), omega_(omega), factor_(make_cholmod_solver()) {
+PenaltyDuality::PenaltyDuality(const la::SpdOperator& H, SparseMatrix E, double omega,
+                               const la::FactorFactory& make_factor, const std::string& name)
+    : E_(std::move(E)), Et_(E_.transpose()), omega_(omega), comm_(H.comm()) {
   require(omega > 0, "penalty-duality: omega must be > 0 (got {})", omega);
-  const SparseMatrix Hp = H + omega * SparseMatrix(Et_ * E_);
-  factor_->factorize(Hp, "penalty-duality matrix H + omega E^T E");
+  Hp_ = H.plus(omega * SparseMatrix(Et_ * E_));
+  factor_ = make_factor(name);
+  factor_->factorize(*Hp_, "penalty-duality matrix H + omega E^T E");
 }
+
+PenaltyDuality::PenaltyDuality(const SparseMatrix& H, SparseMatrix E, double omega)
+    : PenaltyDuality(la::SparseOperator(H), std::move(E), omega, la::make_cholmod_factor, "H_pd") {}
 
 PenaltyDualityResult PenaltyDuality::solve(const Vector& b, const Vector& lo, const Vector& hi, Vector& x,
                                            Vector& theta, double tolerance, int max_iterations,
@@ -21,7 +26,7 @@ PenaltyDualityResult PenaltyDuality::solve(const Vector& b, const Vector& lo, co
   const int m = static_cast<int>(E_.rows());
   if (q_.size() != m) q_ = Vector::Zero(m);
   PenaltyDualityResult res;
-  if (!b.allFinite()) {  // NaN or Inf data: no iteration could converge
+  if (!comm_.all(b.allFinite())) {  // NaN or Inf data: no iteration could converge
     x = Vector::Constant(b.size(), std::numeric_limits<double>::quiet_NaN());
     theta = Vector::Constant(m, std::numeric_limits<double>::quiet_NaN());
     return res;
@@ -32,15 +37,18 @@ PenaltyDualityResult PenaltyDuality::solve(const Vector& b, const Vector& lo, co
     if (std::isfinite(lo[i])) bound_scale = std::max(bound_scale, std::abs(lo[i]));
     if (std::isfinite(hi[i])) bound_scale = std::max(bound_scale, std::abs(hi[i]));
   }
-  const double b_scale = b.size() ? b.cwiseAbs().maxCoeff() : 0.0;
+  bound_scale = comm_.max(bound_scale);
+  const auto inf = [&](const Vector& v) { return comm_.max(v.size() ? v.cwiseAbs().maxCoeff() : 0.0); };
+  const double b_scale = inf(b);
+  if (x.size() != b.size()) x = Vector::Zero(b.size());
   for (res.iterations = 1; res.iterations <= max_iterations; ++res.iterations) {
-    x = factor_->solve(Vector(b - Et_ * q_));
+    factor_->solve(Vector(b - Et_ * q_), x);  // x: an iterative solver's initial guess
     const Vector y = E_ * x;
     // (x, θ) with θ = q + ωEx satisfies Hx + Eᵀθ = b exactly; stop when it also
     // satisfies the rest of KKT: lo ≤ Ex ≤ hi, θ ≥ 0 only at hi, θ ≤ 0 only at lo.
     theta = q_ + w * y;
-    const double x_scale = std::max({x.cwiseAbs().maxCoeff(), bound_scale, 1e-300});
-    const double t_scale = std::max({theta.cwiseAbs().maxCoeff(), b_scale, 1e-300});
+    const double x_scale = std::max({inf(x), bound_scale, 1e-300});
+    const double t_scale = std::max({inf(theta), b_scale, 1e-300});
     double kkt = 0;
     for (int i = 0; i < m; ++i) {
       kkt = std::max({kkt, (y[i] - hi[i]) / x_scale, (lo[i] - y[i]) / x_scale});
@@ -50,7 +58,8 @@ PenaltyDualityResult PenaltyDuality::solve(const Vector& b, const Vector& lo, co
       if (theta[i] > 0) kkt = std::max(kkt, std::min(theta[i] / t_scale, (hi[i] - y[i]) / x_scale));
       if (theta[i] < 0) kkt = std::max(kkt, std::min(-theta[i] / t_scale, (y[i] - lo[i]) / x_scale));
     }
-    if (kkt <= tolerance || (accept && res.iterations % 8 == 0 && accept(x))) {
+    kkt = comm_.max(kkt);
+    if (kkt <= tolerance || (accept && res.iterations % 8 == 0 && comm_.all(accept(x)))) {
       res.converged = true;
       break;
     }

@@ -8,9 +8,14 @@
 // P the projection onto the box; θ = q + ω E x is the Lagrange multiplier
 // (θ_i ≥ 0 where the upper bound is active, ≤ 0 at the lower). The matrix
 // H + ωEᵀE is constant, so it is factorized once. Convergence is linear.
-#include "la/linear_solver.hpp"
+//
+// Written once over la/: x and b are this rank's owned entries, the rows of E (and
+// lo, hi, q, θ) this rank's constraint rows; every scale and the KKT decision are
+// reductions over H.comm(), so all ranks iterate alike.
+#include "la/factor.hpp"
 
 #include <functional>
+#include <string>
 
 namespace vpc {
 
@@ -21,7 +26,11 @@ struct PenaltyDualityResult {
 
 class PenaltyDuality {
  public:
-  /// Factorizes H + ω EᵀE once.
+  /// Factorizes H + ω EᵀE once (H->plus, a factor by make_factor(name)); E: this
+  /// rank's constraint rows × owned columns. Collective.
+  PenaltyDuality(const la::SpdOperator& H, SparseMatrix E, double omega, const la::FactorFactory& make_factor,
+                 const std::string& name);
+  /// One process: H in Eigen, CHOLMOD.
   PenaltyDuality(const SparseMatrix& H, SparseMatrix E, double omega);
 
   /// Iterates from the multiplier state q (warm start, kept between calls) until
@@ -29,7 +38,8 @@ class PenaltyDuality {
   /// to ‖x‖∞ and the bounds; for θ_i ≠ 0, min(|θ_i| / ‖θ, b‖∞, distance of Ex to
   /// the bound θ_i's sign calls for / ‖x‖∞). Hx + Eᵀθ = b holds at every iterate.
   /// `accept`, if given, may also declare an iterate converged (e.g. a problem-specific
-  /// residual of its projection), checked every few iterations.
+  /// residual of its projection), checked every few iterations, on every rank
+  /// (collective; the iterate is accepted when it accepts on every rank).
   PenaltyDualityResult solve(const Vector& b, const Vector& lo, const Vector& hi, Vector& x, Vector& theta,
                              double tolerance, int max_iterations,
                              const std::function<bool(const Vector&)>& accept = {});
@@ -43,7 +53,9 @@ class PenaltyDuality {
  private:
   SparseMatrix E_, Et_;
   double omega_;
-  std::unique_ptr<LinearSolver> factor_;
+  la::Comm comm_;
+  std::unique_ptr<la::SpdOperator> Hp_;  // H + ωEᵀE (kept: iterative factors use it)
+  std::unique_ptr<la::Factor> factor_;
   Vector q_;  // multiplier state, kept between calls as a warm start
 };
 

@@ -1,13 +1,16 @@
-// The distributed engine against the serial TimeStepper, step by step:
+// The one TimeStepper on the PETSc backend (P ranks) against the serial backend, step by step:
 //   mpirun -np P vpcontact_mpi_compare CASE [--n N] [--steps S] [--kappa K] [--linear mumps|cg-gamg|cg-hypre]
-//                                           [--tolerance 1e-10]
+//                                           [--tolerance 1e-10] [--elasticity KIND] [--contact-solver NAME]
+//                                           [--damage-solver NAME] [--halvings H] [--reduced reduced-factor]
+//                                           [--max-cached-share S]
 // Every rank checks that its step reports are ok (contact and damage KKT residuals
 // within the tolerance of SolverChoice) and equal on all ranks; rank 0 runs the
 // serial stepper beside the distributed one and compares u, β, λ (contact forces)
 // and σ after every step, relative to their max norms. Exit 0 only if all hold.
 #include "cases/builtin_cases.hpp"
-#include "parallel/distributed_time_stepper.hpp"
-#include "la/petsc_util.hpp"
+#include "la/petsc.hpp"
+#include "parallel/distributed_mesh.hpp"
+#include "scheme/time_stepper.hpp"
 
 #include <fmt/format.h>
 
@@ -32,6 +35,9 @@ int run(int argc, char** argv) {
   vpc::PetscSolverOptions linear;
   double tolerance = 1e-10;
   std::string elasticity;  // --elasticity KIND replaces the case's ℰ (same E, ν)
+  vpc::SolverChoice choice;
+  choice.contact = choice.damage = "";
+  std::string reduced;
   for (int i = 2; i + 1 < argc; i += 2) {
     const std::string key = argv[i], value = argv[i + 1];
     if (key == "--n") mesh.cells = std::stoi(value);
@@ -40,27 +46,39 @@ int run(int argc, char** argv) {
     else if (key == "--linear") linear.kind = value;
     else if (key == "--tolerance") tolerance = std::stod(value);
     else if (key == "--elasticity") elasticity = value;
+    else if (key == "--contact-solver") choice.contact = value;
+    else if (key == "--damage-solver") choice.damage = value;
+    else if (key == "--halvings") choice.max_halvings = std::stoi(value);
+    else if (key == "--reduced") reduced = value;
+    else if (key == "--max-cached-share") choice.contact_options.max_cached_share = std::stod(value);
     else vpc::fail("unknown option '{}'", key);
   }
   vpc::Case c = vpc::load_case(name, ov, mesh);
+  // Solver choices beyond the case's: every one the serial backend takes, the PETSc backend takes too.
+  for (const auto* field : {&choice.contact, &choice.damage})
+    if (!field->empty()) (field == &choice.contact ? c.solvers.contact : c.solvers.damage) = *field;
+  c.solvers.max_halvings = choice.max_halvings;
+  c.solvers.contact_options.max_cached_share = choice.contact_options.max_cached_share;
+  if (reduced == "reduced-factor") c.solvers.damage_reduced = vpc::ReducedSolve::reduced_factor;
   // E.g. plane strain for paper-2d: σ33 and z33 are carried by both engines.
   if (!elasticity.empty())
     c.problem->elasticity = vpc::Elasticity::from_name(elasticity, c.problem->elasticity.young(),
                                                        c.problem->elasticity.poisson());
   std::unique_ptr<vpc::TimeStepper> serial;
   if (rank == 0) serial = std::make_unique<vpc::TimeStepper>(c.problem, c.solvers);
-  vpc::DistributedTimeStepper dist(c.problem, vpc::distribute_mesh(comm, *c.problem), c.solvers, linear);
+  vpc::TimeStepper dist(c.problem, vpc::distribute_mesh(comm, *c.problem),
+                        vpc::la::make_petsc_backend(vpc::la::make_mpi_comm(comm), linear), c.solvers);
   const auto& part = dist.part();
   if (rank == 0)
     fmt::print("{} on {} ranks ({} linear solver): {} nodes, {} cells, {} free dofs, {} contact nodes, {} steps\n",
                name, size, linear.kind, part.n_global_nodes, part.n_global_cells, part.n_global_dofs, part.n_contact,
                c.problem->n_steps);
-  fmt::print("  rank {}: {} cells, {} owned + {} ghost nodes, {} owned dofs\n", rank, part.mesh.n_cells(),
-             part.n_owned_nodes, part.n_ghost_nodes(), part.n_owned_dofs);
+  fmt::print("  rank {}: {} cells, {} owned + {} ghost nodes, {} owned dofs\n", rank, part.mesh().n_cells(),
+             part.n_owned_nodes, part.n_local_nodes() - part.n_owned_nodes, part.n_owned_dofs);
   std::fflush(stdout);
   MPI_Barrier(comm);
 
-  const int d = part.mesh.dim();
+  const int d = part.mesh().dim();
   bool ok = true;
   double worst[4] = {0, 0, 0, 0};  // u, β, λ, σ
   int rank_failures = 0;
@@ -78,7 +96,7 @@ int run(int argc, char** argv) {
       ++rank_failures;
     }
     // Gather u, β, σ to rank 0 in the numbering of the mesh as read.
-    const vpc::Vector u_local = dist.local_u(), b_local = dist.local_beta();
+    const vpc::Vector &u_local = dist.state().u, &b_local = dist.state().beta;
     const std::vector<int> owned_nodes(part.original_node.begin(), part.original_node.begin() + part.n_owned_nodes);
     const vpc::Vector u = vpc::gather_to_root(comm, owned_nodes, u_local.data(), d, part.n_global_nodes);
     const vpc::Vector beta = vpc::gather_to_root(comm, owned_nodes, b_local.data(), 1, part.n_global_nodes);

@@ -4,7 +4,7 @@ file to the files a run writes, on the serial engine and on the PETSc engine at
 several rank counts.
 
   equivalence.py --vpcontact BIN --mpiexec MPIEXEC --work DIR [--ranks 1,2,3]
-                 [--refuse REGEX] -- CASE [run options...]
+                 -- CASE [run options...]
 
 Runs `BIN run CASE OPTIONS --engine serial` once and `MPIEXEC -n P BIN run CASE
 OPTIONS --engine petsc` for each P, then compares what they wrote:
@@ -22,11 +22,6 @@ floor is 1e-13 * (1 + scale), except for the solvers' residuals (history.csv,
 summary.json "checks"): relative residuals at round-off level, written with 3
 digits in history.csv, agree when |a - b| <= 1e-10. Integers
 (steps, iterations, counts, flags) must be equal.
-
-With --refuse REGEX the case is a feature the PETSc engine does not have yet:
-the serial run must succeed and each PETSc run must fail at once, saying REGEX
-exactly once (rank 0 reports it) and without MPI_Abort. When the engines are
-unified, remove --refuse and the entry must match.
 
 Prints "equivalence: PASSED" or the differences and "equivalence: FAILED".
 Python standard library only.
@@ -295,7 +290,6 @@ def main():
     ap.add_argument("--mpiexec", required=True)
     ap.add_argument("--work", required=True)
     ap.add_argument("--ranks", default="1,2,3")
-    ap.add_argument("--refuse", default=None)
     ap.add_argument("case", nargs=argparse.REMAINDER)
     a = ap.parse_args()
     case = [x for x in a.case if x != "--"]
@@ -316,14 +310,6 @@ def main():
         p, secs = run([a.mpiexec, "-n", str(ranks), "--oversubscribe", a.vpcontact, "run", *case, "--engine", "petsc",
                        "-q", "-o", out], env)
         text = p.stdout + p.stderr
-        if a.refuse is not None:
-            said = len(re.findall(a.refuse, text))
-            good = p.returncode != 0 and said == 1 and "MPI_Abort" not in text and "MPI_ABORT" not in text
-            print(f"PETSc on {ranks} rank{'s' if ranks > 1 else ''}: exit {p.returncode}, {secs:.2f} s: "
-                  f"{'refused as expected' if good else 'NOT REFUSED AS EXPECTED'} ({said} x /{a.refuse}/)")
-            print("  " + text.strip().replace("\n", "\n  "))
-            ok &= good
-            continue
         if p.returncode != 0:
             print(f"PETSc on {ranks} ranks: exit {p.returncode}\n{text}")
             ok = False

@@ -1,11 +1,17 @@
 // The linear-algebra layer (la/) on several ranks: reductions and the shared
 // error, ghost updates (forward, reverse-add), gather/scatter round trip in the
 // original numbering, the MPIAIJ operator's mult and restriction against the
-// serial Eigen operator, and the box QP with bounds active on different ranks
-// against the serial solve. Prints PASSED or FAILED (on rank 0).
+// serial Eigen operator, the box QP with bounds active on different ranks
+// against the serial solve, and the solvers written once over la/ (contact: active
+// set with W = K⁻¹Nᵀ kept or two solves, penalty–duality; damage: active set and
+// penalty–duality) on a problem whose rows and bounds are split over the ranks,
+// against the one-process solve (CHOLMOD) of the same global problem.
+// Prints PASSED or FAILED (on rank 0).
 #include "la/petsc.hpp"
 #include "la/vector.hpp"
 #include "solvers/box_qp.hpp"
+#include "solvers/contact_solver.hpp"
+#include "solvers/damage_solver.hpp"
 
 #include <fmt/format.h>
 
@@ -58,6 +64,108 @@ Eigen::SparseMatrix<double> element_matrix_sum(long long first, long long n_node
   Eigen::SparseMatrix<double> A(n_nodes, n_nodes);
   A.setFromTriplets(t.begin(), t.end());
   return A;
+}
+
+/// ‖a − b‖∞ ≤ tol ‖b‖∞ on every rank (b: the one-process solution's entries).
+bool close(const la::Comm& comm, const Eigen::VectorXd& a, const Eigen::VectorXd& b, double tol) {
+  const double err = comm.max(a.size() ? (a - b).lpNorm<Eigen::Infinity>() : 0.0);
+  const double scale = comm.max(b.size() ? b.lpNorm<Eigen::Infinity>() : 0.0);
+  return a.size() == b.size() && err <= tol * scale;
+}
+
+/// The contact and damage solvers on the chain (H: its matrix, as the stiffness K
+/// of one dof per node and as the damage matrix), distributed by contiguous node
+/// ranges, against one process.
+void check_solvers(const la::Comm& comm, const Chain& c, const Eigen::SparseMatrix<double>& local,
+                   const std::vector<PetscInt>& l2g, double h) {
+  const auto seg = [&](const Eigen::VectorXd& a) { return Eigen::VectorXd(a.segment(c.begin, c.n_owned)); };
+  const Eigen::SparseMatrix<double> K_serial = element_matrix_sum(0, c.N, h);
+  auto make_op = [&] { return std::make_unique<la::PetscOperator>(comm, local, l2g, c.n_owned, c.N, 1); };
+  const la::FactorFactory factory = la::petsc_factor_factory(comm, {});
+
+  // Contact (3.9): u_j ≤ g_j at every third node (rows numbered in node order, each
+  // on the rank owning its node), an upward load, a gap growing along the chain:
+  // the left part touches.
+  std::vector<Eigen::Triplet<double>> t_all, t_own;
+  std::vector<int> rows;
+  std::vector<double> gap_all, gap_own;
+  for (long long j = 1, r = 0; j < c.N; j += 3, ++r) {
+    const double g = 20.0 + 20.0 * j * h;  // the free solution is about 30
+    t_all.emplace_back(static_cast<int>(r), static_cast<int>(j), 1.0);
+    gap_all.push_back(g);
+    if (j < c.begin || j >= c.begin + c.n_owned) continue;
+    t_own.emplace_back(static_cast<int>(rows.size()), static_cast<int>(j - c.begin), 1.0);
+    rows.push_back(static_cast<int>(r));
+    gap_own.push_back(g);
+  }
+  const int m = static_cast<int>(gap_all.size());
+  Eigen::SparseMatrix<double> N_all(m, c.N), N_own(static_cast<Eigen::Index>(rows.size()), c.n_owned);
+  N_all.setFromTriplets(t_all.begin(), t_all.end());
+  N_own.setFromTriplets(t_own.begin(), t_own.end());
+  const Eigen::VectorXd g_all = Eigen::Map<Eigen::VectorXd>(gap_all.data(), m);
+  const Eigen::VectorXd F = Eigen::VectorXd::Constant(c.N, 30.0 * h);
+  ContactSolverOptions two_solves;
+  two_solves.max_cached_share = 0;
+  struct Variant {
+    const char* name;
+    ContactSolverOptions opt;
+    const char* says;
+  } variants[] = {{"active-set", {}, "one solve per step (K⁻¹Nᵀ kept)"},
+                  {"active-set", two_solves, "two solves per step"},
+                  {"penalty-duality", {}, nullptr}};
+  for (const Variant& v : variants) {
+    auto serial = make_contact_solver(v.name, K_serial, N_all, g_all, v.opt);
+    Eigen::VectorXd u_s, l_s;
+    const ContactReport rs = serial->solve(F, u_s, l_s);
+    std::shared_ptr<const la::SpdOperator> K = make_op();
+    std::shared_ptr<la::Factor> K_factor = factory("K");
+    K_factor->factorize(*K, "chain stiffness");
+    ContactConstraints cc{m, rows, N_own, Eigen::Map<Eigen::VectorXd>(gap_own.data(), N_own.rows())};
+    auto dist = make_contact_solver(v.name, K, K_factor, cc, factory, v.opt);
+    Eigen::VectorXd u = Eigen::VectorXd::Zero(c.n_owned), lambda;
+    const ContactReport r = dist->solve(seg(F), u, lambda);
+    const std::string what = fmt::format("contact {} ({})", v.name, dist->describe());
+    check(rs.converged && r.converged && rs.n_active > 0 && rs.n_active < m, fmt::format("{}: converged, a free boundary ({} of {} active)", what, rs.n_active, m),
+          comm);
+    check(r.n_active == rs.n_active && std::abs(r.total_force - rs.total_force) <= 1e-10 * rs.total_force,
+          fmt::format("{}: {} active, force {} (one process: {}, {})", what, r.n_active, r.total_force, rs.n_active,
+                      rs.total_force),
+          comm);
+    check(close(comm, u, seg(u_s), 1e-10) && close(comm, lambda, l_s, 1e-10), what + ": u and lambda", comm);
+    check(r.residuals.max() <= 1e-10 && std::abs(r.residuals.max() - rs.residuals.max()) <= 1e-10,
+          fmt::format("{}: residuals {} (one process: {})", what, r.residuals.max(), rs.residuals.max()), comm);
+    check(!v.says || dist->describe() == v.says, what + ": the path taken", comm);
+    check(close(comm, dist->warm_state(), serial->warm_state(), 1e-10), what + ": warm state (m numbers)", comm);
+    // A second solve from the warm state gives the same solution again.
+    auto again = make_contact_solver(v.name, K, K_factor, cc, factory, v.opt);
+    again->set_warm_state(dist->warm_state());
+    Eigen::VectorXd u2 = u, l2 = lambda;
+    const ContactReport r2 = again->solve(seg(F), u2, l2);
+    check(r2.converged && close(comm, u2, seg(u_s), 1e-10) && r2.iterations <= std::max(1, r.iterations),
+          what + ": warm restart", comm);
+  }
+
+  // Damage (3.8): 0 ≤ β ≤ 1 with both bounds active on different ranks.
+  Eigen::VectorXd b(c.N);
+  for (long long j = 0; j < c.N; ++j) b[j] = 80.0 * std::sin(6.0 * j * h) * h;
+  for (const char* name : {"active-set", "penalty-duality"}) {
+    auto serial = make_damage_solver(name, K_serial);
+    Eigen::VectorXd beta_s = Eigen::VectorXd::Ones(c.N);
+    const DamageReport rs = serial->solve(b, beta_s);
+    auto dist = make_damage_solver(name, make_op(), factory);
+    Eigen::VectorXd beta = Eigen::VectorXd::Ones(c.n_owned);
+    const DamageReport r = dist->solve(seg(b), beta);
+    const std::string what = fmt::format("damage {}", name);
+    check(rs.converged && r.converged && rs.n_lower > 0 && rs.n_upper > 0, what + ": converged, both bounds", comm);
+    check(r.n_lower == rs.n_lower && r.n_upper == rs.n_upper,
+          fmt::format("{}: bounds {} {} (one process: {} {})", what, r.n_lower, r.n_upper, rs.n_lower, rs.n_upper),
+          comm);
+    check(close(comm, beta, seg(beta_s), 1e-10) && r.kkt_residual <= 1e-10, what + ": beta", comm);
+    check(comm.any(c.n_owned > 0 && (beta.array() == 0).any()) && comm.any((beta.array() == 1).any()),
+          what + ": bounds active", comm);
+    const Eigen::VectorXd w = dist->warm_state(), w_s = serial->warm_state();
+    check(close(comm, w, w_s.size() ? seg(w_s) : w_s, 1e-10), what + ": warm state (owned entries)", comm);
+  }
 }
 
 void run() {
@@ -152,6 +260,8 @@ void run() {
   check((x - seg(x_s)).lpNorm<Eigen::Infinity>() <= 1e-12 && r.kkt_residual <= 1e-12, "box QP solution", comm);
   check(comm.any(c.n_owned > 0 && (x.array() == 0).any()) && comm.any((x.array() == 0.6).any()),
         "box QP: bounds active", comm);
+
+  check_solvers(comm, c, element_matrix_sum(c.begin, n_local_nodes, h), l2g, h);
 }
 
 }  // namespace

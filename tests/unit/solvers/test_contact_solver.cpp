@@ -22,10 +22,12 @@ namespace {
 
 const char* const kSolvers[] = {"active-set", "penalty-duality"};
 
-std::shared_ptr<const LinearSolver> factor_of(const SparseMatrix& K) {
-  std::shared_ptr<LinearSolver> f = make_cholmod_solver();
-  f->factorize(K, "test stiffness");
-  return f;
+/// The residuals of (3.9) on one process (rows 0..m−1, N whole).
+ContactResiduals residuals(const SparseMatrix& K, const SparseMatrix& N, const Vector& F, const Vector& g,
+                           const Vector& u, const Vector& lambda) {
+  ContactConstraints c{static_cast<int>(N.rows()), {}, N, g};
+  for (int i = 0; i < c.m; ++i) c.rows.push_back(i);
+  return contact_residuals(la::SparseOperator(K), c, F, u, lambda);
 }
 
 SparseMatrix sparse(const Eigen::MatrixXd& D) { return D.sparseView(); }
@@ -45,14 +47,13 @@ struct Springs {
 // F = 0.3: u2 = F/k_series = 0.25 < g, no contact: λ = 0 and u the free solution.
 TEST(ContactSolver, SpringsWithoutContact) {
   const Springs s;
-  const auto factor = factor_of(s.K);
   const Vector F = (Vector(2) << 0, 0.3).finished(), g = Vector::Constant(1, s.g);
   for (const char* name : kSolvers) {
     SCOPED_TRACE(name);
-    auto solver = make_contact_solver(name, s.K, factor, s.N);
+    auto solver = make_contact_solver(name, s.K, s.N, g);
     EXPECT_EQ(solver->name(), name);
     Vector u, lambda;
-    const ContactReport rep = solver->solve(F, g, u, lambda);
+    const ContactReport rep = solver->solve(F, u, lambda);
     ASSERT_TRUE(rep.converged);
     ASSERT_EQ(u.size(), 2);
     ASSERT_EQ(lambda.size(), 1);
@@ -61,7 +62,7 @@ TEST(ContactSolver, SpringsWithoutContact) {
     EXPECT_NEAR(u[0], 0.3 / s.k1, 1e-12);
     EXPECT_NEAR(u[1], 0.3 / s.k_series(), 1e-12);
     EXPECT_LE(rep.residuals.max(), 1e-10);
-    EXPECT_LE(contact_residuals(s.K, s.N, F, g, u, lambda).max(), 1e-10);
+    EXPECT_LE(residuals(s.K, s.N, F, g, u, lambda).max(), 1e-10);
   }
 }
 
@@ -69,13 +70,12 @@ TEST(ContactSolver, SpringsWithoutContact) {
 // force is λ = F − k_series g = 0.9.
 TEST(ContactSolver, SpringsInContactGiveHandComputedForce) {
   const Springs s;
-  const auto factor = factor_of(s.K);
   const Vector F = (Vector(2) << 0, 1.5).finished(), g = Vector::Constant(1, s.g);
   for (const char* name : kSolvers) {
     SCOPED_TRACE(name);
-    auto solver = make_contact_solver(name, s.K, factor, s.N);
+    auto solver = make_contact_solver(name, s.K, s.N, g);
     Vector u, lambda;
-    const ContactReport rep = solver->solve(F, g, u, lambda);
+    const ContactReport rep = solver->solve(F, u, lambda);
     ASSERT_TRUE(rep.converged);
     EXPECT_EQ(rep.n_active, 1);
     EXPECT_NEAR(lambda[0], 0.9, 1e-12);
@@ -85,7 +85,7 @@ TEST(ContactSolver, SpringsInContactGiveHandComputedForce) {
     // approaches the obstacle to its tolerance.
     EXPECT_NEAR(u[1], s.g, std::string(name) == "active-set" ? 1e-15 : 1e-11);
     EXPECT_LE(rep.residuals.max(), 1e-10);
-    const ContactResiduals r = contact_residuals(s.K, s.N, F, g, u, lambda);
+    const ContactResiduals r = residuals(s.K, s.N, F, g, u, lambda);
     EXPECT_LE(r.max(), 1e-10);
     EXPECT_NEAR(r.equilibrium, rep.residuals.equilibrium, 1e-16);
   }
@@ -98,14 +98,14 @@ TEST(ContactSolver, ResidualsDetectEachViolation) {
   const Vector F = (Vector(2) << 0, 1.5).finished(), g = Vector::Constant(1, s.g);
   const Vector u = (Vector(2) << 0.3, 0.5).finished();
   const Vector lambda = Vector::Constant(1, 0.9);
-  EXPECT_LE(contact_residuals(s.K, s.N, F, g, u, lambda).max(), 1e-14);
-  EXPECT_GT(contact_residuals(s.K, s.N, F, g, u, Vector::Constant(1, 1.0)).equilibrium, 1e-3);
+  EXPECT_LE(residuals(s.K, s.N, F, g, u, lambda).max(), 1e-14);
+  EXPECT_GT(residuals(s.K, s.N, F, g, u, Vector::Constant(1, 1.0)).equilibrium, 1e-3);
   const Vector u_pen = (Vector(2) << 0.3, 0.6).finished();
-  EXPECT_GT(contact_residuals(s.K, s.N, F, g, u_pen, lambda).penetration, 1e-3);
-  EXPECT_GT(contact_residuals(s.K, s.N, F, g, u, Vector::Constant(1, -0.9)).negative_force, 1e-3);
+  EXPECT_GT(residuals(s.K, s.N, F, g, u_pen, lambda).penetration, 1e-3);
+  EXPECT_GT(residuals(s.K, s.N, F, g, u, Vector::Constant(1, -0.9)).negative_force, 1e-3);
   // λ > 0 with a gap left: complementarity fails.
   const Vector u_gap = (Vector(2) << 0.3, 0.4).finished();
-  EXPECT_GT(contact_residuals(s.K, s.N, F, g, u_gap, lambda).complementarity, 1e-3);
+  EXPECT_GT(residuals(s.K, s.N, F, g, u_gap, lambda).complementarity, 1e-3);
 }
 
 // ---------------------------------------------------------------- 2D elastic block
@@ -149,16 +149,15 @@ Block make_block() {
 TEST(ContactSolver, ElasticBlockActiveSetAndPenaltyDualityAgree) {
   const Block b = make_block();
   const int m = static_cast<int>(b.N.rows());
-  const auto factor = factor_of(b.K);
   Vector u[2], lambda[2];
   ContactReport rep[2];
   for (int s = 0; s < 2; ++s) {
     SCOPED_TRACE(kSolvers[s]);
-    auto solver = make_contact_solver(kSolvers[s], b.K, factor, b.N);
-    rep[s] = solver->solve(b.F, b.g, u[s], lambda[s]);
+    auto solver = make_contact_solver(kSolvers[s], b.K, b.N, b.g);
+    rep[s] = solver->solve(b.F, u[s], lambda[s]);
     ASSERT_TRUE(rep[s].converged) << rep[s].iterations << " iterations";
     EXPECT_LE(rep[s].residuals.max(), 1e-10);
-    EXPECT_LE(contact_residuals(b.K, b.N, b.F, b.g, u[s], lambda[s]).max(), 1e-10);
+    EXPECT_LE(residuals(b.K, b.N, b.F, b.g, u[s], lambda[s]).max(), 1e-10);
   }
   EXPECT_GT(rep[0].n_active, 0);
   EXPECT_LT(rep[0].n_active, m);
@@ -197,12 +196,11 @@ std::vector<int> active_nodes(const Vector& lambda, const ContactReport& rep) {
 // contact zone; counted against its own tolerance, both solvers report the same set.
 TEST(ContactSolver, BothSolversReportTheSameActiveSet) {
   const Block b = make_block();
-  const auto factor = factor_of(b.K);
   Vector u[2], lambda[2];
   ContactReport rep[2];
   for (int s = 0; s < 2; ++s) {
-    auto solver = make_contact_solver(kSolvers[s], b.K, factor, b.N);
-    rep[s] = solver->solve(b.F, b.g, u[s], lambda[s]);
+    auto solver = make_contact_solver(kSolvers[s], b.K, b.N, b.g);
+    rep[s] = solver->solve(b.F, u[s], lambda[s]);
     ASSERT_TRUE(rep[s].converged);
   }
   EXPECT_EQ(rep[0].active_threshold, 0.0);
@@ -218,14 +216,13 @@ TEST(ContactSolver, BothSolversReportTheSameActiveSet) {
 // same contact solution to round-off.
 TEST(ContactSolver, ActiveSetWithAndWithoutCachedForwardSolvesAgree) {
   const Block b = make_block();
-  const auto factor = factor_of(b.K);
   ContactSolverOptions uncached;
   uncached.max_cached_share = 0;
   Vector u[2], lambda[2];
   int k = 0;
   for (const ContactSolverOptions& opt : {ContactSolverOptions{}, uncached}) {
-    auto solver = make_contact_solver("active-set", b.K, factor, b.N, opt);
-    const ContactReport rep = solver->solve(b.F, b.g, u[k], lambda[k]);
+    auto solver = make_contact_solver("active-set", b.K, b.N, b.g, opt);
+    const ContactReport rep = solver->solve(b.F, u[k], lambda[k]);
     ASSERT_TRUE(rep.converged);
     EXPECT_LE(rep.residuals.max(), 1e-11);
     ++k;
@@ -239,7 +236,8 @@ TEST(ContactSolver, ActiveSetWithAndWithoutCachedForwardSolvesAgree) {
 // B₁ᵀA⁻¹B₂ = forward(B₁)ᵀ forward(B₂) (what S = N K⁻¹Nᵀ = YᵀY relies on).
 TEST(LinearSolver, ForwardAndBackwardHalvesComposeToTheSolve) {
   const Block b = make_block();
-  const auto factor = factor_of(b.K);
+  const auto factor = make_cholmod_solver();
+  factor->factorize(b.K, "test stiffness");
   const Eigen::MatrixXd B = Eigen::MatrixXd::Random(b.K.rows(), 3);
   const Eigen::MatrixXd X = factor->solve(B);
   EXPECT_LE((factor->backward(factor->forward(B)) - X).norm(), 1e-12 * X.norm());
@@ -253,14 +251,13 @@ TEST(LinearSolver, ForwardAndBackwardHalvesComposeToTheSolve) {
 // (its dual box QP is already at KKT), and gives the same u and λ.
 TEST(ContactSolver, ActiveSetWarmStartStopsAtOnce) {
   const Block b = make_block();
-  const auto factor = factor_of(b.K);
-  auto solver = make_contact_solver("active-set", b.K, factor, b.N);
+  auto solver = make_contact_solver("active-set", b.K, b.N, b.g);
   Vector u, lambda;
-  const ContactReport cold = solver->solve(b.F, b.g, u, lambda);
+  const ContactReport cold = solver->solve(b.F, u, lambda);
   ASSERT_TRUE(cold.converged);
   EXPECT_GT(cold.iterations, 1);
   const Vector l0 = lambda, u0 = u;
-  const ContactReport warm = solver->solve(b.F, b.g, u, lambda);
+  const ContactReport warm = solver->solve(b.F, u, lambda);
   EXPECT_TRUE(warm.converged);
   EXPECT_EQ(warm.iterations, 0);
   EXPECT_EQ(lambda, l0);
@@ -273,15 +270,14 @@ TEST(ContactSolver, ActiveSetWarmStartStopsAtOnce) {
 // report or left the reference dangling. They now own a copy.
 TEST(ContactSolver, DoesNotDependOnCallersStiffnessAfterConstruction) {
   const Springs s;
-  const auto factor = factor_of(s.K);
   const Vector F = (Vector(2) << 0, 1.5).finished(), g = Vector::Constant(1, s.g);
   for (const char* name : kSolvers) {
     SCOPED_TRACE(name);
     SparseMatrix K = s.K;
-    auto solver = make_contact_solver(name, K, factor, s.N);
+    auto solver = make_contact_solver(name, K, s.N, g);
     K = 2.0 * s.K;  // the caller's variable is reused; the solver was built for s.K
     Vector u, lambda;
-    const ContactReport rep = solver->solve(F, g, u, lambda);
+    const ContactReport rep = solver->solve(F, u, lambda);
     ASSERT_TRUE(rep.converged);
     EXPECT_NEAR(lambda[0], 0.9, 1e-10);  // the solution itself is right...
     EXPECT_LE(rep.residuals.max(), 1e-10) << "equilibrium residual " << rep.residuals.equilibrium
@@ -289,22 +285,89 @@ TEST(ContactSolver, DoesNotDependOnCallersStiffnessAfterConstruction) {
   }
 }
 
+/// CHOLMOD with its triangular halves hidden, as MUMPS and CG are: the active-set
+/// solver must then take its block-solve path (W = K⁻¹Nᵀ kept, or two solves).
+class FactorWithoutHalves final : public la::Factor {
+ public:
+  void factorize(const la::SpdOperator& A, const char* what) override { f_->factorize(A, what); }
+  void solve(const Vector& b, Vector& x) const override { f_->solve(b, x); }
+  Eigen::MatrixXd solve(const Eigen::MatrixXd& B) const override { return f_->solve(B); }
+  int n_factorizations() const override { return f_->n_factorizations(); }
+
+ private:
+  std::unique_ptr<la::Factor> f_ = la::make_cholmod_factor();
+};
+
+/// The block's contact problem over la/ on one process, with the given factor of K.
+std::unique_ptr<ContactSolver> block_solver(const Block& b, std::shared_ptr<la::Factor> factor,
+                                            const ContactSolverOptions& opt = {}) {
+  auto K = std::make_shared<const la::SparseOperator>(b.K);
+  factor->factorize(*K, "block stiffness");
+  ContactConstraints c{static_cast<int>(b.N.rows()), {}, b.N, b.g};
+  for (int i = 0; i < c.m; ++i) c.rows.push_back(i);
+  return make_contact_solver("active-set", K, std::move(factor), std::move(c), la::make_cholmod_factor, opt);
+}
+
+// Without halves (MUMPS, CG): S from block solves, a step u = u_free − Wλ (W kept)
+// or two solves; the same solution as the halves' path to round-off, each path
+// saying what it does.
+TEST(ContactSolver, ActiveSetWithoutHalvesAgreesWithTheHalves) {
+  const Block b = make_block();
+  ContactSolverOptions uncached;
+  uncached.max_cached_share = 0;
+  struct Path {
+    std::unique_ptr<ContactSolver> solver;
+    const char* says;
+  } paths[] = {{block_solver(b, la::make_cholmod_factor()), "one solve per step (K's halves)"},
+               {block_solver(b, std::make_shared<FactorWithoutHalves>()), "one solve per step (K⁻¹Nᵀ kept)"},
+               {block_solver(b, std::make_shared<FactorWithoutHalves>(), uncached), "two solves per step"}};
+  Vector u[3], lambda[3];
+  for (int k = 0; k < 3; ++k) {
+    SCOPED_TRACE(paths[k].says);
+    EXPECT_EQ(paths[k].solver->describe(), paths[k].says);
+    const ContactReport rep = paths[k].solver->solve(b.F, u[k], lambda[k]);
+    ASSERT_TRUE(rep.converged);
+    EXPECT_LE(rep.residuals.max(), 1e-11);
+    EXPECT_LE((u[k] - u[0]).cwiseAbs().maxCoeff(), 1e-12 * u[0].cwiseAbs().maxCoeff());
+    EXPECT_LE((lambda[k] - lambda[0]).cwiseAbs().maxCoeff(), 1e-10 * lambda[0].cwiseAbs().maxCoeff());
+  }
+  EXPECT_GT(lambda[0].maxCoeff(), 0.0);
+}
+
+// Penalty–duality's warm state is its multiplier, m numbers: a solver given another's
+// state starts where that one stopped (one iteration), an empty state starts cold.
+TEST(ContactSolver, PenaltyDualityWarmStateCarriesTheMultiplier) {
+  const Block b = make_block();
+  auto first = make_contact_solver("penalty-duality", b.K, b.N, b.g);
+  EXPECT_EQ(first->warm_state().size(), 0);
+  Vector u, lambda;
+  const ContactReport cold = first->solve(b.F, u, lambda);
+  ASSERT_TRUE(cold.converged);
+  EXPECT_GT(cold.iterations, 5);
+  ASSERT_EQ(first->warm_state().size(), b.N.rows());
+  auto second = make_contact_solver("penalty-duality", b.K, b.N, b.g);
+  second->set_warm_state(first->warm_state());
+  Vector u2, lambda2;
+  const ContactReport warm = second->solve(b.F, u2, lambda2);
+  ASSERT_TRUE(warm.converged);
+  EXPECT_LE(warm.iterations, 2);
+  EXPECT_LE((lambda2 - lambda).cwiseAbs().maxCoeff(), 1e-9 * lambda.cwiseAbs().maxCoeff());
+}
+
 // ---------------------------------------------------------------- error paths
 
 TEST(ContactSolverErrors, UnknownNameIsNamed) {
   const Springs s;
-  const auto factor = factor_of(s.K);
-  const std::string msg = error_of([&] { make_contact_solver("magic", s.K, factor, s.N); });
+  const std::string msg = error_of([&] { make_contact_solver("magic", s.K, s.N, Vector::Constant(1, s.g)); });
   EXPECT_NE(msg.find("unknown contact solver 'magic'"), std::string::npos) << msg;
   EXPECT_NE(msg.find("active-set"), std::string::npos) << msg;
 }
 
 TEST(ContactSolverErrors, NoContactRowsIsAnError) {
   const Springs s;
-  const auto factor = factor_of(s.K);
   const SparseMatrix N0(0, 2);
   for (const char* name : kSolvers) {
-    const std::string msg = error_of([&] { make_contact_solver(name, s.K, factor, N0); });
+    const std::string msg = error_of([&] { make_contact_solver(name, s.K, N0, Vector()); });
     EXPECT_NE(msg.find("no contact unknowns"), std::string::npos) << name << ": " << msg;
   }
 }
