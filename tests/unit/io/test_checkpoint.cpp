@@ -1,5 +1,6 @@
-// Checkpoints (format, checksum, fallback to an older good file) and the
-// stepper's snapshot/restore and step halving.
+// Checkpoints (format, checksum, fallback to an older good file), the stepper's
+// checkpoints (gathered and scattered in the numbering of the mesh as read: on
+// one process exactly its snapshot) and snapshot/restore and step halving.
 #include "cases/builtin_cases.hpp"
 #include "core/error.hpp"
 #include "io/checkpoint.hpp"
@@ -7,9 +8,12 @@
 
 #include <gtest/gtest.h>
 
+#include <fmt/format.h>
+
 #include <atomic>
 #include <cmath>
 #include <fstream>
+#include <sstream>
 
 namespace vpc {
 namespace {
@@ -154,6 +158,81 @@ TEST(Checkpoint, ANewTimelineReplacesTheOldOnes) {
   EXPECT_FALSE(fs::exists(dir / "checkpoint_00001.bin"));
   std::vector<std::string> skipped;
   EXPECT_FALSE(find_checkpoint(dir, problem_fingerprint(s), &skipped).has_value());
+}
+
+std::string bytes_of(const fs::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+/// Both solvers by penalty–duality: their warm states are part of the checkpoint.
+SolverChoice penalty_duality() {
+  SolverChoice c;
+  c.contact = c.damage = "penalty-duality";
+  return c;
+}
+
+TEST(StepperCheckpoint, OneProcessWritesItsSnapshotInTheSameFormat) {
+  TimeStepper s(small_2d(), penalty_duality());
+  for (int i = 0; i < 3; ++i) s.step();
+  ASSERT_GT(s.snapshot().contact_warm.size(), 0);
+  ASSERT_GT(s.snapshot().damage_warm.size(), 0);
+  const Checkpoint c = checkpoint_of(s);
+  const fs::path a = fresh_dir("stepper_a"), b = fresh_dir("stepper_b");
+  write_checkpoint(s, a, c.case_name, c.pvd, c.totals);
+  write_checkpoint(b, c);
+  const std::string written = bytes_of(a / "checkpoint_00003.bin");
+  EXPECT_FALSE(written.empty());
+  EXPECT_EQ(written, bytes_of(b / "checkpoint_00003.bin"));
+}
+
+TEST(StepperCheckpoint, TheFingerprintKeyIsUnchanged) {
+  // Checkpoints written before the fingerprint came from the part's global sizes
+  // must still resume: the key as it was built from the whole mesh.
+  TimeStepper s(small_2d());
+  const Problem& p = s.problem();
+  const std::string key = fmt::format("{}|{}|{}|{}|{}|{}|{}|{:.17g}|{:.17g}|{}|{}|{}", p.name, p.mesh.dim(),
+                                      p.mesh.n_nodes(), p.mesh.n_cells(), s.dofs().n_free(), s.contact_nodes().size(),
+                                      p.n_steps, p.final_time, p.kappa, p.elasticity.name(), p.law->describe(),
+                                      p.source->describe());
+  std::uint64_t h = 1469598103934665603ull;
+  for (char ch : key) h = (h ^ static_cast<unsigned char>(ch)) * 1099511628211ull;
+  EXPECT_EQ(problem_fingerprint(s), h);
+}
+
+TEST(StepperCheckpoint, ResumedRunIsBitIdentical) {
+  TimeStepper a(small_2d(), penalty_duality()), b(small_2d(), penalty_duality());
+  for (int i = 0; i < 4; ++i) a.step();
+  const fs::path dir = fresh_dir("stepper_resume");
+  RunTotals totals;
+  totals.max_damage_iterations = 7;
+  write_checkpoint(a, dir, "paper-2d", {{0.0, "solution_00000.vtu"}}, totals);
+  std::vector<std::string> skipped;
+  const auto at = resume_from_checkpoint(b, dir, &skipped);
+  ASSERT_TRUE(at.has_value());
+  EXPECT_TRUE(skipped.empty());
+  EXPECT_EQ(at->n, 4);
+  EXPECT_EQ(at->t, a.state().t);
+  ASSERT_EQ(at->pvd.size(), 1u);
+  EXPECT_EQ(at->pvd[0].second, "solution_00000.vtu");
+  EXPECT_EQ(at->totals.max_damage_iterations, 7);
+  EXPECT_EQ(b.snapshot().u_free, a.snapshot().u_free);
+  EXPECT_EQ(b.snapshot().contact_warm, a.snapshot().contact_warm);
+  EXPECT_EQ(b.snapshot().damage_warm, a.snapshot().damage_warm);
+  while (!a.done()) {
+    a.step();
+    b.step();
+  }
+  EXPECT_EQ(a.state().u, b.state().u);
+  EXPECT_EQ(a.state().beta, b.state().beta);
+  EXPECT_EQ(a.state().lambda, b.state().lambda);
+  for (std::size_t i = 0; i < a.state().sigma.size(); ++i) EXPECT_EQ(a.state().sigma[i].c, b.state().sigma[i].c);
+  // No checkpoint for this problem: nothing restored.
+  TimeStepper other(load_case("paper-2d", {.steps = 10}, {.cells = 5}).problem);
+  EXPECT_FALSE(resume_from_checkpoint(other, dir, &skipped).has_value());
+  EXPECT_EQ(skipped.size(), 1u);
 }
 
 /// A damage source that fails (NaN) the first time it is evaluated at t = 0.3,

@@ -18,6 +18,7 @@
 #include <fstream>
 #include <map>
 #include <regex>
+#include <set>
 #include <sstream>
 
 namespace vpc {
@@ -218,6 +219,59 @@ TEST(RunOutput, ContactPressureOfAUniformlyPressedFace) {
   EXPECT_NEAR(total, q * H * W / 2, 1e-9);
   EXPECT_EQ(a.count("beta"), 1u);
   EXPECT_EQ(a.count("damage"), 0u);
+}
+
+std::set<std::string> files_in(const fs::path& dir) {
+  std::set<std::string> names;
+  for (const auto& e : fs::directory_iterator(dir)) names.insert(e.path().filename().string());
+  return names;
+}
+
+TEST(RunOutput, OneProcessWritesOneVtuPerOutputStepWithoutRanks) {
+  // What a one-process run has always written: no pieces, no .pvtu, no "rank"
+  // field, no "engine" in summary.json.
+  const fs::path dir = temp_dir("one_process");
+  run_case(pressed_block("\"block\"", ""), dir);
+  EXPECT_EQ(files_in(dir), (std::set<std::string>{"history.csv", "probes.csv", "summary.json", "solution.pvd",
+                                                  "solution_00000.vtu", "solution_00001.vtu", "solution_00002.vtu"}));
+  const auto a = read_vtu_arrays(dir / "solution_00002.vtu");
+  EXPECT_EQ(a.count("rank"), 0u);
+  EXPECT_EQ(a.count("stress"), 1u);
+  const std::string pvd = read_all(dir / "solution.pvd");
+  EXPECT_NE(pvd.find("file=\"solution_00002.vtu\""), std::string::npos) << pvd;
+  EXPECT_EQ(pvd.find("pvtu"), std::string::npos) << pvd;
+  EXPECT_FALSE(nlohmann::json::parse(read_all(dir / "summary.json")).contains("ranks"));
+  // The probe's row: u, σ (11, 22, 12), von Mises and β at (1, 0.5), every step.
+  std::ifstream probes(dir / "probes.csv");
+  std::string header, row;
+  std::getline(probes, header);
+  EXPECT_EQ(header, "step,t,p0_ux,p0_uy,p0_sigma11,p0_sigma22,p0_sigma12,p0_von_mises,p0_beta");
+  int rows = 0;
+  while (std::getline(probes, row)) ++rows;
+  EXPECT_EQ(rows, 3);
+}
+
+TEST(RunOutput, ResumeRemovesTheSolutionFilesOfLaterSteps) {
+  // Whatever process count wrote them: one-process VTUs, pieces and .pvtu files
+  // of steps after the checkpoint's belong to the lost part of the run.
+  const fs::path dir = temp_dir("resume_vtu");
+  const Ran r = run_case(pressed_block("\"block\"", ""), dir);
+  for (const char* f : {"solution_00002_p0000.vtu", "solution_00002_p0001.vtu", "solution_00002.pvtu",
+                        "solution_00001_p0000.vtu"})
+    std::ofstream(dir / f) << "x";
+  TimeStepper stepper(r.c.problem, r.c.solvers);
+  stepper.step();
+  RunOutput out(stepper, r.c.output);
+  out.resume(1, {{0.0, "solution_00000.vtu"}, {0.5, "solution_00001.vtu"}}, {});
+  EXPECT_EQ(files_in(dir), (std::set<std::string>{"history.csv", "probes.csv", "summary.json", "solution.pvd",
+                                                  "solution_00000.vtu", "solution_00001.vtu",
+                                                  "solution_00001_p0000.vtu"}));
+  EXPECT_EQ(read_all(dir / "solution.pvd").find("solution_00002"), std::string::npos);
+  std::ifstream history(dir / "history.csv");
+  std::string line;
+  int rows = -1;
+  while (std::getline(history, line)) ++rows;
+  EXPECT_EQ(rows, 1);
 }
 
 TEST(RunOutput, TributaryMeasures) {
