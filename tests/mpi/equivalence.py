@@ -9,9 +9,10 @@ several rank counts.
 Runs `BIN run CASE OPTIONS --engine serial` once and `MPIEXEC -n P BIN run CASE
 OPTIONS --engine petsc` for each P, then compares what they wrote:
 - every VTU file (the serial solution_NNNNN.vtu against the PETSc engine's pieces
-  solution_NNNNN_pXXXX.vtu, matched by node coordinates and, for cells, by their
-  nodes): every point and cell array, raw or zlib-compressed; the PETSc engine's
-  `rank` array is the only one allowed in one engine only;
+  solution_NNNNN_pXXXX.vtu listed by solution_NNNNN.pvtu, or on one rank its one
+  solution_NNNNN.vtu, as a serial run's, matched by node coordinates and, for cells,
+  by their nodes): every point and cell array, raw or zlib-compressed; the PETSc
+  engine's `rank` array (several ranks only) is the only one allowed in one engine only;
 - solution.pvd (the same output times);
 - history.csv and probes.csv: the same header, rows and every column;
 - summary.json: every number and string, except the run's timings, its command
@@ -253,7 +254,12 @@ def compare_json(rep, path, a, b):
 def compare_runs(rep, serial_dir, petsc_dir, ranks):
     files = sorted(os.listdir(serial_dir))
     stems = [f[:-4] for f in files if re.fullmatch(r"solution_\d{5}\.vtu", f)]
-    pstems = sorted(f[:-5] for f in os.listdir(petsc_dir) if re.fullmatch(r"solution_\d{5}\.pvtu", f))
+    # One rank writes what a serial run writes; several, pieces and a .pvtu per step.
+    one = ranks == 1
+    pstems = sorted(f[:f.index(".")] for f in os.listdir(petsc_dir)
+                    if re.fullmatch(r"solution_\d{5}\.vtu" if one else r"solution_\d{5}\.pvtu", f))
+    if one and any(re.fullmatch(r"solution_\d{5}(_p\d{4}\.vtu|\.pvtu)", f) for f in os.listdir(petsc_dir)):
+        rep.fail("PETSc on one rank wrote pieces or a .pvtu")
     if stems != pstems:
         rep.fail(f"output steps differ: serial {stems}, PETSc {pstems}")
     if os.path.exists(os.path.join(serial_dir, "solution.pvd")):
@@ -261,7 +267,7 @@ def compare_runs(rep, serial_dir, petsc_dir, ranks):
         if st != pt:
             rep.fail(f"solution.pvd: output times differ: serial {st}, PETSc {pt}")
     for stem in stems:
-        pieces = [os.path.join(petsc_dir, f"{stem}_p{r:04d}.vtu") for r in range(ranks)]
+        pieces = [os.path.join(petsc_dir, f"{stem}.vtu" if one else f"{stem}_p{r:04d}.vtu") for r in range(ranks)]
         if not all(os.path.exists(p) for p in pieces):
             rep.fail(f"{stem}: missing PETSc pieces")
             continue
