@@ -8,6 +8,7 @@
 #include "cases/builtin_cases.hpp"
 #include "core/error.hpp"
 #include "io/case_file.hpp"
+#include "io/output_files.hpp"
 #include "process_policy.hpp"
 #include "io/run_output.hpp"
 #include "scheme/time_stepper.hpp"
@@ -88,6 +89,7 @@ int main(int argc, char** argv) {
       if (!std::isfinite(x.norm())) return 3;
     }
 
+    vpc::prepare_output_directory(out.directory);  // as the run loop does before set-up
     vpc::RunOutput output(stepper, out);
     output.start();
     std::vector<double> src, dmg, ct, st, total, outp;

@@ -36,6 +36,19 @@ Checkpoint checkpoint_of(const TimeStepper& s) {
   return {s.problem().name, problem_fingerprint(s), s.snapshot(), {{0.0, "solution_00000.vtu"}, {0.5, "x.vtu"}}, totals};
 }
 
+/// Runs both steppers to the end: their states must stay bit-identical.
+void expect_same_continuation(TimeStepper& a, TimeStepper& b) {
+  while (!a.done()) {
+    a.step();
+    b.step();
+  }
+  EXPECT_EQ(a.state().u, b.state().u);
+  EXPECT_EQ(a.state().beta, b.state().beta);
+  EXPECT_EQ(a.state().lambda, b.state().lambda);
+  ASSERT_EQ(a.state().sigma.size(), b.state().sigma.size());
+  for (std::size_t i = 0; i < a.state().sigma.size(); ++i) EXPECT_EQ(a.state().sigma[i].c, b.state().sigma[i].c);
+}
+
 TEST(Checkpoint, RoundTripIsExact) {
   TimeStepper s(small_2d());
   for (int i = 0; i < 3; ++i) s.step();
@@ -62,13 +75,7 @@ TEST(Checkpoint, RestoredRunIsBitIdentical) {
   TimeStepper a(small_2d()), b(small_2d());
   for (int i = 0; i < 4; ++i) a.step();
   b.restore(read_checkpoint(write_checkpoint(fresh_dir("restore"), checkpoint_of(a))).snapshot);
-  while (!a.done()) {
-    a.step();
-    b.step();
-  }
-  EXPECT_EQ(a.state().u, b.state().u);
-  EXPECT_EQ(a.state().beta, b.state().beta);
-  EXPECT_EQ(a.state().lambda, b.state().lambda);
+  expect_same_continuation(a, b);
 }
 
 TEST(Checkpoint, DamagedNewestFallsBackToTheOlderOne) {
@@ -221,14 +228,7 @@ TEST(StepperCheckpoint, ResumedRunIsBitIdentical) {
   EXPECT_EQ(b.snapshot().u_free, a.snapshot().u_free);
   EXPECT_EQ(b.snapshot().contact_warm, a.snapshot().contact_warm);
   EXPECT_EQ(b.snapshot().damage_warm, a.snapshot().damage_warm);
-  while (!a.done()) {
-    a.step();
-    b.step();
-  }
-  EXPECT_EQ(a.state().u, b.state().u);
-  EXPECT_EQ(a.state().beta, b.state().beta);
-  EXPECT_EQ(a.state().lambda, b.state().lambda);
-  for (std::size_t i = 0; i < a.state().sigma.size(); ++i) EXPECT_EQ(a.state().sigma[i].c, b.state().sigma[i].c);
+  expect_same_continuation(a, b);
   // No checkpoint for this problem: nothing restored.
   TimeStepper other(load_case("paper-2d", {.steps = 10}, {.cells = 5}).problem);
   EXPECT_FALSE(resume_from_checkpoint(other, dir, &skipped).has_value());
