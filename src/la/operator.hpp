@@ -23,6 +23,8 @@ class SpdOperator {
   /// r = b − A x.
   virtual void residual(const Eigen::VectorXd& b, const Eigen::VectorXd& x, Eigen::VectorXd& r) const = 0;
   virtual Eigen::VectorXd diagonal() const = 0;
+  /// Stored entries over all processes (for reports; collective).
+  virtual long long nonzeros() const = 0;
   /// A_FF, F = the owned rows i with fixed[i] == 0, renumbered in order (collective).
   virtual std::unique_ptr<SpdOperator> restrict_to_free(const std::vector<char>& fixed) const = 0;
   /// A + B, B given on the owned rows and columns (n_owned × n_owned, owned
@@ -41,6 +43,7 @@ class SparseOperator final : public SpdOperator {
     r = b - A_ * x;
   }
   Eigen::VectorXd diagonal() const override { return A_.diagonal(); }
+  long long nonzeros() const override { return A_.nonZeros(); }
   std::unique_ptr<SpdOperator> restrict_to_free(const std::vector<char>& fixed) const override;
   std::unique_ptr<SpdOperator> plus(const Eigen::SparseMatrix<double>& B) const override {
     return std::make_unique<SparseOperator>(A_ + B);

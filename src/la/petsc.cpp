@@ -207,6 +207,12 @@ Eigen::VectorXd PetscOperator::diagonal() const {
   return d;
 }
 
+long long PetscOperator::nonzeros() const {
+  MatInfo info;
+  VPC_PETSC(MatGetInfo(A_, MAT_GLOBAL_SUM, &info));
+  return static_cast<long long>(info.nz_used);
+}
+
 std::unique_ptr<SpdOperator> PetscOperator::restrict_to_free(const std::vector<char>& fixed) const {
   PetscInt begin = 0;
   VPC_PETSC(MatGetOwnershipRange(A_, &begin, nullptr));

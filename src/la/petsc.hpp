@@ -30,6 +30,7 @@ class PetscOperator final : public SpdOperator {
   void mult(const Eigen::VectorXd& x, Eigen::VectorXd& y) const override;
   void residual(const Eigen::VectorXd& b, const Eigen::VectorXd& x, Eigen::VectorXd& r) const override;
   Eigen::VectorXd diagonal() const override;
+  long long nonzeros() const override;
   std::unique_ptr<SpdOperator> restrict_to_free(const std::vector<char>& fixed) const override;
   std::unique_ptr<SpdOperator> plus(const Eigen::SparseMatrix<double>& owned_block) const override;
   Mat mat() const { return A_; }

@@ -16,6 +16,12 @@ using Clock = std::chrono::steady_clock;
 
 /// Below this many cells the elementwise loops run on one thread.
 constexpr int kParallelCells = 4096;
+/// The problem, after Problem::validate (which throws for a bad datum).
+std::shared_ptr<const Problem> validated(std::shared_ptr<const Problem> p) {
+  p->validate();
+  return p;
+}
+
 double seconds_since(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
 }
@@ -36,7 +42,7 @@ MinimumAt minimum_at(const MinimumAt& a, const MinimumAt& b) {
 }
 
 TimeStepper::TimeStepper(std::shared_ptr<const Problem> problem, SolverChoice choice)
-    : TimeStepper((problem->validate(), problem), whole_mesh_part(problem), la::serial_backend(), std::move(choice)) {}
+    : TimeStepper(problem, whole_mesh_part(validated(problem)), la::serial_backend(), std::move(choice)) {}
 
 TimeStepper::TimeStepper(std::shared_ptr<const Problem> problem, MeshPart part,
                          std::shared_ptr<const la::Backend> backend, SolverChoice choice)
@@ -94,10 +100,12 @@ void TimeStepper::assemble_and_factorize() {
   M_ = backend_->assemble(M_local_, *part_.node_layout, 1);
   const SparseMatrix H_local = M_local_ + (p.step() * p.kappa) * A_local_;
   auto H = backend_->assemble(H_local, *part_.node_layout, 1);
+  const long long damage_operator_nonzeros = H->nonzeros();
   setup_timing_.assembly = seconds_since(t1);
   stage("assembly", setup_timing_.assembly);
 
-  stage(fmt::format("factorization of K ({} dofs, {})", part_.n_global_dofs, backend_->describe()));
+  stage(fmt::format("factorization of K ({} x {}, {} nonzeros; {})", part_.n_global_dofs, part_.n_global_dofs,
+                    K_->nonzeros(), backend_->describe()));
   t1 = Clock::now();
   K_factor_ = backend_->factor("K");
   // Refuse a run that cannot fit before the costly factorizations (issue 11); the
@@ -122,7 +130,8 @@ void TimeStepper::assemble_and_factorize() {
   setup_timing_.factor_K = seconds_since(t1);
   stage("factorization of K", setup_timing_.factor_K);
 
-  stage(fmt::format("factorization of H ({} nodes)", part_.n_global_nodes));
+  stage(fmt::format("factorization of H ({} x {}, {} nonzeros)", part_.n_global_nodes, part_.n_global_nodes,
+                    damage_operator_nonzeros));
   t1 = Clock::now();
   damage_ = make_damage_solver(choice_.damage, std::move(H), backend_->factory(), choice_.damage_reduced);
   setup_timing_.factor_H = seconds_since(t1);

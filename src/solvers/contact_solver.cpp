@@ -127,7 +127,11 @@ class ActiveSetContactSolver final : public ContactSolver {
       factor_->solve(F, u_free);
       r = solve_box_qp(*S_, replicate(comm(), c_, Vector(c_.N * u_free - c_.gap)), lo, hi, lambda);
       if (W_.cols() == m) {
-        u = u_free - W_ * lambda;
+        // u = u_free − Wλ over the active rows only (λ_j = 0 elsewhere): the
+        // active set is usually a part of Γ3, and each column is n_owned long.
+        u = u_free;
+        for (int j = 0; j < m; ++j)
+          if (lambda[j] != 0) u.noalias() -= lambda[j] * W_.col(j);
       } else {
         u = u_free;
         factor_->solve(Vector(F - c_.N.transpose() * local_rows(c_, lambda)), u);
