@@ -1,8 +1,7 @@
 #include "parallel_run.hpp"
 
-#include "parallel/collective.hpp"
 #include "parallel/petsc_engine.hpp"
-#include "la/petsc_linear_solver.hpp"
+#include "la/petsc.hpp"
 #include "la/blas_threads.hpp"
 
 #include <fmt/format.h>
@@ -26,7 +25,7 @@ int parallel_run(const RunOptions& o, const EngineTask& task) {
   int rc = 0;
   catch_interrupts();
   try {
-    collective(comm, [&] {  // choices every rank rejects alike, before any set-up
+    la::collective(la::make_mpi_comm(comm), [&] {  // choices every rank rejects alike, before any set-up
       PetscLinearSolver check(comm, "vpc_check_", {o.linear_solver});
     });
     rc = task(petsc_engine(comm));

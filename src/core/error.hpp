@@ -15,7 +15,7 @@ class Error : public std::runtime_error {
 };
 
 /// An Error raised alike on every process of a distributed run (the same step
-/// failed everywhere, or parallel/collective.hpp shared one rank's error): the
+/// failed everywhere, or la::collective shared one rank's error): the
 /// program reports it once and ends every process normally, without an abort.
 class CollectiveError : public Error {
  public:

@@ -1,7 +1,5 @@
 #include "parallel/distributed_mesh.hpp"
 
-#include "parallel/collective.hpp"
-
 #include "la/petsc.hpp"
 
 #include <petscmat.h>
@@ -269,7 +267,7 @@ MeshPart distribute_mesh(MPI_Comm comm, const Problem& problem) {
   Message mine;
   // Rank 0 packs every part; a failure there (e.g. a bad gap) is every rank's.
   std::vector<Message> parts;
-  on_root(comm, [&] {
+  la::on_root(la::make_mpi_comm(comm), [&] {
     problem.validate();
     parts = pack_parts(problem, size);
   });
@@ -292,40 +290,6 @@ MeshPart distribute_mesh(MPI_Comm comm, const Problem& problem) {
     MPI_Recv(mine.reals.data(), static_cast<int>(sizes[1]), MPI_DOUBLE, 0, 3, comm, MPI_STATUS_IGNORE);
   }
   return unpack_part(comm, mine);
-}
-
-}  // namespace vpc
-
-namespace vpc {
-
-Vector gather_to_root(MPI_Comm comm, const std::vector<int>& ids, const double* values, int n_components,
-                      long long n_global) {
-  const int rank = comm_rank(comm), size = comm_size(comm);
-  const int n = static_cast<int>(ids.size());
-  std::vector<int> counts(size), displs(size);
-  MPI_Gather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, comm);
-  std::vector<int> all_ids;
-  std::vector<double> all_values;
-  std::vector<int> vcounts(size), vdispls(size);
-  if (rank == 0) {
-    int total = 0;
-    for (int r = 0; r < size; ++r) {
-      displs[r] = total;
-      vcounts[r] = counts[r] * n_components;
-      vdispls[r] = total * n_components;
-      total += counts[r];
-    }
-    all_ids.resize(total);
-    all_values.resize(static_cast<size_t>(total) * n_components);
-  }
-  MPI_Gatherv(ids.data(), n, MPI_INT, all_ids.data(), counts.data(), displs.data(), MPI_INT, 0, comm);
-  MPI_Gatherv(values, n * n_components, MPI_DOUBLE, all_values.data(), vcounts.data(), vdispls.data(), MPI_DOUBLE, 0,
-              comm);
-  if (rank != 0) return {};
-  Vector out = Vector::Zero(n_global * n_components);
-  for (size_t k = 0; k < all_ids.size(); ++k)
-    for (int c = 0; c < n_components; ++c) out[all_ids[k] * n_components + c] = all_values[k * n_components + c];
-  return out;
 }
 
 }  // namespace vpc

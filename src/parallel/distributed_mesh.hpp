@@ -25,13 +25,3 @@ namespace vpc {
 MeshPart distribute_mesh(MPI_Comm comm, const Problem& problem);
 
 }  // namespace vpc
-
-namespace vpc {
-
-/// Rank 0 gets the values of every rank's items (`ids`: their numbers in the mesh
-/// as read, n_components values each), placed at those numbers in a vector of
-/// n_global items; other ranks get an empty vector. Collective.
-Vector gather_to_root(MPI_Comm comm, const std::vector<int>& ids, const double* values, int n_components,
-                      long long n_global);
-
-}  // namespace vpc

@@ -8,6 +8,7 @@
 // serial stepper beside the distributed one and compares u, β, λ (contact forces)
 // and σ after every step, relative to their max norms. Exit 0 only if all hold.
 #include "cases/builtin_cases.hpp"
+#include "io/checkpoint.hpp"
 #include "la/petsc.hpp"
 #include "parallel/distributed_mesh.hpp"
 #include "scheme/time_stepper.hpp"
@@ -83,7 +84,6 @@ int run(int argc, char** argv) {
   std::fflush(stdout);
   MPI_Barrier(comm);
 
-  const int d = part.mesh().dim();
   bool ok = true;
   double worst[4] = {0, 0, 0, 0};  // u, β, λ, σ
   int rank_failures = 0;
@@ -100,14 +100,12 @@ int run(int argc, char** argv) {
                  rank, r.n, r.ok, same, r.contact.residuals.max(), r.damage.kkt_residual);
       ++rank_failures;
     }
-    // Gather u, β, σ to rank 0 in the numbering of the mesh as read.
-    const vpc::Vector &u_local = dist.state().u, &b_local = dist.state().beta;
-    const std::vector<int> owned_nodes(part.original_node.begin(), part.original_node.begin() + part.n_owned_nodes);
-    const vpc::Vector u = vpc::gather_to_root(comm, owned_nodes, u_local.data(), d, part.n_global_nodes);
-    const vpc::Vector beta = vpc::gather_to_root(comm, owned_nodes, b_local.data(), 1, part.n_global_nodes);
-    std::vector<double> s_local;
-    for (const auto& s : dist.state().sigma) s_local.insert(s_local.end(), s.c.begin(), s.c.end());
-    const vpc::Vector sigma = vpc::gather_to_root(comm, part.original_cell, s_local.data(), 6, part.n_global_cells);
+    // u, β, σ on rank 0 in the numbering of the mesh as read (the checkpoints' gather).
+    const vpc::Snapshot gathered = vpc::gather_snapshot(dist);
+    const vpc::Vector &u = gathered.state.u, &beta = gathered.state.beta;
+    vpc::Vector sigma(static_cast<Eigen::Index>(gathered.state.sigma.size()) * 6);
+    for (size_t k = 0; k < gathered.state.sigma.size(); ++k)
+      for (int j = 0; j < 6; ++j) sigma[static_cast<Eigen::Index>(k) * 6 + j] = gathered.state.sigma[k][j];
     if (rank == 0) {
       const vpc::StepReport rs = serial->step();
       const auto& st = serial->state();
