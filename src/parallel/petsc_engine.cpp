@@ -13,11 +13,12 @@ void stop_if_interrupted_anywhere(const la::Comm& comm) {
   if (const int s = static_cast<int>(comm.max(interrupt_signal()))) throw Interrupted(s);
 }
 
-/// The case on every rank, its mesh on rank 0 only: rank 0 builds it and sends
-/// the mesh's dimension (or its error, which every rank then reports alike); the
-/// other ranks build everything else (laws and formulas are C++ objects made by
-/// the parser) around an empty mesh of that dimension.
-Case load_everywhere(const CaseLoader& load, const la::Comm& comm) {
+}  // namespace
+
+// Rank 0 builds the case and sends the mesh's dimension (or its error, which every
+// rank then reports alike); the other ranks build everything else (laws and
+// formulas are C++ objects made by the parser) around an empty mesh of that dimension.
+Case load_case_everywhere(const CaseLoader& load, const la::Comm& comm) {
   Case c;
   double dim = 0;
   la::on_root(comm, [&] {
@@ -29,12 +30,10 @@ Case load_everywhere(const CaseLoader& load, const la::Comm& comm) {
   return c;
 }
 
-}  // namespace
-
 std::unique_ptr<Engine> set_up_petsc(MPI_Comm mpi_comm, const CaseLoader& load, const RunOptions& o) {
   const la::Comm comm = la::make_mpi_comm(mpi_comm);
   la::on_root(comm, [&] { begin_run(o); });
-  Case c = load_everywhere(load, comm);
+  Case c = load_case_everywhere(load, comm);
   c.solvers.max_halvings = o.halvings;
   stop_if_interrupted_anywhere(comm);
   MeshPart part = distribute_mesh(mpi_comm, *c.problem);

@@ -2,11 +2,15 @@
 // The run loop's engine (run/engine.hpp, make_engine) on the ranks of an MPI
 // communicator, over the PETSc backend (docs/parallel.md). Only rank 0 builds
 // (reads, generates) the whole mesh; it sends each rank its part.
+#include "la/comm.hpp"
 #include "run/run_case.hpp"
 
 #include <mpi.h>
 
 namespace vpc {
+
+/// The case on every rank, its mesh on rank 0 only (for distribute_mesh). Collective.
+Case load_case_everywhere(const CaseLoader& load, const la::Comm& comm);
 
 /// set_up_serial on the ranks of `comm`: the case on every rank, the mesh
 /// distributed, the PETSc backend. Collective.
