@@ -23,14 +23,17 @@ class Backend {
                                                 int block_size) const = 0;
   /// A factor for a matrix called `name` (K, H, ...: PETSc reads its options under vpc_<name>_).
   virtual std::unique_ptr<Factor> factor(const std::string& name) const = 0;
-  FactorFactory factory() const {
-    return [this](const std::string& name) { return factor(name); };
-  }
   /// For reports: "CHOLMOD", "PETSc mumps", ...
   virtual std::string describe() const = 0;
   /// The linear solver's name as the options say it: "cholmod", "mumps", "cg-gamg", "cg-hypre".
   virtual std::string linear_solver() const = 0;
 };
+
+/// The backend's factor() as a FactorFactory; it keeps the backend alive, so it
+/// may outlive the caller's pointer (a solver stores it for its reduced factors).
+inline FactorFactory factor_factory(std::shared_ptr<const Backend> backend) {
+  return [backend = std::move(backend)](const std::string& name) { return backend->factor(name); };
+}
 
 /// One process: Eigen::SparseMatrix operators, CHOLMOD factors.
 std::shared_ptr<const Backend> serial_backend();

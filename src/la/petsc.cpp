@@ -273,10 +273,4 @@ std::shared_ptr<const Backend> make_petsc_backend(Comm comm, PetscSolverOptions 
   return std::make_shared<const PetscBackend>(std::move(comm), std::move(options));
 }
 
-FactorFactory petsc_factor_factory(Comm comm, PetscSolverOptions options) {
-  return [comm, options](const std::string& name) -> std::unique_ptr<Factor> {
-    return std::make_unique<PetscFactor>(mpi_of(comm), name, options);
-  };
-}
-
 }  // namespace vpc::la

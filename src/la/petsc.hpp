@@ -45,7 +45,4 @@ class PetscOperator final : public SpdOperator {
 /// The PETSc backend over `comm` (make_mpi_comm), factors of the given kind.
 std::shared_ptr<const Backend> make_petsc_backend(Comm comm, PetscSolverOptions options);
 
-/// Factors by PetscLinearSolver of the given kind (no triangular halves).
-FactorFactory petsc_factor_factory(Comm comm, PetscSolverOptions options);
-
 }  // namespace vpc::la

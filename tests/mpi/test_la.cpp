@@ -81,7 +81,7 @@ void check_solvers(const la::Comm& comm, const Chain& c, const Eigen::SparseMatr
   const auto seg = [&](const Eigen::VectorXd& a) { return Eigen::VectorXd(a.segment(c.begin, c.n_owned)); };
   const Eigen::SparseMatrix<double> K_serial = element_matrix_sum(0, c.N, h);
   auto make_op = [&] { return std::make_unique<la::PetscOperator>(comm, local, l2g, c.n_owned, c.N, 1); };
-  const la::FactorFactory factory = la::petsc_factor_factory(comm, {});
+  const la::FactorFactory factory = la::factor_factory(la::make_petsc_backend(comm, {}));
 
   // Contact (3.9): u_j ≤ g_j at every third node (rows numbered in node order, each
   // on the rank owning its node), an upward load, a gap growing along the chain:
@@ -247,7 +247,7 @@ void run() {
   const BoxQpResult rs = solve_box_qp(serial, b, lo, hi, x_s);
   SparseBoxQpOperator dist(std::make_unique<la::PetscOperator>(comm, element_matrix_sum(c.begin, n_local_nodes, h),
                                                                l2g, c.n_owned, c.N, 1),
-                           la::petsc_factor_factory(comm, {}));
+                           la::factor_factory(la::make_petsc_backend(comm, {})));
   Eigen::VectorXd x = Eigen::VectorXd::Zero(c.n_owned);
   const auto seg = [&](const Eigen::VectorXd& a) { return Eigen::VectorXd(a.segment(c.begin, c.n_owned)); };
   const BoxQpResult r = solve_box_qp(dist, seg(b), seg(lo), seg(hi), x);
