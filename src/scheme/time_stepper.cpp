@@ -95,6 +95,7 @@ void TimeStepper::assemble_and_factorize() {
   auto t1 = Clock::now();
   const SparseMatrix K_local = assemble_stiffness(mesh, geo_, p.elasticity, part_.dofs);
   K_ = backend_->assemble(K_local, *part_.dof_layout, d);
+  K_local_nonzeros_ = static_cast<double>(K_local.nonZeros());
   M_local_ = assemble_mass(mesh, geo_);
   A_local_ = assemble_laplacian(mesh, geo_);
   M_ = backend_->assemble(M_local_, *part_.node_layout, 1);
@@ -133,27 +134,25 @@ void TimeStepper::assemble_and_factorize() {
   stage(fmt::format("factorization of H ({} x {}, {} nonzeros)", part_.n_global_nodes, part_.n_global_nodes,
                     damage_operator_nonzeros));
   t1 = Clock::now();
-  damage_ = make_damage_solver(choice_.damage, std::move(H), backend_->factory(), choice_.damage_reduced);
+  damage_ = make_damage_solver(choice_.damage, std::move(H), la::factor_factory(backend_), choice_.damage_reduced);
   setup_timing_.factor_H = seconds_since(t1);
   stage("factorization of H", setup_timing_.factor_H);
 
   stage("contact set-up");
   t1 = Clock::now();
-  contact_ = make_contact_solver(choice_.contact, K_, K_factor_, contact_constraints(), backend_->factory(),
+  contact_ = make_contact_solver(choice_.contact, K_, K_factor_, contact_constraints(), la::factor_factory(backend_),
                                  choice_.contact_options);
   setup_timing_.contact = seconds_since(t1);
   stage("contact set-up", setup_timing_.contact);
 }
 
-ContactConstraints TimeStepper::contact_constraints() {
+ContactConstraints TimeStepper::contact_constraints() const {
   const int d = part_.mesh().dim();
   ContactConstraints c;
   c.m = part_.n_contact;
   std::vector<Eigen::Triplet<double>> t;
   std::vector<double> gaps;
   for (const PartContactNode& node : part_.contact) {
-    contact_nodes_.push_back(node.local_node);
-    contact_dir_.push_back(node.direction);
     if (!node.owned) continue;
     const int row = static_cast<int>(c.rows.size());
     for (int i = 0; i < d; ++i)
@@ -172,8 +171,8 @@ double TimeStepper::factor_bytes() const { return K_factor_->factor_bytes() + da
 
 double TimeStepper::model_bytes() const {
   const Mesh& m = part_.mesh();
-  const double matrices = 12.0 * (2.0 * M_local_.nonZeros() + 2.0 * A_local_.nonZeros()) +
-                          12.0 * static_cast<double>(m.dim() * m.dim()) * M_local_.nonZeros();  // M, A, K (value + index)
+  // K and M as operators, M and A kept locally for halved steps (value + row index).
+  const double matrices = 12.0 * (K_local_nonzeros_ + 2.0 * M_local_.nonZeros() + A_local_.nonZeros());
   const double mesh = 24.0 * m.n_nodes() + 4.0 * m.cell_array().size() + sizeof(CellGeometry) * geo_.size();
   const double state = 8.0 * (state_.u.size() + state_.beta.size() + u_free_.size()) +
                        3.0 * sizeof(SymTensor) * state_.sigma.size();
@@ -206,7 +205,7 @@ DamageSolver& TimeStepper::damage_solver(int level) {
   if (!solver) {
     const double k = problem_->step() / (1 << level);
     auto H = backend_->assemble(SparseMatrix(M_local_ + (k * problem_->kappa) * A_local_), *part_.node_layout, 1);
-    solver = make_damage_solver(choice_.damage, std::move(H), backend_->factory(), choice_.damage_reduced);
+    solver = make_damage_solver(choice_.damage, std::move(H), la::factor_factory(backend_), choice_.damage_reduced);
   }
   return *solver;
 }
@@ -293,13 +292,11 @@ StepReport TimeStepper::advance(int level, double t_end) {
 
   // Step 2: damage (3.8): the box QP with H = M + kκA, r = M β_{n−1} + k F_φ.
   t0 = Clock::now();
-  beta_.local() = state_.beta;
   phi_.local() = assemble_p0_source(mesh, geo_, phi);
   phi_.add_ghosts_to_owners();
-  Vector rhs;
-  M_->mult(beta_.owned(), rhs);
+  Vector beta = state_.beta.head(part_.n_owned_nodes), rhs;
+  M_->mult(beta, rhs);
   rhs += k * phi_.owned();
-  Vector beta = beta_.owned();
   rep.damage = damage_solver(level).solve(rhs, beta);
   beta_.owned() = beta;
   beta_.update_ghosts();

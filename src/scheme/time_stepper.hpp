@@ -124,9 +124,6 @@ class TimeStepper {
   /// Restores a snapshot of a run of the same problem and part; throws vpc::Error if the sizes differ.
   void restore(const Snapshot& s);
 
-  /// The local node and direction ν of each contact row the part touches (part().contact).
-  const std::vector<int>& contact_nodes() const { return contact_nodes_; }
-  const std::vector<Point>& contact_directions() const { return contact_dir_; }
   const DofMap& dofs() const { return part_.dofs; }
   int n_factorizations() const;
   /// The factor of K (for benchmarks: the cost of one solve).
@@ -142,7 +139,7 @@ class TimeStepper {
 
  private:
   void assemble_and_factorize();
-  ContactConstraints contact_constraints();
+  ContactConstraints contact_constraints() const;
   /// Steps 1–5 from the current state to time t_end with the step k / 2^level.
   StepReport advance(int level, double t_end);
   /// The same, halving on failure down to max_halvings levels.
@@ -161,9 +158,8 @@ class TimeStepper {
   std::shared_ptr<la::SpdOperator> K_;  // shared with the contact solver
   std::unique_ptr<la::SpdOperator> M_;
   SparseMatrix M_local_, A_local_;      // the part's mass and Laplacian (H for halved steps)
+  double K_local_nonzeros_ = 0;         // for model_bytes
   Vector basis_integral_cells_, basis_integral_traction_;  // ∫ψ_a over Ω and Γ2 (for uniform f0, f2)
-  std::vector<int> contact_nodes_;
-  std::vector<Point> contact_dir_;
   std::shared_ptr<la::Factor> K_factor_;
   std::unique_ptr<ContactSolver> contact_;
   std::unique_ptr<DamageSolver> damage_;  // for the step k

@@ -89,7 +89,7 @@ void fill_sizes(LevelResult& r, const Run& run) {
   r.n_cells = m.n_cells();
   r.n_nodes = m.n_nodes();
   r.n_free_dofs = run.stepper->dofs().n_free();
-  r.n_contact_nodes = static_cast<int>(run.stepper->contact_nodes().size());
+  r.n_contact_nodes = run.stepper->part().n_contact;
   r.n_steps = run.n_steps();
 }
 
@@ -380,7 +380,7 @@ std::vector<SolverComparisonLevel> compare_solvers(const Mesh& base_mesh, const 
     c.h = problem->mesh.size_range().second;
     c.k = problem->step();
     c.n_free_dofs = ra.stepper->dofs().n_free();
-    c.n_contact_nodes = static_cast<int>(ra.stepper->contact_nodes().size());
+    c.n_contact_nodes = ra.stepper->part().n_contact;
     c.n_nodes = problem->mesh.n_nodes();
     c.n_steps = n_steps;
     // Differences relative to the largest size of each field over the run.
