@@ -16,7 +16,6 @@
 #include "scheme/time_stepper.hpp"
 #ifdef VPCONTACT_WITH_PETSC
 #include "la/petsc.hpp"
-#include "parallel/distributed_mesh.hpp"
 #include "parallel/petsc_engine.hpp"
 #endif
 
@@ -101,13 +100,9 @@ int main(int argc, char** argv) {
     vpc::Case c;
     if (petsc) {
 #ifdef VPCONTACT_WITH_PETSC
-      const vpc::la::Comm comm = vpc::la::make_mpi_comm(PETSC_COMM_WORLD);
-      c = vpc::load_case_everywhere(load, comm);
+      c = vpc::load_case_everywhere(load, vpc::la::make_mpi_comm(PETSC_COMM_WORLD));
       set_damage_reduced(c, reduced);
-      vpc::MeshPart part = vpc::distribute_mesh(PETSC_COMM_WORLD, *c.problem);
-      c.problem->mesh = vpc::Mesh();
-      made = std::make_unique<vpc::TimeStepper>(c.problem, std::move(part),
-                                                vpc::la::make_petsc_backend(comm, {linear_solver}), c.solvers);
+      made = vpc::petsc_stepper(PETSC_COMM_WORLD, c, linear_solver);
 #else
       vpc::fail("--engine petsc: this vpcontact-bench was built without PETSc (-DVPCONTACT_ENABLE_PETSC=ON)");
 #endif

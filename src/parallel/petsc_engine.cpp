@@ -30,18 +30,22 @@ Case load_case_everywhere(const CaseLoader& load, const la::Comm& comm) {
   return c;
 }
 
+std::unique_ptr<TimeStepper> petsc_stepper(MPI_Comm mpi_comm, Case& c, const std::string& linear_solver) {
+  MeshPart part = distribute_mesh(mpi_comm, *c.problem);
+  c.problem->mesh = Mesh();  // from here on, rank 0 too holds its part only
+  return std::make_unique<TimeStepper>(c.problem, std::move(part),
+                                       la::make_petsc_backend(la::make_mpi_comm(mpi_comm), {linear_solver}), c.solvers);
+}
+
 std::unique_ptr<Engine> set_up_petsc(MPI_Comm mpi_comm, const CaseLoader& load, const RunOptions& o) {
   const la::Comm comm = la::make_mpi_comm(mpi_comm);
   la::on_root(comm, [&] { begin_run(o); });
   Case c = load_case_everywhere(load, comm);
   c.solvers.max_halvings = o.halvings;
   stop_if_interrupted_anywhere(comm);
-  MeshPart part = distribute_mesh(mpi_comm, *c.problem);
-  c.problem->mesh = Mesh();  // from here on, rank 0 too holds its part only
   // Collective stages: a signal is looked at after them all.
   c.solvers.on_setup_stage = StageLog(o.quiet || comm.rank() != 0);
-  auto stepper = std::make_unique<TimeStepper>(c.problem, std::move(part),
-                                               la::make_petsc_backend(comm, {o.linear_solver}), c.solvers);
+  auto stepper = petsc_stepper(mpi_comm, c, o.linear_solver);
   stop_if_interrupted_anywhere(comm);
   return make_engine(std::move(c), std::move(stepper), o.quiet);
 }

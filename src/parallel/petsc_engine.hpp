@@ -12,6 +12,10 @@ namespace vpc {
 /// The case on every rank, its mesh on rank 0 only (for distribute_mesh). Collective.
 Case load_case_everywhere(const CaseLoader& load, const la::Comm& comm);
 
+/// The stepper of `c` (loaded by load_case_everywhere) on this rank's part of its
+/// mesh, over the PETSc backend; frees rank 0's whole mesh. Collective.
+std::unique_ptr<TimeStepper> petsc_stepper(MPI_Comm comm, Case& c, const std::string& linear_solver);
+
 /// set_up_serial on the ranks of `comm`: the case on every rank, the mesh
 /// distributed, the PETSc backend. Collective.
 std::unique_ptr<Engine> set_up_petsc(MPI_Comm comm, const CaseLoader& load, const RunOptions& options);

@@ -16,6 +16,7 @@
 #include <fmt/format.h>
 
 #include <cstdlib>
+#include <optional>
 #include <string>
 
 namespace {
@@ -41,9 +42,10 @@ int run(int argc, char** argv) {
   vpc::PetscSolverOptions linear;
   double tolerance = 1e-10;
   std::string elasticity;  // --elasticity KIND replaces the case's ℰ (same E, ν)
-  vpc::SolverChoice choice;
-  choice.contact = choice.damage = "";
-  std::string reduced;
+  // Solver choices beyond the case's (every one the serial backend takes, the PETSc backend takes too).
+  std::optional<std::string> contact, damage, reduced;
+  std::optional<int> halvings;
+  std::optional<double> max_cached_share;
   for (int i = 2; i + 1 < argc; i += 2) {
     const std::string key = argv[i], value = argv[i + 1];
     if (key == "--n") mesh.cells = std::stoi(value);
@@ -52,20 +54,22 @@ int run(int argc, char** argv) {
     else if (key == "--linear") linear.kind = value;
     else if (key == "--tolerance") tolerance = std::stod(value);
     else if (key == "--elasticity") elasticity = value;
-    else if (key == "--contact-solver") choice.contact = value;
-    else if (key == "--damage-solver") choice.damage = value;
-    else if (key == "--halvings") choice.max_halvings = std::stoi(value);
+    else if (key == "--contact-solver") contact = value;
+    else if (key == "--damage-solver") damage = value;
+    else if (key == "--halvings") halvings = std::stoi(value);
     else if (key == "--reduced") reduced = value;
-    else if (key == "--max-cached-share") choice.contact_options.max_cached_share = std::stod(value);
+    else if (key == "--max-cached-share") max_cached_share = std::stod(value);
     else vpc::fail("unknown option '{}'", key);
   }
   vpc::Case c = vpc::load_case(name, ov, mesh);
-  // Solver choices beyond the case's: every one the serial backend takes, the PETSc backend takes too.
-  for (const auto* field : {&choice.contact, &choice.damage})
-    if (!field->empty()) (field == &choice.contact ? c.solvers.contact : c.solvers.damage) = *field;
-  c.solvers.max_halvings = choice.max_halvings;
-  c.solvers.contact_options.max_cached_share = choice.contact_options.max_cached_share;
-  if (reduced == "reduced-factor") c.solvers.damage_reduced = vpc::ReducedSolve::reduced_factor;
+  if (contact) c.solvers.contact = *contact;
+  if (damage) c.solvers.damage = *damage;
+  if (halvings) c.solvers.max_halvings = *halvings;
+  if (max_cached_share) c.solvers.contact_options.max_cached_share = *max_cached_share;
+  if (reduced) {
+    vpc::require(*reduced == "reduced-factor", "--reduced: expected reduced-factor, got '{}'", *reduced);
+    c.solvers.damage_reduced = vpc::ReducedSolve::reduced_factor;
+  }
   // E.g. plane strain for paper-2d: σ33 and z33 are carried by both engines.
   if (!elasticity.empty())
     c.problem->elasticity = vpc::Elasticity::from_name(elasticity, c.problem->elasticity.young(),
