@@ -151,7 +151,6 @@ ContactConstraints TimeStepper::contact_constraints() const {
   ContactConstraints c;
   c.m = part_.n_contact;
   std::vector<Eigen::Triplet<double>> t;
-  std::vector<double> gaps;
   for (const PartContactNode& node : part_.contact) {
     if (!node.owned) continue;
     const int row = static_cast<int>(c.rows.size());
@@ -159,12 +158,18 @@ ContactConstraints TimeStepper::contact_constraints() const {
       if (node.direction[i] != 0)
         t.emplace_back(row, part_.dofs.free_index(part_.dofs.full_index(node.local_node, i)), node.direction[i]);
     c.rows.push_back(node.row);
-    gaps.push_back(node.gap);
   }
   c.N.resize(static_cast<Eigen::Index>(c.rows.size()), part_.n_owned_dofs);
   c.N.setFromTriplets(t.begin(), t.end());
-  c.gap = Eigen::Map<Vector>(gaps.data(), static_cast<Eigen::Index>(gaps.size()));
+  c.gap = contact_gap(0.0);
   return c;
+}
+
+Vector TimeStepper::contact_gap(double /*t*/) const {
+  std::vector<double> gaps;
+  for (const PartContactNode& node : part_.contact)
+    if (node.owned) gaps.push_back(node.gap);
+  return Eigen::Map<Vector>(gaps.data(), static_cast<Eigen::Index>(gaps.size()));
 }
 
 double TimeStepper::factor_bytes() const { return K_factor_->factor_bytes() + damage_->factor_bytes(); }
@@ -311,6 +316,7 @@ StepReport TimeStepper::advance(int level, double t_end) {
   t0 = Clock::now();
   f_.local() = restrict_to_free(part_.dofs, load(rep.t) - assemble_stress_divergence(mesh, geo_, state_.z));
   f_.add_ghosts_to_owners();
+  contact_->set_gap(contact_gap(rep.t));
   rep.contact = contact_->solve(f_.owned(), u_free_, state_.lambda);
   u_.owned() = u_free_;
   u_.update_ghosts();

@@ -140,6 +140,8 @@ class TimeStepper {
  private:
   void assemble_and_factorize();
   ContactConstraints contact_constraints() const;
+  /// g(t) at this process's contact rows (the owned ones, in row order): the gap of the step ending at t.
+  Vector contact_gap(double t) const;
   /// Steps 1–5 from the current state to time t_end with the step k / 2^level.
   StepReport advance(int level, double t_end);
   /// The same, halving on failure down to max_halvings levels.

@@ -92,6 +92,13 @@ int common_block_columns(const la::Comm& comm, Eigen::Index n_owned, int most) {
   return static_cast<int>(comm.min(rhs_block_columns(n_owned, most)));
 }
 
+/// `gap` as the new g of c's rows; throws unless it has one finite value per row.
+const Vector& checked_gap(const ContactConstraints& c, const Vector& gap) {
+  require(gap.size() == static_cast<Eigen::Index>(c.rows.size()), "internal: {} gaps for {} contact rows", gap.size(),
+          c.rows.size());
+  return gap;
+}
+
 /// m numbers, the same on every rank, from this rank's rows' values (one owner per row: the sum is exact).
 Vector replicate(const la::Comm& comm, const ContactConstraints& c, const Vector& local) {
   Vector all = Vector::Zero(c.m);
@@ -139,6 +146,7 @@ class ActiveSetContactSolver final : public ContactSolver {
     }
     return make_report(*K_, c_, F, u, lambda, r);
   }
+  void set_gap(const Vector& gap) override { c_.gap = checked_gap(c_, gap); }
   std::string name() const override { return "active-set"; }
   std::string describe() const override {
     if (Y_.cols() > 0) return "one solve per step (K's halves)";
@@ -238,6 +246,7 @@ class PenaltyDualityContactSolver final : public ContactSolver {
         std::max(lambda.size() ? lambda.cwiseAbs().maxCoeff() : 0.0, K_->comm().max(F.size() ? F.cwiseAbs().maxCoeff() : 0.0));
     return make_report(*K_, c_, F, u, lambda, {r.converged, r.iterations}, opt_.tolerance * force_scale);
   }
+  void set_gap(const Vector& gap) override { c_.gap = checked_gap(c_, gap); }
   std::string name() const override { return "penalty-duality"; }
   std::string describe() const override { return "penalty-duality, factor of K + omega N^T N"; }
   Vector warm_state() const override {

@@ -57,6 +57,9 @@ class ContactSolver {
   virtual ~ContactSolver() = default;
   /// F, u: owned free dofs (u is the warm start on entry); lambda: m numbers (replicated). Collective.
   virtual ContactReport solve(const Vector& F, Vector& u, Vector& lambda) = 0;
+  /// Replaces g of this process's rows (ContactConstraints::gap) for the following solves: the gap of
+  /// step n, g(t_n), where it changes in time. Nothing set up from K and N depends on g.
+  virtual void set_gap(const Vector& gap) = 0;
   virtual std::string name() const = 0;
   /// One line for the run's description, e.g. "one solve per step (K's halves)" / "two solves per step".
   virtual std::string describe() const = 0;

@@ -184,6 +184,29 @@ TEST(ContactSolver, ElasticBlockActiveSetAndPenaltyDualityAgree) {
   EXPECT_EQ(lambda[0][m - 1], 0.0);
 }
 
+// A moving obstacle: after set_gap, a solver answers as one made with that gap
+// (nothing it set up from K and N depends on g), for both methods.
+TEST(ContactSolver, SetGapSolvesWithTheNewGap) {
+  const Block b = make_block();
+  const Vector g2 = 0.5 * b.g;  // the obstacle moved up: more of the base touches
+  for (const char* name : kSolvers) {
+    SCOPED_TRACE(name);
+    auto moved = make_contact_solver(name, b.K, b.N, b.g);
+    auto fresh = make_contact_solver(name, b.K, b.N, g2);
+    Vector u0, l0, u1, l1;
+    const ContactReport before = moved->solve(b.F, u0, l0);
+    moved->set_gap(g2);
+    const ContactReport after = moved->solve(b.F, u0, l0);
+    const ContactReport ref = fresh->solve(b.F, u1, l1);
+    ASSERT_TRUE(after.converged && ref.converged);
+    EXPECT_LE(after.residuals.max(), 1e-10);
+    EXPECT_GT(after.n_active, before.n_active);
+    EXPECT_LE((u0 - u1).cwiseAbs().maxCoeff(), 1e-8 * u1.cwiseAbs().maxCoeff());
+    EXPECT_LE((l0 - l1).cwiseAbs().maxCoeff(), 1e-8 * l1.cwiseAbs().maxCoeff());
+    EXPECT_THROW(moved->set_gap(Vector::Zero(3)), Error);
+  }
+}
+
 /// The nodes counted as active: λ_i above the report's threshold.
 std::vector<int> active_nodes(const Vector& lambda, const ContactReport& rep) {
   std::vector<int> a;
