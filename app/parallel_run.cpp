@@ -2,7 +2,7 @@
 
 #include "parallel/petsc_engine.hpp"
 #include "la/petsc.hpp"
-#include "la/blas_threads.hpp"
+#include "la/blas.hpp"
 
 #include <fmt/format.h>
 #include <omp.h>
@@ -26,7 +26,7 @@ int parallel_run(const RunOptions& o, const EngineTask& task) {
   catch_interrupts();
   try {
     la::collective(la::make_mpi_comm(comm), [&] {  // choices every rank rejects alike, before any set-up
-      PetscLinearSolver check(comm, "vpc_check_", {o.linear_solver});
+      la::check_linear_solver(o.linear_solver);
     });
     rc = task(petsc_engine(comm));
   } catch (const Interrupted& e) {  // every rank alike (the engine asks every rank)

@@ -3,15 +3,45 @@
 // solve for one right-hand side or a block. The triangular halves of a Cholesky
 // factor A = PᵀLLᵀP (forward(B) = L⁻¹PB, backward(Y) = PᵀL⁻ᵀY) are an optional
 // capability: CHOLMOD has them, MUMPS and CG do not (has_halves()).
-// Backends: make_cholmod_factor (serial, la/cholmod_solver.cpp) and
-// make_petsc_factor (la/petsc.hpp: MUMPS, CG + GAMG, CG + hypre).
-#include "la/linear_solver.hpp"
+// Backends: make_cholmod_factor (one process, la/cholmod_factor.cpp) and the
+// PETSc backend's factors (la/petsc.hpp: MUMPS, CG + GAMG, CG + hypre).
 #include "la/operator.hpp"
 
+#include <Eigen/Dense>
+#include <Eigen/Sparse>
+#include <algorithm>
 #include <functional>
 #include <memory>
 #include <optional>
 #include <string>
+
+namespace vpc {
+
+using SparseMatrix = Eigen::SparseMatrix<double>;
+using Vector = Eigen::VectorXd;
+
+/// The size of a Cholesky factor from the symbolic analysis alone (no numbers).
+struct FactorEstimate {
+  double rows = 0;             // n
+  double entries = 0;          // values in the factor
+  double factor_bytes = 0;     // values and integer structure, held until the solver goes
+  double workspace_bytes = 0;  // extra at the peak of the numeric factorization
+};
+
+/// Columns per block of dense right-hand sides of n rows: up to `most`, but each
+/// block below 24 MiB. Larger blocks are beyond glibc's largest mmap threshold
+/// (32 MiB; the programs keep freed memory, app/process_policy.hpp): mapped afresh at every allocation, they cost
+/// a page fault per 4 KiB (measured: 2D n = 640, contact set-up 14.8 s with
+/// blocks of 8 × 6.6 MB).
+inline int rhs_block_columns(Eigen::Index n, int most = 8) {
+  const double fit = 24.0 * 1024 * 1024 / (8.0 * static_cast<double>(std::max<Eigen::Index>(n, 1)));
+  return std::max(1, std::min(most, static_cast<int>(fit)));
+}
+
+/// The size of CHOLMOD's factor of A (lower triangle read), from its symbolic analysis only.
+FactorEstimate estimate_cholmod_factor(const SparseMatrix& A, const char* what);
+
+}  // namespace vpc
 
 namespace vpc::la {
 
@@ -45,7 +75,8 @@ class Factor {
 /// backend reads its options under the prefix vpc_<name>_).
 using FactorFactory = std::function<std::unique_ptr<Factor>(const std::string& name)>;
 
-/// CHOLMOD's supernodal Cholesky of a SparseOperator (one process), with halves.
+/// CHOLMOD's supernodal Cholesky (64-bit integer interface) of a SparseOperator
+/// (one process), with halves and a symbolic analysis.
 std::unique_ptr<Factor> make_cholmod_factor(const std::string& name = "");
 
 }  // namespace vpc::la

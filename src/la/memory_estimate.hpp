@@ -1,8 +1,8 @@
 #pragma once
 // Whether a run fits in memory (issue 11): what it will hold, by part, against
 // the memory it may use, checked before the costly factorizations. The factors'
-// sizes come from CHOLMOD's symbolic analysis (LinearSolver::analyze).
-#include "la/linear_solver.hpp"
+// sizes come from CHOLMOD's symbolic analysis (la::Factor::analyze).
+#include "la/factor.hpp"
 
 #include <string>
 #include <utility>

@@ -92,10 +92,17 @@ class Placed {
   Vec v_;
 };
 
+/// A factorization (MUMPS Cholesky) or a preconditioned Krylov solver (CG + GAMG,
+/// CG + hypre) of a PetscOperator, as one KSP under the options prefix vpc_<name>_
+/// (so any PETSc solver can be chosen from the command line or PETSC_OPTIONS, e.g.
+/// -vpc_K_ksp_monitor). The iterative ones start from the x passed in (the previous
+/// step's solution) and stop at a relative residual of `rtol`.
 class PetscFactor final : public Factor {
  public:
   PetscFactor(MPI_Comm comm, const std::string& name, const PetscSolverOptions& options)
-      : solver_(comm, "vpc_" + name + "_", options) {}
+      : comm_(comm), prefix_("vpc_" + name + "_"), options_(options) {
+    check_linear_solver(options_.kind);
+  }
   void set_coordinates(const Eigen::VectorXd& coordinates, int dim) override {
     coordinates_ = coordinates;
     dim_ = dim;
@@ -103,41 +110,98 @@ class PetscFactor final : public Factor {
   void factorize(const SpdOperator& A, const char* what) override {
     const auto* op = dynamic_cast<const PetscOperator*>(&A);
     require(op != nullptr, "internal: PETSc factors PETSc operators only ({})", what);
-    // Rigid-body modes (the near-null space of elasticity) for algebraic multigrid.
-    PetscHandle<MatNullSpace, MatNullSpaceDestroy> rigid;
-    if (solver_.kind() == "cg-gamg" && coordinates_.size() == op->n_owned() && dim_ > 0) {
-      PVec xyz;
-      VPC_PETSC(MatCreateVecs(op->mat(), xyz.out(), nullptr));
-      VPC_PETSC(VecSetBlockSize(xyz, dim_));
-      {
-        Placed p(xyz, coordinates_.data());
-        VPC_PETSC(MatNullSpaceCreateRigidBody(xyz, rigid.out()));
-      }
-    }
-    solver_.factorize(op->mat(), what, rigid.get());
+    what_ = what;
+    set_up_ksp(op->mat(), direct() ? nullptr : rigid_body_modes(*op).get());
     VPC_PETSC(MatCreateVecs(op->mat(), x_.out(), b_.out()));
     n_ = op->n_owned();
+    ++n_factorizations_;
   }
   void solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) const override {
     if (x.size() != n_) x = Eigen::VectorXd::Zero(n_);
     Placed pb(b_, b.data()), px(x_, x.data());
-    solver_.solve(b_, x_);
+    VPC_PETSC(KSPSolve(ksp_, b_, x_));
+    check_converged(true);
   }
   Eigen::MatrixXd solve(const Eigen::MatrixXd& B) const override {
+    // MUMPS solves the block together, an iterative solver column by column.
     Eigen::MatrixXd X = Eigen::MatrixXd::Zero(n_, B.cols());
     PetscInt N = 0;
     VPC_PETSC(VecGetSize(b_, &N));
-    MPI_Comm comm = PetscObjectComm(reinterpret_cast<PetscObject>(b_.get()));
     PMat Bm, Xm;
-    VPC_PETSC(MatCreateDense(comm, n_, PETSC_DECIDE, N, B.cols(), const_cast<double*>(B.data()), Bm.out()));
-    VPC_PETSC(MatCreateDense(comm, n_, PETSC_DECIDE, N, B.cols(), X.data(), Xm.out()));
-    solver_.solve(Bm, Xm);
+    VPC_PETSC(MatCreateDense(comm_, n_, PETSC_DECIDE, N, B.cols(), const_cast<double*>(B.data()), Bm.out()));
+    VPC_PETSC(MatCreateDense(comm_, n_, PETSC_DECIDE, N, B.cols(), X.data(), Xm.out()));
+    VPC_PETSC(KSPMatSolve(ksp_, Bm, Xm));
+    check_converged(false);
     return X;
   }
-  int n_factorizations() const override { return solver_.n_factorizations(); }
+  int n_factorizations() const override { return n_factorizations_; }
 
  private:
-  PetscLinearSolver solver_;
+  bool direct() const { return options_.kind == "mumps"; }
+
+  /// Rigid-body modes (the near-null space of elasticity) for algebraic multigrid, from the coordinates.
+  PetscHandle<MatNullSpace, MatNullSpaceDestroy> rigid_body_modes(const PetscOperator& op) const {
+    PetscHandle<MatNullSpace, MatNullSpaceDestroy> rigid;
+    if (options_.kind != "cg-gamg" || coordinates_.size() != op.n_owned() || dim_ <= 0) return rigid;
+    PVec xyz;
+    VPC_PETSC(MatCreateVecs(op.mat(), xyz.out(), nullptr));
+    VPC_PETSC(VecSetBlockSize(xyz, dim_));
+    Placed p(xyz, coordinates_.data());
+    VPC_PETSC(MatNullSpaceCreateRigidBody(xyz, rigid.out()));
+    return rigid;
+  }
+
+  /// The KSP takes a PETSc reference to A. Throws naming `what_` if the factorization fails.
+  void set_up_ksp(Mat A, MatNullSpace near_null_space) {
+    VPC_PETSC(KSPCreate(comm_, ksp_.out()));
+    VPC_PETSC(KSPSetOptionsPrefix(ksp_, prefix_.c_str()));
+    VPC_PETSC(KSPSetOperators(ksp_, A, A));
+    PC pc = nullptr;
+    VPC_PETSC(KSPGetPC(ksp_, &pc));
+    if (direct()) {
+      VPC_PETSC(KSPSetType(ksp_, KSPPREONLY));
+      VPC_PETSC(PCSetType(pc, PCCHOLESKY));
+      VPC_PETSC(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS));
+    } else {
+      VPC_PETSC(KSPSetType(ksp_, KSPCG));
+      VPC_PETSC(KSPSetTolerances(ksp_, options_.rtol, 1e-300, PETSC_DEFAULT, options_.max_iterations));
+      VPC_PETSC(KSPSetInitialGuessNonzero(ksp_, PETSC_TRUE));
+      VPC_PETSC(KSPSetNormType(ksp_, KSP_NORM_UNPRECONDITIONED));
+      if (options_.kind == "cg-gamg") {
+        VPC_PETSC(PCSetType(pc, PCGAMG));
+        if (near_null_space) VPC_PETSC(MatSetNearNullSpace(A, near_null_space));
+      } else {
+        VPC_PETSC(PCSetType(pc, PCHYPRE));
+        VPC_PETSC(PCHYPRESetType(pc, "boomeramg"));
+      }
+    }
+    VPC_PETSC(KSPSetFromOptions(ksp_));
+    VPC_PETSC(KSPSetUp(ksp_));
+    if (!direct()) return;
+    Mat F = nullptr;
+    VPC_PETSC(PCFactorGetMatrix(pc, &F));
+    MatFactorError err = MAT_FACTOR_NOERROR;
+    VPC_PETSC(MatFactorGetError(F, &err));
+    require(err == MAT_FACTOR_NOERROR, "the {} is not positive definite (MUMPS factorization failed: error {})", what_,
+            static_cast<int>(err));
+  }
+
+  /// Throws unless the last solve converged (a block solve reports no iterations).
+  void check_converged(bool single) const {
+    KSPConvergedReason reason;
+    VPC_PETSC(KSPGetConvergedReason(ksp_, &reason));
+    PetscInt its = 0;
+    VPC_PETSC(KSPGetIterationNumber(ksp_, &its));
+    require(single ? reason > 0 : reason >= 0, "solving with the {} failed ({}, after {} iterations)", what_,
+            KSPConvergedReasons[reason], its);
+  }
+
+  MPI_Comm comm_;
+  std::string prefix_;
+  PetscSolverOptions options_;
+  PKsp ksp_;
+  std::string what_;
+  int n_factorizations_ = 0;
   PVec x_, b_;
   int n_ = 0;
   Eigen::VectorXd coordinates_;
@@ -147,6 +211,11 @@ class PetscFactor final : public Factor {
 }  // namespace
 
 Comm make_mpi_comm(MPI_Comm comm) { return Comm(std::make_shared<MpiComm>(comm)); }
+
+void check_linear_solver(const std::string& kind) {
+  require(kind == "mumps" || kind == "cg-gamg" || kind == "cg-hypre",
+          "unknown linear solver '{}'; expected mumps, cg-gamg or cg-hypre", kind);
+}
 
 namespace {
 

@@ -1,17 +1,37 @@
 #pragma once
 // The PETSc backend of the linear-algebra layer (PETSc build only): an MPI
 // communicator, MPIAIJ operators assembled from the ranks' local matrices, and
-// factors by PetscLinearSolver (MUMPS Cholesky, CG + GAMG, CG + hypre).
+// factors (MUMPS Cholesky, CG + GAMG, CG + hypre), each a KSP with its own
+// options prefix.
 #include "la/backend.hpp"
 #include "la/factor.hpp"
 #include "la/operator.hpp"
-#include "la/petsc_linear_solver.hpp"
 #include "la/petsc_util.hpp"
 
 #include <Eigen/Sparse>
+#include <string>
 #include <vector>
 
+namespace vpc {
+
+/// The PETSc backend's linear solver:
+///   "mumps"     Cholesky by MUMPS (distributed direct; the default)
+///   "cg-gamg"   conjugate gradients with PETSc's algebraic multigrid (rigid-body
+///               near-null space for elasticity from the coordinates)
+///   "cg-hypre"  conjugate gradients with hypre BoomerAMG
+/// The iterative ones stop at a relative residual of `rtol`.
+struct PetscSolverOptions {
+  std::string kind = "mumps";
+  double rtol = 1e-12;
+  int max_iterations = 10000;
+};
+
+}  // namespace vpc
+
 namespace vpc::la {
+
+/// Throws vpc::Error unless `kind` is one of PetscSolverOptions' linear solvers.
+void check_linear_solver(const std::string& kind);
 
 /// A Comm whose collectives are MPI's over `comm`.
 Comm make_mpi_comm(MPI_Comm comm);

@@ -17,7 +17,7 @@
 #include <vector>
 
 #include "la/factor.hpp"
-#include "la/linear_solver.hpp"
+#include "la/factor.hpp"
 
 namespace vpc {
 

@@ -3,7 +3,7 @@
 //     min ½ βᵀHβ − rᵀβ,  0 ≤ β ≤ 1,  H = M + kκA (constant over a run),
 //     r = M β_{n−1} + k F_φ.
 #include "solvers/box_qp.hpp"
-#include "la/linear_solver.hpp"
+#include "la/factor.hpp"
 
 #include <memory>
 #include <string>

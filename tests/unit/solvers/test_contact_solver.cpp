@@ -20,6 +20,13 @@
 namespace vpc {
 namespace {
 
+/// x = A⁻¹b with a factor of A.
+inline Vector solve_with(const la::Factor& f, const Vector& b) {
+  Vector x;
+  f.solve(b, x);
+  return x;
+}
+
 const char* const kSolvers[] = {"active-set", "penalty-duality"};
 
 /// The residuals of (3.9) on one process (rows 0..m−1, N whole).
@@ -136,9 +143,9 @@ Block make_block() {
   b.N.resize(static_cast<Eigen::Index>(b.bottom.size()), b.dofs.n_free());
   b.N.setFromTriplets(t.begin(), t.end());
   // Gap from the free deflection d: from 0.2 d (x = 0) to 1.2 d (x = 2).
-  auto f = make_cholmod_solver();
-  f->factorize(b.K, "block stiffness");
-  const double d = (b.N * f->solve(b.F)).maxCoeff();
+  auto f = la::make_cholmod_factor();
+  f->factorize(la::SparseOperator(b.K), "block stiffness");
+  const double d = (b.N * solve_with(*f, b.F)).maxCoeff();
   b.g.resize(static_cast<Eigen::Index>(b.bottom.size()));
   for (int r = 0; r < b.g.size(); ++r) b.g[r] = d * (0.2 + 0.5 * b.mesh.node(b.bottom[r])[0]);
   return b;
@@ -257,10 +264,10 @@ TEST(ContactSolver, ActiveSetWithAndWithoutCachedForwardSolvesAgree) {
 
 // The two halves of a CHOLMOD solve: A⁻¹ = backward ∘ forward, and
 // B₁ᵀA⁻¹B₂ = forward(B₁)ᵀ forward(B₂) (what S = N K⁻¹Nᵀ = YᵀY relies on).
-TEST(LinearSolver, ForwardAndBackwardHalvesComposeToTheSolve) {
+TEST(CholmodFactor, ForwardAndBackwardHalvesComposeToTheSolve) {
   const Block b = make_block();
-  const auto factor = make_cholmod_solver();
-  factor->factorize(b.K, "test stiffness");
+  const auto factor = la::make_cholmod_factor();
+  factor->factorize(la::SparseOperator(b.K), "test stiffness");
   const Eigen::MatrixXd B = Eigen::MatrixXd::Random(b.K.rows(), 3);
   const Eigen::MatrixXd X = factor->solve(B);
   EXPECT_LE((factor->backward(factor->forward(B)) - X).norm(), 1e-12 * X.norm());
@@ -401,8 +408,8 @@ TEST(ContactSolverErrors, CholmodRejectsNonPositiveDefinite) {
   const SparseMatrix singular = sparse((Eigen::MatrixXd(2, 2) << 1, -1, -1, 1).finished());
   const SparseMatrix indefinite = sparse((Eigen::MatrixXd(2, 2) << 1, 0, 0, -1).finished());
   for (const SparseMatrix* A : {&singular, &indefinite}) {
-    auto f = make_cholmod_solver();
-    const std::string msg = error_of([&] { f->factorize(*A, "unclamped stiffness"); });
+    auto f = la::make_cholmod_factor();
+    const std::string msg = error_of([&] { f->factorize(la::SparseOperator(*A), "unclamped stiffness"); });
     EXPECT_NE(msg.find("unclamped stiffness"), std::string::npos) << msg;
     EXPECT_NE(msg.find("not positive definite"), std::string::npos) << msg;
     EXPECT_EQ(f->n_factorizations(), 0);
@@ -418,8 +425,8 @@ TEST(ContactSolverErrors, CholmodRejectsRoundoffSingularMatrix) {
   for (int n : {20, 40, 80, 160, 320}) {
     const Mesh m = make_interval(0, 1, n);
     const SparseMatrix A = assemble_laplacian(m, compute_geometry(m));  // no boundary row dropped
-    auto f = make_cholmod_solver();
-    const std::string msg = error_of([&] { f->factorize(A, "free bar"); });
+    auto f = la::make_cholmod_factor();
+    const std::string msg = error_of([&] { f->factorize(la::SparseOperator(A), "free bar"); });
     EXPECT_NE(msg.find("not positive definite"), std::string::npos) << "n = " << n << ": " << msg;
   }
 }
