@@ -41,6 +41,7 @@ Expression::Expression(const std::string& text, Kind kind, const std::string& wh
   }
   const auto used = slots_.front().parser->GetUsedVar();
   uses_position_ = used.count("x") + used.count("y") + used.count("z") > 0;
+  uses_time_ = used.count("t") > 0;
 }
 
 Expression::~Expression() = default;

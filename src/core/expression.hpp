@@ -34,6 +34,8 @@ class Expression {
   const std::string& text() const { return text_; }
   /// Whether the formula uses x, y or z (a load that does not is uniform in space).
   bool uses_position() const { return uses_position_; }
+  /// Whether the formula uses t (a gap that does not is evaluated once).
+  bool uses_time() const { return uses_time_; }
   static std::vector<std::string> variables(Kind kind);
 
  private:
@@ -51,7 +53,7 @@ class Expression {
   double eval(Slot& s) const;
   std::string text_, where_;
   std::vector<Slot> slots_;
-  bool uses_position_ = true;
+  bool uses_position_ = true, uses_time_ = true;
 };
 
 }  // namespace vpc

@@ -623,8 +623,9 @@ std::optional<Point> read_contact_direction(Section& ct, int d) {
 }
 
 void read_contact(Section ct, Problem& p) {
-  const auto gap = ct.has("gap") ? ct.expression("gap", Expression::Kind::Space) : nullptr;
-  p.contact.gap = [gap](const Point& x, double) { return gap ? (*gap)(x) : 0.0; };
+  const auto gap = ct.has("gap") ? ct.expression("gap", Expression::Kind::SpaceTime) : nullptr;
+  p.contact.gap = [gap](const Point& x, double t) { return gap ? (*gap)(x, t) : 0.0; };
+  p.contact.gap_moves = gap && gap->uses_time();
   located(ct.where("gap"), [&] { check_gap(p.mesh, p.contact); });
   p.contact.direction = read_contact_direction(ct, p.mesh.dim());
   ct.finish();

@@ -17,7 +17,8 @@ namespace vpc {
 
 struct ContactSpec {
   std::vector<std::string> parts;    // Γ3
-  ScalarField gap;                   // g(x) ≥ 0, measured along the contact direction
+  ScalarField gap;                   // g(x, t), measured along the contact direction; g(x, 0) ≥ 0
+  bool gap_moves = false;            // g depends on t (a moving obstacle): evaluated at every step
   std::optional<Point> direction;    // a fixed direction, < 90° from the outward normal; unset: the normal
 };
 

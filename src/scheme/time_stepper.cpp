@@ -165,10 +165,26 @@ ContactConstraints TimeStepper::contact_constraints() const {
   return c;
 }
 
-Vector TimeStepper::contact_gap(double /*t*/) const {
+Vector TimeStepper::contact_gap(double t) const {
+  const ContactSpec& spec = problem_->contact;
   std::vector<double> gaps;
-  for (const PartContactNode& node : part_.contact)
-    if (node.owned) gaps.push_back(node.gap);
+  std::string bad;
+  for (const PartContactNode& node : part_.contact) {
+    if (!node.owned) continue;
+    if (!spec.gap_moves) {
+      gaps.push_back(node.gap);
+      continue;
+    }
+    // A moving obstacle (SPEC §6): g(x, t_n) < 0 is an obstacle that pushes the body
+    // back (N u ≤ g < 0 is still a feasible constraint); a value that is not a number
+    // is an error, reported by every process.
+    const Point& x = part_.mesh().node(node.local_node);
+    gaps.push_back(spec.gap(x, t));
+    if (!std::isfinite(gaps.back()) && bad.empty())
+      bad = fmt::format("the gap g is not finite ({}) at t = {} at contact node {} ({}, {}, {})", gaps.back(), t,
+                        part_.original_node[node.local_node], x[0], x[1], x[2]);
+  }
+  la::collective(part_.comm, [&] { require(bad.empty(), "{}", bad); });
   return Eigen::Map<Vector>(gaps.data(), static_cast<Eigen::Index>(gaps.size()));
 }
 

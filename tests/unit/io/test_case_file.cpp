@@ -239,7 +239,7 @@ TEST(CaseFile, BadCaseFilesGiveTheirMessages) {
       {"f0 = [\"0\", \"-5*t\"]", "f0 = [\"0\"]", "loads.f0: expected an array of 2 formulas (one per component), got 1"},
       {"f0 = [\"0\", \"-5*t\"]", "f0 = [\"0\", \"-5*T\"]",
        "bad.toml:35:12: loads.f0[1]: invalid expression \"-5*T\": Unexpected token \"T\""},
-      {"gap = \"0.001*x\"", "gap = \"0.001*t\"", "contact.gap: invalid expression"},
+      {"gap = \"0.001*x\"", "gap = \"0.001*vm\"", "contact.gap: invalid expression"},
       {"gap = \"0.001*x\"", "gap = \"-0.001*x\"", "contact.gap: the gap g must be >= 0"},
       {"gap = \"0.001*x\"", "gap = \"sqrt(x - 10)\"", "contact.gap: the gap g is not finite"},
       {"direction = [0, -1]", "direction = [0, 0]", "contact.direction: expected a non-zero vector"},

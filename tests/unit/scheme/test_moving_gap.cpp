@@ -1,0 +1,93 @@
+// Issue 13: a gap that depends on t (a rigid obstacle that moves). Each step's
+// contact problem uses g(x, t_n): an obstacle that moves into the body pushes it
+// back (g < 0 is allowed after t = 0), and the contact node then sits on it.
+#include "core/error.hpp"
+#include "io/case_file.hpp"
+#include "scheme/time_stepper.hpp"
+
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "../error_of.hpp"
+
+namespace vpc {
+namespace {
+
+/// A bar on [0, 1], clamped at x = 0, pushed towards the obstacle at x = 1 by f0 = 1
+/// (alone, its tip would move by 1/2); 10 steps to T = 1.
+Case bar(const std::string& gap) {
+  const std::string text = R"(
+[case]
+name = "moving-gap"
+[mesh]
+generator = "interval"
+lower = [0.0]
+upper = [1.0]
+cells = [8]
+[boundary]
+clamped = ["left"]
+contact = ["right"]
+[elasticity]
+E = 1.0
+[viscoplasticity]
+law = "maxwell-damage"
+[loads]
+f0 = ["1"]
+[contact]
+gap = )" + gap + R"(
+[time]
+T = 1.0
+steps = 10
+)";
+  return parse_case(text, "moving-gap.toml", ".", {});
+}
+
+TEST(MovingGap, TheTipFollowsTheObstacleIntoTheBody) {
+  const Case c = bar("\"0.6 - t\"");
+  TimeStepper s(c.problem, c.solvers);
+  const int tip = s.part().contact.front().local_node;
+  while (!s.done()) {
+    const StepReport r = s.step();
+    ASSERT_TRUE(r.ok) << "step " << r.n;
+    const double g = 0.6 - r.t;
+    EXPECT_LE(s.state().u[tip], g + 1e-12) << "t = " << r.t;  // never through the obstacle
+    if (s.state().lambda[0] > 0) EXPECT_NEAR(s.state().u[tip], g, 1e-12) << "t = " << r.t;
+  }
+  // At T the obstacle is 0.4 inside the reference body: the tip was pushed back there.
+  EXPECT_NEAR(s.state().u[tip], -0.4, 1e-12);
+  EXPECT_GT(s.state().lambda[0], 0.0);
+}
+
+TEST(MovingGap, AFormulaConstantInTimeIsTheFixedGap) {
+  const Case fixed = bar("0.3"), formula = bar("\"0.3 + 0*t\"");
+  EXPECT_FALSE(fixed.problem->contact.gap_moves);
+  EXPECT_TRUE(formula.problem->contact.gap_moves);
+  TimeStepper a(fixed.problem, fixed.solvers), b(formula.problem, formula.solvers);
+  while (!a.done()) {
+    a.step();
+    b.step();
+    EXPECT_EQ(a.state().u, b.state().u);
+    EXPECT_EQ(a.state().lambda, b.state().lambda);
+  }
+}
+
+TEST(MovingGap, AGapThatStopsBeingANumberIsNamedWithItsTime) {
+  const Case c = bar("\"sqrt(0.55 - t)\"");
+  TimeStepper s(c.problem, c.solvers);
+  const std::string msg = error_of([&] {
+    while (!s.done()) s.step();
+  });
+  EXPECT_NE(msg.find("the gap g is not finite"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("at t = 0.6"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("contact node 8 (1, 0, 0)"), std::string::npos) << msg;
+}
+
+TEST(MovingGap, TheGapAtTheStartMustStillBeNonNegative) {
+  const std::string msg = error_of([] { bar("\"-0.1 + t\""); });
+  EXPECT_NE(msg.find("moving-gap.toml"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("must be >= 0"), std::string::npos) << msg;
+}
+
+}  // namespace
+}  // namespace vpc
