@@ -234,6 +234,21 @@ Vector assemble_load(const Mesh& mesh, const std::vector<CellGeometry>& geo,
   }
 }
 
+void add_pressure_load(const Mesh& mesh, const std::vector<int>& facets, const ScalarField& p, double t, Vector& F) {
+  for (int f : facets) {
+    const Point n = mesh.facet_normal(f);
+    const VectorField traction = [&](const Point& x, double s) {
+      const double px = p(x, s);
+      return Point{-px * n[0], -px * n[1], -px * n[2]};
+    };
+    switch (mesh.dim()) {
+      case 1: integrate_load<1, 1>(mesh, mesh.facet(f), mesh.facet_measure(f), traction, t, F); break;
+      case 2: integrate_load<2, 2>(mesh, mesh.facet(f), mesh.facet_measure(f), traction, t, F); break;
+      default: integrate_load<3, 3>(mesh, mesh.facet(f), mesh.facet_measure(f), traction, t, F); break;
+    }
+  }
+}
+
 Vector assemble_stress_divergence(const Mesh& mesh, const std::vector<CellGeometry>& geo,
                                   const std::vector<SymTensor>& tau) {
   const int d = mesh.dim();

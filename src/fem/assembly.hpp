@@ -35,6 +35,10 @@ Vector assemble_load(const Mesh& mesh, const std::vector<CellGeometry>& geo,
                      const std::vector<int>& traction_facets, const VectorField& f0,
                      const VectorField& f2, double t);
 
+/// Adds the load of a normal pressure p(x, t) on `facets` to the full-space F:
+/// ∫ −p n·φ_i over each facet, n its outward normal (same quadrature as f2).
+void add_pressure_load(const Mesh& mesh, const std::vector<int>& facets, const ScalarField& p, double t, Vector& F);
+
 /// Full-space vector (τ, ε(φ_i))_Q for a P0 tensor field τ: the term Bᵀz of (3.9).
 Vector assemble_stress_divergence(const Mesh& mesh, const std::vector<CellGeometry>& geo,
                                   const std::vector<SymTensor>& tau);

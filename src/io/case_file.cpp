@@ -596,7 +596,24 @@ void read_damage(Section dm, Problem& p) {
 
 // ---------------------------------------------------------------- [loads], [contact], [time]
 
-void read_loads(Section l, Problem& p) {
+/// [[loads.pressure]]: a normal pressure p(x, t) on named parts.
+void read_pressure(Section& l, Problem& p, const Origins& origins, bool check) {
+  if (!l.has("pressure")) return;
+  const toml::node* loads = l.get("pressure");
+  if (!loads->is_array_of_tables()) l.expected("pressure", "an array of tables [[loads.pressure]] with parts and p");
+  int i = 0;
+  for (const auto& node : *loads->as_array()) {
+    Section s(node.as_table(), fmt::format("loads.pressure[{}]", i++), origins);
+    PressureLoad load;
+    load.parts = read_parts(s, "parts", p.mesh, true, check);
+    const auto pressure = s.expression("p", Expression::Kind::SpaceTime);
+    load.p = [pressure](const Point& x, double t) { return (*pressure)(x, t); };
+    s.finish();
+    p.pressure.push_back(std::move(load));
+  }
+}
+
+void read_loads(Section l, Problem& p, const Origins& origins, bool check) {
   auto load = [&](const char* key, bool& uniform) {
     if (!l.has(key)) return VectorField{};
     auto e = l.expressions(key, p.mesh.dim(), Expression::Kind::SpaceTime);
@@ -605,6 +622,7 @@ void read_loads(Section l, Problem& p) {
   };
   p.f0 = load("f0", p.f0_uniform);
   p.f2 = load("f2", p.f2_uniform);
+  read_pressure(l, p, origins, check);
   l.finish();
 }
 
@@ -740,7 +758,7 @@ Case parse_case(std::string_view text, const std::string& name, const fs::path& 
   p->elasticity = read_elasticity(top.table("elasticity"), p->mesh.dim(), name);
   p->law = read_viscoplasticity(top.table("viscoplasticity"), p->elasticity.young());
   read_damage(top.table("damage"), *p);
-  read_loads(top.table("loads"), *p);
+  read_loads(top.table("loads"), *p, origins, mesh_request.build);
   read_contact(top.table("contact"), *p);
   read_time(top.table("time"), *p, name);
   c.output = read_output(top.table("output"), *p);

@@ -135,9 +135,14 @@ std::vector<Message> pack_parts(const Problem& p, int n_parts) {
   std::vector<int> contact_row(n_nodes, -1);
   for (size_t k = 0; k < rows.size(); ++k) contact_row[rows[k].node] = static_cast<int>(k);
 
-  std::vector<std::vector<int>> cells_of(n_parts), facets_of(n_parts);
+  std::vector<std::vector<int>> cells_of(n_parts);
   for (int c = 0; c < mesh.n_cells(); ++c) cells_of[part[c]].push_back(c);
-  for (int f : traction_facets(p)) facets_of[part[facet_cell(mesh, nc, f)]].push_back(f);
+  // Loaded facets, each with the part of its cell: (facet, 0) on Γ2, (facet, k) under pressure load k − 1.
+  std::vector<std::vector<std::pair<int, int>>> facets_of(n_parts);
+  for (int f : traction_facets(p)) facets_of[part[facet_cell(mesh, nc, f)]].push_back({f, 0});
+  const std::vector<std::vector<int>> pressure = pressure_facets(p);
+  for (std::size_t k = 0; k < pressure.size(); ++k)
+    for (int f : pressure[k]) facets_of[part[facet_cell(mesh, nc, f)]].push_back({f, static_cast<int>(k) + 1});
 
   std::vector<Message> out(n_parts);
   std::vector<int> local(n_nodes, -1);
@@ -171,7 +176,7 @@ std::vector<Message> pack_parts(const Problem& p, int n_parts) {
               node_begin[r],
               dof_begin[r],
               n_owned_dofs};
-    m.ints.reserve(kHeader + 3 * nodes.size() + (npc + 1) * cells_of[r].size() + d * facets_of[r].size() +
+    m.ints.reserve(kHeader + 3 * nodes.size() + (npc + 1) * cells_of[r].size() + (d + 1) * facets_of[r].size() +
                    3 * contacts.size());
     m.reals.reserve(3 * nodes.size() + 5 * contacts.size());
     for (int v : nodes) {
@@ -182,8 +187,10 @@ std::vector<Message> pack_parts(const Problem& p, int n_parts) {
       for (int a = 0; a < npc; ++a) m.ints.push_back(local[mesh.cell(c)[a]]);
       m.ints.push_back(c);
     }
-    for (int f : facets_of[r])
+    for (auto [f, load] : facets_of[r]) {
       for (int a = 0; a < d; ++a) m.ints.push_back(local[mesh.facet(f)[a]]);
+      m.ints.push_back(load);
+    }
     for (int v : contacts) {
       const ContactRow& row = rows[contact_row[v]];
       m.ints.insert(m.ints.end(), {contact_row[v], local[v], owner[v] == r ? 1 : 0});
@@ -232,8 +239,14 @@ MeshPart unpack_part(MPI_Comm comm, const Message& m) {
   }
   for (int f = 0; f < n_facets; ++f) {
     for (int a = 0; a < d; ++a) nodes[a] = static_cast<int>(*in++);
-    mesh->add_facet(nodes, "traction");
-    dm.traction_facets.push_back(f);
+    const int load = static_cast<int>(*in++);
+    mesh->add_facet(nodes, load == 0 ? "traction" : fmt::format("pressure{}", load));
+    if (load == 0) {
+      dm.traction_facets.push_back(f);
+      continue;
+    }
+    if (dm.pressure_facets.size() < static_cast<std::size_t>(load)) dm.pressure_facets.resize(load);
+    dm.pressure_facets[load - 1].push_back(f);
   }
   dm.mesh_ptr = std::move(mesh);
   for (int k = 0; k < n_contacts; ++k) {
@@ -289,7 +302,9 @@ MeshPart distribute_mesh(MPI_Comm comm, const Problem& problem) {
     MPI_Recv(mine.ints.data(), static_cast<int>(sizes[0]), MPI_LONG_LONG, 0, 2, comm, MPI_STATUS_IGNORE);
     MPI_Recv(mine.reals.data(), static_cast<int>(sizes[1]), MPI_DOUBLE, 0, 3, comm, MPI_STATUS_IGNORE);
   }
-  return unpack_part(comm, mine);
+  MeshPart part = unpack_part(comm, mine);
+  part.pressure_facets.resize(problem.pressure.size());  // a part may hold no facet of the last loads
+  return part;
 }
 
 }  // namespace vpc

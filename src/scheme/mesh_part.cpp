@@ -35,6 +35,7 @@ MeshPart whole_mesh_part(std::shared_ptr<const Problem> problem) {
   part.original_cell.resize(mesh.n_cells());
   std::iota(part.original_cell.begin(), part.original_cell.end(), 0);
   part.traction_facets = traction_facets(p);
+  part.pressure_facets = pressure_facets(p);
   const std::vector<int> clamped_nodes = mesh.nodes_of_parts(p.clamped);
   part.dofs = DofMap(n, mesh.dim(), clamped_nodes);
   part.n_owned_dofs = part.dofs.n_free();

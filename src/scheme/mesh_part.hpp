@@ -35,6 +35,7 @@ struct MeshPart {
   std::vector<int> original_node;      // number in the mesh as read, per local node
   std::vector<int> original_cell;      // number in the mesh as read, per cell
   std::vector<int> traction_facets;    // Γ2 facets of the part's mesh
+  std::vector<std::vector<int>> pressure_facets;  // per Problem::pressure load, facets of the part's mesh
   DofMap dofs;                         // local free dofs: owned first, then ghosts
   int n_owned_dofs = 0;
   std::vector<long long> global_dof;   // global free dof per local free dof

@@ -67,6 +67,14 @@ void Problem::validate() const {
     require(mesh.part_size(p) > 0, "{}: contact part '{}' has no boundary facets in the mesh", where, p);
   for (const auto& p : traction)
     require(mesh.part_size(p) > 0, "{}: traction part '{}' has no boundary facets in the mesh", where, p);
+  for (const PressureLoad& load : pressure)
+    for (const auto& p : load.parts) {
+      require(mesh.part_size(p) > 0, "{}: pressure part '{}' has no boundary facets in the mesh", where, p);
+      const bool on_gamma1 = std::find(clamped.begin(), clamped.end(), p) != clamped.end();
+      const bool on_gamma3 = std::find(contact.parts.begin(), contact.parts.end(), p) != contact.parts.end();
+      require(!on_gamma1 && !on_gamma3, "{}: pressure part '{}' is a {} part; a pressure acts on Γ2 only", where, p,
+              on_gamma1 ? "clamped" : "contact");
+    }
   require(static_cast<bool>(contact.gap), "{}: no gap function g", where);
   located(where, [&] { check_gap(mesh, contact); });
   located(where, [&] { check_beta0(mesh, beta0); });
@@ -74,6 +82,12 @@ void Problem::validate() const {
     const Point& v = *contact.direction;
     require(std::hypot(v[0], v[1], v[2]) > 0, "{}: the contact direction must be a non-zero vector", where);
   }
+}
+
+std::vector<std::vector<int>> pressure_facets(const Problem& p) {
+  std::vector<std::vector<int>> facets;
+  for (const PressureLoad& load : p.pressure) facets.push_back(p.mesh.facets_of_parts(load.parts));
+  return facets;
 }
 
 std::vector<int> traction_facets(const Problem& p) {

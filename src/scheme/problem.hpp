@@ -22,6 +22,13 @@ struct ContactSpec {
   std::optional<Point> direction;    // a fixed direction, < 90° from the outward normal; unset: the normal
 };
 
+/// A normal pressure p(x, t) on boundary parts: the traction −p n with n the outward
+/// normal of the reference configuration (small deformations: not a follower load).
+struct PressureLoad {
+  std::vector<std::string> parts;
+  ScalarField p;
+};
+
 struct Problem {
   std::string name;
   Mesh mesh;
@@ -36,6 +43,7 @@ struct Problem {
   /// f0 (f2) does not depend on x: its load vector is f(t) times the integrals of
   /// the basis functions, computed once, instead of a quadrature at every step.
   bool f0_uniform = false, f2_uniform = false;
+  std::vector<PressureLoad> pressure;  // on parts outside Γ1 and Γ3, added to any f2 there
   ScalarField beta0;  // initial damage β0(x) in [0, 1]; u0 = 0, σ0 = 0
   double final_time = 1;
   int n_steps = 100;  // k = T / N
@@ -61,6 +69,8 @@ void check_gap(const Mesh& mesh, const ContactSpec& contact);
 
 /// Γ2: the given traction parts, or every boundary facet in neither Γ1 nor Γ3.
 std::vector<int> traction_facets(const Problem& p);
+/// The facets of each pressure load's parts, in the order of Problem::pressure.
+std::vector<std::vector<int>> pressure_facets(const Problem& p);
 
 /// A row of the contact matrix N of (3.9): a node of Γ3 that is not clamped, its
 /// unit direction ν (the given one, or the measure-weighted mean of the outward

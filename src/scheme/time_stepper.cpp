@@ -272,6 +272,7 @@ Vector TimeStepper::load(double t) const {
     for (int a = 0; a < mesh.n_nodes(); ++a)
       for (int i = 0; i < d; ++i) F[a * d + i] += v[i] * (*w)[a];
   }
+  for (std::size_t k = 0; k < p.pressure.size(); ++k) add_pressure_load(mesh, part_.pressure_facets[k], p.pressure[k].p, t, F);
   return F;
 }
 
