@@ -640,13 +640,61 @@ std::optional<Point> read_contact_direction(Section& ct, int d) {
   return dir;
 }
 
-void read_contact(Section ct, Problem& p) {
+/// A unit vector from `key` (d numbers, not all zero).
+Point unit_vector(Section& s, const std::string& key, int d) {
+  const auto v = s.numbers(key, static_cast<size_t>(d));
+  Point u{0, 0, 0};
+  for (int i = 0; i < d; ++i) u[i] = v[i];
+  const double l = std::hypot(u[0], u[1], u[2]);
+  if (l == 0) fail("{}: expected a non-zero vector", s.where(key));
+  for (double& c : u) c /= l;
+  return u;
+}
+
+/// One [[obstacle]]: its shape, its position (formulas in t) and size.
+Obstacle read_obstacle(Section& s, int k, int d) {
+  Obstacle o;
+  o.name = s.string("name", fmt::format("obstacle{}", k + 1));
+  const std::string shape = s.choice("shape", {"plane", "sphere", "cylinder"});
+  o.shape = shape == "plane" ? Obstacle::Shape::Plane : shape == "sphere" ? Obstacle::Shape::Sphere : Obstacle::Shape::Cylinder;
+  const std::string at = o.shape == Obstacle::Shape::Plane ? "point" : "center";
+  auto position = s.expressions(at, d, Expression::Kind::SpaceTime);
+  for (const auto& e : position)
+    if (e->uses_position()) fail("{}: the position of an obstacle is a formula in t only (got \"{}\")", s.where(at), e->text());
+  o.position = vector_field(std::move(position));
+  if (o.shape == Obstacle::Shape::Plane) {
+    o.normal = unit_vector(s, "normal", d);
+  } else {
+    o.radius = s.number("radius");
+    if (!(o.radius > 0)) fail("{}: expected a radius > 0, got {}", s.where("radius"), o.radius);
+  }
+  if (o.shape == Obstacle::Shape::Cylinder && d == 3) o.axis = unit_vector(s, "axis", d);
+  return o;
+}
+
+/// [[obstacle]] sections (instead of [contact] gap).
+void read_obstacles(Section& top, Problem& p, const Origins& origins, bool gap_given) {
+  if (!top.has("obstacle")) return;
+  const toml::node* list = top.get("obstacle");
+  if (!list->is_array_of_tables()) top.expected("obstacle", "an array of tables [[obstacle]] with shape and position");
+  if (gap_given) fail("{}: a case has either [contact] gap or [[obstacle]] sections, not both", top.where("obstacle"));
+  int k = 0;
+  for (const auto& node : *list->as_array()) {
+    Section s(node.as_table(), fmt::format("obstacle[{}]", k), origins);
+    p.contact.obstacles.push_back(read_obstacle(s, k++, p.mesh.dim()));
+    s.finish();
+  }
+}
+
+/// Returns whether a gap was given.
+bool read_contact(Section ct, Problem& p) {
   const auto gap = ct.has("gap") ? ct.expression("gap", Expression::Kind::SpaceTime) : nullptr;
   p.contact.gap = [gap](const Point& x, double t) { return gap ? (*gap)(x, t) : 0.0; };
   p.contact.gap_moves = gap && gap->uses_time();
   located(ct.where("gap"), [&] { check_gap(p.mesh, p.contact); });
   p.contact.direction = read_contact_direction(ct, p.mesh.dim());
   ct.finish();
+  return gap != nullptr;
 }
 
 void read_time(Section tm, Problem& p, const std::string& file) {
@@ -759,7 +807,7 @@ Case parse_case(std::string_view text, const std::string& name, const fs::path& 
   p->law = read_viscoplasticity(top.table("viscoplasticity"), p->elasticity.young());
   read_damage(top.table("damage"), *p);
   read_loads(top.table("loads"), *p, origins, mesh_request.build);
-  read_contact(top.table("contact"), *p);
+  read_obstacles(top, *p, origins, read_contact(top.table("contact"), *p));
   read_time(top.table("time"), *p, name);
   c.output = read_output(top.table("output"), *p);
   c.solvers = read_solver(top.table("solver"));

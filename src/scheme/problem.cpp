@@ -38,7 +38,14 @@ void check_beta0(const Mesh& mesh, const ScalarField& beta0) {
   }
 }
 
+double contact_gap_at(const ContactSpec& contact, const Point& x, const Point& nu, double t, double miss) {
+  return contact.obstacles.empty() ? contact.gap(x, t) : obstacle_gap(contact.obstacles, x, nu, t, miss);
+}
+
+double contact_miss_gap(const Point& lo, const Point& hi) { return std::hypot(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]); }
+
 void check_gap(const Mesh& mesh, const ContactSpec& contact) {
+  if (!contact.obstacles.empty()) return;  // needs the directions: checked by contact_rows
   for (int i : mesh.nodes_of_parts(contact.parts)) {
     const Point& x = mesh.node(i);
     const double g = contact.gap(x, 0.0);
@@ -75,8 +82,13 @@ void Problem::validate() const {
       require(!on_gamma1 && !on_gamma3, "{}: pressure part '{}' is a {} part; a pressure acts on Γ2 only", where, p,
               on_gamma1 ? "clamped" : "contact");
     }
-  require(static_cast<bool>(contact.gap), "{}: no gap function g", where);
+  require(static_cast<bool>(contact.gap) || !contact.obstacles.empty(), "{}: no gap function g", where);
   located(where, [&] { check_gap(mesh, contact); });
+  if (!contact.obstacles.empty()) {  // the gaps need the contact directions: contact_rows checks them
+    std::vector<char> on_gamma1(static_cast<std::size_t>(mesh.n_nodes()), 0);
+    for (int i : mesh.nodes_of_parts(clamped)) on_gamma1[i] = 1;
+    contact_rows(*this, on_gamma1);
+  }
   located(where, [&] { check_beta0(mesh, beta0); });
   if (contact.direction) {
     const Point& v = *contact.direction;
@@ -136,6 +148,15 @@ std::vector<ContactRow> contact_rows(const Problem& p, const std::vector<char>& 
     for (int a = 0; a < mesh.nodes_per_facet(); ++a)
       for (int j = 0; j < 3; ++j) normal[mesh.facet(f)[a]][j] += w * nf[j];
   }
+  Point lo{0, 0, 0}, hi{0, 0, 0};
+  for (int j = 0; j < 3; ++j) {
+    lo[j] = hi[j] = mesh.node(0)[j];
+    for (int i = 0; i < mesh.n_nodes(); ++i) {
+      lo[j] = std::min(lo[j], mesh.node(i)[j]);
+      hi[j] = std::max(hi[j], mesh.node(i)[j]);
+    }
+  }
+  const double miss = contact_miss_gap(lo, hi);
   std::vector<ContactRow> rows;
   for (int node : mesh.nodes_of_parts(p.contact.parts)) {
     if (clamped[node]) continue;  // u = 0 already
@@ -148,7 +169,10 @@ std::vector<ContactRow> contact_rows(const Problem& p, const std::vector<char>& 
     Point v = p.contact.direction ? *p.contact.direction : normal[node];
     const double l = length(v);
     for (double& c : v) c /= l;
-    rows.push_back({node, v, p.contact.gap(x, 0.0)});
+    const double g = contact_gap_at(p.contact, x, v, 0.0, miss);
+    require(std::isfinite(g) && g >= 0, "{}: the gap g must be a number >= 0 at t = 0; the obstacles give {} at contact node {} ({}, {}, {})",
+            p.name, g, node, x[0], x[1], x[2]);
+    rows.push_back({node, v, g});
   }
   require(!rows.empty(), "{}: the contact part has no free nodes (all are clamped or it is empty)", p.name);
   return rows;

@@ -7,6 +7,7 @@
 #include "material/elasticity.hpp"
 #include "material/viscoplastic_law.hpp"
 #include "mesh/mesh.hpp"
+#include "scheme/obstacle.hpp"
 
 #include <memory>
 #include <optional>
@@ -19,6 +20,8 @@ struct ContactSpec {
   std::vector<std::string> parts;    // Γ3
   ScalarField gap;                   // g(x, t), measured along the contact direction; g(x, 0) ≥ 0
   bool gap_moves = false;            // g depends on t (a moving obstacle): evaluated at every step
+  /// Rigid obstacles instead of `gap`: g is the distance along ν to the nearest one, at every step.
+  std::vector<Obstacle> obstacles;
   std::optional<Point> direction;    // a fixed direction, < 90° from the outward normal; unset: the normal
 };
 
@@ -66,6 +69,13 @@ int steps_of_time_step(double final_time, double k);
 void check_beta0(const Mesh& mesh, const ScalarField& beta0);
 /// g finite and ≥ 0 at every node of Γ3.
 void check_gap(const Mesh& mesh, const ContactSpec& contact);
+
+/// g at a contact node x with direction ν at time t: the gap formula, or the distance
+/// to the nearest obstacle (`miss` where every ray misses: see contact_miss_gap).
+double contact_gap_at(const ContactSpec& contact, const Point& x, const Point& nu, double t, double miss);
+/// The gap of a node that no obstacle lies ahead of: the diagonal of the body's
+/// bounding box [lo, hi], farther than any small-deformation displacement reaches.
+double contact_miss_gap(const Point& lo, const Point& hi);
 
 /// Γ2: the given traction parts, or every boundary facet in neither Γ1 nor Γ3.
 std::vector<int> traction_facets(const Problem& p);

@@ -63,6 +63,19 @@ TimeStepper::TimeStepper(std::shared_ptr<const Problem> problem, MeshPart part,
   if (p.f0 && p.f0_uniform) basis_integral_cells_ = basis_integral(unit, nullptr);
   if (p.f2 && p.f2_uniform) basis_integral_traction_ = basis_integral(nullptr, unit);
 
+  if (!p.contact.obstacles.empty()) {  // the body's bounding box, over every process's nodes
+    Point lo{0, 0, 0}, hi{0, 0, 0};
+    for (int j = 0; j < 3; ++j) {
+      double l = INFINITY, h = -INFINITY;
+      for (int i = 0; i < mesh.n_nodes(); ++i) {
+        l = std::min(l, mesh.node(i)[j]);
+        h = std::max(h, mesh.node(i)[j]);
+      }
+      lo[j] = part_.comm.min(l);
+      hi[j] = part_.comm.max(h);
+    }
+    miss_gap_ = contact_miss_gap(lo, hi);
+  }
   assemble_and_factorize();
 
   // Initial state (3.4): u0 = 0, σ0 = 0 (so z0 = σ0 − ℰε(u0) = 0), β0 = P1 interpolant
@@ -171,7 +184,7 @@ Vector TimeStepper::contact_gap(double t) const {
   std::string bad;
   for (const PartContactNode& node : part_.contact) {
     if (!node.owned) continue;
-    if (!spec.gap_moves) {
+    if (!spec.gap_moves && spec.obstacles.empty()) {
       gaps.push_back(node.gap);
       continue;
     }
@@ -179,7 +192,7 @@ Vector TimeStepper::contact_gap(double t) const {
     // back (N u ≤ g < 0 is still a feasible constraint); a value that is not a number
     // is an error, reported by every process.
     const Point& x = part_.mesh().node(node.local_node);
-    gaps.push_back(spec.gap(x, t));
+    gaps.push_back(contact_gap_at(spec, x, node.direction, t, miss_gap_));
     if (!std::isfinite(gaps.back()) && bad.empty())
       bad = fmt::format("the gap g is not finite ({}) at t = {} at contact node {} ({}, {}, {})", gaps.back(), t,
                         part_.original_node[node.local_node], x[0], x[1], x[2]);

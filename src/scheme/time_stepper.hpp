@@ -170,6 +170,7 @@ class TimeStepper {
   State state_;
   Vector u_free_;  // owned free dofs: the contact solver's warm start
   SetupTiming setup_timing_;
+  double miss_gap_ = 0;  // the gap where no obstacle lies ahead (contact_miss_gap)
 };
 
 }  // namespace vpc

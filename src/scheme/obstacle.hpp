@@ -1,0 +1,31 @@
+#pragma once
+// Rigid obstacles that move (SPEC §6, issue 13): a plane, a sphere or a cylinder
+// (a circle in 2D) whose position is a function of t. The gap of a contact node
+// is the distance from the node along its contact direction ν to the obstacle's
+// surface, exact for these shapes; with several obstacles the nearest counts.
+#include "fem/assembly.hpp"
+
+#include <string>
+#include <vector>
+
+namespace vpc {
+
+struct Obstacle {
+  enum class Shape { Plane, Sphere, Cylinder };
+  std::string name;
+  Shape shape = Shape::Plane;
+  VectorField position;       // a point of the plane / the centre / a point of the axis, at time t
+  Point normal{0, 0, 1};      // plane: unit normal pointing out of the obstacle (towards the body)
+  Point axis{0, 0, 1};        // cylinder: unit axis direction
+  double radius = 0;          // sphere, cylinder
+};
+
+/// The distance s along the unit direction ν from x to the obstacle's surface at
+/// time t (x + sν on it): s < 0 when x is inside the obstacle; +∞ when the ray
+/// does not meet it (ν points away from a plane, passes beside a sphere).
+double distance_along(const Obstacle& o, const Point& x, const Point& nu, double t);
+
+/// The least distance_along over the obstacles, or `miss` when every ray misses.
+double obstacle_gap(const std::vector<Obstacle>& obstacles, const Point& x, const Point& nu, double t, double miss);
+
+}  // namespace vpc

@@ -1,0 +1,110 @@
+// Issue 13: rigid obstacles that move, [[obstacle]]: the gap of a contact node is
+// the distance along its direction ν to the nearest obstacle's surface.
+#include "io/case_file.hpp"
+#include "scheme/obstacle.hpp"
+#include "scheme/time_stepper.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+
+#include "../error_of.hpp"
+
+namespace vpc {
+namespace {
+
+Obstacle at(Obstacle::Shape shape, Point c, double radius = 0) {
+  Obstacle o;
+  o.shape = shape;
+  o.position = [c](const Point&, double t) { return Point{c[0], c[1], c[2] - t}; };  // moves down at speed 1
+  o.radius = radius;
+  return o;
+}
+
+TEST(Obstacle, DistanceAlongTheDirectionForEachShape) {
+  const Point up{0, 0, 1};
+  // Plane z = 2 − t with normal −z (towards the body below it).
+  Obstacle plane = at(Obstacle::Shape::Plane, {5, 7, 2});
+  plane.normal = {0, 0, -1};
+  EXPECT_DOUBLE_EQ(distance_along(plane, {0, 0, 0.5}, up, 0.0), 1.5);
+  EXPECT_DOUBLE_EQ(distance_along(plane, {0, 0, 0.5}, up, 1.0), 0.5);
+  EXPECT_DOUBLE_EQ(distance_along(plane, {0, 0, 0.5}, up, 2.0), -0.5);  // the plane has passed the node
+  EXPECT_NEAR(distance_along(plane, {0, 0, 0}, Point{0.6, 0, 0.8}, 0.0), 2.5, 1e-15);  // oblique ν
+  EXPECT_TRUE(std::isinf(distance_along(plane, {0, 0, 0}, Point{0, 0, -1}, 0.0)));  // heading away
+  // Sphere of radius 1 centred at (0, 0, 3 − t).
+  const Obstacle sphere = at(Obstacle::Shape::Sphere, {0, 0, 3}, 1.0);
+  EXPECT_NEAR(distance_along(sphere, {0, 0, 0}, up, 0.0), 2.0, 1e-15);
+  EXPECT_NEAR(distance_along(sphere, {0.6, 0, 0}, up, 0.0), 3 - 0.8, 1e-15);
+  EXPECT_NEAR(distance_along(sphere, {0, 0, 0}, up, 2.5), -0.5, 1e-15);  // the node is inside
+  EXPECT_TRUE(std::isinf(distance_along(sphere, {1.5, 0, 0}, up, 0.0)));  // passes beside
+  EXPECT_TRUE(std::isinf(distance_along(sphere, {0, 0, 5}, up, 0.0)));    // the sphere is behind
+  // Cylinder of radius 1 along y through (0, ·, 3 − t): as the sphere in the x–z plane.
+  Obstacle cylinder = at(Obstacle::Shape::Cylinder, {0, 0, 3}, 1.0);
+  cylinder.axis = {0, 1, 0};
+  EXPECT_NEAR(distance_along(cylinder, {0.6, 40, 0}, up, 0.0), 3 - 0.8, 1e-15);
+  EXPECT_TRUE(std::isinf(distance_along(cylinder, {0, 0, 0}, Point{0, 1, 0}, 0.0)));  // along the axis
+  // The nearest obstacle counts; no obstacle ahead: the miss value.
+  EXPECT_NEAR(obstacle_gap({plane, sphere}, {0, 0, 0}, up, 0.0, 99), 2.0, 1e-15);
+  EXPECT_EQ(obstacle_gap({sphere}, {1.5, 0, 0}, up, 0.0, 99), 99);
+}
+
+std::string bar_text(const std::string& contact) {
+  return R"(
+[case]
+name = "obstacle-bar"
+[mesh]
+generator = "interval"
+lower = [0.0]
+upper = [1.0]
+cells = [8]
+[boundary]
+clamped = ["left"]
+contact = ["right"]
+[elasticity]
+E = 1.0
+[viscoplasticity]
+law = "maxwell-damage"
+[loads]
+f0 = ["1"]
+[time]
+T = 1.0
+steps = 10
+)" + contact;
+}
+
+// A plane moving at speed 1 towards the tip is the gap formula 0.6 − t.
+TEST(Obstacle, AMovingPlaneIsTheEquivalentGapFormula) {
+  const Case plane = parse_case(bar_text("[[obstacle]]\nshape = \"plane\"\npoint = [\"1.6 - t\"]\nnormal = [-1]\n"),
+                                "plane.toml", ".", {});
+  const Case formula = parse_case(bar_text("[contact]\ngap = \"0.6 - t\"\n"), "formula.toml", ".", {});
+  TimeStepper a(plane.problem, plane.solvers), b(formula.problem, formula.solvers);
+  while (!a.done()) {
+    ASSERT_TRUE(a.step().ok);
+    ASSERT_TRUE(b.step().ok);
+    EXPECT_NEAR(a.state().u[8], b.state().u[8], 1e-14);
+    EXPECT_NEAR(a.state().lambda[0], b.state().lambda[0], 1e-12);
+  }
+  EXPECT_NEAR(a.state().u[8], -0.4, 1e-12);
+}
+
+TEST(Obstacle, BadObstaclesAreLocatedErrors) {
+  auto error = [](const std::string& contact) { return error_of([&] { parse_case(bar_text(contact), "o.toml", ".", {}); }); };
+  std::string m = error("[contact]\ngap = 0.1\n[[obstacle]]\nshape = \"plane\"\npoint = [2]\nnormal = [-1]\n");
+  EXPECT_NE(m.find("either [contact] gap or [[obstacle]]"), std::string::npos) << m;
+  m = error("[[obstacle]]\nshape = \"plane\"\npoint = [\"2 + x\"]\nnormal = [-1]\n");
+  EXPECT_NE(m.find("obstacle[0].point"), std::string::npos) << m;
+  EXPECT_NE(m.find("a formula in t only"), std::string::npos) << m;
+  m = error("[[obstacle]]\nshape = \"sphere\"\ncenter = [3]\nradius = 0\n");
+  EXPECT_NE(m.find("expected a radius > 0"), std::string::npos) << m;
+  m = error("[[obstacle]]\nshape = \"cube\"\npoint = [3]\n");
+  EXPECT_NE(m.find("obstacle[0].shape"), std::string::npos) << m;
+  EXPECT_NE(m.find("cylinder"), std::string::npos) << m;
+  m = error("[[obstacle]]\nshape = \"plane\"\npoint = [0.5]\nnormal = [-1]\n");  // already through the tip
+  EXPECT_NE(m.find("must be a number >= 0 at t = 0"), std::string::npos) << m;
+  m = error("[[obstacle]]\nshape = \"plane\"\npoint = [2]\nnormal = [0]\n");
+  EXPECT_NE(m.find("non-zero vector"), std::string::npos) << m;
+}
+
+}  // namespace
+}  // namespace vpc
