@@ -138,19 +138,24 @@ long long active_contact_nodes(const RunTotals& totals, const Vector& lambda) {
 
 std::vector<int> tensor_components(const Elasticity& e) { return e.stress_components(); }
 
-std::string history_header() {
-  return "step,t,n_active,total_contact_force,contact_iterations,contact_equilibrium,"
-         "contact_penetration,contact_negative_force,contact_complementarity,damage_iterations,"
-         "damage_kkt_residual,beta_min,beta_max,n_beta_zero,n_beta_one,max_von_mises,ok\n";
+std::string history_header(const std::vector<Obstacle>& obstacles) {
+  std::string h = "step,t,n_active,total_contact_force,contact_iterations,contact_equilibrium,"
+                  "contact_penetration,contact_negative_force,contact_complementarity,damage_iterations,"
+                  "damage_kkt_residual,beta_min,beta_max,n_beta_zero,n_beta_one,max_von_mises,ok,contact_area";
+  for (const Obstacle& o : obstacles) h += ",force_" + o.name;
+  return h + "\n";
 }
 
 std::string history_row(const StepReport& r) {
   const auto& c = r.contact;
-  return fmt::format("{},{:.17g},{},{:.17g},{},{:.3e},{:.3e},{:.3e},{:.3e},{},{:.3e},{:.17g},{:.17g},{},{},{:.17g},{}\n",
-                     r.n, r.t, c.n_active, c.total_force, c.iterations, c.residuals.equilibrium,
-                     c.residuals.penetration, c.residuals.negative_force, c.residuals.complementarity,
-                     r.damage.iterations, r.damage.kkt_residual, r.beta_min, r.beta_max, r.damage.n_lower,
-                     r.damage.n_upper, r.max_von_mises, r.ok ? 1 : 0);
+  std::string row =
+      fmt::format("{},{:.17g},{},{:.17g},{},{:.3e},{:.3e},{:.3e},{:.3e},{},{:.3e},{:.17g},{:.17g},{},{},{:.17g},{},{:.17g}",
+                  r.n, r.t, c.n_active, c.total_force, c.iterations, c.residuals.equilibrium, c.residuals.penetration,
+                  c.residuals.negative_force, c.residuals.complementarity, r.damage.iterations, r.damage.kkt_residual,
+                  r.beta_min, r.beta_max, r.damage.n_lower, r.damage.n_upper, r.max_von_mises, r.ok ? 1 : 0,
+                  r.contact_area);
+  for (double f : r.obstacle_force) row += fmt::format(",{:.17g}", f);
+  return row + "\n";
 }
 
 std::string probes_header(const Elasticity& e, std::size_t n_probes) {
@@ -193,7 +198,7 @@ void RunOutput::open_csv(bool append) {
 void RunOutput::start() {
   open_csv(false);
   if (root()) {
-    history_ << history_header();
+    history_ << history_header(stepper_.problem().contact.obstacles);
     history_.flush();
     probe_csv_ << probes_header(stepper_.problem().elasticity, probes_.size());
   }

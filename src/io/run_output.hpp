@@ -59,7 +59,8 @@ std::vector<int> tensor_components(const Elasticity& e);
 
 // The CSV formats.
 /// history.csv: the header line, and the row of one step (both end in a newline).
-std::string history_header();
+/// `obstacles`: their names (columns force_<name> after contact_area), may be empty.
+std::string history_header(const std::vector<Obstacle>& obstacles = {});
 std::string history_row(const StepReport& r);
 /// probes.csv: the header line for `n_probes` probes in d dimensions.
 std::string probes_header(const Elasticity& e, std::size_t n_probes);

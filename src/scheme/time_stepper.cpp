@@ -289,6 +289,26 @@ Vector TimeStepper::load(double t) const {
   return F;
 }
 
+void TimeStepper::contact_totals(StepReport& rep) const {
+  const auto& obstacles = problem_->contact.obstacles;
+  std::vector<double> sums(obstacles.size() + 1, 0.0);  // area, then the obstacles' forces
+  for (const PartContactNode& node : part_.contact) {
+    if (!node.owned) continue;
+    const double lambda = state_.lambda[node.row];
+    if (lambda > rep.contact.active_threshold) sums[0] += node.measure;
+    if (obstacles.empty() || lambda == 0) continue;
+    const Point& x = part_.mesh().node(node.local_node);
+    std::size_t nearest = 0;
+    for (std::size_t k = 1; k < obstacles.size(); ++k)
+      if (distance_along(obstacles[k], x, node.direction, rep.t) < distance_along(obstacles[nearest], x, node.direction, rep.t))
+        nearest = k;
+    sums[nearest + 1] += lambda;
+  }
+  part_.comm.sum(sums.data(), static_cast<int>(sums.size()));
+  rep.contact_area = sums[0];
+  rep.obstacle_force.assign(sums.begin() + 1, sums.end());
+}
+
 void TimeStepper::beta_range(StepReport& rep) const {
   const la::Comm& comm = part_.comm;
   const auto n = static_cast<std::size_t>(part_.n_owned_nodes);
@@ -348,6 +368,7 @@ StepReport TimeStepper::advance(int level, double t_end) {
   f_.add_ghosts_to_owners();
   contact_->set_gap(contact_gap(rep.t));
   rep.contact = contact_->solve(f_.owned(), u_free_, state_.lambda);
+  contact_totals(rep);
   u_.owned() = u_free_;
   u_.update_ghosts();
   state_.u = extend_from_free(part_.dofs, u_.local());

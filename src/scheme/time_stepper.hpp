@@ -66,6 +66,12 @@ struct StepReport {
   double beta_min = 1, beta_max = 1;
   int beta_min_node = 0;  // by the rule of minimum_at
   double max_von_mises = 0;
+  /// The contact area: the summed tributary measures of the active contact nodes
+  /// (a length in 2D, 1 per node in 1D).
+  double contact_area = 0;
+  /// With obstacles: the total contact force on each (Problem::contact.obstacles order),
+  /// each node's force counted for the obstacle nearest to it at this step.
+  std::vector<double> obstacle_force;
   double seconds_sources = 0, seconds_damage = 0, seconds_contact = 0, seconds_stress = 0;
   /// True when both solvers converged and all residuals are within tolerance.
   bool ok = true;
@@ -149,6 +155,8 @@ class TimeStepper {
   DamageSolver& damage_solver(int level);
   /// F_n of (3.3) without the Bᵀz term: the loads f0, f2 at time t (the part's full dofs).
   Vector load(double t) const;
+  /// The contact area and the force on each obstacle, from λ of the step ending at t. Collective.
+  void contact_totals(StepReport& rep) const;
   /// min β over all processes by minimum_at's rule, and max β.
   void beta_range(StepReport& rep) const;
 

@@ -1,6 +1,7 @@
 // Issue 13: rigid obstacles that move, [[obstacle]]: the gap of a contact node is
 // the distance along its direction ν to the nearest obstacle's surface.
 #include "io/case_file.hpp"
+#include "io/run_output.hpp"
 #include "scheme/obstacle.hpp"
 #include "scheme/time_stepper.hpp"
 
@@ -86,6 +87,25 @@ TEST(Obstacle, AMovingPlaneIsTheEquivalentGapFormula) {
     EXPECT_NEAR(a.state().lambda[0], b.state().lambda[0], 1e-12);
   }
   EXPECT_NEAR(a.state().u[8], -0.4, 1e-12);
+}
+
+// The history's totals: each node's force goes to its nearest obstacle; the contact
+// area is the measure of the active nodes (the bar's tip: 1 node, measure 1).
+TEST(Obstacle, ForcePerObstacleAndContactArea) {
+  const Case c = parse_case(bar_text("[[obstacle]]\nname = \"near\"\nshape = \"plane\"\npoint = [\"1.6 - t\"]\n"
+                                     "normal = [-1]\n[[obstacle]]\nname = \"far\"\nshape = \"sphere\"\n"
+                                     "center = [3]\nradius = 0.5\n"),
+                            "two.toml", ".", {});
+  TimeStepper s(c.problem, c.solvers);
+  while (!s.done()) {
+    const StepReport r = s.step();
+    ASSERT_EQ(r.obstacle_force.size(), 2u);
+    EXPECT_DOUBLE_EQ(r.obstacle_force[0], r.contact.total_force);
+    EXPECT_EQ(r.obstacle_force[1], 0.0);
+    EXPECT_EQ(r.contact_area, r.contact.n_active > 0 ? 1.0 : 0.0);
+  }
+  const std::string header = history_header(c.problem->contact.obstacles);
+  EXPECT_NE(header.find(",ok,contact_area,force_near,force_far\n"), std::string::npos) << header;
 }
 
 TEST(Obstacle, BadObstaclesAreLocatedErrors) {
