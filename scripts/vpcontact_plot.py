@@ -1049,6 +1049,9 @@ class Plotter:
         lines = []
         if "total_contact_force" in h:
             lines += ax_f.plot(t, h["total_contact_force"], "C0", label="total contact force")
+        # With [[obstacle]] sections: the force on each obstacle (history.csv force_<name>).
+        for k, col in enumerate(c for c in h if c.startswith("force_")):
+            lines += ax_f.plot(t, h[col], "C%d:" % (5 + k % 5), label="on %s" % col[len("force_"):])
         ax_f.set_ylabel("total contact force [%s]" % force_units(self.run.dim))
         if "n_active" in h:
             ax_n = ax_f.twinx()
