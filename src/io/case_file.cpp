@@ -693,6 +693,12 @@ bool read_contact(Section ct, Problem& p) {
   p.contact.gap_moves = gap && gap->uses_time();
   located(ct.where("gap"), [&] { check_gap(p.mesh, p.contact); });
   p.contact.direction = read_contact_direction(ct, p.mesh.dim());
+  if (ct.choice("law", {"signorini", "normal-compliance"}, "signorini") == "normal-compliance") {
+    p.contact.stiffness = ct.number("stiffness");
+    if (!(p.contact.stiffness > 0)) fail("{}: expected a stiffness > 0, got {}", ct.where("stiffness"), p.contact.stiffness);
+  } else if (ct.has("stiffness")) {
+    fail("{}: a stiffness belongs to law = \"normal-compliance\" (the law here is Signorini)", ct.where("stiffness"));
+  }
   ct.finish();
   return gap != nullptr;
 }

@@ -20,6 +20,9 @@ struct ContactSpec {
   std::vector<std::string> parts;    // Γ3
   ScalarField gap;                   // g(x, t), measured along the contact direction; g(x, 0) ≥ 0
   bool gap_moves = false;            // g depends on t (a moving obstacle): evaluated at every step
+  /// Normal compliance σ_ν = −c (u_ν − g)₊ with this c (a pressure per unit of
+  /// penetration), lumped at the contact nodes; 0: Signorini (the paper's law).
+  double stiffness = 0;
   /// Rigid obstacles instead of `gap`: g is the distance along ν to the nearest one, at every step.
   std::vector<Obstacle> obstacles;
   std::optional<Point> direction;    // a fixed direction, < 90° from the outward normal; unset: the normal

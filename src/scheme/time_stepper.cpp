@@ -175,6 +175,13 @@ ContactConstraints TimeStepper::contact_constraints() const {
   c.N.resize(static_cast<Eigen::Index>(c.rows.size()), part_.n_owned_dofs);
   c.N.setFromTriplets(t.begin(), t.end());
   c.gap = contact_gap(0.0);
+  if (problem_->contact.stiffness > 0) {  // λ_i = c |Γ3|_i (N_i u − g_i)₊: the law at the node, times its measure
+    c.normal_compliance = true;
+    c.compliance.resize(static_cast<Eigen::Index>(c.rows.size()));
+    Eigen::Index k = 0;
+    for (const PartContactNode& node : part_.contact)
+      if (node.owned) c.compliance[k++] = 1.0 / (problem_->contact.stiffness * node.measure);
+  }
   return c;
 }
 

@@ -42,7 +42,8 @@ ContactResiduals contact_residuals(const la::SpdOperator& K, const ContactConstr
     K.mult(u, Ku);
   }
   const Vector lambda_local = local_rows(c, lambda);
-  const Vector s = c.gap - c.N * u;  // the gap left: ≥ 0
+  Vector s = c.gap - c.N * u;  // the gap left: ≥ 0
+  if (c.normal_compliance) s += c.compliance.cwiseProduct(lambda_local);
   auto inf = [&](const Vector& v) { return comm.max(v.size() ? v.cwiseAbs().maxCoeff() : 0.0); };
   const double f_scale = std::max({inf(F), inf(Ku), 1e-300});
   r.equilibrium = inf(Vector(Ku - F + c.N.transpose() * lambda_local)) / f_scale;
@@ -115,6 +116,7 @@ class ActiveSetContactSolver final : public ContactSolver {
     Eigen::MatrixXd S = factor_->has_halves() ? dual_matrix_from_halves(max_cached_share)
                                               : dual_matrix_from_solves(max_cached_share);
     S = 0.5 * (S + S.transpose()).eval();
+    if (c_.normal_compliance) S.diagonal() += replicate(comm(), c_, c_.compliance);
     S_ = std::make_unique<DenseBoxQpOperator>(std::move(S));
   }
 
@@ -280,6 +282,10 @@ std::unique_ptr<ContactSolver> make_contact_solver(const std::string& name, std:
   if (name == "active-set")
     return std::make_unique<ActiveSetContactSolver>(std::move(K), std::move(K_factor), std::move(constraints),
                                                     opt.max_cached_share);
+  require(name != "penalty-duality" || !constraints.normal_compliance,
+          "contact solver 'penalty-duality' solves the Signorini conditions only; normal compliance needs 'active-set'");
+  require(!constraints.normal_compliance || constraints.compliance.size() == rows,
+          "internal: {} compliances for {} contact rows", constraints.compliance.size(), rows);
   if (name == "penalty-duality")
     return std::make_unique<PenaltyDualityContactSolver>(std::move(K), *K_factor, std::move(constraints), make_factor,
                                                          opt);

@@ -91,3 +91,34 @@ TEST(MovingGap, TheGapAtTheStartMustStillBeNonNegative) {
 
 }  // namespace
 }  // namespace vpc
+
+namespace vpc {
+namespace {
+
+// [contact] law = "normal-compliance": the paper's case with a stiff law is the
+// Signorini answer (c → ∞), a soft one lets the body in; bad keys are located.
+TEST(NormalCompliance, StiffLawRecoversSignoriniAndSoftLawPenetrates) {
+  auto run = [](const std::string& law) {
+    const Case c = bar("0.3\n" + law);
+    TimeStepper s(c.problem, c.solvers);
+    while (!s.done()) EXPECT_TRUE(s.step().ok);
+    return std::make_pair(s.state().u[8], s.state().lambda[0]);
+  };
+  const auto [u_s, l_s] = run("");
+  const auto [u_stiff, l_stiff] = run("law = \"normal-compliance\"\nstiffness = 1e10");
+  const auto [u_soft, l_soft] = run("law = \"normal-compliance\"\nstiffness = 2");
+  EXPECT_NEAR(u_s, 0.3, 1e-12);
+  EXPECT_NEAR(u_stiff, u_s, 1e-9);
+  EXPECT_NEAR(l_stiff, l_s, 1e-8 * l_s);
+  EXPECT_GT(u_soft, 0.3 + 1e-3);
+  EXPECT_NEAR(l_soft, 2 * (u_soft - 0.3), 1e-12);  // λ = c |Γ3| (u − g), |Γ3| = 1 in 1D
+  std::string m = error_of([] { bar("0.3\nlaw = \"normal-compliance\"\n"); });
+  EXPECT_NE(m.find("missing key 'contact.stiffness'"), std::string::npos) << m;
+  m = error_of([] { bar("0.3\nstiffness = 5"); });
+  EXPECT_NE(m.find("a stiffness belongs to law = \"normal-compliance\""), std::string::npos) << m;
+  m = error_of([] { bar("0.3\nlaw = \"penalty\""); });
+  EXPECT_NE(m.find("contact.law"), std::string::npos) << m;
+}
+
+}  // namespace
+}  // namespace vpc

@@ -115,6 +115,33 @@ TEST(ContactSolver, ResidualsDetectEachViolation) {
   EXPECT_GT(residuals(s.K, s.N, F, g, u_gap, lambda).complementarity, 1e-3);
 }
 
+// Normal compliance λ = c (u2 − g)₊ on the springs: with F pushing the tip past g,
+// k_s u2 = F − λ gives u2 = (F + c g) / (k_s + c), λ = c (F/k_s − g) k_s / (k_s + c);
+// as c → ∞ it tends to Signorini's λ = F − k_s g.
+TEST(ContactSolver, NormalComplianceSprings) {
+  const Springs s;
+  const Vector F = (Vector(2) << 0, 1.5).finished();
+  const double ks = s.k_series();
+  auto K = std::make_shared<const la::SparseOperator>(s.K);
+  std::shared_ptr<la::Factor> factor = la::make_cholmod_factor();
+  factor->factorize(*K, "springs");
+  for (double c : {0.5, 10.0, 1e12}) {
+    SCOPED_TRACE(c);
+    ContactConstraints cc{1, {0}, s.N, Vector::Constant(1, s.g), true, Vector::Constant(1, 1 / c)};
+    auto solver = make_contact_solver("active-set", K, factor, cc, la::make_cholmod_factor);
+    Vector u, lambda;
+    const ContactReport rep = solver->solve(F, u, lambda);
+    ASSERT_TRUE(rep.converged);
+    EXPECT_LE(rep.residuals.max(), 1e-12);
+    EXPECT_NEAR(u[1], (F[1] + c * s.g) / (ks + c), 1e-12);
+    EXPECT_NEAR(lambda[0], c * (F[1] - ks * s.g) / (ks + c), 1e-10);
+    EXPECT_GT(u[1], s.g);  // the law lets the tip in
+  }
+  ContactConstraints cc{1, {0}, s.N, Vector::Constant(1, s.g), true, Vector::Constant(1, 1.0)};
+  const std::string msg = error_of([&] { make_contact_solver("penalty-duality", K, factor, cc, la::make_cholmod_factor); });
+  EXPECT_NE(msg.find("normal compliance needs 'active-set'"), std::string::npos) << msg;
+}
+
 // ---------------------------------------------------------------- 2D elastic block
 
 /// (0, 2) × (0, 1), plane strain E = 1, ν = 0.3, clamped on "top", body force
