@@ -10,38 +10,13 @@
 #include <string>
 
 #include "../error_of.hpp"
+#include "bar_case.hpp"
 
 namespace vpc {
 namespace {
 
-/// A bar on [0, 1], clamped at x = 0, pushed towards the obstacle at x = 1 by f0 = 1
-/// (alone, its tip would move by 1/2); 10 steps to T = 1.
-Case bar(const std::string& gap) {
-  const std::string text = R"(
-[case]
-name = "moving-gap"
-[mesh]
-generator = "interval"
-lower = [0.0]
-upper = [1.0]
-cells = [8]
-[boundary]
-clamped = ["left"]
-contact = ["right"]
-[elasticity]
-E = 1.0
-[viscoplasticity]
-law = "maxwell-damage"
-[loads]
-f0 = ["1"]
-[contact]
-gap = )" + gap + R"(
-[time]
-T = 1.0
-steps = 10
-)";
-  return parse_case(text, "moving-gap.toml", ".", {});
-}
+/// The test bar (bar_case.hpp) with this gap.
+Case bar(const std::string& gap) { return parse_case(test::bar_text("[contact]\ngap = " + gap + "\n"), "moving-gap.toml", ".", {}); }
 
 TEST(MovingGap, TheTipFollowsTheObstacleIntoTheBody) {
   const Case c = bar("\"0.6 - t\"");

@@ -11,6 +11,7 @@
 #include <string>
 
 #include "../error_of.hpp"
+#include "bar_case.hpp"
 
 namespace vpc {
 namespace {
@@ -50,29 +51,7 @@ TEST(Obstacle, DistanceAlongTheDirectionForEachShape) {
   EXPECT_EQ(obstacle_gap({sphere}, {1.5, 0, 0}, up, 0.0, 99), 99);
 }
 
-std::string bar_text(const std::string& contact) {
-  return R"(
-[case]
-name = "obstacle-bar"
-[mesh]
-generator = "interval"
-lower = [0.0]
-upper = [1.0]
-cells = [8]
-[boundary]
-clamped = ["left"]
-contact = ["right"]
-[elasticity]
-E = 1.0
-[viscoplasticity]
-law = "maxwell-damage"
-[loads]
-f0 = ["1"]
-[time]
-T = 1.0
-steps = 10
-)" + contact;
-}
+using test::bar_text;
 
 // A plane moving at speed 1 towards the tip is the gap formula 0.6 − t.
 TEST(Obstacle, AMovingPlaneIsTheEquivalentGapFormula) {

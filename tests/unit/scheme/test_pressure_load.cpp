@@ -43,7 +43,7 @@ TEST(PressureLoad, ResultantIsMinusPressureTimesAreaAlongTheOutwardNormal) {
 
 /// A plane-stress plate clamped at the bottom, contact on the top far away, loaded on
 /// its right side either by `pressure` or by `traction` (f2 on that side only).
-Case plate(const std::string& loads) {
+Case plate(const std::string& loads, const std::string& traction = "") {
   const std::string text = R"(
 [case]
 name = "pressure-plate"
@@ -55,6 +55,7 @@ cells = [4, 8]
 [boundary]
 clamped = ["bottom"]
 contact = ["top"]
+)" + traction + R"(
 [elasticity]
 kind = "plane-stress"
 E = 100.0
@@ -72,33 +73,8 @@ steps = 4
 
 TEST(PressureLoad, IsTheTractionMinusPNormalOnItsPart) {
   const Case by_pressure = plate("[[loads.pressure]]\nparts = \"right\"\np = \"2*t*y\"\n");
-  const std::string f2 = "[loads]\nf2 = [\"-2*t*y\", \"0\"]\n";
   // The same load as a Cartesian traction on the right side only (n = +x there).
-  const std::string plate_text = R"(
-[case]
-name = "pressure-plate"
-[mesh]
-generator = "rectangle"
-lower = [0.0, 0.0]
-upper = [1.0, 2.0]
-cells = [4, 8]
-[boundary]
-clamped = ["bottom"]
-contact = ["top"]
-traction = ["right"]
-[elasticity]
-kind = "plane-stress"
-E = 100.0
-nu = 0.3
-[viscoplasticity]
-law = "maxwell-damage"
-[contact]
-gap = 1.0
-[time]
-T = 1.0
-steps = 4
-)" + f2;
-  const Case traction = parse_case(plate_text, "traction-plate.toml", ".", {});
+  const Case traction = plate("[loads]\nf2 = [\"-2*t*y\", \"0\"]\n", "traction = [\"right\"]");
   TimeStepper a(by_pressure.problem, by_pressure.solvers), b(traction.problem, traction.solvers);
   while (!a.done()) {
     ASSERT_TRUE(a.step().ok);
