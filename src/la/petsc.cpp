@@ -152,7 +152,25 @@ class PetscFactor final : public Factor {
   }
 
   /// The KSP takes a PETSc reference to A. Throws naming `what_` if the factorization fails.
+  /// MUMPS sizes its workspace from the analysis plus ICNTL(14) percent; on several ranks
+  /// its dynamic scheduling can need more (INFOG(1) = −9, seen as MAT_FACTOR_OUTMEMORY,
+  /// now and then on block-3d at 2 ranks), so the factorization is redone with twice the
+  /// margin, up to 800 % (-vpc_<name>_mat_mumps_icntl_14 overrides every try).
   void set_up_ksp(Mat A, MatNullSpace near_null_space) {
+    for (int margin = 50;; margin *= 2) {
+      const MatFactorError err = try_set_up_ksp(A, near_null_space, margin);
+      if (err == MAT_FACTOR_NOERROR) return;
+      if (err == MAT_FACTOR_OUTMEMORY && margin < 800) continue;
+      require(err != MAT_FACTOR_OUTMEMORY, "the {}: MUMPS ran out of workspace (last try with ICNTL(14) = {} %)", what_, margin);
+      fail("the {} is not positive definite (MUMPS factorization failed: {})", what_,
+           err == MAT_FACTOR_NUMERIC_ZEROPIVOT  ? "zero pivot"
+           : err == MAT_FACTOR_STRUCT_ZEROPIVOT ? "structurally zero pivot"
+                                                : "error " + std::to_string(static_cast<int>(err)));
+    }
+  }
+
+  /// One try of set_up_ksp, with `margin` % extra MUMPS workspace; the factorization's error.
+  MatFactorError try_set_up_ksp(Mat A, MatNullSpace near_null_space, int margin) {
     VPC_PETSC(KSPCreate(comm_, ksp_.out()));
     VPC_PETSC(KSPSetOptionsPrefix(ksp_, prefix_.c_str()));
     VPC_PETSC(KSPSetOperators(ksp_, A, A));
@@ -162,6 +180,10 @@ class PetscFactor final : public Factor {
       VPC_PETSC(KSPSetType(ksp_, KSPPREONLY));
       VPC_PETSC(PCSetType(pc, PCCHOLESKY));
       VPC_PETSC(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS));
+      VPC_PETSC(PCFactorSetUpMatSolverType(pc));
+      Mat F = nullptr;
+      VPC_PETSC(PCFactorGetMatrix(pc, &F));
+      VPC_PETSC(MatMumpsSetIcntl(F, 14, margin));
     } else {
       VPC_PETSC(KSPSetType(ksp_, KSPCG));
       VPC_PETSC(KSPSetTolerances(ksp_, options_.rtol, 1e-300, PETSC_DEFAULT, options_.max_iterations));
@@ -177,13 +199,13 @@ class PetscFactor final : public Factor {
     }
     VPC_PETSC(KSPSetFromOptions(ksp_));
     VPC_PETSC(KSPSetUp(ksp_));
-    if (!direct()) return;
-    Mat F = nullptr;
-    VPC_PETSC(PCFactorGetMatrix(pc, &F));
     MatFactorError err = MAT_FACTOR_NOERROR;
-    VPC_PETSC(MatFactorGetError(F, &err));
-    require(err == MAT_FACTOR_NOERROR, "the {} is not positive definite (MUMPS factorization failed: error {})", what_,
-            static_cast<int>(err));
+    if (direct()) {
+      Mat F = nullptr;
+      VPC_PETSC(PCFactorGetMatrix(pc, &F));
+      VPC_PETSC(MatFactorGetError(F, &err));
+    }
+    return err;
   }
 
   /// Throws unless the last solve converged (a block solve reports no iterations).
