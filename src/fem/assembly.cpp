@@ -253,13 +253,8 @@ Vector assemble_stress_divergence(const Mesh& mesh, const std::vector<CellGeomet
                                   const std::vector<SymTensor>& tau) {
   const int d = mesh.dim();
   return scatter_over_cells(mesh.n_cells(), static_cast<Eigen::Index>(mesh.n_nodes()) * d, [&](int c, Vector& F) {
-    // (τ, ε(λ_a e_i)) = |T| Σ_j τ_ij ∂_j λ_a, using the symmetry of τ.
     for (int a = 0; a <= d; ++a)
-      for (int i = 0; i < d; ++i) {
-        double s = 0;
-        for (int j = 0; j < d; ++j) s += tau[c](i, j) * geo[c].grad[a][j];
-        F[mesh.cell(c)[a] * d + i] += geo[c].volume * s;
-      }
+      for (int i = 0; i < d; ++i) F[mesh.cell(c)[a] * d + i] += stress_divergence_entry(geo[c], tau[c], d, a, i);
   });
 }
 

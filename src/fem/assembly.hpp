@@ -39,6 +39,14 @@ Vector assemble_load(const Mesh& mesh, const std::vector<CellGeometry>& geo,
 /// ∫ −p n·φ_i over each facet, n its outward normal (same quadrature as f2).
 void add_pressure_load(const Mesh& mesh, const std::vector<int>& facets, const ScalarField& p, double t, Vector& F);
 
+/// (τ, ε(λ_a e_i)) over one cell for a constant τ: its vertex a's share in component i of
+/// the vector below (the divergence term, and the reactions at prescribed dofs).
+inline double stress_divergence_entry(const CellGeometry& g, const SymTensor& tau, int d, int a, int i) {
+  double s = 0;  // |T| Σ_j τ_ij ∂_j λ_a, using the symmetry of τ
+  for (int j = 0; j < d; ++j) s += tau(i, j) * g.grad[a][j];
+  return g.volume * s;
+}
+
 /// Full-space vector (τ, ε(φ_i))_Q for a P0 tensor field τ: the term Bᵀz of (3.9).
 Vector assemble_stress_divergence(const Mesh& mesh, const std::vector<CellGeometry>& geo,
                                   const std::vector<SymTensor>& tau);

@@ -508,9 +508,41 @@ std::vector<std::string> read_parts(Section& b, const std::string& key, const Me
   return parts;
 }
 
-void read_boundary(Section b, Problem& p, bool check, const std::string& file) {
-  if (!b.exists()) fail("{}: missing section [boundary] (clamped and contact parts)", file);
-  p.clamped = read_parts(b, "clamped", p.mesh, true, check);
+/// [[boundary.displacement]]: prescribed components ux, uy, uz (formulas in x, y, z, t) on named parts.
+void read_displacements(Section& b, Problem& p, const Origins& origins, bool check) {
+  if (!b.has("displacement")) return;
+  const toml::node* list = b.get("displacement");
+  if (!list->is_array_of_tables())
+    b.expected("displacement", "an array of tables [[boundary.displacement]] with parts and ux, uy or uz");
+  const int d = p.mesh.dim();
+  int k = 0;
+  for (const auto& node : *list->as_array()) {
+    Section s(node.as_table(), fmt::format("boundary.displacement[{}]", k++), origins);
+    PrescribedDisplacement bc;
+    bc.parts = read_parts(s, "parts", p.mesh, true, check);
+    for (int c = 0; c < 3; ++c) {
+      const std::string key = std::string("u") + "xyz"[c];
+      if (!s.has(key)) continue;
+      if (c >= d) fail("{}: the mesh has d = {}: its components are {}", s.where(key), d, d == 1 ? "ux" : "ux, uy");
+      const auto e = s.expression(key, Expression::Kind::SpaceTime);
+      bc.value[c] = [e](const Point& x, double t) { return (*e)(x, t); };
+    }
+    if (std::none_of(bc.value.begin(), bc.value.end(), [](const ScalarField& f) { return static_cast<bool>(f); }))
+      fail("{}: expected at least one of {} (a formula in x, y, z, t)", s.where_section(),
+           d == 1 ? "ux" : d == 2 ? "ux, uy" : "ux, uy, uz");
+    s.finish();
+    p.displacement.push_back(std::move(bc));
+  }
+}
+
+void read_boundary(Section b, Problem& p, const Origins& origins, bool check) {
+  if (!b.exists()) fail("{}: missing section [boundary] (clamped and contact parts)", origins.file);
+  read_displacements(b, p, origins, check);
+  p.symmetry = read_parts(b, "symmetry", p.mesh, false, check);
+  if (check)
+    for (const auto& part : p.symmetry) located(b.where("symmetry"), [&] { symmetry_axis(p.mesh, part); });
+  // Γ1 may be left out when prescribed displacements or symmetry planes hold the body.
+  p.clamped = read_parts(b, "clamped", p.mesh, p.displacement.empty() && p.symmetry.empty(), check);
   p.contact.parts = read_parts(b, "contact", p.mesh, true, check);
   p.traction = read_parts(b, "traction", p.mesh, false, check);
   b.finish();
@@ -808,7 +840,7 @@ Case parse_case(std::string_view text, const std::string& name, const fs::path& 
   auto p = std::make_shared<Problem>();
   p->name = c.name;
   p->mesh = read_mesh(top.table("mesh"), base_dir, origins, mesh_request);
-  read_boundary(top.table("boundary"), *p, mesh_request.build, name);
+  read_boundary(top.table("boundary"), *p, origins, mesh_request.build);
   p->elasticity = read_elasticity(top.table("elasticity"), p->mesh.dim(), name);
   p->law = read_viscoplasticity(top.table("viscoplasticity"), p->elasticity.young());
   read_damage(top.table("damage"), *p);

@@ -192,12 +192,12 @@ Snapshot gather_snapshot(const TimeStepper& stepper) {
   const int d = part.dofs.dim();
   const Snapshot mine = stepper.snapshot();
   const State& st = mine.state;
-  Vector clamped(part.n_local_nodes());
-  for (int i = 0; i < part.n_local_nodes(); ++i) clamped[i] = part.dofs.free_index(part.dofs.full_index(i, 0)) < 0;
+  Vector free(part.dofs.n_full());  // 1 at a free dof
+  for (int i = 0; i < part.dofs.n_full(); ++i) free[i] = part.dofs.free_index(i) >= 0;
   Snapshot g;
   g.state.u = gather_blocks(nodes, st.u.data(), d);
   g.state.beta = nodes.gather(st.beta);
-  const Vector C = nodes.gather(clamped);
+  const Vector F = gather_blocks(nodes, free.data(), d);
   const std::vector<double> cells = pack_cells(st);
   unpack_cells(gather_blocks(cell_layout(part), cells.data(), 18), g.state);
   // The damage solver's warm start: a node field (owned entries), or none.
@@ -211,12 +211,11 @@ Snapshot gather_snapshot(const TimeStepper& stepper) {
   g.state.t = st.t;
   g.state.lambda = st.lambda;     // every process holds all of λ
   g.contact_warm = mine.contact_warm;  // one value per contact row, the same everywhere
-  // u on the free dofs in the numbering of the mesh as read (DofMap's: node-major, Γ1 nodes dropped).
+  // u on the free dofs in the numbering of the mesh as read (DofMap's: node-major, prescribed components dropped).
   g.u_free.resize(part.n_global_dofs);
   Eigen::Index k = 0;
-  for (Eigen::Index i = 0; i < C.size(); ++i)
-    if (C[i] == 0)
-      for (int c = 0; c < d; ++c) g.u_free[k++] = g.state.u[i * d + c];
+  for (Eigen::Index i = 0; i < F.size(); ++i)
+    if (F[i] != 0) g.u_free[k++] = g.state.u[i];
   return g;
 }
 

@@ -59,8 +59,9 @@ std::vector<int> tensor_components(const Elasticity& e);
 
 // The CSV formats.
 /// history.csv: the header line, and the row of one step (both end in a newline).
-/// `obstacles`: their names (columns force_<name> after contact_area), may be empty.
-std::string history_header(const std::vector<Obstacle>& obstacles = {});
+/// After contact_area: force_<name> for each obstacle, then reaction_<part>_<x|y|z>
+/// for each Dirichlet part (dirichlet_parts) and each component it prescribes.
+std::string history_header(const Problem& p);
 std::string history_row(const StepReport& r);
 /// probes.csv: the header line for `n_probes` probes in d dimensions.
 std::string probes_header(const Elasticity& e, std::size_t n_probes);

@@ -93,7 +93,7 @@ struct Message {
   std::vector<double> reals;
 };
 
-constexpr int kHeader = 13;
+constexpr int kHeader = 14;
 
 /// Rank 0: the part of every rank, packed.
 std::vector<Message> pack_parts(const Problem& p, int n_parts) {
@@ -109,8 +109,11 @@ std::vector<Message> pack_parts(const Problem& p, int n_parts) {
     for (int k = nc.start[i]; k < nc.start[i + 1]; ++k) o = std::min(o, part[nc.list[k]]);
     owner[i] = o == n_parts ? 0 : o;
   }
-  std::vector<char> clamped(n_nodes, 0);
-  for (int i : mesh.nodes_of_parts(p.clamped)) clamped[i] = 1;
+  const DirichletDofs dirichlet = dirichlet_dofs(p);
+  auto n_free = [&](int i) {
+    return static_cast<int>(std::count(dirichlet.condition.begin() + static_cast<std::ptrdiff_t>(i) * d,
+                                       dirichlet.condition.begin() + static_cast<std::ptrdiff_t>(i + 1) * d, -1));
+  };
 
   // Global numbers: the nodes of rank 0, then of rank 1, ...; each in its original order.
   std::vector<std::vector<int>> owned(n_parts);
@@ -122,15 +125,15 @@ std::vector<Message> pack_parts(const Problem& p, int n_parts) {
     dof_begin[r] = next_dof;
     for (int i : owned[r]) {
       new_id[i] = next_node++;
-      if (!clamped[i]) {
+      if (const int k = n_free(i); k > 0) {  // the node's free components, in order
         first_dof[i] = next_dof;
-        next_dof += d;
+        next_dof += k;
       }
     }
   }
   dof_begin[n_parts] = next_dof;
 
-  const std::vector<ContactRow> rows = contact_rows(p, clamped);
+  const std::vector<ContactRow> rows = contact_rows(p, dirichlet.condition);
   const std::vector<double> measure = tributary_measures(mesh, p.contact.parts);  // for the output's contact pressure
   std::vector<int> contact_row(n_nodes, -1);
   for (size_t k = 0; k < rows.size(); ++k) contact_row[rows[k].node] = static_cast<int>(k);
@@ -175,12 +178,15 @@ std::vector<Message> pack_parts(const Problem& p, int n_parts) {
               mesh.n_cells(),
               node_begin[r],
               dof_begin[r],
-              n_owned_dofs};
-    m.ints.reserve(kHeader + 3 * nodes.size() + (npc + 1) * cells_of[r].size() + (d + 1) * facets_of[r].size() +
+              n_owned_dofs,
+              static_cast<long long>(dirichlet.parts.size())};
+    m.ints.insert(m.ints.end(), dirichlet.components.begin(), dirichlet.components.end());
+    m.ints.reserve(kHeader + dirichlet.parts.size() + (4 + d) * nodes.size() + (npc + 1) * cells_of[r].size() + (d + 1) * facets_of[r].size() +
                    3 * contacts.size());
     m.reals.reserve(3 * nodes.size() + 5 * contacts.size());
     for (int v : nodes) {
-      m.ints.insert(m.ints.end(), {new_id[v], v, first_dof[v]});
+      m.ints.insert(m.ints.end(), {new_id[v], v, first_dof[v], static_cast<long long>(dirichlet.on_parts[v])});
+      for (int c = 0; c < d; ++c) m.ints.push_back(dirichlet.condition[static_cast<std::size_t>(v) * d + c]);
       m.reals.insert(m.reals.end(), mesh.node(v).begin(), mesh.node(v).end());
     }
     for (int c : cells_of[r]) {
@@ -216,17 +222,20 @@ MeshPart unpack_part(MPI_Comm comm, const Message& m) {
   const long long dof_begin = h[11];
   dm.n_owned_dofs = static_cast<int>(h[12]);
   const long long* in = h + kHeader;
+  dm.dirichlet_components.assign(in, in + h[13]);  // per Dirichlet part
+  in += h[13];
   const double* x = m.reals.data();
   *mesh = Mesh(d);
   std::vector<long long> first_dof(n_local);
-  std::vector<int> clamped;
+  dm.dirichlet.resize(static_cast<std::size_t>(n_local) * d);
   dm.global_node.resize(n_local);
   dm.original_node.resize(n_local);
   for (int i = 0; i < n_local; ++i) {
     dm.global_node[i] = *in++;
     dm.original_node[i] = static_cast<int>(*in++);
     first_dof[i] = *in++;
-    if (first_dof[i] < 0) clamped.push_back(i);
+    if (const auto bits = static_cast<std::uint64_t>(*in++)) dm.dirichlet_nodes.emplace_back(i, bits);
+    for (int c = 0; c < d; ++c) dm.dirichlet[static_cast<std::size_t>(i) * d + c] = static_cast<int>(*in++);
     mesh->add_node({x[0], x[1], x[2]});
     x += 3;
   }
@@ -260,12 +269,12 @@ MeshPart unpack_part(MPI_Comm comm, const Message& m) {
     x += 5;
     dm.contact.push_back(c);
   }
-  dm.dofs = DofMap(n_local, d, clamped);
+  dm.dofs = DofMap(d, dm.dirichlet);
   dm.global_dof.assign(dm.dofs.n_free(), -1);
   for (int i = 0; i < n_local; ++i)
-    for (int c = 0; c < d; ++c) {
+    for (int c = 0, j = 0; c < d; ++c) {  // j: the node's free components before c
       const int k = dm.dofs.free_index(dm.dofs.full_index(i, c));
-      if (k >= 0) dm.global_dof[k] = first_dof[i] + c;
+      if (k >= 0) dm.global_dof[k] = first_dof[i] + j++;
     }
   for (int k = 0; k < dm.n_owned_dofs; ++k)
     require(dm.global_dof[k] == dof_begin + k, "internal: the owned dofs of a part are not contiguous");

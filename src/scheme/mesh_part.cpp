@@ -36,14 +36,16 @@ MeshPart whole_mesh_part(std::shared_ptr<const Problem> problem) {
   std::iota(part.original_cell.begin(), part.original_cell.end(), 0);
   part.traction_facets = traction_facets(p);
   part.pressure_facets = pressure_facets(p);
-  const std::vector<int> clamped_nodes = mesh.nodes_of_parts(p.clamped);
-  part.dofs = DofMap(n, mesh.dim(), clamped_nodes);
+  DirichletDofs dirichlet = dirichlet_dofs(p);
+  part.dofs = DofMap(mesh.dim(), dirichlet.condition);
   part.n_owned_dofs = part.dofs.n_free();
   part.global_dof.resize(part.n_owned_dofs);
   std::iota(part.global_dof.begin(), part.global_dof.end(), 0LL);
-  std::vector<char> clamped(n, 0);
-  for (int i : clamped_nodes) clamped[i] = 1;
-  const std::vector<ContactRow> rows = contact_rows(p, clamped);
+  const std::vector<ContactRow> rows = contact_rows(p, dirichlet.condition);
+  part.dirichlet = std::move(dirichlet.condition);
+  for (int i = 0; i < n; ++i)
+    if (dirichlet.on_parts[i]) part.dirichlet_nodes.emplace_back(i, dirichlet.on_parts[i]);
+  part.dirichlet_components = std::move(dirichlet.components);
   const std::vector<double> measure = tributary_measures(mesh, p.contact.parts);
   for (std::size_t k = 0; k < rows.size(); ++k)
     part.contact.push_back({static_cast<int>(k), rows[k].node, true, rows[k].direction, rows[k].gap,

@@ -10,7 +10,9 @@
 #include "la/layout.hpp"
 #include "mesh/mesh.hpp"
 
+#include <cstdint>
 #include <memory>
+#include <utility>
 #include <vector>
 
 namespace vpc {
@@ -37,6 +39,14 @@ struct MeshPart {
   std::vector<int> traction_facets;    // Γ2 facets of the part's mesh
   std::vector<std::vector<int>> pressure_facets;  // per Problem::pressure load, facets of the part's mesh
   DofMap dofs;                         // local free dofs: owned first, then ghosts
+  /// Per local full dof (node · d + component): the condition prescribing it
+  /// (DirichletDofs::condition: −1 free, 0 zero, k ≥ 1 Problem::displacement[k − 1]).
+  std::vector<int> dirichlet;
+  /// The local nodes on a Dirichlet part, each with its bits of DirichletDofs::on_parts
+  /// (for the reactions).
+  std::vector<std::pair<int, std::uint64_t>> dirichlet_nodes;
+  /// Per Dirichlet part, the components it prescribes (DirichletDofs::components).
+  std::vector<unsigned> dirichlet_components;
   int n_owned_dofs = 0;
   std::vector<long long> global_dof;   // global free dof per local free dof
   std::vector<PartContactNode> contact;  // owned and ghost contact nodes, by row

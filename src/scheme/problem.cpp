@@ -2,6 +2,8 @@
 
 #include "core/error.hpp"
 
+#include <fmt/ranges.h>
+
 #include <algorithm>
 #include <cmath>
 
@@ -66,9 +68,22 @@ void Problem::validate() const {
   located(where, [&] { check_n_steps(n_steps); });
   require(law != nullptr, "{}: no viscoplastic law G", where);
   require(source != nullptr, "{}: no damage source phi", where);
-  require(!clamped.empty(), "{}: no clamped part Γ1 given (meas Γ1 > 0 is required)", where);
+  require(!clamped.empty() || !displacement.empty() || !symmetry.empty(),
+          "{}: no clamped part Γ1 and no prescribed displacement given (the body must be held)", where);
   for (const auto& p : clamped)
     require(mesh.part_size(p) > 0, "{}: clamped part '{}' has no boundary facets in the mesh", where, p);
+  for (std::size_t k = 0; k < displacement.size(); ++k) {
+    const PrescribedDisplacement& bc = displacement[k];
+    require(!bc.parts.empty(), "{}: prescribed displacement {} has no parts", where, k + 1);
+    for (const auto& p : bc.parts)
+      require(mesh.part_size(p) > 0, "{}: displacement part '{}' has no boundary facets in the mesh", where, p);
+    require(std::any_of(bc.value.begin(), bc.value.end(), [](const ScalarField& f) { return static_cast<bool>(f); }),
+            "{}: prescribed displacement {} (parts {}) prescribes no component", where, k + 1, fmt::join(bc.parts, ", "));
+    for (int c = mesh.dim(); c < 3; ++c)
+      require(!bc.value[c], "{}: prescribed displacement {} gives component {} of {}, but the mesh has d = {}", where,
+              k + 1, c + 1, 3, mesh.dim());
+  }
+  const DirichletDofs dirichlet = dirichlet_dofs(*this);  // checks the symmetry parts, values and conflicts
   require(!contact.parts.empty(), "{}: no contact part Γ3 given", where);
   for (const auto& p : contact.parts)
     require(mesh.part_size(p) > 0, "{}: contact part '{}' has no boundary facets in the mesh", where, p);
@@ -84,11 +99,7 @@ void Problem::validate() const {
     }
   require(static_cast<bool>(contact.gap) || !contact.obstacles.empty(), "{}: no gap function g", where);
   located(where, [&] { check_gap(mesh, contact); });
-  if (!contact.obstacles.empty()) {  // the gaps need the contact directions: contact_rows checks them
-    std::vector<char> on_gamma1(static_cast<std::size_t>(mesh.n_nodes()), 0);
-    for (int i : mesh.nodes_of_parts(clamped)) on_gamma1[i] = 1;
-    contact_rows(*this, on_gamma1);
-  }
+  contact_rows(*this, dirichlet.condition);  // directions against prescribed components; obstacles' gaps
   located(where, [&] { check_beta0(mesh, beta0); });
   if (contact.direction) {
     const Point& v = *contact.direction;
@@ -106,7 +117,7 @@ std::vector<int> traction_facets(const Problem& p) {
   const Mesh& mesh = p.mesh;
   if (!p.traction.empty()) return mesh.facets_of_parts(p.traction);
   std::vector<int> excluded, facets;
-  for (const auto& n : p.clamped) excluded.push_back(mesh.find_part(n));
+  for (const auto& n : dirichlet_parts(p)) excluded.push_back(mesh.find_part(n));
   for (const auto& n : p.contact.parts) excluded.push_back(mesh.find_part(n));
   for (int f = 0; f < mesh.n_facets(); ++f)
     if (std::find(excluded.begin(), excluded.end(), mesh.facet_part(f)) == excluded.end()) facets.push_back(f);
@@ -139,8 +150,9 @@ void check_direction(const Problem& p, int node, const Point& direction, const P
 
 }  // namespace
 
-std::vector<ContactRow> contact_rows(const Problem& p, const std::vector<char>& clamped) {
+std::vector<ContactRow> contact_rows(const Problem& p, const std::vector<int>& condition) {
   const Mesh& mesh = p.mesh;
+  const int d = mesh.dim();
   std::vector<Point> normal(mesh.n_nodes(), Point{0, 0, 0});
   for (int f : mesh.facets_of_parts(p.contact.parts)) {
     const Point nf = mesh.facet_normal(f);
@@ -159,7 +171,8 @@ std::vector<ContactRow> contact_rows(const Problem& p, const std::vector<char>& 
   const double miss = contact_miss_gap(lo, hi);
   std::vector<ContactRow> rows;
   for (int node : mesh.nodes_of_parts(p.contact.parts)) {
-    if (clamped[node]) continue;  // u = 0 already
+    const int* fixed = condition.data() + static_cast<std::size_t>(node) * d;
+    if (std::all_of(fixed, fixed + d, [](int k) { return k >= 0; })) continue;  // u prescribed there
     const Point& x = mesh.node(node);
     require(length(normal[node]) > 0,
             "{}: the outward normal of the contact part vanishes at node {} ({}, {}, {}) (its facets face opposite "
@@ -167,8 +180,22 @@ std::vector<ContactRow> contact_rows(const Problem& p, const std::vector<char>& 
             p.name, node, x[0], x[1], x[2]);
     if (p.contact.direction) check_direction(p, node, *p.contact.direction, normal[node]);
     Point v = p.contact.direction ? *p.contact.direction : normal[node];
-    const double l = length(v);
+    double l = length(v);
     for (double& c : v) c /= l;
+    // On a symmetry plane the mirrored half's facets would cancel the normal's
+    // component across the plane: drop it. Any other component along a prescribed
+    // one would make N act on a dof that is not an unknown.
+    for (int c = 0; c < d; ++c) {
+      if (fixed[c] < 0 || v[c] == 0) continue;
+      require(fixed[c] == 0 && !p.contact.direction && std::abs(v[c]) < 0.5,
+              "{}: contact node {} ({}, {}, {}) has u{} prescribed, but its contact direction ({:.6g}, {:.6g}, {:.6g}) "
+              "has a component along it; a node cannot be in contact along a prescribed component (remove the node "
+              "from one of the parts, or use a symmetry part for a symmetry plane)",
+              p.name, node, x[0], x[1], x[2], c == 0 ? "x" : c == 1 ? "y" : "z", v[0], v[1], v[2]);
+      v[c] = 0;
+      l = length(v);
+      for (double& vc : v) vc /= l;
+    }
     const double g = contact_gap_at(p.contact, x, v, 0.0, miss);
     require(std::isfinite(g) && g >= 0, "{}: the gap g must be a number >= 0 at t = 0; the obstacles give {} at contact node {} ({}, {}, {})",
             p.name, g, node, x[0], x[1], x[2]);

@@ -9,6 +9,8 @@
 #include "mesh/mesh.hpp"
 #include "scheme/obstacle.hpp"
 
+#include <array>
+#include <cstdint>
 #include <memory>
 #include <optional>
 #include <string>
@@ -35,10 +37,20 @@ struct PressureLoad {
   ScalarField p;
 };
 
+/// Prescribed displacement components on boundary parts (SPEC §6): u_i = value[i](x, t)
+/// for every component i that has a value; the others stay free (or in contact).
+struct PrescribedDisplacement {
+  std::vector<std::string> parts;
+  std::array<ScalarField, 3> value;  // empty: the component is free
+};
+
 struct Problem {
   std::string name;
   Mesh mesh;
-  std::vector<std::string> clamped;   // Γ1
+  std::vector<std::string> clamped;   // Γ1: every component zero (may be empty when `displacement` or `symmetry` holds the body)
+  std::vector<PrescribedDisplacement> displacement;
+  /// Symmetry planes (rollers): parts lying in a plane x_i = const, whose normal component u_i is zero.
+  std::vector<std::string> symmetry;
   std::vector<std::string> traction;  // Γ2; empty: every boundary facet not in Γ1 or Γ3
   ContactSpec contact;
   Elasticity elasticity{Elasticity::Kind::Uniaxial, 1.0, 0.0};
@@ -80,7 +92,29 @@ double contact_gap_at(const ContactSpec& contact, const Point& x, const Point& n
 /// bounding box [lo, hi], farther than any small-deformation displacement reaches.
 double contact_miss_gap(const Point& lo, const Point& hi);
 
-/// Γ2: the given traction parts, or every boundary facet in neither Γ1 nor Γ3.
+/// Where the displacement is prescribed (the Dirichlet data of SPEC §6), per node and component.
+struct DirichletDofs {
+  /// Per full dof (node · d + component): −1 free; 0 prescribed zero (Γ1, a symmetry plane);
+  /// k ≥ 1 prescribed by Problem::displacement[k − 1].
+  std::vector<int> condition;
+  /// The parts whose reactions are reported (dirichlet_parts), and per node a bit
+  /// for each of them that the node lies on.
+  std::vector<std::string> parts;
+  std::vector<std::uint64_t> on_parts;
+  /// Per part: bit i set where the part prescribes component i (its reaction's components).
+  std::vector<unsigned> components;
+};
+/// Γ1's parts, then those of Problem::displacement and Problem::symmetry (each name once).
+std::vector<std::string> dirichlet_parts(const Problem& p);
+/// The axis i of a symmetry part: its facets all lie in one plane x_i = const. Throws
+/// vpc::Error naming the part otherwise.
+int symmetry_axis(const Mesh& mesh, const std::string& part);
+/// The Dirichlet data of every node. Throws vpc::Error where two conditions prescribe
+/// different values of one component at a node (compared at t = 0 and t = T).
+DirichletDofs dirichlet_dofs(const Problem& p);
+
+/// Γ2: the given traction parts, or every boundary facet on none of Γ1, Γ3, the
+/// prescribed-displacement and the symmetry parts.
 std::vector<int> traction_facets(const Problem& p);
 /// The facets of each pressure load's parts, in the order of Problem::pressure.
 std::vector<std::vector<int>> pressure_facets(const Problem& p);
@@ -94,11 +128,14 @@ struct ContactRow {
   double gap = 0;
 };
 
-/// The contact rows in increasing node order; clamped[i] marks the nodes of Γ1
-/// (u = 0 there already); the gap was checked by Problem::validate. Throws vpc::Error for a
-/// fixed direction at 90° or more from the outward normal at some node (it would
-/// point into the body), or when no free node is left on Γ3.
-std::vector<ContactRow> contact_rows(const Problem& p, const std::vector<char>& clamped);
+/// The contact rows in increasing node order, for the nodes of Γ3 with a free
+/// component (`condition`: DirichletDofs::condition). At a node on a symmetry plane
+/// the outward normal loses its component across the plane (the mirrored half's
+/// facets would cancel it); any other direction with a component along a prescribed
+/// one is refused. Throws vpc::Error for that, for a fixed direction at 90° or more
+/// from the outward normal at some node (it would point into the body), for a gap
+/// below 0 at t = 0 and when no free node is left on Γ3.
+std::vector<ContactRow> contact_rows(const Problem& p, const std::vector<int>& condition);
 
 }  // namespace vpc
 

@@ -76,6 +76,13 @@ TimeStepper::TimeStepper(std::shared_ptr<const Problem> problem, MeshPart part,
     }
     miss_gap_ = contact_miss_gap(lo, hi);
   }
+  for (int c = 0; c < mesh.n_cells() && !part_.dirichlet_nodes.empty(); ++c)
+    for (int a = 0; a <= d; ++a)
+      if (std::ranges::any_of(part_.dirichlet.begin() + mesh.cell(c)[a] * d,
+                              part_.dirichlet.begin() + (mesh.cell(c)[a] + 1) * d, [](int k) { return k >= 0; })) {
+        reaction_cells_.push_back(c);
+        break;
+      }
   assemble_and_factorize();
 
   // Initial state (3.4): u0 = 0, σ0 = 0 (so z0 = σ0 − ℰε(u0) = 0), β0 = P1 interpolant
@@ -316,6 +323,42 @@ void TimeStepper::contact_totals(StepReport& rep) const {
   rep.obstacle_force.assign(sums.begin() + 1, sums.end());
 }
 
+Vector TimeStepper::prescribed_displacement(double t) const {
+  const auto& conditions = problem_->displacement;
+  if (conditions.empty()) return {};
+  const int d = part_.mesh().dim();
+  Vector u_D = Vector::Zero(part_.dofs.n_full());
+  for (const auto& [node, bits] : part_.dirichlet_nodes)
+    for (int c = 0; c < d; ++c)
+      if (const int k = part_.dirichlet[node * d + c]; k > 0) u_D[node * d + c] = conditions[k - 1].value[c](part_.mesh().node(node), t);
+  return u_D;
+}
+
+void TimeStepper::reactions(StepReport& rep, const Vector& F) const {
+  const Mesh& mesh = part_.mesh();
+  const int d = mesh.dim();
+  // r = (σ_n, ε(φ)) − F_n at the prescribed dofs; each cell and loaded facet lives on
+  // one process, so the part's sums over its nodes (owned and ghost) add up to the whole.
+  Vector r = Vector::Zero(part_.dofs.n_full());
+  for (int c : reaction_cells_)
+    for (int a = 0; a <= d; ++a)
+      for (int i = 0; i < d; ++i) r[mesh.cell(c)[a] * d + i] += stress_divergence_entry(geo_[c], state_.sigma[c], d, a, i);
+  // A part's reaction has the components it prescribes (a roller's: its normal one), so
+  // a node shared with a part that prescribes another component counts there only.
+  const auto& prescribes = part_.dirichlet_components;
+  std::vector<double> sums(prescribes.size() * d, 0.0);
+  for (const auto& [node, bits] : part_.dirichlet_nodes)
+    for (std::size_t j = 0; j < prescribes.size(); ++j)
+      if (bits >> j & 1)
+        for (int i = 0; i < d; ++i)
+          if (prescribes[j] >> i & 1) sums[j * d + i] += r[node * d + i] - F[node * d + i];
+  part_.comm.sum(sums.data(), static_cast<int>(sums.size()));
+  rep.reaction.clear();
+  for (std::size_t j = 0; j < prescribes.size(); ++j)
+    for (int i = 0; i < d; ++i)
+      if (prescribes[j] >> i & 1) rep.reaction.push_back(sums[j * d + i]);
+}
+
 void TimeStepper::beta_range(StepReport& rep) const {
   const la::Comm& comm = part_.comm;
   const auto n = static_cast<std::size_t>(part_.n_owned_nodes);
@@ -369,9 +412,17 @@ StepReport TimeStepper::advance(int level, double t_end) {
 #pragma omp parallel for schedule(static) if (n_cells >= kParallelCells)
   for (int c = 0; c < n_cells; ++c) state_.z[c] += k * G[c];
 
-  // Step 4: contact (3.9): K u_n = F_n − Bᵀz_n − Nᵀλ with Signorini conditions.
+  // Step 4: contact (3.9): K u_n = F_n − Bᵀz_n − Nᵀλ with Signorini conditions. With
+  // prescribed displacements u = u_D + ũ (SPEC §6): K u_D joins the right-hand side as
+  // the divergence of ℰε(u_D), and ũ vanishes at the prescribed dofs.
   t0 = Clock::now();
-  f_.local() = restrict_to_free(part_.dofs, load(rep.t) - assemble_stress_divergence(mesh, geo_, state_.z));
+  const Vector F = load(rep.t), u_D = prescribed_displacement(rep.t);
+  std::vector<SymTensor> lifted;
+  if (u_D.size() > 0) {
+    compute_strain(mesh, geo_, u_D, lifted);
+    for (int c = 0; c < n_cells; ++c) lifted[c] = p.elasticity.apply(lifted[c]) + state_.z[c];
+  }
+  f_.local() = restrict_to_free(part_.dofs, F - assemble_stress_divergence(mesh, geo_, u_D.size() > 0 ? lifted : state_.z));
   f_.add_ghosts_to_owners();
   contact_->set_gap(contact_gap(rep.t));
   rep.contact = contact_->solve(f_.owned(), u_free_, state_.lambda);
@@ -379,6 +430,7 @@ StepReport TimeStepper::advance(int level, double t_end) {
   u_.owned() = u_free_;
   u_.update_ghosts();
   state_.u = extend_from_free(part_.dofs, u_.local());
+  if (u_D.size() > 0) state_.u += u_D;
   rep.seconds_contact = seconds_since(t0);
 
   // Step 5: stress (3.6): σ_n = ℰε(u_n) + z_n.
@@ -391,6 +443,7 @@ StepReport TimeStepper::advance(int level, double t_end) {
     max_vm = std::max(max_vm, state_.sigma[c].von_mises());
   }
   rep.max_von_mises = comm.max(max_vm);
+  reactions(rep, F);
   rep.seconds_stress = seconds_since(t0);
 
   beta_range(rep);

@@ -72,6 +72,10 @@ struct StepReport {
   /// With obstacles: the total contact force on each (Problem::contact.obstacles order),
   /// each node's force counted for the obstacle nearest to it at this step.
   std::vector<double> obstacle_force;
+  /// The reaction force on each Dirichlet part (dirichlet_parts order): the force its
+  /// supports exert on the body, Σ over the part's nodes of (σ_n, ε(φ)) − F_n, in each
+  /// component the part prescribes (DirichletDofs::components), in increasing order.
+  std::vector<double> reaction;
   double seconds_sources = 0, seconds_damage = 0, seconds_contact = 0, seconds_stress = 0;
   /// True when both solvers converged and all residuals are within tolerance.
   bool ok = true;
@@ -157,6 +161,11 @@ class TimeStepper {
   Vector load(double t) const;
   /// The contact area and the force on each obstacle, from λ of the step ending at t. Collective.
   void contact_totals(StepReport& rep) const;
+  /// u_D(t) of SPEC §6 on the part's full dofs: the prescribed values, zero elsewhere;
+  /// empty when no displacement is prescribed other than zero.
+  Vector prescribed_displacement(double t) const;
+  /// The reactions on the Dirichlet parts from σ_n and the load F_n (the part's full dofs). Collective.
+  void reactions(StepReport& rep, const Vector& F) const;
   /// min β over all processes by minimum_at's rule, and max β.
   void beta_range(StepReport& rep) const;
 
@@ -179,6 +188,7 @@ class TimeStepper {
   Vector u_free_;  // owned free dofs: the contact solver's warm start
   SetupTiming setup_timing_;
   double miss_gap_ = 0;  // the gap where no obstacle lies ahead (contact_miss_gap)
+  std::vector<int> reaction_cells_;  // the part's cells with a node on a Dirichlet part
 };
 
 }  // namespace vpc
