@@ -551,18 +551,23 @@ def in_contact(vtu):
     return np.zeros(len(vtu.points), dtype=bool)
 
 
-def lower_boundary(vtu):
-    """(faces, description) of the boundary a 3D body rests on: the flat
-    bottom face z = zmin, or for a curved body the faces that look down."""
+def contact_boundary(vtu, pressure):
+    """(faces, description) of the boundary where a 3D body touches: the flat
+    bottom face z = zmin, or the top face z = zmax when only it has nodes in contact
+    (a body indented from above), or for a curved body the faces that look down."""
     import numpy as np
 
     p = vtu.points
-    zmin = p[:, 2].min()
     tol = 1e-9 * max(float(np.ptp(p[:, 2])), 1.0)
     faces, _ = boundary_faces(vtu.cells, p)
-    bottom = faces[np.all(np.abs(p[faces, 2] - zmin) <= tol, axis=1)]
-    if len(bottom):
-        return bottom, "the bottom face $z$ = %g" % zmin
+    flat = {}
+    for z, name in ((p[:, 2].min(), "bottom"), (p[:, 2].max(), "top")):
+        flat[name] = (faces[np.all(np.abs(p[faces, 2] - z) <= tol, axis=1)], "the %s face $z$ = %g" % (name, z))
+    top = flat["top"][0]
+    if not np.any(pressure[np.unique(flat["bottom"][0])] > 0) and len(top) and np.any(pressure[np.unique(top)] > 0):
+        return flat["top"]
+    if len(flat["bottom"][0]):
+        return flat["bottom"]
     a, b, c = p[faces[:, 0]], p[faces[:, 1]], p[faces[:, 2]]
     n = np.cross(b - a, c - a)
     down = n[:, 2] < -0.3 * np.linalg.norm(n, axis=1)
@@ -955,7 +960,7 @@ class Plotter:
                                   "it was added, or a selection of fields): re-run the case to draw it")
         pres = vtu.scalar("contact_pressure")
         p = vtu.points
-        lower, where = lower_boundary(vtu)
+        lower, where = contact_boundary(vtu, pres)
         if len(lower) == 0:
             return self.skip(key, "no boundary faces look down (-z)")
         nodes = np.unique(lower)
@@ -986,6 +991,13 @@ class Plotter:
         if len(active):
             w = pres[active]
             centre = (p[active, :2] * w[:, None]).sum(axis=0) / w.sum()
+            # A contact zone cut by the mesh's side x = min or y = min (max) is a half or
+            # quarter model on a symmetry plane: its centre lies on that plane.
+            span = np.ptp(p[:, :2], axis=0)
+            for j in range(2):
+                for bound in (p[:, j].min(), p[:, j].max()):
+                    if np.any(np.abs(p[active, j] - bound) <= 1e-9 * max(float(span[j]), 1.0)):
+                        centre[j] = bound
             r = np.linalg.norm(p[nodes, :2] - centre, axis=1)
             r_act = np.linalg.norm(p[active, :2] - centre, axis=1)
             near = r <= 1.5 * max(float(r_act.max()), 1e-12)
@@ -1052,7 +1064,15 @@ class Plotter:
         # With [[obstacle]] sections: the force on each obstacle (history.csv force_<name>).
         for k, col in enumerate(c for c in h if c.startswith("force_")):
             lines += ax_f.plot(t, h[col], "C%d:" % (5 + k % 5), label="on %s" % col[len("force_"):])
-        ax_f.set_ylabel("total contact force [%s]" % force_units(self.run.dim))
+        # The reactions of the clamped, symmetry and displacement parts (reaction_<part>_<x|y|z>):
+        # a force-displacement curve. Columns that stay at round-off level are left out.
+        forces = [c for c in h if c == "total_contact_force" or c.startswith("force_") or c.startswith("reaction_")]
+        scale = max([float(abs(h[c]).max()) for c in forces if len(h[c])] + [0.0])
+        for k, col in enumerate(c for c in forces if c.startswith("reaction_")):
+            if len(t) and float(abs(h[col]).max()) > 1e-9 * scale:
+                part, comp = col[len("reaction_"):].rsplit("_", 1)
+                lines += ax_f.plot(t, h[col], "C%d-." % (2 + k % 8), label="reaction of %s, %s" % (part, comp))
+        ax_f.set_ylabel("force [%s]" % force_units(self.run.dim))
         if "n_active" in h:
             ax_n = ax_f.twinx()
             lines += ax_n.step(t, h["n_active"], "C1--", where="post", label="active contact nodes")
@@ -1061,7 +1081,7 @@ class Plotter:
             ax_n.set_ylim(bottom=0, top=max(1.0, float(h["n_active"].max()) * 1.15) if len(t) else 1.0)
         if lines:
             ax_f.legend(lines, [l.get_label() for l in lines], fontsize="small", loc="upper left")
-        ax_f.set_title("contact")
+        ax_f.set_title("contact and reaction forces" if any(c.startswith("reaction_") for c in h) else "contact")
         for col, style, label in (("beta_min", "C2", r"min $\beta$"), ("beta_max", "C4--", r"max $\beta$")):
             if col in h:
                 ax_b.plot(t, h[col], style, label=label)

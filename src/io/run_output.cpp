@@ -138,15 +138,15 @@ long long active_contact_nodes(const RunTotals& totals, const Vector& lambda) {
 
 std::vector<int> tensor_components(const Elasticity& e) { return e.stress_components(); }
 
-std::string history_header(const Problem& p) {
+std::string history_header(const Problem& p, const MeshPart& part) {
   std::string h = "step,t,n_active,total_contact_force,contact_iterations,contact_equilibrium,"
                   "contact_penetration,contact_negative_force,contact_complementarity,damage_iterations,"
                   "damage_kkt_residual,beta_min,beta_max,n_beta_zero,n_beta_one,max_von_mises,ok,contact_area";
   for (const Obstacle& o : p.contact.obstacles) h += ",force_" + o.name;
-  const DirichletDofs dirichlet = dirichlet_dofs(p);
-  for (std::size_t j = 0; j < dirichlet.parts.size(); ++j)
-    for (int i = 0; i < p.mesh.dim(); ++i)
-      if (dirichlet.components[j] >> i & 1) h += fmt::format(",reaction_{}_{}", dirichlet.parts[j], "xyz"[i]);
+  const std::vector<std::string> parts = dirichlet_parts(p);
+  for (std::size_t j = 0; j < parts.size(); ++j)
+    for (int i = 0; i < part.dofs.dim(); ++i)
+      if (part.dirichlet_components[j] >> i & 1) h += fmt::format(",reaction_{}_{}", parts[j], "xyz"[i]);
   return h + "\n";
 }
 
@@ -203,7 +203,7 @@ void RunOutput::open_csv(bool append) {
 void RunOutput::start() {
   open_csv(false);
   if (root()) {
-    history_ << history_header(stepper_.problem());
+    history_ << history_header(stepper_.problem(), stepper_.part());
     history_.flush();
     probe_csv_ << probes_header(stepper_.problem().elasticity, probes_.size());
   }

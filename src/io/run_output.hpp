@@ -60,8 +60,9 @@ std::vector<int> tensor_components(const Elasticity& e);
 // The CSV formats.
 /// history.csv: the header line, and the row of one step (both end in a newline).
 /// After contact_area: force_<name> for each obstacle, then reaction_<part>_<x|y|z>
-/// for each Dirichlet part (dirichlet_parts) and each component it prescribes.
-std::string history_header(const Problem& p);
+/// for each Dirichlet part (dirichlet_parts) and each component it prescribes
+/// (MeshPart::dirichlet_components: every process has them, not every one the mesh).
+std::string history_header(const Problem& p, const MeshPart& part);
 std::string history_row(const StepReport& r);
 /// probes.csv: the header line for `n_probes` probes in d dimensions.
 std::string probes_header(const Elasticity& e, std::size_t n_probes);

@@ -113,8 +113,16 @@ void TimeStepper::assemble_and_factorize() {
   // process assembles its cells; the backend sums the parts.
   stage("assembly");
   auto t1 = Clock::now();
+  // K's dofs come in blocks of d per node unless some node has only some components
+  // prescribed (a roller): then blocks of 1, and no rigid-body modes for multigrid.
+  bool partial = false;
+  for (std::size_t i = 0; i < part_.dirichlet.size() && !partial; i += d) {
+    const auto fixed = std::count_if(part_.dirichlet.begin() + i, part_.dirichlet.begin() + i + d, [](int k) { return k >= 0; });
+    partial = fixed > 0 && fixed < d;
+  }
+  const int block = part_.comm.any(partial) ? 1 : d;
   const SparseMatrix K_local = assemble_stiffness(mesh, geo_, p.elasticity, part_.dofs);
-  K_ = backend_->assemble(K_local, *part_.dof_layout, d);
+  K_ = backend_->assemble(K_local, *part_.dof_layout, block);
   K_local_nonzeros_ = static_cast<double>(K_local.nonZeros());
   M_local_ = assemble_mass(mesh, geo_);
   A_local_ = assemble_laplacian(mesh, geo_);
@@ -146,7 +154,7 @@ void TimeStepper::assemble_and_factorize() {
   for (int i = 0; i < part_.n_owned_nodes; ++i)
     for (int c = 0; c < d; ++c)
       if (const int k = part_.dofs.free_index(part_.dofs.full_index(i, c)); k >= 0) coordinates[k] = mesh.node(i)[c];
-  K_factor_->set_coordinates(coordinates, d);
+  K_factor_->set_coordinates(coordinates, block == d ? d : 0);
   K_factor_->factorize(*K_, "elastic stiffness K");
   setup_timing_.factor_K = seconds_since(t1);
   stage("factorization of K", setup_timing_.factor_K);
@@ -343,15 +351,18 @@ void TimeStepper::reactions(StepReport& rep, const Vector& F) const {
   for (int c : reaction_cells_)
     for (int a = 0; a <= d; ++a)
       for (int i = 0; i < d; ++i) r[mesh.cell(c)[a] * d + i] += stress_divergence_entry(geo_[c], state_.sigma[c], d, a, i);
-  // A part's reaction has the components it prescribes (a roller's: its normal one), so
-  // a node shared with a part that prescribes another component counts there only.
+  // A part's reaction has the components it prescribes (a roller's: its normal one); each
+  // prescribed dof counts once, for the first part that prescribes it there, so that the
+  // reactions of all parts add up to the supports' total force.
   const auto& prescribes = part_.dirichlet_components;
   std::vector<double> sums(prescribes.size() * d, 0.0);
   for (const auto& [node, bits] : part_.dirichlet_nodes)
-    for (std::size_t j = 0; j < prescribes.size(); ++j)
-      if (bits >> j & 1)
-        for (int i = 0; i < d; ++i)
-          if (prescribes[j] >> i & 1) sums[j * d + i] += r[node * d + i] - F[node * d + i];
+    for (int i = 0; i < d; ++i)
+      for (std::size_t j = 0; j < prescribes.size(); ++j)
+        if ((bits >> j & 1) && (prescribes[j] >> i & 1)) {
+          sums[j * d + i] += r[node * d + i] - F[node * d + i];
+          break;
+        }
   part_.comm.sum(sums.data(), static_cast<int>(sums.size()));
   rep.reaction.clear();
   for (std::size_t j = 0; j < prescribes.size(); ++j)

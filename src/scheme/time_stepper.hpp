@@ -74,7 +74,8 @@ struct StepReport {
   std::vector<double> obstacle_force;
   /// The reaction force on each Dirichlet part (dirichlet_parts order): the force its
   /// supports exert on the body, Σ over the part's nodes of (σ_n, ε(φ)) − F_n, in each
-  /// component the part prescribes (DirichletDofs::components), in increasing order.
+  /// component the part prescribes (DirichletDofs::components), in increasing order. A
+  /// dof on several parts counts for the first of them that prescribes it.
   std::vector<double> reaction;
   double seconds_sources = 0, seconds_damage = 0, seconds_contact = 0, seconds_stress = 0;
   /// True when both solvers converged and all residuals are within tolerance.

@@ -83,9 +83,9 @@ TEST(Symmetry, TheHalfModelIsTheFullModelsHalf) {
   }
 }
 
-// Displacement control: the top pushed down onto a foundation, held by a roller on the
-// left. The reactions balance the contact force; the top moves by exactly the prescribed
-// amount; K's right-hand side carries K u_D.
+// Displacement control: the top moved in both components onto a foundation, held by a
+// roller on the left, a pressure on the right. The reactions balance the contact force and
+// the pressure; the top moves by exactly the prescribed amount.
 TEST(PrescribedDisplacement, ReactionsBalanceTheContactForce) {
   const Case c = parse_case(R"toml(
 [case]
@@ -100,7 +100,11 @@ symmetry = ["left"]
 contact = ["bottom"]
 [[boundary.displacement]]
 parts = ["top"]
+ux = "0.001*t*x"
 uy = "-0.002*t*(1 + x)"
+[[loads.pressure]]
+parts = ["right"]
+p = "2*t*y"
 [elasticity]
 kind = "plane-stress"
 E = 1000.0
@@ -121,15 +125,18 @@ steps = 4
   while (!s.done()) {
     const StepReport r = s.step();
     ASSERT_TRUE(r.ok);
-    ASSERT_EQ(r.reaction.size(), 2u);  // top: y; left: x
+    ASSERT_EQ(r.reaction.size(), 3u);  // top: x, y; left: x
     const double P = r.contact.total_force;
     EXPECT_GT(P, 0.0);
-    // No other load: the supports' forces on the body and the foundation's (+P along y)
-    // cancel; the roller takes no force along x (frictionless, nothing else pushes in x).
-    EXPECT_NEAR(r.reaction[0] + P, 0.0, 1e-10 * P);
-    EXPECT_NEAR(r.reaction[1], 0.0, 1e-10 * P);
-    for (int i : s.mesh().nodes_of_parts({"top"}))
+    // The supports' forces on the body, the foundation's (+P along y) and the pressure's
+    // (−∫p dy = −t/4 along x) cancel. The top-left corner, on both parts, counts once.
+    EXPECT_NEAR(r.reaction[1] + P, 0.0, 1e-10 * P);
+    EXPECT_NEAR(r.reaction[0] + r.reaction[2] - 0.25 * r.t, 0.0, 1e-10 * P);
+    EXPECT_NE(r.reaction[2], 0.0);
+    for (int i : s.mesh().nodes_of_parts({"top"})) {
+      EXPECT_EQ(s.state().u[2 * i], 0.001 * r.t * s.mesh().node(i)[0]);
       EXPECT_EQ(s.state().u[2 * i + 1], -0.002 * r.t * (1 + s.mesh().node(i)[0]));
+    }
   }
 }
 
