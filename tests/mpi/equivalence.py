@@ -230,7 +230,9 @@ def pvd_times(path):
         return [float(t) for t in re.findall(r'timestep="([^"]*)"', f.read())]
 
 
-def compare_json(rep, path, a, b):
+def compare_json(rep, path, a, b, beta=None):
+    """beta: the serial final VTU's {point: β}, to accept another node where min β is
+    attained to round-off (a uniform β, as in patch-3d, has its minimum anywhere)."""
     if isinstance(a, dict) and isinstance(b, dict):
         for k in sorted(set(a) | set(b)):
             if k in SUMMARY_SKIP:
@@ -238,13 +240,17 @@ def compare_json(rep, path, a, b):
             if k not in a or k not in b:
                 rep.fail(f"summary.json {path}{k}: only in {'serial' if k in a else 'PETSc'}")
                 continue
-            compare_json(rep, f"{path}{k}.", a[k], b[k])
+            if k == "beta_min_location" and beta and a[k] != b[k] and "beta_min" in a:
+                at = beta.get(tuple(float(x) for x in b[k]) + (0.0,) * (3 - len(b[k])))
+                if at is not None and abs(at - a["beta_min"]) <= 1e-13 * (1 + abs(a["beta_min"])):
+                    continue
+            compare_json(rep, f"{path}{k}.", a[k], b[k], beta)
     elif isinstance(a, list) and isinstance(b, list):
         if len(a) != len(b):
             rep.fail(f"summary.json {path}: {len(a)} entries in serial, {len(b)} in PETSc")
             return
         for i, (x, y) in enumerate(zip(a, b)):
-            compare_json(rep, f"{path}{i}.", x, y)
+            compare_json(rep, f"{path}{i}.", x, y, beta)
     elif isinstance(a, bool) or isinstance(a, str) or a is None or isinstance(a, int) and isinstance(b, int):
         if a != b:
             rep.fail(f"summary.json {path.rstrip('.')}: serial {a!r}, PETSc {b!r}")
@@ -285,7 +291,13 @@ def compare_runs(rep, serial_dir, petsc_dir, ranks):
         sj = json.load(f)
     with open(os.path.join(petsc_dir, "summary.json")) as f:
         pj = json.load(f)
-    compare_json(rep, "", sj, pj)
+    beta = None
+    if stems:
+        v = read_vtu(os.path.join(serial_dir, stems[-1] + ".vtu"))
+        field = v["point"].get("beta") or v["point"].get("damage")
+        if field:
+            beta = {tuple(p): x for p, x in zip(v["points"], field[1])}
+    compare_json(rep, "", sj, pj, beta)
     return len(stems)
 
 
