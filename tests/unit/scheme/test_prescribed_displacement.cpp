@@ -83,18 +83,17 @@ TEST(Symmetry, TheHalfModelIsTheFullModelsHalf) {
   }
 }
 
+/// The plate [0, 1] × [0, 0.5] of `cells` ("[8, 4]"), then `rest`: the tests below.
+std::string press_text(const std::string& cells, const std::string& rest) {
+  return "[case]\nname = \"press\"\n[mesh]\ngenerator = \"rectangle\"\nlower = [0.0, 0.0]\nupper = [1.0, 0.5]\ncells = " +
+         cells + "\n" + rest;
+}
+
 // Displacement control: the top moved in both components onto a foundation, held by a
 // roller on the left, a pressure on the right. The reactions balance the contact force and
 // the pressure; the top moves by exactly the prescribed amount.
 TEST(PrescribedDisplacement, ReactionsBalanceTheContactForce) {
-  const Case c = parse_case(R"toml(
-[case]
-name = "press"
-[mesh]
-generator = "rectangle"
-lower = [0.0, 0.0]
-upper = [1.0, 0.5]
-cells = [8, 4]
+  const Case c = parse_case(press_text("[8, 4]", R"toml(
 [boundary]
 symmetry = ["left"]
 contact = ["bottom"]
@@ -119,7 +118,7 @@ gap = "0.001*x"
 [time]
 T = 1.0
 steps = 4
-)toml",
+)toml"),
                             "press.toml", ".", {});
   TimeStepper s(c.problem, c.solvers);
   while (!s.done()) {
@@ -142,14 +141,7 @@ steps = 4
 
 std::string press_error(const std::string& boundary, const std::string& elsewhere = "") {
   return error_of([&] {
-    parse_case(R"(
-[case]
-name = "press"
-[mesh]
-generator = "rectangle"
-lower = [0.0, 0.0]
-upper = [1.0, 0.5]
-cells = [4, 2]
+    parse_case(press_text("[4, 2]", R"(
 [elasticity]
 kind = "plane-stress"
 E = 1.0
@@ -158,7 +150,7 @@ nu = 0.3
 gap = 0.1
 [time]
 steps = 1
-)" + elsewhere + boundary,
+)" + elsewhere + boundary),
                "press.toml", ".", {});
   });
 }
