@@ -76,7 +76,15 @@ class StepperEngine final : public Engine {
 }  // namespace
 
 void describe_data(const Problem& p, const SolverChoice& solvers, double setup_seconds) {
-  fmt::print("  Γ1 (clamped): {}; Γ3 (contact): {}\n", fmt::join(p.clamped, ", "), fmt::join(p.contact.parts, ", "));
+  std::string held = p.clamped.empty() ? "" : fmt::format("Γ1 (clamped): {}; ", fmt::join(p.clamped, ", "));
+  if (!p.symmetry.empty()) held += fmt::format("symmetry: {}; ", fmt::join(p.symmetry, ", "));
+  for (const PrescribedDisplacement& d : p.displacement) {
+    std::string comps;
+    for (int i = 0; i < 3; ++i)
+      if (d.value[i]) comps += fmt::format("{}u{}", comps.empty() ? "" : ", ", "xyz"[i]);
+    held += fmt::format("{} prescribed on {}; ", comps, fmt::join(d.parts, ", "));
+  }
+  fmt::print("  {}Γ3 (contact): {}\n", held, fmt::join(p.contact.parts, ", "));
   fmt::print("  elasticity: {} (E = {}, nu = {}); G: {}; phi: {}\n", p.elasticity.name(), p.elasticity.young(),
              p.elasticity.poisson(), p.law->describe(), p.source->describe());
   fmt::print("  kappa = {}; T = {}, k = {}, N = {}; solvers: contact {}, damage {}; setup {:.3f} s\n", p.kappa,
