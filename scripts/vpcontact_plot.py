@@ -560,14 +560,16 @@ def contact_boundary(vtu, pressure):
     p = vtu.points
     tol = 1e-9 * max(float(np.ptp(p[:, 2])), 1.0)
     faces, _ = boundary_faces(vtu.cells, p)
-    flat = {}
-    for z, name in ((p[:, 2].min(), "bottom"), (p[:, 2].max(), "top")):
-        flat[name] = (faces[np.all(np.abs(p[faces, 2] - z) <= tol, axis=1)], "the %s face $z$ = %g" % (name, z))
-    top = flat["top"][0]
-    if not np.any(pressure[np.unique(flat["bottom"][0])] > 0) and len(top) and np.any(pressure[np.unique(top)] > 0):
-        return flat["top"]
-    if len(flat["bottom"][0]):
-        return flat["bottom"]
+    zmin, zmax = p[:, 2].min(), p[:, 2].max()
+    bottom, top = (faces[np.all(np.abs(p[faces, 2] - z) <= tol, axis=1)] for z in (zmin, zmax))
+
+    def touched(f):
+        return bool(np.any(pressure[np.unique(f)] > 0))
+
+    if touched(top) and not touched(bottom):
+        return top, "the top face $z$ = %g" % zmax
+    if len(bottom):
+        return bottom, "the bottom face $z$ = %g" % zmin
     a, b, c = p[faces[:, 0]], p[faces[:, 1]], p[faces[:, 2]]
     n = np.cross(b - a, c - a)
     down = n[:, 2] < -0.3 * np.linalg.norm(n, axis=1)

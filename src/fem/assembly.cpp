@@ -266,25 +266,28 @@ Vector assemble_p0_source(const Mesh& mesh, const std::vector<CellGeometry>& geo
   });
 }
 
+SymTensor cell_strain(const Mesh& mesh, const CellGeometry& g, const Vector& u, int c) {
+  const int d = mesh.dim();
+  double G[3][3] = {};  // displacement gradient ∂_j u_i
+  for (int a = 0; a <= d; ++a) {
+    const int n = mesh.cell(c)[a];
+    for (int i = 0; i < d; ++i)
+      for (int j = 0; j < d; ++j) G[i][j] += u[n * d + i] * g.grad[a][j];
+  }
+  SymTensor e;
+  for (int i = 0; i < 3; ++i) e[i] = G[i][i];
+  e[3] = 0.5 * (G[1][2] + G[2][1]);
+  e[4] = 0.5 * (G[0][2] + G[2][0]);
+  e[5] = 0.5 * (G[0][1] + G[1][0]);
+  return e;
+}
+
 void compute_strain(const Mesh& mesh, const std::vector<CellGeometry>& geo, const Vector& u,
                     std::vector<SymTensor>& eps) {
-  const int d = mesh.dim();
   const int n_cells = mesh.n_cells();
   eps.resize(n_cells);  // every entry is written below
 #pragma omp parallel for schedule(static) if (n_cells >= kParallelCells)
-  for (int c = 0; c < n_cells; ++c) {
-    double G[3][3] = {};  // displacement gradient ∂_j u_i
-    for (int a = 0; a <= d; ++a) {
-      const int n = mesh.cell(c)[a];
-      for (int i = 0; i < d; ++i)
-        for (int j = 0; j < d; ++j) G[i][j] += u[n * d + i] * geo[c].grad[a][j];
-    }
-    SymTensor& e = eps[c];
-    for (int i = 0; i < 3; ++i) e[i] = G[i][i];
-    e[3] = 0.5 * (G[1][2] + G[2][1]);
-    e[4] = 0.5 * (G[0][2] + G[2][0]);
-    e[5] = 0.5 * (G[0][1] + G[1][0]);
-  }
+  for (int c = 0; c < n_cells; ++c) eps[c] = cell_strain(mesh, geo[c], u, c);
 }
 
 Vector restrict_to_free(const DofMap& dofs, const Vector& full) {

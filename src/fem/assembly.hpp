@@ -62,6 +62,9 @@ inline double cell_mean(const Mesh& mesh, const Vector& nodal, int c) {
   return s / mesh.nodes_per_cell();
 }
 
+/// The strain ε(u) on cell c (geometry g) of a full-space P1 displacement.
+SymTensor cell_strain(const Mesh& mesh, const CellGeometry& g, const Vector& u_full, int c);
+
 /// P0 strains ε(u) of a full-space P1 displacement.
 void compute_strain(const Mesh& mesh, const std::vector<CellGeometry>& geo, const Vector& u_full,
                     std::vector<SymTensor>& eps);

@@ -80,7 +80,7 @@ TimeStepper::TimeStepper(std::shared_ptr<const Problem> problem, MeshPart part,
     for (int a = 0; a <= d; ++a)
       if (std::ranges::any_of(part_.dirichlet.begin() + mesh.cell(c)[a] * d,
                               part_.dirichlet.begin() + (mesh.cell(c)[a] + 1) * d, [](int k) { return k >= 0; })) {
-        reaction_cells_.push_back(c);
+        dirichlet_cells_.push_back(c);
         break;
       }
   assemble_and_factorize();
@@ -348,7 +348,7 @@ void TimeStepper::reactions(StepReport& rep, const Vector& F) const {
   // r = (σ_n, ε(φ)) − F_n at the prescribed dofs; each cell and loaded facet lives on
   // one process, so the part's sums over its nodes (owned and ghost) add up to the whole.
   Vector r = Vector::Zero(part_.dofs.n_full());
-  for (int c : reaction_cells_)
+  for (int c : dirichlet_cells_)
     for (int a = 0; a <= d; ++a)
       for (int i = 0; i < d; ++i) r[mesh.cell(c)[a] * d + i] += stress_divergence_entry(geo_[c], state_.sigma[c], d, a, i);
   // A part's reaction has the components it prescribes (a roller's: its normal one); each
@@ -429,9 +429,9 @@ StepReport TimeStepper::advance(int level, double t_end) {
   t0 = Clock::now();
   const Vector F = load(rep.t), u_D = prescribed_displacement(rep.t);
   std::vector<SymTensor> lifted;
-  if (u_D.size() > 0) {
-    compute_strain(mesh, geo_, u_D, lifted);
-    for (int c = 0; c < n_cells; ++c) lifted[c] = p.elasticity.apply(lifted[c]) + state_.z[c];
+  if (u_D.size() > 0) {  // ε(u_D) vanishes outside the cells touching a prescribed dof
+    lifted = state_.z;
+    for (int c : dirichlet_cells_) lifted[c] += p.elasticity.apply(cell_strain(mesh, geo_[c], u_D, c));
   }
   f_.local() = restrict_to_free(part_.dofs, F - assemble_stress_divergence(mesh, geo_, u_D.size() > 0 ? lifted : state_.z));
   f_.add_ghosts_to_owners();

@@ -189,7 +189,7 @@ class TimeStepper {
   Vector u_free_;  // owned free dofs: the contact solver's warm start
   SetupTiming setup_timing_;
   double miss_gap_ = 0;  // the gap where no obstacle lies ahead (contact_miss_gap)
-  std::vector<int> reaction_cells_;  // the part's cells with a node on a Dirichlet part
+  std::vector<int> dirichlet_cells_;  // the part's cells with a prescribed dof: u_D's lifting, the reactions
 };
 
 }  // namespace vpc
