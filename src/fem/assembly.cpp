@@ -139,15 +139,23 @@ SparseMatrix scalar_pattern(const Mesh& mesh) {
 
 SparseMatrix assemble_stiffness(const Mesh& mesh, const std::vector<CellGeometry>& geo,
                                 const Elasticity& elasticity, const DofMap& dofs) {
+  const std::vector<int> one_material(mesh.n_cells(), 0);
+  return assemble_stiffness(mesh, geo, std::span(&elasticity, 1), one_material, dofs);
+}
+
+SparseMatrix assemble_stiffness(const Mesh& mesh, const std::vector<CellGeometry>& geo,
+                                std::span<const Elasticity> elasticity, std::span<const int> cell_material,
+                                const DofMap& dofs) {
   const int d = mesh.dim(), nd = (d + 1) * d;
-  const Eigen::MatrixXd D = elasticity.voigt();
+  std::vector<Eigen::MatrixXd> D;
+  for (const Elasticity& e : elasticity) D.push_back(e.voigt());
   SparseMatrix K = sparsity_pattern(mesh, d, dofs.n_free(),
                                     [&](int node, int c) { return dofs.free_index(dofs.full_index(node, c)); });
   std::vector<int> idx(nd);
   Eigen::MatrixXd Ke(nd, nd);
   for (int c = 0; c < mesh.n_cells(); ++c) {
     const Eigen::MatrixXd B = strain_matrix(d, geo[c]);
-    Ke.noalias() = geo[c].volume * B.transpose() * D * B;
+    Ke.noalias() = geo[c].volume * B.transpose() * D[cell_material[c]] * B;
     for (int a = 0; a <= d; ++a)
       for (int i = 0; i < d; ++i) idx[a * d + i] = dofs.free_index(dofs.full_index(mesh.cell(c)[a], i));
     add_element(K, idx.data(), nd, Ke.data());

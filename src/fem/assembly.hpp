@@ -10,6 +10,7 @@
 
 #include <Eigen/Sparse>
 #include <functional>
+#include <span>
 #include <vector>
 
 namespace vpc {
@@ -23,6 +24,10 @@ using ScalarField = std::function<double(const Point& x, double t)>;
 /// Elastic stiffness K_ij = (ℰε(φ_j), ε(φ_i)) on the free dofs.
 SparseMatrix assemble_stiffness(const Mesh& mesh, const std::vector<CellGeometry>& geo,
                                 const Elasticity& elasticity, const DofMap& dofs);
+/// The same with ℰ per cell: elasticity[cell_material[c]] on cell c (several materials).
+SparseMatrix assemble_stiffness(const Mesh& mesh, const std::vector<CellGeometry>& geo,
+                                std::span<const Elasticity> elasticity, std::span<const int> cell_material,
+                                const DofMap& dofs);
 
 /// P1 scalar mass matrix M_ij = (ψ_j, ψ_i).
 SparseMatrix assemble_mass(const Mesh& mesh, const std::vector<CellGeometry>& geo);

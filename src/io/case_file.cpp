@@ -561,6 +561,18 @@ Elasticity read_elasticity(Section e, int d, const std::string& file) {
   return elasticity;
 }
 
+/// [material.elasticity]: E and nu of another material; the kind is the body's, and
+/// a key left out keeps the body's value.
+Elasticity read_material_elasticity(Section e, const Elasticity& body) {
+  if (e.has("kind") && e.string("kind") != body.name())
+    fail("{}: every material of a body has the body's kind '{}' (the stresses have the same components); "
+         "leave kind out", e.where("kind"), body.name());
+  const double young = e.number("E", body.young()), nu = e.number("nu", body.poisson());
+  const Elasticity elasticity = located(e.where_section(), [&] { return Elasticity(body.kind(), young, nu); });
+  e.finish();
+  return elasticity;
+}
+
 Parameters law_parameters(Section& s) {
   Parameters p;
   for (const auto& k : s.remaining()) p.set(k, s.number(k));
@@ -624,6 +636,67 @@ void read_damage(Section dm, Problem& p) {
   }
   p.source = read_damage_source(dm);
   dm.finish();
+}
+
+/// [[material]]: further materials, each on Gmsh regions (`regions`: physical groups of
+/// the mesh's dimension) or on the cells whose centroid satisfies `where`; a later one
+/// takes the cells it selects from an earlier one. [material.elasticity],
+/// [material.viscoplasticity] and [material.damage] left out are the body's.
+/// `build`: this process has the mesh (the regions can be checked and tagged).
+void read_materials(Section& top, Problem& p, const Origins& origins, bool build) {
+  if (!top.has("material")) return;
+  const toml::node* list = top.get("material");
+  if (!list->is_array_of_tables())
+    top.expected("material", "an array of tables [[material]] with name and regions or where");
+  int k = 0;
+  for (const auto& node : *list->as_array()) {
+    Section s(node.as_table(), fmt::format("material[{}]", k++), origins);
+    Material m;
+    m.name = s.string("name");
+    const bool taken = m.name == "body" || std::any_of(p.materials.begin(), p.materials.end(),
+                                                       [&](const Material& o) { return o.name == m.name; });
+    if (m.name.empty() || taken)
+      fail("{}: expected a new material name (\"body\" is the body's material{})", s.where("name"),
+           m.name.empty() ? "" : fmt::format("; '{}' is taken", m.name));
+    if (s.has("regions") == s.has("where"))
+      fail("{}: expected either regions (Gmsh physical groups of dimension {}) or where (a predicate on the cell "
+           "centroid), not {}", s.where_section(), p.mesh.dim(), s.has("where") ? "both" : "neither");
+    if (s.has("regions")) {
+      m.regions = s.strings("regions");
+      if (m.regions.empty()) fail("{}: expected at least one region name", s.where("regions"));
+      for (const auto& r : m.regions)
+        if (build && p.mesh.region_size(r) == 0)
+          fail("{}: the mesh has no cell in region '{}'; its regions: {}", s.where("regions"), r,
+               p.mesh.region_names().empty() ? "(none: give the cells Gmsh physical groups of dimension d)"
+                                              : fmt::format("{}", fmt::join(p.mesh.region_names(), ", ")));
+    } else {
+      const auto where = s.expression("where", Expression::Kind::Space);
+      if (build && p.mesh.find_region(m.name) >= 0)
+        fail("{}: the mesh has a region named '{}' already; name the material otherwise, or give regions = [\"{}\"]",
+             s.where("name"), m.name, m.name);
+      p.mesh.tag_cells(m.name, [&](const Point& x) { return (*where)(x) != 0.0; });
+      if (build && p.mesh.region_size(m.name) == 0)
+        fail("{}: the predicate \"{}\" selects no cell (it is evaluated at cell centroids)", s.where("where"),
+             where->text());
+      m.regions = {m.name};
+    }
+    Section e = s.table("elasticity");
+    m.elasticity = e.exists() ? read_material_elasticity(e, p.elasticity) : p.elasticity;
+    Section v = s.table("viscoplasticity");
+    m.law = v.exists() ? read_viscoplasticity(v, m.elasticity.young()) : p.law;
+    Section dm = s.table("damage");
+    m.source = p.source;
+    if (dm.exists()) {
+      for (const char* global : {"kappa", "beta0"})
+        if (dm.has(global))
+          fail("{}: {} belongs to [damage]: the damage equation is one field over the whole body", dm.where(global),
+               global);
+      m.source = read_damage_source(dm);
+      dm.finish();
+    }
+    s.finish();
+    p.materials.push_back(std::move(m));
+  }
 }
 
 // ---------------------------------------------------------------- [loads], [contact], [time]
@@ -844,6 +917,7 @@ Case parse_case(std::string_view text, const std::string& name, const fs::path& 
   p->elasticity = read_elasticity(top.table("elasticity"), p->mesh.dim(), name);
   p->law = read_viscoplasticity(top.table("viscoplasticity"), p->elasticity.young());
   read_damage(top.table("damage"), *p);
+  read_materials(top, *p, origins, mesh_request.build);
   read_loads(top.table("loads"), *p, origins, mesh_request.build);
   read_obstacles(top, *p, origins, read_contact(top.table("contact"), *p));
   read_time(top.table("time"), *p, name);

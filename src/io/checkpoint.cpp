@@ -119,10 +119,13 @@ int step_of(const fs::path& p) {
 std::uint64_t problem_fingerprint(const TimeStepper& s) {
   const Problem& p = s.problem();
   const MeshPart& part = s.part();
-  const std::string key =
+  std::string key =
       fmt::format("{}|{}|{}|{}|{}|{}|{}|{:.17g}|{:.17g}|{}|{}|{}", p.name, part.dofs.dim(), part.n_global_nodes,
                   part.n_global_cells, part.n_global_dofs, part.n_contact, p.n_steps, p.final_time, p.kappa,
                   p.elasticity.name(), p.law->describe(), p.source->describe());
+  for (const Material& m : p.materials)  // none: the key of a one-material case is unchanged
+    key += fmt::format("|{}|{:.17g}|{:.17g}|{}|{}", m.name, m.elasticity.young(), m.elasticity.poisson(),
+                       m.law->describe(), m.source->describe());
   return fnv1a(key.data(), key.size());
 }
 

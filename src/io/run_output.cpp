@@ -318,6 +318,10 @@ void RunOutput::write_fields() {
   if (wants("strain")) cell_data.push_back(tensor_field("strain", s.eps));
   if (wants("von_mises")) cell_data.push_back(std::move(vm));
   if (wants("history_z")) cell_data.push_back(tensor_field("history_z", s.z));
+  if (!stepper_.problem().materials.empty()) {  // which material each cell has (Problem::material_list order)
+    const std::vector<int>& m = stepper_.part().cell_material;
+    cell_data.push_back({"material", 1, std::vector<double>(m.begin(), m.end())});
+  }
   const std::string stem = fmt::format("solution_{:05d}", s.n);
   std::string file = stem + ".vtu";
   if (comm.size() == 1) {
@@ -398,6 +402,17 @@ std::string summary_json(const Problem& p, const RunSummary& r, const OutputOpti
   j["elasticity"] = p.elasticity.name();
   j["viscoplastic_law"] = p.law->describe();
   j["damage_source"] = p.source->describe();
+  if (!p.materials.empty()) {  // the body's material, then the others (the VTU cell field `material` indexes them)
+    j["materials"] = nlohmann::json::array();
+    for (const Material& m : p.material_list())
+      j["materials"].push_back({{"name", m.name},
+                                {"regions", m.regions},
+                                {"elasticity", m.elasticity.name()},
+                                {"E", m.elasticity.young()},
+                                {"nu", m.elasticity.poisson()},
+                                {"viscoplastic_law", m.law->describe()},
+                                {"damage_source", m.source->describe()}});
+  }
   j["kappa"] = p.kappa;
   j["final_time"] = p.final_time;
   j["steps"] = r.steps;

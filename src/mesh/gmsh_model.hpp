@@ -22,7 +22,8 @@ struct ElementBlock {
   std::vector<std::size_t> nodes;  // node tags, element after element
 };
 
-/// A physical group of dimension d − 1 with the elements of its entities.
+/// A physical group of dimension d − 1 (a boundary part) or d (a region of cells)
+/// with the elements of its entities.
 struct PhysicalGroup {
   int tag = 0;
   std::string name;
@@ -34,7 +35,8 @@ struct GmshModel {
   std::vector<ElementBlock> cells;     // the elements of dimension d, one block per type
   std::vector<std::size_t> node_tags;  // every node of the model
   std::vector<double> coord;           // x, y, z of each
-  std::vector<PhysicalGroup> groups;
+  std::vector<PhysicalGroup> groups;   // dimension d − 1
+  std::vector<PhysicalGroup> regions;  // dimension d
 };
 
 /// The model as bytes, from the child to this process.
@@ -67,8 +69,12 @@ class Writer {
     for (const auto& b : m.cells) block(b);
     array(m.node_tags);
     array(m.coord);
-    value(m.groups.size());
-    for (const auto& g : m.groups) {
+    groups(m.groups);
+    groups(m.regions);
+  }
+  void groups(const std::vector<PhysicalGroup>& list) {
+    value(list.size());
+    for (const auto& g : list) {
       value(g.tag);
       string(g.name);
       value(g.blocks.size());
@@ -133,14 +139,20 @@ class Reader {
     for (auto n = count(); n > 0; --n) m.cells.push_back(block());
     m.node_tags = array<std::size_t>();
     m.coord = array<double>();
+    m.groups = groups();
+    m.regions = groups();
+    return m;
+  }
+  std::vector<PhysicalGroup> groups() {
+    std::vector<PhysicalGroup> list;
     for (auto n = count(); n > 0; --n) {
       PhysicalGroup g;
       g.tag = value<int>();
       g.name = string();
       for (auto k = count(); k > 0; --k) g.blocks.push_back(block());
-      m.groups.push_back(std::move(g));
+      list.push_back(std::move(g));
     }
-    return m;
+    return list;
   }
 
  private:

@@ -72,8 +72,26 @@ std::vector<ElementBlock> element_blocks(int dim, int entity) {
   return out;
 }
 
+/// The physical groups of dimension `dim` with the elements of their entities.
+std::vector<PhysicalGroup> physical_groups(int dim) {
+  std::vector<PhysicalGroup> out;
+  gmsh::vectorpair groups;
+  gmsh::model::getPhysicalGroups(groups, dim);
+  for (const auto& [group_dim, tag] : groups) {
+    PhysicalGroup g;
+    g.tag = tag;
+    gmsh::model::getPhysicalName(group_dim, tag, g.name);
+    std::vector<int> entities;
+    gmsh::model::getEntitiesForPhysicalGroup(group_dim, tag, entities);
+    for (int entity : entities)
+      for (auto& b : element_blocks(group_dim, entity)) g.blocks.push_back(std::move(b));
+    out.push_back(std::move(g));
+  }
+  return out;
+}
+
 /// Opens `file` with Gmsh, meshes it if it holds no cells of dimension d, and
-/// takes the cells, the nodes and the physical groups of dimension d − 1.
+/// takes the cells, the nodes and the physical groups of dimensions d − 1 and d.
 GmshModel extract_model(const std::string& file, int dim, double size_factor) {
   GmshSession session(file);
   gmsh::open(file);
@@ -97,18 +115,8 @@ GmshModel extract_model(const std::string& file, int dim, double size_factor) {
   std::vector<double> parametric;
   gmsh::model::mesh::getNodes(m.node_tags, m.coord, parametric, -1, -1, false, false);
 
-  gmsh::vectorpair groups;
-  gmsh::model::getPhysicalGroups(groups, m.dim - 1);
-  for (const auto& [dim, tag] : groups) {
-    PhysicalGroup g;
-    g.tag = tag;
-    gmsh::model::getPhysicalName(dim, tag, g.name);
-    std::vector<int> entities;
-    gmsh::model::getEntitiesForPhysicalGroup(dim, tag, entities);
-    for (int entity : entities)
-      for (auto& b : element_blocks(dim, entity)) g.blocks.push_back(std::move(b));
-    m.groups.push_back(std::move(g));
-  }
+  m.groups = physical_groups(m.dim - 1);
+  m.regions = physical_groups(m.dim);
   session.check("reading the mesh");
   return m;
 }

@@ -329,6 +329,37 @@ void read_parts(const std::string& file, const GmshModel& model, Mesh& mesh,
     }
 }
 
+/// Puts the cells into the regions named by the physical groups of dimension d
+/// (the materials' regions); cells of no group stay untagged.
+void read_regions(const std::string& file, const GmshModel& model, Mesh& mesh) {
+  if (model.regions.empty()) return;
+  const int d = model.dim;
+  std::unordered_map<std::size_t, int> cell_of_tag;  // Gmsh element tag -> cell (read_cells keeps the order)
+  const std::vector<std::size_t>& tags = model.cells.front().tags;
+  cell_of_tag.reserve(tags.size());
+  for (std::size_t c = 0; c < tags.size(); ++c) cell_of_tag.emplace(tags[c], static_cast<int>(c));
+  std::vector<std::string> region_of(tags.size());
+  for (const auto& group : model.regions) {
+    const std::string region = group.name.empty() ? fmt::format("group{}", group.tag) : group.name;
+    for (const auto& b : group.blocks) {
+      if (b.type != simplex_type(d)) continue;  // reported by read_cells for the cells themselves
+      for (std::size_t tag : b.tags) {
+        const auto it = cell_of_tag.find(tag);
+        if (it == cell_of_tag.end()) continue;
+        std::string& r = region_of[static_cast<std::size_t>(it->second)];
+        require(r.empty() || r == region,
+                "{}: Gmsh element {} is in the physical groups '{}' and '{}'; a cell can belong to one "
+                "region (material) only",
+                file, tag, r, region);
+        if (r.empty()) {
+          r = region;
+          mesh.set_cell_region(it->second, region);
+        }
+      }
+    }
+  }
+}
+
 Mesh build_mesh(const std::string& file, const GmshModel& model) {
   const int d = model.dim;
   require(d >= 1 && d <= 3, "{}: the file holds no curve, surface or volume (model dimension {})", file, d);
@@ -337,6 +368,7 @@ Mesh build_mesh(const std::string& file, const GmshModel& model) {
   read_cells(file, model, mesh, index);
   mesh.build_boundary();
   read_parts(file, model, mesh, index);
+  read_regions(file, model, mesh);
   return mesh;
 }
 

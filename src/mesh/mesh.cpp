@@ -49,6 +49,32 @@ int Mesh::add_node(const Point& p) {
 
 void Mesh::add_cell(const int* nodes) {
   cells_.insert(cells_.end(), nodes, nodes + nodes_per_cell());
+  if (!cell_region_.empty()) cell_region_.push_back(-1);
+}
+
+int Mesh::find_region(const std::string& name) const {
+  auto it = std::find(region_names_.begin(), region_names_.end(), name);
+  return it == region_names_.end() ? -1 : static_cast<int>(it - region_names_.begin());
+}
+
+void Mesh::set_cell_region(int c, const std::string& region) {
+  int r = find_region(region);
+  if (r < 0) {
+    region_names_.push_back(region);
+    r = static_cast<int>(region_names_.size()) - 1;
+  }
+  if (cell_region_.empty()) cell_region_.assign(n_cells(), -1);
+  cell_region_[c] = r;
+}
+
+int Mesh::region_size(const std::string& name) const {
+  const int r = find_region(name);
+  return r < 0 ? 0 : static_cast<int>(std::count(cell_region_.begin(), cell_region_.end(), r));
+}
+
+void Mesh::tag_cells(const std::string& name, const std::function<bool(const Point&)>& pred) {
+  for (int c = 0; c < n_cells(); ++c)
+    if (pred(cell_centroid(c))) set_cell_region(c, name);
 }
 
 int Mesh::find_part(const std::string& name) const {

@@ -1,8 +1,8 @@
 #pragma once
-// Simplicial mesh in d = 1, 2, 3 with boundary facets grouped into named parts.
-// The generators and the Gmsh reader both produce this; a part is what a Gmsh
-// physical group is (or a [[mesh.part]] predicate of a case file names), so the
-// rest of the code never knows where a mesh came from.
+// Simplicial mesh in d = 1, 2, 3 with boundary facets grouped into named parts and
+// cells into named regions. The generators and the Gmsh reader both produce this; a
+// part (a region) is what a Gmsh physical group of dimension d − 1 (d) is, or what a
+// case file's predicate names, so the rest of the code never knows where a mesh came from.
 #include "core/sym_tensor.hpp"
 
 #include <functional>
@@ -54,6 +54,19 @@ class Mesh {
 
   Point facet_centroid(int f) const;
   Point cell_centroid(int c) const;
+  /// Region of cell c (a Gmsh physical group of dimension d, or a material's
+  /// `where`); -1 when untagged.
+  int cell_region(int c) const { return cell_region_.empty() ? -1 : cell_region_[c]; }
+  /// Puts cell c into region `region` (created if new).
+  void set_cell_region(int c, const std::string& region);
+  const std::vector<std::string>& region_names() const { return region_names_; }
+  /// Index of a region, -1 if absent.
+  int find_region(const std::string& name) const;
+  /// Number of cells in the region.
+  int region_size(const std::string& name) const;
+  /// Re-tags every cell whose centroid satisfies `pred` as region `name`.
+  void tag_cells(const std::string& name, const std::function<bool(const Point&)>& pred);
+
   /// Outward unit normal of boundary facet f (needs the owning cell for orientation).
   Point facet_normal(int f) const;
   /// Measure (length/area; 1 for a point) of boundary facet f.
@@ -80,6 +93,8 @@ class Mesh {
   std::vector<int> facets_;
   std::vector<int> facet_part_;
   std::vector<std::string> part_names_;
+  std::vector<int> cell_region_;  // per cell once a region exists; empty: every cell untagged
+  std::vector<std::string> region_names_;
   mutable std::vector<int> facet_cell_;  // owning cell per facet, computed lazily
 };
 

@@ -134,6 +134,7 @@ std::vector<Message> pack_parts(const Problem& p, int n_parts) {
   dof_begin[n_parts] = next_dof;
 
   const std::vector<ContactRow> rows = contact_rows(p, dirichlet.condition);
+  const std::vector<int> material = cell_materials(p);
   const std::vector<double> measure = tributary_measures(mesh, p.contact.parts);  // for the output's contact pressure
   std::vector<int> contact_row(n_nodes, -1);
   for (size_t k = 0; k < rows.size(); ++k) contact_row[rows[k].node] = static_cast<int>(k);
@@ -181,7 +182,7 @@ std::vector<Message> pack_parts(const Problem& p, int n_parts) {
               n_owned_dofs,
               static_cast<long long>(dirichlet.parts.size())};
     m.ints.insert(m.ints.end(), dirichlet.components.begin(), dirichlet.components.end());
-    m.ints.reserve(kHeader + dirichlet.parts.size() + (4 + d) * nodes.size() + (npc + 1) * cells_of[r].size() + (d + 1) * facets_of[r].size() +
+    m.ints.reserve(kHeader + dirichlet.parts.size() + (4 + d) * nodes.size() + (npc + 2) * cells_of[r].size() + (d + 1) * facets_of[r].size() +
                    3 * contacts.size());
     m.reals.reserve(3 * nodes.size() + 5 * contacts.size());
     for (int v : nodes) {
@@ -191,7 +192,7 @@ std::vector<Message> pack_parts(const Problem& p, int n_parts) {
     }
     for (int c : cells_of[r]) {
       for (int a = 0; a < npc; ++a) m.ints.push_back(local[mesh.cell(c)[a]]);
-      m.ints.push_back(c);
+      m.ints.insert(m.ints.end(), {c, material[c]});
     }
     for (auto [f, load] : facets_of[r]) {
       for (int a = 0; a < d; ++a) m.ints.push_back(local[mesh.facet(f)[a]]);
@@ -241,10 +242,12 @@ MeshPart unpack_part(MPI_Comm comm, const Message& m) {
   }
   int nodes[4];
   dm.original_cell.resize(n_cells);
+  dm.cell_material.resize(n_cells);
   for (int c = 0; c < n_cells; ++c) {
     for (int a = 0; a <= d; ++a) nodes[a] = static_cast<int>(*in++);
     mesh->add_cell(nodes);
     dm.original_cell[c] = static_cast<int>(*in++);
+    dm.cell_material[c] = static_cast<int>(*in++);
   }
   for (int f = 0; f < n_facets; ++f) {
     for (int a = 0; a < d; ++a) nodes[a] = static_cast<int>(*in++);

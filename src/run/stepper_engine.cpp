@@ -87,6 +87,9 @@ void describe_data(const Problem& p, const SolverChoice& solvers, double setup_s
   fmt::print("  {}Γ3 (contact): {}\n", held, fmt::join(p.contact.parts, ", "));
   fmt::print("  elasticity: {} (E = {}, nu = {}); G: {}; phi: {}\n", p.elasticity.name(), p.elasticity.young(),
              p.elasticity.poisson(), p.law->describe(), p.source->describe());
+  for (const Material& m : p.materials)
+    fmt::print("  material '{}' on {}: E = {}, nu = {}; G: {}; phi: {}\n", m.name, fmt::join(m.regions, ", "),
+               m.elasticity.young(), m.elasticity.poisson(), m.law->describe(), m.source->describe());
   fmt::print("  kappa = {}; T = {}, k = {}, N = {}; solvers: contact {}, damage {}; setup {:.3f} s\n", p.kappa,
              p.final_time, p.step(), p.n_steps, solvers.contact, solvers.damage, setup_seconds);
   std::fflush(stdout);

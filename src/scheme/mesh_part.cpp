@@ -34,6 +34,7 @@ MeshPart whole_mesh_part(std::shared_ptr<const Problem> problem) {
   std::iota(part.original_node.begin(), part.original_node.end(), 0);
   part.original_cell.resize(mesh.n_cells());
   std::iota(part.original_cell.begin(), part.original_cell.end(), 0);
+  part.cell_material = cell_materials(p);
   part.traction_facets = traction_facets(p);
   part.pressure_facets = pressure_facets(p);
   DirichletDofs dirichlet = dirichlet_dofs(p);

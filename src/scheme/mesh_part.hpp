@@ -36,6 +36,7 @@ struct MeshPart {
   std::vector<long long> global_node;  // global (partitioned) number per local node
   std::vector<int> original_node;      // number in the mesh as read, per local node
   std::vector<int> original_cell;      // number in the mesh as read, per cell
+  std::vector<int> cell_material;      // per cell: its index in Problem::material_list()
   std::vector<int> traction_facets;    // Γ2 facets of the part's mesh
   std::vector<std::vector<int>> pressure_facets;  // per Problem::pressure load, facets of the part's mesh
   DofMap dofs;                         // local free dofs: owned first, then ghosts

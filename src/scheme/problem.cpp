@@ -83,6 +83,7 @@ void Problem::validate() const {
       require(!bc.value[c], "{}: prescribed displacement {} gives component {} of {}, but the mesh has d = {}", where,
               k + 1, c + 1, 3, mesh.dim());
   }
+  cell_materials(*this);                                  // checks the materials' regions and kinds
   const DirichletDofs dirichlet = dirichlet_dofs(*this);  // checks the symmetry parts, values and conflicts
   require(!contact.parts.empty(), "{}: no contact part Γ3 given", where);
   for (const auto& p : contact.parts)

@@ -44,6 +44,15 @@ struct PrescribedDisplacement {
   std::array<ScalarField, 3> value;  // empty: the component is free
 };
 
+/// A material of the body (SPEC §6): ℰ, G and φ on the cells of its mesh regions.
+struct Material {
+  std::string name;
+  std::vector<std::string> regions;  // Mesh regions (Gmsh physical groups of dimension d, or `where` predicates)
+  Elasticity elasticity{Elasticity::Kind::Uniaxial, 1.0, 0.0};
+  std::shared_ptr<const ViscoplasticLaw> law;
+  std::shared_ptr<const DamageSource> source;
+};
+
 struct Problem {
   std::string name;
   Mesh mesh;
@@ -56,6 +65,9 @@ struct Problem {
   Elasticity elasticity{Elasticity::Kind::Uniaxial, 1.0, 0.0};
   std::shared_ptr<const ViscoplasticLaw> law;
   std::shared_ptr<const DamageSource> source;
+  /// Further materials on the cells of their regions; every other cell has ℰ, G, φ
+  /// above (the body's material). One damage field β over the whole body, one κ.
+  std::vector<Material> materials;
   double kappa = 1;  // damage diffusion κ in (2.2)
   VectorField f0, f2;
   /// f0 (f2) does not depend on x: its load vector is f(t) times the integrals of
@@ -67,6 +79,9 @@ struct Problem {
   int n_steps = 100;  // k = T / N
 
   double step() const { return final_time / n_steps; }
+  /// The body's material (ℰ, G, φ above) named "body", then `materials`: the list
+  /// that cell_materials indexes.
+  std::vector<Material> material_list() const;
   /// Throws vpc::Error describing the first invalid datum (the checks below and
   /// the parts, the law, the source). The one place each datum is checked.
   void validate() const;
@@ -112,6 +127,12 @@ int symmetry_axis(const Mesh& mesh, const std::string& part);
 /// The Dirichlet data of every node. Throws vpc::Error where two conditions prescribe
 /// different values of one component at a node (compared at t = 0 and t = T).
 DirichletDofs dirichlet_dofs(const Problem& p);
+
+/// The material of each cell of p.mesh, an index into Problem::material_list(): 0
+/// where no material's region holds the cell. Throws vpc::Error for a region the mesh
+/// lacks (or that holds no cell), a region in two materials, an elasticity of
+/// another kind than the body's (plane stress beside plane strain) and a missing law.
+std::vector<int> cell_materials(const Problem& p);
 
 /// Γ2: the given traction parts, or every boundary facet on none of Γ1, Γ3, the
 /// prescribed-displacement and the symmetry parts.

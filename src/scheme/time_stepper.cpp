@@ -53,6 +53,7 @@ TimeStepper::TimeStepper(std::shared_ptr<const Problem> problem, MeshPart part,
   const int d = mesh.dim();
   require(part_.n_global_dofs > 0, "{}: every node is clamped; nothing to solve", p.name);
   geo_ = compute_geometry(mesh);
+  materials_ = p.material_list();
 
   // Loads uniform in space: (f(t), ψ_a e_i) = f_i(t) ∫ψ_a, with the same quadrature.
   const VectorField unit = [](const Point&, double) { return Point{1, 0, 0}; };
@@ -121,7 +122,9 @@ void TimeStepper::assemble_and_factorize() {
     partial = fixed > 0 && fixed < d;
   }
   const int block = part_.comm.any(partial) ? 1 : d;
-  const SparseMatrix K_local = assemble_stiffness(mesh, geo_, p.elasticity, part_.dofs);
+  std::vector<Elasticity> elasticity;
+  for (const Material& m : materials_) elasticity.push_back(m.elasticity);
+  const SparseMatrix K_local = assemble_stiffness(mesh, geo_, elasticity, part_.cell_material, part_.dofs);
   K_ = backend_->assemble(K_local, *part_.dof_layout, block);
   K_local_nonzeros_ = static_cast<double>(K_local.nonZeros());
   M_local_ = assemble_mass(mesh, geo_);
@@ -398,11 +401,12 @@ StepReport TimeStepper::advance(int level, double t_end) {
   std::vector<double> phi(n_cells);
 #pragma omp parallel for schedule(static) if (n_cells >= kParallelCells)
   for (int c = 0; c < n_cells; ++c) {
-    const PointState s{state_.sigma[c], state_.eps[c], cell_mean(mesh, state_.beta, c), p.elasticity.stress_dim(),
+    const Material& m = material(c);
+    const PointState s{state_.sigma[c], state_.eps[c], cell_mean(mesh, state_.beta, c), m.elasticity.stress_dim(),
                        mesh.cell_centroid(c), state_.t};
-    G[c] = p.law->rate(s);
-    p.elasticity.restrict_stress(G[c]);
-    phi[c] = p.source->rate(s);
+    G[c] = m.law->rate(s);
+    m.elasticity.restrict_stress(G[c]);
+    phi[c] = m.source->rate(s);
   }
   rep.seconds_sources = seconds_since(t0);
 
@@ -431,7 +435,7 @@ StepReport TimeStepper::advance(int level, double t_end) {
   std::vector<SymTensor> lifted;
   if (u_D.size() > 0) {  // ε(u_D) vanishes outside the cells touching a prescribed dof
     lifted = state_.z;
-    for (int c : dirichlet_cells_) lifted[c] += p.elasticity.apply(cell_strain(mesh, geo_[c], u_D, c));
+    for (int c : dirichlet_cells_) lifted[c] += material(c).elasticity.apply(cell_strain(mesh, geo_[c], u_D, c));
   }
   f_.local() = restrict_to_free(part_.dofs, F - assemble_stress_divergence(mesh, geo_, u_D.size() > 0 ? lifted : state_.z));
   f_.add_ghosts_to_owners();
@@ -450,7 +454,7 @@ StepReport TimeStepper::advance(int level, double t_end) {
   double max_vm = 0;
 #pragma omp parallel for schedule(static) reduction(max : max_vm) if (n_cells >= kParallelCells)
   for (int c = 0; c < n_cells; ++c) {
-    state_.sigma[c] = p.elasticity.apply(state_.eps[c]) + state_.z[c];
+    state_.sigma[c] = material(c).elasticity.apply(state_.eps[c]) + state_.z[c];
     max_vm = std::max(max_vm, state_.sigma[c].von_mises());
   }
   rep.max_von_mises = comm.max(max_vm);

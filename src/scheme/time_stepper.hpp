@@ -175,6 +175,8 @@ class TimeStepper {
   std::shared_ptr<const la::Backend> backend_;
   SolverChoice choice_;
   std::vector<CellGeometry> geo_;
+  std::vector<Material> materials_;  // Problem::material_list(), indexed by part_.cell_material
+  const Material& material(int cell) const { return materials_[part_.cell_material[cell]]; }
   std::shared_ptr<la::SpdOperator> K_;  // shared with the contact solver
   std::unique_ptr<la::SpdOperator> M_;
   SparseMatrix M_local_, A_local_;      // the part's mass and Laplacian (H for halved steps)

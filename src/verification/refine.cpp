@@ -125,6 +125,8 @@ Refinement refine_uniform(const Mesh& coarse) {
     for (const auto& t : cells) {
       r.fine.add_cell(t.data());
       r.parent_cell.push_back(c);
+      if (const int region = coarse.cell_region(c); region >= 0)
+        r.fine.set_cell_region(r.fine.n_cells() - 1, coarse.region_names()[region]);
     }
   }
   std::vector<std::array<int, 3>> facets;

@@ -10,7 +10,7 @@
 //     midpoint of a coarse edge (mean of the two end values), and
 //   - P0 functions prolong exactly: a fine cell lies in one coarse cell (its parent).
 // Boundary facets split like cells of one dimension less and keep their part, so Γ1,
-// Γ2, Γ3 of a case are the same sets on every level.
+// Γ2, Γ3 of a case are the same sets on every level; cells keep their region (material).
 #include "fem/assembly.hpp"
 #include "mesh/mesh.hpp"
 

@@ -188,6 +188,8 @@ Curve Loop(1) = {1, 2, 3}; Plane Surface(1) = {1};
 )");
   const Mesh m = read_gmsh(file);
   EXPECT_TRUE(m.part_names().empty());
+  EXPECT_TRUE(m.region_names().empty());
+  EXPECT_EQ(m.cell_region(0), -1);
   EXPECT_NEAR(untagged_measure(m), 2.0 + std::sqrt(2.0), 1e-12);
   EXPECT_NEAR(total_volume(m), 0.5, 1e-12);
 }
@@ -218,6 +220,32 @@ Physical Curve("all") = {1, 2, 3};
 )");
   const std::string what = read_error(file);
   EXPECT_NE(what.find("'bottom' and 'all'"), std::string::npos) << what;
+}
+
+// Physical groups of the mesh's dimension name regions of cells (the materials' regions).
+TEST(GmshReader, PhysicalSurfacesAreRegions) {
+  const Mesh m = read_gmsh(data("two-layers.geo"));
+  EXPECT_EQ(m.region_names(), (std::vector<std::string>{"lower", "upper"}));
+  EXPECT_EQ(m.region_size("lower") + m.region_size("upper"), m.n_cells());
+  for (int c = 0; c < m.n_cells(); ++c)
+    EXPECT_EQ(m.region_names()[m.cell_region(c)], m.cell_centroid(c)[1] < 0.5 ? "lower" : "upper") << c;
+  EXPECT_EQ(m.part_names(), (std::vector<std::string>{"bottom", "top", "sides"}));
+  const Mesh square = read_gmsh(data("square.geo"));  // one Physical Surface: every cell
+  EXPECT_EQ(square.region_names(), std::vector<std::string>{"body"});
+  EXPECT_EQ(square.region_size("body"), square.n_cells());
+}
+
+TEST(GmshReader, CellInTwoRegionsIsAnError) {
+  const fs::path file = temp_file("two-regions.geo", R"(
+Point(1) = {0, 0, 0, 0.5}; Point(2) = {1, 0, 0, 0.5}; Point(3) = {0, 1, 0, 0.5};
+Line(1) = {1, 2}; Line(2) = {2, 3}; Line(3) = {3, 1};
+Curve Loop(1) = {1, 2, 3}; Plane Surface(1) = {1};
+Physical Surface("steel") = {1};
+Physical Surface("all") = {1};
+)");
+  const std::string what = read_error(file);
+  EXPECT_NE(what.find("'steel' and 'all'"), std::string::npos) << what;
+  EXPECT_NE(what.find("one region"), std::string::npos) << what;
 }
 
 TEST(GmshReader, PlanarMeshOffTheXYPlaneIsAnError) {
