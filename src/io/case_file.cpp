@@ -777,6 +777,34 @@ Obstacle read_obstacle(Section& s, int k, int d) {
   return o;
 }
 
+/// `key`: parts of Γ3 (a subset of [boundary] contact), or none when the key is absent.
+std::vector<std::string> contact_parts(Section& s, const std::string& key, const Problem& p) {
+  if (!s.has(key)) return {};
+  const auto parts = s.strings(key);
+  if (parts.empty()) fail("{}: expected at least one contact part name", s.where(key));
+  for (const auto& part : parts)
+    if (std::find(p.contact.parts.begin(), p.contact.parts.end(), part) == p.contact.parts.end())
+      fail("{}: '{}' is not a contact part; [boundary] contact has: {}", s.where(key), part, fmt::join(p.contact.parts, ", "));
+  return parts;
+}
+
+/// A contact law: `law` ("signorini" or "normal-compliance") with `stiffness` c > 0 and
+/// `exponent` e ≥ 1 (default 1: linear) for the latter.
+ContactLaw read_contact_law(Section& s) {
+  ContactLaw law;
+  if (s.choice("law", {"signorini", "normal-compliance"}, "signorini") == "normal-compliance") {
+    law.stiffness = s.number("stiffness");
+    if (!(law.stiffness > 0)) fail("{}: expected a stiffness > 0, got {}", s.where("stiffness"), law.stiffness);
+    law.exponent = s.number("exponent", 1.0);
+    if (!(law.exponent >= 1)) fail("{}: expected an exponent >= 1, got {}", s.where("exponent"), law.exponent);
+  } else {
+    for (const char* key : {"stiffness", "exponent"})
+      if (s.has(key))
+        fail("{}: {} belongs to law = \"normal-compliance\" (the law here is Signorini)", s.where(key), key);
+  }
+  return law;
+}
+
 /// [[obstacle]] sections (instead of [contact] gap).
 void read_obstacles(Section& top, Problem& p, const Origins& origins, bool gap_given) {
   if (!top.has("obstacle")) return;
@@ -787,22 +815,37 @@ void read_obstacles(Section& top, Problem& p, const Origins& origins, bool gap_g
   for (const auto& node : *list->as_array()) {
     Section s(node.as_table(), fmt::format("obstacle[{}]", k), origins);
     p.contact.obstacles.push_back(read_obstacle(s, k++, p.mesh.dim()));
+    p.contact.obstacles.back().parts = contact_parts(s, "parts", p);
     s.finish();
   }
 }
 
 /// Returns whether a gap was given.
-bool read_contact(Section ct, Problem& p) {
+bool read_contact(Section ct, Problem& p, const Origins& origins) {
   const auto gap = ct.has("gap") ? ct.expression("gap", Expression::Kind::SpaceTime) : nullptr;
   p.contact.gap = [gap](const Point& x, double t) { return gap ? (*gap)(x, t) : 0.0; };
   p.contact.gap_moves = gap && gap->uses_time();
   located(ct.where("gap"), [&] { check_gap(p.mesh, p.contact); });
   p.contact.direction = read_contact_direction(ct, p.mesh.dim());
-  if (ct.choice("law", {"signorini", "normal-compliance"}, "signorini") == "normal-compliance") {
-    p.contact.stiffness = ct.number("stiffness");
-    if (!(p.contact.stiffness > 0)) fail("{}: expected a stiffness > 0, got {}", ct.where("stiffness"), p.contact.stiffness);
-  } else if (ct.has("stiffness")) {
-    fail("{}: a stiffness belongs to law = \"normal-compliance\" (the law here is Signorini)", ct.where("stiffness"));
+  p.contact.law = read_contact_law(ct);
+  if (ct.has("part")) {  // [[contact.part]]: another law on some parts
+    const toml::node* list = ct.get("part");
+    if (!list->is_array_of_tables())
+      ct.expected("part", "an array of tables [[contact.part]] with parts and law (stiffness, exponent)");
+    int k = 0;
+    for (const auto& node : *list->as_array()) {
+      Section s(node.as_table(), fmt::format("contact.part[{}]", k++), origins);
+      PartContactLaw pl;
+      pl.parts = contact_parts(s, "parts", p);
+      if (pl.parts.empty()) s.expected("parts", "the contact parts this law acts on");
+      for (const auto& part : pl.parts)
+        for (const PartContactLaw& other : p.contact.part_laws)
+          if (std::find(other.parts.begin(), other.parts.end(), part) != other.parts.end())
+            fail("{}: contact part '{}' has a law already (an earlier [[contact.part]])", s.where("parts"), part);
+      pl.law = read_contact_law(s);
+      s.finish();
+      p.contact.part_laws.push_back(std::move(pl));
+    }
   }
   ct.finish();
   return gap != nullptr;
@@ -919,7 +962,7 @@ Case parse_case(std::string_view text, const std::string& name, const fs::path& 
   read_damage(top.table("damage"), *p);
   read_materials(top, *p, origins, mesh_request.build);
   read_loads(top.table("loads"), *p, origins, mesh_request.build);
-  read_obstacles(top, *p, origins, read_contact(top.table("contact"), *p));
+  read_obstacles(top, *p, origins, read_contact(top.table("contact"), *p, origins));
   read_time(top.table("time"), *p, name);
   c.output = read_output(top.table("output"), *p);
   c.solvers = read_solver(top.table("solver"));

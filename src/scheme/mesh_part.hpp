@@ -9,6 +9,7 @@
 #include "fem/dof_map.hpp"
 #include "la/layout.hpp"
 #include "mesh/mesh.hpp"
+#include "scheme/obstacle.hpp"
 
 #include <cstdint>
 #include <memory>
@@ -27,6 +28,9 @@ struct PartContactNode {
   Point direction{};   // ν, unit
   double gap = 0;      // g at the node
   double measure = 0;  // its tributary measure on Γ3 (for the contact pressure)
+  double stiffness = 0;  // ContactRow::stiffness: the lumped compliance law (0: Signorini)
+  double exponent = 1;
+  ObstacleMask obstacles = kAllObstacles;
 };
 
 struct MeshPart {

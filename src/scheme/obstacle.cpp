@@ -49,10 +49,26 @@ double distance_along(const Obstacle& o, const Point& x, const Point& nu, double
   return kMiss;
 }
 
-double obstacle_gap(const std::vector<Obstacle>& obstacles, const Point& x, const Point& nu, double t, double miss) {
-  double g = kMiss;
-  for (const Obstacle& o : obstacles) g = std::min(g, distance_along(o, x, nu, t));
+double obstacle_gap(const std::vector<Obstacle>& obstacles, const Point& x, const Point& nu, double t, double miss,
+                    ObstacleMask mask) {
+  const int k = nearest_obstacle(obstacles, x, nu, t, mask);
+  const double g = k < 0 ? kMiss : distance_along(obstacles[k], x, nu, t);
   return g == kMiss ? miss : g;
+}
+
+int nearest_obstacle(const std::vector<Obstacle>& obstacles, const Point& x, const Point& nu, double t,
+                     ObstacleMask mask) {
+  int nearest = -1;
+  double g = kMiss;
+  for (std::size_t k = 0; k < obstacles.size(); ++k) {
+    if (!(mask >> k & 1)) continue;
+    const double s = distance_along(obstacles[k], x, nu, t);
+    if (nearest < 0 || s < g) {
+      nearest = static_cast<int>(k);
+      g = s;
+    }
+  }
+  return nearest;
 }
 
 }  // namespace vpc

@@ -40,8 +40,15 @@ void check_beta0(const Mesh& mesh, const ScalarField& beta0) {
   }
 }
 
-double contact_gap_at(const ContactSpec& contact, const Point& x, const Point& nu, double t, double miss) {
-  return contact.obstacles.empty() ? contact.gap(x, t) : obstacle_gap(contact.obstacles, x, nu, t, miss);
+double contact_gap_at(const ContactSpec& contact, const Point& x, const Point& nu, double t, double miss,
+                      ObstacleMask obstacles) {
+  return contact.obstacles.empty() ? contact.gap(x, t) : obstacle_gap(contact.obstacles, x, nu, t, miss, obstacles);
+}
+
+const ContactLaw& ContactSpec::law_of(const std::string& part) const {
+  for (const PartContactLaw& p : part_laws)
+    if (std::find(p.parts.begin(), p.parts.end(), part) != p.parts.end()) return p.law;
+  return law;
 }
 
 double contact_miss_gap(const Point& lo, const Point& hi) { return std::hypot(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]); }
@@ -99,6 +106,25 @@ void Problem::validate() const {
               on_gamma1 ? "clamped" : "contact");
     }
   require(static_cast<bool>(contact.gap) || !contact.obstacles.empty(), "{}: no gap function g", where);
+  require(contact.obstacles.size() <= 64, "{}: {} obstacles; at most 64 are supported", where, contact.obstacles.size());
+  auto on_gamma3 = [&](const std::string& part) {
+    return std::find(contact.parts.begin(), contact.parts.end(), part) != contact.parts.end();
+  };
+  for (const Obstacle& o : contact.obstacles)
+    for (const auto& part : o.parts)
+      require(on_gamma3(part), "{}: obstacle '{}' acts on part '{}', which is not a contact part (Γ3: {})", where,
+              o.name, part, fmt::join(contact.parts, ", "));
+  auto check_law = [&](const ContactLaw& law) {
+    require(law.stiffness >= 0 && law.exponent >= 1, "{}: a contact law needs c >= 0 and e >= 1 (got c = {}, e = {})",
+            where, law.stiffness, law.exponent);
+  };
+  check_law(contact.law);
+  for (const PartContactLaw& pl : contact.part_laws) {
+    check_law(pl.law);
+    for (const auto& part : pl.parts)
+      require(on_gamma3(part), "{}: a contact law is given on part '{}', which is not a contact part (Γ3: {})", where,
+              part, fmt::join(contact.parts, ", "));
+  }
   located(where, [&] { check_gap(mesh, contact); });
   contact_rows(*this, dirichlet.condition);  // directions against prescribed components; obstacles' gaps
   located(where, [&] { check_beta0(mesh, beta0); });
@@ -170,6 +196,35 @@ std::vector<ContactRow> contact_rows(const Problem& p, const std::vector<int>& c
     }
   }
   const double miss = contact_miss_gap(lo, hi);
+  // Per node: its law (Signorini where any of its Γ3 facets is; else the lumped k and
+  // the one exponent of its facets) and the obstacles acting on its parts.
+  std::vector<double> stiffness(mesh.n_nodes(), 0.0), exponent(mesh.n_nodes(), 0.0);
+  std::vector<char> signorini(mesh.n_nodes(), 0);
+  std::vector<ObstacleMask> obstacles(mesh.n_nodes(), 0);
+  for (const std::string& part : p.contact.parts) {
+    const ContactLaw& law = p.contact.law_of(part);
+    ObstacleMask acting = 0;
+    for (std::size_t k = 0; k < p.contact.obstacles.size(); ++k) {
+      const auto& on = p.contact.obstacles[k].parts;
+      if (on.empty() || std::find(on.begin(), on.end(), part) != on.end()) acting |= ObstacleMask{1} << k;
+    }
+    for (int f : mesh.facets_of_parts({part}))
+      for (int a = 0; a < mesh.nodes_per_facet(); ++a) {
+        const int i = mesh.facet(f)[a];
+        obstacles[i] |= acting;
+        if (law.stiffness == 0) {
+          signorini[i] = 1;
+          continue;
+        }
+        const Point& x = mesh.node(i);
+        require(exponent[i] == 0 || exponent[i] == law.exponent,
+                "{}: contact node {} ({}, {}, {}) lies on contact parts whose compliance laws have the exponents {} and "
+                "{}; parts with different exponents cannot share a node",
+                p.name, i, x[0], x[1], x[2], exponent[i], law.exponent);
+        exponent[i] = law.exponent;
+        stiffness[i] += law.stiffness * mesh.facet_measure(f) / mesh.nodes_per_facet();
+      }
+  }
   std::vector<ContactRow> rows;
   for (int node : mesh.nodes_of_parts(p.contact.parts)) {
     const int* fixed = condition.data() + static_cast<std::size_t>(node) * d;
@@ -197,10 +252,11 @@ std::vector<ContactRow> contact_rows(const Problem& p, const std::vector<int>& c
       l = length(v);
       for (double& vc : v) vc /= l;
     }
-    const double g = contact_gap_at(p.contact, x, v, 0.0, miss);
+    const double g = contact_gap_at(p.contact, x, v, 0.0, miss, obstacles[node]);
     require(std::isfinite(g) && g >= 0, "{}: the gap g must be a number >= 0 at t = 0; the obstacles give {} at contact node {} ({}, {}, {})",
             p.name, g, node, x[0], x[1], x[2]);
-    rows.push_back({node, v, g});
+    const bool compliant = !signorini[node];
+    rows.push_back({node, v, g, compliant ? stiffness[node] : 0.0, compliant ? exponent[node] : 1.0, obstacles[node]});
   }
   require(!rows.empty(), "{}: the contact part has no free nodes (all are clamped or it is empty)", p.name);
   return rows;

@@ -18,13 +18,29 @@
 
 namespace vpc {
 
+/// The normal law on a contact part (SPEC §6): Signorini (the paper's), or normal
+/// compliance σ_ν = −c (u_ν − g)₊^e (c: a pressure per unit of penetration^e; e ≥ 1,
+/// 1 the linear law), lumped at the contact nodes.
+struct ContactLaw {
+  double stiffness = 0;  // c; 0: Signorini
+  double exponent = 1;   // e
+  bool operator==(const ContactLaw&) const = default;
+};
+
+/// A contact law on some parts of Γ3, instead of ContactSpec::law.
+struct PartContactLaw {
+  std::vector<std::string> parts;
+  ContactLaw law;
+};
+
 struct ContactSpec {
   std::vector<std::string> parts;    // Γ3
   ScalarField gap;                   // g(x, t), measured along the contact direction; g(x, 0) ≥ 0
   bool gap_moves = false;            // g depends on t (a moving obstacle): evaluated at every step
-  /// Normal compliance σ_ν = −c (u_ν − g)₊ with this c (a pressure per unit of
-  /// penetration), lumped at the contact nodes; 0: Signorini (the paper's law).
-  double stiffness = 0;
+  ContactLaw law;                    // on the parts of Γ3 that no part_laws entry names
+  std::vector<PartContactLaw> part_laws;
+  /// The law on one part of Γ3.
+  const ContactLaw& law_of(const std::string& part) const;
   /// Rigid obstacles instead of `gap`: g is the distance along ν to the nearest one, at every step.
   std::vector<Obstacle> obstacles;
   std::optional<Point> direction;    // a fixed direction, < 90° from the outward normal; unset: the normal
@@ -101,8 +117,9 @@ void check_beta0(const Mesh& mesh, const ScalarField& beta0);
 void check_gap(const Mesh& mesh, const ContactSpec& contact);
 
 /// g at a contact node x with direction ν at time t: the gap formula, or the distance
-/// to the nearest obstacle (`miss` where every ray misses: see contact_miss_gap).
-double contact_gap_at(const ContactSpec& contact, const Point& x, const Point& nu, double t, double miss);
+/// to the nearest obstacle of the mask (those acting on the node's parts) (`miss` where every ray misses: see contact_miss_gap).
+double contact_gap_at(const ContactSpec& contact, const Point& x, const Point& nu, double t, double miss,
+                      ObstacleMask obstacles = kAllObstacles);
 /// The gap of a node that no obstacle lies ahead of: the diagonal of the body's
 /// bounding box [lo, hi], farther than any small-deformation displacement reaches.
 double contact_miss_gap(const Point& lo, const Point& hi);
@@ -142,11 +159,16 @@ std::vector<std::vector<int>> pressure_facets(const Problem& p);
 
 /// A row of the contact matrix N of (3.9): a node of Γ3 that is not clamped, its
 /// unit direction ν (the given one, or the measure-weighted mean of the outward
-/// normals of its Γ3 facets) and its gap g.
+/// normals of its Γ3 facets), its gap g, its contact law and its obstacles.
 struct ContactRow {
   int node = 0;
   Point direction{0, 0, 0};
   double gap = 0;
+  /// The law at the node: k = Σ c |facet| / (its nodes) over its Γ3 facets (0: Signorini,
+  /// where any of them is Signorini) and their exponent e.
+  double stiffness = 0;
+  double exponent = 1;
+  ObstacleMask obstacles = kAllObstacles;  // the obstacles acting on the node's parts
 };
 
 /// The contact rows in increasing node order, for the nodes of Γ3 with a free
@@ -155,7 +177,8 @@ struct ContactRow {
 /// facets would cancel it); any other direction with a component along a prescribed
 /// one is refused. Throws vpc::Error for that, for a fixed direction at 90° or more
 /// from the outward normal at some node (it would point into the body), for a gap
-/// below 0 at t = 0 and when no free node is left on Γ3.
+/// below 0 at t = 0, for a node where parts of different exponents meet and when no
+/// free node is left on Γ3.
 std::vector<ContactRow> contact_rows(const Problem& p, const std::vector<int>& condition);
 
 }  // namespace vpc

@@ -193,13 +193,19 @@ ContactConstraints TimeStepper::contact_constraints() const {
   c.N.resize(static_cast<Eigen::Index>(c.rows.size()), part_.n_owned_dofs);
   c.N.setFromTriplets(t.begin(), t.end());
   c.gap = contact_gap(0.0);
-  if (problem_->contact.stiffness > 0) {  // λ_i = c |Γ3|_i (N_i u − g_i)₊: the law at the node, times its measure
-    c.normal_compliance = true;
-    c.compliance.resize(static_cast<Eigen::Index>(c.rows.size()));
-    Eigen::Index k = 0;
-    for (const PartContactNode& node : part_.contact)
-      if (node.owned) c.compliance[k++] = 1.0 / (problem_->contact.stiffness * node.measure);
-  }
+  // λ_i = k_i (N_i u − g_i)₊^{e_i}, k_i = c |Γ3|_i: the law at the node times its measure (ContactRow).
+  std::vector<double> compliance, exponent;
+  for (const PartContactNode& node : part_.contact)
+    if (node.owned) {
+      compliance.push_back(node.stiffness > 0 ? 1 / node.stiffness : 0.0);
+      exponent.push_back(node.exponent);
+    }
+  c.normal_compliance = part_.comm.any(std::ranges::any_of(compliance, [](double x) { return x > 0; }));
+  c.power_law = part_.comm.any(std::ranges::any_of(part_.contact, [](const PartContactNode& n) {
+    return n.owned && n.stiffness > 0 && n.exponent != 1;
+  }));
+  if (c.normal_compliance) c.compliance = Eigen::Map<Vector>(compliance.data(), static_cast<Eigen::Index>(compliance.size()));
+  if (c.power_law) c.exponent = Eigen::Map<Vector>(exponent.data(), static_cast<Eigen::Index>(exponent.size()));
   return c;
 }
 
@@ -217,7 +223,7 @@ Vector TimeStepper::contact_gap(double t) const {
     // back (N u ≤ g < 0 is still a feasible constraint); a value that is not a number
     // is an error, reported by every process.
     const Point& x = part_.mesh().node(node.local_node);
-    gaps.push_back(contact_gap_at(spec, x, node.direction, t, miss_gap_));
+    gaps.push_back(contact_gap_at(spec, x, node.direction, t, miss_gap_, node.obstacles));
     if (!std::isfinite(gaps.back()) && bad.empty())
       bad = fmt::format("the gap g is not finite ({}) at t = {} at contact node {} ({}, {}, {})", gaps.back(), t,
                         part_.original_node[node.local_node], x[0], x[1], x[2]);
@@ -322,12 +328,9 @@ void TimeStepper::contact_totals(StepReport& rep) const {
     const double lambda = state_.lambda[node.row];
     if (lambda > rep.contact.active_threshold) sums[0] += node.measure;
     if (obstacles.empty() || lambda == 0) continue;
-    const Point& x = part_.mesh().node(node.local_node);
-    std::size_t nearest = 0;
-    for (std::size_t k = 1; k < obstacles.size(); ++k)
-      if (distance_along(obstacles[k], x, node.direction, rep.t) < distance_along(obstacles[nearest], x, node.direction, rep.t))
-        nearest = k;
-    sums[nearest + 1] += lambda;
+    const int nearest = nearest_obstacle(obstacles, part_.mesh().node(node.local_node), node.direction, rep.t,
+                                         node.obstacles);
+    if (nearest >= 0) sums[static_cast<std::size_t>(nearest) + 1] += lambda;
   }
   part_.comm.sum(sums.data(), static_cast<int>(sums.size()));
   rep.contact_area = sums[0];

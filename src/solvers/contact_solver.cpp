@@ -2,6 +2,7 @@
 
 #include "core/error.hpp"
 #include "solvers/box_qp.hpp"
+#include "solvers/compliance_dual.hpp"
 #include "solvers/penalty_duality.hpp"
 
 #include <algorithm>
@@ -44,6 +45,11 @@ ContactResiduals contact_residuals(const la::SpdOperator& K, const ContactConstr
   const Vector lambda_local = local_rows(c, lambda);
   Vector s = c.gap - c.N * u;  // the gap left: ≥ 0
   if (c.normal_compliance) s += c.compliance.cwiseProduct(lambda_local);
+  if (c.power_law)  // (λ/k)^{1/e} in place of λ/k on the rows with e ≠ 1
+    for (Eigen::Index i = 0; i < s.size(); ++i)
+      if (c.exponent[i] != 1 && c.compliance[i] > 0)
+        s[i] += std::pow(std::max(c.compliance[i] * lambda_local[i], 0.0), 1 / c.exponent[i]) -
+                c.compliance[i] * lambda_local[i];
   auto inf = [&](const Vector& v) { return comm.max(v.size() ? v.cwiseAbs().maxCoeff() : 0.0); };
   const double f_scale = std::max({inf(F), inf(Ku), 1e-300});
   r.equilibrium = inf(Vector(Ku - F + c.N.transpose() * lambda_local)) / f_scale;
@@ -116,6 +122,11 @@ class ActiveSetContactSolver final : public ContactSolver {
     Eigen::MatrixXd S = factor_->has_halves() ? dual_matrix_from_halves(max_cached_share)
                                               : dual_matrix_from_solves(max_cached_share);
     S = 0.5 * (S + S.transpose()).eval();
+    if (c_.power_law) {  // the nonlinear law's dual (solve_compliance_dual) on S itself
+      compliance_ = replicate(comm(), c_, c_.compliance);
+      exponent_ = replicate(comm(), c_, c_.exponent);
+      S_plain_ = S;
+    }
     if (c_.normal_compliance) S.diagonal() += replicate(comm(), c_, c_.compliance);
     S_ = std::make_unique<DenseBoxQpOperator>(std::move(S));
   }
@@ -123,18 +134,17 @@ class ActiveSetContactSolver final : public ContactSolver {
   ContactReport solve(const Vector& F, Vector& u, Vector& lambda) override {
     const int m = c_.m;
     if (lambda.size() != m) lambda = Vector::Zero(m);
-    const Vector lo = Vector::Zero(m), hi = Vector::Constant(m, std::numeric_limits<double>::infinity());
     BoxQpResult r;
     if (Y_.cols() == m) {
       // One solve in two halves: y = L⁻¹PF; the dual QP min ½λᵀSλ − (N K⁻¹F − g)ᵀλ,
       // λ ≥ 0, with N K⁻¹F = Yᵀy; then u = PᵀL⁻ᵀ(y − Yλ) = K⁻¹(F − Nᵀλ).
       const Vector y = factor_->forward(F);
-      r = solve_box_qp(*S_, Vector(Y_.transpose() * y - replicate(comm(), c_, c_.gap)), lo, hi, lambda);
+      r = dual(Vector(Y_.transpose() * y - replicate(comm(), c_, c_.gap)), lambda);
       u = factor_->backward(Vector(y - Y_ * lambda));
     } else {
       Vector u_free = u;  // the solution without contact (u: an iterative solver's initial guess)
       factor_->solve(F, u_free);
-      r = solve_box_qp(*S_, replicate(comm(), c_, Vector(c_.N * u_free - c_.gap)), lo, hi, lambda);
+      r = dual(replicate(comm(), c_, Vector(c_.N * u_free - c_.gap)), lambda);
       if (W_.cols() == m) {
         // u = u_free − Wλ over the active rows only (λ_j = 0 elsewhere): the
         // active set is usually a part of Γ3, and each column is n_owned long.
@@ -151,12 +161,25 @@ class ActiveSetContactSolver final : public ContactSolver {
   void set_gap(const Vector& gap) override { c_.gap = checked_gap(c_, gap); }
   std::string name() const override { return "active-set"; }
   std::string describe() const override {
+    if (c_.power_law) return describe_solves() + "; semismooth Newton for the power-law compliance";
+    return describe_solves();
+  }
+
+ private:
+  /// The dual problem for b = N K⁻¹F − g (replicated): the box QP λ ≥ 0 with S (+ diag(1/k)),
+  /// or, for a compliance law with e ≠ 1 on some row, solve_compliance_dual.
+  BoxQpResult dual(const Vector& b, Vector& lambda) {
+    if (c_.power_law) return solve_compliance_dual(S_plain_, b, compliance_, exponent_, lambda);
+    const int m = c_.m;
+    const Vector lo = Vector::Zero(m), hi = Vector::Constant(m, std::numeric_limits<double>::infinity());
+    return solve_box_qp(*S_, b, lo, hi, lambda);
+  }
+  std::string describe_solves() const {
     if (Y_.cols() > 0) return "one solve per step (K's halves)";
     if (W_.cols() > 0) return "one solve per step (K⁻¹Nᵀ kept)";
     return "two solves per step";
   }
 
- private:
   const la::Comm& comm() const { return K_->comm(); }
 
   /// With K = PᵀLLᵀP: Y = L⁻¹PNᵀ (the forward half of K⁻¹Nᵀ) and S = N K⁻¹Nᵀ = YᵀY,
@@ -212,6 +235,8 @@ class ActiveSetContactSolver final : public ContactSolver {
   ContactConstraints c_;
   std::shared_ptr<const la::Factor> factor_;
   std::unique_ptr<DenseBoxQpOperator> S_;
+  Eigen::MatrixXd S_plain_;        // S without diag(1/k), for the power law only
+  Vector compliance_, exponent_;   // replicated, for the power law only
   SparseMatrix Y_;     // L⁻¹PNᵀ (factors with halves), or empty
   Eigen::MatrixXd W_;  // K⁻¹Nᵀ on the owned rows (factors without halves), or empty
   static constexpr double kMaxCachedBytes = 256.0 * 1024 * 1024;
@@ -279,13 +304,15 @@ std::unique_ptr<ContactSolver> make_contact_solver(const std::string& name, std:
   require(constraints.N.rows() == rows && constraints.gap.size() == rows && constraints.N.cols() == K->n_owned(),
           "internal: contact constraints of {} rows x {} columns for {} rows, {} gaps and {} owned dofs",
           constraints.N.rows(), constraints.N.cols(), rows, constraints.gap.size(), K->n_owned());
+  require(!constraints.normal_compliance || constraints.compliance.size() == rows,
+          "internal: {} compliances for {} contact rows", constraints.compliance.size(), rows);
+  require(!constraints.power_law || (constraints.normal_compliance && constraints.exponent.size() == rows),
+          "internal: {} exponents for {} contact rows", constraints.exponent.size(), rows);
   if (name == "active-set")
     return std::make_unique<ActiveSetContactSolver>(std::move(K), std::move(K_factor), std::move(constraints),
                                                     opt.max_cached_share);
   require(name != "penalty-duality" || !constraints.normal_compliance,
           "contact solver 'penalty-duality' solves the Signorini conditions only; normal compliance needs 'active-set'");
-  require(!constraints.normal_compliance || constraints.compliance.size() == rows,
-          "internal: {} compliances for {} contact rows", constraints.compliance.size(), rows);
   if (name == "penalty-duality")
     return std::make_unique<PenaltyDualityContactSolver>(std::move(K), *K_factor, std::move(constraints), make_factor,
                                                          opt);
@@ -298,7 +325,10 @@ std::unique_ptr<ContactSolver> make_contact_solver(const std::string& name, cons
   auto op = std::make_shared<const la::SparseOperator>(K);
   std::shared_ptr<la::Factor> factor = la::make_cholmod_factor("K");
   factor->factorize(*op, "elastic stiffness K");
-  ContactConstraints c{static_cast<int>(N.rows()), {}, N, gap};
+  ContactConstraints c;
+  c.m = static_cast<int>(N.rows());
+  c.N = N;
+  c.gap = gap;
   for (int i = 0; i < c.m; ++i) c.rows.push_back(i);
   return make_contact_solver(name, std::move(op), std::move(factor), std::move(c), la::make_cholmod_factor, opt);
 }

@@ -46,15 +46,19 @@ struct ContactConstraints {
   std::vector<int> rows;  // the global row (0..m-1) of each local row, increasing
   SparseMatrix N;         // local rows × owned free dofs
   Vector gap;             // g of each local row
-  /// Normal compliance (the contact law of the paper's reference [4]), the same on
-  /// every process: per local row 1/c_i, the force λ_i = c_i (N_i u − g_i)₊. The dual
-  /// problem is then the same QP with S + diag(1/c). false: Signorini (c = ∞).
+  /// Normal compliance (the contact law of the paper's reference [4]), set alike on
+  /// every process: per local row 1/k_i (0: a Signorini row, k = ∞) and e_i, the force
+  /// λ_i = k_i (N_i u − g_i)₊^{e_i}. With e = 1 on every row the dual problem is the same
+  /// QP with S + diag(1/k); otherwise solve_compliance_dual. false: Signorini everywhere.
   bool normal_compliance = false;
   Vector compliance;
+  Vector exponent;  // per local row; empty: 1 on every row
+  /// Some row has e ≠ 1 (the same on every process).
+  bool power_law = false;
 };
 
 /// Residuals of (3.9) at (u owned, λ replicated), reductions over K.comm(); with
-/// normal compliance the gap left is s = g − Nu + λ/c (≥ 0, ⟂ λ) in place of g − Nu.
+/// normal compliance the gap left is s = g − Nu + (λ/k)^{1/e} (≥ 0, ⟂ λ) in place of g − Nu.
 ContactResiduals contact_residuals(const la::SpdOperator& K, const ContactConstraints& c, const Vector& F,
                                    const Vector& u, const Vector& lambda);
 

@@ -2,6 +2,7 @@
 // known by hand, a 2D elastic block touching a sloped obstacle on part of its
 // base (active-set vs penalty–duality), warm starts, and the error paths.
 #include "../error_of.hpp"
+#include "solvers/compliance_dual.hpp"
 #include "solvers/contact_solver.hpp"
 
 #include "core/error.hpp"
@@ -32,7 +33,10 @@ const char* const kSolvers[] = {"active-set", "penalty-duality"};
 /// The residuals of (3.9) on one process (rows 0..m−1, N whole).
 ContactResiduals residuals(const SparseMatrix& K, const SparseMatrix& N, const Vector& F, const Vector& g,
                            const Vector& u, const Vector& lambda) {
-  ContactConstraints c{static_cast<int>(N.rows()), {}, N, g};
+  ContactConstraints c;
+  c.m = static_cast<int>(N.rows());
+  c.N = N;
+  c.gap = g;
   for (int i = 0; i < c.m; ++i) c.rows.push_back(i);
   return contact_residuals(la::SparseOperator(K), c, F, u, lambda);
 }
@@ -127,7 +131,13 @@ TEST(ContactSolver, NormalComplianceSprings) {
   factor->factorize(*K, "springs");
   for (double c : {0.5, 10.0, 1e12}) {
     SCOPED_TRACE(c);
-    ContactConstraints cc{1, {0}, s.N, Vector::Constant(1, s.g), true, Vector::Constant(1, 1 / c)};
+    ContactConstraints cc;
+    cc.m = 1;
+    cc.rows = {0};
+    cc.N = s.N;
+    cc.gap = Vector::Constant(1, s.g);
+    cc.normal_compliance = true;
+    cc.compliance = Vector::Constant(1, 1 / c);
     auto solver = make_contact_solver("active-set", K, factor, cc, la::make_cholmod_factor);
     Vector u, lambda;
     const ContactReport rep = solver->solve(F, u, lambda);
@@ -137,9 +147,89 @@ TEST(ContactSolver, NormalComplianceSprings) {
     EXPECT_NEAR(lambda[0], c * (F[1] - ks * s.g) / (ks + c), 1e-10);
     EXPECT_GT(u[1], s.g);  // the law lets the tip in
   }
-  ContactConstraints cc{1, {0}, s.N, Vector::Constant(1, s.g), true, Vector::Constant(1, 1.0)};
+  ContactConstraints cc;
+  cc.m = 1;
+  cc.rows = {0};
+  cc.N = s.N;
+  cc.gap = Vector::Constant(1, s.g);
+  cc.normal_compliance = true;
+  cc.compliance = Vector::Constant(1, 1.0);
   const std::string msg = error_of([&] { make_contact_solver("penalty-duality", K, factor, cc, la::make_cholmod_factor); });
   EXPECT_NE(msg.find("normal compliance needs 'active-set'"), std::string::npos) << msg;
+}
+
+// A power law λ = c (u2 − g)₊^e on the springs (semismooth Newton on the dual,
+// solve_compliance_dual): k_s u2 + c (u2 − g)^e = F, solved here by bisection; the
+// residuals measure the gap left as g − u2 + (λ/c)^{1/e}.
+TEST(ContactSolver, PowerLawComplianceSprings) {
+  const Springs s;
+  const Vector F = (Vector(2) << 0, 1.5).finished();
+  const double ks = s.k_series();
+  auto K = std::make_shared<const la::SparseOperator>(s.K);
+  std::shared_ptr<la::Factor> factor = la::make_cholmod_factor();
+  factor->factorize(*K, "springs");
+  for (double e : {1.5, 2.0, 3.0})
+    for (double c : {0.5, 10.0, 1e8}) {
+      SCOPED_TRACE(fmt::format("e = {}, c = {}", e, c));
+      double lo = s.g, hi = F[1] / ks;  // ks u + c (u − g)^e − F changes sign on [g, F/ks]
+      for (int k = 0; k < 200; ++k) {
+        const double mid = 0.5 * (lo + hi);
+        (ks * mid + c * std::pow(mid - s.g, e) > F[1] ? hi : lo) = mid;
+      }
+      ContactConstraints cc;
+      cc.m = 1;
+      cc.rows = {0};
+      cc.N = s.N;
+      cc.gap = Vector::Constant(1, s.g);
+      cc.normal_compliance = cc.power_law = true;
+      cc.compliance = Vector::Constant(1, 1 / c);
+      cc.exponent = Vector::Constant(1, e);
+      auto solver = make_contact_solver("active-set", K, factor, cc, la::make_cholmod_factor);
+      EXPECT_NE(solver->describe().find("semismooth Newton"), std::string::npos);
+      Vector u, lambda;
+      const ContactReport rep = solver->solve(F, u, lambda);
+      ASSERT_TRUE(rep.converged);
+      EXPECT_LE(rep.residuals.max(), 1e-12);
+      EXPECT_NEAR(u[1], lo, 1e-12);
+      EXPECT_NEAR(lambda[0], c * std::pow(u[1] - s.g, e), 1e-10 * lambda[0]);
+      // A wrong λ is seen: the gap left (λ/c)^{1/e} − (u2 − g) is not 0.
+      cc.gap = Vector::Constant(1, s.g);
+      EXPECT_GT(contact_residuals(*K, cc, F, u, Vector(1.01 * lambda)).max(), 1e-6);
+    }
+}
+
+// solve_compliance_dual with Signorini, linear and power-law rows together agrees
+// with the box QP where every row is linear or Signorini, and meets each row's law.
+TEST(ComplianceDual, MixedRowsMeetTheirLaws) {
+  const int m = 6;
+  Eigen::MatrixXd A = Eigen::MatrixXd::Random(m, m);
+  const Eigen::MatrixXd S = A * A.transpose() + m * Eigen::MatrixXd::Identity(m, m);
+  const Vector b = (Vector(m) << 1.0, -0.5, 2.0, 0.3, -1.0, 1.5).finished();
+  const Vector compliance = (Vector(m) << 0, 0.1, 0.2, 0, 0.5, 0.05).finished();
+  Vector linear = Vector::Ones(m), lambda_qp = Vector::Zero(m), lambda = Vector::Zero(m);
+  Eigen::MatrixXd H = S;
+  H.diagonal() += compliance;
+  DenseBoxQpOperator op(H);
+  ASSERT_TRUE(solve_box_qp(op, b, Vector::Zero(m), Vector::Constant(m, INFINITY), lambda_qp).converged);
+  ASSERT_TRUE(solve_compliance_dual(S, b, compliance, linear, lambda).converged);
+  EXPECT_LE((lambda - lambda_qp).cwiseAbs().maxCoeff(), 1e-12);
+  const Vector exponent = (Vector(m) << 1, 2, 1.5, 1, 3, 2.5).finished();
+  const BoxQpResult r = solve_compliance_dual(S, b, compliance, exponent, lambda);
+  ASSERT_TRUE(r.converged);
+  EXPECT_LE(r.iterations, 30);
+  const Vector d = b - S * lambda;  // the penetration
+  for (int i = 0; i < m; ++i) {
+    SCOPED_TRACE(i);
+    EXPECT_GE(lambda[i], 0);
+    if (compliance[i] == 0) {
+      EXPECT_LE(d[i], 1e-13);
+      EXPECT_LE(std::abs(lambda[i] * d[i]), 1e-13);
+    } else {
+      EXPECT_NEAR(lambda[i], std::pow(std::max(d[i], 0.0), exponent[i]) / compliance[i], 1e-12 * (1 + lambda[i]));
+    }
+  }
+  EXPECT_GT((lambda.array() > 0).count(), 1);
+  EXPECT_LT((lambda.array() > 0).count(), m);
 }
 
 // ---------------------------------------------------------------- 2D elastic block
@@ -360,7 +450,10 @@ std::unique_ptr<ContactSolver> block_solver(const Block& b, std::shared_ptr<la::
                                             const ContactSolverOptions& opt = {}) {
   auto K = std::make_shared<const la::SparseOperator>(b.K);
   factor->factorize(*K, "block stiffness");
-  ContactConstraints c{static_cast<int>(b.N.rows()), {}, b.N, b.g};
+  ContactConstraints c;
+  c.m = static_cast<int>(b.N.rows());
+  c.N = b.N;
+  c.gap = b.g;
   for (int i = 0; i < c.m; ++i) c.rows.push_back(i);
   return make_contact_solver("active-set", K, std::move(factor), std::move(c), la::make_cholmod_factor, opt);
 }

@@ -1,0 +1,92 @@
+#include "solvers/compliance_dual.hpp"
+
+#include "core/error.hpp"
+
+#include <Eigen/LU>
+
+#include <algorithm>
+#include <cmath>
+
+namespace vpc {
+
+namespace {
+
+/// Φ(λ) and, when J is given, its generalized Jacobian (rows as in the header).
+Vector residual(const Eigen::MatrixXd& S, const Vector& b, const Vector& compliance, const Vector& exponent,
+                const Vector& lambda, Eigen::MatrixXd* J) {
+  const Eigen::Index m = lambda.size();
+  const Vector d = b - S * lambda;
+  Vector phi(m);
+  if (J) J->setZero(m, m);
+  for (Eigen::Index i = 0; i < m; ++i) {
+    if (compliance[i] == 0) {  // Signorini, −d scaled to a force by S_ii
+      const double gap = -d[i] / S(i, i);
+      if (lambda[i] <= gap) {
+        phi[i] = lambda[i];
+        if (J) (*J)(i, i) = 1;
+      } else {
+        phi[i] = gap;
+        if (J) J->row(i) = S.row(i) / S(i, i);  // ∂(−d_i)/∂λ = S_i
+      }
+      continue;
+    }
+    const double k = 1 / compliance[i], e = exponent[i], pen = std::max(d[i], 0.0);
+    phi[i] = lambda[i] - k * std::pow(pen, e);
+    if (J) {
+      J->row(i) = (pen > 0 ? k * e * std::pow(pen, e - 1) : 0.0) * S.row(i);  // −∂(k d₊^e)/∂λ = k e d₊^{e−1} S_i
+      (*J)(i, i) += 1;
+    }
+  }
+  return phi;
+}
+
+}  // namespace
+
+BoxQpResult solve_compliance_dual(const Eigen::MatrixXd& S, const Vector& b, const Vector& compliance,
+                                  const Vector& exponent, Vector& lambda, int max_iterations) {
+  const Eigen::Index m = b.size();
+  require(S.rows() == m && S.cols() == m && compliance.size() == m && exponent.size() == m,
+          "internal: compliance dual of size {} with S {} x {}, {} compliances, {} exponents", m, S.rows(), S.cols(),
+          compliance.size(), exponent.size());
+  if (lambda.size() != m) lambda = Vector::Zero(m);
+  lambda = lambda.cwiseMax(0.0);
+  BoxQpResult r;
+  if (m == 0) {
+    r.converged = true;
+    return r;
+  }
+  const double b_scale = (b.array() / S.diagonal().array()).abs().maxCoeff();
+  auto scale = [&] { return std::max({lambda.cwiseAbs().maxCoeff(), b_scale, 1e-300}); };
+  // Rows are weighted by 1/J_ii: a stiff law's row λ − k d₊^e carries round-off of d
+  // times k e d^{e−1}, which the weight brings back to a force of the size of λ's error.
+  Eigen::MatrixXd J;
+  Vector phi = residual(S, b, compliance, exponent, lambda, &J);
+  Vector w = J.diagonal().cwiseInverse();
+  for (r.iterations = 0; r.iterations < max_iterations; ++r.iterations) {
+    if (w.cwiseProduct(phi).cwiseAbs().maxCoeff() <= 1e-13 * scale()) {
+      r.converged = true;
+      break;
+    }
+    const Vector step = J.partialPivLu().solve(-phi);
+    // Backtracking on ½‖WΦ‖² (Armijo along the Newton direction, where its slope is −‖WΦ‖²).
+    const double merit = w.cwiseProduct(phi).squaredNorm();
+    double alpha = 1, trial_merit = merit;
+    Vector trial;
+    for (int halving = 0; halving < 40; ++halving, alpha *= 0.5) {
+      trial = lambda + alpha * step;
+      trial_merit = w.cwiseProduct(residual(S, b, compliance, exponent, trial, nullptr)).squaredNorm();
+      if (trial_merit <= (1 - 1e-4 * alpha) * merit) break;
+    }
+    if (!(trial_merit < merit)) break;  // no decrease at all: round-off, or a stall
+    lambda = trial;
+    phi = residual(S, b, compliance, exponent, lambda, &J);
+    w = J.diagonal().cwiseInverse();
+  }
+  r.kkt_residual = w.cwiseProduct(phi).cwiseAbs().maxCoeff() / scale();
+  r.converged = r.converged || r.kkt_residual <= 1e-13;
+  lambda = lambda.cwiseMax(0.0);  // a round-off below 0 (λ_i = k d₊^e and min(λ, ·) = 0 give λ ≥ 0)
+  r.n_lower = static_cast<int>((lambda.array() == 0).count());
+  return r;
+}
+
+}  // namespace vpc
