@@ -5,6 +5,7 @@
 
 #include "child_process.hpp"
 #include "figures.hpp"
+#include "parallel_run.hpp"
 
 #include "cases/builtin_cases.hpp"
 #include "core/error.hpp"
@@ -39,6 +40,7 @@ struct ConvergeOptions {
   int n = -1, steps = -1, h_steps = -1, k_refinements = 1;
   double kappa = -1, tolerance = -1;
   std::string contact_solver, damage_solver;
+  std::string engine = "auto", linear_solver = "mumps";
   bool solvers = false, no_plot = false, quiet = false;
   CLI::App* cmd = nullptr;
 };
@@ -169,10 +171,17 @@ CLI::App* add_converge_command(CLI::App& app) {
   cmd->add_option("-o,--output", o.output, "output directory (default output/converge-CASE)");
   cmd->add_flag("--no-plot", o.no_plot, "write no PNG");
   cmd->add_flag("-q,--quiet", o.quiet, "print only the tables");
+  cmd->add_option("--engine", o.engine, "auto (PETSc under mpirun, if built with it), serial or petsc")
+      ->capture_default_str();
+  cmd->add_option("--linear-solver", o.linear_solver, "PETSc engine: mumps (default), cg-gamg or cg-hypre");
   return cmd;
 }
 
-int run_converge_command() {
+namespace {
+
+/// The study on an engine: every process runs it (a distributed one makes each level's
+/// stepper over its ranks); rank 0 prints and writes.
+int converge_on(const EngineChoice& engine) {
   const ConvergeOptions& o = options();
   require(o.levels >= 2 && o.levels <= 8, "--levels must lie in 2..8 (got {})", o.levels);
   require(o.reference_offset >= 1, "--reference-offset must be >= 1 (got {})", o.reference_offset);
@@ -190,20 +199,24 @@ int run_converge_command() {
   }
   const fs::path dir = o.output.empty() ? fs::path("output") / ("converge-" + fs::path(in.name).stem().string())
                                         : fs::path(o.output);
-  std::error_code ec;
-  fs::create_directories(dir, ec);
-  require(!ec && fs::is_directory(dir), "cannot create output directory '{}'", dir.string());
+  const bool root = engine.root;
+  if (root) {
+    std::error_code ec;
+    fs::create_directories(dir, ec);
+    require(!ec && fs::is_directory(dir), "cannot create output directory '{}'", dir.string());
+  }
 
   std::string log_text;
   auto say = [&](const std::string& s) {
     log_text += s;
-    if (!o.quiet) {
+    if (!o.quiet && root) {
       fmt::print("{}", s);
       std::fflush(stdout);
     }
   };
   auto table = [&](const std::string& s) {
     log_text += s;
+    if (!root) return;
     fmt::print("{}", s);
     std::fflush(stdout);
   };
@@ -228,11 +241,13 @@ int run_converge_command() {
     co.solvers = in.solvers;
     co.base_steps = in.base_steps;
     co.log = [&](const std::string& s) { say(s + "\n"); };
+    co.make_stepper = engine.make_stepper;
     Mesh base = in.base_mesh;
     if (seq == RefinementSequence::H) co.base_steps = o.h_steps > 0 ? o.h_steps : 4 * in.base_steps;
     if (seq == RefinementSequence::K) base = MeshHierarchy(in.base_mesh, o.k_refinements).mesh(o.k_refinements);
     say(fmt::format("sequence {}:\n", to_string(seq)));
     const ConvergenceResult r = run_convergence(in.name, base, in.factory, in.exact, co);
+    if (!root) continue;  // the norms are on rank 0
     table(format_convergence_table(r));
     const fs::path csv = dir / fmt::format("convergence_{}.csv", to_string(seq));
     write_convergence_csv(r, csv.string());
@@ -247,10 +262,22 @@ int run_converge_command() {
     write_solver_csv(s, csv.string());
     say(fmt::format("  wrote {}\n", csv.string()));
   }
+  if (!root) return 0;
   write_file_atomic(dir / "converge.log", log_text);
   if (!o.no_plot) plot(dir, o.quiet);
   say(fmt::format("results in {}/\n", dir.string()));
   return 0;
+}
+
+}  // namespace
+
+int run_converge_command() {
+  const ConvergeOptions& o = options();
+  if (!use_petsc_engine(o.engine)) return converge_on(serial_engine());
+  require(!o.solvers, "--solvers compares the two solvers on the serial engine only (run it without mpirun)");
+  RunOptions ro;
+  ro.linear_solver = o.linear_solver;
+  return parallel_run(ro, converge_on);
 }
 
 }  // namespace vpc

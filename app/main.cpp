@@ -123,7 +123,7 @@ vpc::RunOptions run_options(const Options& o, const vpc::CaseInfo& info, const f
 
 /// Runs `task` on the engine --engine chooses (parallel_run.hpp).
 int on_engine(const Options& o, const vpc::RunOptions& ro, const vpc::EngineTask& task) {
-  return vpc::use_petsc_engine(o.engine) ? vpc::parallel_run(ro, task) : task(vpc::set_up_serial);
+  return vpc::use_petsc_engine(o.engine) ? vpc::parallel_run(ro, task) : task(vpc::serial_engine());
 }
 
 /// Builds the case (build_case) for the run loop; in a distributed run rank 0 builds the mesh and reports.
@@ -141,8 +141,8 @@ int run(const Options& o, const CLI::App& cmd) {
   const vpc::CaseInfo info = header_info(o, src);
   const fs::path outdir = output_directory(o, info);
   const vpc::RunOptions ro = run_options(o, info, outdir);
-  return on_engine(o, ro, [&](const vpc::EngineSetUp& set_up) {
-    const vpc::RunResult r = vpc::run_case(case_loader(o, cmd, src, outdir), ro, set_up);
+  return on_engine(o, ro, [&](const vpc::EngineChoice& engine) {
+    const vpc::RunResult r = vpc::run_case(case_loader(o, cmd, src, outdir), ro, engine.set_up);
     return r.signal ? 128 + r.signal : 0;
   });
 }
@@ -152,8 +152,8 @@ int check(const Options& o, const CLI::App& cmd) {
   const vpc::CaseSource src = vpc::case_source(o.case_name);
   const vpc::CaseInfo info = header_info(o, src);
   const vpc::RunOptions ro = run_options(o, info, {});
-  return on_engine(o, ro, [&](const vpc::EngineSetUp& set_up) {
-    const auto engine = set_up(case_loader(o, cmd, src, output_directory(o, info)), ro);
+  return on_engine(o, ro, [&](const vpc::EngineChoice& choice) {
+    const auto engine = choice.set_up(case_loader(o, cmd, src, output_directory(o, info)), ro);
     if (engine->root()) fmt::print("{}: ok\n", o.case_name);
     return 0;
   });

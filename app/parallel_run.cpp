@@ -28,7 +28,7 @@ int parallel_run(const RunOptions& o, const EngineTask& task) {
     la::collective(la::make_mpi_comm(comm), [&] {  // choices every rank rejects alike, before any set-up
       la::check_linear_solver(o.linear_solver);
     });
-    rc = task(petsc_engine(comm));
+    rc = task(petsc_engine(comm, o.linear_solver));
   } catch (const Interrupted& e) {  // every rank alike (the engine asks every rank)
     if (rank == 0) fmt::print(stderr, "\nvpcontact: {}\n", e.what());
     rc = 128 + e.signal;

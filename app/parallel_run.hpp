@@ -44,8 +44,9 @@ inline bool use_petsc_engine(const std::string& engine) {
 #endif
 }
 
-/// What a command does with an engine (run/run_case.hpp): run it, or check the set-up.
-using EngineTask = std::function<int(const EngineSetUp&)>;
+/// What a command does with an engine (run/run_case.hpp): run it, check the set-up, or
+/// make the steppers of a convergence study.
+using EngineTask = std::function<int(const EngineChoice&)>;
 
 #ifdef VPCONTACT_WITH_PETSC
 /// Calls `task` with the PETSc engine on every rank of MPI_COMM_WORLD (PETSc

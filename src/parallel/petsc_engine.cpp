@@ -30,11 +30,29 @@ Case load_case_everywhere(const CaseLoader& load, const la::Comm& comm) {
   return c;
 }
 
+namespace {
+
+std::unique_ptr<TimeStepper> distributed_stepper(MPI_Comm mpi_comm, std::shared_ptr<const Problem> problem,
+                                                 const SolverChoice& choice, const std::string& linear_solver) {
+  MeshPart part = distribute_mesh(mpi_comm, *problem);
+  return std::make_unique<TimeStepper>(std::move(problem), std::move(part),
+                                       la::make_petsc_backend(la::make_mpi_comm(mpi_comm), {linear_solver}), choice);
+}
+
+}  // namespace
+
 std::unique_ptr<TimeStepper> petsc_stepper(MPI_Comm mpi_comm, Case& c, const std::string& linear_solver) {
-  MeshPart part = distribute_mesh(mpi_comm, *c.problem);
+  auto stepper = distributed_stepper(mpi_comm, c.problem, c.solvers, linear_solver);
   c.problem->mesh = Mesh();  // from here on, rank 0 too holds its part only
-  return std::make_unique<TimeStepper>(c.problem, std::move(part),
-                                       la::make_petsc_backend(la::make_mpi_comm(mpi_comm), {linear_solver}), c.solvers);
+  return stepper;
+}
+
+EngineChoice petsc_engine(MPI_Comm comm, const std::string& linear_solver) {
+  return {[comm](const CaseLoader& load, const RunOptions& o) { return set_up_petsc(comm, load, o); },
+          [comm, linear_solver](std::shared_ptr<const Problem> problem, const SolverChoice& choice) {
+            return distributed_stepper(comm, std::move(problem), choice, linear_solver);
+          },
+          la::make_mpi_comm(comm).rank() == 0};
 }
 
 std::unique_ptr<Engine> set_up_petsc(MPI_Comm mpi_comm, const CaseLoader& load, const RunOptions& o) {

@@ -20,9 +20,8 @@ std::unique_ptr<TimeStepper> petsc_stepper(MPI_Comm comm, Case& c, const std::st
 /// distributed, the PETSc backend. Collective.
 std::unique_ptr<Engine> set_up_petsc(MPI_Comm comm, const CaseLoader& load, const RunOptions& options);
 
-/// set_up_petsc on `comm`, as an EngineSetUp for run_case.
-inline EngineSetUp petsc_engine(MPI_Comm comm) {
-  return [comm](const CaseLoader& load, const RunOptions& o) { return set_up_petsc(comm, load, o); };
-}
+/// The engine on the ranks of `comm`: set_up_petsc, and steppers over the PETSc backend
+/// with `linear_solver` on each problem's mesh (rank 0's, distributed and kept).
+EngineChoice petsc_engine(MPI_Comm comm, const std::string& linear_solver);
 
 }  // namespace vpc

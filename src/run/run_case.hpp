@@ -48,6 +48,22 @@ using EngineSetUp = std::function<std::unique_ptr<Engine>(const CaseLoader&, con
 /// The engine on one process (TimeStepper over the serial backend: Eigen + CHOLMOD).
 std::unique_ptr<Engine> set_up_serial(const CaseLoader& load, const RunOptions& options);
 
+/// Makes a TimeStepper of a problem with its solver choices: what `converge` runs each
+/// level on. Collective on a distributed engine (which distributes rank 0's mesh).
+using StepperFactory =
+    std::function<std::unique_ptr<TimeStepper>(std::shared_ptr<const Problem>, const SolverChoice&)>;
+
+/// What the commands run on: `run` and `check` set up an engine, `converge` makes the
+/// steppers of its levels; `root`: this process reports and writes (rank 0).
+struct EngineChoice {
+  EngineSetUp set_up;
+  StepperFactory make_stepper;
+  bool root = true;
+};
+
+/// One process: set_up_serial, TimeStepper(problem, choice).
+EngineChoice serial_engine();
+
 /// Before any set-up: prints the header and checks the output directory (--resume
 /// needs an existing one; a fresh run's is created; both must be writable).
 void begin_run(const RunOptions& options);

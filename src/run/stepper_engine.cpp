@@ -124,3 +124,15 @@ std::unique_ptr<Engine> set_up_serial(const CaseLoader& load, const RunOptions& 
 }
 
 }  // namespace vpc
+
+namespace vpc {
+
+EngineChoice serial_engine() {
+  return {set_up_serial,
+          [](std::shared_ptr<const Problem> problem, const SolverChoice& choice) {
+            return std::make_unique<TimeStepper>(std::move(problem), choice);
+          },
+          true};
+}
+
+}  // namespace vpc

@@ -2,6 +2,7 @@
 
 #include "core/error.hpp"
 #include "io/atomic_file.hpp"
+#include "io/checkpoint.hpp"
 #include "verification/refine.hpp"
 
 #include <fmt/format.h>
@@ -44,9 +45,15 @@ struct Run {
   double contact_iter_sum = 0, damage_iter_sum = 0;
   int n_stepped = 0;
   bool stepped_now = false;
+  State gathered;  // a distributed stepper's state on rank 0, in the numbering of the level's mesh
 
-  const State& state() const { return stepper->state(); }
+  bool distributed() const { return !stepper->comm().serial(); }
+  const State& state() const { return distributed() ? gathered : stepper->state(); }
   int n_steps() const { return problem->n_steps; }
+  /// After set-up and each step: a distributed state to rank 0. Collective.
+  void gather() {
+    if (distributed()) gathered = gather_snapshot(*stepper).state;
+  }
 };
 
 /// Norms of (fine − prolonged coarse) on the fine run's mesh at the current time.
@@ -88,7 +95,7 @@ void fill_sizes(LevelResult& r, const Run& run) {
   r.k = run.problem->step();
   r.n_cells = m.n_cells();
   r.n_nodes = m.n_nodes();
-  r.n_free_dofs = run.stepper->dofs().n_free();
+  r.n_free_dofs = static_cast<int>(run.stepper->part().n_global_dofs);
   r.n_contact_nodes = run.stepper->part().n_contact;
   r.n_steps = run.n_steps();
 }
@@ -107,6 +114,7 @@ void advance(Run& run, bool strict = true) {
           run.level, rep.n, rep.t, rep.contact.converged ? "converged" : "did not converge", rep.contact.iterations,
           rep.contact.residuals.max(), rep.damage.converged ? "converged" : "did not converge", rep.damage.iterations,
           rep.damage.kkt_residual);
+  run.gather();
   ++run.n_stepped;
   run.contact_iter_sum += rep.contact.iterations;
   run.damage_iter_sum += rep.damage.iterations;
@@ -194,7 +202,8 @@ ConvergenceResult run_convergence(const std::string& case_name, const Mesh& base
     require(n_steps <= 1 << 22, "convergence study: level {} would need {} time steps", r.level, n_steps);
     const auto t0 = Clock::now();
     r.problem = factory(meshes.mesh(r.mesh_level), static_cast<int>(n_steps));
-    r.stepper = std::make_unique<TimeStepper>(r.problem, o.solvers);
+    r.stepper = o.make_stepper ? o.make_stepper(r.problem, o.solvers) : std::make_unique<TimeStepper>(r.problem, o.solvers);
+    r.gather();
     r.norms = std::make_unique<DiscreteNorms>(r.problem->mesh, r.problem->elasticity);
     fill_sizes(r.result, r);
     log_line(o.log, fmt::format("  {} level {}: {} cells, {} free dofs, {} contact nodes, h = {:.4g}, k = {:.4g} "
@@ -206,8 +215,11 @@ ConvergenceResult run_convergence(const std::string& case_name, const Mesh& base
   const int qm = o.quadrature_points > 0 ? o.quadrature_points : (d <= 2 ? 3 : 2);
   const std::vector<QuadraturePoint> rule = conical_product_rule(d, qm);
 
-  // The comparisons made whenever a measured run reaches one of its time levels.
+  // The comparisons made whenever a measured run reaches one of its time levels, where
+  // the states are: on rank 0 of a distributed study.
+  const bool root = runs.front().stepper->comm().rank() == 0;
   auto compare = [&](int i, bool at_start) {
+    if (!root) return;
     Run& r = runs[i];
     const double k = r.problem->step();
     const ErrorNorms e = exact ? compare_exact(r, *exact, rule) : compare_runs(r, runs.back(), meshes);
@@ -235,7 +247,7 @@ ConvergenceResult run_convergence(const std::string& case_name, const Mesh& base
     for (int i = 0; i < o.levels; ++i)
       if (runs[i].stepped_now) compare(i, false);
     if (m % report_every == 0)
-      log_line(o.log, fmt::format("  t = {:.4g} ({}/{} fine steps, {:.1f} s)", runs.back().state().t, m, n_fine,
+      log_line(o.log, fmt::format("  t = {:.4g} ({}/{} fine steps, {:.1f} s)", runs.back().stepper->state().t, m, n_fine,
                                   seconds_since(t_start)));
   }
 

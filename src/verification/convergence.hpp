@@ -50,6 +50,11 @@ struct ConvergenceOptions {
   int quadrature_points = 0;   // per direction for errors against an exact solution; 0: 3 (d <= 2), 2 (d = 3)
   /// Progress lines (may be empty).
   std::function<void(const std::string&)> log;
+  /// Makes each level's stepper; empty: one process, TimeStepper(problem, solvers). A
+  /// distributed one (the PETSc engine: every process runs the study on the same meshes)
+  /// has its state gathered to rank 0 at every step, where the norms are computed: the
+  /// result is complete on rank 0 only.
+  std::function<std::unique_ptr<TimeStepper>(std::shared_ptr<const Problem>, const SolverChoice&)> make_stepper;
 };
 
 /// The errors of one level, in the norms of (3.39) (see the file comment).

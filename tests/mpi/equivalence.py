@@ -24,6 +24,16 @@ summary.json "checks"): relative residuals at round-off level, written with 3
 digits in history.csv, agree when |a - b| <= 1e-10. Integers
 (steps, iterations, counts, flags) must be equal.
 
+With --command converge the runs are `BIN converge CASE OPTIONS --no-plot` and what is
+compared is every convergence_*.csv (the norms of the study, computed on rank 0 from the
+states gathered there): the same comment line, header and rows; numbers to 1e-6 of their
+column's largest magnitude plus 1e-11 (an error norm is a difference of two runs: the
+engines' round-off, about 1e-13 of the solution, is relative to the solution, not to
+the error); a rate of a norm below 1e-11 (round-off, e.g. a contact force that every level
+gets exactly) is not compared; NaN only against NaN; the `seconds` column and the
+solvers' iteration means and maxima (which round-off may change by one) are not compared;
+counts of active sets and bounds are.
+
 Prints "equivalence: PASSED" or the differences and "equivalence: FAILED".
 Python standard library only.
 """
@@ -225,6 +235,60 @@ def compare_csv(rep, name, serial_path, other_path):
                        lambda i: f"row {i + 1} (step {srows[i][0]})")
 
 
+NOISE = 1e-11  # below this a norm of a difference of runs is round-off of the solution itself
+
+
+def compare_convergence(rep, serial_dir, petsc_dir):
+    """The convergence_*.csv of a `converge` study; returns how many files."""
+    names = sorted(f for f in os.listdir(serial_dir) if f.startswith("convergence_") and f.endswith(".csv"))
+    if not names:
+        rep.fail("the serial study wrote no convergence_*.csv")
+    for name in names:
+        other = os.path.join(petsc_dir, name)
+        if not os.path.exists(other):
+            rep.fail(f"{name}: missing in the PETSc study")
+            continue
+        with open(os.path.join(serial_dir, name)) as f:
+            a = [l.rstrip("\n") for l in f if l.strip()]
+        with open(other) as f:
+            b = [l.rstrip("\n") for l in f if l.strip()]
+        if len(a) != len(b) or a[0] != b[0] or a[1] != b[1]:
+            rep.fail(f"{name}: comment, header or row count differ: {a[:2]} / {b[:2]}")
+            continue
+        header = a[1].split(",")
+        rows_a = [r.split(",") for r in a[2:]]
+        rows_b = [r.split(",") for r in b[2:]]
+        column = {c: j for j, c in enumerate(header)}
+        for j, col in enumerate(header):
+            if col == "seconds" or "_iter_" in col:
+                continue
+            va, vb = [r[j] for r in rows_a], [r[j] for r in rows_b]
+            try:
+                fa, fb = [float(v) for v in va], [float(v) for v in vb]
+            except ValueError:
+                if va != vb:
+                    rep.fail(f"{name} {col}: serial {va}, PETSc {vb}")
+                continue
+            finite = [abs(x) for x in fa if math.isfinite(x)]
+            scale = max(finite, default=0.0)
+            # The rate of a norm that is round-off (a contact force exact on every level) is noise.
+            base = col.replace("rate_", "") if col.startswith("diff_rate_") else col.replace("rate_", "err_")
+            noise = [i for i in range(len(fa)) if base != col and base in column and
+                     any(abs(float(r[column[base]])) < NOISE for r in rows_a[max(i - 1, 0):i + 1])]
+            for i, (x, y) in enumerate(zip(fa, fb)):
+                if i in noise:
+                    continue
+                if math.isnan(x) or math.isnan(y):
+                    if not (math.isnan(x) and math.isnan(y)):
+                        rep.fail(f"{name} {col}: row {i + 1}: serial {va[i]}, PETSc {vb[i]}")
+                    continue
+                tol = 1e-6 * scale + NOISE
+                rep.note(f"{name} {col}", abs(x - y) / tol)
+                if abs(x - y) > tol:
+                    rep.fail(f"{name} {col}: row {i + 1}: serial {va[i]}, PETSc {vb[i]}")
+    return len(names)
+
+
 def pvd_times(path):
     with open(path) as f:
         return [float(t) for t in re.findall(r'timestep="([^"]*)"', f.read())]
@@ -315,6 +379,7 @@ def main():
     ap.add_argument("--mpiexec", required=True)
     ap.add_argument("--work", required=True)
     ap.add_argument("--ranks", default="1,2,3")
+    ap.add_argument("--command", default="run", choices=["run", "converge"])
     ap.add_argument("case", nargs=argparse.REMAINDER)
     a = ap.parse_args()
     case = [x for x in a.case if x != "--"]
@@ -324,7 +389,8 @@ def main():
     ok = True
 
     serial_dir = os.path.join(a.work, "serial")
-    p, secs = run([a.vpcontact, "run", *case, "--engine", "serial", "-q", "-o", serial_dir], env)
+    extra = ["--no-plot"] if a.command == "converge" else []
+    p, secs = run([a.vpcontact, a.command, *case, *extra, "--engine", "serial", "-q", "-o", serial_dir], env)
     print(f"serial: exit {p.returncode}, {secs:.2f} s")
     if p.returncode != 0:
         print(p.stdout + p.stderr)
@@ -332,18 +398,21 @@ def main():
         return 1
     for ranks in [int(r) for r in a.ranks.split(",")]:
         out = os.path.join(a.work, f"np{ranks}")
-        p, secs = run([a.mpiexec, "-n", str(ranks), "--oversubscribe", a.vpcontact, "run", *case, "--engine", "petsc",
-                       "-q", "-o", out], env)
+        p, secs = run([a.mpiexec, "-n", str(ranks), "--oversubscribe", a.vpcontact, a.command, *case, *extra,
+                       "--engine", "petsc", "-q", "-o", out], env)
         text = p.stdout + p.stderr
         if p.returncode != 0:
             print(f"PETSc on {ranks} ranks: exit {p.returncode}\n{text}")
             ok = False
             continue
         rep = Report()
-        n_vtu = compare_runs(rep, serial_dir, out, ranks)
+        if a.command == "converge":
+            what = f"{compare_convergence(rep, serial_dir, out)} convergence tables"
+        else:
+            what = f"{compare_runs(rep, serial_dir, out, ranks)} VTU steps, history, probes, summary"
         worst = max(rep.worst.values(), default=0.0)
-        print(f"PETSc on {ranks} rank{'s' if ranks > 1 else ''}: {secs:.2f} s; {n_vtu} VTU steps, history, probes, "
-              f"summary: {'match' if not rep.failures else 'DIFFER'} (largest |diff| / tolerance {worst:.2e})")
+        print(f"PETSc on {ranks} rank{'s' if ranks > 1 else ''}: {secs:.2f} s; {what}: "
+              f"{'match' if not rep.failures else 'DIFFER'} (largest |diff| / tolerance {worst:.2e})")
         for f in rep.failures[:20]:
             print("  differs: " + f)
         if len(rep.failures) > 20:
