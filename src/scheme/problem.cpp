@@ -201,29 +201,29 @@ std::vector<ContactRow> contact_rows(const Problem& p, const std::vector<int>& c
   std::vector<double> stiffness(mesh.n_nodes(), 0.0), exponent(mesh.n_nodes(), 0.0);
   std::vector<char> signorini(mesh.n_nodes(), 0);
   std::vector<ObstacleMask> obstacles(mesh.n_nodes(), 0);
-  for (const std::string& part : p.contact.parts) {
+  for (int f : mesh.facets_of_parts(p.contact.parts)) {  // each facet once, with its part's law and obstacles
+    const std::string& part = mesh.part_names()[static_cast<std::size_t>(mesh.facet_part(f))];
     const ContactLaw& law = p.contact.law_of(part);
     ObstacleMask acting = 0;
     for (std::size_t k = 0; k < p.contact.obstacles.size(); ++k) {
       const auto& on = p.contact.obstacles[k].parts;
       if (on.empty() || std::find(on.begin(), on.end(), part) != on.end()) acting |= ObstacleMask{1} << k;
     }
-    for (int f : mesh.facets_of_parts({part}))
-      for (int a = 0; a < mesh.nodes_per_facet(); ++a) {
-        const int i = mesh.facet(f)[a];
-        obstacles[i] |= acting;
-        if (law.stiffness == 0) {
-          signorini[i] = 1;
-          continue;
-        }
-        const Point& x = mesh.node(i);
-        require(exponent[i] == 0 || exponent[i] == law.exponent,
-                "{}: contact node {} ({}, {}, {}) lies on contact parts whose compliance laws have the exponents {} and "
-                "{}; parts with different exponents cannot share a node",
-                p.name, i, x[0], x[1], x[2], exponent[i], law.exponent);
-        exponent[i] = law.exponent;
-        stiffness[i] += law.stiffness * mesh.facet_measure(f) / mesh.nodes_per_facet();
+    for (int a = 0; a < mesh.nodes_per_facet(); ++a) {
+      const int i = mesh.facet(f)[a];
+      obstacles[i] |= acting;
+      if (law.stiffness == 0) {
+        signorini[i] = 1;
+        continue;
       }
+      const Point& x = mesh.node(i);
+      require(exponent[i] == 0 || exponent[i] == law.exponent,
+              "{}: contact node {} ({}, {}, {}) lies on contact parts whose compliance laws have the exponents {} and "
+              "{}; parts with different exponents cannot share a node",
+              p.name, i, x[0], x[1], x[2], exponent[i], law.exponent);
+      exponent[i] = law.exponent;
+      stiffness[i] += law.stiffness * mesh.facet_measure(f) / mesh.nodes_per_facet();
+    }
   }
   std::vector<ContactRow> rows;
   for (int node : mesh.nodes_of_parts(p.contact.parts)) {
