@@ -35,7 +35,9 @@ TEST(Indentation, DamageGrowsUnderThePunchAndSoftensTheResponse) {
   const auto parts = dirichlet_parts(*c.problem);  // symmetry_x (x), symmetry_y (y), base (z)
   ASSERT_EQ(parts.back(), "base");
   for (std::size_t n = 0; n < reports.size(); ++n) {
-    if (n > 0) EXPECT_GT(damaged[n], damaged[n - 1]);
+    if (n > 0) {
+      EXPECT_GT(damaged[n], damaged[n - 1]);
+    }
     EXPECT_NEAR(reports[n].reaction.back(), damaged[n], 1e-10 * damaged[n]);  // base z against the punch
   }
   const StepReport& last = reports.back();

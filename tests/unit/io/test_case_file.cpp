@@ -176,7 +176,10 @@ TEST(CaseFile, WithoutTheMeshForRanksThatReceiveTheirPart) {
   const std::string no_file = variant("generator = \"rectangle\"\nlower = [0.0, 0.0]\nupper = [2.0, 1.0]\ncells = [10, 5]",
                                       "file = \"no_such_mesh.msh\"");
   EXPECT_THROW(parse_case(no_file, "ok.toml", "."), Error);  // rank 0 reads it: the file is missing
-  const Case c = parse_case(no_file, "ok.toml", ".", {}, {.build = false, .dim = 2});
+  MeshRequest request;
+  request.build = false;
+  request.dim = 2;
+  const Case c = parse_case(no_file, "ok.toml", ".", {}, request);
   const Case full = parse_case(kValid, "ok.toml", ".");
   EXPECT_EQ(c.problem->mesh.dim(), 2);
   EXPECT_EQ(c.problem->mesh.n_nodes(), 0);

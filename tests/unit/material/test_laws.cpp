@@ -106,7 +106,9 @@ TEST(Laws, PlaneStrainLawsAndSourcesUseTheFull3DTensor) {
     auto law = make_viscoplastic_law(name, name.rfind("perzyna", 0) == 0 ? yield : Parameters{});
     const SymTensor g = law->rate(s), g3 = law->rate(s3);
     for (int i = 0; i < 6; ++i) EXPECT_NEAR(g[i], g3[i], 1e-15) << i;
-    if (name != "elastic") EXPECT_NE(g[2], 0.0);
+    if (name != "elastic") {
+      EXPECT_NE(g[2], 0.0);
+    }
     EXPECT_EQ(g[3], 0.0);
     EXPECT_EQ(g[4], 0.0);
   }

@@ -27,7 +27,9 @@ TEST(MovingGap, TheTipFollowsTheObstacleIntoTheBody) {
     ASSERT_TRUE(r.ok) << "step " << r.n;
     const double g = 0.6 - r.t;
     EXPECT_LE(s.state().u[tip], g + 1e-12) << "t = " << r.t;  // never through the obstacle
-    if (s.state().lambda[0] > 0) EXPECT_NEAR(s.state().u[tip], g, 1e-12) << "t = " << r.t;
+    if (s.state().lambda[0] > 0) {
+      EXPECT_NEAR(s.state().u[tip], g, 1e-12) << "t = " << r.t;
+    }
   }
   // At T the obstacle is 0.4 inside the reference body: the tip was pushed back there.
   EXPECT_NEAR(s.state().u[tip], -0.4, 1e-12);
