@@ -163,8 +163,10 @@ CLI::App* add_converge_command(CLI::App& app) {
   cmd->add_option("--set", o.sets, "override a case-file key, e.g. --set damage.kappa=0.1 (repeatable)");
   cmd->add_flag("--solvers", o.solvers,
                 "also compare the active-set and penalty-duality solvers on the h levels (agreement, iterations)");
-  cmd->add_option("--contact-solver", o.contact_solver, "active-set (default) or penalty-duality")
-      ->check(CLI::IsMember({"active-set", "penalty-duality"}));
+  cmd->add_option("--contact-solver", o.contact_solver,
+                  "auto (default: the dual active set for few contact nodes and a direct solver, else the primal), "
+                  "active-set, primal-active-set or penalty-duality")
+      ->check(CLI::IsMember(vpc::kContactSolverNames));
   cmd->add_option("--damage-solver", o.damage_solver, "active-set (default) or penalty-duality")
       ->check(CLI::IsMember({"active-set", "penalty-duality"}));
   cmd->add_option("--tolerance", o.tolerance, "largest relative KKT residual accepted at a step (default 1e-8)");

@@ -188,8 +188,10 @@ void add_case_options(CLI::App* cmd, Options& o) {
                   "generated meshes only: cells per edge (1D: segments; 2D: n x n squares; 3D: n^3 cubes)");
   cmd->add_option("--steps", o.steps, "number of time steps N (k = T / N)");
   cmd->add_option("--dt", o.dt, "time step k (must divide T)");
-  cmd->add_option("--contact-solver", o.contact_solver, "active-set (default) or penalty-duality")
-      ->check(CLI::IsMember({"active-set", "penalty-duality"}));
+  cmd->add_option("--contact-solver", o.contact_solver,
+                  "auto (default: the dual active set for few contact nodes and a direct solver, else the primal), "
+                  "active-set, primal-active-set or penalty-duality")
+      ->check(CLI::IsMember(vpc::kContactSolverNames));
   cmd->add_option("--damage-solver", o.damage_solver, "active-set (default) or penalty-duality")
       ->check(CLI::IsMember({"active-set", "penalty-duality"}));
   cmd->add_option("--tolerance", o.tolerance, "largest relative KKT residual accepted at a step (default 1e-8)");

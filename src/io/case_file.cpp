@@ -921,7 +921,7 @@ OutputOptions read_output(Section out, const Problem& p) {
 
 SolverChoice read_solver(Section sv) {
   SolverChoice s;
-  s.contact = sv.choice("contact", {"active-set", "penalty-duality"}, "active-set");
+  s.contact = sv.choice("contact", kContactSolverNames, kContactSolverNames.front());
   s.damage = sv.choice("damage", {"active-set", "penalty-duality"}, "active-set");
   s.residual_tolerance = sv.positive("tolerance", 1e-8);
   sv.finish();

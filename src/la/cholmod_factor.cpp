@@ -9,6 +9,7 @@
 #include <cholmod.h>
 
 #include <algorithm>
+#include <cstdint>
 #include <cstring>
 #include <string>
 #include <thread>
@@ -110,18 +111,22 @@ class CholmodFactor final : public Factor {
     estimate_.workspace_bytes = 2 * lower_bytes() + static_cast<double>(L_->maxcsize) * sizeof(double) +
                                 static_cast<double>(n_) * 6 * sizeof(Long);
     analyzed_nnz_ = A.nonZeros();
+    pattern_hash_ = pattern_hash(A);
     return estimate_;
   }
 
   void factorize(const SparseMatrix& A, const char* what) {
     // Reuse the analysis just done by analyze() for this matrix (its values are
     // copied afresh); any other matrix is analyzed here.
-    const bool analyzed = L_ && L_->xtype == CHOLMOD_PATTERN && A.rows() == n_ && A.nonZeros() == analyzed_nnz_ &&
-                          what_ == what && !lower_.p.empty();
-    if (analyzed)
+    // A factor whose analysis is for the same pattern (the primal contact solver's K with
+    // another active set, issue 14) is refactorized numerically: the ordering and the
+    // supernodes are kept.
+    const bool same_pattern = L_ && A.rows() == n_ && A.nonZeros() == analyzed_nnz_ && pattern_hash(A) == pattern_hash_;
+    if (same_pattern && (factored_ || L_->xtype == CHOLMOD_PATTERN))
       copy_lower(A);
     else
       analyze(A, what);
+    factored_ = false;
     if (n_ == 0) return;
     cholmod_sparse view = view_lower();
     // Factorize with every core's BLAS, solve with one (see la/blas.hpp).
@@ -198,6 +203,17 @@ class CholmodFactor final : public Factor {
   }
 
   /// The lower triangle of A with 64-bit indices (CHOLMOD reads only it: stype −1).
+  /// FNV-1a over the column pointers and row indices (explicit zeros count as entries).
+  static std::uint64_t pattern_hash(const SparseMatrix& A) {
+    std::uint64_t h = 1469598103934665603ull;
+    auto mix = [&](std::uint64_t x) { h = (h ^ x) * 1099511628211ull; };
+    for (int j = 0; j < A.outerSize(); ++j) {
+      for (SparseMatrix::InnerIterator it(A, j); it; ++it) mix(static_cast<std::uint64_t>(it.row()));
+      mix(~static_cast<std::uint64_t>(j));
+    }
+    return h;
+  }
+
   void copy_lower(const SparseMatrix& A) {
     lower_.p.assign(1, 0);
     lower_.p.reserve(static_cast<size_t>(n_) + 1);
@@ -268,6 +284,7 @@ class CholmodFactor final : public Factor {
   std::string what_;
   FactorEstimate estimate_;
   Eigen::Index analyzed_nnz_ = -1;
+  std::uint64_t pattern_hash_ = 0;
   size_t nnz_lower_ = 0;
   bool factored_ = false;
   int n_ = 0;

@@ -27,6 +27,11 @@ class SpdOperator {
   virtual long long nonzeros() const = 0;
   /// A_FF, F = the owned rows i with fixed[i] == 0, renumbered in order (collective).
   virtual std::unique_ptr<SpdOperator> restrict_to_free(const std::vector<char>& fixed) const = 0;
+  /// A with the rows and columns of the owned entries i with fixed[i] != 0 replaced by
+  /// those of the identity (Dirichlet rows: the primal contact solver's active rows). The
+  /// layout, the block size and the stored pattern are kept, so a factor reuses its
+  /// analysis and multigrid its rigid-body modes (collective).
+  virtual std::unique_ptr<SpdOperator> with_fixed(const std::vector<char>& fixed) const = 0;
   /// A + B, B given on the owned rows and columns (n_owned × n_owned, owned
   /// numbering): penalty–duality's H + ωEᵀE (collective).
   virtual std::unique_ptr<SpdOperator> plus(const Eigen::SparseMatrix<double>& owned_block) const = 0;
@@ -45,6 +50,7 @@ class SparseOperator final : public SpdOperator {
   Eigen::VectorXd diagonal() const override { return A_.diagonal(); }
   long long nonzeros() const override { return A_.nonZeros(); }
   std::unique_ptr<SpdOperator> restrict_to_free(const std::vector<char>& fixed) const override;
+  std::unique_ptr<SpdOperator> with_fixed(const std::vector<char>& fixed) const override;
   std::unique_ptr<SpdOperator> plus(const Eigen::SparseMatrix<double>& B) const override {
     return std::make_unique<SparseOperator>(A_ + B);
   }

@@ -319,6 +319,20 @@ std::unique_ptr<SpdOperator> PetscOperator::restrict_to_free(const std::vector<c
   return std::make_unique<PetscOperator>(comm_, std::move(AFF));
 }
 
+std::unique_ptr<SpdOperator> PetscOperator::with_fixed(const std::vector<char>& fixed) const {
+  PMat C;
+  VPC_PETSC(MatDuplicate(A_, MAT_COPY_VALUES, C.out()));
+  PetscInt begin = 0;
+  VPC_PETSC(MatGetOwnershipRange(A_, &begin, nullptr));
+  std::vector<PetscInt> rows;
+  for (int i = 0; i < n_owned_; ++i)
+    if (fixed[i]) rows.push_back(begin + i);
+  // Zeroes the values, keeps the nonzero structure (MatZeroRowsColumns does not compress).
+  VPC_PETSC(MatZeroRowsColumns(C, static_cast<PetscInt>(rows.size()), rows.data(), 1.0, nullptr, nullptr));
+  VPC_PETSC(MatSetOption(C, MAT_SPD, PETSC_TRUE));
+  return std::make_unique<PetscOperator>(comm_, std::move(C));
+}
+
 std::unique_ptr<SpdOperator> PetscOperator::plus(const Eigen::SparseMatrix<double>& B) const {
   PMat C;
   VPC_PETSC(MatDuplicate(A_, MAT_COPY_VALUES, C.out()));

@@ -52,6 +52,7 @@ class PetscOperator final : public SpdOperator {
   Eigen::VectorXd diagonal() const override;
   long long nonzeros() const override;
   std::unique_ptr<SpdOperator> restrict_to_free(const std::vector<char>& fixed) const override;
+  std::unique_ptr<SpdOperator> with_fixed(const std::vector<char>& fixed) const override;
   std::unique_ptr<SpdOperator> plus(const Eigen::SparseMatrix<double>& owned_block) const override;
   Mat mat() const { return A_; }
 

@@ -2,11 +2,13 @@
 
 #include "core/error.hpp"
 #include "la/memory_estimate.hpp"
+#include "solvers/primal_active_set.hpp"
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <tuple>
+#include <utility>
 
 namespace vpc {
 
@@ -122,6 +124,7 @@ void TimeStepper::assemble_and_factorize() {
     partial = fixed > 0 && fixed < d;
   }
   const int block = part_.comm.any(partial) ? 1 : d;
+  K_block_ = block;
   std::vector<Elasticity> elasticity;
   for (const Material& m : materials_) elasticity.push_back(m.elasticity);
   const SparseMatrix K_local = assemble_stiffness(mesh, geo_, elasticity, part_.cell_material, part_.dofs);
@@ -139,7 +142,10 @@ void TimeStepper::assemble_and_factorize() {
   stage(fmt::format("factorization of K ({} x {}, {} nonzeros; {})", part_.n_global_dofs, part_.n_global_dofs,
                     K_->nonzeros(), backend_->describe()));
   t1 = Clock::now();
-  K_factor_ = backend_->factor("K");
+  ContactConstraints constraints = contact_constraints();
+  contact_pick_ = pick_contact_solver(choice_.contact, part_.n_contact, backend_->linear_solver(), constraints.power_law);
+  const bool primal = contact_pick_.name == "primal-active-set";
+  K_factor_ = make_stiffness_factor(block);
   // Refuse a run that cannot fit before the costly factorizations (issue 11); the
   // factors' sizes come from their symbolic analyses (K's is reused), where the
   // backend has them (CHOLMOD).
@@ -153,12 +159,8 @@ void TimeStepper::assemble_and_factorize() {
                                      choice_.damage == "active-set", part_.n_contact),
                  memory_limit(choice_.memory_limit), p.name);
   }
-  Vector coordinates(part_.n_owned_dofs);  // GAMG's rigid-body modes
-  for (int i = 0; i < part_.n_owned_nodes; ++i)
-    for (int c = 0; c < d; ++c)
-      if (const int k = part_.dofs.free_index(part_.dofs.full_index(i, c)); k >= 0) coordinates[k] = mesh.node(i)[c];
-  K_factor_->set_coordinates(coordinates, block == d ? d : 0);
-  K_factor_->factorize(*K_, "elastic stiffness K");
+  // The primal contact solver factors K with its active rows when it first solves.
+  if (!primal) K_factor_->factorize(*K_, "elastic stiffness K");
   setup_timing_.factor_K = seconds_since(t1);
   stage("factorization of K", setup_timing_.factor_K);
 
@@ -171,10 +173,57 @@ void TimeStepper::assemble_and_factorize() {
 
   stage("contact set-up");
   t1 = Clock::now();
-  contact_ = make_contact_solver(choice_.contact, K_, K_factor_, contact_constraints(), la::factor_factory(backend_),
-                                 choice_.contact_options);
+  if (primal) {
+    // Rows off the axes are turned into one dof each by node-local reflections Q: K_rot = Q K Q,
+    // assembled from the cells' matrices like K (Q acts within each node's dofs).
+    std::shared_ptr<const la::SpdOperator> K_rot;
+    if (part_.comm.any(contact_reflections(constraints.N).size() > 0)) {
+      const SparseMatrix Q = contact_reflections(local_contact_rows());
+      K_rot = backend_->assemble(SparseMatrix(Q * K_local * Q), *part_.dof_layout, block);
+    }
+    contact_ = make_primal_active_set_solver(K_, std::move(K_rot), std::exchange(K_factor_, nullptr),
+                                             std::move(constraints));
+  } else {
+    contact_ = make_contact_solver(contact_pick_.name, K_, K_factor_, std::move(constraints),
+                                   la::factor_factory(backend_), choice_.contact_options);
+  }
   setup_timing_.contact = seconds_since(t1);
   stage("contact set-up", setup_timing_.contact);
+}
+
+std::shared_ptr<la::Factor> TimeStepper::make_stiffness_factor(int block) const {
+  const Mesh& mesh = part_.mesh();
+  const int d = mesh.dim();
+  std::shared_ptr<la::Factor> factor = backend_->factor("K");
+  Vector coordinates(part_.n_owned_dofs);  // GAMG's rigid-body modes
+  for (int i = 0; i < part_.n_owned_nodes; ++i)
+    for (int c = 0; c < d; ++c)
+      if (const int k = part_.dofs.free_index(part_.dofs.full_index(i, c)); k >= 0) coordinates[k] = mesh.node(i)[c];
+  factor->set_coordinates(coordinates, block == d ? d : 0);
+  return factor;
+}
+
+const la::Factor& TimeStepper::stiffness_factor() {
+  if (!K_factor_) {
+    K_factor_ = make_stiffness_factor(K_block_);
+    K_factor_->factorize(*K_, "elastic stiffness K");
+  }
+  return *K_factor_;
+}
+
+SparseMatrix TimeStepper::local_contact_rows() const {
+  const int d = part_.mesh().dim();
+  std::vector<Eigen::Triplet<double>> t;
+  int row = 0;
+  for (const PartContactNode& node : part_.contact) {
+    for (int i = 0; i < d; ++i)
+      if (const int k = part_.dofs.full_index(node.local_node, i); node.direction[i] != 0 && part_.dofs.free_index(k) >= 0)
+        t.emplace_back(row, part_.dofs.free_index(k), node.direction[i]);
+    ++row;
+  }
+  SparseMatrix N(row, part_.dofs.n_free());
+  N.setFromTriplets(t.begin(), t.end());
+  return N;
 }
 
 ContactConstraints TimeStepper::contact_constraints() const {
@@ -232,7 +281,11 @@ Vector TimeStepper::contact_gap(double t) const {
   return Eigen::Map<Vector>(gaps.data(), static_cast<Eigen::Index>(gaps.size()));
 }
 
-double TimeStepper::factor_bytes() const { return K_factor_->factor_bytes() + damage_->factor_bytes(); }
+double TimeStepper::factor_bytes() const {
+  const la::Factor* contact = contact_->own_factor();
+  return (K_factor_ ? K_factor_->factor_bytes() : 0.0) + (contact ? contact->factor_bytes() : 0.0) +
+         damage_->factor_bytes();
+}
 
 double TimeStepper::model_bytes() const {
   const Mesh& m = part_.mesh();
@@ -244,7 +297,11 @@ double TimeStepper::model_bytes() const {
   return matrices + mesh + state;
 }
 
-int TimeStepper::n_factorizations() const { return K_factor_->n_factorizations() + damage_->n_factorizations(); }
+int TimeStepper::n_factorizations() const {
+  const la::Factor* contact = contact_->own_factor();
+  return (K_factor_ ? K_factor_->n_factorizations() : 0) + (contact ? contact->n_factorizations() : 0) +
+         damage_->n_factorizations();
+}
 
 Snapshot TimeStepper::snapshot() const {
   return {state_, u_free_, contact_->warm_state(), damage_->warm_state()};

@@ -25,7 +25,7 @@ namespace vpc {
 struct ContactConstraints;  // solvers/contact_solver.hpp
 
 struct SolverChoice {
-  std::string contact = "active-set";  // or "penalty-duality"
+  std::string contact = "auto";  // "active-set" (dual), "primal-active-set", "penalty-duality" (pick_contact_solver)
   std::string damage = "active-set";   // or "penalty-duality"
   ContactSolverOptions contact_options;
   /// Damage active set: how systems with some β_i at a bound are solved.
@@ -137,10 +137,13 @@ class TimeStepper {
 
   const DofMap& dofs() const { return part_.dofs; }
   int n_factorizations() const;
-  /// The factor of K (for benchmarks: the cost of one solve).
-  const la::Factor& stiffness_factor() const { return *K_factor_; }
-  /// One line on how the contact step solves (ContactSolver::describe).
-  std::string contact_method() const { return contact_->describe(); }
+  /// The factor of K (for benchmarks: the cost of one solve; made here when the contact
+  /// solver is the primal one, which factors K with its active rows instead).
+  const la::Factor& stiffness_factor();
+  /// One line on how the contact step solves (ContactSolver::describe) and why that solver.
+  std::string contact_method() const { return contact_->describe() + "; " + contact_pick_.why; }
+  /// The contact solver in use ("auto" resolved).
+  std::string contact_solver() const { return contact_->name(); }
   /// Memory of the factors of K and of the damage matrix (bytes; this process).
   double factor_bytes() const;
   /// Memory of the mesh, the constant matrices and the state (bytes, estimated from sizes; this process).
@@ -182,7 +185,14 @@ class TimeStepper {
   SparseMatrix M_local_, A_local_;      // the part's mass and Laplacian (H for halved steps)
   double K_local_nonzeros_ = 0;         // for model_bytes
   Vector basis_integral_cells_, basis_integral_traction_;  // ∫ψ_a over Ω and Γ2 (for uniform f0, f2)
-  std::shared_ptr<la::Factor> K_factor_;
+  std::shared_ptr<la::Factor> K_factor_;  // of K; made on demand under the primal contact solver
+  ContactSolverPick contact_pick_;
+  /// A factor of K's kind (name "K"), its coordinates set for multigrid's rigid-body modes.
+  std::shared_ptr<la::Factor> make_stiffness_factor(int block) const;
+  int K_block_ = 1;
+  /// N over this process's local free dofs (owned, then ghosts), one row per contact node it
+  /// knows, owned or not: the reflections of K_rot's local matrix.
+  SparseMatrix local_contact_rows() const;
   std::unique_ptr<ContactSolver> contact_;
   std::unique_ptr<DamageSolver> damage_;  // for the step k
   std::vector<std::unique_ptr<DamageSolver>> halved_damage_;  // for k / 2^level, made when needed

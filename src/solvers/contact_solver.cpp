@@ -4,6 +4,9 @@
 #include "solvers/box_qp.hpp"
 #include "solvers/compliance_dual.hpp"
 #include "solvers/penalty_duality.hpp"
+#include "solvers/primal_active_set.hpp"
+
+#include <fmt/format.h>
 
 #include <algorithm>
 #include <cmath>
@@ -11,16 +14,12 @@
 
 namespace vpc {
 
-namespace {
-
 /// λ's entries (m numbers) at this rank's constraint rows.
 Vector local_rows(const ContactConstraints& c, const Vector& lambda) {
   Vector l(static_cast<Eigen::Index>(c.rows.size()));
   for (size_t k = 0; k < c.rows.size(); ++k) l[static_cast<Eigen::Index>(k)] = lambda[c.rows[k]];
   return l;
 }
-
-}  // namespace
 
 double ContactResiduals::max() const {
   return std::max({equilibrium, penetration, negative_force, complementarity});
@@ -66,19 +65,37 @@ ContactResiduals contact_residuals(const la::SpdOperator& K, const ContactConstr
   return r;
 }
 
-namespace {
-
-/// `active_threshold`: see ContactReport::n_active. λ is replicated: no reduction.
-ContactReport make_report(const la::SpdOperator& K, const ContactConstraints& c, const Vector& F, const Vector& u,
-                          const Vector& lambda, const BoxQpResult& qp, double active_threshold = 0) {
+ContactReport contact_report(const la::SpdOperator& K, const ContactConstraints& c, const Vector& F, const Vector& u,
+                             const Vector& lambda, bool converged, int iterations, double active_threshold) {
   ContactReport rep;
-  rep.converged = qp.converged;
-  rep.iterations = qp.iterations;
+  rep.converged = converged;
+  rep.iterations = iterations;
   rep.active_threshold = active_threshold;
   rep.n_active = static_cast<int>((lambda.array() > active_threshold).count());
   rep.total_force = lambda.sum();
   rep.residuals = contact_residuals(K, c, F, u, lambda);
   return rep;
+}
+
+/// m numbers, the same on every rank, from this rank's rows' values (one owner per row: the sum is exact).
+Vector replicate(const la::Comm& comm, const ContactConstraints& c, const Vector& local) {
+  Vector all = Vector::Zero(c.m);
+  for (size_t k = 0; k < c.rows.size(); ++k) all[c.rows[k]] = local[static_cast<Eigen::Index>(k)];
+  comm.sum(all.data(), c.m);
+  return all;
+}
+
+const Vector& checked_gap(const ContactConstraints& c, const Vector& gap) {
+  require(gap.size() == static_cast<Eigen::Index>(c.rows.size()), "internal: {} gaps for {} contact rows", gap.size(),
+          c.rows.size());
+  return gap;
+}
+
+namespace {
+
+ContactReport make_report(const la::SpdOperator& K, const ContactConstraints& c, const Vector& F, const Vector& u,
+                          const Vector& lambda, const BoxQpResult& qp, double active_threshold = 0) {
+  return contact_report(K, c, F, u, lambda, qp.converged, qp.iterations, active_threshold);
 }
 
 /// The columns j0 .. j0+nb−1 of Nᵀ, owned rows: each rank fills the columns of its
@@ -97,21 +114,6 @@ Eigen::MatrixXd transposed_rows(const ContactConstraints& c, int j0, int nb) {
 /// The same block size on every rank (block solves are collective).
 int common_block_columns(const la::Comm& comm, Eigen::Index n_owned, int most) {
   return static_cast<int>(comm.min(rhs_block_columns(n_owned, most)));
-}
-
-/// `gap` as the new g of c's rows; throws unless it has one finite value per row.
-const Vector& checked_gap(const ContactConstraints& c, const Vector& gap) {
-  require(gap.size() == static_cast<Eigen::Index>(c.rows.size()), "internal: {} gaps for {} contact rows", gap.size(),
-          c.rows.size());
-  return gap;
-}
-
-/// m numbers, the same on every rank, from this rank's rows' values (one owner per row: the sum is exact).
-Vector replicate(const la::Comm& comm, const ContactConstraints& c, const Vector& local) {
-  Vector all = Vector::Zero(c.m);
-  for (size_t k = 0; k < c.rows.size(); ++k) all[c.rows[k]] = local[static_cast<Eigen::Index>(k)];
-  comm.sum(all.data(), c.m);
-  return all;
 }
 
 class ActiveSetContactSolver final : public ContactSolver {
@@ -293,6 +295,18 @@ class PenaltyDualityContactSolver final : public ContactSolver {
 
 }  // namespace
 
+ContactSolverPick pick_contact_solver(const std::string& requested, int m, const std::string& linear_solver,
+                                      bool power_law) {
+  if (requested != "auto") return {requested, "as asked"};
+  if (power_law) return {"active-set", "auto: a power-law compliance is solved on the dual"};
+  if (linear_solver.starts_with("cg"))
+    return {"primal-active-set", fmt::format("auto: {} is iterative (the dual's S would take {} solves)", linear_solver, m)};
+  if (m > kDualContactRows)
+    return {"primal-active-set", fmt::format("auto: {} contact nodes > {} (the dual's S would be dense {} x {})", m,
+                                             kDualContactRows, m, m)};
+  return {"active-set", fmt::format("auto: {} contact nodes <= {} and a direct solver", m, kDualContactRows)};
+}
+
 std::unique_ptr<ContactSolver> make_contact_solver(const std::string& name, std::shared_ptr<const la::SpdOperator> K,
                                                    std::shared_ptr<const la::Factor> K_factor,
                                                    ContactConstraints constraints, const la::FactorFactory& make_factor,
@@ -316,7 +330,13 @@ std::unique_ptr<ContactSolver> make_contact_solver(const std::string& name, std:
   if (name == "penalty-duality")
     return std::make_unique<PenaltyDualityContactSolver>(std::move(K), *K_factor, std::move(constraints), make_factor,
                                                          opt);
-  fail("unknown contact solver '{}'; expected active-set or penalty-duality", name);
+  if (name == "primal-active-set") {
+    require(contact_reflections(constraints.N).size() == 0,
+            "internal: the primal contact solver with rows off the axes needs Q K Q (make_primal_active_set_solver)");
+    return make_primal_active_set_solver(K, nullptr, std::shared_ptr<la::Factor>(make_factor("K_active")),
+                                         std::move(constraints));
+  }
+  fail("unknown contact solver '{}'; expected active-set, primal-active-set or penalty-duality", name);
 }
 
 std::unique_ptr<ContactSolver> make_contact_solver(const std::string& name, const SparseMatrix& K,
@@ -324,12 +344,17 @@ std::unique_ptr<ContactSolver> make_contact_solver(const std::string& name, cons
                                                    const ContactSolverOptions& opt) {
   auto op = std::make_shared<const la::SparseOperator>(K);
   std::shared_ptr<la::Factor> factor = la::make_cholmod_factor("K");
-  factor->factorize(*op, "elastic stiffness K");
   ContactConstraints c;
   c.m = static_cast<int>(N.rows());
   c.N = N;
   c.gap = gap;
   for (int i = 0; i < c.m; ++i) c.rows.push_back(i);
+  if (name == "primal-active-set") {
+    const SparseMatrix Q = contact_reflections(N);
+    auto K_rot = Q.size() ? std::make_shared<const la::SparseOperator>(SparseMatrix(Q * K * Q)) : nullptr;
+    return make_primal_active_set_solver(std::move(op), std::move(K_rot), std::move(factor), std::move(c));
+  }
+  factor->factorize(*op, "elastic stiffness K");
   return make_contact_solver(name, std::move(op), std::move(factor), std::move(c), la::make_cholmod_factor, opt);
 }
 

@@ -30,6 +30,10 @@ struct ContactResiduals {
 struct ContactReport {
   bool converged = false;
   int iterations = 0;
+  /// primal-active-set: factorizations of K with the active rows done in this solve (0: the
+  /// last one's active set held), and active sets that came back (then it updates monotonically).
+  int factorizations = 0;
+  int cycles = 0;
   /// Contact nodes with λ_i > active_threshold. The active-set method's λ is exactly 0
   /// off its active set (threshold 0); penalty–duality's multiplier only tends to 0
   /// there, so a node counts as active when λ_i > tolerance · max(‖λ‖∞, ‖F‖∞), the
@@ -62,6 +66,15 @@ struct ContactConstraints {
 ContactResiduals contact_residuals(const la::SpdOperator& K, const ContactConstraints& c, const Vector& F,
                                    const Vector& u, const Vector& lambda);
 
+/// For the solvers' implementations (solvers/*.cpp): λ's entries at this rank's rows; m numbers,
+/// the same on every rank, from this rank's rows' values; `gap` checked to have one value per
+/// row; the report of a solve (n_active counts λ_i > active_threshold, see ContactReport).
+Vector local_rows(const ContactConstraints& c, const Vector& lambda);
+Vector replicate(const la::Comm& comm, const ContactConstraints& c, const Vector& local);
+const Vector& checked_gap(const ContactConstraints& c, const Vector& gap);
+ContactReport contact_report(const la::SpdOperator& K, const ContactConstraints& c, const Vector& F, const Vector& u,
+                             const Vector& lambda, bool converged, int iterations, double active_threshold = 0);
+
 class ContactSolver {
  public:
   virtual ~ContactSolver() = default;
@@ -77,6 +90,8 @@ class ContactSolver {
   /// active set, whose warm start is the solution itself: saved in checkpoints so that a resumed run is
   /// bit-identical.
   virtual Vector warm_state() const { return {}; }
+  /// A factor the solver holds itself (primal-active-set: of K with its active rows), for reports.
+  virtual const la::Factor* own_factor() const { return nullptr; }
   virtual void set_warm_state(const Vector&) {}
 };
 
@@ -91,6 +106,21 @@ struct ContactSolverOptions {
 
   bool operator==(const ContactSolverOptions&) const = default;
 };
+
+/// The contact solver for a problem (issue 14): `requested` unless it is "auto". "auto" takes
+/// the dual "active-set" while S = N K⁻¹Nᵀ is cheap (a direct solver and at most
+/// kDualContactRows contact nodes, or a power-law compliance, which only the dual solves), else
+/// "primal-active-set". `why` says which rule decided, for the run's header.
+struct ContactSolverPick {
+  std::string name;
+  std::string why;
+};
+constexpr int kDualContactRows = 2000;
+/// The names a case file ([solver] contact) and --contact-solver accept; the first is the default.
+inline const std::vector<std::string> kContactSolverNames = {"auto", "active-set", "primal-active-set",
+                                                             "penalty-duality"};
+ContactSolverPick pick_contact_solver(const std::string& requested, int m, const std::string& linear_solver,
+                                      bool power_law);
 
 /// K (assembled, owned rows) and its factor; `make_factor` makes penalty–duality's factor of K + ωNᵀN.
 /// "active-set": primal–dual active set on the contact unknowns, the dual QP with

@@ -380,6 +380,8 @@ def main():
     ap.add_argument("--work", required=True)
     ap.add_argument("--ranks", default="1,2,3")
     ap.add_argument("--command", default="run", choices=["run", "converge"])
+    ap.add_argument("--petsc-arg", action="append", default=[],
+                    help="an argument for the PETSc runs only (e.g. --petsc-arg=--linear-solver --petsc-arg=cg-gamg)")
     ap.add_argument("case", nargs=argparse.REMAINDER)
     a = ap.parse_args()
     case = [x for x in a.case if x != "--"]
@@ -398,7 +400,7 @@ def main():
         return 1
     for ranks in [int(r) for r in a.ranks.split(",")]:
         out = os.path.join(a.work, f"np{ranks}")
-        p, secs = run([a.mpiexec, "-n", str(ranks), "--oversubscribe", a.vpcontact, a.command, *case, *extra,
+        p, secs = run([a.mpiexec, "-n", str(ranks), "--oversubscribe", a.vpcontact, a.command, *case, *extra, *a.petsc_arg,
                        "--engine", "petsc", "-q", "-o", out], env)
         text = p.stdout + p.stderr
         if p.returncode != 0:

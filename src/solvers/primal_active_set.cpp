@@ -1,0 +1,233 @@
+#include "solvers/primal_active_set.hpp"
+
+#include "core/error.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+
+namespace vpc {
+
+namespace {
+
+/// Row i of N in the rotated dofs: α_i w_{k_i} (|α_i| = ρ; see contact_reflections for its sign).
+struct RotatedRow {
+  int dof = -1;
+  double alpha = 0;
+};
+
+std::vector<RotatedRow> rotated_rows(const SparseMatrix& N) {
+  const SparseMatrix Nt = N.transpose();
+  std::vector<RotatedRow> rows(static_cast<size_t>(N.rows()));
+  for (int i = 0; i < Nt.outerSize(); ++i) {
+    double rho2 = 0, best = -1;
+    const bool reflected = Nt.col(i).nonZeros() > 1;  // then Q e_k = −sν (see contact_reflections)
+    for (SparseMatrix::InnerIterator it(Nt, i); it; ++it) {
+      rho2 += it.value() * it.value();
+      if (std::abs(it.value()) > best) {
+        best = std::abs(it.value());
+        rows[i].dof = static_cast<int>(it.row());
+        rows[i].alpha = (it.value() < 0) != reflected ? -1.0 : 1.0;
+      }
+    }
+    require(rows[i].dof >= 0, "internal: contact row {} has no entries", i);
+    rows[i].alpha *= std::sqrt(rho2);
+  }
+  return rows;
+}
+
+}  // namespace
+
+SparseMatrix contact_reflections(const SparseMatrix& N) {
+  const SparseMatrix Nt = N.transpose();
+  bool rotate = false;
+  for (int i = 0; i < Nt.outerSize() && !rotate; ++i) rotate = Nt.col(i).nonZeros() > 1;
+  if (!rotate) return {};
+  const std::vector<RotatedRow> rows = rotated_rows(N);
+  std::vector<Eigen::Triplet<double>> t;
+  std::vector<char> reflected(static_cast<size_t>(N.cols()), 0);
+  for (int i = 0; i < Nt.outerSize(); ++i) {
+    if (Nt.col(i).nonZeros() < 2) continue;
+    // v = e_k + sν over the row's dofs (s = sign ν_k: no cancellation, vᵀv ≥ 2);
+    // H = I − 2vvᵀ/(vᵀv) maps e_k to −sν, so N_i Q e_k = −ρs = α_i.
+    const double rho = std::abs(rows[i].alpha), s = rows[i].alpha < 0 ? 1.0 : -1.0;
+    std::vector<std::pair<int, double>> v;
+    for (SparseMatrix::InnerIterator it(Nt, i); it; ++it)
+      v.emplace_back(static_cast<int>(it.row()), (it.row() == rows[i].dof ? 1.0 : 0.0) + s * it.value() / rho);
+    double vv = 0;
+    for (const auto& [j, x] : v) vv += x * x;
+    for (const auto& [j, x] : v) {
+      require(!reflected[j], "internal: contact rows {} share dof {}", i, j);
+      reflected[j] = 1;
+      for (const auto& [l, y] : v) t.emplace_back(j, l, (j == l ? 1.0 : 0.0) - 2 * x * y / vv);
+    }
+  }
+  for (int j = 0; j < N.cols(); ++j)
+    if (!reflected[j]) t.emplace_back(j, j, 1.0);
+  SparseMatrix Q(N.cols(), N.cols());
+  Q.setFromTriplets(t.begin(), t.end());
+  return Q;
+}
+
+namespace {
+
+class PrimalActiveSetSolver final : public ContactSolver {
+ public:
+  PrimalActiveSetSolver(std::shared_ptr<const la::SpdOperator> K, std::shared_ptr<const la::SpdOperator> K_rot,
+                        std::shared_ptr<la::Factor> factor, ContactConstraints c)
+      : K_(std::move(K)), K_rot_(K_rot ? std::move(K_rot) : K_), factor_(std::move(factor)), c_(std::move(c)),
+        Q_(contact_reflections(c_.N)), rows_(rotated_rows(c_.N)) {
+    require(!c_.power_law, "contact solver 'primal-active-set' solves Signorini and linear normal compliance rows; "
+                           "a power-law compliance needs 'active-set'");
+    require(Q_.size() == 0 || K_rot_ != K_, "internal: the primal contact solver needs Q K Q for rotated rows");
+    // c_i of the update rule λ_i + c_i (N_i u − g_i) > 0: K's stiffness at the row's dof, per unit of N_i u.
+    const Vector d = K_rot_->diagonal();
+    for (const RotatedRow& r : rows_) scale_.push_back(d[r.dof] / (r.alpha * r.alpha));
+  }
+
+  ContactReport solve(const Vector& F, Vector& u, Vector& lambda) override {
+    const auto rows = static_cast<Eigen::Index>(rows_.size());
+    const la::Comm& comm = K_->comm();
+    const Vector b = rotate(F);
+    Vector w = rotate(u.size() == F.size() ? u : Vector(Vector::Zero(F.size())));
+    const Vector lambda_in = lambda.size() == c_.m ? local_rows(c_, lambda) : Vector(Vector::Zero(rows));
+    // Warm start: the previous step's active set (λ > 0) and the rows its displacement violates.
+    std::vector<char> active(static_cast<size_t>(rows));
+    for (Eigen::Index i = 0; i < rows; ++i) active[i] = lambda_in[i] > 0 || gap_left(w, i) < 0;
+    Vector lambda_local = Vector::Zero(rows);
+    std::set<std::vector<double>> seen;  // the replicated active sets met in this solve
+    ContactReport rep;
+    bool monotone = false, converged = false;
+    for (int it = 0; it < kMaxIterations && !converged; ++it) {
+      rep.factorizations += factorize_for(active);
+      solve_constrained(active, b, w);
+      Vector r;
+      K_rot_->residual(b, w, r);
+      std::vector<char> next(active.size());
+      double most_negative = 0;
+      Eigen::Index worst = -1;
+      for (Eigen::Index i = 0; i < rows; ++i) {
+        const RotatedRow& row = rows_[i];
+        const double gap = gap_left(w, i);
+        if (compliant(i)) {  // λ = k (N u − g)₊: active where the row penetrates
+          lambda_local[i] = active[i] ? -gap / c_.compliance[i] : 0.0;
+          next[i] = gap < 0;
+        } else {
+          lambda_local[i] = active[i] ? r[row.dof] / row.alpha : 0.0;
+          next[i] = lambda_local[i] - scale_[i] * gap > 0;
+          if (active[i] && lambda_local[i] < most_negative) {
+            most_negative = lambda_local[i];
+            worst = i;
+          }
+        }
+      }
+      ++rep.iterations;
+      converged = comm.all(next == active);
+      if (converged) break;
+      if (monotone) {
+        // A set came back: add every violated row, release only the row with the most
+        // negative force (the classical active-set step, which cannot cycle).
+        const double global_worst = comm.min(most_negative);
+        for (Eigen::Index i = 0; i < rows; ++i)
+          if (!compliant(i)) next[i] = active[i] ? !(i == worst && most_negative == global_worst) : next[i];
+      }
+      const Vector flags = replicate(comm, c_, Eigen::Map<const Eigen::Matrix<char, Eigen::Dynamic, 1>>(
+                                                   next.data(), rows).cast<double>());
+      if (!seen.insert(std::vector<double>(flags.data(), flags.data() + flags.size())).second && !monotone) {
+        monotone = true;
+        ++rep.cycles;
+      }
+      active = std::move(next);
+    }
+    u = unrotate(w);
+    lambda = replicate(comm, c_, lambda_local);
+    ContactReport out = contact_report(*K_, c_, F, u, lambda, converged, rep.iterations);
+    out.factorizations = rep.factorizations;
+    out.cycles = rep.cycles;
+    return out;
+  }
+
+  void set_gap(const Vector& gap) override { c_.gap = checked_gap(c_, gap); }
+  const la::Factor* own_factor() const override { return factor_.get(); }
+  std::string name() const override { return "primal-active-set"; }
+  std::string describe() const override {
+    return "primal active set on u (K with the active rows as constraints; refactorized when the set changes)";
+  }
+
+ private:
+  static constexpr int kMaxIterations = 200;
+
+  bool compliant(Eigen::Index i) const { return c_.normal_compliance && c_.compliance[i] > 0; }
+  /// g_i − N_i u, in the rotated dofs.
+  double gap_left(const Vector& w, Eigen::Index i) const { return c_.gap[i] - rows_[i].alpha * w[rows_[i].dof]; }
+  Vector rotate(const Vector& x) const { return Q_.size() ? Vector(Q_ * x) : x; }
+  Vector unrotate(const Vector& w) const { return rotate(w); }  // Q = Q⁻¹
+
+  /// Factorizes K_rot with `active`'s constraints unless the factor already holds them. Returns 1 if it did.
+  int factorize_for(const std::vector<char>& active) {
+    const la::Comm& comm = K_->comm();
+    if (A_ && comm.all(active == factored_)) return 0;
+    std::vector<char> fixed(static_cast<size_t>(K_->n_owned()), 0);
+    std::vector<Eigen::Triplet<double>> springs;
+    for (size_t i = 0; i < rows_.size(); ++i) {
+      if (!active[i]) continue;
+      if (compliant(static_cast<Eigen::Index>(i)))
+        springs.emplace_back(rows_[i].dof, rows_[i].dof, rows_[i].alpha * rows_[i].alpha / c_.compliance[i]);
+      else
+        fixed[rows_[i].dof] = 1;
+    }
+    std::shared_ptr<const la::SpdOperator> base = K_rot_;
+    if (comm.any(!springs.empty())) {
+      SparseMatrix D(K_->n_owned(), K_->n_owned());
+      D.setFromTriplets(springs.begin(), springs.end());
+      base = base->plus(D);
+    }
+    A_ = base->with_fixed(fixed);
+    factor_->factorize(*A_, "elastic stiffness K with the active contact rows");
+    factored_ = active;
+    fixed_ = std::move(fixed);
+    return 1;
+  }
+
+  /// w = the solution of K_rot w = b with the active rows: w_k = g/α on Signorini rows
+  /// (the others moved to the right-hand side), springs on the compliance rows.
+  void solve_constrained(const std::vector<char>& active, const Vector& b, Vector& w) const {
+    Vector fixed_values = Vector::Zero(b.size());
+    Vector rhs = b;
+    for (size_t i = 0; i < rows_.size(); ++i) {
+      if (!active[i]) continue;
+      const auto e = static_cast<Eigen::Index>(i);
+      if (compliant(e))
+        rhs[rows_[i].dof] += rows_[i].alpha * c_.gap[e] / c_.compliance[e];
+      else
+        fixed_values[rows_[i].dof] = c_.gap[e] / rows_[i].alpha;
+    }
+    Vector coupling;
+    K_rot_->mult(fixed_values, coupling);
+    rhs -= coupling;
+    for (Eigen::Index j = 0; j < rhs.size(); ++j)
+      if (fixed_[j]) rhs[j] = w[j] = fixed_values[j];
+    factor_->solve(rhs, w);
+  }
+
+  std::shared_ptr<const la::SpdOperator> K_, K_rot_;
+  std::shared_ptr<la::Factor> factor_;
+  ContactConstraints c_;
+  SparseMatrix Q_;                 // empty: no row needs a rotation
+  std::vector<RotatedRow> rows_;   // per local row
+  std::vector<double> scale_;      // c_i of the update rule
+  std::shared_ptr<const la::SpdOperator> A_;  // K_rot (+ springs) with the factored set's rows fixed
+  std::vector<char> factored_, fixed_;
+};
+
+}  // namespace
+
+std::unique_ptr<ContactSolver> make_primal_active_set_solver(std::shared_ptr<const la::SpdOperator> K,
+                                                             std::shared_ptr<const la::SpdOperator> K_rot,
+                                                             std::shared_ptr<la::Factor> factor,
+                                                             ContactConstraints constraints) {
+  return std::make_unique<PrimalActiveSetSolver>(std::move(K), std::move(K_rot), std::move(factor),
+                                                 std::move(constraints));
+}
+
+}  // namespace vpc

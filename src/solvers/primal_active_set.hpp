@@ -1,0 +1,33 @@
+#pragma once
+// The contact inequality (3.9) by a primal–dual active-set (semismooth Newton)
+// method on u itself, which never forms S = N K⁻¹Nᵀ (issue 14; Hintermüller, Ito &
+// Kunisch 2002; deal.II step-42). Each iteration solves K with the active contact
+// rows as constraints, by the backend's solver (CHOLMOD, MUMPS or CG + AMG): the
+// cost of a step is one or two such solves once the active set is warm, and the
+// memory is K's, whatever the number m of contact nodes.
+//
+// Every row of N is one node's direction ν (‖ν‖ = ρ): a node-local reflection Q
+// (Householder, identity where ν is along an axis) turns it into one dof k,
+// N_i Q = α_i e_kᵀ, |α_i| = ρ. In w = Qu an active Signorini row is the
+// Dirichlet condition w_k = g_i/α_i, an active compliance row a spring k_i α_i² on
+// w_k; the system is K_rot = Q K Q with those rows and columns replaced by the
+// identity (the layout and the pattern kept: a factor reuses its analysis, AMG its
+// block size), and λ_i = (QF − K_rot w)_k /(ρs) the reaction there.
+#include "solvers/contact_solver.hpp"
+
+namespace vpc {
+
+/// Q (n × n over the dofs N's columns number, symmetric and orthogonal): the
+/// reflection of each row's dofs that maps e_k to ±ν (see above); the identity on
+/// every other dof. Empty (0 × 0) when every row has one entry: no rotation.
+SparseMatrix contact_reflections(const SparseMatrix& N);
+
+/// "primal-active-set" (make_contact_solver): K and, where some row is not along an axis,
+/// K_rot = Q K Q assembled over the same layout (nullptr: K_rot = K); `factor` is
+/// unfactorized (its coordinates set for AMG) and refactorized whenever the active set changes.
+std::unique_ptr<ContactSolver> make_primal_active_set_solver(std::shared_ptr<const la::SpdOperator> K,
+                                                             std::shared_ptr<const la::SpdOperator> K_rot,
+                                                             std::shared_ptr<la::Factor> factor,
+                                                             ContactConstraints constraints);
+
+}  // namespace vpc

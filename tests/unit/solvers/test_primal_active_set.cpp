@@ -1,0 +1,182 @@
+// The primal active-set contact solver (solvers/primal_active_set, issue 14): its
+// reflections, agreement with the dual solver on an elastic block with slanted contact
+// directions (Signorini and linear compliance rows mixed), warm starts, the automatic
+// choice, and its refusals.
+#include "../error_of.hpp"
+#include "solvers/contact_solver.hpp"
+#include "solvers/primal_active_set.hpp"
+
+#include "core/error.hpp"
+#include "fem/assembly.hpp"
+#include "material/elasticity.hpp"
+#include "mesh/generators.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+namespace vpc {
+namespace {
+
+/// (0, 2) × (0, 1), plane strain E = 1, ν = 0.3, clamped on "top", pushed down by f0 =
+/// (0.3, −1). One contact row per "bottom" node, direction (sin θ, −cos θ) with θ from
+/// −0.6 to 0.6 along the base (θ = 0 at one node: that row needs no reflection), gaps growing
+/// with x: a free boundary across the base.
+struct SlantedBlock {
+  Mesh mesh;
+  DofMap dofs;
+  SparseMatrix K, N;
+  Vector F, g;
+};
+
+SlantedBlock make_slanted_block(double theta_max = 0.6) {
+  SlantedBlock b;
+  b.mesh = make_rectangle({0, 0, 0}, {2, 1, 0}, 16, 8);
+  const auto geo = compute_geometry(b.mesh);
+  b.dofs = DofMap(b.mesh.n_nodes(), 2, b.mesh.nodes_of_parts({"top"}));
+  b.K = assemble_stiffness(b.mesh, geo, Elasticity(Elasticity::Kind::PlaneStrain, 1, 0.3), b.dofs);
+  const VectorField f0 = [](const Point&, double) { return Point{0.3, -1, 0}; };
+  b.F = restrict_to_free(b.dofs, assemble_load(b.mesh, geo, {}, f0, nullptr, 0.0));
+  const std::vector<int> bottom = b.mesh.nodes_of_parts({"bottom"});
+  const int m = static_cast<int>(bottom.size());
+  std::vector<Eigen::Triplet<double>> t;
+  b.g.resize(m);
+  for (int r = 0; r < m; ++r) {
+    const double x = b.mesh.node(bottom[r])[0], theta = theta_max * (x - 1);
+    t.emplace_back(r, b.dofs.free_index(b.dofs.full_index(bottom[r], 0)), std::sin(theta));
+    t.emplace_back(r, b.dofs.free_index(b.dofs.full_index(bottom[r], 1)), -std::cos(theta));
+  }
+  b.N.resize(m, b.dofs.n_free());
+  b.N.setFromTriplets(t.begin(), t.end());
+  b.N.prune(0.0);  // θ = 0: one entry
+  // Gap from the free deflection d: from 0.2 d (x = 0) to 1.2 d (x = 2).
+  auto f = la::make_cholmod_factor();
+  f->factorize(la::SparseOperator(b.K), "block stiffness");
+  Vector u_free;
+  f->solve(b.F, u_free);
+  const double d = (b.N * u_free).maxCoeff();
+  for (int r = 0; r < m; ++r) b.g[r] = d * (0.2 + 0.5 * b.mesh.node(bottom[r])[0]);
+  return b;
+}
+
+TEST(PrimalActiveSet, ReflectionsTurnEachRowIntoOneDof) {
+  const SlantedBlock b = make_slanted_block();
+  const SparseMatrix Q = contact_reflections(b.N);
+  ASSERT_EQ(Q.rows(), b.N.cols());
+  const Eigen::MatrixXd Qd(Q);
+  EXPECT_LE((Qd - Qd.transpose()).cwiseAbs().maxCoeff(), 1e-15);
+  EXPECT_LE((Qd * Qd - Eigen::MatrixXd::Identity(Q.rows(), Q.cols())).cwiseAbs().maxCoeff(), 1e-15);
+  const Eigen::MatrixXd NQ = Eigen::MatrixXd(b.N) * Qd;
+  for (Eigen::Index i = 0; i < NQ.rows(); ++i) {
+    int entries = 0;
+    for (Eigen::Index j = 0; j < NQ.cols(); ++j)
+      if (std::abs(NQ(i, j)) > 1e-15) ++entries;
+    EXPECT_EQ(entries, 1) << "row " << i;
+    EXPECT_NEAR(NQ.row(i).cwiseAbs().maxCoeff(), 1.0, 1e-15);
+  }
+  // Rows along the axes need no reflection at all.
+  SparseMatrix axis = b.N;
+  for (int k = 0; k < axis.outerSize(); ++k)
+    for (SparseMatrix::InnerIterator it(axis, k); it; ++it)
+      if (std::abs(it.value()) < 0.9) it.valueRef() = 0;
+  axis.prune(0.0);
+  EXPECT_EQ(contact_reflections(axis).size(), 0);
+}
+
+// Both methods solve the same inequality: u and λ to 1e-10 (relative), residuals ≤ 1e-10,
+// a strict non-empty active set; then the same with every third row a linear compliance.
+TEST(PrimalActiveSet, AgreesWithTheDualSolverOnSlantedRows) {
+  const SlantedBlock b = make_slanted_block();
+  const int m = static_cast<int>(b.N.rows());
+  for (const bool compliance : {false, true}) {
+    SCOPED_TRACE(compliance ? "Signorini and compliance rows" : "Signorini rows");
+    Vector u[2], lambda[2];
+    ContactReport rep[2];
+    const char* names[] = {"active-set", "primal-active-set"};
+    for (int s = 0; s < 2; ++s) {
+      SCOPED_TRACE(names[s]);
+      ContactConstraints c;
+      c.m = m;
+      c.N = b.N;
+      c.gap = b.g;
+      for (int i = 0; i < m; ++i) c.rows.push_back(i);
+      if (compliance) {
+        c.normal_compliance = true;
+        c.compliance = Vector::Zero(m);
+        for (int i = 0; i < m; i += 3) c.compliance[i] = 0.05;
+      }
+      auto K = std::make_shared<const la::SparseOperator>(b.K);
+      std::unique_ptr<ContactSolver> solver;
+      if (s == 0) {
+        std::shared_ptr<la::Factor> f = la::make_cholmod_factor("K");
+        f->factorize(*K, "K");
+        solver = make_contact_solver(names[s], K, f, c, la::make_cholmod_factor);
+      } else {
+        const SparseMatrix Q = contact_reflections(b.N);
+        auto K_rot = std::make_shared<const la::SparseOperator>(SparseMatrix(Q * b.K * Q));
+        solver = make_primal_active_set_solver(K, K_rot, la::make_cholmod_factor("K"), c);
+      }
+      rep[s] = solver->solve(b.F, u[s], lambda[s]);
+      ASSERT_TRUE(rep[s].converged) << rep[s].iterations << " iterations";
+      EXPECT_LE(rep[s].residuals.max(), 1e-10);
+    }
+    EXPECT_GT(rep[1].n_active, 1);
+    EXPECT_LT(rep[1].n_active, m - 1);
+    EXPECT_EQ(rep[1].n_active, rep[0].n_active);
+    EXPECT_LE((u[1] - u[0]).cwiseAbs().maxCoeff(), 1e-10 * u[0].cwiseAbs().maxCoeff());
+    EXPECT_LE((lambda[1] - lambda[0]).cwiseAbs().maxCoeff(), 1e-10 * lambda[0].cwiseAbs().maxCoeff());
+    EXPECT_EQ(rep[1].cycles, 0);
+    EXPECT_EQ(rep[1].factorizations, rep[1].iterations);  // a new set each iteration but the last
+  }
+}
+
+// Solved again from its own answer, the primal solver stops after one solve with the factor
+// it has: no factorization.
+TEST(PrimalActiveSet, WarmStartCostsOneSolveAndNoFactorization) {
+  const SlantedBlock b = make_slanted_block();
+  auto solver = make_contact_solver("primal-active-set", b.K, b.N, b.g);
+  Vector u, lambda;
+  const ContactReport first = solver->solve(b.F, u, lambda);
+  ASSERT_TRUE(first.converged);
+  EXPECT_GT(first.iterations, 1);
+  const Vector u0 = u, l0 = lambda;
+  const ContactReport again = solver->solve(b.F, u, lambda);
+  ASSERT_TRUE(again.converged);
+  EXPECT_EQ(again.iterations, 1);
+  EXPECT_EQ(again.factorizations, 0);
+  EXPECT_LE((u - u0).cwiseAbs().maxCoeff(), 1e-13 * u0.cwiseAbs().maxCoeff());
+  EXPECT_LE((lambda - l0).cwiseAbs().maxCoeff(), 1e-12 * l0.cwiseAbs().maxCoeff());
+}
+
+TEST(PrimalActiveSet, AutomaticChoiceSaysWhy) {
+  EXPECT_EQ(pick_contact_solver("auto", 100, "cholmod", false).name, "active-set");
+  EXPECT_EQ(pick_contact_solver("auto", kDualContactRows + 1, "mumps", false).name, "primal-active-set");
+  EXPECT_EQ(pick_contact_solver("auto", 100, "cg-gamg", false).name, "primal-active-set");
+  EXPECT_EQ(pick_contact_solver("auto", 100000, "cg-gamg", true).name, "active-set");  // only the dual has it
+  EXPECT_EQ(pick_contact_solver("penalty-duality", 100000, "cg-gamg", false).name, "penalty-duality");
+  const ContactSolverPick p = pick_contact_solver("auto", 5041, "cholmod", false);
+  EXPECT_NE(p.why.find("5041 contact nodes"), std::string::npos) << p.why;
+}
+
+TEST(PrimalActiveSet, RefusesAPowerLaw) {
+  const SlantedBlock b = make_slanted_block();
+  ContactConstraints c;
+  c.m = static_cast<int>(b.N.rows());
+  c.N = b.N;
+  c.gap = b.g;
+  for (int i = 0; i < c.m; ++i) c.rows.push_back(i);
+  c.normal_compliance = c.power_law = true;
+  c.compliance = Vector::Constant(c.m, 0.1);
+  c.exponent = Vector::Constant(c.m, 2.0);
+  auto K = std::make_shared<const la::SparseOperator>(b.K);
+  const SparseMatrix Q = contact_reflections(b.N);
+  auto K_rot = std::make_shared<const la::SparseOperator>(SparseMatrix(Q * b.K * Q));
+  const std::string msg =
+      error_of([&] { make_primal_active_set_solver(K, K_rot, la::make_cholmod_factor("K"), c); });
+  EXPECT_NE(msg.find("power-law compliance needs 'active-set'"), std::string::npos) << msg;
+}
+
+}  // namespace
+}  // namespace vpc
