@@ -397,6 +397,7 @@ std::string summary_json(const Problem& p, const RunSummary& r, const OutputOpti
     j["linear_solver"] = r.linear_solver;
   }
   j["dimension"] = r.dimension;
+  if (!r.contact_solver.empty()) j["contact_solver"] = r.contact_solver;
   j["mesh"] = {{"nodes", r.nodes}, {"cells", r.cells}, {"h_min", r.h_min}, {"h_max", r.h_max}};
   j["unknowns"] = {{"displacement_free", r.free_dofs}, {"damage", r.nodes}, {"contact_nodes", r.contact_nodes}};
   j["elasticity"] = p.elasticity.name();
@@ -486,6 +487,7 @@ RunSummary RunOutput::summary(double wall_seconds) const {
   r.wall_seconds = wall_seconds;
   r.setup = stepper_.setup_timing();
   r.factorizations = stepper_.n_factorizations();
+  r.contact_solver = stepper_.contact_solver();
   if (!comm.serial()) {  // the PETSc backend, on one rank too
     r.ranks = comm.size();
     r.linear_solver = stepper_.backend().linear_solver();

@@ -103,6 +103,7 @@ struct RunSummary {
   int factorizations = 0;
   int ranks = 0;  // > 0: a run over MPI ("engine": "petsc", "ranks", "linear_solver")
   std::string linear_solver;
+  std::string contact_solver;  // the one in use ("auto" resolved)
 };
 
 /// The text of summary.json (valid JSON whatever the names and paths hold).

@@ -51,6 +51,15 @@ class Factor {
   /// Factorizes A (kept by reference by iterative backends: A must outlive the
   /// next factorize). Throws vpc::Error naming `what` when it fails.
   virtual void factorize(const SpdOperator& A, const char* what) = 0;
+  /// A matrix close to the one factorized last, over the same layout (the primal contact
+  /// solver's next active set: some Dirichlet rows changed; kept by reference as in
+  /// factorize). Direct solvers factorize it (CHOLMOD on the same analysis); iterative ones
+  /// take it as their operator and keep their preconditioner while it serves.
+  virtual void refactorize(const SpdOperator& A, const char* what) { factorize(A, what); }
+  /// An iterative solver (its solves stop at a relative residual, set_relative_tolerance).
+  virtual bool iterative() const { return false; }
+  /// The relative residual the next solves stop at; 0: the solver's own. Direct solvers ignore it.
+  virtual void set_relative_tolerance(double /*rtol*/) {}
   /// The factor's size from a symbolic analysis alone (a following factorize of
   /// the same A reuses it); nullopt where the backend cannot say (PETSc).
   virtual std::optional<FactorEstimate> analyze(const SpdOperator&, const char*) { return std::nullopt; }

@@ -112,15 +112,35 @@ class PetscFactor final : public Factor {
     require(op != nullptr, "internal: PETSc factors PETSc operators only ({})", what);
     what_ = what;
     set_up_ksp(op->mat(), direct() ? nullptr : rigid_body_modes(*op).get());
+    fresh_iterations_ = 0;
+    rebuild_ = false;
     VPC_PETSC(MatCreateVecs(op->mat(), x_.out(), b_.out()));
     n_ = op->n_owned();
     ++n_factorizations_;
+  }
+  void refactorize(const SpdOperator& A, const char* what) override {
+    const auto* op = dynamic_cast<const PetscOperator*>(&A);
+    if (direct() || !ksp_ || !op || op->n_owned() != n_ || rebuild_) {
+      factorize(A, what);
+      return;
+    }
+    // The multigrid hierarchy of the last set-up serves the changed operator (a few rows of
+    // the identity more or less); it is rebuilt once the iterations double (rebuild_).
+    what_ = what;
+    VPC_PETSC(KSPSetOperators(ksp_, op->mat(), op->mat()));
+    VPC_PETSC(KSPSetReusePreconditioner(ksp_, PETSC_TRUE));
+  }
+  bool iterative() const override { return !direct(); }
+  void set_relative_tolerance(double rtol) override {
+    if (!direct() && ksp_)
+      VPC_PETSC(KSPSetTolerances(ksp_, rtol > 0 ? rtol : options_.rtol, 1e-300, PETSC_DEFAULT, options_.max_iterations));
   }
   void solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) const override {
     if (x.size() != n_) x = Eigen::VectorXd::Zero(n_);
     Placed pb(b_, b.data()), px(x_, x.data());
     VPC_PETSC(KSPSolve(ksp_, b_, x_));
     check_converged(true);
+    if (!direct()) note_iterations();
   }
   Eigen::MatrixXd solve(const Eigen::MatrixXd& B) const override {
     // MUMPS solves the block together, an iterative solver column by column.
@@ -208,6 +228,19 @@ class PetscFactor final : public Factor {
     return err;
   }
 
+  /// A preconditioner kept by refactorize is rebuilt at the next one once a solve takes
+  /// twice the most iterations seen with it fresh (and more than 10).
+  void note_iterations() const {
+    PetscInt its = 0;
+    VPC_PETSC(KSPGetIterationNumber(ksp_, &its));
+    PetscBool reuse = PETSC_FALSE;
+    VPC_PETSC(KSPGetReusePreconditioner(ksp_, &reuse));
+    if (!reuse)
+      fresh_iterations_ = std::max<PetscInt>(fresh_iterations_, its);
+    else if (its > std::max<PetscInt>(2 * fresh_iterations_, 10))
+      rebuild_ = true;
+  }
+
   /// Throws unless the last solve converged (a block solve reports no iterations).
   void check_converged(bool single) const {
     KSPConvergedReason reason;
@@ -228,6 +261,8 @@ class PetscFactor final : public Factor {
   int n_ = 0;
   Eigen::VectorXd coordinates_;
   int dim_ = 0;
+  mutable PetscInt fresh_iterations_ = 0;  // see note_iterations
+  mutable bool rebuild_ = false;
 };
 
 }  // namespace

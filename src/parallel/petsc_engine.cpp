@@ -26,7 +26,12 @@ Case load_case_everywhere(const CaseLoader& load, const la::Comm& comm) {
     dim = c.problem->mesh.dim();
   });
   dim = la::broadcast(comm, std::vector<double>{dim})[0];
-  if (comm.rank() != 0) c = load({.build = false, .dim = static_cast<int>(dim)});
+  if (comm.rank() != 0) {
+    MeshRequest without_mesh;  // the mesh comes from rank 0 (distribute_mesh)
+    without_mesh.build = false;
+    without_mesh.dim = static_cast<int>(dim);
+    c = load(without_mesh);
+  }
   return c;
 }
 

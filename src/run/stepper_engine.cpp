@@ -62,7 +62,9 @@ class StepperEngine final : public Engine {
                "nodes\n",
                part.dofs.dim(), part.n_global_nodes, part.n_global_cells, h_min, h_max, part.n_global_dofs,
                part.n_contact);
-    describe_data(stepper_->problem(), case_.solvers, stepper_->setup_seconds());
+    SolverChoice solvers = case_.solvers;
+    solvers.contact = stepper_->contact_solver();  // "auto" resolved
+    describe_data(stepper_->problem(), solvers, stepper_->setup_seconds());
   }
 
  private:

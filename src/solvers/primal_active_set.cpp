@@ -98,8 +98,13 @@ class PrimalActiveSetSolver final : public ContactSolver {
     std::set<std::vector<double>> seen;  // the replicated active sets met in this solve
     ContactReport rep;
     bool monotone = false, converged = false;
+    // An iterative solver finds the set with loose solves (the set decides by signs, not
+    // digits), then confirms it with one at its own tolerance (an inexact semismooth Newton
+    // method); a direct one is exact every time.
+    bool tight = !factor_->iterative();
     for (int it = 0; it < kMaxIterations && !converged; ++it) {
       rep.factorizations += factorize_for(active);
+      factor_->set_relative_tolerance(tight ? 0.0 : kLooseTolerance);
       solve_constrained(active, b, w);
       Vector r;
       K_rot_->residual(b, w, r);
@@ -122,8 +127,11 @@ class PrimalActiveSetSolver final : public ContactSolver {
         }
       }
       ++rep.iterations;
-      converged = comm.all(next == active);
-      if (converged) break;
+      if (comm.all(next == active)) {
+        converged = tight;
+        tight = true;
+        continue;
+      }
       if (monotone) {
         // A set came back: add every violated row, release only the row with the most
         // negative force (the classical active-set step, which cannot cycle).
@@ -156,6 +164,7 @@ class PrimalActiveSetSolver final : public ContactSolver {
 
  private:
   static constexpr int kMaxIterations = 200;
+  static constexpr double kLooseTolerance = 1e-6;
 
   bool compliant(Eigen::Index i) const { return c_.normal_compliance && c_.compliance[i] > 0; }
   /// g_i − N_i u, in the rotated dofs.
@@ -182,8 +191,14 @@ class PrimalActiveSetSolver final : public ContactSolver {
       D.setFromTriplets(springs.begin(), springs.end());
       base = base->plus(D);
     }
-    A_ = base->with_fixed(fixed);
-    factor_->factorize(*A_, "elastic stiffness K with the active contact rows");
+    // The factor (or the preconditioner) keeps a reference to its operator: the old one
+    // lives until the new one is in place.
+    std::shared_ptr<const la::SpdOperator> next = base->with_fixed(fixed);
+    if (A_)
+      factor_->refactorize(*next, "elastic stiffness K with the active contact rows");
+    else
+      factor_->factorize(*next, "elastic stiffness K with the active contact rows");
+    A_ = std::move(next);
     factored_ = active;
     fixed_ = std::move(fixed);
     return 1;

@@ -112,7 +112,8 @@ void check_solvers(const la::Comm& comm, const Chain& c, const Eigen::SparseMatr
     const char* says;
   } variants[] = {{"active-set", {}, "one solve per step (K⁻¹Nᵀ kept)"},
                   {"active-set", two_solves, "two solves per step"},
-                  {"penalty-duality", {}, nullptr}};
+                  {"penalty-duality", {}, nullptr},
+                  {"primal-active-set", {}, nullptr}};
   for (const Variant& v : variants) {
     auto serial = make_contact_solver(v.name, K_serial, N_all, g_all, v.opt);
     Eigen::VectorXd u_s, l_s;
@@ -120,7 +121,11 @@ void check_solvers(const la::Comm& comm, const Chain& c, const Eigen::SparseMatr
     std::shared_ptr<const la::SpdOperator> K = make_op();
     std::shared_ptr<la::Factor> K_factor = factory("K");
     K_factor->factorize(*K, "chain stiffness");
-    ContactConstraints cc{m, rows, N_own, Eigen::Map<Eigen::VectorXd>(gap_own.data(), N_own.rows())};
+    ContactConstraints cc;
+    cc.m = m;
+    cc.rows = rows;
+    cc.N = N_own;
+    cc.gap = Eigen::Map<Eigen::VectorXd>(gap_own.data(), N_own.rows());
     auto dist = make_contact_solver(v.name, K, K_factor, cc, factory, v.opt);
     Eigen::VectorXd u = Eigen::VectorXd::Zero(c.n_owned), lambda;
     const ContactReport r = dist->solve(seg(F), u, lambda);
