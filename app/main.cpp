@@ -12,6 +12,7 @@
 #include "process_policy.hpp"
 #include "io/build_info.hpp"
 #include "io/case_file.hpp"
+#include "la/memory_estimate.hpp"
 #include "child_process.hpp"
 #include "converge_command.hpp"
 #include "figures.hpp"
@@ -121,9 +122,27 @@ vpc::RunOptions run_options(const Options& o, const vpc::CaseInfo& info, const f
   return r;
 }
 
-/// Runs `task` on the engine --engine chooses (parallel_run.hpp).
+/// Runs `task` on the engine --engine chooses (parallel_run.hpp). With `auto` outside mpirun,
+/// a run whose CHOLMOD factors would not fit in memory goes to CG + GAMG on the PETSc engine
+/// on this one process instead (no factor: memory linear in the unknowns; issue 14).
 int on_engine(const Options& o, const vpc::RunOptions& ro, const vpc::EngineTask& task) {
-  return vpc::use_petsc_engine(o.engine) ? vpc::parallel_run(ro, task) : task(vpc::serial_engine());
+  if (vpc::use_petsc_engine(o.engine)) return vpc::parallel_run(ro, task);
+#ifdef VPCONTACT_WITH_PETSC
+  if (o.engine == "auto") {
+    try {
+      return task(vpc::serial_engine());
+    } catch (const vpc::MemoryLimitError& e) {
+      fmt::print(stderr,
+                 "vpcontact: {}\nvpcontact: so the run goes on with CG + GAMG (the PETSc engine on one process: "
+                 "no factor, memory linear in the unknowns); --engine serial refuses instead\n",
+                 e.what());
+      vpc::RunOptions iterative = ro;
+      iterative.linear_solver = "cg-gamg";
+      return vpc::parallel_run(iterative, task);
+    }
+  }
+#endif
+  return task(vpc::serial_engine());
 }
 
 /// Builds the case (build_case) for the run loop; in a distributed run rank 0 builds the mesh and reports.
@@ -198,7 +217,8 @@ void add_case_options(CLI::App* cmd, Options& o) {
   cmd->add_option("--memory-limit", o.memory_limit,
                   "refuse a run estimated to need more memory, e.g. 8G (default: $VPCONTACT_MEMORY_LIMIT, else the "
                   "memory available; 'unlimited': no check)");
-  cmd->add_option("--engine", o.engine, "auto (PETSc under mpirun, if built with it), serial or petsc");
+  cmd->add_option("--engine", o.engine, "auto (PETSc under mpirun, if built with it; else serial, or CG + GAMG on one process when "
+                  "CHOLMOD's factors would not fit in memory), serial or petsc");
   cmd->add_option("--linear-solver", o.run.linear_solver, "PETSc engine: mumps (default), cg-gamg or cg-hypre");
   cmd->add_flag("-q,--quiet", o.run.quiet, "print nothing but errors");
 }

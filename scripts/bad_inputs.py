@@ -209,7 +209,7 @@ INPUTS = [
     # --- sizes (issue 11 items 2, 3): refused before allocating or factorizing, never a crash
     ("--n far too large for a built-in case", {}, ["run", "block-3d", "--n", "100000", "-o", "out"]),
     ("--n too large for a 2D built-in case", {}, ["paper-2d", "--n", "5000"]),
-    ("estimated memory above --memory-limit", {}, ["block-3d", "--n", "20", "--memory-limit", "50M"]),
+    ("estimated memory above --memory-limit", {}, ["block-3d", "--n", "20", "--memory-limit", "50M", "--engine", "serial"]),
     ("--memory-limit that is not a size", {}, ["paper-1d", "--memory-limit", "lots"]),
     ("CHOLMOD runs out of memory (address space limited to 400 MB)", {},
      ["block-3d", "--n", "20", "--memory-limit", "unlimited"], {"address_space": 400_000_000}),

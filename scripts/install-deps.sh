@@ -2,8 +2,9 @@
 # Installs the Debian packages vpcontact builds and runs with. Idempotent and
 # non-interactive: packages already present are left alone; apt is only called
 # when something is missing. Run as root (or with sudo available).
-#   scripts/install-deps.sh         the serial build
-#   scripts/install-deps.sh --mpi   also PETSc and OpenMPI (make test-mpi)
+#   scripts/install-deps.sh            everything (the default build has the PETSc engine)
+#   scripts/install-deps.sh --serial   without PETSc and OpenMPI (-DVPCONTACT_ENABLE_PETSC=OFF)
+# (--mpi, from before PETSc was in the default build, is the same as no option.)
 set -euo pipefail
 
 packages=(
@@ -22,9 +23,8 @@ packages=(
   libbenchmark-dev         # benchmarks
   python3-matplotlib python3-numpy  # figures
 )
-# The distributed engine (docs/parallel.md), only with --mpi: the serial build
-# needs none of it.
-if [ "${1:-}" = "--mpi" ]; then
+# The PETSc engine (docs/parallel.md): CG + AMG for large runs, MPI for many processes.
+if [ "${1:-}" != "--serial" ]; then
   packages+=(
     libpetsc-real-dev        # PETSc 3.18 with MUMPS, hypre, PTScotch
     libopenmpi-dev openmpi-bin  # MPI and mpirun

@@ -4,6 +4,8 @@
 // sizes come from CHOLMOD's symbolic analysis (la::Factor::analyze).
 #include "la/factor.hpp"
 
+#include "core/error.hpp"
+
 #include <string>
 #include <utility>
 #include <vector>
@@ -49,7 +51,14 @@ struct MemoryEstimate {
 MemoryEstimate estimate_run_memory(double mesh_bytes, double matrix_bytes, const FactorEstimate& K,
                                    const FactorEstimate& H, bool damage_active_set, double contact_nodes);
 
-/// Throws vpc::Error naming the estimate by part and the limit when the estimate
+/// A run whose direct factors do not fit (check_memory): the command line may then
+/// take an iterative solver instead (app/main.cpp, --engine auto).
+class MemoryLimitError : public Error {
+ public:
+  using Error::Error;
+};
+
+/// Throws MemoryLimitError naming the estimate by part and the limit when the estimate
 /// exceeds it; `what` names the run.
 void check_memory(const MemoryEstimate& estimate, const MemoryLimit& limit, const std::string& what);
 

@@ -53,7 +53,11 @@ std::unique_ptr<TimeStepper> petsc_stepper(MPI_Comm mpi_comm, Case& c, const std
 }
 
 EngineChoice petsc_engine(MPI_Comm comm, const std::string& linear_solver) {
-  return {[comm](const CaseLoader& load, const RunOptions& o) { return set_up_petsc(comm, load, o); },
+  return {[comm, linear_solver](const CaseLoader& load, const RunOptions& o) {
+            RunOptions with = o;  // the engine's solver (the command line's fallback may differ from --linear-solver)
+            with.linear_solver = linear_solver;
+            return set_up_petsc(comm, load, with);
+          },
           [comm, linear_solver](std::shared_ptr<const Problem> problem, const SolverChoice& choice) {
             return distributed_stepper(comm, std::move(problem), choice, linear_solver);
           },

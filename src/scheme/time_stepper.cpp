@@ -156,7 +156,7 @@ void TimeStepper::assemble_and_factorize() {
     const double matrix_bytes =
         12.0 * (K_local.nonZeros() + M_local_.nonZeros() + A_local_.nonZeros() + 2.0 * H_local.nonZeros());
     check_memory(estimate_run_memory(mesh_bytes, matrix_bytes, *K_size, H_size.value_or(FactorEstimate{}),
-                                     choice_.damage == "active-set", part_.n_contact),
+                                     choice_.damage == "active-set", primal ? 0 : part_.n_contact),
                  memory_limit(choice_.memory_limit), p.name);
   }
   // The primal contact solver factors K with its active rows when it first solves.
