@@ -178,7 +178,7 @@ void TimeStepper::assemble_and_factorize() {
     // assembled from the cells' matrices like K (Q acts within each node's dofs).
     std::shared_ptr<const la::SpdOperator> K_rot;
     if (part_.comm.any(contact_reflections(constraints.N).size() > 0)) {
-      const SparseMatrix Q = contact_reflections(local_contact_rows());
+      const SparseMatrix Q = contact_reflections(contact_matrix(false));
       K_rot = backend_->assemble(SparseMatrix(Q * K_local * Q), *part_.dof_layout, block);
     }
     contact_ = make_primal_active_set_solver(K_, std::move(K_rot), std::exchange(K_factor_, nullptr),
@@ -211,36 +211,28 @@ const la::Factor& TimeStepper::stiffness_factor() {
   return *K_factor_;
 }
 
-SparseMatrix TimeStepper::local_contact_rows() const {
+SparseMatrix TimeStepper::contact_matrix(bool owned_only) const {
   const int d = part_.mesh().dim();
   std::vector<Eigen::Triplet<double>> t;
   int row = 0;
   for (const PartContactNode& node : part_.contact) {
+    if (owned_only && !node.owned) continue;
     for (int i = 0; i < d; ++i)
-      if (const int k = part_.dofs.full_index(node.local_node, i); node.direction[i] != 0 && part_.dofs.free_index(k) >= 0)
-        t.emplace_back(row, part_.dofs.free_index(k), node.direction[i]);
+      if (const int k = part_.dofs.free_index(part_.dofs.full_index(node.local_node, i)); node.direction[i] != 0 && k >= 0)
+        t.emplace_back(row, k, node.direction[i]);
     ++row;
   }
-  SparseMatrix N(row, part_.dofs.n_free());
+  SparseMatrix N(row, owned_only ? part_.n_owned_dofs : part_.dofs.n_free());
   N.setFromTriplets(t.begin(), t.end());
   return N;
 }
 
 ContactConstraints TimeStepper::contact_constraints() const {
-  const int d = part_.mesh().dim();
   ContactConstraints c;
   c.m = part_.n_contact;
-  std::vector<Eigen::Triplet<double>> t;
-  for (const PartContactNode& node : part_.contact) {
-    if (!node.owned) continue;
-    const int row = static_cast<int>(c.rows.size());
-    for (int i = 0; i < d; ++i)
-      if (node.direction[i] != 0)
-        t.emplace_back(row, part_.dofs.free_index(part_.dofs.full_index(node.local_node, i)), node.direction[i]);
-    c.rows.push_back(node.row);
-  }
-  c.N.resize(static_cast<Eigen::Index>(c.rows.size()), part_.n_owned_dofs);
-  c.N.setFromTriplets(t.begin(), t.end());
+  for (const PartContactNode& node : part_.contact)
+    if (node.owned) c.rows.push_back(node.row);
+  c.N = contact_matrix(true);
   c.gap = contact_gap(0.0);
   // λ_i = k_i (N_i u − g_i)₊^{e_i}, k_i = c |Γ3|_i: the law at the node times its measure (ContactRow).
   std::vector<double> compliance, exponent;

@@ -190,9 +190,10 @@ class TimeStepper {
   /// A factor of K's kind (name "K"), its coordinates set for multigrid's rigid-body modes.
   std::shared_ptr<la::Factor> make_stiffness_factor(int block) const;
   int K_block_ = 1;
-  /// N over this process's local free dofs (owned, then ghosts), one row per contact node it
-  /// knows, owned or not: the reflections of K_rot's local matrix.
-  SparseMatrix local_contact_rows() const;
+  /// N, one row per contact node of this process in part_.contact order: its owned nodes over
+  /// the owned free dofs (ContactConstraints::N), or every node it knows, ghosts included, over
+  /// its local free dofs (owned, then ghosts: the reflections of K_rot's local matrix).
+  SparseMatrix contact_matrix(bool owned_only) const;
   std::unique_ptr<ContactSolver> contact_;
   std::unique_ptr<DamageSolver> damage_;  // for the step k
   std::vector<std::unique_ptr<DamageSolver>> halved_damage_;  // for k / 2^level, made when needed

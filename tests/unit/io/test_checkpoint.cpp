@@ -78,6 +78,23 @@ TEST(Checkpoint, RestoredRunIsBitIdentical) {
   expect_same_continuation(a, b);
 }
 
+// The primal contact solver (issue 14) keeps its factor of K with the last active set: a
+// resumed run factors afresh, and CHOLMOD gives the same factor on the same matrix, so the
+// continuation is bit-identical too (the whole-face case: the set changes at most steps).
+TEST(Checkpoint, RestoredPrimalContactRunIsBitIdentical) {
+  const auto problem = [] {
+    Case c = load_case("foundation-3d", {.steps = 10}, {.cells = 4});
+    c.solvers.contact = "primal-active-set";
+    return c;
+  };
+  const Case ca = problem(), cb = problem();
+  TimeStepper a(ca.problem, ca.solvers), b(cb.problem, cb.solvers);
+  for (int i = 0; i < 4; ++i) a.step();
+  b.restore(read_checkpoint(write_checkpoint(fresh_dir("restore_primal"), checkpoint_of(a))).snapshot);
+  expect_same_continuation(a, b);
+  EXPECT_GT(a.state().lambda.size(), 0);
+}
+
 TEST(Checkpoint, DamagedNewestFallsBackToTheOlderOne) {
   TimeStepper s(small_2d());
   const fs::path dir = fresh_dir("damaged");
