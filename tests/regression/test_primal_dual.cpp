@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <string>
 
 namespace vpc {
@@ -15,7 +16,7 @@ namespace {
 
 double largest(const Vector& v) { return v.size() ? v.cwiseAbs().maxCoeff() : 0.0; }
 
-State run_steps(const std::string& name, const std::string& solver, int steps, int* active) {
+State run_steps(const std::string& name, const std::string& solver, int steps, int* active, int* cycles) {
   Case c = load_case(name);
   c.solvers.contact = solver;
   TimeStepper s(c.problem, c.solvers);
@@ -25,6 +26,7 @@ State run_steps(const std::string& name, const std::string& solver, int steps, i
     EXPECT_TRUE(r.ok) << name << " " << solver << " step " << n + 1;
     EXPECT_LE(r.contact.residuals.max(), c.solvers.residual_tolerance);
     *active = std::max(*active, r.contact.n_active);
+    *cycles += r.contact.cycles;
   }
   return s.state();
 }
@@ -32,10 +34,11 @@ State run_steps(const std::string& name, const std::string& solver, int steps, i
 TEST(PrimalDual, EveryShippedCaseAgrees) {
   for (const std::string& name : builtin_case_names()) {
     SCOPED_TRACE(name);
-    int active_dual = 0, active_primal = 0;
-    const State dual = run_steps(name, "active-set", 5, &active_dual);
-    const State primal = run_steps(name, "primal-active-set", 5, &active_primal);
+    int active_dual = 0, active_primal = 0, cycles = 0;
+    const State dual = run_steps(name, "active-set", 5, &active_dual, &cycles);
+    const State primal = run_steps(name, "primal-active-set", 5, &active_primal, &cycles);
     EXPECT_EQ(active_primal, active_dual);
+    EXPECT_EQ(cycles, 0);  // no active set came back (ContactReport::cycles)
     EXPECT_LE(largest(primal.u - dual.u), 1e-8 * largest(dual.u));
     EXPECT_LE(largest(primal.lambda - dual.lambda), 1e-8 * std::max(largest(dual.lambda), 1e-300));
     EXPECT_LE(largest(primal.beta - dual.beta), 1e-8);
@@ -47,6 +50,34 @@ TEST(PrimalDual, EveryShippedCaseAgrees) {
       }
     EXPECT_LE(sigma, 1e-8 * scale);
   }
+}
+
+// The whole-face case over its 100 steps (the set grows from the centre to all (n + 1)² nodes):
+// how many iterations and factorizations a step of the primal solver costs on CHOLMOD, and
+// whether an active set ever comes back (the cycling guard's count). Printed for
+// docs/performance.md; the bounds are this machine's measurement with a margin.
+TEST(PrimalDual, WholeFaceCaseCostAndCycles) {
+  Case c = load_case("foundation-3d", {}, {.cells = 8});
+  c.solvers.contact = "primal-active-set";
+  TimeStepper s(c.problem, c.solvers);
+  int iterations = 0, most = 0, factorizations = 0, cycles = 0, changed = 0, steps = 0;
+  while (!s.done()) {
+    const StepReport r = s.step();
+    ASSERT_TRUE(r.ok);
+    iterations += r.contact.iterations;
+    most = std::max(most, r.contact.iterations);
+    factorizations += r.contact.factorizations;
+    changed += r.contact.factorizations > 0;
+    cycles += r.contact.cycles;
+    ++steps;
+  }
+  std::printf("  foundation-3d n = 8, %d steps, primal on CHOLMOD: %d solves (at most %d in a step), %d "
+              "factorizations in %d steps whose set changed, %d cycles; %d of %d nodes active at T\n",
+              steps, iterations, most, factorizations, changed, cycles, static_cast<int>((s.state().lambda.array() > 0).count()),
+              static_cast<int>(s.state().lambda.size()));
+  EXPECT_EQ(cycles, 0);
+  EXPECT_LE(iterations, 3 * steps);
+  EXPECT_EQ((s.state().lambda.array() > 0).count(), s.state().lambda.size());  // the whole face at T
 }
 
 }  // namespace
