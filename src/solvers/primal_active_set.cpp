@@ -90,8 +90,13 @@ class PrimalActiveSetSolver final : public ContactSolver {
     const la::Comm& comm = K_->comm();
     const Vector b = rotate(F);
     Vector w = rotate(u.size() == F.size() ? u : Vector(Vector::Zero(F.size())));
+    // Warm start: the previous active set (λ > 0) and the rows the initial guess violates. When
+    // the caller continues from this solver's last answer, the guess is the extrapolation of the
+    // last two answers (a step's load and gap change smoothly): foundation-3d n = 8, 100 steps on
+    // CHOLMOD, 127 → 105 solves; n = 20, 20 steps on CG + GAMG, 68 → 60 (loose ones included).
+    if (w_before_.size() == w.size() && comm.all(u.size() == u_last_.size() && u == u_last_))
+      w = 2 * w_last_ - w_before_;
     const Vector lambda_in = lambda.size() == c_.m ? local_rows(c_, lambda) : Vector(Vector::Zero(rows));
-    // Warm start: the previous step's active set (λ > 0) and the rows its displacement violates.
     std::vector<char> active(static_cast<size_t>(rows));
     for (Eigen::Index i = 0; i < rows; ++i) active[i] = lambda_in[i] > 0 || gap_left(w, i) < 0;
     Vector lambda_local = Vector::Zero(rows);
@@ -138,6 +143,11 @@ class PrimalActiveSetSolver final : public ContactSolver {
         const double global_worst = comm.min(most_negative);
         for (Eigen::Index i = 0; i < rows; ++i)
           if (!compliant(i)) next[i] = active[i] ? !(i == worst && most_negative == global_worst) : next[i];
+        if (comm.all(next == active)) {  // what the rule would still release has λ = 0: KKT holds
+          converged = tight;
+          tight = true;
+          continue;
+        }
       }
       const Vector flags = replicate(comm, c_, Eigen::Map<const Eigen::Matrix<char, Eigen::Dynamic, 1>>(
                                                    next.data(), rows).cast<double>());
@@ -147,7 +157,10 @@ class PrimalActiveSetSolver final : public ContactSolver {
       }
       active = std::move(next);
     }
+    w_before_ = std::move(w_last_);
+    w_last_ = w;
     u = unrotate(w);
+    u_last_ = u;
     lambda = replicate(comm, c_, lambda_local);
     ContactReport out = contact_report(*K_, c_, F, u, lambda, converged, rep.iterations);
     out.factorizations = rep.factorizations;
@@ -233,6 +246,8 @@ class PrimalActiveSetSolver final : public ContactSolver {
   std::vector<double> scale_;      // c_i of the update rule
   std::shared_ptr<const la::SpdOperator> A_;  // K_rot (+ springs) with the factored set's rows fixed
   std::vector<char> factored_, fixed_;
+  Vector w_last_, w_before_;  // the last two answers (rotated): the extrapolated warm start
+  Vector u_last_;             // the last answer as returned (is the caller continuing from it?)
 };
 
 }  // namespace
