@@ -320,6 +320,12 @@ int main(int argc, char** argv) {
     std::fflush(stdout);
     fmt::print(stderr, "vpcontact: error: {}\n", e.what());
     return 1;
+  } catch (const std::bad_alloc&) {
+    std::fflush(stdout);
+    fmt::print(stderr, "vpcontact: error: out of memory (an allocation failed: the machine's memory, or a limit such "
+                       "as ulimit -v, was reached); use a coarser mesh or more memory (--memory-limit checks a run "
+                       "against a limit before it factorizes)\n");
+    return 1;
   } catch (const std::exception& e) {
     fmt::print(stderr, "vpcontact: internal error: {}\n", e.what());
     return 2;

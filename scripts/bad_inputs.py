@@ -211,8 +211,8 @@ INPUTS = [
     ("--n too large for a 2D built-in case", {}, ["paper-2d", "--n", "5000"]),
     ("estimated memory above --memory-limit", {}, ["block-3d", "--n", "20", "--memory-limit", "50M", "--engine", "serial"]),
     ("--memory-limit that is not a size", {}, ["paper-1d", "--memory-limit", "lots"]),
-    ("CHOLMOD runs out of memory (address space limited to 400 MB)", {},
-     ["block-3d", "--n", "20", "--memory-limit", "unlimited"], {"address_space": 400_000_000}),
+    ("CHOLMOD runs out of memory (address space limited to 460 MB)", {},
+     ["block-3d", "--n", "20", "--memory-limit", "unlimited"], {"address_space": 460_000_000}),
     # --- contact data (items 4, 12)
     ("contact direction pointing into the body", {"c.toml": case('gap = "0.001*x"', 'gap = "0.001*x"\ndirection = [0, 1]')},
      ["c.toml"]),
