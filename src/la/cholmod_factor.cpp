@@ -202,7 +202,6 @@ class CholmodFactor final : public Factor {
     return fmt::format("{} (n = {}, {} nonzeros in the lower triangle)", what_, n_, nnz_lower_);
   }
 
-  /// The lower triangle of A with 64-bit indices (CHOLMOD reads only it: stype −1).
   /// FNV-1a over the column pointers and row indices (explicit zeros count as entries).
   static std::uint64_t pattern_hash(const SparseMatrix& A) {
     std::uint64_t h = 1469598103934665603ull;
@@ -214,6 +213,7 @@ class CholmodFactor final : public Factor {
     return h;
   }
 
+  /// The lower triangle of A with 64-bit indices (CHOLMOD reads only it: stype −1).
   void copy_lower(const SparseMatrix& A) {
     lower_.p.assign(1, 0);
     lower_.p.reserve(static_cast<size_t>(n_) + 1);
