@@ -21,7 +21,7 @@ std::unique_ptr<SpdOperator> SparseOperator::with_fixed(const std::vector<char>&
   Eigen::SparseMatrix<double> B = A_;  // explicit zeros kept: the pattern stays A's
   for (int k = 0; k < B.outerSize(); ++k)
     for (Eigen::SparseMatrix<double>::InnerIterator it(B, k); it; ++it)
-      if (fixed[it.row()] || fixed[it.col()]) it.valueRef() = it.row() == it.col() ? 1.0 : 0.0;
+      if (fixed[it.row()] || fixed[it.col()]) if (it.row() != it.col()) it.valueRef() = 0.0;
   return std::make_unique<SparseOperator>(std::move(B));
 }
 

@@ -1,6 +1,6 @@
 // The linear-algebra layer (la/) on several ranks: reductions and the shared
 // error, ghost updates (forward, reverse-add), gather/scatter round trip in the
-// original numbering, the MPIAIJ operator's mult and restriction against the
+// original numbering, the MPIAIJ operator's mult, restriction and fixed rows against the
 // serial Eigen operator, the box QP with bounds active on different ranks
 // against the serial solve, and the solvers written once over la/ (contact: active
 // set with W = K⁻¹Nᵀ kept or two solves, penalty–duality; damage: active set and
@@ -242,6 +242,14 @@ void run() {
   HFFs->mult(xf_s, yf_s);
   HFF->mult(xf_s.segment(before, HFF->n_owned()), yf);
   check((yf - yf_s.segment(before, HFF->n_owned())).lpNorm<Eigen::Infinity>() <= 1e-12, "restriction", comm);
+  // Fixed rows (the primal contact solver's active rows): A_jj e_j on those rows and columns.
+  const auto Hfix = H.with_fixed(fixed);
+  const auto Hfix_s = Hs.with_fixed(fixed_s);
+  Hfix_s->mult(xs, ys);
+  Hfix->mult(xs.segment(c.begin, c.n_owned), y);
+  check((y - ys.segment(c.begin, c.n_owned)).lpNorm<Eigen::Infinity>() <= 1e-12 &&
+            Hfix->diagonal() == Hs.diagonal().segment(c.begin, c.n_owned) && Hfix->nonzeros() == H.nonzeros(),
+        "fixed rows (same pattern, A's diagonal kept)", comm);
 
   // The box QP with bounds active on different ranks (MUMPS: no halves, reduced factors).
   Eigen::VectorXd b(c.N);

@@ -90,6 +90,20 @@ TEST(LaOperator, MultDiagonalAndRestrictionMatchDense) {
   EXPECT_EQ(Eigen::MatrixXd(dynamic_cast<const SparseOperator&>(*AFF).matrix()), DFF);
 }
 
+TEST(LaOperator, FixedRowsKeepTheirDiagonalAndThePattern) {
+  const SparseOperator A(tridiagonal(6, 4.0, -1.0));
+  const Eigen::MatrixXd D = Eigen::MatrixXd(A.matrix());
+  const std::vector<char> fixed = {0, 1, 0, 0, 1, 0};
+  const auto B = A.with_fixed(fixed);
+  const Eigen::MatrixXd DB = Eigen::MatrixXd(dynamic_cast<const SparseOperator&>(*B).matrix());
+  for (int i = 0; i < 6; ++i)
+    for (int j = 0; j < 6; ++j) {
+      const double expected = fixed[i] || fixed[j] ? (i == j ? D(i, i) : 0.0) : D(i, j);
+      EXPECT_EQ(DB(i, j), expected) << i << "," << j;
+    }
+  EXPECT_EQ(B->nonzeros(), A.nonzeros());  // explicit zeros: a factor reuses its analysis
+}
+
 TEST(LaFactor, CholmodSolvesAndItsHalvesComposeToTheSolve) {
   const SparseOperator A(tridiagonal(8, 3.0, -1.0));
   auto f = make_cholmod_factor();
