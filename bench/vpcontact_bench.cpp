@@ -169,6 +169,7 @@ int main(int argc, char** argv) {
     const double peak_rss = comm.max(peak_rss_bytes()), factor_bytes = comm.sum(stepper.factor_bytes()),
                  model_bytes = comm.sum(stepper.model_bytes());
     ok = comm.all(ok);
+    const auto& cost = stepper.solver_cost();  // -1 in the JSON: no symbolic analysis (PETSc)
     if (root)
       fmt::print(
         "{{\"case\": \"{}\", \"n\": {}, \"steps\": {}, \"dofs\": {}, \"damage_dofs\": {}, \"contact_nodes\": {}, "
@@ -178,12 +179,14 @@ int main(int argc, char** argv) {
         "\"wall\": {:.6f}, \"max_contact_iterations\": {}, \"max_damage_iterations\": {}, \"active\": {}, "
         "\"max_residual\": {:.3e}, \"ok\": {}, \"factor_bytes\": {:.0f}, \"model_bytes\": {:.0f}, "
         "\"peak_rss_bytes\": {:.0f}, \"vtu_every\": {}, \"damage_s_total\": {:.6f}, \"factorizations\": {}, "
-        "\"engine\": \"{}\", \"ranks\": {}, \"linear_solver\": \"{}\"}}\n",
+        "\"engine\": \"{}\", \"ranks\": {}, \"linear_solver\": \"{}\", \"estimate_direct\": {:.4g}, "
+        "\"estimate_iterative\": {:.4g}, \"estimate\": \"{}\"}}\n",
         name, n, steps, part.n_global_dofs, part.n_global_nodes, part.n_contact, part.n_global_cells, s.total, s.assembly, s.factor_K, s.factor_H, s.contact, median(solve_times),
         median(total), median(src), median(dmg), median(ct), median(st), median(outp), sum_steps, wall, max_ci,
         max_di, active, max_res, ok ? "true" : "false", factor_bytes, model_bytes, peak_rss, vtu_every,
         std::accumulate(dmg.begin(), dmg.end(), 0.0), stepper.n_factorizations(), engine, comm.size(),
-        stepper.backend().linear_solver());
+        stepper.backend().linear_solver(), cost ? cost->direct : -1.0, cost ? cost->iterative : -1.0,
+        cost ? cost->detail : std::string());
     return ok ? 0 : 4;
   } catch (const std::exception& e) {
     fmt::print(stderr, "vpcontact-bench: error: {}\n", e.what());

@@ -105,6 +105,7 @@ class CholmodFactor final : public Factor {
       fail("{}: the symbolic analysis for the Cholesky factorization failed: {}", describe(), cholmod_failure(c_));
     estimate_.rows = n_;
     estimate_.entries = static_cast<double>(L_->xsize);
+    estimate_.flops = c_.fl;
     estimate_.factor_bytes = static_cast<double>(L_->xsize) * sizeof(double) + integer_bytes();
     // Peak extra during the numeric factorization: CHOLMOD's permuted transpose
     // of A and its dense update buffer (maxcsize entries), besides our copy of A.

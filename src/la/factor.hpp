@@ -26,6 +26,7 @@ struct FactorEstimate {
   double entries = 0;          // values in the factor
   double factor_bytes = 0;     // values and integer structure, held until the solver goes
   double workspace_bytes = 0;  // extra at the peak of the numeric factorization
+  double flops = 0;            // of the numeric factorization (CHOLMOD's count for its ordering)
 };
 
 /// Columns per block of dense right-hand sides of n rows: up to `most`, but each

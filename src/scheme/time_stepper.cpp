@@ -3,6 +3,7 @@
 #include "core/error.hpp"
 #include "la/memory_estimate.hpp"
 #include "solvers/primal_active_set.hpp"
+#include "solvers/solver_cost.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -158,6 +159,12 @@ void TimeStepper::assemble_and_factorize() {
     check_memory(estimate_run_memory(mesh_bytes, matrix_bytes, *K_size, H_size.value_or(FactorEstimate{}),
                                      choice_.damage == "active-set", primal ? 0 : part_.n_contact),
                  memory_limit(choice_.memory_limit), p.name);
+    solver_cost_ = estimate_solver_cost(*K_size, static_cast<double>(K_->nonzeros()), part_.n_contact, p.n_steps,
+                                        !primal);
+    if (choice_.iterative_fallback && choice_.contact == "auto" && !constraints.power_law &&
+        iterative_is_faster(*solver_cost_))
+      throw IterativeIsFaster(fmt::format("{}: CG + GAMG is estimated to take less than half the direct solver's "
+                                          "time ({})", p.name, solver_cost_->detail));
   }
   // The primal contact solver factors K with its active rows when it first solves.
   if (!primal) K_factor_->factorize(*K_, "elastic stiffness K");

@@ -13,9 +13,11 @@
 #include "scheme/state.hpp"
 #include "solvers/contact_solver.hpp"
 #include "solvers/damage_solver.hpp"
+#include "solvers/solver_cost.hpp"
 
 #include <functional>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -41,6 +43,10 @@ struct SolverChoice {
   /// The memory a run may use (la/memory_estimate.hpp): a size such as "8G",
   /// or empty for $VPCONTACT_MEMORY_LIMIT, else the machine's available memory.
   std::string memory_limit;
+  /// The caller can run the case on CG + GAMG instead (--engine auto on one process): with
+  /// contact "auto", a set-up whose direct path is estimated to be much slower
+  /// (solvers/solver_cost.hpp) throws IterativeIsFaster before factorizing.
+  bool iterative_fallback = false;
 };
 
 /// The smallest value and where it is. The one rule for min β in the step
@@ -150,6 +156,9 @@ class TimeStepper {
   double model_bytes() const;
   double setup_seconds() const { return setup_timing_.total; }
   const SetupTiming& setup_timing() const { return setup_timing_; }
+  /// The estimated cost of the run by the direct and the iterative path (solvers/solver_cost.hpp),
+  /// where the backend's factor has a symbolic analysis (CHOLMOD).
+  const std::optional<SolverCost>& solver_cost() const { return solver_cost_; }
 
  private:
   void assemble_and_factorize();
@@ -201,6 +210,7 @@ class TimeStepper {
   State state_;
   Vector u_free_;  // owned free dofs: the contact solver's warm start
   SetupTiming setup_timing_;
+  std::optional<SolverCost> solver_cost_;
   double miss_gap_ = 0;  // the gap where no obstacle lies ahead (contact_miss_gap)
   std::vector<int> dirichlet_cells_;  // the part's cells with a prescribed dof: u_D's lifting, the reactions
 };
