@@ -8,8 +8,8 @@
 // a fresh stepper resumes from the checkpoint: its state, gathered on rank 0, must be the
 // written state bit for bit (u, β, λ, σ, ε, z, u on the free dofs, both warm states); run
 // to the end, it must agree with the uninterrupted run to the tolerance (u, β, λ, σ, ε, z): not bit
-// for bit, as sums are taken in another order on another rank count, and MUMPS on several
-// ranks does not repeat its last bits from run to run even on the same count. Last, with a piece of step S/2 damaged and then missing, a resume
+// for bit, as sums are taken in another order on another rank count, and the PETSc engine on
+// several ranks does not repeat its last bits from run to run even on the same count. Last, with a piece of step S/2 damaged and then missing, a resume
 // on all P ranks must take step 1 and say why. Prints PASSED only if all hold.
 #include "cases/builtin_cases.hpp"
 #include "io/checkpoint.hpp"
