@@ -7,9 +7,14 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
+#include <bit>
+#include <cctype>
 #include <cstring>
 #include <fstream>
-#include <sstream>
+#include <set>
+#include <span>
+#include <string_view>
 
 namespace vpc {
 
@@ -18,15 +23,76 @@ namespace fs = std::filesystem;
 namespace {
 
 constexpr char kMagic[8] = {'V', 'P', 'C', 'C', 'K', 'P', 'T', '\0'};
-constexpr std::uint32_t kVersion = 2;  // 2: the run totals hold the last step's active count
+// 2: the whole state in one file (the run totals hold the last step's active count);
+// 3: one piece of a checkpoint written by several processes.
+constexpr std::uint32_t kWhole = 2, kPiece = 3;
+constexpr std::size_t kHeaderBytes = sizeof kMagic + 2 * sizeof(std::uint32_t) + 2 * sizeof(std::uint64_t);
 
 std::uint64_t fnv1a(const char* data, std::size_t n, std::uint64_t h = 1469598103934665603ull) {
   for (std::size_t i = 0; i < n; ++i) h = (h ^ static_cast<unsigned char>(data[i])) * 1099511628211ull;
   return h;
 }
 
+// ---------------------------------------------------------------------------------
+// File names: checkpoint_NNNNN.bin (the whole state, or piece 0) and
+// checkpoint_NNNNN.pRRRR-of-PPPP.bin (piece r ≥ 1 of P).
+
+fs::path main_file(const fs::path& dir, long long n) { return dir / fmt::format("checkpoint_{:05d}.bin", n); }
+
+fs::path piece_file(const fs::path& dir, long long n, long long r, long long p) {
+  if (r == 0) return main_file(dir, n);
+  return dir / fmt::format("checkpoint_{:05d}.p{:04d}-of-{:04d}.bin", n, r, p);
+}
+
+/// The step of a checkpoint file or piece; -1 for any other file.
+int step_of(const fs::path& p) {
+  const std::string f = p.filename().string();
+  if (f.rfind("checkpoint_", 0) != 0 || !f.ends_with(".bin") || f.size() < 16 || !std::isdigit(f[11])) return -1;
+  return std::atoi(f.c_str() + 11);
+}
+
+bool is_main(const fs::path& p) {
+  const int n = step_of(p);
+  return n >= 0 && p.filename() == main_file({}, n).filename();
+}
+
+/// The steps of the checkpoints (their checkpoint_NNNNN.bin) in `dir`, newest first.
+std::vector<long long> checkpoint_steps(const fs::path& dir) {
+  std::vector<long long> steps;
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator(dir, ec))
+    if (is_main(e.path())) steps.push_back(step_of(e.path()));
+  std::sort(steps.rbegin(), steps.rend());
+  return steps;
+}
+
+/// After the checkpoint of step n (its files `written`): removes the files of later
+/// steps (damaged, or of a timeline this run replaced: a later --resume must not pick
+/// them), step n's pieces that this write did not make (another rank count), and the
+/// checkpoints older than the newest `keep` (an older one is the fallback if the newest
+/// is ever damaged).
+void remove_stale(const fs::path& dir, long long n, const std::set<fs::path>& written, int keep) {
+  std::set<fs::path> names;
+  for (const fs::path& p : written) names.insert(p.filename());
+  std::set<long long> kept;
+  for (long long s : checkpoint_steps(dir))
+    if (s <= n && static_cast<int>(kept.size()) < std::max(keep, 1)) kept.insert(s);
+  std::vector<fs::path> doomed;
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator(dir, ec)) {
+    const long long s = step_of(e.path());
+    if (s > n || (s == n && !names.count(e.path().filename())) || (s >= 0 && s < n && !kept.count(s)))
+      doomed.push_back(e.path());
+  }
+  for (const auto& p : doomed) fs::remove(p, ec);
+}
+
+// ---------------------------------------------------------------------------------
+// Writing: the payload is streamed twice (size and checksum, then the bytes) from
+// views of the caller's arrays, never held in memory.
+
 /// Serializes the payload to a stream, or (without one) only measures its size
-/// and checksum: the payload is written in two passes and never held in memory.
+/// and checksum.
 class Writer {
  public:
   explicit Writer(std::ostream* out = nullptr) : out_(out) {}
@@ -34,16 +100,14 @@ class Writer {
   void pod(const T& v) {
     bytes(reinterpret_cast<const char*>(&v), sizeof v);
   }
-  void string(const std::string& s) {
+  void string(std::string_view s) {
     pod<std::uint64_t>(s.size());
     bytes(s.data(), s.size());
   }
-  void doubles(const double* p, std::size_t n) {
-    pod<std::uint64_t>(n);
-    bytes(reinterpret_cast<const char*>(p), n * sizeof(double));
+  void doubles(std::span<const double> v) {
+    pod<std::uint64_t>(v.size());
+    bytes(reinterpret_cast<const char*>(v.data()), v.size_bytes());
   }
-  void vector(const Vector& v) { doubles(v.data(), static_cast<std::size_t>(v.size())); }
-  void tensors(const std::vector<SymTensor>& t) { doubles(t.empty() ? nullptr : t[0].c.data(), 6 * t.size()); }
   std::uint64_t size() const { return size_; }
   std::uint64_t checksum() const { return hash_; }
 
@@ -60,58 +124,449 @@ class Writer {
   std::uint64_t size_ = 0, hash_ = fnv1a(nullptr, 0);
 };
 
-class Reader {
+using Values = std::span<const double>;
+
+Values values(const Vector& v) { return {v.data(), static_cast<std::size_t>(v.size())}; }
+Values values(const std::vector<SymTensor>& t) { return {t.empty() ? nullptr : t[0].c.data(), 6 * t.size()}; }
+
+/// Which piece of how many a file is, and the blocks of the numbering of the mesh
+/// as read that it holds.
+struct PieceHead {
+  std::uint64_t index = 0, count = 1;
+  std::uint64_t node_begin = 0, node_end = 0, cell_begin = 0, cell_end = 0;
+};
+
+/// A piece's payload size and checksum (piece 0 lists the others').
+struct PieceSum {
+  std::uint64_t size = 0, checksum = 0;
+  bool operator==(const PieceSum&) const = default;
+};
+
+/// The arrays of a file, in their order.
+enum Array { kU, kBeta, kLambda, kUFree, kSigma, kEps, kZ, kContactWarm, kDamageWarm, kArrays };
+
+/// What one file holds, as views (nothing copied). Without a head: version 2, the
+/// whole state. With one: version 3, piece head->index, its state arrays its blocks.
+struct FileContent {
+  std::string_view case_name;
+  std::uint64_t fingerprint = 0;
+  std::int64_t n = 0;
+  double t = 0;
+  std::optional<PieceHead> head;
+  std::array<Values, kArrays> arrays;
+  const std::vector<std::pair<double, std::string>>* pvd = nullptr;  // version 2 and piece 0
+  const RunTotals* totals = nullptr;
+  std::vector<PieceSum> others;  // piece 0: pieces 1 … P − 1
+  bool whole_or_first() const { return !head || head->index == 0; }
+};
+
+void write_payload(Writer& w, const FileContent& f) {
+  w.string(f.case_name);
+  w.pod(f.fingerprint);
+  w.pod(f.n);
+  w.pod(f.t);
+  if (f.head)
+    for (std::uint64_t v : {f.head->count, f.head->index, f.head->node_begin, f.head->node_end, f.head->cell_begin,
+                            f.head->cell_end})
+      w.pod(v);
+  for (Values a : f.arrays) w.doubles(a);
+  if (!f.whole_or_first()) return;
+  w.pod<std::uint64_t>(f.pvd->size());
+  for (const auto& [t, file] : *f.pvd) {
+    w.pod(t);
+    w.string(file);
+  }
+  const RunTotals& r = *f.totals;
+  for (double v : {r.max_contact_residual, r.max_damage_residual, r.seconds_sources, r.seconds_damage,
+                   r.seconds_contact, r.seconds_stress, r.seconds_output})
+    w.pod(v);
+  w.pod<std::int64_t>(r.max_contact_iterations);
+  w.pod<std::int64_t>(r.max_damage_iterations);
+  w.pod<std::uint8_t>(r.all_ok ? 1 : 0);
+  w.pod<std::int64_t>(r.last_n_active);
+  for (const PieceSum& s : f.others) {
+    w.pod(s.size);
+    w.pod(s.checksum);
+  }
+}
+
+/// Writes one file atomically; returns its payload's size and checksum.
+PieceSum write_file(const fs::path& path, const FileContent& f) {
+  Writer measure;
+  write_payload(measure, f);
+  write_file_atomic(path, [&](std::ostream& out) {
+    out.write(kMagic, sizeof kMagic);
+    const std::uint32_t version = f.head ? kPiece : kWhole, reserved = 0;
+    const std::uint64_t size = measure.size(), sum = measure.checksum();
+    out.write(reinterpret_cast<const char*>(&version), sizeof version);
+    out.write(reinterpret_cast<const char*>(&reserved), sizeof reserved);
+    out.write(reinterpret_cast<const char*>(&size), sizeof size);
+    out.write(reinterpret_cast<const char*>(&sum), sizeof sum);
+    Writer w(&out);
+    write_payload(w, f);
+  });
+  return {measure.size(), measure.checksum()};
+}
+
+// ---------------------------------------------------------------------------------
+// Reading: a file's header and fields are read and its arrays located; a process
+// then reads only the entries it needs.
+
+/// One checkpoint file opened for reading. The constructor checks the header, the
+/// payload size and (with `verify`) the checksum, streaming the payload, then reads
+/// the fields and finds where each array starts. Throws vpc::Error naming the file.
+class CheckpointFile {
  public:
-  Reader(const std::string& data, const std::string& file) : data_(data), file_(file) {}
+  CheckpointFile(const fs::path& file, bool verify);
+
+  const fs::path& path() const { return path_; }
+  std::string name() const { return path_.string(); }
+  std::uint32_t version() const { return version_; }
+  PieceSum sum() const { return sum_; }
+  /// Version 2: piece 0 of 1 whose blocks are the whole arrays.
+  const PieceHead& head() const { return head_; }
+  std::uint64_t n_nodes() const { return head_.node_end - head_.node_begin; }
+  std::uint64_t n_cells() const { return head_.cell_end - head_.cell_begin; }
+  std::uint64_t count(Array a) const { return count_[a]; }
+  /// Values [first, first + n) of array a into out.
+  void read(Array a, std::uint64_t first, std::uint64_t n, double* out);
+  Vector read(Array a) {
+    Vector v(static_cast<Eigen::Index>(count(a)));
+    read(a, 0, count(a), v.data());
+    return v;
+  }
+  std::vector<SymTensor> tensors(Array a) {
+    std::vector<SymTensor> t(count(a) / 6);
+    read(a, 0, count(a), t.empty() ? nullptr : t[0].c.data());
+    return t;
+  }
+
+  std::string case_name;
+  std::uint64_t fingerprint = 0;
+  std::int64_t n = 0;
+  double t = 0;
+  std::vector<std::pair<double, std::string>> pvd;  // version 2 and piece 0
+  RunTotals totals;
+  std::vector<PieceSum> others;  // piece 0 of version 3
+
+ private:
+  void verify_checksum();
+  void parse();
+  void need(std::uint64_t bytes) const { require(bytes <= end_ - at_, "checkpoint '{}': truncated payload", name()); }
   template <typename T>
   T pod() {
     need(sizeof(T));
     T v;
-    std::memcpy(&v, data_.data() + pos_, sizeof v);
-    pos_ += sizeof v;
+    in_.read(reinterpret_cast<char*>(&v), sizeof v);
+    at_ += sizeof v;
     return v;
   }
-  std::string string() {
-    const auto n = pod<std::uint64_t>();
-    need(n);
-    std::string s = data_.substr(pos_, n);
-    pos_ += n;
-    return s;
-  }
-  std::vector<double> doubles() {
-    const auto n = pod<std::uint64_t>();
-    need(n * sizeof(double));
-    std::vector<double> v(n);
-    if (n) std::memcpy(v.data(), data_.data() + pos_, n * sizeof(double));
-    pos_ += n * sizeof(double);
-    return v;
-  }
-  Vector vector() {
-    const auto v = doubles();
-    return Eigen::Map<const Vector>(v.data(), static_cast<Eigen::Index>(v.size()));
-  }
-  std::vector<SymTensor> tensors() {
-    const auto v = doubles();
-    require(v.size() % 6 == 0, "checkpoint '{}': a tensor array has {} values, not a multiple of 6", file_, v.size());
-    std::vector<SymTensor> t(v.size() / 6);
-    for (std::size_t i = 0; i < t.size(); ++i) std::copy_n(v.data() + 6 * i, 6, t[i].c.data());
-    return t;
-  }
-  bool done() const { return pos_ == data_.size(); }
+  std::string string();
 
- private:
-  void need(std::size_t n) const {
-    require(n <= data_.size() - pos_, "checkpoint '{}': truncated payload", file_);
-  }
-  const std::string& data_;
-  const std::string& file_;
-  std::size_t pos_ = 0;
+  fs::path path_;
+  std::ifstream in_;
+  std::uint32_t version_ = 0;
+  PieceSum sum_;
+  std::uint64_t at_ = kHeaderBytes, end_ = kHeaderBytes;  // file offsets: the next field, the payload's end
+  PieceHead head_;
+  std::array<std::uint64_t, kArrays> count_{}, offset_{};
 };
 
-int step_of(const fs::path& p) {
-  const std::string f = p.filename().string();
-  if (f.rfind("checkpoint_", 0) != 0 || !f.ends_with(".bin")) return -1;
-  return std::atoi(f.c_str() + 11);
+CheckpointFile::CheckpointFile(const fs::path& file, bool verify) : path_(file), in_(file, std::ios::binary) {
+  require(in_.good(), "checkpoint '{}': cannot read it", name());
+  std::error_code ec;
+  const std::uint64_t bytes = fs::file_size(file, ec);
+  char magic[sizeof kMagic] = {};
+  std::uint32_t reserved = 0;
+  in_.read(magic, sizeof magic);
+  in_.read(reinterpret_cast<char*>(&version_), sizeof version_);
+  in_.read(reinterpret_cast<char*>(&reserved), sizeof reserved);
+  in_.read(reinterpret_cast<char*>(&sum_.size), sizeof sum_.size);
+  in_.read(reinterpret_cast<char*>(&sum_.checksum), sizeof sum_.checksum);
+  require(!ec && in_.good() && bytes >= kHeaderBytes && std::memcmp(magic, kMagic, sizeof kMagic) == 0,
+          "checkpoint '{}': not a vpcontact checkpoint", name());
+  require(version_ == kWhole || version_ == kPiece,
+          "checkpoint '{}': format version {}, this program reads versions {} and {}", name(), version_, kWhole,
+          kPiece);
+  require(bytes - kHeaderBytes == sum_.size, "checkpoint '{}': {} payload bytes, the header says {} (truncated?)",
+          name(), bytes - kHeaderBytes, sum_.size);
+  end_ = bytes;
+  if (verify) verify_checksum();
+  parse();
+}
+
+void CheckpointFile::verify_checksum() {
+  std::vector<char> buffer(1 << 20);
+  std::uint64_t h = fnv1a(nullptr, 0), left = sum_.size;
+  in_.seekg(static_cast<std::streamoff>(kHeaderBytes));
+  while (left > 0 && in_.good()) {
+    const auto chunk = static_cast<std::streamsize>(std::min<std::uint64_t>(left, buffer.size()));
+    in_.read(buffer.data(), chunk);
+    h = fnv1a(buffer.data(), static_cast<std::size_t>(in_.gcount()), h);
+    left -= static_cast<std::uint64_t>(in_.gcount());
+  }
+  require(left == 0, "checkpoint '{}': cannot read it", name());
+  require(h == sum_.checksum, "checkpoint '{}': checksum mismatch (damaged file)", name());
+}
+
+std::string CheckpointFile::string() {
+  const auto n = pod<std::uint64_t>();
+  need(n);
+  std::string s(n, '\0');
+  in_.read(s.data(), static_cast<std::streamsize>(n));
+  at_ += n;
+  return s;
+}
+
+void CheckpointFile::parse() {
+  in_.seekg(static_cast<std::streamoff>(at_));
+  case_name = string();
+  fingerprint = pod<std::uint64_t>();
+  n = pod<std::int64_t>();
+  t = pod<double>();
+  if (version_ == kPiece)
+    for (std::uint64_t* v : {&head_.count, &head_.index, &head_.node_begin, &head_.node_end, &head_.cell_begin,
+                             &head_.cell_end})
+      *v = pod<std::uint64_t>();
+  for (int a = 0; a < kArrays; ++a) {  // located, not read
+    count_[a] = pod<std::uint64_t>();
+    require(count_[a] <= (end_ - at_) / sizeof(double), "checkpoint '{}': truncated payload", name());
+    offset_[a] = at_;
+    at_ += count_[a] * sizeof(double);
+    in_.seekg(static_cast<std::streamoff>(at_));
+  }
+  for (Array a : {kSigma, kEps, kZ})
+    require(count_[a] % 6 == 0, "checkpoint '{}': a tensor array has {} values, not a multiple of 6", name(),
+            count_[a]);
+  if (version_ == kWhole) head_ = {0, 1, 0, count_[kBeta], 0, count_[kSigma] / 6};
+  require(head_.index < head_.count && head_.count >= 1 && head_.count < (1u << 24) &&
+              head_.node_begin <= head_.node_end &&
+              head_.cell_begin <= head_.cell_end && count_[kBeta] == n_nodes() && count_[kSigma] == 6 * n_cells() &&
+              count_[kEps] == 6 * n_cells() && count_[kZ] == 6 * n_cells() &&
+              (count_[kDamageWarm] == 0 || count_[kDamageWarm] == n_nodes()) &&
+              (n_nodes() == 0 ? count_[kU] == 0 : count_[kU] % n_nodes() == 0) &&
+              (head_.index == 0 || count_[kLambda] + count_[kContactWarm] == 0),
+          "checkpoint '{}': its arrays do not match its blocks (nodes [{}, {}), cells [{}, {}))", name(),
+          head_.node_begin, head_.node_end, head_.cell_begin, head_.cell_end);
+  if (head_.index == 0) {
+    const auto n_pvd = pod<std::uint64_t>();
+    require(n_pvd < (1u << 30), "checkpoint '{}': implausible PVD entry count", name());
+    for (std::uint64_t i = 0; i < n_pvd; ++i) {
+      const double time = pod<double>();
+      pvd.emplace_back(time, string());
+    }
+    for (double* v : {&totals.max_contact_residual, &totals.max_damage_residual, &totals.seconds_sources,
+                      &totals.seconds_damage, &totals.seconds_contact, &totals.seconds_stress, &totals.seconds_output})
+      *v = pod<double>();
+    totals.max_contact_iterations = static_cast<int>(pod<std::int64_t>());
+    totals.max_damage_iterations = static_cast<int>(pod<std::int64_t>());
+    totals.all_ok = pod<std::uint8_t>() != 0;
+    totals.last_n_active = pod<std::int64_t>();
+    if (version_ == kPiece) {
+      need((head_.count - 1) * 2 * sizeof(std::uint64_t));
+      others.resize(head_.count - 1);
+      for (PieceSum& s : others) {
+        s.size = pod<std::uint64_t>();
+        s.checksum = pod<std::uint64_t>();
+      }
+    }
+  }
+  require(at_ == end_, "checkpoint '{}': trailing bytes after the payload", name());
+}
+
+void CheckpointFile::read(Array a, std::uint64_t first, std::uint64_t n, double* out) {
+  if (n == 0) return;
+  require(first + n <= count_[a], "internal: values [{}, {}) of an array of {} in '{}'", first, first + n, count_[a],
+          name());
+  in_.seekg(static_cast<std::streamoff>(offset_[a] + first * sizeof(double)));
+  in_.read(reinterpret_cast<char*>(out), static_cast<std::streamsize>(n * sizeof(double)));
+  require(in_.good(), "checkpoint '{}': cannot read it", name());
+}
+
+/// Piece r of the checkpoint whose piece 0 is `first`: opened (with `verify`, its
+/// checksum checked) and matched against what piece 0 lists. Throws vpc::Error.
+CheckpointFile open_piece(const CheckpointFile& first, std::uint64_t r, bool verify) {
+  const std::uint64_t p = first.head().count;
+  const fs::path file = piece_file(first.path().parent_path(), first.n, static_cast<long long>(r), static_cast<long long>(p));
+  std::error_code ec;
+  require(fs::exists(file, ec), "checkpoint '{}': piece {} of {} ('{}') is missing", first.name(), r, p,
+          file.filename().string());
+  CheckpointFile f(file, verify);
+  require(f.version() == kPiece && f.head().index == r && f.head().count == p && f.fingerprint == first.fingerprint &&
+              f.n == first.n && f.t == first.t && f.case_name == first.case_name,
+          "checkpoint '{}': not piece {} of {} of the checkpoint of step {}", f.name(), r, p, first.n);
+  require(f.sum() == first.others[r - 1],
+          "checkpoint '{}': not the piece that '{}' lists (its size or checksum differ: left by another write?)",
+          f.name(), first.path().filename().string());
+  return f;
+}
+
+/// Appends `more` to `v`.
+void append(Vector& v, const Vector& more) {
+  const Eigen::Index n = v.size();
+  v.conservativeResize(n + more.size());
+  v.tail(more.size()) = more;
+}
+
+/// The whole state of a version-2 file or of a version-3 checkpoint (piece 0 and its pieces).
+Checkpoint read_whole(CheckpointFile& f) {
+  require(f.head().index == 0, "checkpoint '{}': piece {} of {}, not a checkpoint's first file", f.name(),
+          f.head().index, f.head().count);
+  Checkpoint c;
+  State& s = c.snapshot.state;
+  c.case_name = f.case_name;
+  c.fingerprint = f.fingerprint;
+  s.n = static_cast<int>(f.n);
+  s.t = f.t;
+  s.lambda = f.read(kLambda);
+  c.snapshot.contact_warm = f.read(kContactWarm);
+  c.pvd = f.pvd;
+  c.totals = f.totals;
+  for (std::uint64_t r = 0; r < f.head().count; ++r) {
+    std::optional<CheckpointFile> other;
+    if (r > 0) other.emplace(open_piece(f, r, true));
+    CheckpointFile& piece = r == 0 ? f : *other;
+    require(piece.head().node_begin == static_cast<std::uint64_t>(s.beta.size()) &&
+                piece.head().cell_begin == s.sigma.size(),
+            "checkpoint '{}': its blocks do not follow those of the pieces before it", piece.name());
+    append(s.u, piece.read(kU));
+    append(s.beta, piece.read(kBeta));
+    append(c.snapshot.u_free, piece.read(kUFree));
+    append(c.snapshot.damage_warm, piece.read(kDamageWarm));
+    for (auto [a, t] : {std::pair{kSigma, &s.sigma}, std::pair{kEps, &s.eps}, std::pair{kZ, &s.z}}) {
+      const std::vector<SymTensor> more = piece.tensors(a);
+      t->insert(t->end(), more.begin(), more.end());
+    }
+  }
+  return c;
+}
+
+// ---------------------------------------------------------------------------------
+// The stepper's state in blocks of the numbering of the mesh as read.
+
+/// The part's cells as a layout (no ghosts) in the numbering of the mesh as read.
+la::Layout cell_layout(const MeshPart& part) {
+  const int n = part.mesh().n_cells();
+  if (part.comm.serial()) return la::Layout(n);
+  return la::Layout(part.comm, n, {}, {part.original_cell.begin(), part.original_cell.end()});
+}
+
+/// This process's blocks of the state in the numbering of the mesh as read: nodes
+/// [node_begin, node_end), cells [cell_begin, cell_end).
+struct StateBlock {
+  long long node_begin = 0, node_end = 0, cell_begin = 0, cell_end = 0;
+  int d = 1;
+  Vector u, free, beta, damage_warm;  // per node d, d (1 at a free dof), 1 and 1 (or none) values
+  Vector sigma, eps, z;               // 6 per cell
+};
+
+/// The stepper's node and cell arrays sent to the processes whose blocks hold them:
+/// all to rank 0 (`to_root`) or PETSc's split over the processes. Collective.
+StateBlock state_block(const TimeStepper& stepper, bool to_root) {
+  const MeshPart& part = stepper.part();
+  const la::Comm& comm = stepper.comm();
+  const la::Layout& nodes = *part.node_layout;
+  const la::Layout cells = cell_layout(part);
+  auto split = [&](long long n) {
+    return to_root ? la::BlockSplit::first_only(n, comm.size()) : la::BlockSplit(n, comm.size());
+  };
+  const la::BlockSplit node_split = split(part.n_global_nodes), cell_split = split(part.n_global_cells);
+  const State& st = stepper.state();
+  StateBlock b;
+  b.d = part.dofs.dim();
+  b.node_begin = node_split.begin(comm.rank());
+  b.node_end = node_split.end(comm.rank());
+  b.cell_begin = cell_split.begin(comm.rank());
+  b.cell_end = cell_split.end(comm.rank());
+  b.u = nodes.to_blocks(st.u, node_split, b.d);
+  Vector free(part.dofs.n_full());
+  for (int i = 0; i < part.dofs.n_full(); ++i) free[i] = part.dofs.free_index(i) >= 0;
+  b.free = nodes.to_blocks(free, node_split, b.d);
+  b.beta = nodes.to_blocks(st.beta, node_split);
+  // The damage solver's warm start: a node field (owned entries), or none.
+  const Vector damage_warm = stepper.damage_warm_state();
+  if (comm.any(damage_warm.size() > 0)) {
+    comm.throw_if_any(damage_warm.size() != part.n_owned_nodes,
+                      "internal: the damage solver's warm state is not a node field");
+    b.damage_warm = nodes.to_blocks(damage_warm, node_split);
+  }
+  const auto n_cells = static_cast<Eigen::Index>(st.sigma.size());
+  auto tensors = [&](const std::vector<SymTensor>& t) {
+    return cells.to_blocks(Eigen::Map<const Vector>(t.empty() ? nullptr : t[0].c.data(), 6 * n_cells), cell_split, 6);
+  };
+  b.sigma = tensors(st.sigma);
+  b.eps = tensors(st.eps);
+  b.z = tensors(st.z);
+  return b;
+}
+
+/// The state arrays of nodes [n0, n1) and cells [c0, c1) of `b` (within its blocks) as
+/// a file's content; u on the free dofs (DofMap's numbering of the mesh as read:
+/// node-major, prescribed components dropped) is made into `u_free`.
+FileContent block_content(const StateBlock& b, long long n0, long long n1, long long c0, long long c1, Vector& u_free) {
+  const auto d = static_cast<Eigen::Index>(b.d);
+  const Eigen::Index i0 = (n0 - b.node_begin) * d, i1 = (n1 - b.node_begin) * d;
+  u_free.resize(static_cast<Eigen::Index>(b.free.segment(i0, i1 - i0).sum()));
+  Eigen::Index k = 0;
+  for (Eigen::Index i = i0; i < i1; ++i)
+    if (b.free[i] != 0) u_free[k++] = b.u[i];
+  auto nodes = [&](const Vector& v, Eigen::Index width) -> Values {
+    if (v.size() == 0) return {};
+    return {v.data() + (n0 - b.node_begin) * width, static_cast<std::size_t>((n1 - n0) * width)};
+  };
+  auto cells = [&](const Vector& v) -> Values {
+    return {v.data() + (c0 - b.cell_begin) * 6, static_cast<std::size_t>((c1 - c0) * 6)};
+  };
+  FileContent f;
+  f.arrays[kU] = nodes(b.u, d);
+  f.arrays[kBeta] = nodes(b.beta, 1);
+  f.arrays[kUFree] = values(u_free);
+  f.arrays[kSigma] = cells(b.sigma);
+  f.arrays[kEps] = cells(b.eps);
+  f.arrays[kZ] = cells(b.z);
+  f.arrays[kDamageWarm] = nodes(b.damage_warm, 1);
+  return f;
+}
+
+std::vector<SymTensor> to_tensors(const Vector& v) {
+  std::vector<SymTensor> t(static_cast<std::size_t>(v.size() / 6));
+  for (std::size_t i = 0; i < t.size(); ++i) std::copy_n(v.data() + 6 * i, 6, t[i].c.data());
+  return t;
+}
+
+/// The first error that `work` throws on any process (the lowest rank's message),
+/// "" when it succeeds everywhere; every process returns the same. Collective.
+template <typename F>
+std::string first_error(const la::Comm& comm, F&& work) {
+  std::string message;
+  bool failed = false;
+  try {
+    work();
+  } catch (const std::exception& e) {
+    message = e.what();
+    failed = true;
+  }
+  try {
+    comm.throw_if_any(failed, message);
+  } catch (const CollectiveError& e) {
+    return e.what();
+  }
+  return {};
+}
+
+/// The entries [b0, b1) (`width` values each) of array a over the pieces `files`
+/// (contiguous blocks: `nodes` or cells), read only where they overlap.
+Vector read_block(std::vector<CheckpointFile>& files, Array a, bool nodes, long long b0, long long b1, int width) {
+  Vector out((b1 - b0) * width);
+  for (CheckpointFile& f : files) {
+    const auto s = static_cast<long long>(nodes ? f.head().node_begin : f.head().cell_begin);
+    const auto e = static_cast<long long>(nodes ? f.head().node_end : f.head().cell_end);
+    const long long lo = std::max(s, b0), hi = std::min(e, b1);
+    if (lo < hi)
+      f.read(a, static_cast<std::uint64_t>((lo - s) * width), static_cast<std::uint64_t>((hi - lo) * width),
+             out.data() + (lo - b0) * width);
+  }
+  return out;
 }
 
 }  // namespace
@@ -129,204 +584,201 @@ std::uint64_t problem_fingerprint(const TimeStepper& s) {
   return fnv1a(key.data(), key.size());
 }
 
-namespace {
-
-/// The part's cells as a layout (no ghosts) in the numbering of the mesh as read.
-la::Layout cell_layout(const MeshPart& part) {
-  const int n = part.mesh().n_cells();
-  if (part.comm.serial()) return la::Layout(n);
-  return la::Layout(part.comm, n, {}, {part.original_cell.begin(), part.original_cell.end()});
-}
-
-/// The owned entries of `layout`, `width` values each (values[i * width + j]), on
-/// rank 0 in the original numbering, `width` values per entry. Collective.
-Vector gather_blocks(const la::Layout& layout, const double* values, int width) {
-  Vector global, component(layout.n_owned());
-  for (int j = 0; j < width; ++j) {
-    for (int i = 0; i < layout.n_owned(); ++i) component[i] = values[static_cast<std::size_t>(i) * width + j];
-    const Vector g = layout.gather(component);
-    global.resize(g.size() * width);  // the same size for every j: nothing lost
-    for (Eigen::Index i = 0; i < g.size(); ++i) global[i * width + j] = g[i];
-  }
-  return global;
-}
-
-/// The inverse: `global` (rank 0) into every local entry (owned, then ghosts). Collective.
-Vector scatter_blocks(const la::Layout& layout, const Vector& global, int width) {
-  Vector local(static_cast<Eigen::Index>(layout.n_local()) * width), g, component;
-  for (int j = 0; j < width; ++j) {
-    g.resize(global.size() / width);
-    for (Eigen::Index i = 0; i < g.size(); ++i) g[i] = global[i * width + j];
-    layout.scatter(g, component);
-    for (int i = 0; i < layout.n_local(); ++i) local[static_cast<Eigen::Index>(i) * width + j] = component[i];
-  }
-  return local;
-}
-
-/// σ, ε, z of each cell as 18 values (cell-major), and back.
-std::vector<double> pack_cells(const State& s) {
-  std::vector<double> v;
-  v.reserve(s.sigma.size() * 18);
-  for (std::size_t c = 0; c < s.sigma.size(); ++c)
-    for (const auto* t : {&s.sigma[c], &s.eps[c], &s.z[c]}) v.insert(v.end(), t->c.begin(), t->c.end());
-  return v;
-}
-void unpack_cells(const Vector& v, State& s) {
-  const auto n = static_cast<std::size_t>(v.size() / 18);
-  s.sigma.resize(n);
-  s.eps.resize(n);
-  s.z.resize(n);
-  for (std::size_t c = 0; c < n; ++c)
-    for (auto [k, t] : {std::pair{0, &s.sigma[c]}, std::pair{1, &s.eps[c]}, std::pair{2, &s.z[c]}})
-      std::copy_n(v.data() + c * 18 + k * 6, 6, t->c.begin());
-}
-
-std::vector<double> to_std(const Vector& v) { return {v.data(), v.data() + v.size()}; }
-Vector to_eigen(const std::vector<double>& v) {
-  return Eigen::Map<const Vector>(v.data(), static_cast<Eigen::Index>(v.size()));
-}
-
-}  // namespace
-
 Snapshot gather_snapshot(const TimeStepper& stepper) {
-  const MeshPart& part = stepper.part();
-  const la::Comm& comm = stepper.comm();
-  const la::Layout& nodes = *part.node_layout;
-  const int d = part.dofs.dim();
-  const Snapshot mine = stepper.snapshot();
-  const State& st = mine.state;
-  Vector free(part.dofs.n_full());  // 1 at a free dof
-  for (int i = 0; i < part.dofs.n_full(); ++i) free[i] = part.dofs.free_index(i) >= 0;
+  const StateBlock b = state_block(stepper, true);
+  const Vector contact_warm = stepper.contact_warm_state();  // collective: one value per contact row, the same everywhere
+  if (stepper.comm().rank() != 0) return {};
   Snapshot g;
-  g.state.u = gather_blocks(nodes, st.u.data(), d);
-  g.state.beta = nodes.gather(st.beta);
-  const Vector F = gather_blocks(nodes, free.data(), d);
-  const std::vector<double> cells = pack_cells(st);
-  unpack_cells(gather_blocks(cell_layout(part), cells.data(), 18), g.state);
-  // The damage solver's warm start: a node field (owned entries), or none.
-  if (comm.any(mine.damage_warm.size() > 0)) {
-    comm.throw_if_any(mine.damage_warm.size() != part.n_owned_nodes,
-                      "internal: the damage solver's warm state is not a node field");
-    g.damage_warm = nodes.gather(mine.damage_warm);
-  }
-  if (comm.rank() != 0) return {};
-  g.state.n = st.n;
-  g.state.t = st.t;
-  g.state.lambda = st.lambda;     // every process holds all of λ
-  g.contact_warm = mine.contact_warm;  // one value per contact row, the same everywhere
-  // u on the free dofs in the numbering of the mesh as read (DofMap's: node-major, prescribed components dropped).
-  g.u_free.resize(part.n_global_dofs);
-  Eigen::Index k = 0;
-  for (Eigen::Index i = 0; i < F.size(); ++i)
-    if (F[i] != 0) g.u_free[k++] = g.state.u[i];
+  g.state.n = stepper.state().n;
+  g.state.t = stepper.state().t;
+  g.state.u = b.u;
+  g.state.beta = b.beta;
+  g.state.sigma = to_tensors(b.sigma);
+  g.state.eps = to_tensors(b.eps);
+  g.state.z = to_tensors(b.z);
+  g.state.lambda = stepper.state().lambda;         // every process holds all of λ
+  g.contact_warm = contact_warm;
+  g.damage_warm = b.damage_warm;
+  block_content(b, b.node_begin, b.node_end, b.cell_begin, b.cell_end, g.u_free);
   return g;
 }
 
 void write_checkpoint(const TimeStepper& stepper, const fs::path& dir, const std::string& case_name,
-                      const std::vector<std::pair<double, std::string>>& pvd, const RunTotals& totals) {
-  Snapshot s = gather_snapshot(stepper);
-  const std::uint64_t fingerprint = problem_fingerprint(stepper);
-  la::on_root(stepper.comm(), [&] { write_checkpoint(dir, {case_name, fingerprint, std::move(s), pvd, totals}); });
+                      const std::vector<std::pair<double, std::string>>& pvd, const RunTotals& totals, int pieces,
+                      int keep) {
+  const la::Comm& comm = stepper.comm();
+  const int p = comm.size(), me = comm.rank();
+  pieces = pieces > 0 ? pieces : p;
+  require(p == 1 || pieces == p, "internal: {} checkpoint pieces from {} processes", pieces, p);
+  const StateBlock b = state_block(stepper, false);
+  const State& st = stepper.state();
+  const Vector contact_warm = stepper.contact_warm_state();
+  // Piece q of `pieces`: this process's blocks (several processes), or a part of them (one process).
+  const la::BlockSplit node_split(stepper.part().n_global_nodes, pieces), cell_split(stepper.part().n_global_cells, pieces);
+  Vector u_free;
+  auto content = [&](int q) {
+    FileContent f = block_content(b, node_split.begin(q), node_split.end(q), cell_split.begin(q), cell_split.end(q), u_free);
+    f.case_name = case_name;
+    f.fingerprint = problem_fingerprint(stepper);
+    f.n = st.n;
+    f.t = st.t;
+    if (pieces > 1)
+      f.head = PieceHead{static_cast<std::uint64_t>(q), static_cast<std::uint64_t>(pieces),
+                         static_cast<std::uint64_t>(node_split.begin(q)), static_cast<std::uint64_t>(node_split.end(q)),
+                         static_cast<std::uint64_t>(cell_split.begin(q)), static_cast<std::uint64_t>(cell_split.end(q))};
+    if (q == 0) {  // the run's data, rank 0's (λ and the contact warm state are the same everywhere)
+      f.arrays[kLambda] = values(st.lambda);
+      f.arrays[kContactWarm] = values(contact_warm);
+      f.pvd = &pvd;
+      f.totals = &totals;
+    }
+    return f;
+  };
+  // Pieces 1 … P − 1 first, then piece 0, which lists them: a checkpoint whose piece 0
+  // is in place has all its pieces.
+  std::vector<PieceSum> sums(static_cast<std::size_t>(pieces));
+  la::collective(comm, [&] {
+    for (int q = p == 1 ? 1 : me; q > 0 && q < pieces; q += p)  // one process: all; several: its own
+      sums[q] = write_file(piece_file(dir, st.n, q, pieces), content(q));
+  });
+  if (p > 1) {
+    const std::vector<long long> size = comm.all_gather(std::bit_cast<long long>(sums[me].size));
+    const std::vector<long long> checksum = comm.all_gather(std::bit_cast<long long>(sums[me].checksum));
+    for (int q = 0; q < p; ++q) sums[q] = {std::bit_cast<std::uint64_t>(size[q]), std::bit_cast<std::uint64_t>(checksum[q])};
+  }
+  la::on_root(comm, [&] {
+    FileContent first = content(0);
+    first.others.assign(sums.begin() + 1, sums.end());
+    write_file(main_file(dir, st.n), first);
+    std::set<fs::path> written;
+    for (int q = 0; q < pieces; ++q) written.insert(piece_file(dir, st.n, q, pieces));
+    remove_stale(dir, st.n, written, keep);
+  });
 }
 
 std::optional<ResumePoint> resume_from_checkpoint(TimeStepper& stepper, const fs::path& dir,
                                                   std::vector<std::string>* skipped) {
   const MeshPart& part = stepper.part();
   const la::Comm& comm = stepper.comm();
+  const int p = comm.size(), me = comm.rank();
+  const std::uint64_t fingerprint = problem_fingerprint(stepper);
+  const la::BlockSplit node_split(part.n_global_nodes, p), cell_split(part.n_global_cells, p);
+  const long long n0 = node_split.begin(me), n1 = node_split.end(me), c0 = cell_split.begin(me),
+                  c1 = cell_split.end(me);
+  std::vector<long long> steps;
+  la::on_root(comm, [&] { steps = checkpoint_steps(dir); });
+  steps = la::broadcast(comm, steps);
+  // Newest first, each checkpoint checked by every process: rank 0 its first file
+  // (checksum included), each process the checksums of every p-th other piece and the
+  // fields of the pieces it reads. The first error anywhere passes it over.
+  std::optional<CheckpointFile> first;
+  std::vector<CheckpointFile> mine;  // the pieces that overlap this process's blocks
+  bool found = false;
+  for (long long n : steps) {
+    first.reset();
+    mine.clear();
+    const std::string why = first_error(comm, [&] {
+      first.emplace(main_file(dir, n), me == 0);
+      const CheckpointFile& f = *first;
+      require(f.head().index == 0, "checkpoint '{}': piece {} of {}, not a checkpoint's first file", f.name(),
+              f.head().index, f.head().count);
+      require(f.fingerprint == fingerprint, "{}: written for another problem (case '{}')", f.name(), f.case_name);
+      require(static_cast<long long>(f.count(kLambda)) == part.n_contact,
+              "checkpoint '{}': does not fit this problem ({} contact forces for {} contact nodes)", f.name(),
+              f.count(kLambda), part.n_contact);
+      const std::uint64_t pieces = f.head().count;
+      const la::BlockSplit nodes_then(part.n_global_nodes, static_cast<int>(pieces)),
+          cells_then(part.n_global_cells, static_cast<int>(pieces));
+      const bool damage_warm = f.count(kDamageWarm) > 0;  // then in every piece: piece 0 holds nodes
+      for (std::uint64_t r = 0; r < pieces; ++r) {
+        const auto q = static_cast<int>(r);
+        const bool overlaps = std::max(n0, nodes_then.begin(q)) < std::min(n1, nodes_then.end(q)) ||
+                              std::max(c0, cells_then.begin(q)) < std::min(c1, cells_then.end(q));
+        const bool verify = r > 0 && static_cast<int>(r % static_cast<std::uint64_t>(p)) == me;
+        if (!overlaps && !verify) continue;
+        CheckpointFile piece = r == 0 ? CheckpointFile(f.path(), false) : open_piece(f, r, verify);
+        const PieceHead& h = piece.head();
+        const auto nodes = static_cast<std::uint64_t>(nodes_then.size(q));
+        require(h.node_begin == static_cast<std::uint64_t>(nodes_then.begin(q)) && h.node_end - h.node_begin == nodes &&
+                    h.cell_begin == static_cast<std::uint64_t>(cells_then.begin(q)) &&
+                    h.cell_end - h.cell_begin == static_cast<std::uint64_t>(cells_then.size(q)) &&
+                    piece.count(kU) == nodes * part.dofs.dim() &&
+                    piece.count(kDamageWarm) == (damage_warm ? nodes : 0),
+                "checkpoint '{}': does not fit this problem (its blocks are not those of {} nodes and {} cells in {} "
+                "pieces)",
+                piece.name(), part.n_global_nodes, part.n_global_cells, pieces);
+        if (overlaps) mine.push_back(std::move(piece));
+      }
+    });
+    if (why.empty()) {
+      found = true;
+      break;
+    }
+    if (skipped && me == 0) skipped->push_back(why);
+  }
+  if (!found) return std::nullopt;
+  // Each process reads its blocks, one array at a time; one exchange hands each value
+  // to the processes that own or ghost its node or cell.
   const la::Layout& nodes = *part.node_layout;
+  const la::Layout cells = cell_layout(part);
   const int d = part.dofs.dim();
-  std::optional<Checkpoint> ck;
-  la::on_root(comm, [&] {
-    ck = find_checkpoint(dir, problem_fingerprint(stepper), skipped);
-    if (!ck) return;
-    const Snapshot& s = ck->snapshot;
-    const long long n_nodes = part.n_global_nodes;
-    const bool fits = s.state.u.size() == n_nodes * d && s.state.beta.size() == n_nodes &&
-                      static_cast<long long>(s.state.sigma.size()) == part.n_global_cells &&
-                      s.state.lambda.size() == part.n_contact &&
-                      (s.damage_warm.size() == 0 || s.damage_warm.size() == n_nodes);
-    require(fits, "resume: the checkpoint of step {} in '{}' does not fit this problem", s.state.n, dir.string());
-  });
-  // What every process needs of rank 0's checkpoint: found, n, t, whether there is a damage warm start; λ; the
-  // contact warm start.
-  Checkpoint none;
-  const Checkpoint& c = ck ? *ck : none;
-  const State& saved = c.snapshot.state;
-  const auto head = la::broadcast(comm, std::vector<double>{ck ? 1.0 : 0.0, static_cast<double>(saved.n), saved.t,
-                                                            c.snapshot.damage_warm.size() > 0 ? 1.0 : 0.0});
-  if (head[0] == 0) return std::nullopt;
+  auto read = [&](Array a, bool of_nodes, int width) {
+    Vector block;
+    la::collective(comm, [&] {
+      block = of_nodes ? read_block(mine, a, true, n0, n1, width) : read_block(mine, a, false, c0, c1, width);
+    });
+    return block;
+  };
   Snapshot s;
-  s.state.n = static_cast<int>(head[1]);
-  s.state.t = head[2];
-  s.state.lambda = to_eigen(la::broadcast(comm, to_std(saved.lambda)));
-  s.contact_warm = to_eigen(la::broadcast(comm, to_std(c.snapshot.contact_warm)));
-  s.state.u = scatter_blocks(nodes, saved.u, d);
-  nodes.scatter(saved.beta, s.state.beta);
-  unpack_cells(scatter_blocks(cell_layout(part), to_eigen(pack_cells(saved)), 18), s.state);
+  s.state.n = static_cast<int>(first->n);
+  s.state.t = first->t;
+  nodes.from_blocks(read(kU, true, d), node_split, s.state.u, d);
+  nodes.from_blocks(read(kBeta, true, 1), node_split, s.state.beta);
   s.u_free = restrict_to_free(part.dofs, s.state.u).head(part.n_owned_dofs);
-  if (head[3] != 0) {
+  if (first->count(kDamageWarm) > 0) {
     Vector w;
-    nodes.scatter(c.snapshot.damage_warm, w);
+    nodes.from_blocks(read(kDamageWarm, true, 1), node_split, w);
     s.damage_warm = w.head(part.n_owned_nodes);
   }
+  for (auto [a, t] : {std::pair{kSigma, &s.state.sigma}, std::pair{kEps, &s.state.eps}, std::pair{kZ, &s.state.z}}) {
+    Vector local;
+    cells.from_blocks(read(a, false, 6), cell_split, local, 6);
+    *t = to_tensors(local);
+  }
+  // λ and the contact warm state (one value per contact row) from rank 0, the PVD entries and totals on rank 0.
+  ResumePoint at{s.state.n, s.state.t, {}, {}};
+  std::vector<double> lambda, contact_warm;
+  la::on_root(comm, [&] {
+    for (auto [a, v] : {std::pair{kLambda, &lambda}, std::pair{kContactWarm, &contact_warm}}) {
+      v->resize(first->count(a));
+      first->read(a, 0, v->size(), v->data());
+    }
+    at.pvd = first->pvd;
+    at.totals = first->totals;
+  });
+  lambda = la::broadcast(comm, std::move(lambda));
+  contact_warm = la::broadcast(comm, std::move(contact_warm));
+  s.state.lambda = Eigen::Map<const Vector>(lambda.data(), static_cast<Eigen::Index>(lambda.size()));
+  s.contact_warm = Eigen::Map<const Vector>(contact_warm.data(), static_cast<Eigen::Index>(contact_warm.size()));
   stepper.restore(s);
-  return ResumePoint{s.state.n, s.state.t, c.pvd, c.totals};
+  return at;
 }
 
 fs::path write_checkpoint(const fs::path& dir, const Checkpoint& c, int keep) {
   const State& s = c.snapshot.state;
-  auto payload = [&](Writer& w) {
-    w.string(c.case_name);
-    w.pod(c.fingerprint);
-    w.pod<std::int64_t>(s.n);
-    w.pod(s.t);
-    w.vector(s.u);
-    w.vector(s.beta);
-    w.vector(s.lambda);
-    w.vector(c.snapshot.u_free);
-    w.tensors(s.sigma);
-    w.tensors(s.eps);
-    w.tensors(s.z);
-    w.vector(c.snapshot.contact_warm);
-    w.vector(c.snapshot.damage_warm);
-    w.pod<std::uint64_t>(c.pvd.size());
-    for (const auto& [t, f] : c.pvd) {
-      w.pod(t);
-      w.string(f);
-    }
-    const RunTotals& r = c.totals;
-    for (double v : {r.max_contact_residual, r.max_damage_residual, r.seconds_sources, r.seconds_damage,
-                     r.seconds_contact, r.seconds_stress, r.seconds_output})
-      w.pod(v);
-    w.pod<std::int64_t>(r.max_contact_iterations);
-    w.pod<std::int64_t>(r.max_damage_iterations);
-    w.pod<std::uint8_t>(r.all_ok ? 1 : 0);
-    w.pod<std::int64_t>(r.last_n_active);
-  };
-  Writer measure;
-  payload(measure);
-  const fs::path path = dir / fmt::format("checkpoint_{:05d}.bin", s.n);
-  write_file_atomic(path, [&](std::ostream& out) {
-    out.write(kMagic, sizeof kMagic);
-    const std::uint32_t version = kVersion, reserved = 0;
-    const std::uint64_t size = measure.size(), sum = measure.checksum();
-    out.write(reinterpret_cast<const char*>(&version), sizeof version);
-    out.write(reinterpret_cast<const char*>(&reserved), sizeof reserved);
-    out.write(reinterpret_cast<const char*>(&size), sizeof size);
-    out.write(reinterpret_cast<const char*>(&sum), sizeof sum);
-    Writer w(&out);
-    payload(w);
-  });
-  // Keep the newest `keep` checkpoints (an older one is the fallback if the
-  // newest is ever damaged). Those of later steps are damaged or from a timeline
-  // that this run replaced: a later --resume must not pick them.
-  std::vector<fs::path> all;
-  std::error_code ec;
-  for (const auto& e : fs::directory_iterator(dir, ec))
-    if (step_of(e.path()) > s.n) fs::remove(e.path(), ec);
-    else if (step_of(e.path()) >= 0) all.push_back(e.path());
-  std::sort(all.begin(), all.end(), [](const fs::path& a, const fs::path& b) { return step_of(a) > step_of(b); });
-  for (std::size_t i = static_cast<std::size_t>(std::max(keep, 1)); i < all.size(); ++i) fs::remove(all[i], ec);
+  FileContent f;
+  f.case_name = c.case_name;
+  f.fingerprint = c.fingerprint;
+  f.n = s.n;
+  f.t = s.t;
+  f.arrays = {values(s.u),     values(s.beta), values(s.lambda),           values(c.snapshot.u_free),
+              values(s.sigma), values(s.eps),  values(s.z),                values(c.snapshot.contact_warm),
+              values(c.snapshot.damage_warm)};
+  f.pvd = &c.pvd;
+  f.totals = &c.totals;
+  const fs::path path = main_file(dir, s.n);
+  write_file(path, f);
+  remove_stale(dir, s.n, {path}, keep);
   return path;
 }
 
@@ -340,69 +792,14 @@ bool CheckpointSchedule::due(int n) const {
 }
 
 Checkpoint read_checkpoint(const fs::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  require(in.good(), "checkpoint '{}': cannot read it", file.string());
-  std::stringstream ss;
-  ss << in.rdbuf();
-  const std::string raw = ss.str();
-  const std::string name = file.string();
-  constexpr std::size_t header = sizeof kMagic + 2 * sizeof(std::uint32_t) + 2 * sizeof(std::uint64_t);
-  require(raw.size() >= header && std::memcmp(raw.data(), kMagic, sizeof kMagic) == 0,
-          "checkpoint '{}': not a vpcontact checkpoint", name);
-  std::uint32_t version;
-  std::uint64_t size, sum;
-  std::memcpy(&version, raw.data() + 8, 4);
-  std::memcpy(&size, raw.data() + 16, 8);
-  std::memcpy(&sum, raw.data() + 24, 8);
-  require(version == kVersion, "checkpoint '{}': format version {}, this program reads version {}", name, version,
-          kVersion);
-  require(raw.size() - header == size, "checkpoint '{}': {} payload bytes, the header says {} (truncated?)", name,
-          raw.size() - header, size);
-  const std::string payload = raw.substr(header);
-  require(fnv1a(payload.data(), payload.size()) == sum, "checkpoint '{}': checksum mismatch (damaged file)", name);
-
-  Reader r(payload, name);
-  Checkpoint c;
-  State& s = c.snapshot.state;
-  c.case_name = r.string();
-  c.fingerprint = r.pod<std::uint64_t>();
-  s.n = static_cast<int>(r.pod<std::int64_t>());
-  s.t = r.pod<double>();
-  s.u = r.vector();
-  s.beta = r.vector();
-  s.lambda = r.vector();
-  c.snapshot.u_free = r.vector();
-  s.sigma = r.tensors();
-  s.eps = r.tensors();
-  s.z = r.tensors();
-  c.snapshot.contact_warm = r.vector();
-  c.snapshot.damage_warm = r.vector();
-  const auto n_pvd = r.pod<std::uint64_t>();
-  require(n_pvd < (1u << 30), "checkpoint '{}': implausible PVD entry count", name);
-  for (std::uint64_t i = 0; i < n_pvd; ++i) {
-    const double t = r.pod<double>();
-    c.pvd.emplace_back(t, r.string());
-  }
-  RunTotals& t = c.totals;
-  for (double* v : {&t.max_contact_residual, &t.max_damage_residual, &t.seconds_sources, &t.seconds_damage,
-                    &t.seconds_contact, &t.seconds_stress, &t.seconds_output})
-    *v = r.pod<double>();
-  t.max_contact_iterations = static_cast<int>(r.pod<std::int64_t>());
-  t.max_damage_iterations = static_cast<int>(r.pod<std::int64_t>());
-  t.all_ok = r.pod<std::uint8_t>() != 0;
-  t.last_n_active = r.pod<std::int64_t>();
-  require(r.done(), "checkpoint '{}': trailing bytes after the payload", name);
-  return c;
+  CheckpointFile f(file, true);
+  return read_whole(f);
 }
 
 std::optional<Checkpoint> find_checkpoint(const fs::path& dir, std::uint64_t fingerprint,
                                           std::vector<std::string>* skipped) {
-  std::vector<fs::path> all;
-  std::error_code ec;
-  for (const auto& e : fs::directory_iterator(dir, ec))
-    if (step_of(e.path()) >= 0) all.push_back(e.path());
-  std::sort(all.begin(), all.end(), [](const fs::path& a, const fs::path& b) { return step_of(a) > step_of(b); });
-  for (const auto& f : all) {
+  for (long long n : checkpoint_steps(dir)) {
+    const fs::path f = main_file(dir, n);
     try {
       Checkpoint c = read_checkpoint(f);
       if (c.fingerprint != fingerprint) {

@@ -2,23 +2,31 @@
 // Checkpoints: the whole state of a run at step n, so that `vpcontact run CASE
 // --resume OUTDIR` continues bit-identically after an interruption.
 //
-// Format (docs/reliability.md), little-endian, written atomically:
+// Format (docs/reliability.md), little-endian, each file written atomically:
 //   8 bytes  magic "VPCCKPT\0"
-//   u32      format version (1)
+//   u32      format version: 2 (the whole state in one file) or 3 (one piece of several)
 //   u32      0 (reserved)
 //   u64      payload size in bytes
 //   u64      FNV-1a 64 checksum of the payload
 //   payload: case name (u64 length + bytes); u64 problem fingerprint; i64 n; f64 t;
+//            version 3 only: u64 P (pieces), u64 r (this piece), u64 ×4: its blocks
+//              [node_begin, node_end) and [cell_begin, cell_end) of the numbering of the mesh as read;
 //            arrays (u64 count + f64 values): u, β, λ, u_free, σ, ε, z (6 per cell),
-//            contact and damage solver warm states;
-//            output: PVD entries (u64 count, then f64 time + string file each),
-//            run totals (f64 ×7, i64 ×2, u8 all_ok).
-// A file whose magic, version, size, checksum or fingerprint does not match is
-// not a good checkpoint; resume takes the newest good one.
-//
-// The state is kept in the numbering of the mesh as read, gathered to rank 0 on
-// any number of processes: a checkpoint written on P processes resumes on any
-// other number, on any backend.
+//              contact and damage solver warm states (version 3: the node and cell arrays
+//              restricted to the piece's blocks; λ and the contact warm state in piece 0 only);
+//            version 2 and piece 0: PVD entries (u64 count, then f64 time + string file each),
+//              run totals (f64 ×7, i64 ×2, u8 all_ok, i64);
+//            piece 0 of version 3: u64 payload size and u64 checksum of each of pieces 1 … P − 1.
+// One process writes checkpoint_NNNNN.bin in version 2, as before pieces existed. P
+// processes write P pieces, each its own contiguous blocks of the node and cell arrays
+// (la::BlockSplit, PETSc's split): checkpoint_NNNNN.bin (piece 0) and
+// checkpoint_NNNNN.pRRRR-of-PPPP.bin, so no process holds more than its share of the
+// state. Piece 0 is renamed into place last and lists the others' sizes and checksums:
+// a checkpoint is good when its piece 0 and every piece it lists are there and match
+// (magic, version, size, checksum, fingerprint, step, blocks); resume takes the newest
+// good one. Each process of any count, on any backend, reads only the parts of the
+// pieces that overlap its block of the new split, and one exchange hands the values
+// to the processes that own (or ghost) those nodes and cells.
 #include "io/run_output.hpp"
 #include "scheme/time_stepper.hpp"
 
@@ -46,13 +54,16 @@ std::uint64_t problem_fingerprint(const TimeStepper& stepper);
 
 /// The stepper's state and warm starts gathered to rank 0 in the numbering of
 /// the mesh as read (on one process: its snapshot()); other processes get an
-/// empty snapshot. Collective.
+/// empty snapshot. Collective. For comparisons of small runs: rank 0 holds it all.
 Snapshot gather_snapshot(const TimeStepper& stepper);
 
-/// Writes the stepper's checkpoint (gather_snapshot) on rank 0, with the output's
-/// PVD entries and run totals (rank 0's). Collective.
+/// Writes the stepper's checkpoint with the output's PVD entries and run totals
+/// (rank 0's) and keeps the newest `keep`: on one process the version-2 file, on P
+/// one piece per process. `pieces` > 1 on one process writes that many pieces, as
+/// that many processes would (tests). Collective.
 void write_checkpoint(const TimeStepper& stepper, const std::filesystem::path& dir, const std::string& case_name,
-                      const std::vector<std::pair<double, std::string>>& pvd, const RunTotals& totals);
+                      const std::vector<std::pair<double, std::string>>& pvd, const RunTotals& totals,
+                      int pieces = 0, int keep = 2);
 
 /// Where a resumed run continues: step, time (on every process), the PVD entries
 /// and the run totals of the checkpoint (on rank 0; empty elsewhere).
@@ -63,14 +74,17 @@ struct ResumePoint {
   RunTotals totals;
 };
 
-/// Rank 0 finds the newest good checkpoint for this problem in `dir` (`skipped`,
-/// on rank 0: the files passed over and why) and every process restores its part
-/// of it; nullopt on every process when there is none. Collective.
+/// Finds the newest good checkpoint for this problem in `dir` (`skipped`, on rank 0:
+/// the checkpoints passed over and why; each process checks the checksums of some of
+/// the pieces) and every process restores its part of it, reading only the pieces'
+/// entries of its block; nullopt on every process when there is none. Collective.
 std::optional<ResumePoint> resume_from_checkpoint(TimeStepper& stepper, const std::filesystem::path& dir,
                                                   std::vector<std::string>* skipped = nullptr);
 
-/// Writes OUTDIR/checkpoint_NNNNN.bin atomically and keeps only the newest `keep`;
-/// removes those of later steps (damaged, or of a timeline this run replaced).
+/// Writes the whole state `c` as OUTDIR/checkpoint_NNNNN.bin (version 2) atomically
+/// and keeps only the newest `keep` checkpoints; removes those of later steps
+/// (damaged, or of a timeline this run replaced) and pieces of step n left from an
+/// earlier write.
 std::filesystem::path write_checkpoint(const std::filesystem::path& dir, const Checkpoint& c, int keep = 2);
 
 /// When a run writes a checkpoint besides step 0 and its last step: every `every`
@@ -94,12 +108,14 @@ class CheckpointSchedule {
   Clock::time_point last_ = Clock::now();
 };
 
-/// Reads a checkpoint; throws vpc::Error naming the file and what is wrong.
+/// Reads a whole checkpoint (checkpoint_NNNNN.bin and, in version 3, every piece it
+/// lists) into one process's memory; throws vpc::Error naming the file and what is
+/// wrong. For tools and tests: a resume reads only its blocks.
 Checkpoint read_checkpoint(const std::filesystem::path& file);
 
 /// The newest good checkpoint in `dir` for this fingerprint (older ones are
-/// tried when the newest is damaged); nullopt if there is none. `skipped`
-/// receives one line per file passed over, saying why.
+/// tried when the newest is damaged), read whole; nullopt if there is none.
+/// `skipped` receives one line per checkpoint passed over, saying why.
 std::optional<Checkpoint> find_checkpoint(const std::filesystem::path& dir, std::uint64_t fingerprint,
                                           std::vector<std::string>* skipped = nullptr);
 

@@ -6,6 +6,22 @@
 
 namespace vpc::la {
 
+BlockSplit::BlockSplit(long long n, int blocks) : end_(static_cast<std::size_t>(blocks)) {
+  require(n >= 0 && blocks >= 1, "internal: a split of {} entries into {} blocks", n, blocks);
+  long long at = 0;
+  for (int r = 0; r < blocks; ++r) end_[r] = at += n / blocks + (r < n % blocks ? 1 : 0);
+}
+
+BlockSplit BlockSplit::first_only(long long n, int blocks) {
+  BlockSplit s(n, blocks);
+  std::fill(s.end_.begin(), s.end_.end(), n);
+  return s;
+}
+
+int BlockSplit::block_of(long long i) const {
+  return static_cast<int>(std::upper_bound(end_.begin(), end_.end(), i) - end_.begin());
+}
+
 Layout::Layout(int n) : n_owned_(n), n_global_(n) {}
 
 Layout::Layout(Comm comm, int n_owned, std::vector<long long> ghosts, std::vector<long long> original)
@@ -34,20 +50,20 @@ Layout::Layout(Comm comm, int n_owned, std::vector<long long> ghosts, std::vecto
   send_.assign(p, {});
   for (int r = 0; r < p; ++r)
     for (long long g : asked[r]) send_[r].push_back(static_cast<int>(g - begin_));
-  // Rank 0 keeps every rank's original numbers, for gather and scatter.
-  std::vector<std::vector<long long>> o(p);
-  o[0] = original_;
-  originals_ = comm_.exchange(o);
 }
 
-void Layout::forward(Eigen::VectorXd& local) const {
+void Layout::forward(Eigen::VectorXd& local) const { forward(local, 1); }
+
+void Layout::forward(Eigen::VectorXd& local, int width) const {
   if (comm_.serial()) return;
+  const auto w = static_cast<Eigen::Index>(width);
   std::vector<std::vector<double>> out(send_.size());
   for (size_t r = 0; r < send_.size(); ++r)
-    for (int i : send_[r]) out[r].push_back(local[i]);
+    for (int i : send_[r]) out[r].insert(out[r].end(), local.data() + i * w, local.data() + (i + 1) * w);
   const auto in = comm_.exchange(out);
   for (size_t r = 0; r < recv_.size(); ++r)
-    for (size_t k = 0; k < recv_[r].size(); ++k) local[n_owned_ + recv_[r][k]] = in[r][k];
+    for (size_t k = 0; k < recv_[r].size(); ++k)
+      std::copy_n(in[r].data() + k * w, w, local.data() + (n_owned_ + recv_[r][k]) * w);
 }
 
 void Layout::reverse_add(Eigen::VectorXd& local) const {
@@ -62,31 +78,83 @@ void Layout::reverse_add(Eigen::VectorXd& local) const {
 
 Eigen::VectorXd Layout::gather(const Eigen::VectorXd& local) const {
   if (comm_.serial()) return local.head(n_owned_);
-  std::vector<std::vector<double>> out(comm_.size());
-  out[0].assign(local.data(), local.data() + n_owned_);
-  const auto in = comm_.exchange(out);
-  if (comm_.rank() != 0) return {};
-  Eigen::VectorXd global(n_global_);
-  for (size_t r = 0; r < in.size(); ++r)
-    for (size_t k = 0; k < in[r].size(); ++k) global[originals_[r][k]] = in[r][k];
-  return global;
+  return to_blocks(local, BlockSplit::first_only(n_global_, comm_.size()));
 }
 
 void Layout::scatter(const Eigen::VectorXd& global, Eigen::VectorXd& local) const {
-  local.resize(n_local());
   if (comm_.serial()) {
     local = global;
     return;
   }
-  std::vector<std::vector<double>> out(comm_.size());
-  if (comm_.rank() == 0) {
-    require(global.size() == n_global_, "internal: scatter of {} values over a layout of {}", global.size(), n_global_);
-    for (size_t r = 0; r < out.size(); ++r)
-      for (long long i : originals_[r]) out[r].push_back(global[i]);
+  const BlockSplit root = BlockSplit::first_only(n_global_, comm_.size());
+  require(comm_.rank() != 0 || global.size() == n_global_, "internal: scatter of {} values over a layout of {}",
+          global.size(), n_global_);
+  static const Eigen::VectorXd none;  // the other ranks' blocks are empty
+  from_blocks(comm_.rank() == 0 ? global : none, root, local);
+}
+
+std::vector<std::vector<int>> Layout::by_block(const BlockSplit& split) const {
+  require(split.n_blocks() == comm_.size() && split.n() == n_global_,
+          "internal: a split of {} entries into {} blocks for a layout of {} entries on {} ranks", split.n(),
+          split.n_blocks(), n_global_, comm_.size());
+  std::vector<std::vector<int>> at(comm_.size());
+  for (int i = 0; i < n_owned_; ++i) at[split.block_of(original_[i])].push_back(i);
+  return at;
+}
+
+Eigen::VectorXd Layout::to_blocks(const Eigen::Ref<const Eigen::VectorXd>& values, const BlockSplit& split, int width) const {
+  const auto w = static_cast<Eigen::Index>(width);
+  if (comm_.serial()) return values.head(n_owned_ * w);
+  // Each entry goes with its original index; the block's rank puts it in place.
+  const std::vector<std::vector<int>> at = by_block(split);
+  std::vector<std::vector<long long>> where(at.size());
+  std::vector<std::vector<double>> what(at.size());
+  for (size_t r = 0; r < at.size(); ++r)
+    for (int i : at[r]) {
+      where[r].push_back(original_[i]);
+      what[r].insert(what[r].end(), values.data() + i * w, values.data() + (i + 1) * w);
+    }
+  const auto from = comm_.exchange(where);
+  where = {};
+  const auto data = comm_.exchange(what);
+  const int me = comm_.rank();
+  Eigen::VectorXd block(split.size(me) * w);
+  long long received = 0;
+  for (size_t r = 0; r < from.size(); ++r) {
+    for (size_t k = 0; k < from[r].size(); ++k)
+      std::copy_n(data[r].data() + k * w, w, block.data() + (from[r][k] - split.begin(me)) * w);
+    received += static_cast<long long>(from[r].size());
   }
-  const auto in = comm_.exchange(out);
-  std::copy(in[0].begin(), in[0].end(), local.data());
-  forward(local);
+  require(received == split.size(me), "internal: block {} received {} of its {} entries", me, received, split.size(me));
+  return block;
+}
+
+void Layout::from_blocks(const Eigen::VectorXd& block, const BlockSplit& split, Eigen::VectorXd& local,
+                         int width) const {
+  const auto w = static_cast<Eigen::Index>(width);
+  if (comm_.serial()) {
+    local = block;
+    return;
+  }
+  // Ask each block's rank for the owned entries it holds, by original index; ghosts come from their owners.
+  const std::vector<std::vector<int>> at = by_block(split);
+  std::vector<std::vector<long long>> ask(at.size());
+  for (size_t r = 0; r < at.size(); ++r)
+    for (int i : at[r]) ask[r].push_back(original_[i]);
+  const auto asked = comm_.exchange(ask);
+  ask = {};
+  const long long first = split.begin(comm_.rank());
+  require(block.size() == split.size(comm_.rank()) * w, "internal: a block of {} values for {} entries of width {}",
+          block.size(), split.size(comm_.rank()), width);
+  std::vector<std::vector<double>> reply(asked.size());
+  for (size_t r = 0; r < asked.size(); ++r)
+    for (long long o : asked[r]) reply[r].insert(reply[r].end(), block.data() + (o - first) * w, block.data() + (o - first + 1) * w);
+  const auto got = comm_.exchange(reply);
+  reply = {};
+  local.resize(n_local() * w);
+  for (size_t r = 0; r < at.size(); ++r)
+    for (size_t k = 0; k < at[r].size(); ++k) std::copy_n(got[r].data() + k * w, w, local.data() + at[r][k] * w);
+  forward(local, width);
 }
 
 }  // namespace vpc::la

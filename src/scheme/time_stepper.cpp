@@ -306,6 +306,9 @@ Snapshot TimeStepper::snapshot() const {
   return {state_, u_free_, contact_->warm_state(), damage_->warm_state()};
 }
 
+Vector TimeStepper::contact_warm_state() const { return contact_->warm_state(); }
+Vector TimeStepper::damage_warm_state() const { return damage_->warm_state(); }
+
 void TimeStepper::restore(const Snapshot& s) {
   const bool same = s.state.u.size() == state_.u.size() && s.state.beta.size() == state_.beta.size() &&
                     s.state.sigma.size() == state_.sigma.size() && s.state.eps.size() == state_.eps.size() &&

@@ -138,6 +138,9 @@ class TimeStepper {
   StepReport step();
 
   Snapshot snapshot() const;
+  /// The solvers' warm starts of snapshot(), without a copy of the state (checkpoints). Collective.
+  Vector contact_warm_state() const;
+  Vector damage_warm_state() const;
   /// Restores a snapshot of a run of the same problem and part; throws vpc::Error if the sizes differ.
   void restore(const Snapshot& s);
 

@@ -1,20 +1,28 @@
 #!/usr/bin/env bash
-# Checkpoints of the PETSc engine resume on another number of ranks and in the
-# serial engine (and a serial checkpoint on the PETSc engine):
+# Checkpoints of the PETSc engine (one piece per rank) resume on another number of
+# ranks and in the serial engine (and a serial checkpoint on the PETSc engine):
 #   A: mpirun -np 2, uninterrupted (the reference)
 #   B: mpirun -np 3 with --checkpoint-every 10; the last checkpoints removed (as
 #      if killed after step 10); resumed with mpirun -np 2
 #   C: the same interrupted files resumed by the serial engine
 #   D: a serial run's checkpoint of step 10 resumed by mpirun -np 3
+#   E: mpirun -np 2 with --checkpoint-every 10 (2 pieces, each about half the state),
+#      interrupted, resumed with mpirun -np 3, mpirun -np 1 and the serial engine
+#   F: E's files with one piece of step 20 missing: the resume passes step 20 over,
+#      says why, and continues from step 10
+#   G: mpirun -np 1 (the PETSc engine on one process) writes the one-file format,
+#      byte for byte the serial engine's layout; interrupted, resumed with mpirun -np 1:
+#      the history and the last fields bit-identical to an uninterrupted run
 # Each must end with the reference's history (to 1e-10 relative) and final state.
 #   resume_across_ranks.sh VPCONTACT MPIEXEC WORKDIR
 set -euo pipefail
 VPC=$1 MPIEXEC=$2 WORK=$3
 rm -rf "$WORK" && mkdir -p "$WORK"
-CASE=(paper-2d --n 20 --steps 20 --every 5 -q)
+LOUD=(paper-2d --n 20 --steps 20 --every 5)
+CASE=("${LOUD[@]}" -q)
 run() { "$MPIEXEC" -n "$1" --oversubscribe "$VPC" "${@:2}"; }
 interrupt() {  # keep the checkpoints up to step 10 and the rows of the run beyond them
-  rm -f "$1"/checkpoint_00020.bin
+  rm -f "$1"/checkpoint_00020*.bin
   ls "$1"/checkpoint_*.bin > /dev/null
 }
 compare() {
@@ -31,8 +39,21 @@ assert worst < 1e-10, f"{sys.argv[3]}: history differs from the uninterrupted ru
 print(f"{sys.argv[3]}: history equal to the uninterrupted run (largest relative difference {worst:.1e})")
 PY
 }
+# Each piece of a checkpoint written on P ranks holds about 1/P of it: none over
+# 1.5 × total / P plus 4 KB (what piece 0 adds: λ, the run's data, the list of pieces).
+pieces_share() {  # DIR STEP P
+  local files=("$1"/checkpoint_$(printf %05d "$2")*.bin) total=0 f
+  [ ${#files[@]} -eq "$3" ] || { echo "step $2 in $1: ${#files[@]} files, expected $3 pieces"; exit 1; }
+  for f in "${files[@]}"; do total=$((total + $(stat -c %s "$f"))); done
+  for f in "${files[@]}"; do
+    [ $(( 2 * $3 * $(stat -c %s "$f") )) -le $(( 3 * total + 2 * $3 * 4096 )) ] ||
+      { echo "$f: $(stat -c %s "$f") bytes of $total in $3 pieces: more than its share"; exit 1; }
+  done
+  echo "checkpoint of step $2 on $3 ranks: ${#files[@]} pieces, $total bytes, each about its share"
+}
 run 2 run "${CASE[@]}" -o "$WORK/A"
 run 3 run "${CASE[@]}" --checkpoint-every 10 -o "$WORK/B"
+pieces_share "$WORK/B" 10 3
 cp -r "$WORK/B" "$WORK/C"
 interrupt "$WORK/B"
 run 2 run "${CASE[@]}" --resume "$WORK/B"
@@ -45,4 +66,32 @@ compare "$WORK/C" "3 ranks -> serial engine"
 interrupt "$WORK/D"
 run 3 run "${CASE[@]}" --resume "$WORK/D"
 compare "$WORK/D" "serial engine -> 3 ranks"
+
+run 2 run "${CASE[@]}" --checkpoint-every 10 -o "$WORK/E"
+pieces_share "$WORK/E" 20 2
+for to in 3 1 serial F; do cp -r "$WORK/E" "$WORK/E$to"; done
+for to in 3 1 serial; do
+  interrupt "$WORK/E$to"
+  if [ $to = serial ]; then "$VPC" run "${CASE[@]}" --engine serial --resume "$WORK/E$to"
+  else run $to run "${CASE[@]}" --resume "$WORK/E$to"; fi
+  compare "$WORK/E$to" "2 ranks -> $to"
+done
+rm "$WORK/EF/checkpoint_00020.p0001-of-0002.bin"
+run 3 run "${LOUD[@]}" --resume "$WORK/EF" > "$WORK/EF.log" 2>&1
+grep -q "skipping checkpoint '.*checkpoint_00020.bin': piece 1 of 2 ('checkpoint_00020.p0001-of-0002.bin') is missing" "$WORK/EF.log" &&
+  grep -q "resuming from the checkpoint of step 10" "$WORK/EF.log" ||
+  { cat "$WORK/EF.log"; echo "a missing piece: step 20 not passed over"; exit 1; }
+compare "$WORK/EF" "2 ranks, a piece missing -> 3 ranks from the step before"
+
+run 1 run "${CASE[@]}" -o "$WORK/G0"
+run 1 run "${CASE[@]}" --checkpoint-every 10 -o "$WORK/G"
+ls "$WORK"/G/checkpoint_*.bin | grep -q -- "-of-" && { echo "one rank wrote pieces"; exit 1; }
+head -c 12 "$WORK/G/checkpoint_00020.bin" | od -An -tx1 | grep -q "56 50 43 43 4b 50 54 00 02 00 00 00" ||
+  { echo "one rank: not the version-2 file"; exit 1; }
+interrupt "$WORK/G"
+run 1 run "${CASE[@]}" --resume "$WORK/G"
+for f in history.csv probes.csv solution_00020.vtu; do
+  cmp "$WORK/G0/$f" "$WORK/G/$f" || { echo "1 rank -> 1 rank: $f differs from the uninterrupted run"; exit 1; }
+done
+echo "1 rank -> 1 rank: history, probes and last fields bit-identical to the uninterrupted run"
 echo "resume across rank counts: ok"

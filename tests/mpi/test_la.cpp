@@ -218,6 +218,29 @@ void run() {
     ok = back[i] == static_cast<double>(i < c.n_owned ? c.begin + i : c.ghosts[i - c.n_owned]);
   check(ok, "scatter round trip (owned and ghosts)", comm);
 
+  // Blocks of the original numbering (checkpoint pieces): PETSc's split over the
+  // ranks, 2 values per entry; back into the owned entries and the ghosts.
+  const la::BlockSplit split(c.N, p);
+  Eigen::VectorXd two(2 * c.n_owned);
+  for (int i = 0; i < c.n_owned; ++i) {
+    two[2 * i] = static_cast<double>(c.begin + i);
+    two[2 * i + 1] = -static_cast<double>(c.begin + i);
+  }
+  const Eigen::VectorXd block = layout->to_blocks(two, split, 2);
+  ok = block.size() == 2 * split.size(me);
+  for (long long j = split.begin(me); ok && j < split.end(me); ++j) {  // original j is global N − 1 − j
+    const Eigen::Index k = 2 * (j - split.begin(me));
+    ok = block[k] == static_cast<double>(c.N - 1 - j) && block[k + 1] == -static_cast<double>(c.N - 1 - j);
+  }
+  check(ok, "to_blocks: each rank its block of the original numbering", comm);
+  layout->from_blocks(block, split, back, 2);
+  ok = back.size() == 2 * layout->n_local();
+  for (int i = 0; ok && i < layout->n_local(); ++i) {
+    const auto global = static_cast<double>(i < c.n_owned ? c.begin + i : c.ghosts[i - c.n_owned]);
+    ok = back[2 * i] == global && back[2 * i + 1] == -global;
+  }
+  check(ok, "from_blocks round trip (owned and ghosts)", comm);
+
   // Operator: the ranks' elements summed, against the serial matrix.
   const double h = 1.0 / (c.N - 1);
   const long long n_local_nodes = c.n_owned + layout->n_ghosts();

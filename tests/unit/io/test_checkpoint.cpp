@@ -1,6 +1,7 @@
 // Checkpoints (format, checksum, fallback to an older good file), the stepper's
-// checkpoints (gathered and scattered in the numbering of the mesh as read: on
-// one process exactly its snapshot) and snapshot/restore and step halving.
+// checkpoints (in the numbering of the mesh as read: on one process exactly its
+// snapshot, in the version-2 file; in pieces as several processes write them, read
+// back whole or by blocks) and snapshot/restore and step halving.
 #include "cases/builtin_cases.hpp"
 #include "core/error.hpp"
 #include "io/checkpoint.hpp"
@@ -13,6 +14,8 @@
 #include <atomic>
 #include <cmath>
 #include <fstream>
+#include <functional>
+#include <set>
 #include <sstream>
 
 namespace vpc {
@@ -250,6 +253,236 @@ TEST(StepperCheckpoint, ResumedRunIsBitIdentical) {
   TimeStepper other(load_case("paper-2d", {.steps = 10}, {.cells = 5}).problem);
   EXPECT_FALSE(resume_from_checkpoint(other, dir, &skipped).has_value());
   EXPECT_EQ(skipped.size(), 1u);
+}
+
+// The version-2 file, byte for byte, built here independently of the writer: one
+// process must keep writing exactly the files it wrote before pieces existed.
+TEST(StepperCheckpoint, TheVersionTwoBytesAreUnchanged) {
+  Checkpoint c;
+  c.case_name = "k";
+  c.fingerprint = 0x0123456789abcdefull;
+  State& s = c.snapshot.state;
+  s.n = 7;
+  s.t = 0.5;
+  s.u = Eigen::Vector2d(1, 2);
+  s.beta = Eigen::Matrix<double, 1, 1>(0.25);
+  s.lambda = Eigen::Matrix<double, 1, 1>(3);
+  c.snapshot.u_free = Eigen::Matrix<double, 1, 1>(2);
+  s.sigma.resize(1);
+  s.eps.resize(1);
+  s.z.resize(1);
+  for (int j = 0; j < 6; ++j) s.sigma[0].c[j] = j, s.eps[0].c[j] = -j, s.z[0].c[j] = 10 + j;
+  c.pvd = {{0.5, "a.vtu"}};
+  c.totals.max_contact_iterations = 4;
+  c.totals.all_ok = false;
+  c.totals.last_n_active = 9;
+  std::string payload;
+  auto put = [&](auto v) { payload.append(reinterpret_cast<const char*>(&v), sizeof v); };
+  auto array = [&](std::initializer_list<double> v) {
+    put(std::uint64_t(v.size()));
+    for (double x : v) put(x);
+  };
+  put(std::uint64_t(1));
+  payload += "k";
+  put(c.fingerprint);
+  put(std::int64_t(7));
+  put(0.5);
+  array({1, 2});
+  array({0.25});
+  array({3});
+  array({2});
+  array({0, 1, 2, 3, 4, 5});
+  array({0, -1, -2, -3, -4, -5});
+  array({10, 11, 12, 13, 14, 15});
+  array({});
+  array({});
+  put(std::uint64_t(1));
+  put(0.5);
+  put(std::uint64_t(5));
+  payload += "a.vtu";
+  for (int i = 0; i < 7; ++i) put(0.0);
+  put(std::int64_t(4));
+  put(std::int64_t(0));
+  put(std::uint8_t(0));
+  put(std::int64_t(9));
+  std::uint64_t h = 1469598103934665603ull;
+  for (char ch : payload) h = (h ^ static_cast<unsigned char>(ch)) * 1099511628211ull;
+  std::string expected("VPCCKPT\0", 8);
+  const std::uint32_t version = 2, reserved = 0;
+  expected.append(reinterpret_cast<const char*>(&version), 4);
+  expected.append(reinterpret_cast<const char*>(&reserved), 4);
+  const std::uint64_t size = payload.size();
+  expected.append(reinterpret_cast<const char*>(&size), 8);
+  expected.append(reinterpret_cast<const char*>(&h), 8);
+  expected += payload;
+  const fs::path file = write_checkpoint(fresh_dir("bytes"), c);
+  EXPECT_EQ(bytes_of(file), expected);
+}
+
+fs::path piece(const fs::path& dir, int n, int r, int p) {
+  return dir / fmt::format("checkpoint_{:05d}.p{:04d}-of-{:04d}.bin", n, r, p);
+}
+
+/// Flips one byte in the middle of a file.
+void flip_a_byte(const fs::path& file) {
+  std::fstream f(file, std::ios::in | std::ios::out | std::ios::binary);
+  const auto at = static_cast<std::streamoff>(fs::file_size(file) / 2);
+  char c;
+  f.seekg(at);
+  f.read(&c, 1);
+  c = static_cast<char>(c ^ 0x5a);
+  f.seekp(at);
+  f.write(&c, 1);
+}
+
+void expect_same(const Checkpoint& a, const Checkpoint& b) {
+  const State &x = a.snapshot.state, &y = b.snapshot.state;
+  EXPECT_EQ(a.case_name, b.case_name);
+  EXPECT_EQ(a.fingerprint, b.fingerprint);
+  EXPECT_EQ(x.n, y.n);
+  EXPECT_EQ(x.t, y.t);
+  EXPECT_EQ(x.u, y.u);
+  EXPECT_EQ(x.beta, y.beta);
+  EXPECT_EQ(x.lambda, y.lambda);
+  EXPECT_EQ(a.snapshot.u_free, b.snapshot.u_free);
+  EXPECT_EQ(a.snapshot.contact_warm, b.snapshot.contact_warm);
+  EXPECT_EQ(a.snapshot.damage_warm, b.snapshot.damage_warm);
+  for (auto [s, t] : {std::pair{&x.sigma, &y.sigma}, std::pair{&x.eps, &y.eps}, std::pair{&x.z, &y.z}}) {
+    ASSERT_EQ(s->size(), t->size());
+    for (std::size_t i = 0; i < s->size(); ++i) EXPECT_EQ((*s)[i].c, (*t)[i].c);
+  }
+  EXPECT_EQ(a.pvd, b.pvd);
+  EXPECT_EQ(a.totals.max_contact_iterations, b.totals.max_contact_iterations);
+  EXPECT_EQ(a.totals.seconds_output, b.totals.seconds_output);
+}
+
+// Pieces as 3 processes write them (here one process writes all three): each its
+// third of the node and cell arrays; read back whole, they are the one-process checkpoint.
+TEST(CheckpointPieces, ThreePiecesHoldTheWholeStateEachItsShare) {
+  TimeStepper s(small_2d(), penalty_duality());
+  for (int i = 0; i < 3; ++i) s.step();
+  const Checkpoint c = checkpoint_of(s);
+  const fs::path dir = fresh_dir("pieces"), one = fresh_dir("pieces_one");
+  write_checkpoint(s, dir, c.case_name, c.pvd, c.totals, 3);
+  write_checkpoint(s, one, c.case_name, c.pvd, c.totals);
+  int n_files = 0;
+  for (const auto& e : fs::directory_iterator(dir)) n_files += e.path().extension() == ".bin";
+  EXPECT_EQ(n_files, 3);
+  const fs::path first = dir / "checkpoint_00003.bin";
+  ASSERT_TRUE(fs::exists(piece(dir, 3, 1, 3)));
+  ASSERT_TRUE(fs::exists(piece(dir, 3, 2, 3)));
+  expect_same(read_checkpoint(first), read_checkpoint(one / "checkpoint_00003.bin"));
+  const auto total = static_cast<double>(fs::file_size(one / "checkpoint_00003.bin"));
+  for (const fs::path& f : {first, piece(dir, 3, 1, 3), piece(dir, 3, 2, 3)}) {
+    EXPECT_LT(fs::file_size(f), 1.1 * total / 3 + 1024) << f;
+    EXPECT_GT(fs::file_size(f), 0.9 * total / 3) << f;
+  }
+  try {  // a piece is not a checkpoint by itself
+    read_checkpoint(piece(dir, 3, 1, 3));
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("piece 1 of 3, not a checkpoint's first file"), std::string::npos) << e.what();
+  }
+}
+
+TEST(CheckpointPieces, ResumedFromPiecesIsBitIdentical) {
+  TimeStepper a(small_2d(), penalty_duality()), b(small_2d(), penalty_duality());
+  for (int i = 0; i < 4; ++i) a.step();
+  const fs::path dir = fresh_dir("pieces_resume");
+  RunTotals totals;
+  totals.max_damage_iterations = 5;
+  write_checkpoint(a, dir, "paper-2d", {{0.0, "solution_00000.vtu"}}, totals, 4);
+  std::vector<std::string> skipped;
+  const auto at = resume_from_checkpoint(b, dir, &skipped);
+  ASSERT_TRUE(at.has_value());
+  EXPECT_TRUE(skipped.empty());
+  EXPECT_EQ(at->n, 4);
+  EXPECT_EQ(at->totals.max_damage_iterations, 5);
+  ASSERT_EQ(at->pvd.size(), 1u);
+  EXPECT_EQ(b.snapshot().u_free, a.snapshot().u_free);
+  EXPECT_EQ(b.snapshot().contact_warm, a.snapshot().contact_warm);
+  EXPECT_EQ(b.snapshot().damage_warm, a.snapshot().damage_warm);
+  expect_same_continuation(a, b);
+}
+
+/// Checkpoints of steps 1 and 2 in 3 pieces; `damage` spoils step 2's; a resume then
+/// takes step 1 and says why it passed over step 2.
+void expect_step_1_because(const std::string& name, const std::function<void(const fs::path&)>& damage,
+                           const std::string& reason) {
+  TimeStepper s(small_2d()), b(small_2d());
+  const fs::path dir = fresh_dir(name);
+  for (int i = 0; i < 2; ++i) {
+    s.step();
+    write_checkpoint(s, dir, "paper-2d", {}, {}, 3);
+  }
+  damage(dir);
+  std::vector<std::string> skipped;
+  const auto at = resume_from_checkpoint(b, dir, &skipped);
+  ASSERT_TRUE(at.has_value()) << name;
+  EXPECT_EQ(at->n, 1) << name;
+  ASSERT_EQ(skipped.size(), 1u) << name;
+  EXPECT_NE(skipped[0].find(reason), std::string::npos) << skipped[0];
+  skipped.clear();  // reading the checkpoint whole says the same
+  const auto found = find_checkpoint(dir, problem_fingerprint(s), &skipped);
+  ASSERT_TRUE(found.has_value());
+  EXPECT_EQ(found->snapshot.state.n, 1);
+  ASSERT_EQ(skipped.size(), 1u);
+  EXPECT_NE(skipped[0].find(reason), std::string::npos) << skipped[0];
+}
+
+TEST(CheckpointPieces, AMissingOrDamagedPieceFallsBackToTheOlderCheckpoint) {
+  expect_step_1_because("missing", [](const fs::path& d) { fs::remove(piece(d, 2, 2, 3)); },
+                        "piece 2 of 3 ('checkpoint_00002.p0002-of-0003.bin') is missing");
+  expect_step_1_because("flipped", [](const fs::path& d) { flip_a_byte(piece(d, 2, 1, 3)); },
+                        "checkpoint_00002.p0001-of-0003.bin': checksum mismatch (damaged file)");
+  expect_step_1_because("cut", [](const fs::path& d) { fs::resize_file(piece(d, 2, 2, 3), 100); },
+                        "checkpoint_00002.p0002-of-0003.bin': 68 payload bytes, the header says");
+  // A good piece of another write of step 2 (a crash between the pieces and piece 0
+  // of a new timeline): not the piece that piece 0 lists.
+  expect_step_1_because("stale",
+                        [](const fs::path& d) {
+                          TimeStepper other(small_2d(), penalty_duality());
+                          for (int i = 0; i < 2; ++i) other.step();
+                          const fs::path elsewhere = fresh_dir("stale_elsewhere");
+                          write_checkpoint(other, elsewhere, "paper-2d", {}, {}, 3);
+                          fs::copy_file(piece(elsewhere, 2, 1, 3), piece(d, 2, 1, 3),
+                                        fs::copy_options::overwrite_existing);
+                        },
+                        "not the piece that 'checkpoint_00002.bin' lists");
+  // Piece 0 itself damaged.
+  expect_step_1_because("first", [](const fs::path& d) { flip_a_byte(d / "checkpoint_00002.bin"); },
+                        "checkpoint_00002.bin': checksum mismatch");
+}
+
+TEST(CheckpointPieces, KeepingTheNewestAndANewTimelineRemoveWholeCheckpoints) {
+  TimeStepper s(small_2d());
+  const fs::path dir = fresh_dir("pieces_keep");
+  const Snapshot start = s.snapshot();
+  for (int i = 0; i < 4; ++i) {
+    s.step();
+    write_checkpoint(s, dir, "paper-2d", {}, {}, 3);
+  }
+  auto files = [&] {
+    std::set<std::string> names;
+    for (const auto& e : fs::directory_iterator(dir)) names.insert(e.path().filename().string());
+    return names;
+  };
+  EXPECT_EQ(files(), (std::set<std::string>{"checkpoint_00003.bin", "checkpoint_00003.p0001-of-0003.bin",
+                                            "checkpoint_00003.p0002-of-0003.bin", "checkpoint_00004.bin",
+                                            "checkpoint_00004.p0001-of-0003.bin",
+                                            "checkpoint_00004.p0002-of-0003.bin"}));
+  // Back to step 3, now in 2 pieces (a resume on 2 processes): step 4 goes, and step 3's third piece.
+  s.restore(start);
+  for (int i = 0; i < 3; ++i) s.step();
+  write_checkpoint(s, dir, "paper-2d", {}, {}, 2);
+  EXPECT_EQ(files(), (std::set<std::string>{"checkpoint_00003.bin", "checkpoint_00003.p0001-of-0002.bin"}));
+  // On one process: the version-2 file alone.
+  write_checkpoint(s, dir, "paper-2d", {}, {});
+  EXPECT_EQ(files(), (std::set<std::string>{"checkpoint_00003.bin"}));
+  remove_run_outputs(dir);  // what a fresh run does
+  write_checkpoint(s, dir, "paper-2d", {}, {}, 2);
+  remove_run_outputs(dir);
+  EXPECT_TRUE(files().empty());
 }
 
 /// A damage source that fails (NaN) the first time it is evaluated at t = 0.3,

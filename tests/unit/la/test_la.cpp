@@ -70,6 +70,37 @@ TEST(LaLayout, OneProcessHasNoGhostsAndGathersInPlace) {
   EXPECT_EQ(back, v.local());
 }
 
+TEST(LaBlockSplit, PetscsSplitAndAllOnTheFirst) {
+  const BlockSplit s(10, 4);  // 3, 3, 2, 2
+  EXPECT_EQ(s.n_blocks(), 4);
+  EXPECT_EQ(s.n(), 10);
+  EXPECT_EQ(s.begin(0), 0);
+  EXPECT_EQ(s.end(0), 3);
+  EXPECT_EQ(s.begin(2), 6);
+  EXPECT_EQ(s.size(3), 2);
+  for (long long i = 0; i < 10; ++i) EXPECT_LE(s.begin(s.block_of(i)), i);
+  EXPECT_EQ(s.block_of(2), 0);
+  EXPECT_EQ(s.block_of(3), 1);
+  EXPECT_EQ(s.block_of(9), 3);
+  const BlockSplit few(2, 3);  // more blocks than entries: the last is empty
+  EXPECT_EQ(few.size(0) + few.size(1), 2);
+  EXPECT_EQ(few.size(2), 0);
+  const BlockSplit root = BlockSplit::first_only(7, 3);
+  EXPECT_EQ(root.size(0), 7);
+  EXPECT_EQ(root.size(1), 0);
+  EXPECT_EQ(root.block_of(6), 0);
+}
+
+TEST(LaLayout, OneProcessBlocksAreItsEntries) {
+  const Layout layout(3);
+  const Eigen::VectorXd v = Eigen::VectorXd::LinSpaced(6, 1, 6);  // 2 values per entry
+  const Eigen::VectorXd block = layout.to_blocks(v, BlockSplit(3, 1), 2);
+  EXPECT_EQ(block, v);
+  Eigen::VectorXd back;
+  layout.from_blocks(block, BlockSplit(3, 1), back, 2);
+  EXPECT_EQ(back, v);
+}
+
 TEST(LaOperator, MultDiagonalAndRestrictionMatchDense) {
   const SparseOperator A(tridiagonal(6, 4.0, -1.0));
   const Eigen::MatrixXd D = Eigen::MatrixXd(A.matrix());
