@@ -5,12 +5,44 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <limits>
+#include <set>
 
 namespace vpc {
 
 namespace {
 constexpr double kRoundoff = 1e-14;
+
+/// A number identifying the active set `state` over every rank (FNV-1a of each rank's
+/// states, combined in rank order). Collective.
+std::uint64_t set_hash(const std::vector<signed char>& state, const la::Comm& comm) {
+  std::uint64_t h = 1469598103934665603ull;
+  for (signed char s : state) h = (h ^ static_cast<unsigned char>(s)) * 1099511628211ull;
+  std::uint64_t all = 1469598103934665603ull;
+  for (long long r : comm.all_gather(static_cast<long long>(h))) all = (all ^ static_cast<std::uint64_t>(r)) * 1099511628211ull;
+  return all;
+}
+
+/// The monotone update that replaces the plain one once an active set has come back: every
+/// bound the trial point crosses is taken, but of the bounds whose multiplier has the wrong
+/// sign only the one with the largest violation (over every rank) is released.
+void monotone_update(const std::vector<signed char>& state, const Vector& r, const la::Comm& comm,
+                     std::vector<signed char>& next) {
+  double worst = 0;
+  int at = -1;
+  for (int i = 0; i < static_cast<int>(state.size()); ++i) {
+    // The multiplier of a lower bound is −r_i, of an upper bound r_i: both ≥ 0 at a solution.
+    const double violation = state[i] == 1 ? r[i] : (state[i] == 2 ? -r[i] : 0.0);
+    if (violation > worst) {
+      worst = violation;
+      at = i;
+    }
+  }
+  const double global_worst = comm.max(worst);
+  for (int i = 0; i < static_cast<int>(state.size()); ++i)
+    if (state[i] == 1 || state[i] == 2) next[i] = i == at && worst == global_worst && worst > 0 ? 0 : state[i];
+}
 }  // namespace
 
 DenseBoxQpOperator::DenseBoxQpOperator(Eigen::MatrixXd H) : H_(std::move(H)), diag_(H_.diagonal()) {}
@@ -198,6 +230,11 @@ BoxQpResult solve_box_qp(BoxQpOperator& H, const Vector& b, const Vector& lo, co
   // state: 0 free, 1 at lower bound, 2 at upper bound; -1 = not yet determined.
   std::vector<signed char> state(n, -1), next(n);
   std::vector<char> fixed(n);
+  // The plain update can cycle where H is not an M-matrix (the contact dual's dense S, for
+  // one): a set that comes back switches to monotone updates (monotone_update), which
+  // cannot return to a set (tests/unit/solvers/test_primal_active_set.cpp).
+  std::set<std::uint64_t> seen;
+  bool monotone = false;
   for (res.iterations = 0; res.iterations < max_iterations; ++res.iterations) {
     const Vector r = b - H.multiply(x);  // −∇: the multiplier of a bound is −r_i
     for (int i = 0; i < n; ++i) {
@@ -210,6 +247,17 @@ BoxQpResult solve_box_qp(BoxQpOperator& H, const Vector& b, const Vector& lo, co
     if (comm.all(next == state) || box_qp_kkt_residual(Vector(b - r), d, b, lo, hi, x, comm) <= kRoundoff) {
       res.converged = true;
       break;
+    }
+    if (monotone) {
+      monotone_update(state, r, comm, next);
+      if (comm.all(next == state)) {  // no bound to take and no multiplier of the wrong sign: KKT holds
+        res.converged = true;
+        break;
+      }
+    } else if (!seen.insert(set_hash(next, comm)).second) {
+      monotone = true;
+      ++res.cycles;
+      monotone_update(state, r, comm, next);
     }
     state = next;
     for (int i = 0; i < n; ++i) {

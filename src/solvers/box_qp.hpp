@@ -124,6 +124,7 @@ struct BoxQpResult {
   int iterations = 0;            // reduced solves done (0: the warm start was already optimal)
   int n_lower = 0, n_upper = 0;  // indices at their bounds
   double kkt_residual = 0;       // box_qp_kkt_residual of the returned x
+  int cycles = 0;                // active sets that came back (then the updates were monotone)
 };
 
 /// Primal–dual active-set method, warm-started from x (projected onto the box).

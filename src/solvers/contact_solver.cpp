@@ -95,7 +95,9 @@ namespace {
 
 ContactReport make_report(const la::SpdOperator& K, const ContactConstraints& c, const Vector& F, const Vector& u,
                           const Vector& lambda, const BoxQpResult& qp, double active_threshold = 0) {
-  return contact_report(K, c, F, u, lambda, qp.converged, qp.iterations, active_threshold);
+  ContactReport rep = contact_report(K, c, F, u, lambda, qp.converged, qp.iterations, active_threshold);
+  rep.cycles = qp.cycles;
+  return rep;
 }
 
 /// The columns j0 .. j0+nb−1 of Nᵀ, owned rows: each rank fills the columns of its

@@ -505,5 +505,26 @@ TEST(BoxQp, CrossedBoundsThrow) {
   }
 }
 
+// A dense H that is not an M-matrix, on which the plain primal–dual active-set update
+// cycles from x = 0 ({0, 2}, {}, {1, 2}, {0, 2} again): the guard switches to monotone
+// updates and ends at the one KKT point, x = (1.52395117, 2.18511895, 0) with index 2 at
+// its bound (found by enumerating the 8 sets).
+TEST(BoxQp, ACyclingActiveSetIsEndedByMonotoneUpdates) {
+  Eigen::MatrixXd K(3, 3);
+  K << 6.617, -2.169, -4.035, -2.169, 3.049, 2.483, -4.035, 2.483, 3.298;
+  const Eigen::MatrixXd H = K.inverse();
+  const Vector b = H * (Vector(3) << 5.265, 0.379, -2.792).finished() - (Vector(3) << 0.103, 0.175, 0.073).finished();
+  DenseBoxQpOperator op(H);
+  Vector x;
+  const BoxQpResult r = solve_box_qp(op, b, Vector::Zero(3), Vector::Constant(3, kInf), x);
+  ASSERT_TRUE(r.converged) << r.iterations << " iterations";
+  EXPECT_EQ(r.cycles, 1);
+  EXPECT_LE(r.kkt_residual, 1e-14);
+  EXPECT_NEAR(x[0], 1.52395117, 1e-8);
+  EXPECT_NEAR(x[1], 2.18511895, 1e-8);
+  EXPECT_EQ(x[2], 0.0);
+  EXPECT_EQ(r.n_lower, 1);
+}
+
 }  // namespace
 }  // namespace vpc

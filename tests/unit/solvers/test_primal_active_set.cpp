@@ -150,6 +150,34 @@ TEST(PrimalActiveSet, WarmStartCostsOneSolveAndNoFactorization) {
   EXPECT_LE((lambda - l0).cwiseAbs().maxCoeff(), 1e-12 * l0.cwiseAbs().maxCoeff());
 }
 
+// Three dofs, each bounded above (u_i ≤ g_i), K symmetric positive definite but not an
+// M-matrix (found by a search over random 3 x 3 problems): from the empty set, the plain
+// update rule (active where λ_i + c_i (u_i − g_i) > 0) visits {1}, {0, 1, 2}, {0}, {1} again. The
+// guard notices the repeat, switches to monotone updates (add the violated rows, release only
+// the most negative force) and ends at the same answer as the dual solver, whose box QP on
+// S = K⁻¹ cycles too and is guarded alike (solve_box_qp).
+TEST(PrimalActiveSet, TheCyclingGuardEndsACycleAtTheDualAnswer) {
+  Eigen::MatrixXd Kd(3, 3);
+  Kd << 6.617, -2.169, -4.035, -2.169, 3.049, 2.483, -4.035, 2.483, 3.298;
+  const SparseMatrix K = Kd.sparseView();
+  const SparseMatrix N = Eigen::MatrixXd::Identity(3, 3).sparseView();
+  const Vector F = (Vector(3) << 5.265, 0.379, -2.792).finished();
+  const Vector g = (Vector(3) << 0.103, 0.175, 0.073).finished();
+  Vector u[2], lambda[2];
+  ContactReport rep[2];
+  const char* names[] = {"active-set", "primal-active-set"};
+  for (int s = 0; s < 2; ++s) {
+    SCOPED_TRACE(names[s]);
+    rep[s] = make_contact_solver(names[s], K, N, g)->solve(F, u[s], lambda[s]);
+    ASSERT_TRUE(rep[s].converged) << rep[s].iterations << " iterations";
+    EXPECT_LE(rep[s].residuals.max(), 1e-12);
+  }
+  EXPECT_GE(rep[0].cycles, 1);  // the dual's box QP (S = K⁻¹ here) cycles as well
+  EXPECT_GE(rep[1].cycles, 1);
+  EXPECT_LE((u[1] - u[0]).cwiseAbs().maxCoeff(), 1e-12);
+  EXPECT_LE((lambda[1] - lambda[0]).cwiseAbs().maxCoeff(), 1e-12);
+}
+
 TEST(PrimalActiveSet, AutomaticChoiceSaysWhy) {
   EXPECT_EQ(pick_contact_solver("auto", 100, "cholmod", false).name, "active-set");
   EXPECT_EQ(pick_contact_solver("auto", kDualContactRows + 1, "mumps", false).name, "primal-active-set");
