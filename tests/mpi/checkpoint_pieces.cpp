@@ -11,6 +11,8 @@
 // for bit, as sums are taken in another order on another rank count, and the PETSc engine on
 // several ranks does not repeat its last bits from run to run even on the same count. Last, with a piece of step S/2 damaged and then missing, a resume
 // on all P ranks must take step 1 and say why. Prints PASSED only if all hold.
+#include "../file_damage.hpp"
+#include "petsc_main.hpp"
 #include "cases/builtin_cases.hpp"
 #include "io/checkpoint.hpp"
 #include "la/petsc.hpp"
@@ -97,17 +99,7 @@ double difference(const vpc::Snapshot& a, const vpc::Snapshot& b, bool warm) {
   return worst;
 }
 
-/// Flips one byte in the middle of a file.
-void flip_a_byte(const fs::path& file) {
-  std::fstream f(file, std::ios::in | std::ios::out | std::ios::binary);
-  const auto at = static_cast<std::streamoff>(fs::file_size(file) / 2);
-  char c;
-  f.seekg(at);
-  f.read(&c, 1);
-  c = static_cast<char>(c ^ 0x5a);
-  f.seekp(at);
-  f.write(&c, 1);
-}
+using vpc::test::flip_a_byte;
 
 int run(int argc, char** argv) {
   const MPI_Comm world = PETSC_COMM_WORLD;
@@ -242,15 +234,4 @@ int run(int argc, char** argv) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
-  if (PetscInitialize(&argc, &argv, nullptr, nullptr)) return 3;
-  int rc = 0;
-  try {
-    rc = run(argc, argv);
-  } catch (const std::exception& e) {
-    fmt::print(stderr, "vpcontact_mpi_checkpoint: rank {}: error: {}\n", vpc::comm_rank(PETSC_COMM_WORLD), e.what());
-    MPI_Abort(PETSC_COMM_WORLD, 1);  // never leave the other ranks waiting
-  }
-  PetscFinalize();
-  return rc;
-}
+int main(int argc, char** argv) { return vpc::test::petsc_main(argc, argv, "vpcontact_mpi_checkpoint", run); }

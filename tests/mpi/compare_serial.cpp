@@ -7,6 +7,7 @@
 // within the tolerance of SolverChoice) and equal on all ranks; rank 0 runs the
 // serial stepper beside the distributed one and compares u, β, λ (contact forces)
 // and σ after every step, relative to their max norms. Exit 0 only if all hold.
+#include "petsc_main.hpp"
 #include "cases/builtin_cases.hpp"
 #include "io/checkpoint.hpp"
 #include "la/petsc.hpp"
@@ -143,15 +144,4 @@ int run(int argc, char** argv) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
-  if (PetscInitialize(&argc, &argv, nullptr, nullptr)) return 3;
-  int rc = 0;
-  try {
-    rc = run(argc, argv);
-  } catch (const std::exception& e) {
-    fmt::print(stderr, "vpcontact_mpi_compare: rank {}: error: {}\n", vpc::comm_rank(PETSC_COMM_WORLD), e.what());
-    MPI_Abort(PETSC_COMM_WORLD, 1);  // never leave the other ranks waiting
-  }
-  PetscFinalize();
-  return rc;
-}
+int main(int argc, char** argv) { return vpc::test::petsc_main(argc, argv, "vpcontact_mpi_compare", run); }

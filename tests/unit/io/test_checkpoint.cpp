@@ -2,6 +2,7 @@
 // checkpoints (in the numbering of the mesh as read: on one process exactly its
 // snapshot, in the version-2 file; in pieces as several processes write them, read
 // back whole or by blocks) and snapshot/restore and step halving.
+#include "../../file_damage.hpp"
 #include "cases/builtin_cases.hpp"
 #include "core/error.hpp"
 #include "io/checkpoint.hpp"
@@ -323,17 +324,7 @@ fs::path piece(const fs::path& dir, int n, int r, int p) {
   return dir / fmt::format("checkpoint_{:05d}.p{:04d}-of-{:04d}.bin", n, r, p);
 }
 
-/// Flips one byte in the middle of a file.
-void flip_a_byte(const fs::path& file) {
-  std::fstream f(file, std::ios::in | std::ios::out | std::ios::binary);
-  const auto at = static_cast<std::streamoff>(fs::file_size(file) / 2);
-  char c;
-  f.seekg(at);
-  f.read(&c, 1);
-  c = static_cast<char>(c ^ 0x5a);
-  f.seekp(at);
-  f.write(&c, 1);
-}
+using test::flip_a_byte;
 
 void expect_same(const Checkpoint& a, const Checkpoint& b) {
   const State &x = a.snapshot.state, &y = b.snapshot.state;
