@@ -1,0 +1,303 @@
+#include "io/checkpoint_file.hpp"
+
+#include "core/error.hpp"
+#include "io/atomic_file.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cstring>
+
+namespace vpc::checkpoint_file {
+
+namespace {
+
+constexpr char kMagic[8] = {'V', 'P', 'C', 'C', 'K', 'P', 'T', '\0'};
+static_assert(kHeaderBytes == sizeof kMagic + 2 * sizeof(std::uint32_t) + 2 * sizeof(std::uint64_t));
+
+}  // namespace
+
+std::uint64_t fnv1a(const char* data, std::size_t n, std::uint64_t h) {
+  for (std::size_t i = 0; i < n; ++i) h = (h ^ static_cast<unsigned char>(data[i])) * 1099511628211ull;
+  return h;
+}
+
+// ---------------------------------------------------------------------------------
+// File names: checkpoint_NNNNN.bin (the whole state, or piece 0) and
+// checkpoint_NNNNN.pRRRR-of-PPPP.bin (piece r ≥ 1 of P).
+
+fs::path main_file(const fs::path& dir, long long n) { return dir / fmt::format("checkpoint_{:05d}.bin", n); }
+
+fs::path piece_file(const fs::path& dir, long long n, long long r, long long p) {
+  if (r == 0) return main_file(dir, n);
+  return dir / fmt::format("checkpoint_{:05d}.p{:04d}-of-{:04d}.bin", n, r, p);
+}
+
+namespace {
+
+/// The step of a checkpoint file or piece; -1 for any other file.
+int step_of(const fs::path& p) {
+  const std::string f = p.filename().string();
+  if (f.rfind("checkpoint_", 0) != 0 || !f.ends_with(".bin") || f.size() < 16 || !std::isdigit(f[11])) return -1;
+  return std::atoi(f.c_str() + 11);
+}
+
+bool is_main(const fs::path& p) {
+  const int n = step_of(p);
+  return n >= 0 && p.filename() == main_file({}, n).filename();
+}
+
+}  // namespace
+
+std::vector<long long> checkpoint_steps(const fs::path& dir) {
+  std::vector<long long> steps;
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator(dir, ec))
+    if (is_main(e.path())) steps.push_back(step_of(e.path()));
+  std::sort(steps.rbegin(), steps.rend());
+  return steps;
+}
+
+void remove_stale(const fs::path& dir, long long n, const std::set<fs::path>& written, int keep) {
+  std::set<fs::path> names;
+  for (const fs::path& p : written) names.insert(p.filename());
+  std::set<long long> kept;
+  for (long long s : checkpoint_steps(dir))
+    if (s <= n && static_cast<int>(kept.size()) < std::max(keep, 1)) kept.insert(s);
+  std::vector<fs::path> doomed;
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator(dir, ec)) {
+    const long long s = step_of(e.path());
+    if (s > n || (s == n && !names.count(e.path().filename())) || (s >= 0 && s < n && !kept.count(s)))
+      doomed.push_back(e.path());
+  }
+  for (const auto& p : doomed) fs::remove(p, ec);
+}
+
+// ---------------------------------------------------------------------------------
+// Writing: the payload is streamed twice (size and checksum, then the bytes) from
+// views of the caller's arrays, never held in memory.
+
+namespace {
+
+/// Serializes the payload to a stream, or (without one) only measures its size
+/// and checksum.
+class Writer {
+ public:
+  explicit Writer(std::ostream* out = nullptr) : out_(out) {}
+  template <typename T>
+  void pod(const T& v) {
+    bytes(reinterpret_cast<const char*>(&v), sizeof v);
+  }
+  void string(std::string_view s) {
+    pod<std::uint64_t>(s.size());
+    bytes(s.data(), s.size());
+  }
+  void doubles(std::span<const double> v) {
+    pod<std::uint64_t>(v.size());
+    bytes(reinterpret_cast<const char*>(v.data()), v.size_bytes());
+  }
+  std::uint64_t size() const { return size_; }
+  std::uint64_t checksum() const { return hash_; }
+
+ private:
+  void bytes(const char* p, std::size_t n) {
+    if (n == 0) return;
+    size_ += n;
+    if (out_)
+      out_->write(p, static_cast<std::streamsize>(n));
+    else
+      hash_ = fnv1a(p, n, hash_);
+  }
+  std::ostream* out_;
+  std::uint64_t size_ = 0, hash_ = fnv1a(nullptr, 0);
+};
+
+
+
+
+void write_payload(Writer& w, const FileContent& f) {
+  w.string(f.case_name);
+  w.pod(f.fingerprint);
+  w.pod(f.n);
+  w.pod(f.t);
+  if (f.head)
+    for (std::uint64_t v : {f.head->count, f.head->index, f.head->node_begin, f.head->node_end, f.head->cell_begin,
+                            f.head->cell_end})
+      w.pod(v);
+  for (Values a : f.arrays) w.doubles(a);
+  if (!f.whole_or_first()) return;
+  w.pod<std::uint64_t>(f.pvd->size());
+  for (const auto& [t, file] : *f.pvd) {
+    w.pod(t);
+    w.string(file);
+  }
+  const RunTotals& r = *f.totals;
+  for (double v : {r.max_contact_residual, r.max_damage_residual, r.seconds_sources, r.seconds_damage,
+                   r.seconds_contact, r.seconds_stress, r.seconds_output})
+    w.pod(v);
+  w.pod<std::int64_t>(r.max_contact_iterations);
+  w.pod<std::int64_t>(r.max_damage_iterations);
+  w.pod<std::uint8_t>(r.all_ok ? 1 : 0);
+  w.pod<std::int64_t>(r.last_n_active);
+  for (const PieceSum& s : f.others) {
+    w.pod(s.size);
+    w.pod(s.checksum);
+  }
+}
+
+}  // namespace
+
+PieceSum write_file(const fs::path& path, const FileContent& f) {
+  Writer measure;
+  write_payload(measure, f);
+  write_file_atomic(path, [&](std::ostream& out) {
+    out.write(kMagic, sizeof kMagic);
+    const std::uint32_t version = f.head ? kPiece : kWhole, reserved = 0;
+    const std::uint64_t size = measure.size(), sum = measure.checksum();
+    out.write(reinterpret_cast<const char*>(&version), sizeof version);
+    out.write(reinterpret_cast<const char*>(&reserved), sizeof reserved);
+    out.write(reinterpret_cast<const char*>(&size), sizeof size);
+    out.write(reinterpret_cast<const char*>(&sum), sizeof sum);
+    Writer w(&out);
+    write_payload(w, f);
+  });
+  return {measure.size(), measure.checksum()};
+}
+
+// ---------------------------------------------------------------------------------
+// Reading: a file's header and fields are read and its arrays located; a process
+// then reads only the entries it needs.
+
+
+
+CheckpointFile::CheckpointFile(const fs::path& file, bool verify) : path_(file), in_(file, std::ios::binary) {
+  require(in_.good(), "checkpoint '{}': cannot read it", name());
+  std::error_code ec;
+  const std::uint64_t bytes = fs::file_size(file, ec);
+  char magic[sizeof kMagic] = {};
+  std::uint32_t reserved = 0;
+  in_.read(magic, sizeof magic);
+  in_.read(reinterpret_cast<char*>(&version_), sizeof version_);
+  in_.read(reinterpret_cast<char*>(&reserved), sizeof reserved);
+  in_.read(reinterpret_cast<char*>(&sum_.size), sizeof sum_.size);
+  in_.read(reinterpret_cast<char*>(&sum_.checksum), sizeof sum_.checksum);
+  require(!ec && in_.good() && bytes >= kHeaderBytes && std::memcmp(magic, kMagic, sizeof kMagic) == 0,
+          "checkpoint '{}': not a vpcontact checkpoint", name());
+  require(version_ == kWhole || version_ == kPiece,
+          "checkpoint '{}': format version {}, this program reads versions {} and {}", name(), version_, kWhole,
+          kPiece);
+  require(bytes - kHeaderBytes == sum_.size, "checkpoint '{}': {} payload bytes, the header says {} (truncated?)",
+          name(), bytes - kHeaderBytes, sum_.size);
+  end_ = bytes;
+  if (verify) verify_checksum();
+  parse();
+}
+
+void CheckpointFile::verify_checksum() {
+  std::vector<char> buffer(1 << 20);
+  std::uint64_t h = fnv1a(nullptr, 0), left = sum_.size;
+  in_.seekg(static_cast<std::streamoff>(kHeaderBytes));
+  while (left > 0 && in_.good()) {
+    const auto chunk = static_cast<std::streamsize>(std::min<std::uint64_t>(left, buffer.size()));
+    in_.read(buffer.data(), chunk);
+    h = fnv1a(buffer.data(), static_cast<std::size_t>(in_.gcount()), h);
+    left -= static_cast<std::uint64_t>(in_.gcount());
+  }
+  require(left == 0, "checkpoint '{}': cannot read it", name());
+  require(h == sum_.checksum, "checkpoint '{}': checksum mismatch (damaged file)", name());
+}
+
+std::string CheckpointFile::string() {
+  const auto n = pod<std::uint64_t>();
+  need(n);
+  std::string s(n, '\0');
+  in_.read(s.data(), static_cast<std::streamsize>(n));
+  at_ += n;
+  return s;
+}
+
+void CheckpointFile::parse() {
+  in_.seekg(static_cast<std::streamoff>(at_));
+  case_name = string();
+  fingerprint = pod<std::uint64_t>();
+  n = pod<std::int64_t>();
+  t = pod<double>();
+  if (version_ == kPiece)
+    for (std::uint64_t* v : {&head_.count, &head_.index, &head_.node_begin, &head_.node_end, &head_.cell_begin,
+                             &head_.cell_end})
+      *v = pod<std::uint64_t>();
+  for (int a = 0; a < kArrays; ++a) {  // located, not read
+    count_[a] = pod<std::uint64_t>();
+    require(count_[a] <= (end_ - at_) / sizeof(double), "checkpoint '{}': truncated payload", name());
+    offset_[a] = at_;
+    at_ += count_[a] * sizeof(double);
+    in_.seekg(static_cast<std::streamoff>(at_));
+  }
+  for (Array a : {kSigma, kEps, kZ})
+    require(count_[a] % 6 == 0, "checkpoint '{}': a tensor array has {} values, not a multiple of 6", name(),
+            count_[a]);
+  if (version_ == kWhole) head_ = {0, 1, 0, count_[kBeta], 0, count_[kSigma] / 6};
+  require(head_.index < head_.count && head_.count >= 1 && head_.count < (1u << 24) &&
+              head_.node_begin <= head_.node_end &&
+              head_.cell_begin <= head_.cell_end && count_[kBeta] == n_nodes() && count_[kSigma] == 6 * n_cells() &&
+              count_[kEps] == 6 * n_cells() && count_[kZ] == 6 * n_cells() &&
+              (count_[kDamageWarm] == 0 || count_[kDamageWarm] == n_nodes()) &&
+              (n_nodes() == 0 ? count_[kU] == 0 : count_[kU] % n_nodes() == 0) &&
+              (head_.index == 0 || count_[kLambda] + count_[kContactWarm] == 0),
+          "checkpoint '{}': its arrays do not match its blocks (nodes [{}, {}), cells [{}, {}))", name(),
+          head_.node_begin, head_.node_end, head_.cell_begin, head_.cell_end);
+  if (head_.index == 0) {
+    const auto n_pvd = pod<std::uint64_t>();
+    require(n_pvd < (1u << 30), "checkpoint '{}': implausible PVD entry count", name());
+    for (std::uint64_t i = 0; i < n_pvd; ++i) {
+      const double time = pod<double>();
+      pvd.emplace_back(time, string());
+    }
+    for (double* v : {&totals.max_contact_residual, &totals.max_damage_residual, &totals.seconds_sources,
+                      &totals.seconds_damage, &totals.seconds_contact, &totals.seconds_stress, &totals.seconds_output})
+      *v = pod<double>();
+    totals.max_contact_iterations = static_cast<int>(pod<std::int64_t>());
+    totals.max_damage_iterations = static_cast<int>(pod<std::int64_t>());
+    totals.all_ok = pod<std::uint8_t>() != 0;
+    totals.last_n_active = pod<std::int64_t>();
+    if (version_ == kPiece) {
+      need((head_.count - 1) * 2 * sizeof(std::uint64_t));
+      others.resize(head_.count - 1);
+      for (PieceSum& s : others) {
+        s.size = pod<std::uint64_t>();
+        s.checksum = pod<std::uint64_t>();
+      }
+    }
+  }
+  require(at_ == end_, "checkpoint '{}': trailing bytes after the payload", name());
+}
+
+void CheckpointFile::read(Array a, std::uint64_t first, std::uint64_t n, double* out) {
+  if (n == 0) return;
+  require(first + n <= count_[a], "internal: values [{}, {}) of an array of {} in '{}'", first, first + n, count_[a],
+          name());
+  in_.seekg(static_cast<std::streamoff>(offset_[a] + first * sizeof(double)));
+  in_.read(reinterpret_cast<char*>(out), static_cast<std::streamsize>(n * sizeof(double)));
+  require(in_.good(), "checkpoint '{}': cannot read it", name());
+}
+
+CheckpointFile open_piece(const CheckpointFile& first, std::uint64_t r, bool verify) {
+  const std::uint64_t p = first.head().count;
+  const fs::path file = piece_file(first.path().parent_path(), first.n, static_cast<long long>(r), static_cast<long long>(p));
+  std::error_code ec;
+  require(fs::exists(file, ec), "checkpoint '{}': piece {} of {} ('{}') is missing", first.name(), r, p,
+          file.filename().string());
+  CheckpointFile f(file, verify);
+  require(f.version() == kPiece && f.head().index == r && f.head().count == p && f.fingerprint == first.fingerprint &&
+              f.n == first.n && f.t == first.t && f.case_name == first.case_name,
+          "checkpoint '{}': not piece {} of {} of the checkpoint of step {}", f.name(), r, p, first.n);
+  require(f.sum() == first.others[r - 1],
+          "checkpoint '{}': not the piece that '{}' lists (its size or checksum differ: left by another write?)",
+          f.name(), first.path().filename().string());
+  return f;
+}
+
+
+}  // namespace vpc::checkpoint_file

@@ -1,0 +1,149 @@
+#pragma once
+// The checkpoint files (io/checkpoint.hpp says what they hold): their names, the
+// writer of one file (streamed, atomic, checksummed) and the reader that locates its
+// arrays, so that a process reads only the entries it needs. Format versions 2 (the
+// whole state in one file) and 3 (one piece of a checkpoint written by P processes);
+// docs/reliability.md. Used by io/checkpoint.cpp only.
+#include "core/sym_tensor.hpp"
+#include "io/run_output.hpp"
+
+#include <array>
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <optional>
+#include <set>
+#include <span>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+namespace vpc::checkpoint_file {
+
+namespace fs = std::filesystem;
+
+// 2: the whole state in one file (the run totals hold the last step's active count);
+// 3: one piece of a checkpoint written by several processes.
+constexpr std::uint32_t kWhole = 2, kPiece = 3;
+constexpr std::size_t kHeaderBytes = 8 + 2 * sizeof(std::uint32_t) + 2 * sizeof(std::uint64_t);
+
+/// FNV-1a 64 of n bytes, continuing from h.
+std::uint64_t fnv1a(const char* data, std::size_t n, std::uint64_t h = 1469598103934665603ull);
+
+// File names: checkpoint_NNNNN.bin (the whole state, or piece 0) and
+// checkpoint_NNNNN.pRRRR-of-PPPP.bin (piece r ≥ 1 of P).
+fs::path main_file(const fs::path& dir, long long n);
+fs::path piece_file(const fs::path& dir, long long n, long long r, long long p);
+/// The steps of the checkpoints (their checkpoint_NNNNN.bin) in `dir`, newest first.
+std::vector<long long> checkpoint_steps(const fs::path& dir);
+/// After the checkpoint of step n (its files `written`): removes the files of later
+/// steps (damaged, or of a timeline this run replaced: a later --resume must not pick
+/// them), step n's pieces that this write did not make (another rank count), and the
+/// checkpoints older than the newest `keep` (an older one is the fallback if the newest
+/// is ever damaged).
+void remove_stale(const fs::path& dir, long long n, const std::set<fs::path>& written, int keep);
+
+using Values = std::span<const double>;
+inline Values values(const Eigen::VectorXd& v) { return {v.data(), static_cast<std::size_t>(v.size())}; }
+inline Values values(const std::vector<SymTensor>& t) { return {t.empty() ? nullptr : t[0].c.data(), 6 * t.size()}; }
+
+/// Which piece of how many a file is, and the blocks of the numbering of the mesh
+/// as read that it holds.
+struct PieceHead {
+  std::uint64_t index = 0, count = 1;
+  std::uint64_t node_begin = 0, node_end = 0, cell_begin = 0, cell_end = 0;
+};
+
+/// A piece's payload size and checksum (piece 0 lists the others').
+struct PieceSum {
+  std::uint64_t size = 0, checksum = 0;
+  bool operator==(const PieceSum&) const = default;
+};
+
+/// The arrays of a file, in their order.
+enum Array { kU, kBeta, kLambda, kUFree, kSigma, kEps, kZ, kContactWarm, kDamageWarm, kArrays };
+
+/// What one file holds, as views (nothing copied). Without a head: version 2, the
+/// whole state. With one: version 3, piece head->index, its state arrays its blocks.
+struct FileContent {
+  std::string_view case_name;
+  std::uint64_t fingerprint = 0;
+  std::int64_t n = 0;
+  double t = 0;
+  std::optional<PieceHead> head;
+  std::array<Values, kArrays> arrays;
+  const std::vector<std::pair<double, std::string>>* pvd = nullptr;  // version 2 and piece 0
+  const RunTotals* totals = nullptr;
+  std::vector<PieceSum> others;  // piece 0: pieces 1 … P − 1
+  bool whole_or_first() const { return !head || head->index == 0; }
+};
+
+/// Writes one file atomically; returns its payload's size and checksum.
+PieceSum write_file(const fs::path& path, const FileContent& f);
+
+/// One checkpoint file opened for reading. The constructor checks the header, the
+/// payload size and (with `verify`) the checksum, streaming the payload, then reads
+/// the fields and finds where each array starts. Throws vpc::Error naming the file.
+class CheckpointFile {
+ public:
+  CheckpointFile(const fs::path& file, bool verify);
+
+  const fs::path& path() const { return path_; }
+  std::string name() const { return path_.string(); }
+  std::uint32_t version() const { return version_; }
+  PieceSum sum() const { return sum_; }
+  /// Version 2: piece 0 of 1 whose blocks are the whole arrays.
+  const PieceHead& head() const { return head_; }
+  std::uint64_t n_nodes() const { return head_.node_end - head_.node_begin; }
+  std::uint64_t n_cells() const { return head_.cell_end - head_.cell_begin; }
+  std::uint64_t count(Array a) const { return count_[a]; }
+  /// Values [first, first + n) of array a into out.
+  void read(Array a, std::uint64_t first, std::uint64_t n, double* out);
+  Vector read(Array a) {
+    Vector v(static_cast<Eigen::Index>(count(a)));
+    read(a, 0, count(a), v.data());
+    return v;
+  }
+  std::vector<SymTensor> tensors(Array a) {
+    std::vector<SymTensor> t(count(a) / 6);
+    read(a, 0, count(a), t.empty() ? nullptr : t[0].c.data());
+    return t;
+  }
+
+  std::string case_name;
+  std::uint64_t fingerprint = 0;
+  std::int64_t n = 0;
+  double t = 0;
+  std::vector<std::pair<double, std::string>> pvd;  // version 2 and piece 0
+  RunTotals totals;
+  std::vector<PieceSum> others;  // piece 0 of version 3
+
+ private:
+  void verify_checksum();
+  void parse();
+  void need(std::uint64_t bytes) const { require(bytes <= end_ - at_, "checkpoint '{}': truncated payload", name()); }
+  template <typename T>
+  T pod() {
+    need(sizeof(T));
+    T v;
+    in_.read(reinterpret_cast<char*>(&v), sizeof v);
+    at_ += sizeof v;
+    return v;
+  }
+  std::string string();
+
+  fs::path path_;
+  std::ifstream in_;
+  std::uint32_t version_ = 0;
+  PieceSum sum_;
+  std::uint64_t at_ = kHeaderBytes, end_ = kHeaderBytes;  // file offsets: the next field, the payload's end
+  PieceHead head_;
+  std::array<std::uint64_t, kArrays> count_{}, offset_{};
+};
+
+/// Piece r of the checkpoint whose piece 0 is `first`: opened (with `verify`, its
+/// checksum checked) and matched against what piece 0 lists. Throws vpc::Error.
+CheckpointFile open_piece(const CheckpointFile& first, std::uint64_t r, bool verify);
+
+}  // namespace vpc::checkpoint_file
