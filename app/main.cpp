@@ -137,6 +137,10 @@ int on_engine(const Options& o, const vpc::RunOptions& ro, const vpc::EngineTask
       return task(vpc::serial_engine());
     } catch (const vpc::DirectSolverDeclined& e) {
       const bool memory = dynamic_cast<const vpc::MemoryLimitError*>(&e) != nullptr;
+      if (!o.run.quiet) {  // close the set-up stage the direct solver declined ("factorization of K ...")
+        fmt::print(" not done\n");
+        std::fflush(stdout);
+      }
       fmt::print(stderr,
                  "vpcontact: {}\nvpcontact: so the run goes on with CG + GAMG (the PETSc engine on one process: "
                  "no factor, memory linear in the unknowns); --engine serial {}\n",
