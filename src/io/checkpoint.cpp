@@ -1,6 +1,7 @@
 #include "io/checkpoint.hpp"
 
 #include "core/error.hpp"
+#include "core/hash.hpp"
 #include "fem/assembly.hpp"
 #include "io/checkpoint_file.hpp"
 
@@ -155,17 +156,9 @@ std::vector<SymTensor> to_tensors(const Vector& v) {
 /// "" when it succeeds everywhere; every process returns the same. Collective.
 template <typename F>
 std::string first_error(const la::Comm& comm, F&& work) {
-  std::string message;
-  bool failed = false;
   try {
-    work();
+    la::collective(comm, work);
   } catch (const std::exception& e) {
-    message = e.what();
-    failed = true;
-  }
-  try {
-    comm.throw_if_any(failed, message);
-  } catch (const CollectiveError& e) {
     return e.what();
   }
   return {};
@@ -232,11 +225,12 @@ void write_checkpoint(const TimeStepper& stepper, const fs::path& dir, const std
   const Vector contact_warm = stepper.contact_warm_state();
   // Piece q of `pieces`: this process's blocks (several processes), or a part of them (one process).
   const la::BlockSplit node_split(stepper.part().n_global_nodes, pieces), cell_split(stepper.part().n_global_cells, pieces);
+  const std::uint64_t fingerprint = problem_fingerprint(stepper);
   Vector u_free;
   auto content = [&](int q) {
     FileContent f = block_content(b, node_split.begin(q), node_split.end(q), cell_split.begin(q), cell_split.end(q), u_free);
     f.case_name = case_name;
-    f.fingerprint = problem_fingerprint(stepper);
+    f.fingerprint = fingerprint;
     f.n = st.n;
     f.t = st.t;
     if (pieces > 1)

@@ -1,6 +1,7 @@
 #include "io/checkpoint_file.hpp"
 
 #include "core/error.hpp"
+#include "core/hash.hpp"
 #include "io/atomic_file.hpp"
 
 #include <fmt/format.h>
@@ -17,11 +18,6 @@ constexpr char kMagic[8] = {'V', 'P', 'C', 'C', 'K', 'P', 'T', '\0'};
 static_assert(kHeaderBytes == sizeof kMagic + 2 * sizeof(std::uint32_t) + 2 * sizeof(std::uint64_t));
 
 }  // namespace
-
-std::uint64_t fnv1a(const char* data, std::size_t n, std::uint64_t h) {
-  for (std::size_t i = 0; i < n; ++i) h = (h ^ static_cast<unsigned char>(data[i])) * 1099511628211ull;
-  return h;
-}
 
 // ---------------------------------------------------------------------------------
 // File names: checkpoint_NNNNN.bin (the whole state, or piece 0) and

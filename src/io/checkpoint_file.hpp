@@ -28,9 +28,6 @@ namespace fs = std::filesystem;
 constexpr std::uint32_t kWhole = 2, kPiece = 3;
 constexpr std::size_t kHeaderBytes = 8 + 2 * sizeof(std::uint32_t) + 2 * sizeof(std::uint64_t);
 
-/// FNV-1a 64 of n bytes, continuing from h.
-std::uint64_t fnv1a(const char* data, std::size_t n, std::uint64_t h = 1469598103934665603ull);
-
 // File names: checkpoint_NNNNN.bin (the whole state, or piece 0) and
 // checkpoint_NNNNN.pRRRR-of-PPPP.bin (piece r ≥ 1 of P).
 fs::path main_file(const fs::path& dir, long long n);

@@ -1,28 +1,17 @@
 #include "solvers/box_qp.hpp"
 
 #include "core/error.hpp"
+#include "solvers/active_set_history.hpp"
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <cstdint>
 #include <limits>
-#include <set>
 
 namespace vpc {
 
 namespace {
 constexpr double kRoundoff = 1e-14;
-
-/// A number identifying the active set `state` over every rank (FNV-1a of each rank's
-/// states, combined in rank order). Collective.
-std::uint64_t set_hash(const std::vector<signed char>& state, const la::Comm& comm) {
-  std::uint64_t h = 1469598103934665603ull;
-  for (signed char s : state) h = (h ^ static_cast<unsigned char>(s)) * 1099511628211ull;
-  std::uint64_t all = 1469598103934665603ull;
-  for (long long r : comm.all_gather(static_cast<long long>(h))) all = (all ^ static_cast<std::uint64_t>(r)) * 1099511628211ull;
-  return all;
-}
 
 /// The monotone update that replaces the plain one once an active set has come back: every
 /// bound the trial point crosses is taken, but of the bounds whose multiplier has the wrong
@@ -233,7 +222,7 @@ BoxQpResult solve_box_qp(BoxQpOperator& H, const Vector& b, const Vector& lo, co
   // The plain update can cycle where H is not an M-matrix (the contact dual's dense S, for
   // one): a set that comes back switches to monotone updates (monotone_update), which
   // cannot return to a set (tests/unit/solvers/test_primal_active_set.cpp).
-  std::set<std::uint64_t> seen;
+  ActiveSetHistory history;
   bool monotone = false;
   for (res.iterations = 0; res.iterations < max_iterations; ++res.iterations) {
     const Vector r = b - H.multiply(x);  // −∇: the multiplier of a bound is −r_i
@@ -254,7 +243,7 @@ BoxQpResult solve_box_qp(BoxQpOperator& H, const Vector& b, const Vector& lo, co
         res.converged = true;
         break;
       }
-    } else if (!seen.insert(set_hash(next, comm)).second) {
+    } else if (history.came_back(next, comm)) {
       monotone = true;
       ++res.cycles;
       monotone_update(state, r, comm, next);

@@ -1,10 +1,10 @@
 #include "solvers/primal_active_set.hpp"
 
 #include "core/error.hpp"
+#include "solvers/active_set_history.hpp"
 
 #include <algorithm>
 #include <cmath>
-#include <set>
 
 namespace vpc {
 
@@ -101,7 +101,7 @@ class PrimalActiveSetSolver final : public ContactSolver {
     std::vector<char> active(static_cast<size_t>(rows));
     for (Eigen::Index i = 0; i < rows; ++i) active[i] = lambda_in[i] > 0 || gap_left(w, i) < 0;
     Vector lambda_local = Vector::Zero(rows);
-    std::set<std::vector<double>> seen;  // the replicated active sets met in this solve
+    ActiveSetHistory history;  // the active sets met in this solve
     ContactReport rep;
     bool monotone = false, converged = false;
     // An iterative solver finds the set with loose solves (the set decides by signs, not
@@ -149,9 +149,7 @@ class PrimalActiveSetSolver final : public ContactSolver {
           continue;
         }
       }
-      const Vector flags = replicate(comm, c_, Eigen::Map<const Eigen::Matrix<char, Eigen::Dynamic, 1>>(
-                                                   next.data(), rows).cast<double>());
-      if (!seen.insert(std::vector<double>(flags.data(), flags.data() + flags.size())).second && !monotone) {
+      if (history.came_back(next, comm) && !monotone) {
         monotone = true;
         ++rep.cycles;
       }
