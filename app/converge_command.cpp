@@ -38,7 +38,7 @@ struct ConvergeOptions {
   int levels = 4;
   int reference_offset = 1;
   int n = -1, steps = -1, h_steps = -1, k_refinements = 1;
-  double kappa = -1, tolerance = -1;
+  double kappa = -1, tolerance = -1, adaptive = -1;
   std::string contact_solver, damage_solver;
   std::string engine = "auto", linear_solver = "mumps";
   bool solvers = false, no_plot = false, quiet = false;
@@ -64,6 +64,7 @@ struct StudyInput {
   std::shared_ptr<const ExactSolution> exact;
   int base_steps = 0;
   SolverChoice solvers;
+  std::optional<StepControl> step_control;  // the case's error control (its tolerance: level 0's)
 };
 
 StudyInput manufactured_input(const ConvergeOptions& o) {
@@ -106,6 +107,12 @@ StudyInput case_input(const ConvergeOptions& o) {
   in.description = c.description;
   in.base_mesh = c.problem->mesh;
   in.base_steps = c.problem->n_steps;
+  if (c.problem->step_control) {
+    require(given("--steps"), "converge: {} has error-controlled steps; give the base grid's steps N0 with --steps "
+                              "(the fixed-grid levels and the reference use N0 2^l steps)", o.case_name);
+    in.step_control = c.problem->step_control;
+    in.step_control->landings.clear();  // the study's levels land on the base grid's times
+  }
   in.factory = same_data_on(c.problem);
   in.solvers = c.solvers;
   return in;
@@ -170,6 +177,9 @@ CLI::App* add_converge_command(CLI::App& app) {
   cmd->add_option("--damage-solver", o.damage_solver, "active-set (default) or penalty-duality")
       ->check(CLI::IsMember({"active-set", "penalty-duality"}));
   cmd->add_option("--tolerance", o.tolerance, "largest relative KKT residual accepted at a step (default 1e-8)");
+  cmd->add_option("--adaptive", o.adaptive,
+                  "also run error-controlled levels with this tolerance, halved per level (sequences hk and k), and "
+                  "compare every level at the base grid's times (a case with [time] tolerance has them already)");
   cmd->add_option("-o,--output", o.output, "output directory (default output/converge-CASE)");
   cmd->add_flag("--no-plot", o.no_plot, "write no PNG");
   cmd->add_flag("-q,--quiet", o.quiet, "print only the tables");
@@ -198,6 +208,11 @@ int converge_on(const EngineChoice& engine) {
   if (given("--tolerance")) {
     require(o.tolerance > 0, "--tolerance must be > 0 (got {})", o.tolerance);
     in.solvers.residual_tolerance = o.tolerance;
+  }
+  if (given("--adaptive")) {
+    require(o.adaptive > 0, "--adaptive must be > 0 (got {})", o.adaptive);
+    if (!in.step_control) in.step_control.emplace();
+    in.step_control->tolerance = o.adaptive;
   }
   const fs::path dir = o.output.empty() ? fs::path("output") / ("converge-" + fs::path(in.name).stem().string())
                                         : fs::path(o.output);
@@ -244,6 +259,7 @@ int converge_on(const EngineChoice& engine) {
     co.base_steps = in.base_steps;
     co.log = [&](const std::string& s) { say(s + "\n"); };
     co.make_stepper = engine.make_stepper;
+    co.step_control = in.step_control;
     Mesh base = in.base_mesh;
     if (seq == RefinementSequence::H) co.base_steps = o.h_steps > 0 ? o.h_steps : 4 * in.base_steps;
     if (seq == RefinementSequence::K) base = MeshHierarchy(in.base_mesh, o.k_refinements).mesh(o.k_refinements);
@@ -254,6 +270,11 @@ int converge_on(const EngineChoice& engine) {
     const fs::path csv = dir / fmt::format("convergence_{}.csv", to_string(seq));
     write_convergence_csv(r, csv.string());
     say(fmt::format("  wrote {}\n", csv.string()));
+    if (!r.adaptive.empty()) {
+      const fs::path adaptive_csv = dir / fmt::format("convergence_{}_adaptive.csv", to_string(seq));
+      write_convergence_csv(r, adaptive_csv.string(), true);
+      say(fmt::format("  wrote {}\n", adaptive_csv.string()));
+    }
   }
   if (o.solvers) {
     say("solver agreement (h levels, N = N0):\n");

@@ -25,6 +25,8 @@ the neutral name:
                                                         and against the distance from the centre of pressure (VTU)
   2,3  probes                      probes               u, von Mises, beta versus time at the probes   (probes.csv)
   all  history                     history              total contact force, active nodes, min/max beta (history.csv)
+  all  time_steps                  time_steps           the step size k(t), the error estimate per step and the
+                                                        rejected steps, when the steps are not uniform (history.csv)
 
 The 2D field figures follow the domain's aspect ratio (a wide domain puts
 the two fields one above the other); colour bars are as tall as their plot;
@@ -70,6 +72,7 @@ NEUTRAL_NAMES = {
     "contact_pressure": "contact_pressure",
     "probes": "probes",
     "history": "history",
+    "time_steps": "time_steps",
 }
 # The paper's examples (SPEC §4), by the case name summary.json records, and their dimension.
 PAPER_CASES = {"paper-1d": 1, "paper-2d": 2}
@@ -87,6 +90,7 @@ FIGSIZES = {
     "contact_pressure": (13.0, 5.6),
     "probes": (15.0, 4.8),
     "history": (12.0, 4.8),
+    "time_steps": (12.0, 4.8),
 }
 
 # Sequential, perceptually uniform, readable in grey and by colour-blind readers.
@@ -1100,6 +1104,43 @@ class Plotter:
         fig.suptitle(self.title(key, "per-step history" + note))
         self.save(fig, key)
 
+    def time_steps_figure(self):
+        """k(t) and the error estimate of each step, with the rejected steps marked: drawn
+        when the steps are not all of one size (a list, a formula, error control)."""
+        key = "time_steps"
+        h = self.run.history
+        if "dt" not in h or not len(h["dt"]):
+            return
+        k = h["dt"]
+        rejected = h.get("rejected")
+        uniform = float(k.max() - k.min()) <= 1e-9 * float(k.max())
+        if uniform and (rejected is None or not rejected.any()):
+            return
+        t = h["t"]
+        fig = self.figure(key)
+        ax_k, ax_e = fig.subplots(1, 2)
+        ax_k.step(t, k, "C0", where="pre", label="step size $k_n$")
+        if rejected is not None and rejected.any():
+            at = rejected > 0
+            ax_k.plot(t[at], k[at], "C3v", markersize=5, label="redone after %d rejection(s)" % int(rejected.sum()))
+        ax_k.set_yscale("log")
+        ax_k.set_ylabel(r"step size $k_n = t_n - t_{n-1}$ [s]")
+        ax_k.set_title("%d steps, k in [%.3g, %.3g]" % (len(k), float(k.min()), float(k.max())))
+        ax_k.legend(fontsize="small")
+        if "error_estimate" in h:
+            e = h["error_estimate"]
+            positive = e > 0
+            ax_e.semilogy(t[positive], e[positive], "C1.", markersize=4, label=r"estimate $e_n$")
+            ax_e.semilogy(t[positive], (e / k)[positive], "C2.", markersize=4, label=r"$e_n / k_n$ (per unit time)")
+            ax_e.legend(fontsize="small")
+        ax_e.set_ylabel("relative error estimate [-]")
+        ax_e.set_title("error estimate of each step")
+        for ax in (ax_k, ax_e):
+            ax.set_xlabel(r"time $t$ [s]")
+            ax.grid(True, alpha=0.4, which="both")
+        fig.suptitle(self.title(key, "time steps"))
+        self.save(fig, key)
+
     def all(self):
         d = self.run.dim
         if d == 1:
@@ -1117,6 +1158,7 @@ class Plotter:
             self.contact_pressure()
             self.probes_figure()
         self.history_figure()
+        self.time_steps_figure()
 
 
 def main(argv=None):

@@ -276,6 +276,13 @@ VectorField vector_field(std::vector<std::shared_ptr<const Expression>> e) {
 
 // ---------------------------------------------------------------- overrides
 
+/// The keys of [time] that only error-controlled steps (`tolerance`) take.
+const std::vector<std::string>& step_control_keys() {
+  static const std::vector<std::string> keys = {"dt_initial", "dt_min", "dt_max", "growth", "cut",
+                                                "safety", "event_dt", "events", "max_rejections"};
+  return keys;
+}
+
 /// Keys of one section that exclude each other: an override of a key on one side
 /// replaces the keys of the other side that the file gives (the file's `dt` gives
 /// way to `--set time.steps=200`).
@@ -287,6 +294,7 @@ struct ExclusiveKeys {
 const std::vector<ExclusiveKeys>& exclusive_keys() {
   static const std::vector<ExclusiveKeys> pairs = {
       {"time", {"steps"}, {"dt"}},
+      {"time", {"tolerance"}, {"steps", "dt"}},
       {"output", {"every"}, {"times"}},
       {"damage", {"phi"}, {"source"}},
       // A mesh file or a generated mesh; lower, upper and cells alone refine a generated mesh.
@@ -311,6 +319,9 @@ std::vector<std::string> replaced_keys(const std::string& section, const std::st
     if (section == "mesh" && key == "file")
       for (auto k : {"lower", "upper", "cells", "diagonal"}) out.emplace_back(k);
     if (section == "mesh" && key == "generator") out.emplace_back("size_factor");
+    if (section == "time" && key != "tolerance")  // a fixed grid replaces the step control's keys
+      for (const auto& k : step_control_keys()) out.emplace_back(k);
+    if (section == "time" && key == "steps") out.emplace_back("breakpoints");
   }
   return out;
 }
@@ -851,17 +862,80 @@ bool read_contact(Section ct, Problem& p, const Origins& origins) {
   return gap != nullptr;
 }
 
+/// [time]: T and one of
+///   steps = N                    N uniform steps;
+///   dt = k                       uniform steps of k (it must divide T);
+///   dt = [k1, k2, …]             these steps (adding up to T), or with breakpoints = [b1, …]
+///                                one step size per interval [0, b1], [b1, b2], …, [b_last, T];
+///   dt = "formula in t"          t_{n+1} = t_n + k(t_n);
+///   tolerance = e                error-controlled steps (scheme/time_grid.hpp, StepControl),
+///                                with dt_initial, dt_min, dt_max, growth, cut, safety, event_dt,
+///                                events, max_rejections; breakpoints: times a step ends at.
 void read_time(Section tm, Problem& p, const std::string& file) {
-  if (!tm.exists()) fail("{}: missing section [time] (T and steps or dt)", file);
+  if (!tm.exists()) fail("{}: missing section [time] (T and steps, dt or tolerance)", file);
   p.final_time = tm.number("T", 1.0);
   located(tm.where("T"), [&] { check_final_time(p.final_time); });
-  if (tm.has("steps") == tm.has("dt")) fail("{}: give exactly one of steps and dt", tm.where_section());
+  const int given = tm.has("steps") + tm.has("dt") + tm.has("tolerance");
+  if (given != 1)
+    fail("{}: give exactly one of steps, dt (a step size, a list or a formula in t) and tolerance (error-controlled "
+         "steps)", tm.where_section());
+  std::vector<double> breakpoints;
+  if (tm.has("breakpoints")) breakpoints = tm.numbers("breakpoints", 0);
+  if (!tm.has("tolerance"))
+    for (const auto& k : step_control_keys())
+      if (tm.has(k)) fail("{}: applies to error-controlled steps only (give tolerance instead of steps or dt)", tm.where(k));
   if (tm.has("steps")) {
+    if (!breakpoints.empty()) fail("{}: breakpoints need dt (a step size per interval) or tolerance", tm.where("breakpoints"));
     p.n_steps = tm.integer("steps");
     located(tm.where("steps"), [&] { check_n_steps(p.n_steps); });
+  } else if (tm.has("tolerance")) {
+    StepControl c;
+    c.tolerance = tm.number("tolerance");
+    c.dt_initial = tm.number("dt_initial", 0.0);
+    c.dt_min = tm.number("dt_min", 0.0);
+    c.dt_max = tm.number("dt_max", 0.0);
+    c.growth = tm.number("growth", c.growth);
+    c.cut = tm.number("cut", c.cut);
+    c.safety = tm.number("safety", c.safety);
+    c.event_dt = tm.number("event_dt", 0.0);
+    c.max_rejections = tm.integer("max_rejections", c.max_rejections);
+    if (tm.has("events")) {
+      c.contact_events = c.damage_events = false;
+      for (const std::string& e : tm.strings("events")) {
+        if (e == "contact") c.contact_events = true;
+        else if (e == "damage") c.damage_events = true;
+        else fail("{}: unknown event '{}'; expected some of: contact, damage", tm.where("events"), e);
+      }
+    }
+    c.landings = breakpoints;
+    located(tm.where_section(), [&] { (void)c.completed(p.final_time); });
+    p.step_control = std::move(c);
+    p.n_steps = 0;
   } else {
-    const double k = tm.number("dt");
-    p.n_steps = located(tm.where("dt"), [&] { return steps_of_time_step(p.final_time, k); });
+    const toml::node* dt = tm.get("dt");
+    if (dt->is_array()) {
+      const std::vector<double> k = tm.numbers("dt", 0);
+      p.set_fixed_grid(located(tm.where("dt"), [&] {
+        return breakpoints.empty() && !tm.has("breakpoints") ? fixed_grid_of_steps(p.final_time, k)
+                                                             : fixed_grid_of_intervals(p.final_time, breakpoints, k);
+      }));
+    } else if (dt->is_string()) {
+      if (tm.has("breakpoints")) fail("{}: breakpoints need a list of step sizes in dt", tm.where("breakpoints"));
+      const auto k = tm.expression("dt", Expression::Kind::SpaceTime);
+      if (k->uses_position()) fail("{}: the step size k(t) is a formula in t only", tm.where("dt"));
+      p.set_fixed_grid(located(tm.where("dt"), [&] {
+        return fixed_grid_of_formula(p.final_time, [&](double t) { return (*k)({0, 0, 0}, t); });
+      }));
+    } else {
+      const double k = tm.number("dt");
+      if (tm.has("breakpoints")) {  // steps of k that end at each breakpoint
+        const std::vector<double> each(breakpoints.size() + 1, k);
+        p.set_fixed_grid(
+            located(tm.where("dt"), [&] { return fixed_grid_of_intervals(p.final_time, breakpoints, each); }));
+      } else {
+        p.n_steps = located(tm.where("dt"), [&] { return steps_of_time_step(p.final_time, k); });
+      }
+    }
   }
   tm.finish();
 }
@@ -900,17 +974,23 @@ std::vector<Point> read_probes(Section& out, int d) {
 }
 
 /// [output]; by default every tenth of the run.
-OutputOptions read_output(Section out, const Problem& p) {
+OutputOptions read_output(Section out, Problem& p) {
   OutputOptions o;
   o.directory = out.string("directory", "");
   if (out.has("every") && out.has("times")) fail("{}: give either every or times, not both", out.where_section());
-  o.every = out.integer("every", std::max(1, p.n_steps / 10));
+  // By default every tenth of the run: every N/10 steps, or (error-controlled steps) at t = T/10, 2T/10, …
+  const bool controlled = p.step_control.has_value();
+  o.every = out.integer("every", controlled ? 0 : std::max(1, p.n_steps / 10));
   if (o.every < 0) fail("{}: expected every >= 0", out.where("every"));
   if (out.has("times")) {
     o.times = out.numbers("times", 0);
     for (double t : o.times)
       if (t < 0 || t > p.final_time) fail("{}: output time {} is outside [0, T = {}]", out.where("times"), t, p.final_time);
+  } else if (controlled && !out.has("every")) {
+    for (int i = 1; i <= 10; ++i) o.times.push_back(p.final_time * i / 10);
   }
+  // Error-controlled steps end exactly at the output times.
+  if (controlled) p.step_control->landings.insert(p.step_control->landings.end(), o.times.begin(), o.times.end());
   o.vtu = out.boolean("vtu", true);
   if (out.has("fields")) o.fields = read_fields(out);
   o.encoding.compression = vtu_compression(out.choice("compression", {"zlib", "none"}, "zlib"));

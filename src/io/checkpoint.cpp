@@ -26,7 +26,7 @@ void append(Vector& v, const Vector& more) {
   v.tail(more.size()) = more;
 }
 
-/// The whole state of a version-2 file or of a version-3 checkpoint (piece 0 and its pieces).
+/// The whole state of a version-4 file or of a version-5 checkpoint (piece 0 and its pieces).
 Checkpoint read_whole(CheckpointFile& f) {
   require(f.head().index == 0, "checkpoint '{}': piece {} of {}, not a checkpoint's first file", f.name(),
           f.head().index, f.head().count);
@@ -34,9 +34,13 @@ Checkpoint read_whole(CheckpointFile& f) {
   State& s = c.snapshot.state;
   c.case_name = f.case_name;
   c.fingerprint = f.fingerprint;
+  c.problem_key = f.problem_key;
   s.n = static_cast<int>(f.n);
   s.t = f.t;
   s.lambda = f.read(kLambda);
+  const Vector times = f.read(kTimes);
+  c.times.assign(times.begin(), times.end());
+  c.step_control = f.read(kStepControl);
   c.snapshot.contact_warm = f.read(kContactWarm);
   c.pvd = f.pvd;
   c.totals = f.totals;
@@ -181,17 +185,66 @@ Vector read_block(std::vector<CheckpointFile>& files, Array a, bool nodes, long 
 
 }  // namespace
 
-std::uint64_t problem_fingerprint(const TimeStepper& s) {
+std::string problem_key(const TimeStepper& s) {
   const Problem& p = s.problem();
   const MeshPart& part = s.part();
-  std::string key =
-      fmt::format("{}|{}|{}|{}|{}|{}|{}|{:.17g}|{:.17g}|{}|{}|{}", p.name, part.dofs.dim(), part.n_global_nodes,
-                  part.n_global_cells, part.n_global_dofs, part.n_contact, p.n_steps, p.final_time, p.kappa,
-                  p.elasticity.name(), p.law->describe(), p.source->describe());
-  for (const Material& m : p.materials)  // none: the key of a one-material case is unchanged
-    key += fmt::format("|{}|{:.17g}|{:.17g}|{}|{}", m.name, m.elasticity.young(), m.elasticity.poisson(),
-                       m.law->describe(), m.source->describe());
+  std::string key = fmt::format("case={}|dimension={}|nodes={}|cells={}|free dofs={}|contact nodes={}|kappa={:.17g}|"
+                                "elasticity={}|G={}|phi={}",
+                                p.name, part.dofs.dim(), part.n_global_nodes, part.n_global_cells, part.n_global_dofs,
+                                part.n_contact, p.kappa, p.elasticity.name(), p.law->describe(), p.source->describe());
+  for (const Material& m : p.materials)
+    key += fmt::format("|material {}=E {:.17g}, nu {:.17g}; G: {}; phi: {}", m.name, m.elasticity.young(),
+                       m.elasticity.poisson(), m.law->describe(), m.source->describe());
+  return key;
+}
+
+std::uint64_t problem_fingerprint(const TimeStepper& s) {
+  const std::string key = problem_key(s);
   return fnv1a(key.data(), key.size());
+}
+
+std::string problem_key_difference(const std::string& saved, const std::string& now) {
+  // name=value fields separated by '|' (a value holding '|' only makes the list coarser)
+  auto fields = [](const std::string& key) {
+    std::vector<std::pair<std::string, std::string>> out;
+    std::size_t at = 0;
+    while (at <= key.size()) {
+      const std::size_t end = std::min(key.find('|', at), key.size());
+      const std::string field = key.substr(at, end - at);
+      const std::size_t eq = field.find('=');
+      out.emplace_back(field.substr(0, eq), eq == std::string::npos ? "" : field.substr(eq + 1));
+      at = end + 1;
+    }
+    return out;
+  };
+  const auto a = fields(saved), b = fields(now);
+  std::string out;
+  auto add = [&](const std::string& s) { out += (out.empty() ? "" : "; ") + s; };
+  for (const auto& [name, value] : a) {
+    const auto it = std::find_if(b.begin(), b.end(), [&](const auto& f) { return f.first == name; });
+    if (it == b.end())
+      add(fmt::format("{} = {} in the checkpoint, none in this case", name, value));
+    else if (it->second != value)
+      add(fmt::format("{} = {} in the checkpoint, {} in this case", name, value, it->second));
+  }
+  for (const auto& [name, value] : b)
+    if (std::none_of(a.begin(), a.end(), [&](const auto& f) { return f.first == name; }))
+      add(fmt::format("{} = {} in this case, none in the checkpoint", name, value));
+  return out.empty() ? "a problem written by another version of vpcontact" : out;
+}
+
+std::string time_levels_difference(const Problem& p, const std::vector<double>& times) {
+  const int n = static_cast<int>(times.size()) - 1;
+  const double t = times.back();
+  if (t > p.final_time)
+    return fmt::format("its step {} ends at t = {}, after this case's T = {}", n, t, p.final_time);
+  if (p.step_control) return {};  // error-controlled steps go on from wherever the checkpoint is
+  if (n > p.n_steps) return fmt::format("its step {} is beyond this case's N = {} steps", n, p.n_steps);
+  for (int i = 1; i <= n; ++i)
+    if (times[i] != p.time_at(i))
+      return fmt::format("the steps differ from step {} on: t = {:.17g} in the checkpoint, {:.17g} in this case", i,
+                         times[i], p.time_at(i));
+  return {};
 }
 
 Snapshot gather_snapshot(const TimeStepper& stepper) {
@@ -225,12 +278,15 @@ void write_checkpoint(const TimeStepper& stepper, const fs::path& dir, const std
   const Vector contact_warm = stepper.contact_warm_state();
   // Piece q of `pieces`: this process's blocks (several processes), or a part of them (one process).
   const la::BlockSplit node_split(stepper.part().n_global_nodes, pieces), cell_split(stepper.part().n_global_cells, pieces);
-  const std::uint64_t fingerprint = problem_fingerprint(stepper);
+  const std::string key = problem_key(stepper);
+  const std::uint64_t fingerprint = fnv1a(key.data(), key.size());
+  const Vector control = stepper.step_control_state().values();
   Vector u_free;
   auto content = [&](int q) {
     FileContent f = block_content(b, node_split.begin(q), node_split.end(q), cell_split.begin(q), cell_split.end(q), u_free);
     f.case_name = case_name;
     f.fingerprint = fingerprint;
+    f.problem_key = key;
     f.n = st.n;
     f.t = st.t;
     if (pieces > 1)
@@ -240,6 +296,8 @@ void write_checkpoint(const TimeStepper& stepper, const fs::path& dir, const std
     if (q == 0) {  // the run's data, rank 0's (λ and the contact warm state are the same everywhere)
       f.arrays[kLambda] = values(st.lambda);
       f.arrays[kContactWarm] = values(contact_warm);
+      f.arrays[kTimes] = stepper.times();
+      f.arrays[kStepControl] = values(control);
       f.pvd = &pvd;
       f.totals = &totals;
     }
@@ -272,7 +330,8 @@ std::optional<ResumePoint> resume_from_checkpoint(TimeStepper& stepper, const fs
   const MeshPart& part = stepper.part();
   const la::Comm& comm = stepper.comm();
   const int p = comm.size(), me = comm.rank();
-  const std::uint64_t fingerprint = problem_fingerprint(stepper);
+  const std::string key = problem_key(stepper);
+  const std::uint64_t fingerprint = fnv1a(key.data(), key.size());
   const la::BlockSplit node_split(part.n_global_nodes, p), cell_split(part.n_global_cells, p);
   const long long n0 = node_split.begin(me), n1 = node_split.end(me), c0 = cell_split.begin(me),
                   c1 = cell_split.end(me);
@@ -293,7 +352,11 @@ std::optional<ResumePoint> resume_from_checkpoint(TimeStepper& stepper, const fs
       const CheckpointFile& f = *first;
       require(f.head().index == 0, "checkpoint '{}': piece {} of {}, not a checkpoint's first file", f.name(),
               f.head().index, f.head().count);
-      require(f.fingerprint == fingerprint, "{}: written for another problem (case '{}')", f.name(), f.case_name);
+      require(f.fingerprint == fingerprint, "{}: written for another problem ({})", f.name(),
+              problem_key_difference(f.problem_key, key));
+      const Vector times = first->read(kTimes);
+      const std::string times_differ = time_levels_difference(stepper.problem(), {times.begin(), times.end()});
+      require(times_differ.empty(), "{}: {}", f.name(), times_differ);
       require(static_cast<long long>(f.count(kLambda)) == part.n_contact,
               "checkpoint '{}': does not fit this problem ({} contact forces for {} contact nodes)", f.name(),
               f.count(kLambda), part.n_contact);
@@ -358,9 +421,10 @@ std::optional<ResumePoint> resume_from_checkpoint(TimeStepper& stepper, const fs
   }
   // λ and the contact warm state (one value per contact row) from rank 0, the PVD entries and totals on rank 0.
   ResumePoint at{s.state.n, s.state.t, {}, {}};
-  std::vector<double> lambda, contact_warm;
+  std::vector<double> lambda, contact_warm, times, control;
   la::on_root(comm, [&] {
-    for (auto [a, v] : {std::pair{kLambda, &lambda}, std::pair{kContactWarm, &contact_warm}}) {
+    for (auto [a, v] : {std::pair{kLambda, &lambda}, std::pair{kContactWarm, &contact_warm}, std::pair{kTimes, &times},
+                        std::pair{kStepControl, &control}}) {
       v->resize(first->count(a));
       first->read(a, 0, v->size(), v->data());
     }
@@ -369,9 +433,13 @@ std::optional<ResumePoint> resume_from_checkpoint(TimeStepper& stepper, const fs
   });
   lambda = la::broadcast(comm, std::move(lambda));
   contact_warm = la::broadcast(comm, std::move(contact_warm));
+  times = la::broadcast(comm, std::move(times));
+  control = la::broadcast(comm, std::move(control));
   s.state.lambda = Eigen::Map<const Vector>(lambda.data(), static_cast<Eigen::Index>(lambda.size()));
   s.contact_warm = Eigen::Map<const Vector>(contact_warm.data(), static_cast<Eigen::Index>(contact_warm.size()));
   stepper.restore(s);
+  stepper.set_step_history(std::move(times), StepControlState::from_values(
+                                                  Eigen::Map<const Vector>(control.data(), static_cast<Eigen::Index>(control.size()))));
   return at;
 }
 
@@ -380,11 +448,12 @@ fs::path write_checkpoint(const fs::path& dir, const Checkpoint& c, int keep) {
   FileContent f;
   f.case_name = c.case_name;
   f.fingerprint = c.fingerprint;
+  f.problem_key = c.problem_key;
   f.n = s.n;
   f.t = s.t;
   f.arrays = {values(s.u),     values(s.beta), values(s.lambda),           values(c.snapshot.u_free),
               values(s.sigma), values(s.eps),  values(s.z),                values(c.snapshot.contact_warm),
-              values(c.snapshot.damage_warm)};
+              values(c.snapshot.damage_warm), c.times, values(c.step_control)};
   f.pvd = &c.pvd;
   f.totals = &c.totals;
   const fs::path path = main_file(dir, s.n);

@@ -4,20 +4,23 @@
 //
 // Format (docs/reliability.md), little-endian, each file written atomically:
 //   8 bytes  magic "VPCCKPT\0"
-//   u32      format version: 2 (the whole state in one file) or 3 (one piece of several)
+//   u32      format version: 4 (the whole state in one file) or 5 (one piece of several)
 //   u32      0 (reserved)
 //   u64      payload size in bytes
 //   u64      FNV-1a 64 checksum of the payload
-//   payload: case name (u64 length + bytes); u64 problem fingerprint; i64 n; f64 t;
-//            version 3 only: u64 P (pieces), u64 r (this piece), u64 ×4: its blocks
+//   payload: case name (u64 length + bytes); u64 problem fingerprint; the problem key it is
+//              made of (string: problem_key); i64 n; f64 t;
+//            version 5 only: u64 P (pieces), u64 r (this piece), u64 ×4: its blocks
 //              [node_begin, node_end) and [cell_begin, cell_end) of the numbering of the mesh as read;
 //            arrays (u64 count + f64 values): u, β, λ, u_free, σ, ε, z (6 per cell),
-//              contact and damage solver warm states (version 3: the node and cell arrays
-//              restricted to the piece's blocks; λ and the contact warm state in piece 0 only);
-//            version 2 and piece 0: PVD entries (u64 count, then f64 time + string file each),
+//              contact and damage solver warm states, the time levels t_0 … t_n, the
+//              step-size state (StepControlState) (version 5: the node and cell arrays
+//              restricted to the piece's blocks; λ, the contact warm state, the times and
+//              the step-size state in piece 0 only);
+//            version 4 and piece 0: PVD entries (u64 count, then f64 time + string file each),
 //              run totals (f64 ×7, i64 ×2, u8 all_ok, i64);
-//            piece 0 of version 3: u64 payload size and u64 checksum of each of pieces 1 … P − 1.
-// One process writes checkpoint_NNNNN.bin in version 2, as before pieces existed. P
+//            piece 0 of version 5: u64 payload size and u64 checksum of each of pieces 1 … P − 1.
+// One process writes checkpoint_NNNNN.bin in version 4, the whole state in one file. P
 // processes write P pieces, each its own contiguous blocks of the node and cell arrays
 // (la::BlockSplit, PETSc's split): checkpoint_NNNNN.bin (piece 0) and
 // checkpoint_NNNNN.pRRRR-of-PPPP.bin, so no process holds more than its share of the
@@ -43,14 +46,28 @@ namespace vpc {
 struct Checkpoint {
   std::string case_name;
   std::uint64_t fingerprint = 0;
+  std::string problem_key;
   Snapshot snapshot;
+  std::vector<double> times;  // t_0 … t_n
+  Vector step_control;        // StepControlState::values()
   std::vector<std::pair<double, std::string>> pvd;
   RunTotals totals;
 };
 
-/// A number identifying the discrete problem (global sizes, times, κ, names): a
-/// checkpoint only resumes the problem it was written for, on any process count.
+/// What identifies the discrete problem, as named fields "case=…|nodes=…|kappa=…|…" (global
+/// sizes, κ, the laws' descriptions): a checkpoint only resumes the problem it was written
+/// for, on any process count. T and the steps are not in it: a resume checks the time levels
+/// up to the checkpoint (checkpoint_fits), so that a run can be continued to a later T or
+/// with other steps after the checkpoint.
+std::string problem_key(const TimeStepper& stepper);
+/// The FNV-1a hash of problem_key.
 std::uint64_t problem_fingerprint(const TimeStepper& stepper);
+/// The fields in which two problem keys differ: "kappa = 0.1 in the checkpoint, 0.2 in this case; …".
+std::string problem_key_difference(const std::string& saved, const std::string& now);
+/// Why a checkpoint at step n with time levels `times` (t_0 … t_n) cannot be continued by
+/// `problem`: its T ends before t_n, or its fixed grid differs at a step ≤ n (the step and
+/// both times); empty when it can.
+std::string time_levels_difference(const Problem& problem, const std::vector<double>& times);
 
 /// The stepper's state and warm starts gathered to rank 0 in the numbering of
 /// the mesh as read (on one process: its snapshot()); other processes get an
@@ -58,7 +75,7 @@ std::uint64_t problem_fingerprint(const TimeStepper& stepper);
 Snapshot gather_snapshot(const TimeStepper& stepper);
 
 /// Writes the stepper's checkpoint with the output's PVD entries and run totals
-/// (rank 0's) and keeps the newest `keep`: on one process the version-2 file, on P
+/// (rank 0's) and keeps the newest `keep`: on one process the version-4 file, on P
 /// one piece per process. `pieces` > 1 on one process writes that many pieces, as
 /// that many processes would (tests). Collective.
 void write_checkpoint(const TimeStepper& stepper, const std::filesystem::path& dir, const std::string& case_name,
@@ -81,7 +98,7 @@ struct ResumePoint {
 std::optional<ResumePoint> resume_from_checkpoint(TimeStepper& stepper, const std::filesystem::path& dir,
                                                   std::vector<std::string>* skipped = nullptr);
 
-/// Writes the whole state `c` as OUTDIR/checkpoint_NNNNN.bin (version 2) atomically
+/// Writes the whole state `c` as OUTDIR/checkpoint_NNNNN.bin (version 4) atomically
 /// and keeps only the newest `keep` checkpoints; removes those of later steps
 /// (damaged, or of a timeline this run replaced) and pieces of step n left from an
 /// earlier write.
@@ -108,7 +125,7 @@ class CheckpointSchedule {
   Clock::time_point last_ = Clock::now();
 };
 
-/// Reads a whole checkpoint (checkpoint_NNNNN.bin and, in version 3, every piece it
+/// Reads a whole checkpoint (checkpoint_NNNNN.bin and, in version 5, every piece it
 /// lists) into one process's memory; throws vpc::Error naming the file and what is
 /// wrong. For tools and tests: a resume reads only its blocks.
 Checkpoint read_checkpoint(const std::filesystem::path& file);

@@ -116,6 +116,7 @@ class Writer {
 void write_payload(Writer& w, const FileContent& f) {
   w.string(f.case_name);
   w.pod(f.fingerprint);
+  w.string(f.problem_key);
   w.pod(f.n);
   w.pod(f.t);
   if (f.head)
@@ -218,6 +219,7 @@ void CheckpointFile::parse() {
   in_.seekg(static_cast<std::streamoff>(at_));
   case_name = string();
   fingerprint = pod<std::uint64_t>();
+  problem_key = string();
   n = pod<std::int64_t>();
   t = pod<double>();
   if (version_ == kPiece)
@@ -241,7 +243,8 @@ void CheckpointFile::parse() {
               count_[kEps] == 6 * n_cells() && count_[kZ] == 6 * n_cells() &&
               (count_[kDamageWarm] == 0 || count_[kDamageWarm] == n_nodes()) &&
               (n_nodes() == 0 ? count_[kU] == 0 : count_[kU] % n_nodes() == 0) &&
-              (head_.index == 0 || count_[kLambda] + count_[kContactWarm] == 0),
+              (head_.index == 0 || count_[kLambda] + count_[kContactWarm] + count_[kTimes] + count_[kStepControl] == 0) &&
+              (head_.index != 0 || count_[kTimes] == static_cast<std::uint64_t>(n) + 1),
           "checkpoint '{}': its arrays do not match its blocks (nodes [{}, {}), cells [{}, {}))", name(),
           head_.node_begin, head_.node_end, head_.cell_begin, head_.cell_end);
   if (head_.index == 0) {

@@ -1,8 +1,8 @@
 #pragma once
 // The checkpoint files (io/checkpoint.hpp says what they hold): their names, the
 // writer of one file (streamed, atomic, checksummed) and the reader that locates its
-// arrays, so that a process reads only the entries it needs. Format versions 2 (the
-// whole state in one file) and 3 (one piece of a checkpoint written by P processes);
+// arrays, so that a process reads only the entries it needs. Format versions 4 (the
+// whole state in one file) and 5 (one piece of a checkpoint written by P processes);
 // docs/reliability.md. Used by io/checkpoint.cpp only.
 #include "core/sym_tensor.hpp"
 #include "io/run_output.hpp"
@@ -23,9 +23,9 @@ namespace vpc::checkpoint_file {
 
 namespace fs = std::filesystem;
 
-// 2: the whole state in one file (the run totals hold the last step's active count);
-// 3: one piece of a checkpoint written by several processes.
-constexpr std::uint32_t kWhole = 2, kPiece = 3;
+// 4: the whole state in one file; 5: one piece of a checkpoint written by several
+// processes (2 and 3 before the problem key, the time levels and the step-size state).
+constexpr std::uint32_t kWhole = 4, kPiece = 5;
 constexpr std::size_t kHeaderBytes = 8 + 2 * sizeof(std::uint32_t) + 2 * sizeof(std::uint64_t);
 
 // File names: checkpoint_NNNNN.bin (the whole state, or piece 0) and
@@ -59,18 +59,20 @@ struct PieceSum {
 };
 
 /// The arrays of a file, in their order.
-enum Array { kU, kBeta, kLambda, kUFree, kSigma, kEps, kZ, kContactWarm, kDamageWarm, kArrays };
+/// kTimes: t_0 … t_n; kStepControl: StepControlState::values (both in piece 0 only).
+enum Array { kU, kBeta, kLambda, kUFree, kSigma, kEps, kZ, kContactWarm, kDamageWarm, kTimes, kStepControl, kArrays };
 
-/// What one file holds, as views (nothing copied). Without a head: version 2, the
-/// whole state. With one: version 3, piece head->index, its state arrays its blocks.
+/// What one file holds, as views (nothing copied). Without a head: version 4, the
+/// whole state. With one: version 5, piece head->index, its state arrays its blocks.
 struct FileContent {
   std::string_view case_name;
   std::uint64_t fingerprint = 0;
+  std::string_view problem_key;  // what the fingerprint is made of (problem_key)
   std::int64_t n = 0;
   double t = 0;
   std::optional<PieceHead> head;
   std::array<Values, kArrays> arrays;
-  const std::vector<std::pair<double, std::string>>* pvd = nullptr;  // version 2 and piece 0
+  const std::vector<std::pair<double, std::string>>* pvd = nullptr;  // version 4 and piece 0
   const RunTotals* totals = nullptr;
   std::vector<PieceSum> others;  // piece 0: pieces 1 … P − 1
   bool whole_or_first() const { return !head || head->index == 0; }
@@ -110,11 +112,12 @@ class CheckpointFile {
 
   std::string case_name;
   std::uint64_t fingerprint = 0;
+  std::string problem_key;
   std::int64_t n = 0;
   double t = 0;
-  std::vector<std::pair<double, std::string>> pvd;  // version 2 and piece 0
+  std::vector<std::pair<double, std::string>> pvd;  // version 4 and piece 0
   RunTotals totals;
-  std::vector<PieceSum> others;  // piece 0 of version 3
+  std::vector<PieceSum> others;  // piece 0 of version 5
 
  private:
   void verify_checksum();

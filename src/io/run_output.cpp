@@ -141,7 +141,8 @@ std::vector<int> tensor_components(const Elasticity& e) { return e.stress_compon
 std::string history_header(const Problem& p, const MeshPart& part) {
   std::string h = "step,t,n_active,total_contact_force,contact_iterations,contact_equilibrium,"
                   "contact_penetration,contact_negative_force,contact_complementarity,damage_iterations,"
-                  "damage_kkt_residual,beta_min,beta_max,n_beta_zero,n_beta_one,max_von_mises,ok,contact_area";
+                  "damage_kkt_residual,beta_min,beta_max,n_beta_zero,n_beta_one,max_von_mises,ok,contact_area,dt,"
+                  "error_estimate,rejected";
   for (const Obstacle& o : p.contact.obstacles) h += ",force_" + o.name;
   const std::vector<std::string> parts = dirichlet_parts(p);
   for (std::size_t j = 0; j < parts.size(); ++j)
@@ -153,11 +154,12 @@ std::string history_header(const Problem& p, const MeshPart& part) {
 std::string history_row(const StepReport& r) {
   const auto& c = r.contact;
   std::string row =
-      fmt::format("{},{:.17g},{},{:.17g},{},{:.3e},{:.3e},{:.3e},{:.3e},{},{:.3e},{:.17g},{:.17g},{},{},{:.17g},{},{:.17g}",
+      fmt::format("{},{:.17g},{},{:.17g},{},{:.3e},{:.3e},{:.3e},{:.3e},{},{:.3e},{:.17g},{:.17g},{},{},{:.17g},{},{:.17g},"
+                  "{:.17g},{:.3e},{}",
                   r.n, r.t, c.n_active, c.total_force, c.iterations, c.residuals.equilibrium, c.residuals.penetration,
                   c.residuals.negative_force, c.residuals.complementarity, r.damage.iterations, r.damage.kkt_residual,
                   r.beta_min, r.beta_max, r.damage.n_lower, r.damage.n_upper, r.max_von_mises, r.ok ? 1 : 0,
-                  r.contact_area);
+                  r.contact_area, r.k, r.error_estimate, r.rejected);
   for (double f : r.obstacle_force) row += fmt::format(",{:.17g}", f);
   for (double f : r.reaction) row += fmt::format(",{:.17g}", f);
   return row + "\n";
@@ -356,21 +358,21 @@ void RunOutput::record_untimed(const StepReport& r) {
   }
   write_probe_row();
   totals_.add(r);
-  if (is_output_step(r.n)) write_fields();
+  if (is_output_step(r.n, r.t)) write_fields();
 }
 
 bool RunOutput::wants(const std::string& field) const {
   return options_.fields.empty() || std::find(options_.fields.begin(), options_.fields.end(), field) != options_.fields.end();
 }
 
-bool RunOutput::is_output_step(int n) const {
+bool RunOutput::is_output_step(int n, double t_n) const {
   const Problem& p = stepper_.problem();
-  if (n == p.n_steps) return true;
+  if (stepper_.done()) return true;
   if (!options_.times.empty()) {
-    // The step nearest each requested time (ties: the earlier step).
-    const double k = p.step();
+    // A fixed grid: the step nearest each requested time (ties: the earlier step).
+    // Error-controlled steps end at the output times (StepControl::landings).
     for (double t : options_.times)
-      if (std::clamp(static_cast<int>(std::lround(t / k - 1e-9)), 0, p.n_steps) == n) return true;
+      if (p.step_control ? std::abs(t - t_n) <= 1e-12 * p.final_time : p.step_nearest(t) == n) return true;
     return false;
   }
   return options_.every > 0 && n % options_.every == 0;
@@ -417,7 +419,13 @@ std::string summary_json(const Problem& p, const RunSummary& r, const OutputOpti
   j["kappa"] = p.kappa;
   j["final_time"] = p.final_time;
   j["steps"] = r.steps;
-  j["time_step"] = p.step();
+  if (p.uniform_steps()) {
+    j["time_step"] = p.step();
+  } else {  // the steps taken (the grid's, or those the error control chose)
+    j["time_steps"] = p.describe_steps();
+    j["time_step_range"] = {r.k_min, r.k_max};
+    j["rejected_steps"] = r.rejected;
+  }
   j["final"] = {{"t", r.t},
                 {"total_contact_force", r.total_contact_force},
                 {"active_contact_nodes", r.active_contact_nodes},
@@ -480,6 +488,13 @@ RunSummary RunOutput::summary(double wall_seconds) const {
   r.beta_min_location = x;
   r.steps = s.n;
   r.t = s.t;
+  const std::vector<double>& times = stepper_.times();
+  for (std::size_t n = 1; n < times.size(); ++n) {
+    const double k = times[n] - times[n - 1];
+    r.k_min = n == 1 ? k : std::min(r.k_min, k);
+    r.k_max = std::max(r.k_max, k);
+  }
+  r.rejected = static_cast<long long>(stepper_.step_control_state().rejected);
   r.total_contact_force = s.lambda.sum();
   r.active_contact_nodes = active_contact_nodes(totals_, s.lambda);
   for (const auto& p : probes_) r.probes.push_back(p.where.x);

@@ -93,6 +93,8 @@ struct RunSummary {
   long long nodes = 0, cells = 0, free_dofs = 0, contact_nodes = 0;
   double h_min = 0, h_max = 0;
   int steps = 0;  // the step reached
+  double k_min = 0, k_max = 0;  // the smallest and largest step taken
+  long long rejected = 0;       // error-controlled steps rejected
   double t = 0, total_contact_force = 0, max_von_mises = 0, beta_min = 0, beta_max = 0;
   long long active_contact_nodes = 0;
   Point beta_min_location{0, 0, 0};
@@ -150,7 +152,7 @@ class RunOutput {
   void open_csv(bool append);
   void write_fields();
   void write_probe_row();
-  bool is_output_step(int n) const;
+  bool is_output_step(int n, double t_n) const;
   bool wants(const std::string& field) const;
   RunSummary summary(double wall_seconds) const;
 

@@ -28,7 +28,9 @@ class Engine {
   // The scheme.
   virtual bool done() const = 0;
   virtual StepReport step() = 0;
+  /// N of a fixed grid; 0 for error-controlled steps.
   virtual int n_steps() const = 0;
+  virtual double final_time() const = 0;
   /// The largest relative residual a step accepts (SolverChoice::residual_tolerance).
   virtual double tolerance() const = 0;
 

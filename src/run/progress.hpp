@@ -23,12 +23,15 @@ class StageLog {
 
 class Progress {
  public:
-  Progress(int n_steps, bool quiet);
+  /// `n_steps` 0: error-controlled steps, whose progress is t / T.
+  Progress(int n_steps, double final_time, bool quiet);
   void update(const StepReport& r);
   void finish();
 
  private:
   int n_steps_;
+  double final_time_;
+  double next_line_t_ = 0;  // error-controlled steps: a line each T / 20
   bool quiet_, tty_;
   std::chrono::steady_clock::time_point t0_;
   bool line_open_ = false;

@@ -86,7 +86,7 @@ RunResult run_engine(Engine& e, const RunOptions& o) {
   int last_checkpoint = o.resume.empty() ? 0 : resume(e, o);
   if (o.resume.empty()) start(e, o);
   CheckpointSchedule schedule(o.checkpoint_every, o.checkpoint_seconds);
-  Progress progress(e.n_steps(), o.quiet || !e.root());
+  Progress progress(e.n_steps(), e.final_time(), o.quiet || !e.root());
   RunResult result;
   result.steps = last_checkpoint;
   // The end of a run, complete or not: summary.json written, no temporary file left.
@@ -118,9 +118,10 @@ RunResult run_engine(Engine& e, const RunOptions& o) {
       if (e.root()) {
         std::fflush(stdout);
         fmt::print(stderr,
-                   "vpcontact: interrupted by {} after step {} of {} (t = {:.6g}); checkpoint written in {}/. To "
+                   "vpcontact: interrupted by {} after step {}{} (t = {:.6g}); checkpoint written in {}/. To "
                    "continue:\n  {}\n",
-                   signal_name(signal), r.n, e.n_steps(), r.t, e.directory().string(),
+                   signal_name(signal), r.n, e.n_steps() > 0 ? fmt::format(" of {}", e.n_steps()) : "", r.t,
+                   e.directory().string(),
                    resume_command(o.argv, e.directory(), e.ranks()));
       }
       return result;

@@ -24,6 +24,7 @@ class StepperEngine final : public Engine {
   bool done() const override { return stepper_->done(); }
   StepReport step() override { return stepper_->step(); }
   int n_steps() const override { return stepper_->problem().n_steps; }
+  double final_time() const override { return stepper_->problem().final_time; }
   double tolerance() const override { return case_.solvers.residual_tolerance; }
 
   void open_output() override { output_.emplace(*stepper_, case_.output); }
@@ -100,8 +101,8 @@ void describe_data(const Problem& p, const SolverChoice& solvers, double setup_s
   for (const Material& m : p.materials)
     fmt::print("  material '{}' on {}: E = {}, nu = {}; G: {}; phi: {}\n", m.name, fmt::join(m.regions, ", "),
                m.elasticity.young(), m.elasticity.poisson(), m.law->describe(), m.source->describe());
-  fmt::print("  kappa = {}; T = {}, k = {}, N = {}; solvers: contact {}, damage {}; setup {:.3f} s\n", p.kappa,
-             p.final_time, p.step(), p.n_steps, solvers.contact, solvers.damage, setup_seconds);
+  fmt::print("  kappa = {}; T = {}, {}; solvers: contact {}, damage {}; setup {:.3f} s\n", p.kappa, p.final_time,
+             p.describe_steps(), solvers.contact, solvers.damage, setup_seconds);
   std::fflush(stdout);
 }
 

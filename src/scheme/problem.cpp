@@ -30,6 +30,51 @@ int steps_of_time_step(double final_time, double k) {
   return static_cast<int>(std::round(n));
 }
 
+double Problem::time_at(int n) const {
+  if (!step_times.empty()) return n == 0 ? 0.0 : step_times[static_cast<std::size_t>(n) - 1];
+  return n == n_steps ? final_time : n * step();  // exactly (sums of k would accumulate round-off)
+}
+
+double Problem::step_at(int n) const {
+  if (step_times.empty()) return step();
+  return step_sizes.empty() ? time_at(n) - time_at(n - 1) : step_sizes[static_cast<std::size_t>(n) - 1];
+}
+
+void Problem::set_fixed_grid(FixedGrid grid) {
+  n_steps = static_cast<int>(grid.times.size());
+  step_times = std::move(grid.times);
+  step_sizes = std::move(grid.sizes);
+  step_control.reset();
+}
+
+int Problem::step_nearest(double t) const {
+  if (step_times.empty()) return std::clamp(static_cast<int>(std::lround(t / step() - 1e-9)), 0, n_steps);
+  const auto after = std::lower_bound(step_times.begin(), step_times.end(), t);
+  const int n = static_cast<int>(after - step_times.begin()) + 1;  // t_{n−1} < t ≤ t_n
+  if (n > n_steps) return n_steps;
+  return t - time_at(n - 1) <= time_at(n) - t ? n - 1 : n;
+}
+
+int Problem::expected_steps() const {
+  if (!step_control) return n_steps;
+  return std::max(1, static_cast<int>(std::lround(final_time / step_control->completed(final_time).dt_initial)));
+}
+
+double Problem::largest_step() const {
+  if (step_control) return step_control->dt_max;
+  double k = 0;
+  for (int n = 1; n <= n_steps && !step_times.empty(); ++n) k = std::max(k, step_at(n));
+  return step_times.empty() ? step() : k;
+}
+
+std::string Problem::describe_steps() const {
+  if (step_control) return step_control->completed(final_time).describe();
+  if (step_times.empty()) return fmt::format("k = {}, N = {}", step(), n_steps);
+  double lo = INFINITY;
+  for (int n = 1; n <= n_steps; ++n) lo = std::min(lo, step_at(n));
+  return fmt::format("k in [{:.6g}, {:.6g}], N = {}", lo, largest_step(), n_steps);
+}
+
 void check_beta0(const Mesh& mesh, const ScalarField& beta0) {
   if (!beta0) return;  // β0 = 1
   for (int i = 0; i < mesh.n_nodes(); ++i) {
@@ -72,7 +117,17 @@ void Problem::validate() const {
           elasticity.dim(), mesh.dim());
   located(where, [&] { check_kappa(kappa); });
   located(where, [&] { check_final_time(final_time); });
-  located(where, [&] { check_n_steps(n_steps); });
+  if (step_control) {
+    require(n_steps == 0 && step_times.empty() && step_sizes.empty(), "{}: error-controlled steps have no fixed grid",
+            where);
+    located(where, [&] { (void)step_control->completed(final_time); });
+  } else {
+    located(where, [&] { check_n_steps(n_steps); });
+    require(step_times.empty() || static_cast<int>(step_times.size()) == n_steps,
+            "{}: {} step times for N = {} steps", where, step_times.size(), n_steps);
+    require(step_sizes.empty() || !step_times.empty(), "{}: step sizes without step times", where);
+    if (!step_times.empty()) located(where, [&] { check_fixed_grid(final_time, step_times, step_sizes); });
+  }
   require(law != nullptr, "{}: no viscoplastic law G", where);
   require(source != nullptr, "{}: no damage source phi", where);
   require(!clamped.empty() || !displacement.empty() || !symmetry.empty(),

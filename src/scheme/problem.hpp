@@ -8,6 +8,7 @@
 #include "material/viscoplastic_law.hpp"
 #include "mesh/mesh.hpp"
 #include "scheme/obstacle.hpp"
+#include "scheme/time_grid.hpp"
 
 #include <array>
 #include <cstdint>
@@ -92,9 +93,33 @@ struct Problem {
   std::vector<PressureLoad> pressure;  // on parts outside Γ1 and Γ3, added to any f2 there
   ScalarField beta0;  // initial damage β0(x) in [0, 1]; u0 = 0, σ0 = 0
   double final_time = 1;
-  int n_steps = 100;  // k = T / N
+  int n_steps = 100;  // N of a fixed grid (k = T / N when step_times is empty); 0 with step_control
+  /// A fixed non-uniform grid t_1 < … < t_N = T (scheme/time_grid.hpp); empty: uniform, t_n = n T / N.
+  std::vector<double> step_times;
+  /// Its step sizes k_n (t_n − t_{n−1} to round-off; empty: those differences).
+  std::vector<double> step_sizes;
+  /// Error-controlled steps instead of a fixed grid (completed: StepControl::completed).
+  std::optional<StepControl> step_control;
 
+  /// The step of a uniform grid, T / N.
   double step() const { return final_time / n_steps; }
+  bool uniform_steps() const { return step_times.empty() && !step_control; }
+  /// A fixed non-uniform grid (scheme/time_grid.hpp) instead of the uniform one or error control.
+  void set_fixed_grid(FixedGrid grid);
+  /// t_n of a fixed grid, n = 0 … N (uniform: n T / N, and T exactly at n = N).
+  double time_at(int n) const;
+  /// k_n = t_n − t_{n−1} of a fixed grid (uniform: T / N for every n, as before non-uniform grids).
+  double step_at(int n) const;
+  /// The step of a fixed grid whose time is nearest t (ties: the earlier one).
+  int step_nearest(double t) const;
+  /// The first step's size (the one the damage matrix is factorized for at set-up).
+  double first_step() const { return step_control ? step_control->dt_initial : step_at(1); }
+  /// N of a fixed grid; with error control, T / dt_initial (for estimates of the run's cost).
+  int expected_steps() const;
+  /// The largest step of a fixed grid (the k of Theorem 3.5); dt_max when error-controlled.
+  double largest_step() const;
+  /// "k = 0.01, N = 100", "k in [0.001, 0.05], N = 57", or the step control's description.
+  std::string describe_steps() const;
   /// The body's material (ℰ, G, φ above) named "body", then `materials`: the list
   /// that cell_materials indexes.
   std::vector<Material> material_list() const;

@@ -19,6 +19,9 @@ using Clock = std::chrono::steady_clock;
 
 /// Below this many cells the elementwise loops run on one thread.
 constexpr int kParallelCells = 4096;
+/// Damage solvers kept for the step sizes in use: a run with a few step sizes factors
+/// H = M + kκA once per size.
+constexpr std::size_t kDamageSolversKept = 4;
 /// The problem, after Problem::validate (which throws for a bad datum).
 std::shared_ptr<const Problem> validated(std::shared_ptr<const Problem> p) {
   p->validate();
@@ -103,6 +106,12 @@ TimeStepper::TimeStepper(std::shared_ptr<const Problem> problem, MeshPart part,
   state_.z.assign(mesh.n_cells(), SymTensor{});
   state_.lambda = Vector::Zero(part_.n_contact);
   u_free_ = Vector::Zero(part_.n_owned_dofs);
+  if (p.step_control) control_ = p.step_control->completed(p.final_time);
+  for (const CellGeometry& g : geo_) volume_ += g.volume;
+  volume_ = part_.comm.sum(volume_);
+  const auto owned_beta = state_.beta.head(part_.n_owned_nodes).array();
+  control_state_.n_beta_zero = part_.comm.sum(static_cast<double>((owned_beta <= 0).count()));
+  control_state_.n_beta_one = part_.comm.sum(static_cast<double>((owned_beta >= 1).count()));
   setup_timing_.total = seconds_since(t0);
 }
 
@@ -134,7 +143,7 @@ void TimeStepper::assemble_and_factorize() {
   M_local_ = assemble_mass(mesh, geo_);
   A_local_ = assemble_laplacian(mesh, geo_);
   M_ = backend_->assemble(M_local_, *part_.node_layout, 1);
-  const SparseMatrix H_local = M_local_ + (p.step() * p.kappa) * A_local_;
+  const SparseMatrix H_local = M_local_ + (p.first_step() * p.kappa) * A_local_;
   auto H = backend_->assemble(H_local, *part_.node_layout, 1);
   const long long damage_operator_nonzeros = H->nonzeros();
   setup_timing_.assembly = seconds_since(t1);
@@ -159,7 +168,7 @@ void TimeStepper::assemble_and_factorize() {
     check_memory(estimate_run_memory(mesh_bytes, matrix_bytes, *K_size, H_size.value_or(FactorEstimate{}),
                                      choice_.damage == "active-set", primal ? 0 : part_.n_contact),
                  memory_limit(choice_.memory_limit), p.name);
-    solver_cost_ = estimate_solver_cost(*K_size, static_cast<double>(K_->nonzeros()), part_.n_contact, p.n_steps,
+    solver_cost_ = estimate_solver_cost(*K_size, static_cast<double>(K_->nonzeros()), part_.n_contact, p.expected_steps(),
                                         !primal);
     if (choice_.iterative_fallback && choice_.contact == "auto" && !constraints.power_law &&
         iterative_is_faster(*solver_cost_))
@@ -174,7 +183,8 @@ void TimeStepper::assemble_and_factorize() {
   stage(fmt::format("factorization of H ({} x {}, {} nonzeros)", part_.n_global_nodes, part_.n_global_nodes,
                     damage_operator_nonzeros));
   t1 = Clock::now();
-  damage_ = make_damage_solver(choice_.damage, std::move(H), la::factor_factory(backend_), choice_.damage_reduced);
+  H.reset();
+  damage_solver(p.first_step());
   setup_timing_.factor_H = seconds_since(t1);
   stage("factorization of H", setup_timing_.factor_H);
 
@@ -282,8 +292,9 @@ Vector TimeStepper::contact_gap(double t) const {
 
 double TimeStepper::factor_bytes() const {
   const la::Factor* contact = contact_->own_factor();
-  return (K_factor_ ? K_factor_->factor_bytes() : 0.0) + (contact ? contact->factor_bytes() : 0.0) +
-         damage_->factor_bytes();
+  double bytes = (K_factor_ ? K_factor_->factor_bytes() : 0.0) + (contact ? contact->factor_bytes() : 0.0);
+  for (const DamageForStep& d : damage_) bytes += d.solver->factor_bytes();
+  return bytes;
 }
 
 double TimeStepper::model_bytes() const {
@@ -298,68 +309,180 @@ double TimeStepper::model_bytes() const {
 
 int TimeStepper::n_factorizations() const {
   const la::Factor* contact = contact_->own_factor();
-  return (K_factor_ ? K_factor_->n_factorizations() : 0) + (contact ? contact->n_factorizations() : 0) +
-         damage_->n_factorizations();
+  int n = (K_factor_ ? K_factor_->n_factorizations() : 0) + (contact ? contact->n_factorizations() : 0) +
+          dropped_factorizations_;
+  for (const DamageForStep& d : damage_) n += d.solver->n_factorizations();
+  return n;
 }
 
 Snapshot TimeStepper::snapshot() const {
-  return {state_, u_free_, contact_->warm_state(), damage_->warm_state()};
+  return {state_, u_free_, contact_->warm_state(), damage_current_->warm_state()};
 }
 
 Vector TimeStepper::contact_warm_state() const { return contact_->warm_state(); }
-Vector TimeStepper::damage_warm_state() const { return damage_->warm_state(); }
+Vector TimeStepper::damage_warm_state() const { return damage_current_->warm_state(); }
 
 void TimeStepper::restore(const Snapshot& s) {
   const bool same = s.state.u.size() == state_.u.size() && s.state.beta.size() == state_.beta.size() &&
                     s.state.sigma.size() == state_.sigma.size() && s.state.eps.size() == state_.eps.size() &&
                     s.state.z.size() == state_.z.size() && s.state.lambda.size() == state_.lambda.size() &&
-                    s.u_free.size() == u_free_.size() && s.state.n >= 0 && s.state.n <= problem_->n_steps;
+                    s.u_free.size() == u_free_.size() && s.state.n >= 0 &&
+                    (problem_->step_control ? s.state.t <= problem_->final_time : s.state.n <= problem_->n_steps);
   require(same, "{}: the saved state does not fit this problem (a different mesh, case or step count?)",
           problem_->name);
   state_ = s.state;
   u_free_ = s.u_free;
   contact_->set_warm_state(s.contact_warm);
-  damage_->set_warm_state(s.damage_warm);
+  damage_current_->set_warm_state(s.damage_warm);
+  rates_valid_ = false;  // recomputed from the restored state: the same values
 }
 
-DamageSolver& TimeStepper::damage_solver(int level) {
-  if (level == 0) return *damage_;
-  if (static_cast<int>(halved_damage_.size()) < level) halved_damage_.resize(level);
-  auto& solver = halved_damage_[level - 1];
-  if (!solver) {
-    const double k = problem_->step() / (1 << level);
+Vector StepControlState::values() const {
+  Vector v(6);
+  v << k_next, sigma_scale, n_active, n_beta_zero, n_beta_one, rejected;
+  return v;
+}
+
+StepControlState StepControlState::from_values(const Vector& v) {
+  require(v.size() == 6, "the step-size state has {} values, expected 6", v.size());
+  return {v[0], v[1], v[2], v[3], v[4], v[5]};
+}
+
+void TimeStepper::set_step_history(std::vector<double> times, const StepControlState& c) {
+  require(times.size() == static_cast<std::size_t>(state_.n) + 1 && times.front() == 0 && times.back() == state_.t,
+          "{}: the saved time levels do not end at the state's step {} (t = {})", problem_->name, state_.n, state_.t);
+  times_ = std::move(times);
+  control_state_ = c;
+}
+
+DamageSolver& TimeStepper::damage_solver(double k) {
+  auto it = std::find_if(damage_.begin(), damage_.end(), [k](const DamageForStep& d) { return d.k == k; });
+  if (it == damage_.end()) {
+    const Vector warm = damage_current_ ? damage_current_->warm_state() : Vector();
+    if (damage_.size() >= kDamageSolversKept) {  // the least recently used (never the current: it is last)
+      dropped_factorizations_ += damage_.front().solver->n_factorizations();
+      damage_.erase(damage_.begin());
+    }
     auto H = backend_->assemble(SparseMatrix(M_local_ + (k * problem_->kappa) * A_local_), *part_.node_layout, 1);
-    solver = make_damage_solver(choice_.damage, std::move(H), la::factor_factory(backend_), choice_.damage_reduced);
+    ++damage_matrices_made_;
+    damage_.push_back({k, make_damage_solver(choice_.damage, std::move(H), la::factor_factory(backend_),
+                                             choice_.damage_reduced)});
+    if (damage_current_) damage_.back().solver->set_warm_state(warm);
+    damage_current_ = damage_.back().solver.get();
+    return *damage_current_;
   }
-  return *solver;
+  if (it + 1 != damage_.end()) std::rotate(it, it + 1, damage_.end());
+  DamageSolver* next = damage_.back().solver.get();
+  if (next != damage_current_) next->set_warm_state(damage_current_->warm_state());  // the warm start is the state's
+  damage_current_ = next;
+  return *next;
 }
 
 StepReport TimeStepper::step() {
   require(!done(), "{}: the run is already at the final time", problem_->name);
   const Problem& p = *problem_;
   const int n = state_.n + 1;
-  // The grid time t_n = n k, exactly (sums of k would accumulate round-off).
-  StepReport rep = advance_or_halve(0, n == p.n_steps ? p.final_time : n * p.step());
+  StepReport rep = p.step_control ? controlled_step() : advance_or_halve(0, p.step_at(n), p.time_at(n));
   state_.n = rep.n = n;
+  times_.push_back(state_.t);
+  control_state_.sigma_scale = std::max(control_state_.sigma_scale, rep.sigma_norm);
+  control_state_.n_active = rep.contact.n_active;
+  control_state_.n_beta_zero = rep.damage.n_lower;
+  control_state_.n_beta_one = rep.damage.n_upper;
   return rep;
 }
 
-StepReport TimeStepper::advance_or_halve(int level, double t_end) {
-  if (level >= choice_.max_halvings) return advance(level, t_end);
+StepReport TimeStepper::advance_or_halve(int level, double k, double t_end) {
+  if (level >= choice_.max_halvings) return advance(k, t_end);
   const Snapshot before = snapshot();
-  StepReport rep = advance(level, t_end);
+  StepReport rep = advance(k, t_end);
   if (rep.ok) return rep;  // the same on every process: rep is
   restore(before);
-  const double t_mid = before.state.t + problem_->step() / (1 << (level + 1));
-  const StepReport first = advance_or_halve(level + 1, t_mid);
+  const double t_mid = before.state.t + k / 2;
+  const StepReport first = advance_or_halve(level + 1, k / 2, t_mid);
   if (!first.ok) return first;
-  rep = advance_or_halve(level + 1, t_end);
+  rep = advance_or_halve(level + 1, k / 2, t_end);
+  rep.k = t_end - before.state.t;
+  rep.error_estimate = std::max(rep.error_estimate, first.error_estimate);
   rep.substeps += first.substeps;
   rep.seconds_sources += first.seconds_sources;
   rep.seconds_damage += first.seconds_damage;
   rep.seconds_contact += first.seconds_contact;
   rep.seconds_stress += first.seconds_stress;
   return rep;
+}
+
+bool TimeStepper::is_event(const StepReport& rep) const {
+  const StepControlState& last = control_state_;
+  return (control_->contact_events && rep.contact.n_active != last.n_active) ||
+         (control_->damage_events && (rep.damage.n_lower > last.n_beta_zero || rep.damage.n_upper > last.n_beta_one));
+}
+
+StepReport TimeStepper::controlled_step() {
+  const StepControl& c = *control_;
+  const double T = problem_->final_time;
+  const Snapshot before = snapshot();
+  const double t0 = before.state.t;
+  double k = control_state_.k_next > 0 ? control_state_.k_next : c.dt_initial;
+  int rejected = 0;
+  StepReport spent;  // the rejected attempts' times: part of the step's cost
+  for (;;) {
+    k = step_on_ladder(k, c.dt_min, c.dt_max);
+    const double t_end = step_end(t0, k, T, c.landings);
+    const double k_used = t_end == t0 + k ? k : t_end - t0;  // a ladder size, or shortened to land
+    StepReport rep = advance(k_used, t_end);
+    // r: the estimate over what the tolerance allows this step (an error per unit of time).
+    const double r = rep.error_estimate / (c.tolerance * k_used);
+    double retry = 0;  // the smaller step to redo it with (0: accept)
+    if (!rep.ok)
+      retry = k_used * c.cut;
+    else if (k_used > c.event_dt * (1 + 1e-9) && is_event(rep))
+      retry = std::max(c.event_dt, k_used * c.cut);
+    else if (r > 1)
+      retry = k_used * std::max(c.cut, c.safety / r);
+    const bool at_floor = k_used <= c.dt_min * (1 + 1e-9) || rejected >= c.max_rejections;
+    if (retry == 0 || at_floor) {
+      rep.rejected = rejected;
+      rep.seconds_sources += spent.seconds_sources;
+      rep.seconds_damage += spent.seconds_damage;
+      rep.seconds_contact += spent.seconds_contact;
+      rep.seconds_stress += spent.seconds_stress;
+      // The next step: the factor the estimate allows, within [cut, growth]; a step
+      // shortened to land on a time does not shrink the next one below its proposal.
+      const double allowed = r > 0 ? c.safety / r : c.growth;
+      double next = k_used * std::clamp(allowed, c.cut, c.growth);
+      if (k_used < k && r <= 1) next = std::max(next, std::min(k, k_used * allowed));
+      if (rep.ok) {
+        control_state_.k_next = std::clamp(next, c.dt_min, c.dt_max);
+        control_state_.rejected += rejected;
+      }
+      return rep;
+    }
+    spent.seconds_sources += rep.seconds_sources;
+    spent.seconds_damage += rep.seconds_damage;
+    spent.seconds_contact += rep.seconds_contact;
+    spent.seconds_stress += rep.seconds_stress;
+    restore(before);
+    ++rejected;
+    k = std::max(retry, c.dt_min);
+  }
+}
+
+void TimeStepper::compute_rates() {
+  const Mesh& mesh = part_.mesh();
+  const int n_cells = mesh.n_cells();
+  rates_G_.resize(n_cells);
+  rates_phi_.resize(n_cells);
+#pragma omp parallel for schedule(static) if (n_cells >= kParallelCells)
+  for (int c = 0; c < n_cells; ++c) {
+    const Material& m = material(c);
+    const PointState s{state_.sigma[c], state_.eps[c], cell_mean(mesh, state_.beta, c), m.elasticity.stress_dim(),
+                       mesh.cell_centroid(c), state_.t};
+    rates_G_[c] = m.law->rate(s);
+    m.elasticity.restrict_stress(rates_G_[c]);
+    rates_phi_[c] = m.source->rate(s);
+  }
+  rates_valid_ = true;
 }
 
 Vector TimeStepper::load(double t) const {
@@ -447,29 +570,22 @@ void TimeStepper::beta_range(StepReport& rep) const {
   rep.beta_max = comm.max(n ? state_.beta.head(static_cast<Eigen::Index>(n)).maxCoeff() : -INFINITY);
 }
 
-StepReport TimeStepper::advance(int level, double t_end) {
-  const Problem& p = *problem_;
+StepReport TimeStepper::advance(double k, double t_end) {
   const Mesh& mesh = part_.mesh();
   const la::Comm& comm = part_.comm;
   const int n_cells = mesh.n_cells();
-  const double k = p.step() / (1 << level);
   StepReport rep;
   rep.n = state_.n + 1;
   rep.t = t_end;
+  rep.k = k;
 
-  // Step 1: lagged sources G_{n−1}, φ_{n−1} per element, β at the centroid.
+  // Step 1: lagged sources G_{n−1}, φ_{n−1} per element, β at the centroid (computed
+  // at the end of the step before, for its error estimate).
   auto t0 = Clock::now();
-  std::vector<SymTensor> G(n_cells);
-  std::vector<double> phi(n_cells);
-#pragma omp parallel for schedule(static) if (n_cells >= kParallelCells)
-  for (int c = 0; c < n_cells; ++c) {
-    const Material& m = material(c);
-    const PointState s{state_.sigma[c], state_.eps[c], cell_mean(mesh, state_.beta, c), m.elasticity.stress_dim(),
-                       mesh.cell_centroid(c), state_.t};
-    G[c] = m.law->rate(s);
-    m.elasticity.restrict_stress(G[c]);
-    phi[c] = m.source->rate(s);
-  }
+  if (!rates_valid_) compute_rates();
+  const std::vector<SymTensor> G = std::move(rates_G_);
+  const std::vector<double> phi = std::move(rates_phi_);
+  rates_valid_ = false;
   rep.seconds_sources = seconds_since(t0);
 
   // Step 2: damage (3.8): the box QP with H = M + kκA, r = M β_{n−1} + k F_φ.
@@ -479,7 +595,7 @@ StepReport TimeStepper::advance(int level, double t_end) {
   Vector beta = state_.beta.head(part_.n_owned_nodes), rhs;
   M_->mult(beta, rhs);
   rhs += k * phi_.owned();
-  rep.damage = damage_solver(level).solve(rhs, beta);
+  rep.damage = damage_solver(k).solve(rhs, beta);
   beta_.owned() = beta;
   beta_.update_ghosts();
   state_.beta = beta_.local();
@@ -525,6 +641,27 @@ StepReport TimeStepper::advance(int level, double t_end) {
 
   beta_range(rep);
   state_.t = rep.t;  // state_.n is the grid step: step() sets it
+
+  // The error estimate (StepControl): the local error of the lagged rates, (k/2)|G_n − G_{n−1}|
+  // and (k/2)|φ_n − φ_{n−1}|; G_n, φ_n are the next step's step 1. The sums run in cell order
+  // on each process (an OpenMP reduction's order varies, and the estimate chooses steps).
+  t0 = Clock::now();
+  compute_rates();
+  double sums[3] = {0, 0, 0};  // |ΔG|², |Δφ|², |σ_n|² (L2)
+  for (int c = 0; c < n_cells; ++c) {
+    const double w = geo_[c].volume;
+    const SymTensor dG = rates_G_[c] - G[c];
+    sums[0] += w * dG.dot(dG);
+    sums[1] += w * (rates_phi_[c] - phi[c]) * (rates_phi_[c] - phi[c]);
+    sums[2] += w * state_.sigma[c].dot(state_.sigma[c]);
+  }
+  comm.sum(sums, 3);
+  rep.sigma_norm = std::sqrt(sums[2]);
+  const double sigma_scale = std::max(control_state_.sigma_scale, rep.sigma_norm);
+  const double e_sigma = sigma_scale > 0 ? k / 2 * std::sqrt(sums[0]) / sigma_scale : 0.0;
+  const double e_beta = k / 2 * std::sqrt(sums[1] / volume_);
+  rep.error_estimate = std::max(e_sigma, e_beta);
+  rep.seconds_sources += seconds_since(t0);
 
   const double tol = choice_.residual_tolerance;
   const bool finite = std::isfinite(comm.sum(u_free_.squaredNorm() + beta.squaredNorm()));

@@ -67,11 +67,19 @@ MinimumAt minimum_at(const MinimumAt& a, const MinimumAt& b);
 struct StepReport {
   int n = 0;
   double t = 0;
+  double k = 0;  // the step's size t_n − t_{n−1}
+  /// The estimate of the relative error this step adds (StepControl, scheme/time_grid.hpp),
+  /// made for every grid; error-controlled steps are chosen by it.
+  double error_estimate = 0;
+  /// Attempts of this step that were rejected and redone from the state before it
+  /// (error-controlled steps: error, event or solver).
+  int rejected = 0;
   ContactReport contact;
   DamageReport damage;
   double beta_min = 1, beta_max = 1;
   int beta_min_node = 0;  // by the rule of minimum_at
   double max_von_mises = 0;
+  double sigma_norm = 0;  // |σ_n|_{L2}
   /// The contact area: the summed tributary measures of the active contact nodes
   /// (a length in 2D, 1 per node in 1D).
   double contact_area = 0;
@@ -97,6 +105,18 @@ struct Snapshot {
   State state;
   Vector u_free;                     // owned free dofs
   Vector contact_warm, damage_warm;  // ContactSolver / DamageSolver::warm_state
+};
+
+/// What the step sizes carry from step to step (kept in checkpoints, so that a resumed
+/// run takes the same steps as one that was never stopped).
+struct StepControlState {
+  double k_next = 0;       // error-controlled: the next step's size before landings (0: dt_initial)
+  double sigma_scale = 0;  // max over the steps so far of |σ_n|_L2 (the estimate's scale)
+  double n_active = 0, n_beta_zero = 0, n_beta_one = 0;  // the last step's sets (events)
+  double rejected = 0;     // steps rejected over the run
+  /// As values (checkpoints), and back; throws vpc::Error for a wrong count.
+  Vector values() const;
+  static StepControlState from_values(const Vector& v);
 };
 
 /// Where the setup time goes (seconds).
@@ -132,10 +152,20 @@ class TimeStepper {
   /// This process's state: u and β at the part's nodes (owned, then ghosts), σ, ε,
   /// z on its cells, λ for all contact rows.
   const State& state() const { return state_; }
-  bool done() const { return state_.n >= problem_->n_steps; }
-  /// Advances from step n − 1 to n (steps 1–5 of SPEC §2); with
-  /// SolverChoice::max_halvings, a failed step is redone as two half steps. Collective.
+  bool done() const {
+    return problem_->step_control ? state_.t >= problem_->final_time : state_.n >= problem_->n_steps;
+  }
+  /// Advances from step n − 1 to n (steps 1–5 of SPEC §2) on the problem's grid, or by a
+  /// step its error control accepts (rejected attempts restore the state before them
+  /// exactly); with SolverChoice::max_halvings, a failed step of a fixed grid is redone
+  /// as two half steps. Collective.
   StepReport step();
+  /// The time levels t_0 … t_n reached so far.
+  const std::vector<double>& times() const { return times_; }
+  const StepControlState& step_control_state() const { return control_state_; }
+  /// After restore() of a checkpoint's state at step n: its time levels t_0 … t_n and
+  /// step-size state. Throws vpc::Error unless the times end at the state's.
+  void set_step_history(std::vector<double> times, const StepControlState& c);
 
   Snapshot snapshot() const;
   /// The solvers' warm starts of snapshot(), without a copy of the state (checkpoints). Collective.
@@ -146,6 +176,9 @@ class TimeStepper {
 
   const DofMap& dofs() const { return part_.dofs; }
   int n_factorizations() const;
+  /// The damage matrices H = M + kκA made so far: one per step size, while at most
+  /// four sizes are in use (the least recently used is dropped beyond that).
+  int n_damage_matrices() const { return damage_matrices_made_; }
   /// The factor of K (for benchmarks: the cost of one solve; made here when the contact
   /// solver is the primal one, which factors K with its active rows instead).
   const la::Factor& stiffness_factor();
@@ -168,11 +201,19 @@ class TimeStepper {
   ContactConstraints contact_constraints() const;
   /// g(t) at this process's contact rows (the owned ones, in row order): the gap of the step ending at t.
   Vector contact_gap(double t) const;
-  /// Steps 1–5 from the current state to time t_end with the step k / 2^level.
-  StepReport advance(int level, double t_end);
+  /// Steps 1–5 from the current state to time t_end with the step k, and the step's error estimate.
+  StepReport advance(double k, double t_end);
   /// The same, halving on failure down to max_halvings levels.
-  StepReport advance_or_halve(int level, double t_end);
-  DamageSolver& damage_solver(int level);
+  StepReport advance_or_halve(int level, double k, double t_end);
+  /// An error-controlled step (Problem::step_control).
+  StepReport controlled_step();
+  /// Whether the step's sets changed in a way StepControl redoes with a smaller step.
+  bool is_event(const StepReport& rep) const;
+  /// The damage solver of H = M + kκA: kept for the step sizes in use (kDamageSolversKept,
+  /// least recently used dropped); switching hands on the warm start.
+  DamageSolver& damage_solver(double k);
+  /// G and φ of step 1 at the current state, per cell: the next step's rates and the last one's estimate.
+  void compute_rates();
   /// F_n of (3.3) without the Bᵀz term: the loads f0, f2 at time t (the part's full dofs).
   Vector load(double t) const;
   /// The contact area and the force on each obstacle, from λ of the step ending at t. Collective.
@@ -207,8 +248,21 @@ class TimeStepper {
   /// its local free dofs (owned, then ghosts: the reflections of K_rot's local matrix).
   SparseMatrix contact_matrix(bool owned_only) const;
   std::unique_ptr<ContactSolver> contact_;
-  std::unique_ptr<DamageSolver> damage_;  // for the step k
-  std::vector<std::unique_ptr<DamageSolver>> halved_damage_;  // for k / 2^level, made when needed
+  struct DamageForStep {
+    double k = 0;
+    std::unique_ptr<DamageSolver> solver;
+  };
+  std::vector<DamageForStep> damage_;  // most recently used last
+  DamageSolver* damage_current_ = nullptr;  // the last one used: holds the warm start
+  int dropped_factorizations_ = 0;           // of damage solvers no longer kept
+  int damage_matrices_made_ = 0;
+  std::vector<SymTensor> rates_G_;           // G at the current state (valid: rates_valid_)
+  std::vector<double> rates_phi_;            // φ at the current state
+  bool rates_valid_ = false;
+  std::optional<StepControl> control_;       // completed (defaults filled)
+  StepControlState control_state_;
+  std::vector<double> times_{0.0};           // t_0 … t_n
+  double volume_ = 0;                        // |Ω|
   la::Vector f_, phi_, u_, beta_;  // ghosted work vectors: the load, F_φ, u_free, β
   State state_;
   Vector u_free_;  // owned free dofs: the contact solver's warm start

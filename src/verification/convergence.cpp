@@ -116,6 +116,11 @@ void advance(Run& run, bool strict = true) {
           rep.damage.kkt_residual);
   run.gather();
   ++run.n_stepped;
+  run.result.n_rejected += rep.rejected;
+  if (run.problem->step_control) {  // error-controlled: the steps taken and the largest
+    run.result.n_steps = run.n_stepped;
+    run.result.k = std::max(run.result.k, rep.k);
+  }
   run.contact_iter_sum += rep.contact.iterations;
   run.damage_iter_sum += rep.damage.iterations;
   run.result.contact_iterations.max = std::max(run.result.contact_iterations.max, rep.contact.iterations);
@@ -159,6 +164,22 @@ ProblemFactory same_data_on(std::shared_ptr<const Problem> base) {
     auto p = std::make_shared<Problem>(*base);
     p->mesh = mesh;
     p->n_steps = n_steps;
+    p->step_control.reset();
+    p->step_times.clear();
+    p->step_sizes.clear();
+    if (!base->step_times.empty()) {  // each step of the base grid split into `split` equal steps
+      const int split = n_steps / base->n_steps;
+      require(split >= 1 && split * base->n_steps == n_steps,
+              "convergence study: {} steps do not refine the case's grid of {} steps", n_steps, base->n_steps);
+      FixedGrid g;
+      for (int n = 1; n <= base->n_steps; ++n) {
+        const double a = base->time_at(n - 1), b = base->time_at(n), k = base->step_at(n) / split;
+        for (int j = 1; j < split; ++j) g.times.push_back(a + j * k);
+        g.times.push_back(b);
+        g.sizes.insert(g.sizes.end(), static_cast<std::size_t>(split), k);
+      }
+      p->set_fixed_grid(std::move(g));
+    }
     return std::shared_ptr<const Problem>(p);
   };
 }
@@ -170,11 +191,13 @@ const std::vector<std::string>& ErrorNorms::names() {
 
 std::vector<double> ErrorNorms::values() const { return {u_energy, u_l2, sigma_l2, beta_l2, beta_grad, contact_force}; }
 
-double ConvergenceResult::rate(int l, const std::function<double(const LevelResult&)>& value) const {
-  if (l <= 0 || l >= static_cast<int>(levels.size())) return kNaN;
-  const double e0 = value(levels[l - 1]), e1 = value(levels[l]);
+double ConvergenceResult::rate(const std::vector<LevelResult>& of, int l,
+                               const std::function<double(const LevelResult&)>& value) const {
+  if (l <= 0 || l >= static_cast<int>(of.size())) return kNaN;
+  const double e0 = value(of[l - 1]), e1 = value(of[l]);
   const bool by_k = sequence == RefinementSequence::K;
-  const double p0 = by_k ? levels[l - 1].k : levels[l - 1].h, p1 = by_k ? levels[l].k : levels[l].h;
+  auto parameter = [&](const LevelResult& L) { return by_k ? (L.tolerance > 0 ? L.tolerance : L.k) : L.h; };
+  const double p0 = parameter(of[l - 1]), p1 = parameter(of[l]);
   if (!(e0 > 0) || !(e1 > 0) || !std::isfinite(e0) || !std::isfinite(e1) || !(p0 > p1)) return kNaN;
   return std::log(e0 / e1) / std::log(p0 / p1);
 }
@@ -186,47 +209,79 @@ ConvergenceResult run_convergence(const std::string& case_name, const Mesh& base
   require(o.levels <= 8, "convergence study: at most 8 levels (got {})", o.levels);
   require(exact || o.reference_offset >= 1, "convergence study: the reference must be finer than every level");
   require(o.base_steps >= 1, "convergence study: the base number of steps must be >= 1 (got {})", o.base_steps);
-  const int n_runs = o.levels + (exact ? 0 : 1);
+  // Runs: the fixed-grid levels, the error-controlled levels (if any), the reference.
+  const bool controlled = o.step_control.has_value();
+  const int n_fixed = o.levels, n_measured = controlled ? 2 * o.levels : o.levels;
+  const int n_runs = n_measured + (exact ? 0 : 1);
   const int ref_level = o.levels - 1 + o.reference_offset;  // study level of the reference
   const bool refine_h = o.sequence != RefinementSequence::K;
   const bool refine_k = o.sequence != RefinementSequence::H;
   const int max_level = exact ? o.levels - 1 : ref_level;
   const MeshHierarchy meshes(base_mesh, refine_h ? max_level : 0);
+  // The base grid's times: where every run is compared when some levels control their steps.
+  const std::shared_ptr<const Problem> base = factory(meshes.mesh(0), o.base_steps);
+  std::vector<double> base_times;
+  for (int n = 1; n <= o.base_steps; ++n) base_times.push_back(base->time_at(n));
 
   std::vector<Run> runs(n_runs);
   for (int i = 0; i < n_runs; ++i) {
     Run& r = runs[i];
-    r.level = i < o.levels ? i : ref_level;
+    const bool adaptive = i >= n_fixed && i < n_measured;
+    r.level = i < n_measured ? i % o.levels : ref_level;
     r.mesh_level = refine_h ? r.level : 0;
-    const long n_steps = static_cast<long>(o.base_steps) << (refine_k ? r.level : 0);
+    const long n_steps = static_cast<long>(o.base_steps) << (refine_k && !adaptive ? r.level : 0);
     require(n_steps <= 1 << 22, "convergence study: level {} would need {} time steps", r.level, n_steps);
     const auto t0 = Clock::now();
     r.problem = factory(meshes.mesh(r.mesh_level), static_cast<int>(n_steps));
+    if (adaptive) {  // tolerance / 2^l, landing on the base grid's times
+      auto p = std::make_shared<Problem>(*r.problem);
+      StepControl c = *o.step_control;
+      c.tolerance /= refine_k ? 1 << r.level : 1;
+      c.landings.insert(c.landings.end(), base_times.begin(), base_times.end());
+      p->step_control = c.completed(p->final_time);
+      p->n_steps = 0;
+      p->step_times.clear();
+      p->step_sizes.clear();
+      r.problem = p;
+    }
     r.stepper = o.make_stepper ? o.make_stepper(r.problem, o.solvers) : std::make_unique<TimeStepper>(r.problem, o.solvers);
     r.gather();
     r.norms = std::make_unique<DiscreteNorms>(r.problem->mesh, r.problem->elasticity);
     fill_sizes(r.result, r);
-    log_line(o.log, fmt::format("  {} level {}: {} cells, {} free dofs, {} contact nodes, h = {:.4g}, k = {:.4g} "
+    if (adaptive) {
+      r.result.tolerance = r.problem->step_control->tolerance;
+      r.result.k = r.result.n_steps = 0;  // the steps it takes
+    }
+    log_line(o.log, fmt::format("  {} level {}: {} cells, {} free dofs, {} contact nodes, h = {:.4g}, {} "
                                 "(setup {:.2f} s)",
-                                i < o.levels ? "run" : "reference", r.level, r.result.n_cells, r.result.n_free_dofs,
-                                r.result.n_contact_nodes, r.result.h, r.result.k, seconds_since(t0)));
+                                i < n_measured ? (adaptive ? "error-controlled" : "run") : "reference", r.level,
+                                r.result.n_cells, r.result.n_free_dofs, r.result.n_contact_nodes, r.result.h,
+                                adaptive ? fmt::format("tolerance {:.4g}", r.result.tolerance)
+                                         : fmt::format("k = {:.4g}", r.result.k),
+                                seconds_since(t0)));
   }
   const int d = base_mesh.dim();
   const int qm = o.quadrature_points > 0 ? o.quadrature_points : (d <= 2 ? 3 : 2);
   const std::vector<QuadraturePoint> rule = conical_product_rule(d, qm);
+  // The run each measured one is compared with for the differences of consecutive levels:
+  // the next level of its kind, the reference after the last (none against an exact solution).
+  auto next_of = [&](int i) {
+    const int end = i < n_fixed ? n_fixed : n_measured;
+    return i + 1 < end ? i + 1 : (exact ? -1 : n_runs - 1);
+  };
 
-  // The comparisons made whenever a measured run reaches one of its time levels, where
-  // the states are: on rank 0 of a distributed study.
+  // The comparisons made whenever a measured run reaches one of its time levels (or, with
+  // error-controlled levels, one of the base grid's times), where the states are: on rank
+  // 0 of a distributed study. `k`: the weight of the time level in the β gradient's sum.
   const bool root = runs.front().stepper->comm().rank() == 0;
-  auto compare = [&](int i, bool at_start) {
+  auto compare = [&](int i, bool at_start, double k) {
     if (!root) return;
     Run& r = runs[i];
-    const double k = r.problem->step();
     const ErrorNorms e = exact ? compare_exact(r, *exact, rule) : compare_runs(r, runs.back(), meshes);
     take_max(r.err_max, e);
     if (!at_start) r.err_grad_sum += k * e.beta_grad * e.beta_grad;
-    if (i + 1 < n_runs) {
-      const Run& next = runs[i + 1];
+    if (const int j = next_of(i); j >= 0) {
+      const Run& next = runs[j];
       require(std::abs(next.state().t - r.state().t) <= 1e-9 * r.problem->final_time,
               "convergence study: levels {} and {} are at different times", r.level, next.level);
       const ErrorNorms dn = compare_runs(r, next, meshes);
@@ -235,26 +290,40 @@ ConvergenceResult run_convergence(const std::string& case_name, const Mesh& base
     }
   };
 
-  for (int i = 0; i < o.levels; ++i) compare(i, true);
-  int n_fine = 0;
-  for (const Run& r : runs) n_fine = std::max(n_fine, r.n_steps());
-  const int report_every = std::max(1, n_fine / 10);
-  for (int m = 1; m <= n_fine; ++m) {
-    for (Run& r : runs) {
-      r.stepped_now = m % (n_fine / r.n_steps()) == 0;
-      if (r.stepped_now) advance(r);
-    }
-    for (int i = 0; i < o.levels; ++i)
-      if (runs[i].stepped_now) compare(i, false);
-    if (m % report_every == 0)
-      log_line(o.log, fmt::format("  t = {:.4g} ({}/{} fine steps, {:.1f} s)", runs.back().stepper->state().t, m, n_fine,
+  for (int i = 0; i < n_measured; ++i) compare(i, true, 0);
+  if (controlled) {
+    double before = 0;
+    for (std::size_t j = 0; j < base_times.size(); ++j) {
+      const double t = base_times[j];
+      for (Run& r : runs)
+        while (!r.stepper->done() && r.stepper->state().t < t - 1e-12 * base->final_time) advance(r);
+      for (int i = 0; i < n_measured; ++i) compare(i, false, t - before);
+      before = t;
+      log_line(o.log, fmt::format("  t = {:.4g} ({}/{} base times, {:.1f} s)", t, j + 1, base_times.size(),
                                   seconds_since(t_start)));
+    }
+  } else {
+    int n_fine = 0;
+    for (const Run& r : runs) n_fine = std::max(n_fine, r.n_steps());
+    const int report_every = std::max(1, n_fine / 10);
+    for (int m = 1; m <= n_fine; ++m) {
+      for (Run& r : runs) {
+        r.stepped_now = m % (n_fine / r.n_steps()) == 0;
+        if (r.stepped_now) advance(r);
+      }
+      for (int i = 0; i < o.levels; ++i)
+        if (runs[i].stepped_now) compare(i, false, runs[i].problem->step_at(runs[i].stepper->state().n));
+      if (m % report_every == 0)
+        log_line(o.log, fmt::format("  t = {:.4g} ({}/{} fine steps, {:.1f} s)", runs.back().stepper->state().t, m,
+                                    n_fine, seconds_since(t_start)));
+    }
   }
 
   ConvergenceResult out;
   out.case_name = case_name;
   out.sequence = o.sequence;
   out.exact = exact != nullptr;
+  out.at_base_times = controlled;
   for (int i = 0; i < n_runs; ++i) {
     Run& r = runs[i];
     finish(r);
@@ -262,16 +331,17 @@ ConvergenceResult run_convergence(const std::string& case_name, const Mesh& base
     r.result.error.beta_grad = std::sqrt(r.err_grad_sum);
     r.result.difference = r.diff_max;
     r.result.difference.beta_grad = std::sqrt(r.diff_grad_sum);
-    if (i + 1 >= n_runs) r.result.difference = ErrorNorms{kNaN, kNaN, kNaN, kNaN, kNaN, kNaN};
+    if (i >= n_measured || next_of(i) < 0) r.result.difference = ErrorNorms{kNaN, kNaN, kNaN, kNaN, kNaN, kNaN};
     if (exact) {
       r.result.difference.contact_force = kNaN;
       r.result.error.contact_force = kNaN;
     }
-    if (i < o.levels) {
+    if (i < n_fixed)
       out.levels.push_back(r.result);
-    } else {
+    else if (i < n_measured)
+      out.adaptive.push_back(r.result);
+    else
       out.reference = r.result;
-    }
   }
   out.seconds = seconds_since(t_start);
   return out;
@@ -318,10 +388,29 @@ std::string format_convergence_table(const ConvergenceResult& r) {
       s += "\n";
     }
   };
-  table(r.exact ? "errors (max over n; grad beta: (k sum_n |grad e_n|^2)^1/2):"
-                : "errors against the reference (max over n; grad beta: (k sum_n |grad e_n|^2)^1/2):",
+  const char* over = r.at_base_times ? "max over the base grid's times" : "max over n";
+  table(fmt::format("{} ({}; grad beta: (k sum_n |grad e_n|^2)^1/2):",
+                    r.exact ? "errors" : "errors against the reference", over).c_str(),
         false);
   table("differences of consecutive levels |w_l - w_{l+1}| (their rates are free of the reference's bias):", true);
+  if (!r.adaptive.empty()) {
+    s += fmt::format("error-controlled levels ({}; N: steps taken, rej: rejected, k: largest step; rates against "
+                     "{}):\n{:>3} {:>9} {:>9} {:>9} {:>6} {:>5}",
+                     over, r.sequence == RefinementSequence::K ? "the tolerance" : "h", "lvl", "h", "tolerance", "k",
+                     "N", "rej");
+    for (size_t j = 0; j < n_norms; ++j) s += fmt::format(" | {:>9} {:>5}", norm_titles()[j], "rate");
+    s += "\n";
+    for (size_t l = 0; l < r.adaptive.size(); ++l) {
+      const LevelResult& L = r.adaptive[l];
+      s += fmt::format("{:>3} {:>9.3e} {:>9.3e} {:>9.3e} {:>6} {:>5}", L.level, L.h, L.tolerance, L.k, L.n_steps,
+                       L.n_rejected);
+      for (size_t j = 0; j < n_norms; ++j) {
+        const auto value = [&](const LevelResult& x) { return pick(x.error, j); };
+        s += fmt::format(" | {:>9} {:>5}", g(value(L)), r2(r.rate(r.adaptive, static_cast<int>(l), value)));
+      }
+      s += "\n";
+    }
+  }
   s += fmt::format("{:>3} {:>8} {:>6} {:>8} {:>6} {:>7} {:>7} {:>7} {:>7} {:>8} {:>8} {:>8}\n", "lvl", "contact",
                    "max", "damage", "max", "active", "act(T)", "act.chg", "bnd.chg", "beta=0", "beta=1", "seconds");
   auto iter_row = [&](const LevelResult& L, const std::string& name) {
@@ -339,31 +428,32 @@ std::string format_convergence_table(const ConvergenceResult& r) {
   return s;
 }
 
-void write_convergence_csv(const ConvergenceResult& r, const std::string& path) {
+void write_convergence_csv(const ConvergenceResult& r, const std::string& path, bool adaptive) {
   std::string s = fmt::format("# case={} sequence={} against={}\n", r.case_name, to_string(r.sequence),
                               r.exact ? "exact" : fmt::format("reference-level-{}", r.reference.level));
   s += "level,h,k,n_steps,n_cells,n_nodes,n_free_dofs,n_contact_nodes";
   for (const auto& n : ErrorNorms::names()) s += fmt::format(",err_{0},rate_{0}", n);
   for (const auto& n : ErrorNorms::names()) s += fmt::format(",diff_{0},diff_rate_{0}", n);
   s += ",contact_iter_mean,contact_iter_max,damage_iter_mean,damage_iter_max,max_active_contact,active_contact,"
-       "contact_set_changes,damage_set_changes,beta_at_zero,beta_at_one,seconds\n";
+       "contact_set_changes,damage_set_changes,beta_at_zero,beta_at_one,seconds,tolerance,n_rejected\n";
+  const std::vector<LevelResult>& levels = adaptive ? r.adaptive : r.levels;
   auto row = [&](const LevelResult& L, int index, bool is_reference) {
     s += fmt::format("{},{:.17g},{:.17g},{},{},{},{},{}", is_reference ? std::string("ref") : std::to_string(L.level),
                      L.h, L.k, L.n_steps, L.n_cells, L.n_nodes, L.n_free_dofs, L.n_contact_nodes);
     for (size_t j = 0; j < ErrorNorms::names().size(); ++j) {
       const auto v = [&](const LevelResult& x) { return pick(x.error, j); };
-      s += fmt::format(",{:.10e},{:.6f}", is_reference ? kNaN : v(L), is_reference ? kNaN : r.rate(index, v));
+      s += fmt::format(",{:.10e},{:.6f}", is_reference ? kNaN : v(L), is_reference ? kNaN : r.rate(levels, index, v));
     }
     for (size_t j = 0; j < ErrorNorms::names().size(); ++j) {
       const auto v = [&](const LevelResult& x) { return pick(x.difference, j); };
-      s += fmt::format(",{:.10e},{:.6f}", is_reference ? kNaN : v(L), is_reference ? kNaN : r.rate(index, v));
+      s += fmt::format(",{:.10e},{:.6f}", is_reference ? kNaN : v(L), is_reference ? kNaN : r.rate(levels, index, v));
     }
-    s += fmt::format(",{:.4f},{},{:.4f},{},{},{},{},{},{},{},{:.3f}\n", L.contact_iterations.mean,
+    s += fmt::format(",{:.4f},{},{:.4f},{},{},{},{},{},{},{},{:.3f},{:.6g},{}\n", L.contact_iterations.mean,
                      L.contact_iterations.max, L.damage_iterations.mean, L.damage_iterations.max, L.max_active_contact,
                      L.active_contact, L.contact_set_changes, L.damage_set_changes, L.beta_at_zero, L.beta_at_one,
-                     L.seconds);
+                     L.seconds, L.tolerance, L.n_rejected);
   };
-  for (size_t l = 0; l < r.levels.size(); ++l) row(r.levels[l], static_cast<int>(l), false);
+  for (size_t l = 0; l < levels.size(); ++l) row(levels[l], static_cast<int>(l), false);
   if (!r.exact) row(r.reference, -1, true);
   write_file_atomic(path, s);
 }

@@ -20,6 +20,7 @@
 
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -38,7 +39,10 @@ RefinementSequence refinement_sequence_from_name(const std::string& name);
 /// refinement of the base mesh; everything else is the case's).
 using ProblemFactory = std::function<std::shared_ptr<const Problem>(const Mesh& mesh, int n_steps)>;
 
-/// A factory that copies `base` and replaces its mesh and number of steps.
+/// A factory that copies `base` and replaces its mesh and number of steps. A base with a
+/// non-uniform grid has each of its steps split into N / N_base equal steps (N must be
+/// N_base 2^l), so that every level's grid contains the coarser ones; a base with
+/// error-controlled steps becomes a uniform grid of N steps.
 ProblemFactory same_data_on(std::shared_ptr<const Problem> base);
 
 struct ConvergenceOptions {
@@ -55,6 +59,11 @@ struct ConvergenceOptions {
   /// has its state gathered to rank 0 at every step, where the norms are computed: the
   /// result is complete on rank 0 only.
   std::function<std::unique_ptr<TimeStepper>(std::shared_ptr<const Problem>, const SolverChoice&)> make_stepper;
+  /// Error-controlled levels besides the fixed-grid ones: level l takes the tolerance
+  /// tolerance / 2^l (sequences hk and k; h: the tolerance alone). Every run of the study
+  /// is then compared at the times of the base grid (N0 steps) only, where the error
+  /// control lands exactly, so that both kinds of levels are measured alike.
+  std::optional<StepControl> step_control;
 };
 
 /// The errors of one level, in the norms of (3.39) (see the file comment).
@@ -85,6 +94,8 @@ struct LevelResult {
   int damage_set_changes = 0;  // steps where the number of nodes at β = 0 or at β = 1 changed
   int n_failed_steps = 0;      // steps not accepted (only counted in solver comparisons)
   double seconds = 0;          // time spent stepping this level
+  double tolerance = 0;        // error-controlled levels: the step control's tolerance (k: the largest step)
+  int n_rejected = 0;          // error-controlled levels: steps rejected and redone
 };
 
 struct ConvergenceResult {
@@ -93,11 +104,15 @@ struct ConvergenceResult {
   bool exact = false;          // errors against an exact solution (else against the reference)
   LevelResult reference;       // the reference run (when !exact)
   std::vector<LevelResult> levels;
+  std::vector<LevelResult> adaptive;  // error-controlled levels (ConvergenceOptions::step_control)
+  bool at_base_times = false;  // errors over the base grid's times only (with error-controlled levels)
   double seconds = 0;
 
-  /// Observed rate between level l − 1 and l: log(e_{l−1}/e_l) / log(p_{l−1}/p_l),
-  /// p = h (HK, H) or k (K); NaN for l = 0. `values` picks the norm.
-  double rate(int l, const std::function<double(const LevelResult&)>& value) const;
+  /// Observed rate between level l − 1 and l of `of` (levels or adaptive):
+  /// log(e_{l−1}/e_l) / log(p_{l−1}/p_l), p = h (HK, H), k (K) or the tolerance (K,
+  /// error-controlled levels); NaN for l = 0. `values` picks the norm.
+  double rate(int l, const std::function<double(const LevelResult&)>& value) const { return rate(levels, l, value); }
+  double rate(const std::vector<LevelResult>& of, int l, const std::function<double(const LevelResult&)>& value) const;
 };
 
 /// Runs the study. `exact` may be null (then a reference run is made).
@@ -106,8 +121,9 @@ ConvergenceResult run_convergence(const std::string& case_name, const Mesh& base
 
 /// The table printed by `vpcontact converge`: errors and observed rates.
 std::string format_convergence_table(const ConvergenceResult& r);
-/// CSV: one row per level with h, k, sizes, errors, rates, differences, iterations.
-void write_convergence_csv(const ConvergenceResult& r, const std::string& path);
+/// CSV: one row per level with h, k, sizes, errors, rates, differences, iterations (`adaptive`:
+/// of the error-controlled levels, whose k is the largest step taken and N the steps taken).
+void write_convergence_csv(const ConvergenceResult& r, const std::string& path, bool adaptive = false);
 
 // --- Solver agreement --------------------------------------------------------
 

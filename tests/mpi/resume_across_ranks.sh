@@ -86,8 +86,8 @@ compare "$WORK/EF" "2 ranks, a piece missing -> 3 ranks from the step before"
 run 1 run "${CASE[@]}" -o "$WORK/G0"
 run 1 run "${CASE[@]}" --checkpoint-every 10 -o "$WORK/G"
 ls "$WORK"/G/checkpoint_*.bin | grep -q -- "-of-" && { echo "one rank wrote pieces"; exit 1; }
-head -c 12 "$WORK/G/checkpoint_00020.bin" | od -An -tx1 | grep -q "56 50 43 43 4b 50 54 00 02 00 00 00" ||
-  { echo "one rank: not the version-2 file"; exit 1; }
+head -c 12 "$WORK/G/checkpoint_00020.bin" | od -An -tx1 | grep -q "56 50 43 43 4b 50 54 00 04 00 00 00" ||
+  { echo "one rank: not the version-4 file"; exit 1; }
 interrupt "$WORK/G"
 run 1 run "${CASE[@]}" --resume "$WORK/G"
 for f in history.csv probes.csv solution_00020.vtu; do

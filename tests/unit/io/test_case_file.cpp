@@ -250,7 +250,7 @@ TEST(CaseFile, BadCaseFilesGiveTheirMessages) {
       {"dt = 0.05", "dt = 0.03", "bad.toml:43:6: time.dt: the time step 0.03 does not divide the final time T = 0.5 into whole steps"},
       {"dt = 0.05", "dt = -0.05", "time.dt: the time step must be > 0 (got -0.05)"},
       {"dt = 0.05", "steps = 0", "time.steps: the number of time steps must be >= 1 (got 0)"},
-      {"dt = 0.05", "dt = 0.05\nsteps = 10", "give exactly one of steps and dt"},
+      {"dt = 0.05", "dt = 0.05\nsteps = 10", "give exactly one of steps, dt (a step size, a list or a formula in t) and tolerance"},
       {"T = 0.5", "T = 0", "time.T: the final time T must be > 0 (got 0)"},
       {"kappa = 0.5", "kappa = -0.5", "damage.kappa: kappa must be >= 0 (got -0.5)"},
       {"beta0 = \"1 - 0.1*x/2\"", "beta0 = \"1.5\"", "damage.beta0: initial damage beta0 must lie in [0, 1]; it is 1.5 at node 0"},

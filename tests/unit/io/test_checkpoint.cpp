@@ -1,6 +1,6 @@
 // Checkpoints (format, checksum, fallback to an older good file), the stepper's
 // checkpoints (in the numbering of the mesh as read: on one process exactly its
-// snapshot, in the version-2 file; in pieces as several processes write them, read
+// snapshot, in the version-4 file; in pieces as several processes write them, read
 // back whole or by blocks) and snapshot/restore and step halving.
 #include "../../file_damage.hpp"
 #include "cases/builtin_cases.hpp"
@@ -37,7 +37,16 @@ Checkpoint checkpoint_of(const TimeStepper& s) {
   RunTotals totals;
   totals.max_contact_iterations = 3;
   totals.seconds_output = 0.25;
-  return {s.problem().name, problem_fingerprint(s), s.snapshot(), {{0.0, "solution_00000.vtu"}, {0.5, "x.vtu"}}, totals};
+  Checkpoint c;
+  c.case_name = s.problem().name;
+  c.fingerprint = problem_fingerprint(s);
+  c.problem_key = problem_key(s);
+  c.snapshot = s.snapshot();
+  c.times = s.times();
+  c.step_control = s.step_control_state().values();
+  c.pvd = {{0.0, "solution_00000.vtu"}, {0.5, "x.vtu"}};
+  c.totals = totals;
+  return c;
 }
 
 /// Runs both steppers to the end: their states must stay bit-identical.
@@ -216,18 +225,26 @@ TEST(StepperCheckpoint, OneProcessWritesItsSnapshotInTheSameFormat) {
   EXPECT_EQ(written, bytes_of(b / "checkpoint_00003.bin"));
 }
 
-TEST(StepperCheckpoint, TheFingerprintKeyIsUnchanged) {
-  // Checkpoints written before the fingerprint came from the part's global sizes
-  // must still resume: the key as it was built from the whole mesh.
+TEST(StepperCheckpoint, TheFingerprintIsTheKeysHashWithoutTheTimes) {
   TimeStepper s(small_2d());
   const Problem& p = s.problem();
-  const std::string key = fmt::format("{}|{}|{}|{}|{}|{}|{}|{:.17g}|{:.17g}|{}|{}|{}", p.name, p.mesh.dim(),
-                                      p.mesh.n_nodes(), p.mesh.n_cells(), s.dofs().n_free(), s.part().n_contact,
-                                      p.n_steps, p.final_time, p.kappa, p.elasticity.name(), p.law->describe(),
+  const std::string key = fmt::format("case={}|dimension={}|nodes={}|cells={}|free dofs={}|contact nodes={}|"
+                                      "kappa={:.17g}|elasticity={}|G={}|phi={}",
+                                      p.name, p.mesh.dim(), p.mesh.n_nodes(), p.mesh.n_cells(), s.dofs().n_free(),
+                                      s.part().n_contact, p.kappa, p.elasticity.name(), p.law->describe(),
                                       p.source->describe());
+  EXPECT_EQ(problem_key(s), key);
   std::uint64_t h = 1469598103934665603ull;
   for (char ch : key) h = (h ^ static_cast<unsigned char>(ch)) * 1099511628211ull;
   EXPECT_EQ(problem_fingerprint(s), h);
+  // T and the steps are not part of it (a run continues to a later T); κ is, and the
+  // difference names it.
+  TimeStepper longer(load_case("paper-2d", {.sets = {"time.T=2"}, .steps = 20}, {.cells = 10}).problem);
+  EXPECT_EQ(problem_fingerprint(longer), problem_fingerprint(s));
+  TimeStepper other(load_case("paper-2d", {.kappa = 0.5, .steps = 10}, {.cells = 10}).problem);
+  EXPECT_NE(problem_fingerprint(other), problem_fingerprint(s));
+  EXPECT_EQ(problem_key_difference(problem_key(s), problem_key(other)),
+            fmt::format("kappa = {:.17g} in the checkpoint, 0.5 in this case", p.kappa));
 }
 
 TEST(StepperCheckpoint, ResumedRunIsBitIdentical) {
@@ -256,12 +273,15 @@ TEST(StepperCheckpoint, ResumedRunIsBitIdentical) {
   EXPECT_EQ(skipped.size(), 1u);
 }
 
-// The version-2 file, byte for byte, built here independently of the writer: one
-// process must keep writing exactly the files it wrote before pieces existed.
-TEST(StepperCheckpoint, TheVersionTwoBytesAreUnchanged) {
+// The version-4 file, byte for byte, built here independently of the writer (the
+// format docs/reliability.md describes).
+TEST(StepperCheckpoint, TheVersionFourBytesAreAsDocumented) {
   Checkpoint c;
   c.case_name = "k";
   c.fingerprint = 0x0123456789abcdefull;
+  c.problem_key = "case=k";
+  c.times = {0, 0.1, 0.2, 0.25, 0.3, 0.35, 0.4, 0.5};
+  c.step_control = Eigen::Vector<double, 6>(0.125, 2, 1, 0, 3, 4);
   State& s = c.snapshot.state;
   s.n = 7;
   s.t = 0.5;
@@ -286,6 +306,8 @@ TEST(StepperCheckpoint, TheVersionTwoBytesAreUnchanged) {
   put(std::uint64_t(1));
   payload += "k";
   put(c.fingerprint);
+  put(std::uint64_t(6));
+  payload += "case=k";
   put(std::int64_t(7));
   put(0.5);
   array({1, 2});
@@ -297,6 +319,8 @@ TEST(StepperCheckpoint, TheVersionTwoBytesAreUnchanged) {
   array({10, 11, 12, 13, 14, 15});
   array({});
   array({});
+  array({0, 0.1, 0.2, 0.25, 0.3, 0.35, 0.4, 0.5});
+  array({0.125, 2, 1, 0, 3, 4});
   put(std::uint64_t(1));
   put(0.5);
   put(std::uint64_t(5));
@@ -309,7 +333,7 @@ TEST(StepperCheckpoint, TheVersionTwoBytesAreUnchanged) {
   std::uint64_t h = 1469598103934665603ull;
   for (char ch : payload) h = (h ^ static_cast<unsigned char>(ch)) * 1099511628211ull;
   std::string expected("VPCCKPT\0", 8);
-  const std::uint32_t version = 2, reserved = 0;
+  const std::uint32_t version = 4, reserved = 0;
   expected.append(reinterpret_cast<const char*>(&version), 4);
   expected.append(reinterpret_cast<const char*>(&reserved), 4);
   const std::uint64_t size = payload.size();
@@ -467,7 +491,7 @@ TEST(CheckpointPieces, KeepingTheNewestAndANewTimelineRemoveWholeCheckpoints) {
   for (int i = 0; i < 3; ++i) s.step();
   write_checkpoint(s, dir, "paper-2d", {}, {}, 2);
   EXPECT_EQ(files(), (std::set<std::string>{"checkpoint_00003.bin", "checkpoint_00003.p0001-of-0002.bin"}));
-  // On one process: the version-2 file alone.
+  // On one process: the version-4 file alone.
   write_checkpoint(s, dir, "paper-2d", {}, {});
   EXPECT_EQ(files(), (std::set<std::string>{"checkpoint_00003.bin"}));
   remove_run_outputs(dir);  // what a fresh run does

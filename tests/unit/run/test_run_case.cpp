@@ -32,6 +32,7 @@ class ScriptedEngine final : public Engine {
     return r;
   }
   int n_steps() const override { return total; }
+  double final_time() const override { return total; }
   double tolerance() const override { return 1e-8; }
   void open_output() override { log += "open "; }
   const fs::path& directory() const override { return dir; }

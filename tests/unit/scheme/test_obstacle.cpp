@@ -84,7 +84,7 @@ TEST(Obstacle, ForcePerObstacleAndContactArea) {
     EXPECT_EQ(r.contact_area, r.contact.n_active > 0 ? 1.0 : 0.0);
   }
   const std::string header = history_header(*c.problem, s.part());
-  EXPECT_NE(header.find(",ok,contact_area,force_near,force_far,reaction_"), std::string::npos) << header;
+  EXPECT_NE(header.find(",ok,contact_area,dt,error_estimate,rejected,force_near,force_far,reaction_"), std::string::npos) << header;
 }
 
 TEST(Obstacle, BadObstaclesAreLocatedErrors) {
