@@ -13,10 +13,11 @@
 
 namespace vpc {
 
-/// Error-controlled steps. The estimate of a step from t_{n−1} to t_n is the local
-/// error of the scheme's explicit parts, the lagged rates of (3.6) and (3.8):
+/// Error-controlled steps. The estimate of a step from t_{n−1} to t_n is the local error
+/// (k_n/2)|x'(t_n) − x'(t_{n−1})| of a first-order step, for the rates of (3.6) and (3.8):
 ///   e_σ = (k_n / 2) |G_n − G_{n−1}|_{L2} / max_{m ≤ n} |σ_m|_{L2},
-///   e_β = (k_n / 2) |φ_n − φ_{n−1}|_{L2} / |Ω|^{1/2},
+///   e_β = (k_n / 2) |M_L⁻¹ (F_φ(n) − F_φ(n−1) − κ A (β_n − β_{n−1}))|_{M_L} / |Ω|^{1/2}
+/// (M β' = F_φ − κAβ; M_L the lumped mass; nodes at β = 0 or 1 left out),
 /// e_n = max(e_σ, e_β): the relative error the step adds in the norms of Theorem 3.5
 /// (u follows z through K, so σ's error bounds u's). A step is accepted when
 /// e_n ≤ tolerance · k_n (an error per unit of time: the errors of all steps add up to

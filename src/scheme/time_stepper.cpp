@@ -452,6 +452,7 @@ StepReport TimeStepper::controlled_step() {
       const double allowed = r > 0 ? c.safety / r : c.growth;
       double next = k_used * std::clamp(allowed, c.cut, c.growth);
       if (k_used < k && r <= 1) next = std::max(next, std::min(k, k_used * allowed));
+      if (is_event(rep)) next = std::min(next, c.event_dt);  // events come in runs: no rejection for each
       if (rep.ok) {
         control_state_.k_next = std::clamp(next, c.dt_min, c.dt_max);
         control_state_.rejected += rejected;
@@ -592,6 +593,7 @@ StepReport TimeStepper::advance(double k, double t_end) {
   t0 = Clock::now();
   phi_.local() = assemble_p0_source(mesh, geo_, phi);
   phi_.add_ghosts_to_owners();
+  const Vector beta_before = state_.beta;  // the estimate's β_n − β_{n−1}
   Vector beta = state_.beta.head(part_.n_owned_nodes), rhs;
   M_->mult(beta, rhs);
   rhs += k * phi_.owned();
@@ -642,19 +644,32 @@ StepReport TimeStepper::advance(double k, double t_end) {
   beta_range(rep);
   state_.t = rep.t;  // state_.n is the grid step: step() sets it
 
-  // The error estimate (StepControl): the local error of the lagged rates, (k/2)|G_n − G_{n−1}|
-  // and (k/2)|φ_n − φ_{n−1}|; G_n, φ_n are the next step's step 1. The sums run in cell order
-  // on each process (an OpenMP reduction's order varies, and the estimate chooses steps).
+  // The error estimate (StepControl, scheme/time_grid.hpp): the local error (k/2)|x'(t_n) −
+  // x'(t_{n−1})| of the explicit rate of z, G (3.6), and of β's rate in (3.8), M β' = F_φ − κAβ,
+  // whose change over the step is F_φ(n) − F_φ(n−1) − κA(β_n − β_{n−1}) (M lumped; nodes at a
+  // bound have no rate). G_n, φ_n are the next step's step 1. The sums run in cell and node
+  // order on each process (an OpenMP reduction's order varies, and the estimate chooses steps).
   t0 = Clock::now();
   compute_rates();
-  double sums[3] = {0, 0, 0};  // |ΔG|², |Δφ|², |σ_n|² (L2)
+  double sums[3] = {0, 0, 0};  // |ΔG|², |Δβ'|², |σ_n|² (L2)
+  std::vector<double> dphi(n_cells);
   for (int c = 0; c < n_cells; ++c) {
     const double w = geo_[c].volume;
     const SymTensor dG = rates_G_[c] - G[c];
     sums[0] += w * dG.dot(dG);
-    sums[1] += w * (rates_phi_[c] - phi[c]) * (rates_phi_[c] - phi[c]);
     sums[2] += w * state_.sigma[c].dot(state_.sigma[c]);
+    dphi[c] = rates_phi_[c] - phi[c];
   }
+  phi_.local() = assemble_p0_source(mesh, geo_, dphi) - problem_->kappa * (A_local_ * (state_.beta - beta_before));
+  phi_.add_ghosts_to_owners();
+  if (lumped_mass_.size() == 0) {
+    la::Vector m(part_.node_layout);
+    m.local() = M_local_ * Vector::Ones(M_local_.cols());
+    m.add_ghosts_to_owners();
+    lumped_mass_ = m.owned();
+  }
+  for (int i = 0; i < part_.n_owned_nodes; ++i)
+    if (beta[i] > 0 && beta[i] < 1) sums[1] += phi_.owned()[i] * phi_.owned()[i] / lumped_mass_[i];
   comm.sum(sums, 3);
   rep.sigma_norm = std::sqrt(sums[2]);
   const double sigma_scale = std::max(control_state_.sigma_scale, rep.sigma_norm);

@@ -263,6 +263,7 @@ class TimeStepper {
   StepControlState control_state_;
   std::vector<double> times_{0.0};           // t_0 … t_n
   double volume_ = 0;                        // |Ω|
+  Vector lumped_mass_;                       // the row sums of M (owned nodes), made at the first estimate
   la::Vector f_, phi_, u_, beta_;  // ghosted work vectors: the load, F_φ, u_free, β
   State state_;
   Vector u_free_;  // owned free dofs: the contact solver's warm start

@@ -92,7 +92,7 @@ void fill_sizes(LevelResult& r, const Run& run) {
   const Mesh& m = run.problem->mesh;
   r.level = run.level;
   r.h = m.size_range().second;
-  r.k = run.problem->step();
+  r.k = run.problem->largest_step();  // k = max k_n (Theorem 3.5)
   r.n_cells = m.n_cells();
   r.n_nodes = m.n_nodes();
   r.n_free_dofs = static_cast<int>(run.stepper->part().n_global_dofs);
