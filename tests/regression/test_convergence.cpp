@@ -18,6 +18,7 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <iostream>
@@ -265,6 +266,56 @@ TEST(ConvergenceContact, Paper1dIsFirstOrder) {
   EXPECT_TRUE(rates_ok(r, {kFirstOrder[0], kFirstOrder[2], kFirstOrder[3], kFirstOrder[4]}, kTol, true, &report))
       << report;
   EXPECT_GE(r.levels.back().max_active_contact, 1);  // the constraint is active in this study
+}
+
+TEST(ConvergenceContact, NonUniformStepsAreFirstOrder) {
+  // Issue 15: a grid of 0.1 to t = 0.5 and 0.025 after it, each step split in two per
+  // level (k = max k_n halves): the differences of consecutive levels are O(k).
+  const Case c = load_case("paper-1d", {.sets = {"time.breakpoints=[0.5]", "time.dt=[0.1, 0.025]"}}, {.cells = 40});
+  ASSERT_EQ(c.problem->n_steps, 25);
+  const auto r = run_case(c, RefinementSequence::K, 4);
+  EXPECT_EQ(r.levels[0].k, 0.1);
+  EXPECT_EQ(r.levels.back().n_steps, 200);
+  std::string report;
+  EXPECT_TRUE(rates_ok(r, {kFirstOrder[0], kFirstOrder[3], kFirstOrder[4]}, kTol, true, &report)) << report;
+}
+
+TEST(ConvergenceContact, ErrorControlledStepsFollowTheirTolerance) {
+  // Issue 15: the rod loaded in 0.1 s and held, its damage reaching β = 0 from t ≈ 0.86 on.
+  // The error-controlled levels (tolerance halved per level) are compared with the uniform
+  // ones at the base grid's times: β's error falls with the tolerance, and the level whose
+  // β error is at most the finest uniform level's takes less than half its steps.
+  const Case c = load_case("paper-1d", {.sets = {"loads.f0=[\"min(10*t, 1)\"]", "damage.c=4"}, .steps = 10});
+  ConvergenceOptions co;
+  co.sequence = RefinementSequence::K;
+  co.levels = 5;
+  co.reference_offset = 5;
+  co.base_steps = 10;
+  co.step_control = StepControl{};
+  co.step_control->tolerance = 0.16;
+  const auto r = run_convergence(c.name, c.problem->mesh, same_data_on(c.problem), nullptr, co);
+  ASSERT_EQ(r.adaptive.size(), 5u);
+  EXPECT_TRUE(r.at_base_times);
+  for (std::size_t l = 1; l < r.adaptive.size(); ++l) {
+    EXPECT_LT(r.adaptive[l].error.beta_l2, 0.85 * r.adaptive[l - 1].error.beta_l2) << "level " << l;
+    EXPECT_GT(r.adaptive[l].n_steps, r.adaptive[l - 1].n_steps) << "level " << l;
+  }
+  // The steps the error control needs for the uniform N = 160's β error: interpolated
+  // (log-log) between the two error-controlled levels around it.
+  const LevelResult& finest = r.levels.back();
+  const double target = finest.error.beta_l2;
+  double needed = NAN;
+  for (std::size_t l = 1; l < r.adaptive.size(); ++l) {
+    const LevelResult &a = r.adaptive[l - 1], &b = r.adaptive[l];
+    if (a.error.beta_l2 >= target && b.error.beta_l2 <= target)
+      needed = std::exp(std::log(a.n_steps) + (std::log(target) - std::log(a.error.beta_l2)) *
+                                                  (std::log(b.n_steps) - std::log(a.n_steps)) /
+                                                  (std::log(b.error.beta_l2) - std::log(a.error.beta_l2)));
+  }
+  ASSERT_TRUE(std::isfinite(needed)) << "the error-controlled levels do not bracket the uniform N = 160's error";
+  EXPECT_LE(2 * needed, finest.n_steps);
+  std::cout << "  error-controlled steps for beta's error " << target << " of N = " << finest.n_steps << ": " << needed
+            << "\n";
 }
 
 TEST(ConvergenceContact, Paper2dEnergyRateIsLimitedByTheContactEdgeSingularity) {
