@@ -155,7 +155,7 @@ std::string history_row(const StepReport& r) {
   const auto& c = r.contact;
   std::string row =
       fmt::format("{},{:.17g},{},{:.17g},{},{:.3e},{:.3e},{:.3e},{:.3e},{},{:.3e},{:.17g},{:.17g},{},{},{:.17g},{},{:.17g},"
-                  "{:.17g},{:.3e},{}",
+                  "{:.17g},{:.17g},{}",
                   r.n, r.t, c.n_active, c.total_force, c.iterations, c.residuals.equilibrium, c.residuals.penetration,
                   c.residuals.negative_force, c.residuals.complementarity, r.damage.iterations, r.damage.kkt_residual,
                   r.beta_min, r.beta_max, r.damage.n_lower, r.damage.n_upper, r.max_von_mises, r.ok ? 1 : 0,

@@ -57,7 +57,9 @@ void start(Engine& e, const RunOptions& o) {
       r.contact.converged ? "converged" : "did not converge", r.contact.iterations, r.contact.residuals.max(),
       r.damage.converged ? "converged" : "did not converge", r.damage.iterations, r.damage.kkt_residual, r.beta_min,
       r.beta_max, e.tolerance(), r.n - 1, e.directory().string(), shell_quote(e.directory().string()), last_checkpoint,
-      o.halvings == 0 ? " (--retry-halvings N retries a failed step with smaller steps)" : ""));
+      o.halvings == 0 && e.n_steps() > 0 ? " (--retry-halvings N retries a failed step with smaller steps)"
+      : e.n_steps() == 0                 ? " (the error control redid it down to dt_min or max_rejections)"
+                                         : ""));
 }
 
 }  // namespace

@@ -480,7 +480,7 @@ std::vector<SolverComparisonLevel> compare_solvers(const Mesh& base_mesh, const 
     SolverComparisonLevel c;
     c.level = l;
     c.h = problem->mesh.size_range().second;
-    c.k = problem->step();
+    c.k = problem->largest_step();
     c.n_free_dofs = ra.stepper->dofs().n_free();
     c.n_contact_nodes = ra.stepper->part().n_contact;
     c.n_nodes = problem->mesh.n_nodes();
