@@ -9,26 +9,36 @@ __all__ = ["Bar", "bar"]
 
 
 class Bar:
-    """Called with each step's report (a dict of history.csv's numbers)."""
+    """Called with each step's report (a dict of history.csv's numbers). On a terminal or
+    in a notebook the line is rewritten in place (at most 10 times a second); elsewhere
+    (a log file) a line is printed about every 5 % of the steps, as `vpcontact run` does."""
 
     def __init__(self, total, file=None, width=30):
         self.total = total
         self.file = file or sys.stderr
         self.width = width
         self.t0 = time.monotonic()
+        self.drawn = 0.0
+        isatty = getattr(self.file, "isatty", lambda: False)
+        self.in_place = isatty() or "ipykernel" in sys.modules
+        self.every = max(1, total // 20)
 
     def __call__(self, report):
         n = report["step"]
+        last = n >= self.total
+        now = time.monotonic()
+        if self.in_place and not last and now - self.drawn < 0.1:
+            return
+        if not self.in_place and not last and n % self.every:
+            return
+        self.drawn = now
         done = n / self.total if self.total else 1.0
         filled = int(round(self.width * done))
-        elapsed = time.monotonic() - self.t0
+        elapsed = now - self.t0
         eta = elapsed * (1 - done) / done if done > 0 else float("nan")
-        self.file.write(
-            "\r[%s%s] step %d/%d  t = %.4g  min beta = %.4g  %.1f s (ETA %.1f s)"
-            % ("#" * filled, "." * (self.width - filled), n, self.total, report["t"], report["beta_min"], elapsed, eta)
-        )
-        if n >= self.total:
-            self.file.write("\n")
+        line = "[%s%s] step %d/%d  t = %.4g  min beta = %.4g  %.1f s (ETA %.1f s)" % (
+            "#" * filled, "." * (self.width - filled), n, self.total, report["t"], report["beta_min"], elapsed, eta)
+        self.file.write(("\r" + line + ("\n" if last else "")) if self.in_place else line + "\n")
         self.file.flush()
 
     def close(self):
