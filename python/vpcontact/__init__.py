@@ -213,10 +213,7 @@ class Simulation(_core.Simulation):
             raise ImportError("Simulation.matrices() needs scipy (Debian: python3-scipy)") from None
         out = {}
         for name, (data, indices, indptr, shape) in self._matrices().items():
-            A = sp.csc_matrix((data, indices, indptr), shape=shape).tocsr()
-            if name == "K" and sp.triu(A, 1).nnz == 0 and A.shape[0] > 1:
-                A = (A + sp.tril(A, -1).T).tocsr()  # stored as its lower triangle
-            out[name] = A
+            out[name] = sp.csc_matrix((data, indices, indptr), shape=shape).tocsr()
         return out
 
     def results(self):
