@@ -40,6 +40,7 @@ class Simulation {
     o.header = fmt::format("vpcontact: {} — {}", spec.source.builtin ? spec.given : info.name, info.description);
     output_ = so.output;
     if (so.output) o.output_directory = *so.output;
+    o.files = so.output.has_value();
     if (so.resume) {
       require(so.output.has_value(), "resume=True needs the output directory of the run to resume (output=...)");
       o.resume = *so.output;

@@ -49,7 +49,7 @@ void start(Engine& e, const RunOptions& o) {
 [[noreturn]] void failed_step(const Engine& e, const StepReport& r, const RunOptions& o, int last_checkpoint) {
   const bool not_finite = std::isinf(r.contact.residuals.max()) || std::isinf(r.damage.kkt_residual);
   const std::string results =  // RunLoop without an output directory: no files
-      o.output_directory.empty()
+      !o.files
           ? std::string("No output directory")
           : fmt::format("Results up to step {} are in '{}'; `--resume {}` continues from step {}", r.n - 1,
                         e.directory().string(), shell_quote(e.directory().string()), last_checkpoint);

@@ -33,6 +33,7 @@ struct RunOptions {
   double checkpoint_seconds = 60;
   std::vector<std::string> argv;            // the command line, for the --resume command after a signal
   std::function<void(const std::filesystem::path&)> after_run;  // on the root, after a complete run (figures)
+  bool files = true;  // false: RunLoop only steps (no output, no checkpoints; the Python module without a directory)
   std::chrono::steady_clock::time_point started = std::chrono::steady_clock::now();  // for the wall time
 };
 
@@ -78,8 +79,8 @@ RunResult run_case(const CaseLoader& load, const RunOptions& options, const Engi
 RunResult run_engine(Engine& engine, const RunOptions& options);
 
 /// The run loop one step at a time: run_engine runs it to the end, the Python
-/// module (python/, docs/python.md) steps it. With no output directory
-/// (RunOptions::output_directory empty) it only steps: no files, no checkpoints.
+/// module (python/, docs/python.md) steps it. With RunOptions::files false it
+/// only steps: no files, no checkpoints.
 class RunLoop {
  public:
   /// Opens the output, then resumes (RunOptions::resume) or starts a fresh run
@@ -100,7 +101,7 @@ class RunLoop {
   const RunResult& result() const { return result_; }
 
  private:
-  bool writes() const { return !options_.output_directory.empty(); }
+  bool writes() const { return options_.files; }
 
   Engine& engine_;
   RunOptions options_;
