@@ -94,6 +94,7 @@ class Simulation {
   }
 
   void checkpoint() {
+    require(output_.has_value(), "checkpoint() needs an output directory: Simulation(case, output=...)");
     require(!loop_->finished(), "the simulation is finished: no checkpoint");
     py::gil_scoped_release release;
     loop_->checkpoint();

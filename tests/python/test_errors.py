@@ -82,6 +82,18 @@ def test_resume_without_checkpoint(tmp_path):
         vpcontact.Simulation("paper-1d", output=tmp_path / "none", resume=True)
 
 
+def test_misuse_of_a_simulation():
+    sim = vpcontact.Simulation(vpcontact.Case("paper-1d", steps=2))
+    with pytest.raises(vpcontact.CaseError, match="checkpoint.. needs an output directory"):
+        sim.checkpoint()
+    sim.step(5)  # not beyond the last step
+    assert sim.n == 2 and sim.done
+    with pytest.raises(vpcontact.CaseError, match="at its last step .2 of 2."):
+        sim._step()
+    with pytest.raises(vpcontact.RunError, match="writes no files"):
+        sim.results()
+
+
 def test_reading_a_directory_that_is_no_run(tmp_path):
     with pytest.raises(vpcontact.RunError, match="summary.json") as e:
         vpcontact.read(tmp_path)
