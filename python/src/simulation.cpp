@@ -175,7 +175,6 @@ void bind_simulation(py::module_& m) {
       .def_property_readonly("t", [](const S& s) { return s.state().t; }, "Its time t_n.")
       .def_property_readonly("n_steps", [](const S& s) { return s.stepper().problem().n_steps; })
       .def_property_readonly("final_time", [](const S& s) { return s.stepper().problem().final_time; })
-      .def_property_readonly("k", [](const S& s) { return s.stepper().problem().step(); }, "The time step.")
       .def_property_readonly("kappa", [](const S& s) { return s.stepper().problem().kappa; })
       .def_property_readonly("last_checkpoint", [](const S& s) { return s.loop().last_checkpoint(); })
       .def_property_readonly("wall_seconds", [](const S& s) { return s.loop().result().wall_seconds; },

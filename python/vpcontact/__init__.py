@@ -168,7 +168,7 @@ class Simulation(_core.Simulation):
         if progress is True:
             from .progress import bar
 
-            progress = bar(self.n_steps, self.n)
+            progress = bar(self.final_time, self.t)
         try:
             while not self.done:
                 self._step()
