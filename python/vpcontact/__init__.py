@@ -230,7 +230,8 @@ class Simulation(_core.Simulation):
         return False
 
     def __repr__(self):
-        return "<vpcontact.Simulation %s: step %d of %d, t = %g>" % (self.case.name, self.n, self.n_steps, self.t)
+        of = " of %d" % self.n_steps if self.n_steps > 0 else ""  # 0: error-controlled step sizes
+        return "<vpcontact.Simulation %s: step %d%s, t = %g of %g>" % (self.case.name, self.n, of, self.t, self.final_time)
 
 
 def run(case, output=None, *, progress=False, quiet=True, **options):
