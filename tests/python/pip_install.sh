@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # `pip install .` of the Python module, into a fresh virtual environment that sees Debian's
-# packages (numpy, scipy), reusing the configured build directory BUILD (setup.py:
-# VPCONTACT_CMAKE_BUILD), then a run from outside the source tree. Exit 77 (CTest: skipped)
+# packages (numpy, scipy), installing the module already built in BUILD (setup.py:
+# VPCONTACT_CMAKE_BUILD; nothing is compiled), then a run from outside the source tree. Exit 77 (CTest: skipped)
 # where /usr/bin/python3 has no pip or venv (Debian: python3-pip, python3-venv).
 #   tests/python/pip_install.sh PYTHON SOURCE_DIR BUILD_DIR WORK_DIR
 set -euo pipefail
