@@ -38,7 +38,7 @@ test: build
 # Leaks inside Gmsh are suppressed (tests/lsan.supp); any other report fails the test.
 # Without PETSc: MPI's own allocations are not ours to check (the MPI tests run in `make test`).
 test-sanitize: deps
-	@cmake -S . -B $(SANITIZE_BUILD) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DVPCONTACT_SANITIZE=ON -DVPCONTACT_BENCHMARKS=OFF -DVPCONTACT_ENABLE_PETSC=OFF > /dev/null
+	@cmake -S . -B $(SANITIZE_BUILD) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DVPCONTACT_SANITIZE=ON -DVPCONTACT_PYTHON=OFF -DVPCONTACT_BENCHMARKS=OFF -DVPCONTACT_ENABLE_PETSC=OFF > /dev/null
 	@cmake --build $(SANITIZE_BUILD) -j $(JOBS)
 	cd $(SANITIZE_BUILD) && \
 	  ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 \

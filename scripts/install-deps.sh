@@ -22,6 +22,8 @@ packages=(
   libgtest-dev libgmock-dev  # tests
   libbenchmark-dev         # benchmarks
   python3-matplotlib python3-numpy  # figures
+  python3-dev pybind11-dev python3-pybind11  # the Python module (python/, docs/python.md)
+  python3-scipy python3-pytest  # its sparse matrices and its tests
 )
 # The PETSc engine (docs/parallel.md): CG + AMG for large runs, MPI for many processes.
 if [ "${1:-}" != "--serial" ]; then

@@ -59,6 +59,10 @@ class Engine {
   virtual bool root_decides(bool value) const { return value; }
   /// Runs `work` on the root only; its error (vpc::CollectiveError) is every process's.
   virtual void on_root(const std::function<void()>& work) { work(); }
+
+  /// The stepper (its state, mesh and matrices, for the Python module's views); null
+  /// for an engine without one (a test's scripted engine).
+  virtual const TimeStepper* stepper() const { return nullptr; }
 };
 
 struct Case;  // io/case.hpp

@@ -48,15 +48,19 @@ void start(Engine& e, const RunOptions& o) {
 
 [[noreturn]] void failed_step(const Engine& e, const StepReport& r, const RunOptions& o, int last_checkpoint) {
   const bool not_finite = std::isinf(r.contact.residuals.max()) || std::isinf(r.damage.kkt_residual);
+  const std::string results =  // RunLoop without an output directory: no files
+      !o.files
+          ? std::string("No output directory")
+          : fmt::format("Results up to step {} are in '{}'; `--resume {}` continues from step {}", r.n - 1,
+                        e.directory().string(), shell_quote(e.directory().string()), last_checkpoint);
   throw CollectiveError(fmt::format(
       "step {} (t = {:.6g}) failed{}{}: contact solver {} after {} iterations (residual {:.2e}), damage solver {} "
-      "after {} iterations (KKT residual {:.2e}, beta in [{}, {}]); tolerance {:.1e}. Results up to step {} are in "
-      "'{}'; `--resume {}` continues from step {}{}",
+      "after {} iterations (KKT residual {:.2e}, beta in [{}, {}]); tolerance {:.1e}. {}{}",
       r.n, r.t, o.halvings > 0 ? fmt::format(" after {} step halvings", o.halvings) : "",
       not_finite ? " (NaN or Inf in the data of the step: a formula for phi, f0 or f2?)" : "",
       r.contact.converged ? "converged" : "did not converge", r.contact.iterations, r.contact.residuals.max(),
       r.damage.converged ? "converged" : "did not converge", r.damage.iterations, r.damage.kkt_residual, r.beta_min,
-      r.beta_max, e.tolerance(), r.n - 1, e.directory().string(), shell_quote(e.directory().string()), last_checkpoint,
+      r.beta_max, e.tolerance(), results,
       o.halvings == 0 && e.n_steps() > 0 ? " (--retry-halvings N retries a failed step with smaller steps)"
       : e.n_steps() == 0                 ? " (the error control redid it down to dt_min or max_rejections)"
                                          : ""));
@@ -84,39 +88,10 @@ RunResult run_case(const CaseLoader& load, const RunOptions& options, const Engi
 }
 
 RunResult run_engine(Engine& e, const RunOptions& o) {
-  e.open_output();
-  int last_checkpoint = o.resume.empty() ? 0 : resume(e, o);
-  if (o.resume.empty()) start(e, o);
-  CheckpointSchedule schedule(o.checkpoint_every, o.checkpoint_seconds);
-  Progress progress(e.n_steps(), e.final_time(), o.quiet || !e.root());
-  RunResult result;
-  result.steps = last_checkpoint;
-  // The end of a run, complete or not: summary.json written, no temporary file left.
-  auto finish = [&] {
-    progress.finish();
-    result.wall_seconds = seconds_since(o.started);
-    e.finish(result.wall_seconds);
-    if (e.root()) remove_temporary_files(e.directory());
-  };
-  while (!e.done()) {
-    const StepReport r = e.step();
-    result.steps = r.n;
-    if (!r.ok) {
-      finish();
-      failed_step(e, r, o, last_checkpoint);
-    }
-    e.record(r);
-    progress.update(r);
-    const int signal = e.interrupt_anywhere();  // stop after this step, on every process
-    const bool due = schedule.by_time() ? e.root_decides(schedule.due(r.n)) : schedule.due(r.n);
-    if (e.done() || signal || due) {
-      e.checkpoint();
-      last_checkpoint = r.n;
-      schedule.written();
-    }
-    if (signal && !e.done()) {
-      finish();
-      result.signal = signal;
+  RunLoop loop(e, o);
+  while (!loop.done()) {
+    const StepReport r = loop.step();
+    if (const int signal = loop.result().signal; signal && !e.done()) {
       if (e.root()) {
         std::fflush(stdout);
         fmt::print(stderr,
@@ -126,15 +101,69 @@ RunResult run_engine(Engine& e, const RunOptions& o) {
                    e.directory().string(),
                    resume_command(o.argv, e.directory(), e.ranks()));
       }
-      return result;
+      return loop.result();
     }
   }
-  finish();
+  loop.finish();
+  const RunResult result = loop.result();
   if (!o.quiet && e.root())
     fmt::print("  done in {:.3f} s; results in {}/ (solution.pvd, history.csv, probes.csv, summary.json)\n",
                result.wall_seconds, e.directory().string());
   if (o.after_run) e.on_root([&] { o.after_run(e.directory()); });
   return result;
+}
+
+RunLoop::RunLoop(Engine& e, const RunOptions& o)
+    : engine_(e),
+      options_(o),
+      schedule_(o.checkpoint_every, o.checkpoint_seconds),
+      progress_(e.n_steps(), e.final_time(), o.quiet || !e.root()) {
+  if (writes()) {
+    e.open_output();
+    if (o.resume.empty())
+      start(e, o);
+    else
+      last_checkpoint_ = resume(e, o);
+    schedule_.written();
+  }
+  result_.steps = last_checkpoint_;
+}
+
+StepReport RunLoop::step() {
+  Engine& e = engine_;
+  const StepReport r = e.step();
+  result_.steps = r.n;
+  if (!r.ok) {
+    finish();
+    failed_step(e, r, options_, last_checkpoint_);
+  }
+  if (writes()) e.record(r);
+  progress_.update(r);
+  const int signal = e.interrupt_anywhere();  // stop after this step, on every process
+  const bool due = schedule_.by_time() ? e.root_decides(schedule_.due(r.n)) : schedule_.due(r.n);
+  if (e.done() || signal || due) checkpoint();
+  if (signal && !e.done()) {
+    finish();
+    result_.signal = signal;
+  }
+  return r;
+}
+
+void RunLoop::checkpoint() {
+  if (!writes()) return;
+  engine_.checkpoint();
+  last_checkpoint_ = result_.steps;
+  schedule_.written();
+}
+
+void RunLoop::finish() {
+  if (finished_) return;
+  finished_ = true;
+  progress_.finish();
+  result_.wall_seconds = seconds_since(options_.started);
+  if (!writes()) return;
+  engine_.finish(result_.wall_seconds);
+  if (engine_.root()) remove_temporary_files(engine_.directory());
 }
 
 }  // namespace vpc

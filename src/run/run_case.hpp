@@ -1,12 +1,14 @@
 #pragma once
 // The run loop, once for every engine and every caller (the command line, the
-// tests, a later Python module): set-up, a fresh start or a resume from a
+// tests, the Python module): set-up, a fresh start or a resume from a
 // checkpoint, the steps with their output and progress, checkpoints (at step 0,
 // as the schedule says, at the end, when interrupted), summary.json.
 //   RunOptions o; o.output_directory = "out";
 //   RunResult r = run_case([&](const MeshRequest&) { return load_case("paper-1d"); }, o);
 #include "io/case.hpp"
+#include "io/checkpoint.hpp"
 #include "run/engine.hpp"
+#include "run/progress.hpp"
 
 #include <chrono>
 #include <filesystem>
@@ -31,6 +33,7 @@ struct RunOptions {
   double checkpoint_seconds = 60;
   std::vector<std::string> argv;            // the command line, for the --resume command after a signal
   std::function<void(const std::filesystem::path&)> after_run;  // on the root, after a complete run (figures)
+  bool files = true;  // false: RunLoop only steps (no output, no checkpoints; the Python module without a directory)
   std::chrono::steady_clock::time_point started = std::chrono::steady_clock::now();  // for the wall time
 };
 
@@ -72,7 +75,41 @@ void begin_run(const RunOptions& options);
 /// vpc::CollectiveError for a step that failed (every process alike).
 RunResult run_case(const CaseLoader& load, const RunOptions& options, const EngineSetUp& set_up = set_up_serial);
 
-/// Runs a set-up engine: run_case after set-up.
+/// Runs a set-up engine: run_case after set-up (a RunLoop to the end).
 RunResult run_engine(Engine& engine, const RunOptions& options);
+
+/// The run loop one step at a time: run_engine runs it to the end, the Python
+/// module (python/, docs/python.md) steps it. With RunOptions::files false it
+/// only steps: no files, no checkpoints.
+class RunLoop {
+ public:
+  /// Opens the output, then resumes (RunOptions::resume) or starts a fresh run
+  /// (step 0 and its checkpoint written). Throws vpc::Error (no checkpoint to resume).
+  RunLoop(Engine& engine, const RunOptions& options);
+  bool done() const { return engine_.done(); }
+  /// One step, recorded; a checkpoint when due, at the end or after a signal. A
+  /// signal (Engine::interrupt_anywhere) before the end finishes the run: then
+  /// result().signal is set. Throws vpc::CollectiveError for a failed step (after finish()).
+  StepReport step();
+  /// A checkpoint of the state now (none without an output directory).
+  void checkpoint();
+  /// The end of a run, complete or not: summary.json written, no temporary file left. Once.
+  void finish();
+  bool finished() const { return finished_; }
+  /// The step of the last checkpoint.
+  int last_checkpoint() const { return last_checkpoint_; }
+  const RunResult& result() const { return result_; }
+
+ private:
+  bool writes() const { return options_.files; }
+
+  Engine& engine_;
+  RunOptions options_;
+  int last_checkpoint_ = 0;
+  CheckpointSchedule schedule_;
+  Progress progress_;
+  RunResult result_;
+  bool finished_ = false;
+};
 
 }  // namespace vpc

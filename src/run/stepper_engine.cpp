@@ -47,6 +47,7 @@ class StepperEngine final : public Engine {
   int interrupt_anywhere() const override { return static_cast<int>(comm().max(interrupt_signal())); }
   bool root_decides(bool value) const override { return comm().sum(root() && value ? 1.0 : 0.0) > 0; }
   void on_root(const std::function<void()>& work) override { la::on_root(comm(), work); }
+  const TimeStepper* stepper() const override { return stepper_.get(); }
 
   /// What set-up found, in global numbers; rank 0 prints it. Collective.
   void describe() const {

@@ -624,7 +624,9 @@ StepReport TimeStepper::advance(double k, double t_end) {
   contact_totals(rep);
   u_.owned() = u_free_;
   u_.update_ghosts();
-  state_.u = extend_from_free(part_.dofs, u_.local());
+  // Into u's own storage (a moved temporary would replace it): the Python module's views
+  // of the state stay valid across steps (docs/python.md).
+  state_.u.noalias() = extend_from_free(part_.dofs, u_.local());
   if (u_D.size() > 0) state_.u += u_D;
   rep.seconds_contact = seconds_since(t0);
 

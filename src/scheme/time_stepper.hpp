@@ -175,6 +175,13 @@ class TimeStepper {
   void restore(const Snapshot& s);
 
   const DofMap& dofs() const { return part_.dofs; }
+  /// The constant matrices, for inspection (the Python module, docs/python.md): K over the
+  /// free dofs (on one process a la::SparseOperator), the part's mass M and Laplacian A
+  /// over its nodes, and the contact rows N (ContactConstraints::N: owned rows × owned free dofs).
+  const la::SpdOperator& stiffness_operator() const { return *K_; }
+  const SparseMatrix& mass_matrix() const { return M_local_; }
+  const SparseMatrix& laplacian_matrix() const { return A_local_; }
+  SparseMatrix contact_rows() const { return contact_matrix(true); }
   int n_factorizations() const;
   /// The damage matrices H = M + kκA made so far: one per step size, while at most
   /// four sizes are in use (the least recently used is dropped beyond that).

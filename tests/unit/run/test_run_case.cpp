@@ -98,6 +98,43 @@ TEST(RunLoop, ResumeWithoutAGoodCheckpointSaysWhy) {
   }
 }
 
+// RunLoop one step at a time (the Python module's Simulation): the same calls as run_engine,
+// a checkpoint when asked, finish once; without files it only steps.
+TEST(RunLoop, StepByStepAndWithoutFiles) {
+  ScriptedEngine e;
+  RunLoop loop(e, quiet(0));
+  loop.step();
+  loop.step();
+  loop.checkpoint();
+  EXPECT_EQ(loop.last_checkpoint(), 2);
+  loop.finish();
+  loop.finish();
+  EXPECT_TRUE(loop.finished());
+  EXPECT_EQ(e.log, "open start c0 s1 r1 s2 r2 c2 finish");
+
+  ScriptedEngine bare;
+  RunOptions o = quiet(0);
+  o.files = false;
+  RunLoop only_steps(bare, o);
+  while (!only_steps.done()) only_steps.step();
+  only_steps.checkpoint();
+  only_steps.finish();
+  EXPECT_EQ(bare.log, "s1 s2 s3 s4 s5 ");
+  EXPECT_EQ(only_steps.result().steps, 5);
+  bare.n = 0;
+  bare.fail_at = 2;
+  RunLoop failing(bare, o);
+  failing.step();
+  try {
+    failing.step();
+    FAIL() << "no error";
+  } catch (const CollectiveError& err) {
+    EXPECT_NE(std::string(err.what()).find("failed: contact solver did not converge"), std::string::npos);
+    EXPECT_NE(std::string(err.what()).find("No output directory"), std::string::npos) << err.what();
+  }
+  EXPECT_TRUE(failing.finished());
+}
+
 fs::path fresh_dir(const std::string& name) {
   const fs::path d = fs::temp_directory_path() / ("vpc_run_" + name + "_" + std::to_string(::getpid()));
   fs::remove_all(d);

@@ -1,0 +1,283 @@
+// Simulation: the library's run loop (run/run_case.hpp: set_up_serial, then RunLoop)
+// stepped from Python, as `vpcontact run` runs it: the same set-up, steps, output files
+// and checkpoints. What Python sees of it: the step reports as history.csv's rows
+// (io/run_output.hpp: history_header, history_row), read-only numpy views of the state
+// and the mesh (never copies: they follow the steps), and the constant matrices.
+#include "bindings.hpp"
+
+#include "core/error.hpp"
+#include "io/run_output.hpp"
+#include "la/operator.hpp"
+#include "run/run_case.hpp"
+
+#include <fmt/format.h>
+#include <pybind11/stl.h>
+
+#include <array>
+#include <chrono>
+#include <filesystem>
+#include <optional>
+
+namespace vpc::python {
+
+namespace {
+
+struct SimulationOptions {
+  std::optional<std::string> output;  // the output directory; none: no files, no checkpoints
+  bool resume = false;                // continue from the newest good checkpoint in `output`
+  bool quiet = true;                  // the command line's header, set-up stages and progress bar
+  int checkpoint_every = -1;          // RunOptions
+  double checkpoint_seconds = 60;
+  int halvings = 0;
+};
+
+class Simulation {
+ public:
+  Simulation(const CaseSpec& spec, const SimulationOptions& so) {
+    RunOptions o;
+    o.quiet = so.quiet;
+    const Case& info = spec.built();
+    o.header = fmt::format("vpcontact: {} — {}", spec.source.builtin ? spec.given : info.name, info.description);
+    output_ = so.output;
+    if (so.output) o.output_directory = *so.output;
+    o.files = so.output.has_value();
+    if (so.resume) {
+      require(so.output.has_value(), "resume=True needs the output directory of the run to resume (output=...)");
+      o.resume = *so.output;
+    }
+    o.checkpoint_every = so.checkpoint_every;
+    o.checkpoint_seconds = so.checkpoint_seconds;
+    require(so.halvings >= 0 && so.halvings <= 20, "halvings must be in [0, 20] (got {})", so.halvings);
+    o.halvings = so.halvings;
+    o.argv = {"python3", "vpcontact.Simulation", spec.given};
+    for (const std::string& s : spec.overrides.sets) o.argv.insert(o.argv.end(), {"--set", s});
+    const auto started = std::chrono::system_clock::now();
+    CaseLoader load = [spec, outdir = o.output_directory, argv = o.argv, started](const MeshRequest&) {
+      Case c = spec.load();  // as vpcontact run's load_case
+      c.output.directory = outdir;
+      c.output.command_line = argv;
+      c.output.started = started;
+      return c;
+    };
+    py::gil_scoped_release release;
+    engine_ = set_up_serial(load, o);
+    stepper_ = engine_->stepper();
+    require(stepper_ != nullptr, "internal error: the engine has no stepper");
+    loop_.emplace(*engine_, o);
+    fields_ = field_addresses();
+  }
+
+  const TimeStepper& stepper() const { return *stepper_; }
+  const State& state() const { return stepper_->state(); }
+  bool done() const { return loop_->done(); }
+  bool finished() const { return loop_->finished(); }
+
+  /// One step of the run loop: recorded, checkpointed as due; history.csv's row of it.
+  std::string step() {
+    require(!loop_->finished(), "the simulation is finished (finish() was called or a step failed)");
+    require(!loop_->done(), "the simulation is at its last step ({} of {})", state().n, stepper_->problem().n_steps);
+    StepReport r;
+    {
+      py::gil_scoped_release release;
+      r = loop_->step();
+    }
+    // The views point into the state: a step must never move it (same-size assignments).
+    const auto now = field_addresses();
+    for (std::size_t i = 0; i < now.size(); ++i)
+      if (now[i] != fields_[i])
+        throw std::logic_error(fmt::format("vpcontact: the state's {} was reallocated by a step: views taken before "
+                                           "it are stale",
+                                           std::array{"u", "beta", "sigma", "eps", "z", "lambda"}[i]));
+    rows_.push_back(history_row(r));
+    rows_.back().pop_back();  // the newline
+    return rows_.back();
+  }
+
+  void checkpoint() {
+    require(output_.has_value(), "checkpoint() needs an output directory: Simulation(case, output=...)");
+    require(!loop_->finished(), "the simulation is finished: no checkpoint");
+    py::gil_scoped_release release;
+    loop_->checkpoint();
+  }
+  void finish() {
+    py::gil_scoped_release release;
+    loop_->finish();
+  }
+
+  std::vector<std::string> history_columns() const {
+    std::string h = history_header(stepper_->problem(), stepper_->part());
+    h.pop_back();
+    std::vector<std::string> names;
+    std::size_t start = 0;
+    for (std::size_t comma; (comma = h.find(',', start)) != std::string::npos; start = comma + 1)
+      names.push_back(h.substr(start, comma - start));
+    names.push_back(h.substr(start));
+    return names;
+  }
+  const std::vector<std::string>& rows() const { return rows_; }
+  const RunLoop& loop() const { return *loop_; }
+  /// The output directory; None: a run without files.
+  const std::optional<std::string>& output() const { return output_; }
+
+ private:
+  std::array<const void*, 6> field_addresses() const {
+    const State& s = state();
+    return {s.u.data(), s.beta.data(), s.sigma.data(), s.eps.data(), s.z.data(), s.lambda.data()};
+  }
+
+  std::unique_ptr<Engine> engine_;
+  const TimeStepper* stepper_ = nullptr;
+  std::optional<RunLoop> loop_;
+  std::array<const void*, 6> fields_{};
+  std::vector<std::string> rows_;
+  std::optional<std::string> output_;
+};
+
+/// A matrix as the arrays of scipy.sparse.csc_matrix((data, indices, indptr), shape).
+py::tuple csc(SparseMatrix A) {
+  A.makeCompressed();
+  const auto nnz = static_cast<py::ssize_t>(A.nonZeros());
+  py::array_t<double> data(nnz, A.valuePtr());
+  py::array_t<int> indices(nnz, A.innerIndexPtr());
+  py::array_t<int> indptr(static_cast<py::ssize_t>(A.outerSize()) + 1, A.outerIndexPtr());
+  return py::make_tuple(data, indices, indptr, py::make_tuple(A.rows(), A.cols()));
+}
+
+template <typename T>
+py::array copy(const std::vector<T>& v) {
+  return py::array_t<T>(static_cast<py::ssize_t>(v.size()), v.data());
+}
+
+}  // namespace
+
+void bind_simulation(py::module_& m) {
+  using S = Simulation;
+  auto sim = [](py::handle self) -> S& { return self.cast<S&>(); };
+  auto sym = [](const std::vector<SymTensor>& f, py::handle self) {
+    return view(f.empty() ? nullptr : f.front().c.data(), {static_cast<py::ssize_t>(f.size()), 6}, self);
+  };
+
+  py::class_<S>(m, "Simulation")
+      .def(py::init([](const CaseSpec& spec, std::optional<std::string> output, bool resume, bool quiet,
+                       int checkpoint_every, double checkpoint_seconds, int halvings) {
+             return std::make_unique<S>(
+                 spec, SimulationOptions{output, resume, quiet, checkpoint_every, checkpoint_seconds, halvings});
+           }),
+           py::arg("case"), py::arg("output") = py::none(), py::arg("resume") = false, py::arg("quiet") = true,
+           py::arg("checkpoint_every") = -1, py::arg("checkpoint_seconds") = 60.0, py::arg("halvings") = 0)
+      .def("_step", &S::step)
+      .def("checkpoint", &S::checkpoint, "Writes a checkpoint of the state now (output directory needed).")
+      .def("finish", &S::finish, "Ends the run: writes summary.json (once); no step after it.")
+      .def_property_readonly("done", &S::done, "Whether the last step is reached.")
+      .def_property_readonly("finished", &S::finished)
+      .def_property_readonly("output", &S::output, "The output directory (None: no files).")
+      .def_property_readonly("n", [](const S& s) { return s.state().n; }, "The step reached.")
+      .def_property_readonly("t", [](const S& s) { return s.state().t; }, "Its time t_n.")
+      .def_property_readonly("n_steps", [](const S& s) { return s.stepper().problem().n_steps; })
+      .def_property_readonly("final_time", [](const S& s) { return s.stepper().problem().final_time; })
+      .def_property_readonly("kappa", [](const S& s) { return s.stepper().problem().kappa; })
+      .def_property_readonly("last_checkpoint", [](const S& s) { return s.loop().last_checkpoint(); })
+      .def_property_readonly("wall_seconds", [](const S& s) { return s.loop().result().wall_seconds; },
+                             "The run's wall time, set by finish().")
+      .def_property_readonly("setup_seconds", [](const S& s) { return s.stepper().setup_seconds(); })
+      .def_property_readonly("contact_solver", [](const S& s) { return s.stepper().contact_solver(); })
+      .def_property_readonly("_history_columns", &S::history_columns)
+      .def_property_readonly("_rows", &S::rows)
+      // The mesh (the whole mesh: one process).
+      .def_property_readonly("dim", [](const S& s) { return s.stepper().mesh().dim(); })
+      .def_property_readonly("points",
+                             [sim](py::handle self) {
+                               const Mesh& mesh = sim(self).stepper().mesh();
+                               return view(mesh.nodes().front().data(), {mesh.n_nodes(), 3}, self);
+                             },
+                             "The nodes' coordinates, (n_nodes, 3) (unused coordinates 0).")
+      .def_property_readonly("cells",
+                             [sim](py::handle self) {
+                               const Mesh& mesh = sim(self).stepper().mesh();
+                               return view(mesh.cell_array().data(), {mesh.n_cells(), mesh.nodes_per_cell()}, self);
+                             },
+                             "The cells' nodes, (n_cells, d + 1).")
+      .def_property_readonly("facets",
+                             [sim](py::handle self) {
+                               const Mesh& mesh = sim(self).stepper().mesh();
+                               return view(mesh.n_facets() ? mesh.facet(0) : nullptr,
+                                           {mesh.n_facets(), mesh.nodes_per_facet()}, self);
+                             },
+                             "The boundary facets' nodes, (n_facets, d).")
+      .def_property_readonly("facet_parts",
+                             [](const S& s) {
+                               const Mesh& mesh = s.stepper().mesh();
+                               std::vector<int> part(mesh.n_facets());
+                               for (int f = 0; f < mesh.n_facets(); ++f) part[f] = mesh.facet_part(f);
+                               return copy(part);
+                             },
+                             "Each facet's part (an index into part_names; -1: none), a copy.")
+      .def_property_readonly("part_names", [](const S& s) { return s.stepper().mesh().part_names(); })
+      // The state.
+      .def_property_readonly("u",
+                             [sim](py::handle self) {
+                               const S& s = sim(self);
+                               const int d = s.stepper().mesh().dim();
+                               const State& st = s.state();
+                               return view(st.u.data(), {st.u.size() / d, d}, self);
+                             },
+                             "The displacement u_n at the nodes, (n_nodes, d).")
+      .def_property_readonly("beta",
+                             [sim](py::handle self) {
+                               const State& st = sim(self).state();
+                               return view(st.beta.data(), {st.beta.size()}, self);
+                             },
+                             "The damage beta_n at the nodes, (n_nodes,).")
+      .def_property_readonly("sigma", [sim, sym](py::handle self) { return sym(sim(self).state().sigma, self); },
+                             "The stress sigma_n per cell, (n_cells, 6): 11, 22, 33, 23, 13, 12.")
+      .def_property_readonly("eps", [sim, sym](py::handle self) { return sym(sim(self).state().eps, self); },
+                             "The strain eps(u_n) per cell, (n_cells, 6).")
+      .def_property_readonly("z", [sim, sym](py::handle self) { return sym(sim(self).state().z, self); },
+                             "The viscoplastic history z_n per cell, (n_cells, 6).")
+      .def_property_readonly("contact_force",
+                             [sim](py::handle self) {
+                               const State& st = sim(self).state();
+                               return view(st.lambda.data(), {st.lambda.size()}, self);
+                             },
+                             "The contact force lambda_n >= 0 at each contact node (contact_nodes order).")
+      .def_property_readonly("contact_nodes",
+                             [](const S& s) {
+                               const MeshPart& part = s.stepper().part();
+                               std::vector<int> node(part.contact.size());
+                               for (const PartContactNode& c : part.contact) node.at(c.row) = c.local_node;
+                               return copy(node);
+                             },
+                             "The node of each contact row (of N and contact_force), a copy.")
+      .def_property_readonly("contact_directions",
+                             [](const S& s) {
+                               const MeshPart& part = s.stepper().part();
+                               py::array_t<double> a({static_cast<py::ssize_t>(part.contact.size()), py::ssize_t{3}});
+                               auto w = a.mutable_unchecked<2>();
+                               for (const PartContactNode& c : part.contact)
+                                 for (int i = 0; i < 3; ++i) w(c.row, i) = c.direction[i];
+                               return a;
+                             },
+                             "The contact direction nu at each contact node, (n_contact, 3), a copy.")
+      .def_property_readonly("free_dofs",
+                             [](const S& s) {
+                               const DofMap& dofs = s.stepper().dofs();
+                               std::vector<int> full;
+                               for (int i = 0; i < dofs.n_full(); ++i)
+                                 if (dofs.free_index(i) >= 0) full.push_back(i);
+                               return copy(full);
+                             },
+                             "The index in u.ravel() of each free dof (the rows of K and the columns of N).")
+      .def("_matrices", [](const S& s) {
+        const TimeStepper& ts = s.stepper();
+        const auto* K = dynamic_cast<const la::SparseOperator*>(&ts.stiffness_operator());
+        require(K != nullptr, "K is not an Eigen sparse matrix (not the serial engine)");
+        py::dict d;
+        d["K"] = csc(K->matrix());
+        d["M"] = csc(ts.mass_matrix());
+        d["A"] = csc(ts.laplacian_matrix());
+        d["N"] = csc(ts.contact_rows());
+        return d;
+      });
+}
+
+}  // namespace vpc::python

@@ -1,0 +1,262 @@
+"""vpcontact from Python: quasistatic frictionless Signorini contact of an
+elastic-viscoplastic body with damage (Fernandez & Sofonea 2003).
+
+The module drives the C++ library: its case reader, its run loop (the one
+`vpcontact run` uses) and its TimeStepper. docs/python.md documents it.
+
+    import vpcontact
+    case = vpcontact.Case("paper-2d", n=20)
+    case.set("damage.kappa", 0.1)
+    sim = vpcontact.run(case, output="out/k01")        # as `vpcontact run`
+    sim.beta, sim.sigma, sim.history()                  # numpy views and tables
+
+    sim = vpcontact.Simulation(case)                    # step by step
+    while not sim.done:
+        report = sim.step()                             # history.csv's numbers of the step
+"""
+
+import os as _os
+
+# The command line runs with passive OpenMP waiting (app/process_policy.cpp: spinning
+# workers steal the core the next solve needs on a shared machine); libgomp reads the
+# variable when it is loaded, which is when _core is imported just below.
+_os.environ.setdefault("OMP_WAIT_POLICY", "passive")
+
+from . import _core  # noqa: E402
+from ._core import builtin_cases, case_text  # noqa: E402
+from .errors import CaseError, Error, RunError  # noqa: E402
+from .results import Fields, Results, read  # noqa: E402
+from .tables import table as _table  # noqa: E402
+
+__version__ = _core.__version__
+__all__ = ["Case", "Simulation", "run", "read", "plot", "builtin_cases", "case_text", "toml_value",
+           "Results", "Fields", "Error", "CaseError", "RunError"]
+
+
+def toml_value(value):
+    """A Python value as TOML text for Case.set: bool, int, float, str, list/tuple, dict."""
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, int):
+        return str(value)
+    if isinstance(value, float):
+        if value != value:
+            return "nan"
+        if value in (float("inf"), float("-inf")):
+            return "inf" if value > 0 else "-inf"
+        return repr(value)
+    if isinstance(value, str):
+        import json
+
+        return json.dumps(value)  # a TOML basic string (\uXXXX escapes are TOML's too)
+    if isinstance(value, (list, tuple)):
+        return "[" + ", ".join(toml_value(v) for v in value) + "]"
+    if isinstance(value, dict):
+        return "{" + ", ".join("%s = %s" % (k, toml_value(v)) for k, v in value.items()) + "}"
+    try:  # numpy scalars
+        return toml_value(value.item())
+    except AttributeError:
+        raise TypeError("no TOML value for %r (of type %s)" % (value, type(value).__name__)) from None
+
+
+class Case(_core.Case):
+    """A case: a built-in case by name (builtin_cases()), a case file (a path), or TOML
+    text (text=..., with the name used in messages and base_dir for relative mesh files).
+
+    Every change is checked at once by the library's case reader, with the command
+    line's located errors (CaseError: file, line, key):
+        case.set("damage.kappa", 0.1)            # --set damage.kappa=0.1
+        case.set({"damage.kappa": 0.1, "time.steps": 20})
+        case.n = 20                              # --n 20 (generated meshes)
+        case.kappa = 0.1; case.steps = 20; case.dt = 0.05
+    """
+
+    def __init__(self, source, *, text=None, base_dir=".", n=None, set=None, kappa=None, steps=None, dt=None):
+        if isinstance(source, _core.Case):
+            super().__init__(source)
+        else:
+            super().__init__(_os.fspath(source), text, _os.fspath(base_dir))
+        if n is not None:
+            self.n = n
+        changes = dict(set or {})
+        for key, v in (("damage.kappa", kappa), ("time.steps", steps), ("time.dt", dt)):
+            if v is not None:
+                changes[key] = v
+        if changes:
+            self.set(changes)
+
+    def set(self, key, value=None):
+        """Overrides keys, as --set key=value: set("damage.kappa", 0.1) or set({key: value, ...}).
+        A value is a Python value (toml_value), or TOML text given as set("key=value")."""
+        if isinstance(key, dict):
+            sets = ["%s=%s" % (k, toml_value(v)) for k, v in key.items()]
+        elif value is None and "=" in key:
+            sets = [key]
+        else:
+            sets = ["%s=%s" % (key, toml_value(value))]
+        self._add_sets(sets)
+        return self
+
+    def copy(self):
+        return Case(self)
+
+    kappa = property(_core.Case.kappa.fget, lambda self, v: self.set("damage.kappa", v), doc="damage.kappa")
+    steps = property(_core.Case.steps.fget, lambda self, v: self.set("time.steps", v), doc="time.steps")
+    dt = property(_core.Case.dt.fget, lambda self, v: self.set("time.dt", v), doc="time.dt")
+
+    def __repr__(self):
+        extra = "".join(", --set " + s for s in self.sets)
+        if self.n is not None:
+            extra += ", n=%d" % self.n
+        return "<vpcontact.Case %s (%s)%s>" % (self.name, self.source, extra)
+
+
+class Simulation(_core.Simulation):
+    """The run loop of `vpcontact run`, step by step.
+
+        sim = Simulation(case, output=None)  # output: a directory for the run's files
+                                             # (VTU, history.csv, probes.csv, checkpoints,
+                                             # summary.json); None: no files
+        sim.step()                           # one step; its report (history.csv's numbers)
+        sim.run(progress=True)               # the remaining steps, then finish()
+        sim.checkpoint(); sim.finish()
+        Simulation(case, output=dir, resume=True)  # continues from dir's newest checkpoint
+
+    Views (read-only numpy arrays that follow the steps): u, beta, sigma, eps, z,
+    contact_force; points, cells, facets. Copies: active, contact_nodes,
+    contact_directions, facet_parts, free_dofs, boundary_parts, matrices().
+    """
+
+    def __init__(self, case, output=None, *, resume=False, quiet=True, checkpoint_every=-1,
+                 checkpoint_seconds=60.0, halvings=0):
+        if not isinstance(case, _core.Case):
+            case = Case(case)
+        super().__init__(case, None if output is None else _os.fspath(output), resume, quiet,
+                         checkpoint_every, float(checkpoint_seconds), halvings)
+        self.case = Case(case)
+
+    def step(self, count=1):
+        """Advances `count` steps (not beyond the last); returns the last one's report."""
+        for _ in range(count):
+            if self.done:
+                break
+            self._step()
+        return self.report
+
+    @property
+    def report(self):
+        """The last step's numbers as in history.csv (a dict column -> number); None before a step."""
+        from .tables import record
+
+        rows = self._rows
+        return record(self._history_columns, rows[-1]) if rows else None
+
+    @property
+    def history_columns(self):
+        return list(self._history_columns)
+
+    def history(self, frame=None):
+        """The reports of the steps taken by this object, as history.csv's table
+        (a structured array, or a DataFrame where pandas is installed: tables.table)."""
+        return _table(self._history_columns, [r.split(",") for r in self._rows], frame)
+
+    def run(self, progress=None):
+        """Runs the remaining steps and finishes (summary.json). progress: None or False
+        (nothing), True (a bar: tqdm where installed), or a callable given each report.
+        On KeyboardInterrupt a run with output writes a checkpoint and summary.json
+        first (resume with Simulation(case, output=dir, resume=True))."""
+        if progress is True:
+            from .progress import bar
+
+            progress = bar(self.final_time, self.t)
+        try:
+            while not self.done:
+                self._step()
+                if progress:
+                    progress(self.report)
+        except KeyboardInterrupt:
+            if self.output is not None and not self.finished:
+                self.checkpoint()
+            self.finish()
+            raise
+        finally:
+            if progress and hasattr(progress, "close"):
+                progress.close()
+        self.finish()
+        return self
+
+    @property
+    def active(self):
+        """Whether each contact node is in contact (contact_force > 0), a copy."""
+        return self.contact_force > 0
+
+    @property
+    def boundary_parts(self):
+        """The boundary parts: name -> the sorted nodes of its facets (copies)."""
+        import numpy as np
+
+        facets, parts = self.facets, self.facet_parts
+        return {name: np.unique(facets[parts == i]) for i, name in enumerate(self.part_names)}
+
+    def fields(self):
+        """The state's views by name (u, beta, sigma, eps, z, contact_force)."""
+        return {k: getattr(self, k) for k in ("u", "beta", "sigma", "eps", "z", "contact_force")}
+
+    def matrices(self):
+        """The constant matrices as scipy.sparse.csr_matrix (copies; scipy needed): K (the
+        stiffness over the free dofs: free_dofs), M and A (the P1 mass and Laplacian over the
+        nodes: the damage matrix is M + k kappa A), N (the contact rows, contact_nodes order,
+        over the free dofs)."""
+        try:
+            import scipy.sparse as sp
+        except ImportError:
+            raise ImportError("Simulation.matrices() needs scipy (Debian: python3-scipy)") from None
+        out = {}
+        for name, (data, indices, indptr, shape) in self._matrices().items():
+            out[name] = sp.csc_matrix((data, indices, indptr), shape=shape).tocsr()
+        return out
+
+    def results(self):
+        """The output directory read back (Results); the run must have output."""
+        if self.output is None:
+            raise RunError("this simulation writes no files (output=None)")
+        return read(self.output)
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.finish()
+        return False
+
+    def __repr__(self):
+        of = " of %d" % self.n_steps if self.n_steps > 0 else ""  # 0: error-controlled step sizes
+        return "<vpcontact.Simulation %s: step %d%s, t = %g of %g>" % (self.case.name, self.n, of, self.t, self.final_time)
+
+
+def run(case, output=None, *, progress=False, quiet=True, **options):
+    """Runs a case as `vpcontact run` does and returns the finished Simulation.
+    output: the directory (default: the case's [output] directory, else output/NAME);
+    progress: see Simulation.run; quiet=False prints the command line's header and
+    set-up stages; options: those of Simulation (checkpoint_every, halvings, ...)."""
+    if not isinstance(case, _core.Case):
+        case = Case(case)
+    if output is None:
+        output = case.output_directory
+    sim = Simulation(case, output, quiet=quiet, **options)
+    return sim.run(progress)
+
+
+def plot(outdir, format="png", dpi=150):
+    """Draws the figures of a run's output directory into outdir/figures/ as `vpcontact
+    plot` does (the same script); returns their paths. Needs matplotlib."""
+    from . import _plot
+
+    outdir = _os.path.normpath(_os.fspath(outdir))
+    try:
+        run_ = _plot.Run(outdir)
+        _plot.Plotter(run_, format, float(dpi)).all()
+    except _plot.PlotError as e:
+        raise RunError(str(e)) from None
+    figures = _os.path.join(outdir, "figures")
+    return sorted(_os.path.join(figures, f) for f in _os.listdir(figures) if f.endswith("." + format))

@@ -1,0 +1,121 @@
+"""A finished run's output directory read back into numpy: summary.json, history.csv
+and probes.csv by their column names, and the fields of any output time from the
+VTU files, as the arrays a Simulation has. The VTU files are read by the figures
+script's reader (scripts/vpcontact_plot.py, shipped as vpcontact._plot): one reader
+for the figures and for Python.
+"""
+
+import json
+import os
+
+import numpy as np
+
+from . import _plot
+from .errors import RunError
+from .tables import read_csv
+
+__all__ = ["Results", "Fields", "read", "VTK_TO_SYM"]
+
+# The VTU tensors are in VTK's order XX, YY, ZZ, XY, YZ, XZ (io/vtu_writer.cpp: tensor_field);
+# State's SymTensor is 11, 22, 33, 23, 13, 12.
+VTK_TO_SYM = [0, 1, 2, 4, 5, 3]
+
+
+class Fields:
+    """The state at one output time, as a Simulation shows it: t, n, points (n_nodes, 3),
+    cells (n_cells, d + 1), u (n_nodes, d), beta (n_nodes,), sigma, eps, z (n_cells, 6 in
+    the order 11, 22, 33, 23, 13, 12), von_mises (n_cells,), contact_force_vector (the
+    point field -lambda nu, (n_nodes, 3)), contact_pressure (n_nodes,), active (the nodes
+    with a contact pressure > 0). Fields the run did not write ([output] fields) are None;
+    `arrays` holds every VTU array by its VTU name."""
+
+    def __init__(self, t, n, vtu, dim):
+        self.t = t
+        self.n = n
+        self.points = vtu.points
+        self.cells = vtu.cells
+        self.arrays = dict(vtu.point_data)
+        self.arrays.update(vtu.cell_data)
+        pd, cd = vtu.point_data, vtu.cell_data
+        u = pd.get("displacement")
+        self.u = None if u is None else np.ascontiguousarray(u[:, :dim])
+        self.beta = pd.get("beta", pd.get("damage"))
+
+        def sym(name):
+            v = cd.get(name)
+            return None if v is None else np.ascontiguousarray(v[:, VTK_TO_SYM])
+
+        self.sigma = sym("stress")
+        self.eps = sym("strain")
+        self.z = sym("history_z")
+        self.von_mises = cd.get("von_mises")
+        self.contact_force_vector = pd.get("contact_force")
+        self.contact_pressure = pd.get("contact_pressure")
+        self.active = None if self.contact_pressure is None else self.contact_pressure > 0
+
+    def __repr__(self):
+        return "<vpcontact.Fields t=%g n=%s: %d nodes, %d cells>" % (self.t, self.n, len(self.points), len(self.cells))
+
+
+class Results:
+    """A run's output directory (vpcontact run, vpcontact.run or a Simulation with output=).
+
+    summary: summary.json as a dict; history(), probes(): the CSV files as tables
+    (structured arrays, or DataFrames: see tables.table); times, steps: the output
+    times and their steps; fields(t=None, index=None): the state at the output time
+    nearest t, or the index-th output (default: the last)."""
+
+    def __init__(self, outdir):
+        self.directory = os.fspath(outdir)
+        summary = os.path.join(self.directory, "summary.json")
+        try:
+            with open(summary) as f:
+                self.summary = json.load(f)
+        except OSError as e:
+            raise RunError("%s: %s (is this a vpcontact output directory?)" % (summary, e.strerror), file=summary)
+        except ValueError as e:
+            raise RunError("%s: not valid JSON: %s" % (summary, e), file=summary)
+        self.dim = int(self.summary.get("dimension", 0))
+        try:
+            probes = _plot.read_csv(os.path.join(self.directory, "probes.csv"))
+            self._solutions = _plot.list_solutions(self.directory, probes)
+        except _plot.PlotError as e:
+            raise RunError(str(e))
+        self.times = np.array([t for t, _ in self._solutions])
+        self.steps = [_step_of(p) for _, p in self._solutions]
+
+    def history(self, frame=None):
+        return read_csv(os.path.join(self.directory, "history.csv"), frame)
+
+    def probes(self, frame=None):
+        return read_csv(os.path.join(self.directory, "probes.csv"), frame)
+
+    def fields(self, t=None, index=None):
+        if not self._solutions:
+            raise RunError("%s: no VTU output (output.vtu = false?)" % self.directory)
+        if t is not None and index is not None:
+            raise ValueError("give t or index, not both")
+        if index is None:
+            index = -1 if t is None else int(np.argmin(np.abs(self.times - t)))
+        time, path = self._solutions[index]
+        try:
+            vtu = _plot.read_vtu(path)
+        except _plot.PlotError as e:
+            raise RunError(str(e), file=path)
+        return Fields(time, self.steps[index], vtu, self.dim)
+
+    def __repr__(self):
+        return "<vpcontact.Results %s: %s, %d outputs>" % (self.directory, self.summary.get("case"), len(self.times))
+
+
+def _step_of(path):
+    stem = os.path.basename(path).split(".")[0]
+    try:
+        return int(stem.split("_")[1])
+    except (IndexError, ValueError):
+        return None
+
+
+def read(outdir):
+    """The output directory of a finished (or interrupted) run."""
+    return Results(outdir)

@@ -1,0 +1,100 @@
+"""Bad input raises a Python exception with the command line's message and its location."""
+
+import pytest
+
+import vpcontact
+
+BAD_CASE = """[mesh]
+generator = "interval"
+lower = [0]
+upper = [1]
+cells = 10
+
+[boundary]
+clamped = "left"
+contact = "right"
+
+[elasticity]
+E = 1
+
+[damage]
+kappa = -1
+"""
+
+
+def test_bad_case_file(tmp_path):
+    path = tmp_path / "bad.toml"
+    path.write_text(BAD_CASE)
+    with pytest.raises(vpcontact.CaseError) as e:
+        vpcontact.Case(path)
+    err = e.value
+    assert isinstance(err, ValueError)
+    assert str(err) == "%s:15:9: damage.kappa: kappa must be >= 0 (got -1)" % path
+    assert (err.file, err.line, err.column, err.key) == (str(path), 15, 9, "damage.kappa")
+
+
+def test_unknown_key_in_a_file(tmp_path):
+    path = tmp_path / "typo.toml"
+    path.write_text(BAD_CASE.replace("kappa = -1", "kapa = 1"))
+    with pytest.raises(vpcontact.CaseError, match="did you mean 'kappa'") as e:
+        vpcontact.Case(path)
+    assert (e.value.line, e.value.key) == (15, "damage.kapa")
+
+
+def test_bad_override_leaves_the_case_unchanged():
+    case = vpcontact.Case("paper-2d", n=10)
+    with pytest.raises(vpcontact.CaseError) as e:
+        case.set("damage.kapa", 1)
+    assert str(e.value).startswith("--set damage.kapa=1: unknown key or parameter")
+    assert e.value.key == "damage.kapa" and e.value.file is None and e.value.line is None
+    with pytest.raises(vpcontact.CaseError, match=r"^--set damage.kappa=-1: kappa must be >= 0") as e:
+        case.kappa = -1
+    assert e.value.key == "damage.kappa"
+    with pytest.raises(vpcontact.CaseError, match="expected an integer, got a string") as e:
+        case.set({"time.steps": "many"})
+    assert e.value.key == "time.steps"
+    with pytest.raises(vpcontact.CaseError, match=r"^--n 12: the number of cells per edge n must be a multiple of 5"):
+        case.n = 12
+    assert case.sets == [] and case.n == 10 and case.kappa == 1
+
+
+def test_unknown_case_and_bad_values():
+    with pytest.raises(vpcontact.CaseError, match="unknown case 'paper-9d'; built-in cases are: .*paper-1d"):
+        vpcontact.Case("paper-9d")
+    with pytest.raises(TypeError, match="no TOML value"):
+        vpcontact.Case("paper-1d").set("damage.kappa", object())
+
+
+def test_a_failed_step_raises_run_error(tmp_path):
+    text = BAD_CASE.replace("kappa = -1", 'phi = "t > 0.2 ? sqrt(-1) : -0.1"') + "[time]\nsteps = 10\n"
+    sim = vpcontact.Simulation(vpcontact.Case("nan.toml", text=text), output=tmp_path)
+    with pytest.raises(vpcontact.RunError, match=r"step 4 \(t = 0.4\) failed \(NaN or Inf in the data") as e:
+        sim.run()
+    assert isinstance(e.value, RuntimeError) and sim.finished and sim.n == 4  # the failed step's state
+    assert "Results up to step 3 are in" in str(e.value)
+    assert len(vpcontact.read(tmp_path).history(frame=False)) == 3
+
+
+def test_resume_without_checkpoint(tmp_path):
+    with pytest.raises(vpcontact.CaseError, match="needs the output directory"):
+        vpcontact.Simulation("paper-1d", resume=True)
+    with pytest.raises(vpcontact.Error, match="--resume: no good checkpoint for this case"):
+        vpcontact.Simulation("paper-1d", output=tmp_path / "none", resume=True)
+
+
+def test_misuse_of_a_simulation():
+    sim = vpcontact.Simulation(vpcontact.Case("paper-1d", steps=2))
+    with pytest.raises(vpcontact.CaseError, match="checkpoint.. needs an output directory"):
+        sim.checkpoint()
+    sim.step(5)  # not beyond the last step
+    assert sim.n == 2 and sim.done
+    with pytest.raises(vpcontact.CaseError, match="at its last step .2 of 2."):
+        sim._step()
+    with pytest.raises(vpcontact.RunError, match="writes no files"):
+        sim.results()
+
+
+def test_reading_a_directory_that_is_no_run(tmp_path):
+    with pytest.raises(vpcontact.RunError, match="summary.json") as e:
+        vpcontact.read(tmp_path)
+    assert e.value.file.endswith("summary.json")
