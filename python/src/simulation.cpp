@@ -75,7 +75,8 @@ class Simulation {
   /// One step of the run loop: recorded, checkpointed as due; history.csv's row of it.
   std::string step() {
     require(!loop_->finished(), "the simulation is finished (finish() was called or a step failed)");
-    require(!loop_->done(), "the simulation is at its last step ({} of {})", state().n, stepper_->problem().n_steps);
+    require(!loop_->done(), "the simulation is at its final time (step {}, t = T = {})", state().n,
+            stepper_->problem().final_time);
     StepReport r;
     {
       py::gil_scoped_release release;

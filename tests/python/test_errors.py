@@ -88,7 +88,7 @@ def test_misuse_of_a_simulation():
         sim.checkpoint()
     sim.step(5)  # not beyond the last step
     assert sim.n == 2 and sim.done
-    with pytest.raises(vpcontact.CaseError, match="at its last step .2 of 2."):
+    with pytest.raises(vpcontact.CaseError, match="at its final time .step 2, t = T = 1."):
         sim._step()
     with pytest.raises(vpcontact.RunError, match="writes no files"):
         sim.results()
