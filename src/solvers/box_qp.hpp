@@ -51,9 +51,10 @@ class DenseBoxQpOperator final : public BoxQpOperator {
 /// How SparseBoxQpOperator solves a reduced system H_FF x_F = b_F − H_FA x_A.
 enum class ReducedSolve {
   /// Capacitance when its estimated cost for the active set at hand (forward
-  /// solves for the new indices, measured once, plus the dense a × a Cholesky)
-  /// is below half the measured time of factorizing H, and its columns of Z fit
-  /// in half the factor's memory; else the reduced factor.
+  /// solves for the new indices plus the dense a × a Cholesky) is below half the
+  /// estimated cost of factorizing H (both from the factor's analysis: flops and
+  /// entries, so that the choice is the same on every run), and its columns of Z
+  /// fit in half the factor's memory; else the reduced factor.
   automatic,
   /// With the factor of the whole H = PᵀLLᵀP only: x = H⁻¹(b − Eμ), where E
   /// selects A and (EᵀH⁻¹E) μ = EᵀH⁻¹b − x_A; EᵀH⁻¹E = ZᵀZ with Z = L⁻¹PE, one
@@ -87,7 +88,7 @@ class SparseBoxQpOperator final : public BoxQpOperator {
   int n_factorizations() const { return full_->n_factorizations() + reduced_->n_factorizations(); }
   double factor_bytes() const { return full_->factor_bytes() + reduced_->factor_bytes(); }
   /// The automatic choice's cost model: the seconds of factorizing H and of one
-  /// forward solve (measured at construction; tests set them to be deterministic).
+  /// forward solve (from the factor's analysis at 10⁹ flop/s; tests set other values).
   void set_costs(double seconds_factor, double seconds_forward) {
     seconds_factor_ = seconds_factor;
     seconds_forward_ = seconds_forward;

@@ -19,16 +19,9 @@ rm -rf "$tmp" && mkdir -p "$tmp" && cd "$tmp" || exit 1
 grep -q "resuming from the checkpoint of step 20 (t = 1)" log2 || fail "not resumed from step 20: $(cat log2)"
 "$vpcontact" run paper-1d -q --no-vtu --set time.T=2 --steps 40 -o longer > log3 2>&1 || fail "run to T = 2: $(cat log3)"
 [ "$(wc -l < extended/history.csv)" -eq 41 ] || fail "the continued history has $(wc -l < extended/history.csv) lines, not 41"
-# Every column bit for bit but the error estimate (a diagnostic, to 1e-12).
-/usr/bin/python3 - extended/history.csv longer/history.csv <<'PY' || fail "the continued run differs from the longer run"
-import csv, sys
-a, b = (list(csv.DictReader(open(f))) for f in sys.argv[1:3])
-assert len(a) == len(b) == 40, (len(a), len(b))
-for x, y in zip(a, b):
-    for k in x:
-        same = x[k] == y[k] if k != "error_estimate" else abs(float(x[k]) - float(y[k])) <= 1e-12 * abs(float(y[k]))
-        assert same, "step %s, %s: %s != %s" % (x["step"], k, x[k], y[k])
-PY
+# Bit for bit, β = 0 at some nodes in the last step included (the damage solver's choice of
+# method for its reduced systems does not depend on timings, so a resumed run makes it alike).
+cmp -s extended/history.csv longer/history.csv || fail "the continued run differs from the longer run: $(diff extended/history.csv longer/history.csv | head -4)"
 
 # Other steps before the checkpoint: refused, naming the step.
 "$vpcontact" run paper-1d -q --no-vtu --set time.T=2 --steps 80 --resume extended > log4 2>&1 &&
