@@ -343,6 +343,7 @@ std::optional<ResumePoint> resume_from_checkpoint(TimeStepper& stepper, const fs
   // fields of the pieces it reads. The first error anywhere passes it over.
   std::optional<CheckpointFile> first;
   std::vector<CheckpointFile> mine;  // the pieces that overlap this process's blocks
+  std::vector<double> times;         // its time levels, checked against the problem's
   bool found = false;
   for (long long n : steps) {
     first.reset();
@@ -354,8 +355,9 @@ std::optional<ResumePoint> resume_from_checkpoint(TimeStepper& stepper, const fs
               f.head().index, f.head().count);
       require(f.fingerprint == fingerprint, "{}: written for another problem ({})", f.name(),
               problem_key_difference(f.problem_key, key));
-      const Vector times = first->read(kTimes);
-      const std::string times_differ = time_levels_difference(stepper.problem(), {times.begin(), times.end()});
+      const Vector saved = first->read(kTimes);
+      times.assign(saved.begin(), saved.end());
+      const std::string times_differ = time_levels_difference(stepper.problem(), times);
       require(times_differ.empty(), "{}: {}", f.name(), times_differ);
       require(static_cast<long long>(f.count(kLambda)) == part.n_contact,
               "checkpoint '{}': does not fit this problem ({} contact forces for {} contact nodes)", f.name(),
@@ -421,9 +423,10 @@ std::optional<ResumePoint> resume_from_checkpoint(TimeStepper& stepper, const fs
   }
   // λ and the contact warm state (one value per contact row) from rank 0, the PVD entries and totals on rank 0.
   ResumePoint at{s.state.n, s.state.t, {}, {}};
-  std::vector<double> lambda, contact_warm, times, control;
+  // The time levels: every process read them to check the checkpoint.
+  std::vector<double> lambda, contact_warm, control;
   la::on_root(comm, [&] {
-    for (auto [a, v] : {std::pair{kLambda, &lambda}, std::pair{kContactWarm, &contact_warm}, std::pair{kTimes, &times},
+    for (auto [a, v] : {std::pair{kLambda, &lambda}, std::pair{kContactWarm, &contact_warm},
                         std::pair{kStepControl, &control}}) {
       v->resize(first->count(a));
       first->read(a, 0, v->size(), v->data());
@@ -433,7 +436,6 @@ std::optional<ResumePoint> resume_from_checkpoint(TimeStepper& stepper, const fs
   });
   lambda = la::broadcast(comm, std::move(lambda));
   contact_warm = la::broadcast(comm, std::move(contact_warm));
-  times = la::broadcast(comm, std::move(times));
   control = la::broadcast(comm, std::move(control));
   s.state.lambda = Eigen::Map<const Vector>(lambda.data(), static_cast<Eigen::Index>(lambda.size()));
   s.contact_warm = Eigen::Map<const Vector>(contact_warm.data(), static_cast<Eigen::Index>(contact_warm.size()));

@@ -22,6 +22,14 @@ constexpr int kParallelCells = 4096;
 /// Damage solvers kept for the step sizes in use: a run with a few step sizes factors
 /// H = M + kκA once per size.
 constexpr std::size_t kDamageSolversKept = 4;
+/// Adds the step phases' times of `from` to `to` (substeps, rejected attempts).
+void add_seconds(StepReport& to, const StepReport& from) {
+  to.seconds_sources += from.seconds_sources;
+  to.seconds_damage += from.seconds_damage;
+  to.seconds_contact += from.seconds_contact;
+  to.seconds_stress += from.seconds_stress;
+}
+
 /// The problem, after Problem::validate (which throws for a bad datum).
 std::shared_ptr<const Problem> validated(std::shared_ptr<const Problem> p) {
   p->validate();
@@ -143,6 +151,10 @@ void TimeStepper::assemble_and_factorize() {
   M_local_ = assemble_mass(mesh, geo_);
   A_local_ = assemble_laplacian(mesh, geo_);
   M_ = backend_->assemble(M_local_, *part_.node_layout, 1);
+  la::Vector lumped(part_.node_layout);
+  lumped.local() = M_local_ * Vector::Ones(M_local_.cols());
+  lumped.add_ghosts_to_owners();
+  lumped_mass_ = lumped.owned();
   const SparseMatrix H_local = M_local_ + (p.first_step() * p.kappa) * A_local_;
   auto H = backend_->assemble(H_local, *part_.node_layout, 1);
   const long long damage_operator_nonzeros = H->nonzeros();
@@ -183,8 +195,7 @@ void TimeStepper::assemble_and_factorize() {
   stage(fmt::format("factorization of H ({} x {}, {} nonzeros)", part_.n_global_nodes, part_.n_global_nodes,
                     damage_operator_nonzeros));
   t1 = Clock::now();
-  H.reset();
-  damage_solver(p.first_step());
+  damage_solver(p.first_step(), std::move(H));
   setup_timing_.factor_H = seconds_since(t1);
   stage("factorization of H", setup_timing_.factor_H);
 
@@ -355,7 +366,7 @@ void TimeStepper::set_step_history(std::vector<double> times, const StepControlS
   control_state_ = c;
 }
 
-DamageSolver& TimeStepper::damage_solver(double k) {
+DamageSolver& TimeStepper::damage_solver(double k, std::unique_ptr<la::SpdOperator> H) {
   auto it = std::find_if(damage_.begin(), damage_.end(), [k](const DamageForStep& d) { return d.k == k; });
   if (it == damage_.end()) {
     const Vector warm = damage_current_ ? damage_current_->warm_state() : Vector();
@@ -363,7 +374,7 @@ DamageSolver& TimeStepper::damage_solver(double k) {
       dropped_factorizations_ += damage_.front().solver->n_factorizations();
       damage_.erase(damage_.begin());
     }
-    auto H = backend_->assemble(SparseMatrix(M_local_ + (k * problem_->kappa) * A_local_), *part_.node_layout, 1);
+    if (!H) H = backend_->assemble(SparseMatrix(M_local_ + (k * problem_->kappa) * A_local_), *part_.node_layout, 1);
     ++damage_matrices_made_;
     damage_.push_back({k, make_damage_solver(choice_.damage, std::move(H), la::factor_factory(backend_),
                                              choice_.damage_reduced)});
@@ -405,10 +416,7 @@ StepReport TimeStepper::advance_or_halve(int level, double k, double t_end) {
   rep.k = t_end - before.state.t;
   rep.error_estimate = std::max(rep.error_estimate, first.error_estimate);
   rep.substeps += first.substeps;
-  rep.seconds_sources += first.seconds_sources;
-  rep.seconds_damage += first.seconds_damage;
-  rep.seconds_contact += first.seconds_contact;
-  rep.seconds_stress += first.seconds_stress;
+  add_seconds(rep, first);
   return rep;
 }
 
@@ -443,10 +451,7 @@ StepReport TimeStepper::controlled_step() {
     const bool at_floor = k_used <= c.dt_min * (1 + 1e-9) || rejected >= c.max_rejections;
     if (retry == 0 || at_floor) {
       rep.rejected = rejected;
-      rep.seconds_sources += spent.seconds_sources;
-      rep.seconds_damage += spent.seconds_damage;
-      rep.seconds_contact += spent.seconds_contact;
-      rep.seconds_stress += spent.seconds_stress;
+      add_seconds(rep, spent);
       // The next step: the factor the estimate allows, within [cut, growth]; a step
       // shortened to land on a time does not shrink the next one below its proposal.
       const double allowed = r > 0 ? c.safety / r : c.growth;
@@ -459,10 +464,7 @@ StepReport TimeStepper::controlled_step() {
       }
       return rep;
     }
-    spent.seconds_sources += rep.seconds_sources;
-    spent.seconds_damage += rep.seconds_damage;
-    spent.seconds_contact += rep.seconds_contact;
-    spent.seconds_stress += rep.seconds_stress;
+    add_seconds(spent, rep);
     restore(before);
     ++rejected;
     k = std::max(retry, c.dt_min);
@@ -664,12 +666,6 @@ StepReport TimeStepper::advance(double k, double t_end) {
   }
   phi_.local() = assemble_p0_source(mesh, geo_, dphi) - problem_->kappa * (A_local_ * (state_.beta - beta_before));
   phi_.add_ghosts_to_owners();
-  if (lumped_mass_.size() == 0) {
-    la::Vector m(part_.node_layout);
-    m.local() = M_local_ * Vector::Ones(M_local_.cols());
-    m.add_ghosts_to_owners();
-    lumped_mass_ = m.owned();
-  }
   for (int i = 0; i < part_.n_owned_nodes; ++i)
     if (beta[i] > 0 && beta[i] < 1) sums[1] += phi_.owned()[i] * phi_.owned()[i] / lumped_mass_[i];
   comm.sum(sums, 3);

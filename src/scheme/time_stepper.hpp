@@ -217,8 +217,9 @@ class TimeStepper {
   /// Whether the step's sets changed in a way StepControl redoes with a smaller step.
   bool is_event(const StepReport& rep) const;
   /// The damage solver of H = M + kκA: kept for the step sizes in use (kDamageSolversKept,
-  /// least recently used dropped); switching hands on the warm start.
-  DamageSolver& damage_solver(double k);
+  /// least recently used dropped); switching hands on the warm start. `H`: that matrix
+  /// already assembled (set-up's), else it is assembled here when needed.
+  DamageSolver& damage_solver(double k, std::unique_ptr<la::SpdOperator> H = nullptr);
   /// G and φ of step 1 at the current state, per cell: the next step's rates and the last one's estimate.
   void compute_rates();
   /// F_n of (3.3) without the Bᵀz term: the loads f0, f2 at time t (the part's full dofs).
@@ -270,7 +271,7 @@ class TimeStepper {
   StepControlState control_state_;
   std::vector<double> times_{0.0};           // t_0 … t_n
   double volume_ = 0;                        // |Ω|
-  Vector lumped_mass_;                       // the row sums of M (owned nodes), made at the first estimate
+  Vector lumped_mass_;                       // the row sums of M (owned nodes): the estimate's M_L
   la::Vector f_, phi_, u_, beta_;  // ghosted work vectors: the load, F_φ, u_free, β
   State state_;
   Vector u_free_;  // owned free dofs: the contact solver's warm start
