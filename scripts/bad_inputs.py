@@ -3,6 +3,10 @@
 ("Bad inputs"): each input, what is wrong with it, the exit code and the message.
 
   /usr/bin/python3 scripts/bad_inputs.py build/app/vpcontact > /tmp/bad-inputs.md
+  /usr/bin/python3 scripts/bad_inputs.py build/app/vpcontact --doc docs/reliability.md           # fail if stale
+  /usr/bin/python3 scripts/bad_inputs.py build/app/vpcontact --doc docs/reliability.md --update  # regenerate
+
+The test reliability.bad_inputs runs the second form, so the table cannot go stale unnoticed.
 
 Every input is written to a fresh temporary folder (file names in the messages
 are relative to it). The script fails if an input is accepted, if vpcontact
@@ -115,8 +119,9 @@ def case(frm, to):
     return CASE.replace(frm, to, 1)
 
 
-# (what is wrong, {file name: content}, arguments of `vpcontact check`[, limits]); limits:
-# {"address_space": bytes} runs the command under that RLIMIT_AS.
+# (what is wrong, {file name: content}, arguments of `vpcontact check`[, options]); options:
+# {"address_space": bytes} runs the command under that RLIMIT_AS; {"warning": True}: the input is
+# accepted (exit 0) with a warning, which must be on stderr.
 INPUTS = [
     # --- case files
     ("not a TOML file (binary)", {"c.toml": b"\x7fELF\x02\x01\x01\x00\x00"}, ["c.toml"]),
@@ -139,7 +144,7 @@ INPUTS = [
     ("upper corner below lower", {"c.toml": case("upper = [2.0, 1.0]", "upper = [2.0, -1.0]")}, ["c.toml"]),
     ("boundary part that does not exist", {"c.toml": case('contact = "patch"', 'contact = "pach"')}, ["c.toml"]),
     ("part predicate selecting nothing", {"c.toml": case("x > 0.5 && x < 1.5", "x > 5")}, ["c.toml"]),
-    ("unknown variable in a formula", {"c.toml": case('gap = "0.001*x"', 'gap = "0.001*t"')}, ["c.toml"]),
+    ("unknown variable in a formula", {"c.toml": case('gap = "0.001*x"', 'gap = "0.001*q"')}, ["c.toml"]),
     ("formula syntax error", {"c.toml": case('f0 = ["0", "-10*t"]', 'f0 = ["0", "-10*(t"]')}, ["c.toml"]),
     ("formula of the wrong length", {"c.toml": case('f0 = ["0", "-10*t"]', 'f0 = ["-10*t"]')}, ["c.toml"]),
     ("negative gap", {"c.toml": case('gap = "0.001*x"', 'gap = "-0.001*x"')}, ["c.toml"]),
@@ -209,7 +214,7 @@ INPUTS = [
     # --- sizes (issue 11 items 2, 3): refused before allocating or factorizing, never a crash
     ("--n far too large for a built-in case", {}, ["run", "block-3d", "--n", "100000", "-o", "out"]),
     ("--n too large for a 2D built-in case", {}, ["paper-2d", "--n", "5000"]),
-    ("estimated memory above --memory-limit", {}, ["block-3d", "--n", "20", "--memory-limit", "50M", "--engine", "serial"]),
+    ("estimated memory above --memory-limit (with --engine auto the run goes on with CG + GAMG instead)", {}, ["block-3d", "--n", "20", "--memory-limit", "50M", "--engine", "serial"]),
     ("--memory-limit that is not a size", {}, ["paper-1d", "--memory-limit", "lots"]),
     ("CHOLMOD runs out of memory (address space limited to 460 MB)", {},
      ["block-3d", "--n", "20", "--memory-limit", "unlimited"], {"address_space": 460_000_000}),
@@ -226,13 +231,33 @@ INPUTS = [
 ]
 
 
+TABLE_HEADER = "| # | bad input | command (in the input's folder) | exit | message |"
+
+
+def doc_table(text):
+    """The lines of the table in docs/reliability.md: from its header to the first line that is not a row."""
+    lines = text.splitlines()
+    start = lines.index(TABLE_HEADER)
+    end = start
+    while end < len(lines) and lines[end].startswith("|"):
+        end += 1
+    return start, end, lines
+
+
 def main():
-    vpcontact = os.path.abspath(sys.argv[1])
+    argv = sys.argv[1:]
+    if not argv or argv[0].startswith("-"):
+        sys.exit("usage: bad_inputs.py VPCONTACT [--doc docs/reliability.md [--update]]")
+    vpcontact = os.path.abspath(argv[0])
+    doc = pathlib.Path(argv[argv.index("--doc") + 1]) if "--doc" in argv else None
+    update = "--update" in argv
     rows, failures = [], []
     # AddressSanitizer's shadow memory exceeds any address-space limit: skip those inputs.
     asan = b"__asan_init" in pathlib.Path(vpcontact).read_bytes()
-    for i, (what, files, args, *limits) in enumerate(INPUTS, 1):
-        address_space = limits[0].get("address_space") if limits else None
+    for i, (what, files, args, *options) in enumerate(INPUTS, 1):
+        options = options[0] if options else {}
+        address_space = options.get("address_space")
+        warning = options.get("warning", False)
         if address_space and asan:
             continue
         with tempfile.TemporaryDirectory() as tmp:
@@ -252,13 +277,24 @@ def main():
         message = (p.stderr.strip() or p.stdout.strip()).splitlines()
         message = message[0] if message else ""
         sanitizer = "Sanitizer" in p.stderr or "runtime error" in p.stderr
-        if not 1 <= p.returncode <= 127 or sanitizer or not message:
+        refused = 1 <= p.returncode <= 127
+        warned = p.returncode == 0 and "warning" in p.stderr
+        if not (warned if warning else refused) or sanitizer or not message:
             failures.append(f"{what}: exit {p.returncode}: {p.stderr.strip()[:2000]}")
         inp = "`" + " ".join(args).replace("|", "\\|") + "`"
         rows.append(f"| {i} | {what} | {inp} | {p.returncode} | `{message.replace('|', '¦')}` |")
-    print("| # | bad input | command (in the input's folder) | exit | message |")
-    print("|---|---|---|---|---|")
-    print("\n".join(rows))
+    table = [TABLE_HEADER, "|---|---|---|---|---|", *rows]
+    print("\n".join(table))
+    if doc and not asan:  # a sanitizer build skips the address-space inputs: its table is shorter
+        start, end, lines = doc_table(doc.read_text())
+        if lines[start:end] != table:
+            if update:
+                doc.write_text("\n".join(lines[:start] + table + lines[end:]) + "\n")
+            else:
+                import difflib
+                diff = difflib.unified_diff(lines[start:end], table, str(doc), "vpcontact's messages now", lineterm="")
+                failures.append(f"the table in {doc} is stale; regenerate it with "
+                                f"scripts/bad_inputs.py {argv[0]} --doc {doc} --update:\n" + "\n".join(diff))
     if failures:
         sys.exit("bad_inputs.py: not a clean error:\n" + "\n".join(failures))
 
