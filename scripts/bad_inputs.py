@@ -114,6 +114,14 @@ Curve Loop(1) = {1, 2, 3, 4}; Plane Surface(1) = {1};
 """
 
 
+# The reporter's inputs of issue 26 (tests/data/reported/, copies of ../shared/reported/).
+REPORTED = pathlib.Path(__file__).resolve().parent.parent / "tests" / "data" / "reported"
+
+
+def reported(*names):
+    return {name: (REPORTED / name).read_bytes() for name in names}
+
+
 def case(frm, to):
     assert frm in CASE, frm
     return CASE.replace(frm, to, 1)
@@ -228,9 +236,42 @@ INPUTS = [
     ("--retry-halvings out of range", {}, ["run", "paper-1d", "--retry-halvings", "50", "-o", "out"]),
     ("formula for phi that gives NaN during the run", {"c.toml": case('source = "von-mises"',
      'phi = "t > 0.45 ? sqrt(-1) : -vm/100"')}, ["run", "c.toml", "--no-vtu", "-o", "out"]),
+    # --- issue 26: wrong answers that were reported as success, and hostile inputs
+    ("explicit viscoplastic step beyond its stability bound (Perzyna)", {},
+     ["run", "paper-2d", "--n", "10", "--set", "viscoplasticity.law=perzyna", "--set", "viscoplasticity.lambda=1.0",
+      "--set", "viscoplasticity.sigma_y=2.0", "--steps", "100", "--no-vtu", "-o", "out"]),
+    ("explicit viscoplastic step beyond its stability bound (maxwell-damage)", {},
+     ["run", "paper-2d", "--n", "10", "--set", "viscoplasticity.law=maxwell-damage", "--set",
+      "viscoplasticity.rate=1000", "--set", "damage.c=1", "--steps", "100", "--no-vtu", "-o", "out"]),
+    ("plane obstacle whose normal points away from the body", reported("plane_normal_away.toml"),
+     ["plane_normal_away.toml"]),
+    ("obstacle position that is NaN at t = 0.5", reported("obstacle_nan.toml"),
+     ["run", "obstacle_nan.toml", "--no-vtu", "-o", "out"]),
+    ("valid: every free node is a contact node (2D, one cell)", reported("thin.toml"),
+     ["run", "thin.toml", "--no-vtu", "-o", "out"], {"valid": True}),
+    ("valid: every free node is a contact node (3D, one layer)", reported("thin3d.toml"),
+     ["run", "thin3d.toml", "--no-vtu", "-o", "out"], {"valid": True}),
+    ("coordinates of size 1e120", reported("huge_coords.toml", "huge_coords.msh"),
+     ["run", "huge_coords.toml", "--no-vtu", "-o", "out"]),
+    ("numerically singular damage matrix (kappa = 1e300)", {},
+     ["run", "paper-1d", "--set", "damage.kappa=1e300", "--no-vtu", "-o", "out"]),
+    ("probe outside the body", reported("probe_outside.toml"), ["probe_outside.toml"]),
+    ("Poisson's ratio 0.4999999999 with P1 elements (locking)", {"c.toml": case("nu = 0.3", "nu = 0.4999999999")},
+     ["c.toml"], {"warning": True}),
+    (".geo that runs a shell command (SystemCall)", reported("syscall.toml", "syscall.geo"), ["syscall.toml"]),
+    ("case file that is a FIFO", {"c.toml": None}, ["c.toml"]),
+    ("case.name that leaves the output folder", {},
+     ["run", "paper-1d", "--set", "case.name=../../escaped", "--no-vtu"]),
+    ("a 300,000-character case name", {"c.toml": "[case]\nname = \"" + "n" * 300_000 + "\"\n" + CASE},
+     ["c.toml"]),
+    ("a 1 MB formula", {"c.toml": case('gap = "0.001*x"', 'gap = "0.001*x' + " + x" * 200_000 + ' + q"')},
+     ["c.toml"]),
+    ("control characters (ESC, BEL) in a string", {"c.toml": case('contact = "patch"', 'contact = "\\u001b[31mpatch\\u0007"')},
+     ["c.toml"]),
 ]
 
 
+TIMEOUT = int(os.environ.get("BAD_INPUTS_TIMEOUT", "300"))  # seconds per input
 TABLE_HEADER = "| # | bad input | command (in the input's folder) | exit | message |"
 
 
@@ -258,28 +299,46 @@ def main():
         options = options[0] if options else {}
         address_space = options.get("address_space")
         warning = options.get("warning", False)
+        valid = options.get("valid", False)  # a valid input once refused: it must run (exit 0)
         if address_space and asan:
             continue
-        with tempfile.TemporaryDirectory() as tmp:
+        with tempfile.TemporaryDirectory() as top:
+            # Two levels down, so that a path that climbs out (../../escaped) still lands in `top`.
+            tmp = pathlib.Path(top) / "in" / "put"
+            tmp.mkdir(parents=True)
             for name, content in files.items():
-                path = pathlib.Path(tmp) / name
+                path = tmp / name
                 path.parent.mkdir(parents=True, exist_ok=True)
-                path.write_bytes(content if isinstance(content, bytes) else content.encode())
+                if content is None:  # a FIFO that nothing writes: reading it would block forever
+                    os.mkfifo(path)
+                else:
+                    path.write_bytes(content if isinstance(content, bytes) else content.encode())
             if args[0] not in ("run", "cases", "plot", "rnu"):
                 args = ["check", *args]
             quiet = ["-q"] if args[0] in ("run", "check") else []
-            p = subprocess.run([vpcontact, *args, *quiet], cwd=tmp, capture_output=True, text=True,
-                               errors="replace", timeout=300,
-                               preexec_fn=(lambda: resource.setrlimit(resource.RLIMIT_AS, (address_space,) * 2))
-                               if address_space else None)
+            try:
+                p = subprocess.run([vpcontact, *args, *quiet], cwd=tmp, capture_output=True, text=True,
+                                   errors="replace", timeout=TIMEOUT,
+                                   preexec_fn=(lambda: resource.setrlimit(resource.RLIMIT_AS, (address_space,) * 2))
+                                   if address_space else None)
+            except subprocess.TimeoutExpired:
+                failures.append(f"{what}: no answer within {TIMEOUT} s (a hang)")
+                continue
             if (pathlib.Path(tmp) / "INJECTED").exists():
                 failures.append(f"{what}: a shell ran a command in a file name (INJECTED exists)")
+            if (pathlib.Path(tmp) / "INJECTED_BY_GEO").exists():
+                failures.append(f"{what}: a .geo ran a shell command (INJECTED_BY_GEO exists)")
+            if any(pathlib.Path(top).rglob("escaped*")):
+                failures.append(f"{what}: a run wrote outside its output folder (escaped exists)")
         message = (p.stderr.strip() or p.stdout.strip()).splitlines()
         message = message[0] if message else ""
         sanitizer = "Sanitizer" in p.stderr or "runtime error" in p.stderr
         refused = 1 <= p.returncode <= 127
         warned = p.returncode == 0 and "warning" in p.stderr
-        if not (warned if warning else refused) or sanitizer or not message:
+        ok = p.returncode == 0 if valid else warned if warning else refused
+        if valid:
+            message = message or "(runs)"
+        if not ok or sanitizer or not message:
             failures.append(f"{what}: exit {p.returncode}: {p.stderr.strip()[:2000]}")
         inp = "`" + " ".join(args).replace("|", "\\|") + "`"
         rows.append(f"| {i} | {what} | {inp} | {p.returncode} | `{message.replace('|', '¦')}` |")
