@@ -831,6 +831,28 @@ void read_obstacles(Section& top, Problem& p, const Origins& origins, bool gap_g
   }
 }
 
+/// Where the keys are that Problem::validate's checks across keys name (Problem::where).
+void record_key_locations(Section& top, Problem& p, const Origins& origins) {
+  auto record = [&](Section& s, const std::string& key) {
+    if (s.has(key)) p.key_locations[s.key_path(key)] = s.where(key);
+  };
+  auto record_tables = [&](Section& s, const std::string& key) {  // [[key]]: each table's header
+    if (!s.has(key) || !s.get(key)->is_array_of_tables()) return;
+    int k = 0;
+    for (const auto& node : *s.get(key)->as_array()) {
+      const std::string path = fmt::format("{}[{}]", s.key_path(key), k++);
+      p.key_locations[path] = fmt::format("{}: {}", Section(node.as_table(), path, origins).where_section(), path);
+    }
+  };
+  Section b = top.table("boundary");
+  if (b.exists()) p.key_locations["boundary"] = fmt::format("{}: [boundary]", b.where_section());
+  for (const char* key : {"contact", "clamped", "symmetry"}) record(b, key);
+  record_tables(b, "displacement");
+  Section ct = top.table("contact");
+  for (const char* key : {"gap", "direction"}) record(ct, key);
+  record_tables(top, "obstacle");
+}
+
 /// Returns whether a gap was given.
 bool read_contact(Section ct, Problem& p, const Origins& origins) {
   const auto gap = ct.has("gap") ? ct.expression("gap", Expression::Kind::SpaceTime) : nullptr;
@@ -1047,8 +1069,17 @@ Case parse_case(std::string_view text, const std::string& name, const fs::path& 
   c.output = read_output(top.table("output"), *p);
   c.solvers = read_solver(top.table("solver"));
   top.finish();
+  record_key_locations(top, *p, origins);
   // Without the mesh (a rank that did not build it): validated by the rank that has it.
-  if (mesh_request.build) located(name, [&] { p->validate(); });
+  // A message that names a key of the file has its location already.
+  if (mesh_request.build) {
+    try {
+      p->validate();
+    } catch (const Error& e) {
+      if (std::string_view(e.what()).starts_with(name + ":")) throw;
+      throw Error(name + ": " + e.what());
+    }
+  }
   c.problem = std::move(p);
   return c;
 }

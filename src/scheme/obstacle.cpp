@@ -49,6 +49,19 @@ double distance_along(const Obstacle& o, const Point& x, const Point& nu, double
   return kMiss;
 }
 
+double depth(const Obstacle& o, const Point& x, double t) {
+  const Point p = o.position(x, t);
+  switch (o.shape) {
+    case Obstacle::Shape::Plane: return dot(minus(p, x), o.normal);
+    case Obstacle::Shape::Sphere: return o.radius - std::sqrt(dot(minus(x, p), minus(x, p)));
+    case Obstacle::Shape::Cylinder: {
+      const Point w = without(minus(x, p), o.axis);
+      return o.radius - std::sqrt(dot(w, w));
+    }
+  }
+  return 0;
+}
+
 double obstacle_gap(const std::vector<Obstacle>& obstacles, const Point& x, const Point& nu, double t, double miss,
                     ObstacleMask mask) {
   const int k = nearest_obstacle(obstacles, x, nu, t, mask);

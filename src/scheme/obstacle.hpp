@@ -31,6 +31,11 @@ inline constexpr ObstacleMask kAllObstacles = ~ObstacleMask{0};
 /// does not meet it (ν points away from a plane, passes beside a sphere).
 double distance_along(const Obstacle& o, const Point& x, const Point& nu, double t);
 
+/// How deep x lies inside the obstacle at time t: > 0 inside (the distance from x to
+/// the plane, or the radius less x's distance to the centre or axis), ≤ 0 outside or
+/// on the surface.
+double depth(const Obstacle& o, const Point& x, double t);
+
 /// The least distance_along over the obstacles of `mask`, or `miss` when every ray misses.
 double obstacle_gap(const std::vector<Obstacle>& obstacles, const Point& x, const Point& nu, double t, double miss,
                     ObstacleMask mask = kAllObstacles);

@@ -30,6 +30,11 @@ int steps_of_time_step(double final_time, double k) {
   return static_cast<int>(std::round(n));
 }
 
+std::string Problem::where(const std::string& key) const {
+  const auto it = key_locations.find(key);
+  return it != key_locations.end() ? it->second : fmt::format("{}: {}", name.empty() ? "problem" : name, key);
+}
+
 double Problem::time_at(int n) const {
   if (!step_times.empty()) return n == 0 ? 0.0 : step_times[static_cast<std::size_t>(n) - 1];
   return n == n_steps ? final_time : n * step();  // exactly (sums of k would accumulate round-off)
@@ -230,6 +235,35 @@ void check_direction(const Problem& p, int node, const Point& direction, const P
        p.name, direction[0], direction[1], direction[2], node, x[0], x[1], x[2], n[0], n[1], n[2], angle);
 }
 
+/// Obstacle k located for a message: "case.toml:27:1: obstacle[0] ('punch')".
+std::string obstacle_where(const Problem& p, int k) {
+  return fmt::format("{} ('{}')", p.where(fmt::format("obstacle[{}]", k)), p.contact.obstacles[k].name);
+}
+
+/// At t = 0 the body, u0 = 0, must lie outside every obstacle (docs/cases.md, [[obstacle]]):
+/// a contact node inside one is refused, whichever way its ray along ν goes (a ray
+/// pointing away from a plane, or along a cylinder's axis, misses the obstacle, which
+/// the gap alone would then ignore).
+void check_outside_obstacles(const Problem& p, int node, ObstacleMask mask) {
+  const Point& x = p.mesh.node(node);
+  for (std::size_t k = 0; k < p.contact.obstacles.size(); ++k) {
+    if (!(mask >> k & 1)) continue;
+    const Obstacle& o = p.contact.obstacles[k];
+    const double depth_0 = depth(o, x, 0.0);
+    if (!(depth_0 > 0)) continue;  // outside, on the surface (or NaN: reported with the gap)
+    const std::string where = obstacle_where(p, static_cast<int>(k));
+    if (o.shape == Obstacle::Shape::Plane)
+      fail("{}: contact node {} ({}, {}, {}) lies inside the obstacle at t = 0: {:.6g} behind the plane, on the side "
+           "its normal ({:.6g}, {:.6g}, {:.6g}) points away from; the normal must point from the obstacle towards the "
+           "body, and at t = 0 every contact node must lie outside every obstacle",
+           where, node, x[0], x[1], x[2], depth_0, o.normal[0], o.normal[1], o.normal[2]);
+    fail("{}: contact node {} ({}, {}, {}) lies inside the {} at t = 0, {:.6g} from its {} (radius {}); at t = 0 "
+         "every contact node must lie outside every obstacle",
+         where, node, x[0], x[1], x[2], o.shape == Obstacle::Shape::Sphere ? "sphere" : "cylinder",
+         o.radius - depth_0, o.shape == Obstacle::Shape::Sphere ? "centre" : "axis", o.radius);
+  }
+}
+
 }  // namespace
 
 std::vector<ContactRow> contact_rows(const Problem& p, const std::vector<int>& condition) {
@@ -307,9 +341,13 @@ std::vector<ContactRow> contact_rows(const Problem& p, const std::vector<int>& c
       l = length(v);
       for (double& vc : v) vc /= l;
     }
+    check_outside_obstacles(p, node, obstacles[node]);
     const double g = contact_gap_at(p.contact, x, v, 0.0, miss, obstacles[node]);
-    require(std::isfinite(g) && g >= 0, "{}: the gap g must be a number >= 0 at t = 0; the obstacles give {} at contact node {} ({}, {}, {})",
-            p.name, g, node, x[0], x[1], x[2]);
+    if (!(std::isfinite(g) && g >= 0)) {
+      const int k = p.contact.obstacles.empty() ? -1 : nearest_obstacle(p.contact.obstacles, x, v, 0.0, obstacles[node]);
+      fail("{}: the gap g must be a number >= 0 at t = 0; it is {} at contact node {} ({}, {}, {})",
+           k < 0 ? p.where("contact.gap") : obstacle_where(p, k), g, node, x[0], x[1], x[2]);
+    }
     const bool compliant = !signorini[node];
     rows.push_back({node, v, g, compliant ? stiffness[node] : 0.0, compliant ? exponent[node] : 1.0, obstacles[node]});
   }

@@ -12,6 +12,7 @@
 
 #include <array>
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -100,7 +101,12 @@ struct Problem {
   std::vector<double> step_sizes;
   /// Error-controlled steps instead of a fixed grid (completed: StepControl::completed).
   std::optional<StepControl> step_control;
+  /// Where a case file gives the keys that the checks across keys name, by key path
+  /// ("boundary.contact" -> "case.toml:9:1: boundary.contact"); filled by the case reader.
+  std::map<std::string, std::string> key_locations;
 
+  /// `key` located for a message: its key_locations entry, else "<name>: <key>".
+  std::string where(const std::string& key) const;
   /// The step of a uniform grid, T / N.
   double step() const { return final_time / n_steps; }
   bool uniform_steps() const { return step_times.empty() && !step_control; }

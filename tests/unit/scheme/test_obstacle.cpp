@@ -100,7 +100,16 @@ TEST(Obstacle, BadObstaclesAreLocatedErrors) {
   EXPECT_NE(m.find("obstacle[0].shape"), std::string::npos) << m;
   EXPECT_NE(m.find("cylinder"), std::string::npos) << m;
   m = error("[[obstacle]]\nshape = \"plane\"\npoint = [0.5]\nnormal = [-1]\n");  // already through the tip
-  EXPECT_NE(m.find("must be a number >= 0 at t = 0"), std::string::npos) << m;
+  EXPECT_NE(m.find("o.toml:21:1: obstacle[0]"), std::string::npos) << m;
+  EXPECT_NE(m.find("obstacle[0] ('obstacle1'): contact node 8 (1, 0, 0) lies inside the obstacle at t = 0"),
+            std::string::npos) << m;
+  // Issue 26: a normal pointing away from the body (the ray along ν misses the plane) is
+  // the body inside the obstacle too, not an obstacle that is never met.
+  m = error("[[obstacle]]\nshape = \"plane\"\npoint = [2]\nnormal = [1]\n");
+  EXPECT_NE(m.find("lies inside the obstacle at t = 0: 1 behind the plane"), std::string::npos) << m;
+  EXPECT_NE(m.find("the normal must point from the obstacle towards the body"), std::string::npos) << m;
+  m = error("[[obstacle]]\nshape = \"sphere\"\ncenter = [1.2]\nradius = 5\n");  // the body inside a sphere
+  EXPECT_NE(m.find("lies inside the sphere at t = 0, 0.2 from its centre (radius 5)"), std::string::npos) << m;
   m = error("[[obstacle]]\nshape = \"plane\"\npoint = [2]\nnormal = [0]\n");
   EXPECT_NE(m.find("non-zero vector"), std::string::npos) << m;
 }
