@@ -24,6 +24,7 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -187,10 +188,13 @@ int check(const Options& o, const CLI::App& cmd) {
   });
 }
 
-/// "  paper-2d   description" for each built-in case.
+/// "  paper-2d        description" for each built-in case, the descriptions in one column.
 std::string builtin_case_list() {
+  std::size_t width = 0;
+  for (const auto& s : vpc::shipped_cases()) width = std::max(width, s.name.size());
   std::string list;
-  for (const auto& s : vpc::shipped_cases()) list += fmt::format("  {:10} {}\n", s.name, vpc::case_description(s.text));
+  for (const auto& s : vpc::shipped_cases())
+    list += fmt::format("  {:{}} {}\n", s.name, width, vpc::case_description(s.text));
   return list;
 }
 
