@@ -217,7 +217,8 @@ void add_case_options(CLI::App* cmd, Options& o) {
                   "keys it excludes (time.steps/dt, output.every/times, damage.phi/source, mesh.file/generator)");
   cmd->add_option("--kappa", o.kappa, "damage diffusion kappa (>= 0)");
   cmd->add_option("-n,--n", o.n,
-                  "generated meshes only: cells per edge (1D: segments; 2D: n x n squares; 3D: n^3 cubes)");
+                  "generated meshes only: n cells along every edge, whatever the domain's aspect (1D: n segments; 2D: n x n "
+                  "cells; 3D: n^3 boxes)");
   cmd->add_option("--steps", o.steps, "number of time steps N (k = T / N)");
   cmd->add_option("--dt", o.dt, "time step k (must divide T)");
   cmd->add_option("--contact-solver", o.contact_solver,

@@ -229,8 +229,8 @@ void write_pvtu(const fs::path& path, const std::vector<VtuField>& point_data, c
   xml += "  <PUnstructuredGrid GhostLevel=\"0\">\n    <PPointData>\n";
   auto arrays = [&](const std::vector<VtuField>& fields) {
     for (const auto& f : fields)
-      xml += fmt::format("      <PDataArray type=\"Float64\" Name=\"{}\" NumberOfComponents=\"{}\"/>\n", f.name,
-                         f.n_components);
+      xml += fmt::format("      <PDataArray type=\"{}\" Name=\"{}\" NumberOfComponents=\"{}\"/>\n", vtk_type(f),
+                         f.name, f.n_components);
   };
   arrays(point_data);
   xml += "    </PPointData>\n    <PCellData>\n";
@@ -322,7 +322,7 @@ void RunOutput::write_fields() {
   if (wants("history_z")) cell_data.push_back(tensor_field("history_z", s.z));
   if (!stepper_.problem().materials.empty()) {  // which material each cell has (Problem::material_list order)
     const std::vector<int>& m = stepper_.part().cell_material;
-    cell_data.push_back({"material", 1, std::vector<double>(m.begin(), m.end())});
+    cell_data.push_back({"material", 1, std::vector<double>(m.begin(), m.end()), true});
   }
   const std::string stem = fmt::format("solution_{:05d}", s.n);
   std::string file = stem + ".vtu";
@@ -330,7 +330,7 @@ void RunOutput::write_fields() {
     write_vtu(options_.directory / file, mesh, point_data, cell_data, options_.encoding);
   } else {
     // Each process its piece, with the partition as a field (to look at it in ParaView).
-    cell_data.push_back({"rank", 1, std::vector<double>(mesh.n_cells(), static_cast<double>(comm.rank()))});
+    cell_data.push_back({"rank", 1, std::vector<double>(mesh.n_cells(), static_cast<double>(comm.rank())), true});
     la::collective(comm, [&] {
       write_vtu(options_.directory / fmt::format("{}_p{:04d}.vtu", stem, comm.rank()), mesh, point_data, cell_data,
                 options_.encoding);

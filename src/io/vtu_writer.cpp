@@ -21,6 +21,8 @@ VtuCompression vtu_compression(const std::string& name) {
   fail("unknown VTU compression '{}'; expected \"zlib\" or \"none\"", name);
 }
 
+const char* vtk_type(const VtuField& f) { return f.integer ? "Int32" : "Float64"; }
+
 const char* vtu_compression_name(VtuCompression c) { return c == VtuCompression::zlib ? "zlib" : "none"; }
 
 std::vector<char> encode_vtu_block(const void* data, std::size_t bytes, const VtuEncoding& e) {
@@ -92,11 +94,12 @@ class Appended {
 };
 
 void field_xml(std::string& xml, Appended& app, const VtuField& f) {
-  const std::size_t off = app.add(f.values);
+  const std::size_t off =
+      f.integer ? app.add(std::vector<std::int32_t>(f.values.begin(), f.values.end())) : app.add(f.values);
   xml += fmt::format(
-      "        <DataArray type=\"Float64\" Name=\"{}\" NumberOfComponents=\"{}\" format=\"appended\" "
+      "        <DataArray type=\"{}\" Name=\"{}\" NumberOfComponents=\"{}\" format=\"appended\" "
       "offset=\"{}\"/>\n",
-      f.name, f.n_components, off);
+      vtk_type(f), f.name, f.n_components, off);
 }
 
 /// The mesh part of a VTU file, cached: the mesh does not change during a run.
