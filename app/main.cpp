@@ -73,17 +73,16 @@ vpc::Case load_case(const Options& o, const CLI::App& cmd, const vpc::CaseSource
   if (given(cmd, "--kappa")) ov.kappa = o.kappa;
   if (given(cmd, "--steps")) ov.steps = o.steps;
   if (given(cmd, "--dt")) ov.time_step = o.dt;
+  if (given(cmd, "--every")) {
+    vpc::require(o.every >= 0, "--every must be >= 0 (got {})", o.every);
+    ov.every = o.every;  // a key of the case: read as output.every is (error-controlled steps: docs/cases.md)
+  }
   vpc::MeshRequest request = mesh;
   if (given(cmd, "--n")) request.cells = o.n;
   vpc::Case c = vpc::load_case(src, ov, request);
   c.output.directory = outdir;
   c.output.command_line = o.run.argv;
   c.output.started = o.started;
-  if (given(cmd, "--every")) {
-    vpc::require(o.every >= 0, "--every must be >= 0 (got {})", o.every);
-    c.output.every = o.every;
-    c.output.times.clear();
-  }
   if (o.no_vtu) c.output.vtu = false;
   if (!o.contact_solver.empty()) c.solvers.contact = o.contact_solver;
   if (!o.damage_solver.empty()) c.solvers.damage = o.damage_solver;
