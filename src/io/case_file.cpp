@@ -1070,6 +1070,7 @@ Case parse_case(std::string_view text, const std::string& name, const fs::path& 
   Section info = top.table("case");
   c.name = info.string("name", fs::path(name).stem().string());
   c.description = info.string("description", "case file " + name);
+  const std::string units = info.string("units", "SI");  // for the figures' labels (OutputOptions::units)
   info.finish();
 
   auto p = std::make_shared<Problem>();
@@ -1084,6 +1085,7 @@ Case parse_case(std::string_view text, const std::string& name, const fs::path& 
   read_obstacles(top, *p, origins, read_contact(top.table("contact"), *p, origins));
   read_time(top.table("time"), *p, name);
   c.output = read_output(top.table("output"), *p);
+  c.output.units = units;
   c.solvers = read_solver(top.table("solver"));
   top.finish();
   // Without the mesh (a rank that did not build it): validated by the rank that has it.
