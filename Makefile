@@ -26,7 +26,9 @@ configure: deps
 build: configure
 	@cmake --build $(BUILD) -j $(JOBS)
 
-run: build
+# The run needs the program alone: not the ~400 test files that `build` compiles too.
+run: configure
+	@cmake --build $(BUILD) -j $(JOBS) --target vpcontact
 	./$(BUILD)/app/vpcontact run $(CASE) --plot
 
 # As root (containers, CI) OpenMPI needs consent; 3 ranks oversubscribe 2 cores.

@@ -24,6 +24,7 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -72,17 +73,16 @@ vpc::Case load_case(const Options& o, const CLI::App& cmd, const vpc::CaseSource
   if (given(cmd, "--kappa")) ov.kappa = o.kappa;
   if (given(cmd, "--steps")) ov.steps = o.steps;
   if (given(cmd, "--dt")) ov.time_step = o.dt;
+  if (given(cmd, "--every")) {
+    vpc::require(o.every >= 0, "--every must be >= 0 (got {})", o.every);
+    ov.every = o.every;  // a key of the case: read as output.every is (error-controlled steps: docs/cases.md)
+  }
   vpc::MeshRequest request = mesh;
   if (given(cmd, "--n")) request.cells = o.n;
   vpc::Case c = vpc::load_case(src, ov, request);
   c.output.directory = outdir;
   c.output.command_line = o.run.argv;
   c.output.started = o.started;
-  if (given(cmd, "--every")) {
-    vpc::require(o.every >= 0, "--every must be >= 0 (got {})", o.every);
-    c.output.every = o.every;
-    c.output.times.clear();
-  }
   if (o.no_vtu) c.output.vtu = false;
   if (!o.contact_solver.empty()) c.solvers.contact = o.contact_solver;
   if (!o.damage_solver.empty()) c.solvers.damage = o.damage_solver;
@@ -187,10 +187,13 @@ int check(const Options& o, const CLI::App& cmd) {
   });
 }
 
-/// "  paper-2d   description" for each built-in case.
+/// "  paper-2d        description" for each built-in case, the descriptions in one column.
 std::string builtin_case_list() {
+  std::size_t width = 0;
+  for (const auto& s : vpc::shipped_cases()) width = std::max(width, s.name.size());
   std::string list;
-  for (const auto& s : vpc::shipped_cases()) list += fmt::format("  {:10} {}\n", s.name, vpc::case_description(s.text));
+  for (const auto& s : vpc::shipped_cases())
+    list += fmt::format("  {:{}} {}\n", s.name, width, vpc::case_description(s.text));
   return list;
 }
 
@@ -213,7 +216,8 @@ void add_case_options(CLI::App* cmd, Options& o) {
                   "keys it excludes (time.steps/dt, output.every/times, damage.phi/source, mesh.file/generator)");
   cmd->add_option("--kappa", o.kappa, "damage diffusion kappa (>= 0)");
   cmd->add_option("-n,--n", o.n,
-                  "generated meshes only: cells per edge (1D: segments; 2D: n x n squares; 3D: n^3 cubes)");
+                  "generated meshes only: n cells along every edge, whatever the domain's aspect (1D: n segments; 2D: n x n "
+                  "cells; 3D: n^3 boxes)");
   cmd->add_option("--steps", o.steps, "number of time steps N (k = T / N)");
   cmd->add_option("--dt", o.dt, "time step k (must divide T)");
   cmd->add_option("--contact-solver", o.contact_solver,

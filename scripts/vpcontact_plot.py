@@ -17,16 +17,21 @@ the neutral name:
   1  fig_4_3_time_histories        time_histories       u(t), sigma(t) at the probe points             (probes.csv)
   1  fig_4_4_damage                beta                 beta(x) at those times (VTU), beta(t) at the probes
   2  fig_4_6_deformed_mesh         deformed_mesh        deformed mesh at the final time, initial boundary,
-                                                        nodes in contact                               (VTU)
+                                                        nodes in contact, the rigid obstacles          (VTU)
   2  fig_4_7_von_mises_damage      von_mises_beta       |sigma|_VM (per element) and beta on the deformed body (VTU)
   3                                surface_von_mises    |sigma|_VM on the deformed boundary, from above and below (VTU)
   3                                surface_beta         beta on the deformed boundary, from above and below   (VTU)
   3                                contact_pressure     the point field contact_pressure on the lower boundary,
-                                                        and against the distance from the centre of pressure (VTU)
+                                                        and against the distance from the centre of pressure
+                                                        (on the case's symmetry planes it touches)    (VTU)
   2,3  probes                      probes               u, von Mises, beta versus time at the probes   (probes.csv)
   all  history                     history              total contact force, active nodes, min/max beta (history.csv)
   all  time_steps                  time_steps           the step size k(t), the error estimate per step and the
-                                                        rejected steps, when the steps are not uniform (history.csv)
+                                                        rejected steps, when the steps are not uniform, and the
+                                                        tolerance of error-controlled steps   (history.csv)
+
+summary.json also gives the labels' units ("units": [case] units; SI where absent), the
+symmetry planes and the obstacles' positions at the output times.
 
 The 2D field figures follow the domain's aspect ratio (a wide domain puts
 the two fields one above the other); colour bars are as tall as their plot;
@@ -95,9 +100,53 @@ FIGSIZES = {
 
 # Sequential, perceptually uniform, readable in grey and by colour-blind readers.
 FIELD_CMAP = "viridis"
-VM_LABEL = r"$|\sigma|_{\mathrm{VM}}$ [N/m$^2$]"
 BETA_LABEL = r"damage $\beta$ [-]"
-PRESSURE_LABEL = r"contact pressure $p$ [N/m$^2$]"
+
+# The units of the labels: [case] units (summary.json "units"; the solver never uses
+# units). The known systems put units in the labels; other text (units the user
+# describes) leaves them out and is shown in the titles; outputs without "units": SI.
+UNIT_SYSTEMS = {
+    "SI": {"length": "m", "force": "N", "stress": "N/m$^2$", "time": "s"},
+    "mm-N-MPa": {"length": "mm", "force": "N", "stress": "MPa", "time": "s"},
+}
+
+
+class Units:
+    """The units of one run's labels. Quantities: length, time, force, stress, and
+    line (force per length: the rod's stress, a 2D force per unit thickness)."""
+
+    def __init__(self, name="SI"):
+        self.name = name
+        self.system = UNIT_SYSTEMS.get(name)
+
+    def of(self, q):
+        if self.system is None:
+            return None
+        if q == "line":
+            return "%s/%s" % (self.system["force"], self.system["length"])
+        return self.system[q]
+
+    def br(self, q):
+        """' [unit]' after a label, or nothing."""
+        u = self.of(q)
+        return " [%s]" % u if u else ""
+
+    def after(self, q):
+        """' unit' after a number, or nothing."""
+        u = self.of(q)
+        return " %s" % u if u else ""
+
+
+# The units of the run being drawn (Plotter sets them from summary.json).
+UNITS = Units()
+
+
+def vm_label():
+    return r"$|\sigma|_{\mathrm{VM}}$" + UNITS.br("stress")
+
+
+def pressure_label():
+    return r"contact pressure $p$" + UNITS.br("stress")
 
 # Fraction of the body's size the largest displacement is scaled to in
 # deformed-configuration plots (the paper's displacements are tiny).
@@ -408,6 +457,17 @@ class Run:
         self.final_time = float(self.summary.get("final_time", 1.0))
         self.time_step = float(self.summary.get("time_step", 0.0))
         self.probe_points = [tuple(p) for p in self.summary.get("probes", [])]
+        # The case's symmetry planes [(axis 0/1/2, coordinate)], its rigid obstacles with
+        # their positions at the output times, and the error control's tolerance (None:
+        # fixed steps), as summary.json gives them; outputs of earlier versions have none.
+        try:
+            self.symmetry_planes = [("xyz".index(p["axis"]), float(p["coordinate"]))
+                                    for p in self.summary.get("symmetry_planes", [])]
+            self.obstacles = list(self.summary.get("obstacles", []))
+        except (KeyError, TypeError, ValueError) as e:
+            raise PlotError("%s: unreadable symmetry_planes or obstacles (%s)" % (summary, e))
+        tol = self.summary.get("tolerance")
+        self.tolerance = float(tol) if isinstance(tol, (int, float)) else None
         for name in ("probes.csv", "history.csv"):
             p = os.path.join(outdir, name)
             if not os.path.isfile(p):
@@ -458,8 +518,8 @@ def fmt_t(t):
 
 def snapshot_label(t, targets, exact):
     if exact:
-        return "t = %s s" % fmt_t(t)
-    return "t = %s s (nearest output to t = %s)" % (fmt_t(t), ", ".join(fmt_t(x) for x in targets))
+        return "t = %s%s" % (fmt_t(t), UNITS.after("time"))
+    return "t = %s%s (nearest output to t = %s)" % (fmt_t(t), UNITS.after("time"), ", ".join(fmt_t(x) for x in targets))
 
 
 def nice_scale(value):
@@ -580,6 +640,20 @@ def contact_boundary(vtu, pressure):
     return faces[down], "the downward-facing boundary, projected on $(x, y)$"
 
 
+def centre_of_pressure(xy, pressure, planes, tol):
+    """The pressure-weighted centre (x_c, y_c) of the nodes xy (n, 2) in contact. A
+    contact zone that touches one of the case's symmetry planes planes [(axis, c)] is
+    half (or a quarter) of the real zone, mirrored there: its centre's coordinate along
+    that axis is the plane's. Other sides of the mesh are not symmetry planes."""
+    import numpy as np
+
+    centre = (xy * pressure[:, None]).sum(axis=0) / pressure.sum()
+    for axis, c in planes:
+        if axis < 2 and np.any(np.abs(xy[:, axis] - c) <= tol):
+            centre[axis] = c
+    return centre
+
+
 def plot_aspect(tri, xy):
     """Height / width of what a 2D plot shows: the deformed mesh and the initial body."""
     import numpy as np
@@ -619,17 +693,14 @@ def field_pair_layout(aspect):
 
 
 def probe_label(p, dim):
-    return "x = " + ("%.4g m" % p[0] if dim == 1 else "(" + ", ".join("%.4g" % c for c in p[:dim]) + ") m")
+    where = "%.4g" % p[0] if dim == 1 else "(" + ", ".join("%.4g" % c for c in p[:dim]) + ")"
+    return "x = " + where + UNITS.after("length")
 
 
-def stress_units(dim):
-    return {1: "N/m", 2: "N/m²", 3: "N/m²"}[dim]
-
-
-def force_units(dim):
+def force_quantity(dim):
     # 1D: the contact force is -sigma(L) (N/m in the paper's units); 2D: force
     # per unit thickness of the plane-stress slab; 3D: a force.
-    return {1: "N/m", 2: "N/m", 3: "N"}[dim]
+    return {1: "line", 2: "line", 3: "force"}[dim]
 
 
 # --------------------------------------------------------------------------
@@ -648,6 +719,8 @@ class Plotter:
         self.fmt = fmt
         self.dpi = dpi
         self.paper = paper_case(run)
+        global UNITS
+        UNITS = Units(str(run.summary.get("units", "SI")))
         self.figdir = os.path.join(run.outdir, "figures")
         os.makedirs(self.figdir, exist_ok=True)
         self.written = []
@@ -687,7 +760,8 @@ class Plotter:
     def title(self, key, text):
         """'case — Fig. 4.x: text' for the paper's cases, 'case — text' otherwise."""
         fig_no = PAPER_FIGURES.get(key, (None, None))[1] if self.paper else None
-        return "%s — %s%s" % (self.run.case, "Fig. %s: " % fig_no if fig_no else "", text)
+        units = " (units: %s)" % UNITS.name if UNITS.system is None and UNITS.name else ""
+        return "%s — %s%s%s" % (self.run.case, "Fig. %s: " % fig_no if fig_no else "", text, units)
 
     def colorbar(self, fig, mappable, ax, label, width_in=0.14):
         """A colour bar to the right of ax, exactly as tall as ax's drawn box
@@ -739,9 +813,9 @@ class Plotter:
                 ax_u.plot(x, u, color=c, label=label)
             if sig is not None:
                 ax_s.plot(np.column_stack([xl, xr]).ravel(), np.repeat(sig, 2), color=c, label=label)
-        for ax, ylabel, title in ((ax_u, r"displacement $u$ [m]", "(a) displacement field"),
-                                  (ax_s, r"stress $\sigma$ [N/m]", r"(b) stress field ($P_0$, per element)")):
-            ax.set_xlabel(r"$x$ [m]")
+        for ax, ylabel, title in ((ax_u, r"displacement $u$" + UNITS.br("length"), "(a) displacement field"),
+                                  (ax_s, r"stress $\sigma$" + UNITS.br("line"), r"(b) stress field ($P_0$, per element)")):
+            ax.set_xlabel(r"$x$" + UNITS.br("length"))
             ax.set_ylabel(ylabel)
             ax.set_title(title)
             ax.grid(True, alpha=0.4)
@@ -767,9 +841,9 @@ class Plotter:
                 ax_u.plot(t, pr["p%d_ux" % i], color=c, label=probe_label(p, 1))
             if "p%d_sigma11" % i in pr:
                 ax_s.plot(t, pr["p%d_sigma11" % i], color=c, label=probe_label(p, 1) + " (its element)")
-        for ax, ylabel, title in ((ax_u, r"displacement $u$ [m]", "(a) evolution of the displacement"),
-                                  (ax_s, r"stress $\sigma$ [N/m]", "(b) evolution of the stress")):
-            ax.set_xlabel(r"time $t$ [s]")
+        for ax, ylabel, title in ((ax_u, r"displacement $u$" + UNITS.br("length"), "(a) evolution of the displacement"),
+                                  (ax_s, r"stress $\sigma$" + UNITS.br("line"), "(b) evolution of the stress")):
+            ax.set_xlabel(r"time $t$" + UNITS.br("time"))
             ax.set_ylabel(ylabel)
             ax.set_title(title)
             ax.grid(True, alpha=0.4)
@@ -800,9 +874,9 @@ class Plotter:
         for i, p in enumerate(self.run.probe_points):
             if "p%d_beta" % i in pr:
                 ax_t.plot(pr["t"], pr["p%d_beta" % i], color="C%d" % (i % 10), label=probe_label(p, 1))
-        ax_x.set_xlabel(r"$x$ [m]")
+        ax_x.set_xlabel(r"$x$" + UNITS.br("length"))
         ax_x.set_title("(a) damage function at several times")
-        ax_t.set_xlabel(r"time $t$ [s]")
+        ax_t.set_xlabel(r"time $t$" + UNITS.br("time"))
         ax_t.set_title("(b) evolution of the damage function")
         if self.run.probe_points:
             ax_t.legend(fontsize="small")
@@ -843,17 +917,49 @@ class Plotter:
         if np.any(active):
             ax.plot(tri.x[active], tri.y[active], "o", color="C3", ms=4,
                     label="nodes in contact: %d" % np.count_nonzero(active))
+        self.draw_obstacles(ax, t, s)
         ax.set_aspect("equal")
-        ax.set_xlabel(r"$x$ [m]")
-        ax.set_ylabel(r"$y$ [m]")
+        ax.set_xlabel(r"$x$" + UNITS.br("length"))
+        ax.set_ylabel(r"$y$" + UNITS.br("length"))
         ax.grid(True, alpha=0.3)
         # Above the axes, under the title: never over the mesh or the x label.
         ax.legend(loc="lower center", bbox_to_anchor=(0.5, 1.0), ncol=3, fontsize="small", frameon=False,
                   borderaxespad=0.3)
-        fig.suptitle(self.title(key, "deformed mesh at $t$ = %s s and initial boundary\n"
-                                "displacements magnified × %s (max $|u|$ = %.3g m)"
-                                % (fmt_t(t), scale_text(s), umax)), fontsize="medium")
+        fig.suptitle(self.title(key, "deformed mesh at $t$ = %s%s and initial boundary\n"
+                                "displacements magnified × %s (max $|u|$ = %.3g%s)"
+                                % (fmt_t(t), UNITS.after("time"), scale_text(s), umax, UNITS.after("length"))),
+                     fontsize="medium")
         self.save(fig, key)
+
+    def draw_obstacles(self, ax, t, s):
+        """The rigid obstacles at time t (summary.json "obstacles": their positions at the
+        output times): a plane as a line, a cylinder or sphere as a circle. Their motion
+        since the first output is magnified × s as the displacements are, so that a body
+        the obstacle pushes stays on it. The view stays the body's."""
+        import numpy as np
+        import matplotlib.patches as mpatches
+
+        if not self.run.obstacles:
+            return
+        xlim, ylim = ax.get_xlim(), ax.get_ylim()
+        for k, ob in enumerate(self.run.obstacles):
+            pos = [e for e in ob.get("positions", []) if len(e) == 4]
+            if not pos:
+                continue
+            first = np.array(pos[0][1:3], dtype=float)
+            at = np.array(min(pos, key=lambda e: abs(e[0] - t))[1:3], dtype=float)
+            c = first + s * (at - first)
+            if not np.all(np.isfinite(c)):
+                continue
+            label = "obstacle %s" % ob.get("name", k)
+            style = {"color": "C%d" % (5 + k % 5), "lw": 1.8}
+            if ob.get("shape") == "plane":
+                n = np.array(ob.get("normal", [0, 1, 0])[:2], dtype=float)
+                ax.axline(tuple(c), tuple(c + np.array([-n[1], n[0]])), label=label, **style)
+            else:
+                ax.add_patch(mpatches.Circle(tuple(c), float(ob.get("radius", 0)), fill=False, label=label, **style))
+        ax.set_xlim(xlim)
+        ax.set_ylim(ylim)
 
     def von_mises_beta(self):
         key = "von_mises_beta"
@@ -870,11 +976,11 @@ class Plotter:
         ax_b.set_title(r"(b) damage field $\beta$")
         for ax in (ax_v, ax_b):
             ax.set_aspect("equal")
-            ax.set_xlabel(r"$x$ [m]")
-            ax.set_ylabel(r"$y$ [m]")
+            ax.set_xlabel(r"$x$" + UNITS.br("length"))
+            ax.set_ylabel(r"$y$" + UNITS.br("length"))
         if vtu.has("von_mises"):
             pc = ax_v.tripcolor(tri, facecolors=vtu.von_mises(), cmap=FIELD_CMAP)
-            self.colorbar(fig, pc, ax_v, VM_LABEL)
+            self.colorbar(fig, pc, ax_v, vm_label())
         else:
             ax_v.triplot(tri, color="0.85", lw=0.3)
             self.empty_panel(ax_v, self.missing(vtu, "von_mises"), key)
@@ -886,7 +992,7 @@ class Plotter:
             self.empty_panel(ax_b, self.missing(vtu, "beta"), key)
         where = ("on the deformed configuration (displacements × %s)" % scale_text(s) if vtu.has("displacement")
                  else "on the undeformed configuration (no displacement field in the VTU files)")
-        fig.suptitle(self.title(key, "at $t$ = %s s %s" % (fmt_t(t), where)))
+        fig.suptitle(self.title(key, "at $t$ = %s%s %s" % (fmt_t(t), UNITS.after("time"), where)))
         self.save(fig, key)
 
     # ---- d = 3 -----------------------------------------------------------
@@ -934,21 +1040,22 @@ class Plotter:
             ax.view_init(elev=elev, azim=azim)
             for axis in (ax.xaxis, ax.yaxis, ax.zaxis):
                 axis.set_major_locator(self.plt.MaxNLocator(5))
-            ax.set_xlabel(r"$x$ [m]")
-            ax.set_ylabel(r"$y$ [m]")
+            ax.set_xlabel(r"$x$" + UNITS.br("length"))
+            ax.set_ylabel(r"$y$" + UNITS.br("length"))
             # mplot3d turns the z label with the axis; seen from below that
             # reads upside down. Keep it upright.
             ax.zaxis.set_rotate_label(False)
-            ax.set_zlabel(r"$z$ [m]", rotation=90)
+            ax.set_zlabel(r"$z$" + UNITS.br("length"), rotation=90)
             fig.text(0.215 + 0.43 * k, 0.015, what, ha="center", va="bottom", fontsize="large")
         sm = self.plt.cm.ScalarMappable(norm=norm, cmap=cmap)
         sm.set_array([])
         fig.subplots_adjust(left=0.0, right=0.86, bottom=0.1, top=0.85, wspace=0.05)
         cax = fig.add_axes([0.89, 0.2, 0.018, 0.56])
         fig.colorbar(sm, cax=cax, label=label)
-        where = ("on the deformed boundary (displacements × %s, max $|u|$ = %.3g m)" % (scale_text(s), umax)
+        where = ("on the deformed boundary (displacements × %s, max $|u|$ = %.3g%s)"
+                 % (scale_text(s), umax, UNITS.after("length"))
                  if vtu.has("displacement") else "on the undeformed boundary (no displacement field in the VTU files)")
-        fig.suptitle(self.title(key, "%s at $t$ = %s s\n%s" % (title, fmt_t(t), where)))
+        fig.suptitle(self.title(key, "%s at $t$ = %s%s\n%s" % (title, fmt_t(t), UNITS.after("time"), where)))
         self.save(fig, key)
 
     def contact_pressure(self):
@@ -988,41 +1095,35 @@ class Plotter:
             ax_m.set_ylim(c0[1] - pad, c1[1] + pad)
             ax_m.legend(loc="lower center", bbox_to_anchor=(0.5, 1.0), fontsize="small", frameon=False)
         ax_m.set_aspect("equal")
-        ax_m.set_xlabel(r"$x$ [m]")
-        ax_m.set_ylabel(r"$y$ [m]")
+        ax_m.set_xlabel(r"$x$" + UNITS.br("length"))
+        ax_m.set_ylabel(r"$y$" + UNITS.br("length"))
         ax_m.set_title("(a) pressure on %s" % where, fontsize="medium", pad=22 if len(active) else 6)
-        self.colorbar(fig, pc, ax_m, PRESSURE_LABEL)
+        self.colorbar(fig, pc, ax_m, pressure_label())
         # (b) the same nodal values against the distance from the centre of
         # pressure: the profile of the contact zone (e.g. Hertz's ellipse).
         if len(active):
-            w = pres[active]
-            centre = (p[active, :2] * w[:, None]).sum(axis=0) / w.sum()
-            # A contact zone cut by the mesh's side x = min or y = min (max) is a half or
-            # quarter model on a symmetry plane: its centre lies on that plane.
-            span = np.ptp(p[:, :2], axis=0)
-            for j in range(2):
-                for bound in (p[:, j].min(), p[:, j].max()):
-                    if np.any(np.abs(p[active, j] - bound) <= 1e-9 * max(float(span[j]), 1.0)):
-                        centre[j] = bound
+            tol = 1e-9 * max(float(np.ptp(p[:, :2], axis=0).max()), 1.0)
+            centre = centre_of_pressure(p[active, :2], pres[active], self.run.symmetry_planes, tol)
             r = np.linalg.norm(p[nodes, :2] - centre, axis=1)
             r_act = np.linalg.norm(p[active, :2] - centre, axis=1)
             near = r <= 1.5 * max(float(r_act.max()), 1e-12)
             ax_r.plot(r[near], pres[nodes][near], "o", ms=3.5, color="C0", mec="none")
             ax_r.set_title("(b) nodal pressure against the distance from the centre of pressure\n"
-                           "$(x_c, y_c)$ = (%.4g, %.4g) m" % (centre[0], centre[1]), fontsize="medium")
+                           "$(x_c, y_c)$ = (%.4g, %.4g)%s" % (centre[0], centre[1], UNITS.after("length")),
+                           fontsize="medium")
         else:
-            self.empty_panel(ax_r, "no node in contact at t = %s s" % fmt_t(t), key)
-        ax_r.set_xlabel(r"distance $r$ from $(x_c, y_c)$ [m]")
-        ax_r.set_ylabel(PRESSURE_LABEL)
+            self.empty_panel(ax_r, "no node in contact at t = %s%s" % (fmt_t(t), UNITS.after("time")), key)
+        ax_r.set_xlabel(r"distance $r$ from $(x_c, y_c)$" + UNITS.br("length"))
+        ax_r.set_ylabel(pressure_label())
         ax_r.set_xlim(left=0.0)
         ax_r.set_ylim(bottom=0.0)
         ax_r.grid(True, alpha=0.4)
         total = self.run.summary.get("final", {}).get("total_contact_force")
-        extra = ": %d nodes in contact, max $p$ = %.4g N/m$^2$" % (len(active), pmax)
+        extra = ": %d nodes in contact, max $p$ = %.4g%s" % (len(active), pmax, UNITS.after("stress"))
         if isinstance(total, (int, float)):
-            extra += ", total force %.4g N" % total
-        fig.suptitle(self.title(key, "contact pressure at $t$ = %s s (undeformed coordinates)%s"
-                                % (fmt_t(t), extra)))
+            extra += ", total force %.4g%s" % (total, UNITS.after("force"))
+        fig.suptitle(self.title(key, "contact pressure at $t$ = %s%s (undeformed coordinates)%s"
+                                % (fmt_t(t), UNITS.after("time"), extra)))
         self.save(fig, key)
 
     # ---- CSV figures for d = 2, 3 and all ------------------------------------
@@ -1046,10 +1147,10 @@ class Plotter:
                 ax_v.plot(t, pr["p%d_von_mises" % i], color=c, label=probe_label(p, d) + " (its element)")
             if "p%d_beta" % i in pr:
                 ax_b.plot(t, pr["p%d_beta" % i], color=c, label=probe_label(p, d))
-        for ax, ylabel, title in ((ax_u, "displacement [m]", "displacement components"),
-                                  (ax_v, VM_LABEL, r"von Mises norm of $\sigma$"),
+        for ax, ylabel, title in ((ax_u, "displacement" + UNITS.br("length"), "displacement components"),
+                                  (ax_v, vm_label(), r"von Mises norm of $\sigma$"),
                                   (ax_b, BETA_LABEL, r"damage $\beta$")):
-            ax.set_xlabel(r"time $t$ [s]")
+            ax.set_xlabel(r"time $t$" + UNITS.br("time"))
             ax.set_ylabel(ylabel)
             ax.set_title(title)
             ax.grid(True, alpha=0.4)
@@ -1078,7 +1179,7 @@ class Plotter:
             if len(t) and float(abs(h[col]).max()) > 1e-9 * scale:
                 part, comp = col[len("reaction_"):].rsplit("_", 1)
                 lines += ax_f.plot(t, h[col], "C%d-." % (2 + k % 8), label="reaction of %s, %s" % (part, comp))
-        ax_f.set_ylabel("force [%s]" % force_units(self.run.dim))
+        ax_f.set_ylabel("force" + UNITS.br(force_quantity(self.run.dim)))
         if "n_active" in h:
             ax_n = ax_f.twinx()
             lines += ax_n.step(t, h["n_active"], "C1--", where="post", label="active contact nodes")
@@ -1095,7 +1196,7 @@ class Plotter:
         ax_b.set_title("damage extremes over the mesh")
         ax_b.legend(fontsize="small")
         for ax in (ax_f, ax_b):
-            ax.set_xlabel(r"time $t$ [s]")
+            ax.set_xlabel(r"time $t$" + UNITS.br("time"))
             ax.grid(True, alpha=0.4)
         ok = h.get("ok")
         note = ""
@@ -1124,7 +1225,7 @@ class Plotter:
             at = rejected > 0
             ax_k.plot(t[at], k[at], "C3v", markersize=5, label="redone after %d rejection(s)" % int(rejected.sum()))
         ax_k.set_yscale("log")
-        ax_k.set_ylabel(r"step size $k_n = t_n - t_{n-1}$ [s]")
+        ax_k.set_ylabel(r"step size $k_n = t_n - t_{n-1}$" + UNITS.br("time"))
         ax_k.set_title("%d steps, k in [%.3g, %.3g]" % (len(k), float(k.min()), float(k.max())))
         ax_k.legend(fontsize="small")
         if "error_estimate" in h:
@@ -1132,11 +1233,14 @@ class Plotter:
             positive = e > 0
             ax_e.semilogy(t[positive], e[positive], "C1.", markersize=4, label=r"estimate $e_n$")
             ax_e.semilogy(t[positive], (e / k)[positive], "C2.", markersize=4, label=r"$e_n / k_n$ (per unit time)")
+            if self.run.tolerance is not None:  # a step is accepted when e_n <= tolerance k_n
+                ax_e.axhline(self.run.tolerance, color="C3", ls="--", lw=1.2,
+                             label=r"tolerance %g: accepted where $e_n / k_n \leq$ it" % self.run.tolerance)
             ax_e.legend(fontsize="small")
         ax_e.set_ylabel("relative error estimate [-]")
         ax_e.set_title("error estimate of each step")
         for ax in (ax_k, ax_e):
-            ax.set_xlabel(r"time $t$ [s]")
+            ax.set_xlabel(r"time $t$" + UNITS.br("time"))
             ax.grid(True, alpha=0.4, which="both")
         fig.suptitle(self.title(key, "time steps"))
         self.save(fig, key)
@@ -1153,7 +1257,7 @@ class Plotter:
             self.probes_figure()
         else:
             self.surface_3d("surface_von_mises", "von_mises",
-                            r"von Mises norm of $\sigma$ (value of the owning tetrahedron)", VM_LABEL)
+                            r"von Mises norm of $\sigma$ (value of the owning tetrahedron)", vm_label())
             self.surface_3d("surface_beta", "beta", r"damage $\beta$ (mean of the face's nodes)", BETA_LABEL)
             self.contact_pressure()
             self.probes_figure()

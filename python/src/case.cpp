@@ -73,9 +73,16 @@ void bind_case(py::module_& m) {
       .def_property(
           "n", [](const CaseSpec& s) { return s.cells; },
           [](CaseSpec& s, std::optional<int> n) { change(s, [&](CaseSpec& c) { c.cells = n; }); },
-          "Cells per edge of a generated mesh (--n); None: the case's own.")
+          "Cells per edge of a generated mesh (--n): n along every edge, whatever the domain's aspect (a 2 x 1 "
+          "rectangle gets n x n cells, stretched 2:1; set mesh.cells = [2n, n] for square ones); None: the case's "
+          "own.")
       .def_property_readonly("kappa", [](const CaseSpec& s) { return s.built().problem->kappa; })
-      .def_property_readonly("steps", [](const CaseSpec& s) { return s.built().problem->n_steps; })
+      .def_property_readonly("steps",
+                             [](const CaseSpec& s) -> std::optional<int> {
+                               const Problem& p = *s.built().problem;
+                               if (p.step_control) return std::nullopt;  // error-controlled: not known before the run
+                               return p.n_steps;
+                             })
       .def_property_readonly("dt", [](const CaseSpec& s) { return s.built().problem->step(); })
       .def_property_readonly("dim", [](const CaseSpec& s) { return s.built().problem->mesh.dim(); })
       .def_property_readonly("n_nodes", [](const CaseSpec& s) { return s.built().problem->mesh.n_nodes(); })

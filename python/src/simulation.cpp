@@ -174,7 +174,14 @@ void bind_simulation(py::module_& m) {
       .def_property_readonly("output", &S::output, "The output directory (None: no files).")
       .def_property_readonly("n", [](const S& s) { return s.state().n; }, "The step reached.")
       .def_property_readonly("t", [](const S& s) { return s.state().t; }, "Its time t_n.")
-      .def_property_readonly("n_steps", [](const S& s) { return s.stepper().problem().n_steps; })
+      .def_property_readonly("n_steps",
+                             [](const S& s) -> std::optional<int> {
+                               const Problem& p = s.stepper().problem();
+                               if (p.step_control) return std::nullopt;
+                               return p.n_steps;
+                             },
+                             "N of a fixed grid; None with error-controlled steps (their number is known only "
+                             "at the end: sim.n is the number taken so far).")
       .def_property_readonly("final_time", [](const S& s) { return s.stepper().problem().final_time; })
       .def_property_readonly("kappa", [](const S& s) { return s.stepper().problem().kappa; })
       .def_property_readonly("last_checkpoint", [](const S& s) { return s.loop().last_checkpoint(); })

@@ -7,10 +7,10 @@ The module drives the C++ library: its case reader, its run loop (the one
     import vpcontact
     case = vpcontact.Case("paper-2d", n=20)
     case.set("damage.kappa", 0.1)
-    sim = vpcontact.run(case, output="out/k01")        # as `vpcontact run`
+    sim = vpcontact.run(case, output="out/k01")        # as `vpcontact run -o out/k01`
     sim.beta, sim.sigma, sim.history()                  # numpy views and tables
 
-    sim = vpcontact.Simulation(case)                    # step by step
+    sim = vpcontact.Simulation(case)                    # step by step (no output: no files)
     while not sim.done:
         report = sim.step()                             # history.csv's numbers of the step
 """
@@ -67,7 +67,8 @@ class Case(_core.Case):
     line's located errors (CaseError: file, line, key):
         case.set("damage.kappa", 0.1)            # --set damage.kappa=0.1
         case.set({"damage.kappa": 0.1, "time.steps": 20})
-        case.n = 20                              # --n 20 (generated meshes)
+        case.n = 20                              # --n 20 (generated meshes): 20 cells along
+                                                 # every edge, whatever the domain's aspect
         case.kappa = 0.1; case.steps = 20; case.dt = 0.05
     """
 
@@ -116,8 +117,10 @@ class Simulation(_core.Simulation):
 
         sim = Simulation(case, output=None)  # output: a directory for the run's files
                                              # (VTU, history.csv, probes.csv, checkpoints,
-                                             # summary.json); None: no files
-        sim.step()                           # one step; its report (history.csv's numbers)
+                                             # summary.json); True: the case's own directory
+                                             # (case.output_directory); None: no files
+        sim.step()                           # one step; its report (history.csv's numbers);
+                                             # RunError once the run is at T (sim.done)
         sim.run(progress=True)               # the remaining steps, then finish()
         sim.checkpoint(); sim.finish()
         Simulation(case, output=dir, resume=True)  # continues from dir's newest checkpoint
@@ -131,12 +134,16 @@ class Simulation(_core.Simulation):
                  checkpoint_seconds=60.0, halvings=0):
         if not isinstance(case, _core.Case):
             case = Case(case)
-        super().__init__(case, None if output is None else _os.fspath(output), resume, quiet,
+        super().__init__(case, _output_directory(case, output), resume, quiet,
                          checkpoint_every, float(checkpoint_seconds), halvings)
         self.case = Case(case)
 
     def step(self, count=1):
-        """Advances `count` steps (not beyond the last); returns the last one's report."""
+        """Advances `count` steps (fewer where fewer are left before T); returns the last
+        one's report. Raises RunError when no step is left (sim.done: the run is at T)."""
+        if self.done:
+            raise RunError("the simulation is at its final time (step %d, t = T = %g): there is no step after "
+                           "the last (sim.done is True)" % (self.n, self.final_time))
         for _ in range(count):
             if self.done:
                 break
@@ -230,19 +237,29 @@ class Simulation(_core.Simulation):
         return False
 
     def __repr__(self):
-        of = " of %d" % self.n_steps if self.n_steps > 0 else ""  # 0: error-controlled step sizes
+        of = " of %d" % self.n_steps if self.n_steps else ""  # None: error-controlled step sizes
         return "<vpcontact.Simulation %s: step %d%s, t = %g of %g>" % (self.case.name, self.n, of, self.t, self.final_time)
+
+
+def _output_directory(case, output):
+    """The rule of run() and Simulation() alike: files only where output is given; True
+    stands for the case's own directory (case.output_directory: what `vpcontact run`
+    writes without -o)."""
+    if output is None or output is False:
+        return None
+    if output is True:
+        return case.output_directory
+    return _os.fspath(output)
 
 
 def run(case, output=None, *, progress=False, quiet=True, **options):
     """Runs a case as `vpcontact run` does and returns the finished Simulation.
-    output: the directory (default: the case's [output] directory, else output/NAME);
+    output: the directory for the run's files; True: the case's own ([output] directory,
+    else output/NAME); None (default): no files, as Simulation(case);
     progress: see Simulation.run; quiet=False prints the command line's header and
     set-up stages; options: those of Simulation (checkpoint_every, halvings, ...)."""
     if not isinstance(case, _core.Case):
         case = Case(case)
-    if output is None:
-        output = case.output_directory
     sim = Simulation(case, output, quiet=quiet, **options)
     return sim.run(progress)
 

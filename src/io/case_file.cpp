@@ -85,6 +85,7 @@ double number_value(const toml::node& n) {
 struct Origins {
   std::string file;
   std::map<std::string, std::string> of_key;  // key path -> "--kappa -1", "--set damage.kappa=-1"
+  toml::table replaced_grid;  // the file's [time] steps or dt that a tolerance override replaced (read_output)
 
   std::string of(const std::string& key_path) const {
     const auto it = of_key.find(key_path);
@@ -101,6 +102,7 @@ class Section {
 
   bool exists() const { return t_ != nullptr; }
   const std::string& path() const { return path_; }
+  const Origins& origins() const { return origins_; }
   std::string key_path(const std::string& k) const { return path_.empty() ? k : path_ + "." + k; }
 
   const toml::node* get(const std::string& k) {
@@ -362,6 +364,7 @@ std::vector<KeyOverride> key_overrides(const CaseOverrides& o, std::optional<int
   if (o.steps) out.push_back({{"time", "steps"}, fmt::format("{}", *o.steps), fmt::format("--steps {}", *o.steps)});
   if (o.time_step)
     out.push_back({{"time", "dt"}, fmt::format("{:.17g}", *o.time_step), fmt::format("--dt {}", *o.time_step)});
+  if (o.every) out.push_back({{"output", "every"}, fmt::format("{}", *o.every), fmt::format("--every {}", *o.every)});
   return out;
 }
 
@@ -412,6 +415,8 @@ void apply_overrides(toml::table& root, const std::vector<KeyOverride>& override
       const std::string full = section + "." + other;
       if (auto it = origins.of_key.find(full); it != origins.of_key.end())
         fail("{}: conflicts with {} (give only one of {} and {})", ov.origin, it->second, ov.key_path(), full);
+      if (ov.key_path() == "time.tolerance")  // the fixed grid it replaces: output.every counts its steps (read_output)
+        t[other].visit([&](auto&& node) { origins.replaced_grid.insert_or_assign(other, node); });
       t.erase(other);
     }
     origins.of_key[ov.key_path()] = ov.origin;
@@ -995,6 +1000,37 @@ std::vector<Point> read_probes(Section& out, int d) {
   return probes;
 }
 
+/// With error-controlled steps, VTU `every` steps of the fixed grid that a tolerance
+/// override replaced (the file's steps or dt): the times that grid writes at, so that
+/// the run writes as many files as the fixed run. Without such a grid (the file's own
+/// steps are error-controlled) the number of steps, and so of files, is not known
+/// before the run: refused.
+std::vector<double> every_as_times(Section& out, const Problem& p, int every) {
+  const Origins& origins = out.origins();
+  if (origins.replaced_grid.empty())
+    fail("{}: counts the steps of a fixed grid, but [time] tolerance chooses the steps during the run (their number, "
+         "and the files', is not known before it): give times = [...] (the steps end at them), or every = 0 (the "
+         "final state only)",
+         out.where("every"));
+  toml::table time = origins.replaced_grid;
+  time.insert_or_assign("T", p.final_time);
+  if (time.contains("dt") && !p.step_control->landings.empty()) {
+    toml::array breakpoints;
+    for (double b : p.step_control->landings) breakpoints.push_back(b);
+    time.insert_or_assign("breakpoints", breakpoints);
+  }
+  Problem grid;
+  try {
+    read_time(Section(&time, "time", origins), grid, origins.file);
+  } catch (const Error& e) {
+    fail("{}: counts the steps of the fixed grid that {} replaced, which is not valid: {}", out.where("every"),
+         origins.of("time.tolerance"), e.what());
+  }
+  std::vector<double> times;
+  for (int n = every; n <= grid.n_steps; n += every) times.push_back(grid.time_at(n));
+  return times;
+}
+
 /// [output]; by default every tenth of the run.
 OutputOptions read_output(Section out, Problem& p) {
   OutputOptions o;
@@ -1010,6 +1046,9 @@ OutputOptions read_output(Section out, Problem& p) {
       if (t < 0 || t > p.final_time) fail("{}: output time {} is outside [0, T = {}]", out.where("times"), t, p.final_time);
   } else if (controlled && !out.has("every")) {
     for (int i = 1; i <= 10; ++i) o.times.push_back(p.final_time * i / 10);
+  } else if (controlled && o.every > 0) {
+    o.times = every_as_times(out, p, o.every);
+    o.every = 0;
   }
   // Error-controlled steps end exactly at the output times.
   if (controlled) p.step_control->landings.insert(p.step_control->landings.end(), o.times.begin(), o.times.end());
@@ -1046,13 +1085,14 @@ toml::table parse_toml(std::string_view text, const std::vector<KeyOverride>& ov
 
 Case parse_case(std::string_view text, const std::string& name, const fs::path& base_dir,
                 const CaseOverrides& overrides, const MeshRequest& mesh_request) {
-  Origins origins{name, {}};
+  Origins origins{name, {}, {}};
   const toml::table root = parse_toml(text, key_overrides(overrides, mesh_request.cells), origins);
   Section top(&root, "", origins);
   Case c;
   Section info = top.table("case");
   c.name = info.string("name", fs::path(name).stem().string());
   c.description = info.string("description", "case file " + name);
+  const std::string units = info.string("units", "SI");  // for the figures' labels (OutputOptions::units)
   info.finish();
 
   auto p = std::make_shared<Problem>();
@@ -1067,6 +1107,7 @@ Case parse_case(std::string_view text, const std::string& name, const fs::path& 
   read_obstacles(top, *p, origins, read_contact(top.table("contact"), *p, origins));
   read_time(top.table("time"), *p, name);
   c.output = read_output(top.table("output"), *p);
+  c.output.units = units;
   c.solvers = read_solver(top.table("solver"));
   top.finish();
   record_key_locations(top, *p, origins);
@@ -1096,7 +1137,7 @@ std::string case_description(std::string_view text) {
 CaseInfo case_info(std::string_view text, const std::string& name, const CaseOverrides& overrides) {
   CaseInfo info{fs::path(name).stem().string(), "case file " + name, ""};
   try {
-    Origins origins{name, {}};
+    Origins origins{name, {}, {}};
     const toml::table t = parse_toml(text, key_overrides(overrides, std::nullopt), origins);
     info.name = t["case"]["name"].value_or(info.name);
     info.description = t["case"]["description"].value_or(info.description);

@@ -18,6 +18,7 @@ struct CaseOverrides {
   std::optional<double> kappa{};     // --kappa: damage.kappa
   std::optional<int> steps{};        // --steps: time.steps
   std::optional<double> time_step{}; // --dt: time.dt
+  std::optional<int> every{};        // --every: output.every
 };
 
 /// Reads a case file; `overrides` are applied before validation. `mesh` says

@@ -229,8 +229,8 @@ void write_pvtu(const fs::path& path, const std::vector<VtuField>& point_data, c
   xml += "  <PUnstructuredGrid GhostLevel=\"0\">\n    <PPointData>\n";
   auto arrays = [&](const std::vector<VtuField>& fields) {
     for (const auto& f : fields)
-      xml += fmt::format("      <PDataArray type=\"Float64\" Name=\"{}\" NumberOfComponents=\"{}\"/>\n", f.name,
-                         f.n_components);
+      xml += fmt::format("      <PDataArray type=\"{}\" Name=\"{}\" NumberOfComponents=\"{}\"/>\n", vtk_type(f),
+                         f.name, f.n_components);
   };
   arrays(point_data);
   xml += "    </PPointData>\n    <PCellData>\n";
@@ -322,7 +322,7 @@ void RunOutput::write_fields() {
   if (wants("history_z")) cell_data.push_back(tensor_field("history_z", s.z));
   if (!stepper_.problem().materials.empty()) {  // which material each cell has (Problem::material_list order)
     const std::vector<int>& m = stepper_.part().cell_material;
-    cell_data.push_back({"material", 1, std::vector<double>(m.begin(), m.end())});
+    cell_data.push_back({"material", 1, std::vector<double>(m.begin(), m.end()), true});
   }
   const std::string stem = fmt::format("solution_{:05d}", s.n);
   std::string file = stem + ".vtu";
@@ -330,7 +330,7 @@ void RunOutput::write_fields() {
     write_vtu(options_.directory / file, mesh, point_data, cell_data, options_.encoding);
   } else {
     // Each process its piece, with the partition as a field (to look at it in ParaView).
-    cell_data.push_back({"rank", 1, std::vector<double>(mesh.n_cells(), static_cast<double>(comm.rank()))});
+    cell_data.push_back({"rank", 1, std::vector<double>(mesh.n_cells(), static_cast<double>(comm.rank())), true});
     la::collective(comm, [&] {
       write_vtu(options_.directory / fmt::format("{}_p{:04d}.vtu", stem, comm.rank()), mesh, point_data, cell_data,
                 options_.encoding);
@@ -416,6 +416,28 @@ std::string summary_json(const Problem& p, const RunSummary& r, const OutputOpti
                                 {"viscoplastic_law", m.law->describe()},
                                 {"damage_source", m.source->describe()}});
   }
+  j["units"] = options.units;
+  // For the figures: the symmetry planes x_i = c (a contact zone cut by one is half of
+  // the real one), and the rigid obstacles where they are at the output times.
+  j["symmetry_planes"] = Json::array();
+  for (const auto& s : r.symmetry_planes)
+    j["symmetry_planes"].push_back({{"part", s.part}, {"axis", std::string(1, "xyz"[s.axis])}, {"coordinate", s.coordinate}});
+  if (!p.contact.obstacles.empty()) {
+    j["obstacles"] = Json::array();
+    for (const Obstacle& o : p.contact.obstacles) {
+      const bool plane = o.shape == Obstacle::Shape::Plane, cylinder = o.shape == Obstacle::Shape::Cylinder;
+      Json ob = {{"name", o.name}, {"shape", plane ? "plane" : cylinder ? "cylinder" : "sphere"}};
+      if (plane) ob["normal"] = xyz(o.normal);
+      if (cylinder) ob["axis"] = xyz(o.axis);
+      if (!plane) ob["radius"] = o.radius;
+      ob["positions"] = Json::array();  // [t, x, y, z]: the point of the plane / the centre, at each output time
+      for (double t : r.output_times) {
+        const Point x = o.position({0, 0, 0}, t);
+        ob["positions"].push_back({t, x[0], x[1], x[2]});
+      }
+      j["obstacles"].push_back(ob);
+    }
+  }
   j["kappa"] = p.kappa;
   j["final_time"] = p.final_time;
   j["steps"] = r.steps;
@@ -423,6 +445,7 @@ std::string summary_json(const Problem& p, const RunSummary& r, const OutputOpti
     j["time_step"] = p.step();
   } else {  // the steps taken (the grid's, or those the error control chose)
     j["time_steps"] = p.describe_steps();
+    if (p.step_control) j["tolerance"] = p.step_control->tolerance;
     j["time_step_range"] = {r.k_min, r.k_max};
     j["rejected_steps"] = r.rejected;
   }
@@ -503,6 +526,29 @@ RunSummary RunOutput::summary(double wall_seconds) const {
   r.setup = stepper_.setup_timing();
   r.factorizations = stepper_.n_factorizations();
   r.contact_solver = stepper_.contact_solver();
+  // Each symmetry part's plane x_i = c: the axis along which its nodes (over the
+  // processes) do not spread.
+  for (const std::string& name : stepper_.problem().symmetry) {
+    Point lo{INFINITY, INFINITY, INFINITY}, hi{-INFINITY, -INFINITY, -INFINITY};
+    for (int node : mesh.nodes_of_parts({name}))
+      for (int i = 0; i < mesh.dim(); ++i) {
+        lo[i] = std::min(lo[i], mesh.node(node)[i]);
+        hi[i] = std::max(hi[i], mesh.node(node)[i]);
+      }
+    double extent = 0;
+    for (int i = 0; i < mesh.dim(); ++i) {
+      lo[i] = comm.min(lo[i]);
+      hi[i] = comm.max(hi[i]);
+      extent = std::max(extent, hi[i] - lo[i]);
+    }
+    for (int i = 0; i < mesh.dim(); ++i)
+      if (hi[i] - lo[i] <= 1e-9 * extent) {
+        r.symmetry_planes.push_back({name, i, lo[i]});
+        break;
+      }
+  }
+  for (const auto& [t, file] : pvd_) r.output_times.push_back(t);
+  if (r.output_times.empty() || r.output_times.back() != s.t) r.output_times.push_back(s.t);
   if (!comm.serial()) {  // the PETSc backend, on one rank too
     r.ranks = comm.size();
     r.linear_solver = stepper_.backend().linear_solver();

@@ -36,6 +36,9 @@ struct OutputOptions {
   // (unset: when the output was set up).
   std::vector<std::string> command_line;
   std::chrono::system_clock::time_point started{};
+  // [case] units: the units the case's numbers are in ("SI", "mm-N-MPa" or free text),
+  // for the figures' labels only; the scheme never uses them.
+  std::string units = "SI";
 
   /// The names accepted in `fields`.
   static const std::vector<std::string>& field_names();
@@ -106,6 +109,13 @@ struct RunSummary {
   int ranks = 0;  // > 0: a run over MPI ("engine": "petsc", "ranks", "linear_solver")
   std::string linear_solver;
   std::string contact_solver;  // the one in use ("auto" resolved)
+  std::vector<double> output_times;  // the times of the VTU files and the final time (obstacles' positions)
+  struct SymmetryPlane {
+    std::string part;
+    int axis = 0;  // the plane x_axis = coordinate
+    double coordinate = 0;
+  };
+  std::vector<SymmetryPlane> symmetry_planes;
 };
 
 /// The text of summary.json (valid JSON whatever the names and paths hold).

@@ -25,7 +25,11 @@ struct VtuField {
   std::string name;
   int n_components = 1;       // 1 scalar, 3 vector, 6 symmetric tensor (XX YY ZZ XY YZ XZ)
   std::vector<double> values;  // n_components per node or per cell
+  bool integer = false;        // an index (material, rank): written as Int32, so that readers see whole numbers
 };
+
+/// The VTK type a field is written as: "Int32" for an integer field, else "Float64".
+const char* vtk_type(const VtuField& f);
 
 enum class VtuCompression { zlib, none };
 

@@ -41,6 +41,11 @@ for c in $(cd "$src/cases" && ls *.toml | sed 's/\.toml$//'); do
   grep -qF "$c" run_help.log && grep -qF "$desc" run_help.log || fail "run --help does not list $c with '$desc'"
   "$vpcontact" cases --show "$c" | cmp -s - "$src/cases/$c.toml" || fail "cases --show $c differs from cases/$c.toml"
 done
+# Issue 26 item 22: the descriptions of the built-in cases start in one column (names longer than 10 were not).
+columns=$(for c in $(cd "$src/cases" && ls *.toml | sed 's/\.toml$//'); do
+  grep -E "^  $c +[^ ]" run_help.log | sed -E 's/^(  [^ ]+ +).*/\1/' | awk '{ print length($0) }'
+done | sort -u | wc -l)
+[ "$columns" -eq 1 ] || fail "run --help: the built-in cases' descriptions are not aligned: $(grep -A12 'Built-in cases' run_help.log)"
 "$vpcontact" run -q --no-vtu > /dev/null || fail "vpcontact run without a case failed"
 [ -f output/paper-2d/summary.json ] || fail "vpcontact run without a case did not run paper-2d"
 echo "item 10: ok"

@@ -98,7 +98,7 @@ def read_vtu(path):
             pos += s
         return bytes(out)
 
-    fmt_of = {"Float64": "d", "Int64": "q", "UInt8": "B"}
+    fmt_of = {"Float64": "d", "Int64": "q", "Int32": "i", "UInt8": "B"}  # Int32: the material and rank fields
     out = {"point": {}, "cell": {}}
     section = None
     for m in re.finditer(r"<(/?)(Points|Cells|PointData|CellData)\b[^>]*>|<DataArray ([^>]*)/>", xml):

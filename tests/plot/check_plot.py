@@ -7,6 +7,9 @@
   check_plot.py layout DIR         draws DIR's figures and checks, before saving, that
                                    every colour bar lies within its plot's height and
                                    no legend overlaps a plot's data area or its x label
+  check_plot.py texts DIR          draws DIR's figures and prints every text of each,
+                                   one per line: FIGURE<TAB>KIND<TAB>TEXT (KIND: title,
+                                   suptitle, xlabel, ylabel, zlabel, legend, colorbar)
 """
 
 import glob
@@ -107,11 +110,38 @@ def layout(outdir):
         print("check_plot: layout: %s: %s %s" % (c[0], c[1], "%d px in %d px" % (c[2], c[3]) if c[2] else ""))
 
 
+def texts(outdir):
+    run = vp.Run(outdir)
+    lines = []
+
+    class Listing(vp.Plotter):
+        def save(self, fig, key):
+            name = self.name(key)
+            if fig._suptitle is not None:
+                lines.append((name, "suptitle", fig._suptitle.get_text()))
+            for ax in fig.axes:
+                for kind, text in (("title", ax.get_title()), ("xlabel", ax.get_xlabel()), ("ylabel", ax.get_ylabel()),
+                                   ("zlabel", ax.get_zlabel() if hasattr(ax, "get_zlabel") else "")):
+                    if text:
+                        lines.append((name, kind, text))
+                leg = ax.get_legend()
+                if leg is not None:
+                    lines.extend((name, "legend", t.get_text()) for t in leg.get_texts())
+                lines.extend((name, "colorbar", c.get_ylabel()) for c in getattr(ax, "child_axes", []) if c.get_ylabel())
+            vp.Plotter.save(self, fig, key)
+
+    Listing(run, "png", 60).all()
+    for name, kind, text in lines:
+        print("%s\t%s\t%s" % (name, kind, text.replace("\n", " ")))
+
+
 if __name__ == "__main__":
-    if len(sys.argv) < 3 or sys.argv[1] not in ("reader", "layout"):
+    if len(sys.argv) < 3 or sys.argv[1] not in ("reader", "layout", "texts"):
         print(__doc__, file=sys.stderr)
         sys.exit(2)
     if sys.argv[1] == "reader":
         reader(sys.argv[2:])
+    elif sys.argv[1] == "texts":
+        texts(sys.argv[2])
     else:
         layout(sys.argv[2])

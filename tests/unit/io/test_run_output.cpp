@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 #include <zlib.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <cstring>
 #include <fstream>
@@ -219,6 +220,28 @@ TEST(RunOutput, ContactPressureOfAUniformlyPressedFace) {
   EXPECT_NEAR(total, q * H * W / 2, 1e-9);
   EXPECT_EQ(a.count("beta"), 1u);
   EXPECT_EQ(a.count("damage"), 0u);
+}
+
+// Issue 26 item 21: the cell field `material` (an index into summary.json's
+// materials) is an integer field, Int32, not Float64.
+TEST(RunOutput, MaterialFieldIsInt32) {
+  const fs::path dir = temp_dir("material_int32");
+  run_case(pressed_block("\"block\"", R"([[material]]
+name = "right"
+where = "x > 1"
+[material.elasticity]
+E = 200.0
+nu = 0.0
+)"),
+           dir);
+  const std::string xml = read_all(dir / "solution_00002.vtu");
+  EXPECT_NE(xml.find("<DataArray type=\"Int32\" Name=\"material\""), std::string::npos);
+  const std::string bytes = read_vtu_arrays(dir / "solution_00002.vtu").at("material");
+  std::vector<std::int32_t> m(bytes.size() / sizeof(std::int32_t));
+  ASSERT_EQ(m.size(), 64u);  // 8 x 4 squares, 2 triangles each
+  std::memcpy(m.data(), bytes.data(), bytes.size());
+  EXPECT_EQ(std::count(m.begin(), m.end(), 0), 32);  // x < 1: the body's material
+  EXPECT_EQ(std::count(m.begin(), m.end(), 1), 32);  // x > 1: "right"
 }
 
 std::set<std::string> files_in(const fs::path& dir) {
