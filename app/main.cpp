@@ -9,6 +9,7 @@
 #include "cases/builtin_cases.hpp"
 #include "cases/shipped_cases.hpp"
 #include "core/error.hpp"
+#include "core/quote.hpp"
 #include "process_policy.hpp"
 #include "io/build_info.hpp"
 #include "io/case_file.hpp"
@@ -68,7 +69,7 @@ fs::path output_directory(const Options& o, const vpc::CaseInfo& info) {
 /// The case with the command-line overrides; its output directory is `outdir`.
 vpc::Case load_case(const Options& o, const CLI::App& cmd, const vpc::CaseSource& src, const fs::path& outdir,
                     const vpc::MeshRequest& mesh = {}) {
-  vpc::CaseOverrides ov{.sets = o.sets};
+  vpc::CaseOverrides ov{.sets = o.sets, .memory_limit = o.memory_limit};
   if (given(cmd, "--kappa")) ov.kappa = o.kappa;
   if (given(cmd, "--steps")) ov.steps = o.steps;
   if (given(cmd, "--dt")) ov.time_step = o.dt;
@@ -119,7 +120,7 @@ vpc::Case build_case(const Options& o, const CLI::App& cmd, const vpc::CaseSourc
 /// The options of the library's run loop (run/run_case.hpp); no output directory: a check.
 vpc::RunOptions run_options(const Options& o, const vpc::CaseInfo& info, const fs::path& outdir) {
   vpc::RunOptions r = o.run;
-  r.header = fmt::format("vpcontact: {} — {}", info.name, info.description);
+  r.header = fmt::format("vpcontact: {} — {}", vpc::printable(info.name), vpc::printable(info.description, 200));
   r.output_directory = outdir;
   if (o.plot) r.after_run = [p = o.plot_options](const fs::path& dir) { vpc::draw_figures(dir, p, true); };
   return r;
@@ -327,7 +328,8 @@ int main(int argc, char** argv) {
     return 128 + e.signal;
   } catch (const vpc::Error& e) {
     std::fflush(stdout);
-    fmt::print(stderr, "vpcontact: error: {}\n", e.what());
+    // One line, no terminal controls, whatever user text a message echoes (each echo is bounded too).
+    fmt::print(stderr, "vpcontact: error: {}\n", vpc::printable(e.what(), 2000));
     return 1;
   } catch (const std::bad_alloc&) {
     std::fflush(stdout);
