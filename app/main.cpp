@@ -211,7 +211,9 @@ void add_case_options(CLI::App* cmd, Options& o) {
   cmd->footer("Built-in cases (vpcontact cases --show NAME prints one's TOML):\n" + builtin_case_list());
   cmd->add_option("--set", o.sets,
                   "override a case-file key, e.g. --set damage.kappa=0.1 (repeatable); a key replaces the file's "
-                  "keys it excludes (time.steps/dt, output.every/times, damage.phi/source, mesh.file/generator)");
+                  "keys it excludes (time.steps/dt, output.every/times, damage.phi/source, mesh.file/generator); "
+                  "obstacle[0].radius=0.5 sets a key of the first [[obstacle]]; 'damage={kappa=0.5}' sets those keys "
+                  "only; a new viscoplasticity.law drops the old law's parameters");
   cmd->add_option("--kappa", o.kappa, "damage diffusion kappa (>= 0)");
   cmd->add_option("-n,--n", o.n,
                   "generated meshes only: cells per edge (1D: segments; 2D: n x n squares; 3D: n^3 cubes)");
@@ -226,7 +228,7 @@ void add_case_options(CLI::App* cmd, Options& o) {
   cmd->add_option("--tolerance", o.tolerance, "largest relative KKT residual accepted at a step (default 1e-8)");
   cmd->add_option("--memory-limit", o.memory_limit,
                   "refuse a run estimated to need more memory, e.g. 8G (default: $VPCONTACT_MEMORY_LIMIT, else the "
-                  "memory available; 'unlimited': no check)");
+                  "memory available; 'unlimited': no check); also what meshing a .geo may take");
   cmd->add_option("--engine", o.engine, "auto (PETSc under mpirun, if built with it; else serial, or CG + GAMG on one process when "
                   "CHOLMOD's factors would not fit in memory or CG + GAMG is estimated to take less than half the time), serial or petsc");
   cmd->add_option("--linear-solver", o.run.linear_solver, "PETSc engine: mumps (default), cg-gamg or cg-hypre");
