@@ -9,6 +9,7 @@
 #include "cases/builtin_cases.hpp"
 #include "cases/shipped_cases.hpp"
 #include "core/error.hpp"
+#include "core/quote.hpp"
 #include "process_policy.hpp"
 #include "io/build_info.hpp"
 #include "io/case_file.hpp"
@@ -69,7 +70,7 @@ fs::path output_directory(const Options& o, const vpc::CaseInfo& info) {
 /// The case with the command-line overrides; its output directory is `outdir`.
 vpc::Case load_case(const Options& o, const CLI::App& cmd, const vpc::CaseSource& src, const fs::path& outdir,
                     const vpc::MeshRequest& mesh = {}) {
-  vpc::CaseOverrides ov{.sets = o.sets};
+  vpc::CaseOverrides ov{.sets = o.sets, .memory_limit = o.memory_limit};
   if (given(cmd, "--kappa")) ov.kappa = o.kappa;
   if (given(cmd, "--steps")) ov.steps = o.steps;
   if (given(cmd, "--dt")) ov.time_step = o.dt;
@@ -119,7 +120,7 @@ vpc::Case build_case(const Options& o, const CLI::App& cmd, const vpc::CaseSourc
 /// The options of the library's run loop (run/run_case.hpp); no output directory: a check.
 vpc::RunOptions run_options(const Options& o, const vpc::CaseInfo& info, const fs::path& outdir) {
   vpc::RunOptions r = o.run;
-  r.header = fmt::format("vpcontact: {} — {}", info.name, info.description);
+  r.header = fmt::format("vpcontact: {} — {}", vpc::printable(info.name), vpc::printable(info.description, 200));
   r.output_directory = outdir;
   if (o.plot) r.after_run = [p = o.plot_options](const fs::path& dir) { vpc::draw_figures(dir, p, true); };
   return r;
@@ -213,7 +214,9 @@ void add_case_options(CLI::App* cmd, Options& o) {
   cmd->footer("Built-in cases (vpcontact cases --show NAME prints one's TOML):\n" + builtin_case_list());
   cmd->add_option("--set", o.sets,
                   "override a case-file key, e.g. --set damage.kappa=0.1 (repeatable); a key replaces the file's "
-                  "keys it excludes (time.steps/dt, output.every/times, damage.phi/source, mesh.file/generator)");
+                  "keys it excludes (time.steps/dt, output.every/times, damage.phi/source, mesh.file/generator); "
+                  "obstacle[0].radius=0.5 sets a key of the first [[obstacle]]; 'damage={kappa=0.5}' sets those keys "
+                  "only; a new viscoplasticity.law drops the old law's parameters");
   cmd->add_option("--kappa", o.kappa, "damage diffusion kappa (>= 0)");
   cmd->add_option("-n,--n", o.n,
                   "generated meshes only: n cells along every edge, whatever the domain's aspect (1D: n segments; 2D: n x n "
@@ -229,7 +232,7 @@ void add_case_options(CLI::App* cmd, Options& o) {
   cmd->add_option("--tolerance", o.tolerance, "largest relative KKT residual accepted at a step (default 1e-8)");
   cmd->add_option("--memory-limit", o.memory_limit,
                   "refuse a run estimated to need more memory, e.g. 8G (default: $VPCONTACT_MEMORY_LIMIT, else the "
-                  "memory available; 'unlimited': no check)");
+                  "memory available; 'unlimited': no check); also what meshing a .geo may take");
   cmd->add_option("--engine", o.engine, "auto (PETSc under mpirun, if built with it; else serial, or CG + GAMG on one process when "
                   "CHOLMOD's factors would not fit in memory or CG + GAMG is estimated to take less than half the time), serial or petsc");
   cmd->add_option("--linear-solver", o.run.linear_solver, "PETSc engine: mumps (default), cg-gamg or cg-hypre");
@@ -331,7 +334,8 @@ int main(int argc, char** argv) {
     return 128 + e.signal;
   } catch (const vpc::Error& e) {
     std::fflush(stdout);
-    fmt::print(stderr, "vpcontact: error: {}\n", e.what());
+    // One line, no terminal controls, whatever user text a message echoes (each echo is bounded too).
+    fmt::print(stderr, "vpcontact: error: {}\n", vpc::printable(e.what(), 2000));
     return 1;
   } catch (const std::bad_alloc&) {
     std::fflush(stdout);

@@ -2,6 +2,7 @@
 
 #include "cases/shipped_cases.hpp"
 #include "core/error.hpp"
+#include "core/quote.hpp"
 
 #include <fmt/ranges.h>
 
@@ -26,7 +27,7 @@ CaseSource case_source(const std::string& name_or_file) {
   const auto& shipped = shipped_cases();
   const auto it = std::find_if(shipped.begin(), shipped.end(), [&](const auto& s) { return s.name == name_or_file; });
   if (it == shipped.end())
-    fail("unknown case '{}'; built-in cases are: {} (or give a case file, NAME.toml)", name_or_file,
+    fail("unknown case {}; built-in cases are: {} (or give a case file, NAME.toml)", quote(name_or_file),
          fmt::join(builtin_case_names(), ", "));
   return {std::string(it->text), std::string(it->name) + ".toml (built-in)", VPC_CASES_DIR, true};
 }

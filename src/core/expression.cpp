@@ -1,6 +1,7 @@
 #include "core/expression.hpp"
 
 #include "core/error.hpp"
+#include "core/quote.hpp"
 
 #include <fmt/ranges.h>
 #include <muParser.h>
@@ -34,7 +35,7 @@ Expression::Expression(const std::string& text, Kind kind, const std::string& wh
       s.parser->SetExpr(text);
       (void)s.parser->Eval();  // compiles; reports unknown names and syntax now
     } catch (const mu::Parser::exception_type& e) {
-      fail("{}: invalid expression \"{}\": {} Available variables: {}", where, text, e.GetMsg(),
+      fail("{}: invalid expression {}: {} Available variables: {}", where, quote_formula(text), printable(e.GetMsg(), 200),
            fmt::join(variables(kind), ", "));
     }
     slots_.push_back(std::move(s));

@@ -2,6 +2,8 @@
 
 #include "core/error.hpp"
 #include "core/expression.hpp"
+#include "core/quote.hpp"
+#include "la/memory_estimate.hpp"
 #include "material/sources/expression_source.hpp"
 #include "mesh/generators.hpp"
 #include "mesh/gmsh_reader.hpp"
@@ -9,7 +11,12 @@
 #include <fmt/ranges.h>
 #include <toml++/toml.h>
 
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cerrno>
 #include <cstring>
@@ -115,8 +122,8 @@ class Section {
   std::string where(const std::string& k) {
     const toml::node* n = get(k);
     if (n && n->source().begin.line == 0) return origins_.of(key_path(k));
-    if (n) return fmt::format("{}: {}", location(*n, file_), key_path(k));
-    return where_section() + ": " + key_path(k);
+    if (n) return fmt::format("{}: {}", location(*n, file_), printable(key_path(k)));
+    return where_section() + ": " + printable(key_path(k));
   }
   std::string where_section() const {
     if (t_ && t_->source().begin.line > 0) return location(*t_, file_);
@@ -146,7 +153,8 @@ class Section {
     const toml::node* n = get(k);
     if (!n || !n->is_integer()) expected(k, "an integer");
     const int64_t v = *n->value<int64_t>();
-    if (v < -(1 << 30) || v > (1 << 30)) expected(k, "an integer of reasonable size");
+    if (v < -(1 << 30) || v > (1 << 30))
+      fail("{}: expected an integer between -{} and {}, got {}", where(k), 1 << 30, 1 << 30, v);
     return static_cast<int>(v);
   }
   int integer(const std::string& k, int fallback) { return has(k) ? integer(k) : fallback; }
@@ -161,7 +169,7 @@ class Section {
     const std::string v = string(k);
     if (std::find(options.begin(), options.end(), v) == options.end()) {
       const std::set<std::string> known(options.begin(), options.end());
-      fail("{}: unknown value '{}'; expected one of: {}{}", where(k), v, fmt::join(options, ", "), did_you_mean(v, known));
+      fail("{}: unknown value {}; expected one of: {}{}", where(k), quote(v), fmt::join(options, ", "), did_you_mean(v, known));
     }
     return v;
   }
@@ -244,8 +252,8 @@ class Section {
       const std::string where = key.source().begin.line > 0
                                     ? fmt::format("{}:{}:{}", key.source().path ? *key.source().path : file_,
                                                   key.source().begin.line, key.source().begin.column)
-                                    : location(node, file_);
-      fail("{}: unknown key '{}'{}{}", where, k, path_.empty() ? " (a section)" : fmt::format(" in [{}]", path_),
+                                    : origins_.of(key_path(k));  // set by --set
+      fail("{}: unknown key {}{}{}", where, quote(k), path_.empty() ? " (a section)" : fmt::format(" in [{}]", path_),
            did_you_mean(k, known_));
     }
   }
@@ -320,11 +328,36 @@ std::vector<std::string> replaced_keys(const std::string& section, const std::st
     }
     if (section == "mesh" && key == "file")
       for (auto k : {"lower", "upper", "cells", "diagonal"}) out.emplace_back(k);
-    if (section == "mesh" && key == "generator") out.emplace_back("size_factor");
+    if (section == "mesh" && key == "generator")
+      for (auto k : {"size_factor", "trust_geo", "time_limit", "memory_limit"}) out.emplace_back(k);
     if (section == "time" && key != "tolerance")  // a fixed grid replaces the step control's keys
       for (const auto& k : step_control_keys()) out.emplace_back(k);
     if (section == "time" && key == "steps") out.emplace_back("breakpoints");
   }
+  return out;
+}
+
+/// The parameters that a change of law or damage source drops: those of the old
+/// one that the new one does not take (`--set viscoplasticity.law=elastic` on a
+/// Perzyna case drops lambda and sigma_y); also in [[material]] sections.
+std::vector<std::string> replaced_parameters(const std::string& section, const std::string& key, const toml::table& t,
+                                             const toml::node& value) {
+  const std::string last = section.substr(section.rfind('.') + 1);  // "material[0].viscoplasticity": viscoplasticity
+  std::vector<std::string> (*parameters)(const std::string&) = nullptr;
+  std::string old_name;
+  if (last == "viscoplasticity" && key == "law") {
+    parameters = viscoplastic_law_parameters;
+    old_name = t["law"].value_or(std::string("elastic"));
+  } else if (last == "damage" && key == "source") {
+    parameters = damage_source_parameters;
+    old_name = t["source"].value_or(std::string("zero"));
+  }
+  const auto new_name = value.value<std::string>();
+  if (!parameters || !new_name || *new_name == old_name) return {};
+  const auto kept = parameters(*new_name);
+  std::vector<std::string> out;
+  for (const auto& p : parameters(old_name))
+    if (std::find(kept.begin(), kept.end(), p) == kept.end() && t.contains(p)) out.push_back(p);
   return out;
 }
 
@@ -339,18 +372,28 @@ struct KeyOverride {
 
 /// `--set key.path=value`.
 KeyOverride parse_set(const std::string& o) {
-  KeyOverride ov{{}, {}, "--set " + o};
+  KeyOverride ov{{}, {}, "--set " + printable(o, 200)};
   const auto eq = o.find('=');
-  require(eq != std::string::npos && eq > 0, "--set {}: expected key=value (e.g. damage.kappa=0.1)", o);
+  require(eq != std::string::npos && eq > 0, "{}: expected key=value (e.g. damage.kappa=0.1)", ov.origin);
   std::string key = o.substr(0, eq);
   ov.value = o.substr(eq + 1);
+  // TOML would take a second line as more keys, which one value cannot hold.
+  require(ov.value.find_first_of("\n\r") == std::string::npos,
+          "{}: the value holds a line break; give one value, on one line", ov.origin);
   key.erase(key.find_last_not_of(" \t") + 1);
   std::stringstream ss(key);
   for (std::string p; std::getline(ss, p, '.');) {
-    require(!p.empty(), "--set {}: empty part in the key '{}'", o, key);
+    require(!p.empty(), "{}: empty part in the key {}", ov.origin, quote(key));
+    const auto open = p.find('[');  // obstacle[0]: a table of an array of tables
+    require(open == std::string::npos ||
+                (open > 0 && p.back() == ']' && p.size() > open + 2 &&
+                 p.find_first_not_of("0123456789", open + 1) == p.size() - 1),
+            "{}: expected a key part such as obstacle or obstacle[0], got {}", ov.origin, quote(p));
     ov.key.push_back(p);
   }
-  require(!ov.key.empty(), "--set {}: expected key=value (e.g. damage.kappa=0.1)", o);
+  require(!ov.key.empty(), "{}: expected key=value (e.g. damage.kappa=0.1)", ov.origin);
+  require(ov.key.back().back() != ']', "{}: give a key of the indexed table, e.g. {}.radius", ov.origin,
+          printable(ov.key_path()));
   return ov;
 }
 
@@ -379,16 +422,34 @@ toml::table override_value(const KeyOverride& ov) {
   }
 }
 
-/// The table that holds an override's key, created where missing.
-toml::table& table_of(toml::table& root, const KeyOverride& ov) {
+/// The table that holds `key` (all its parts but the last), created where
+/// missing; `name[i]` is the i-th table of the array of tables [[name]].
+toml::table& table_of(toml::table& root, const std::vector<std::string>& key, const std::string& origin) {
   toml::table* t = &root;
-  for (size_t i = 0; i + 1 < ov.key.size(); ++i) {
-    toml::node* n = t->get(ov.key[i]);
-    if (!n) {
-      t->insert_or_assign(ov.key[i], toml::table{});
-      n = t->get(ov.key[i]);
+  std::string header;  // the array's [[header]]
+  for (size_t i = 0; i + 1 < key.size(); ++i) {
+    const std::string& part = key[i];
+    const auto open = part.find('[');
+    const std::string name = part.substr(0, open);
+    header += (header.empty() ? "" : ".") + name;
+    toml::node* n = t->get(name);
+    if (open != std::string::npos) {
+      const auto index = std::stoull(part.substr(open + 1, part.size() - open - 2));
+      const std::size_t size = n && n->is_array_of_tables() ? n->as_array()->size() : 0;
+      require(n == nullptr || n->is_array_of_tables(), "{}: {} is not an array of tables ([[{}]]) in the case file",
+              origin, quote(name), printable(header));
+      require(index < size, "{}: the case has {} [[{}]] table{}{}", origin, size, printable(header),
+              size == 1 ? "" : "s", size == 0   ? ""
+              : size == 1 ? fmt::format(" ({}[0])", name)
+                          : fmt::format(" ({}[0] to {}[{}])", name, name, size - 1));
+      t = (*n->as_array())[index].as_table();
+      continue;
     }
-    require(n->is_table(), "{}: '{}' is not a table in the case file", ov.origin, ov.key[i]);
+    if (!n) {
+      t->insert_or_assign(name, toml::table{});
+      n = t->get(name);
+    }
+    require(n->is_table(), "{}: {} is not a table in the case file", origin, quote(name));
     t = n->as_table();
   }
   return *t;
@@ -398,38 +459,74 @@ toml::table& table_of(toml::table& root, const KeyOverride& ov) {
 void check_generated_cells(const toml::table& root, const KeyOverride& ov, const std::string& file) {
   const auto mesh_file = root["mesh"]["file"].value<std::string>();
   if (ov.generated_mesh_only && mesh_file)
-    fail("{}: --n sets the cells per edge of a generated mesh only; {} reads its mesh from '{}' (refine that mesh "
-         "with --set mesh.size_factor=..., or in Gmsh)", ov.origin, file, *mesh_file);
+    fail("{}: --n sets the cells per edge of a generated mesh only; {} reads its mesh from {} (refine that mesh "
+         "with --set mesh.size_factor=..., or in Gmsh)", ov.origin, file, quote(*mesh_file));
 }
 
 /// Applies the overrides to the parsed table and records their origins. A key that
 /// excludes one of the file's (exclusive_keys) replaces it; two overrides that
 /// exclude each other are an error.
+/// Sets `key` to `value` for the override `ov`. An inline table sets its keys
+/// one by one (`--set 'damage={kappa=0.5}'` is `--set damage.kappa=0.5`: the
+/// table's other keys stay).
+void apply_value(toml::table& root, const KeyOverride& ov, const std::vector<std::string>& key,
+                 const toml::node& value, Origins& origins) {
+  if (value.is_table()) {
+    std::vector<std::string> sub = key;
+    sub.emplace_back();
+    (void)table_of(root, sub, ov.origin);  // the table exists, even for {}
+    for (const auto& [k, v] : *value.as_table()) {
+      sub.back() = std::string(k.str());
+      apply_value(root, ov, sub, v, origins);
+    }
+    return;
+  }
+  toml::table& t = table_of(root, key, ov.origin);
+  const std::string section = fmt::format("{}", fmt::join(key.begin(), key.end() - 1, "."));
+  const std::string path = fmt::format("{}", fmt::join(key, "."));
+  auto replaced = replaced_keys(section, key.back(), t);
+  for (const auto& p : replaced_parameters(section, key.back(), t, value)) replaced.push_back(p);
+  for (const auto& other : replaced) {
+    const std::string full = section + "." + other;
+    if (auto it = origins.of_key.find(full); it != origins.of_key.end())
+      fail("{}: conflicts with {} (give only one of {} and {})", ov.origin, it->second, printable(path), full);
+    if (path == "time.tolerance")  // the fixed grid it replaces: output.every counts its steps (read_output)
+      t[other].visit([&](auto&& node) { origins.replaced_grid.insert_or_assign(other, node); });
+    t.erase(other);
+  }
+  origins.of_key[path] = ov.origin;
+  value.visit([&](auto&& node) { t.insert_or_assign(key.back(), node); });
+}
+
 void apply_overrides(toml::table& root, const std::vector<KeyOverride>& overrides, Origins& origins) {
   for (const auto& ov : overrides) {
     check_generated_cells(root, ov, origins.file);
     const toml::table value = override_value(ov);
-    toml::table& t = table_of(root, ov);
-    const std::string section = fmt::format("{}", fmt::join(ov.key.begin(), ov.key.end() - 1, "."));
-    for (const auto& other : replaced_keys(section, ov.key.back(), t)) {
-      const std::string full = section + "." + other;
-      if (auto it = origins.of_key.find(full); it != origins.of_key.end())
-        fail("{}: conflicts with {} (give only one of {} and {})", ov.origin, it->second, ov.key_path(), full);
-      if (ov.key_path() == "time.tolerance")  // the fixed grid it replaces: output.every counts its steps (read_output)
-        t[other].visit([&](auto&& node) { origins.replaced_grid.insert_or_assign(other, node); });
-      t.erase(other);
-    }
-    origins.of_key[ov.key_path()] = ov.origin;
-    value["v"].visit([&](auto&& node) { t.insert_or_assign(ov.key.back(), node); });
+    apply_value(root, ov, ov.key, *value.get("v"), origins);
   }
 }
 
 // ---------------------------------------------------------------- [mesh]
 
-Mesh read_mesh_file(Section& m, const fs::path& base_dir) {
+/// `memory_limit`: --memory-limit, the default limit of meshing a script.
+Mesh read_mesh_file(Section& m, const fs::path& base_dir, const std::string& memory_limit_option) {
   const fs::path path = base_dir / m.string("file");
   GmshOptions g;
   g.size_factor = m.positive("size_factor", 1.0);
+  g.trust_script = m.boolean("trust_geo", false);
+  g.trust_how = "[mesh] trust_geo = true";
+  // Meshing a script is bounded in time and memory (a loop without end, a tiny size factor).
+  g.time_limit = m.number("time_limit", 600.0);
+  if (!(g.time_limit >= 0))
+    fail("{}: expected a number of seconds >= 0 (0: no limit), got {}", m.where("time_limit"), g.time_limit);
+  g.time_limit_how = "[mesh] time_limit";
+  const MemoryLimit limit = m.has("memory_limit")
+                                ? MemoryLimit{parse_memory_size(m.string("memory_limit"), m.where("memory_limit")),
+                                              "[mesh] memory_limit"}
+                                : memory_limit(memory_limit_option);
+  // At least 1 GiB: the limit is on address space, of which Gmsh's libraries alone map hundreds of MiB.
+  g.memory_limit = std::isfinite(limit.bytes) ? static_cast<std::size_t>(std::max(limit.bytes, 1024.0 * 1024 * 1024)) : 0;
+  g.memory_limit_how = m.has("memory_limit") ? limit.source : limit.source + "; [mesh] memory_limit sets it for meshing";
   return located(m.where("file"), [&] { return read_gmsh(path, g); });
 }
 
@@ -493,18 +590,19 @@ void read_mesh_parts(Section& m, Mesh& mesh, const Origins& origins) {
     p.finish();
     mesh.tag_facets(name, [&](const Point& x) { return (*where)(x) != 0.0; });
     if (mesh.part_size(name) == 0)
-      fail("{}: the predicate \"{}\" selects no boundary facet", p.where("where"), where->text());
+      fail("{}: the predicate {} selects no boundary facet", p.where("where"), quote_formula(where->text()));
   }
 }
 
 /// [mesh], built, or an empty mesh of the requested dimension (a rank that does not build it).
-Mesh read_mesh(Section m, const fs::path& base_dir, const Origins& origins, const MeshRequest& request) {
+Mesh read_mesh(Section m, const fs::path& base_dir, const Origins& origins, const MeshRequest& request,
+               const std::string& memory_limit_option) {
   if (!m.exists()) fail("{}: missing section [mesh]", origins.file);
   if (!request.build) {
     require(request.dim >= 1 && request.dim <= 3, "{}: the mesh dimension must be 1, 2 or 3", origins.file);
     return Mesh(request.dim);  // [mesh] is read by the rank that builds the mesh
   }
-  Mesh mesh = m.has("file") ? read_mesh_file(m, base_dir) : generate_mesh(m);
+  Mesh mesh = m.has("file") ? read_mesh_file(m, base_dir, memory_limit_option) : generate_mesh(m);
   read_mesh_parts(m, mesh, origins);
   m.finish();
   return mesh;
@@ -519,7 +617,7 @@ std::vector<std::string> read_parts(Section& b, const std::string& key, const Me
   if (parts.empty()) fail("{}: expected at least one boundary part name", b.where(key));
   for (const auto& p : parts)
     if (check && mesh.part_size(p) == 0)
-      fail("{}: boundary part '{}' does not exist in the mesh (or has no facets); the mesh has: {}", b.where(key), p,
+      fail("{}: boundary part {} does not exist in the mesh (or has no facets); the mesh has: {}", b.where(key), quote(p),
            describe_parts(mesh));
   return parts;
 }
@@ -673,7 +771,7 @@ void read_materials(Section& top, Problem& p, const Origins& origins, bool build
                                                        [&](const Material& o) { return o.name == m.name; });
     if (m.name.empty() || taken)
       fail("{}: expected a new material name (\"body\" is the body's material{})", s.where("name"),
-           m.name.empty() ? "" : fmt::format("; '{}' is taken", m.name));
+           m.name.empty() ? "" : fmt::format("; {} is taken", quote(m.name)));
     if (s.has("regions") == s.has("where"))
       fail("{}: expected either regions (Gmsh physical groups of dimension {}) or where (a predicate on the cell "
            "centroid), not {}", s.where_section(), p.mesh.dim(), s.has("where") ? "both" : "neither");
@@ -682,18 +780,18 @@ void read_materials(Section& top, Problem& p, const Origins& origins, bool build
       if (m.regions.empty()) fail("{}: expected at least one region name", s.where("regions"));
       for (const auto& r : m.regions)
         if (build && p.mesh.region_size(r) == 0)
-          fail("{}: the mesh has no cell in region '{}'; its regions: {}", s.where("regions"), r,
+          fail("{}: the mesh has no cell in region {}; its regions: {}", s.where("regions"), quote(r),
                p.mesh.region_names().empty() ? "(none: give the cells Gmsh physical groups of dimension d)"
-                                              : fmt::format("{}", fmt::join(p.mesh.region_names(), ", ")));
+                                              : printable(fmt::format("{}", fmt::join(p.mesh.region_names(), ", ")), 300));
     } else {
       const auto where = s.expression("where", Expression::Kind::Space);
       if (build && p.mesh.find_region(m.name) >= 0)
-        fail("{}: the mesh has a region named '{}' already; name the material otherwise, or give regions = [\"{}\"]",
-             s.where("name"), m.name, m.name);
+        fail("{}: the mesh has a region named {} already; name the material otherwise, or give regions = [that name]",
+             s.where("name"), quote(m.name));
       p.mesh.tag_cells(m.name, [&](const Point& x) { return (*where)(x) != 0.0; });
       if (build && p.mesh.region_size(m.name) == 0)
-        fail("{}: the predicate \"{}\" selects no cell (it is evaluated at cell centroids)", s.where("where"),
-             where->text());
+        fail("{}: the predicate {} selects no cell (it is evaluated at cell centroids)", s.where("where"),
+             quote_formula(where->text()));
       m.regions = {m.name};
     }
     Section e = s.table("elasticity");
@@ -781,7 +879,7 @@ Obstacle read_obstacle(Section& s, int k, int d) {
   const std::string at = o.shape == Obstacle::Shape::Plane ? "point" : "center";
   auto position = s.expressions(at, d, Expression::Kind::SpaceTime);
   for (const auto& e : position)
-    if (e->uses_position()) fail("{}: the position of an obstacle is a formula in t only (got \"{}\")", s.where(at), e->text());
+    if (e->uses_position()) fail("{}: the position of an obstacle is a formula in t only (got {})", s.where(at), quote_formula(e->text()));
   o.position = vector_field(std::move(position));
   if (o.shape == Obstacle::Shape::Plane) {
     o.normal = unit_vector(s, "normal", d);
@@ -800,7 +898,7 @@ std::vector<std::string> contact_parts(Section& s, const std::string& key, const
   if (parts.empty()) fail("{}: expected at least one contact part name", s.where(key));
   for (const auto& part : parts)
     if (std::find(p.contact.parts.begin(), p.contact.parts.end(), part) == p.contact.parts.end())
-      fail("{}: '{}' is not a contact part; [boundary] contact has: {}", s.where(key), part, fmt::join(p.contact.parts, ", "));
+      fail("{}: {} is not a contact part; [boundary] contact has: {}", s.where(key), quote(part), fmt::join(p.contact.parts, ", "));
   return parts;
 }
 
@@ -879,7 +977,7 @@ bool read_contact(Section ct, Problem& p, const Origins& origins) {
       for (const auto& part : pl.parts)
         for (const PartContactLaw& other : p.contact.part_laws)
           if (std::find(other.parts.begin(), other.parts.end(), part) != other.parts.end())
-            fail("{}: contact part '{}' has a law already (an earlier [[contact.part]])", s.where("parts"), part);
+            fail("{}: contact part {} has a law already (an earlier [[contact.part]])", s.where("parts"), quote(part));
       pl.law = read_contact_law(s);
       s.finish();
       p.contact.part_laws.push_back(std::move(pl));
@@ -931,7 +1029,7 @@ void read_time(Section tm, Problem& p, const std::string& file) {
       for (const std::string& e : tm.strings("events")) {
         if (e == "contact") c.contact_events = true;
         else if (e == "damage") c.damage_events = true;
-        else fail("{}: unknown event '{}'; expected some of: contact, damage", tm.where("events"), e);
+        else fail("{}: unknown event {}; expected some of: contact, damage", tm.where("events"), quote(e));
       }
     }
     c.landings = breakpoints;
@@ -975,7 +1073,7 @@ std::vector<std::string> read_fields(Section& out) {
     const std::string field = OutputOptions::field(f);  // "damage": the old name of "beta"
     if (field.empty()) {
       const auto& names = OutputOptions::field_names();
-      fail("{}: unknown field '{}'; expected some of: {}{}", out.where("fields"), f, fmt::join(names, ", "),
+      fail("{}: unknown field {}; expected some of: {}{}", out.where("fields"), quote(f), fmt::join(names, ", "),
            did_you_mean(f, std::set<std::string>(names.begin(), names.end())));
     }
     f = field;
@@ -1075,10 +1173,26 @@ toml::table parse_toml(std::string_view text, const std::vector<KeyOverride>& ov
   try {
     root = toml::parse(text, std::string_view(origins.file));
   } catch (const toml::parse_error& e) {
-    fail("{}:{}:{}: invalid TOML: {}", origins.file, e.source().begin.line, e.source().begin.column, e.description());
+    fail("{}:{}:{}: invalid TOML: {}", origins.file, e.source().begin.line, e.source().begin.column,
+         printable(e.description(), 200));
   }
   apply_overrides(root, overrides, origins);
   return root;
+}
+
+/// case.name names the output directory output/<name>: one safe path component
+/// (letters, digits, '-', '_', '.'; not "." or ".."), so that no case writes or
+/// cleans outside output/. `given`: set by the key (the file's stem otherwise,
+/// which is one component already). `where`: the key's location.
+void check_case_name(const std::string& name, bool given, const std::string& where) {
+  const bool dots = name.empty() || name == "." || name == "..";
+  const bool safe = name.size() <= 100 &&
+                    std::all_of(name.begin(), name.end(), [](char c) {
+                      return std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_' || c == '.';
+                    });
+  if (dots || (given && !safe))
+    fail("{}: expected a name of at most 100 letters, digits, '-', '_' and '.' (not '.' or '..'; it names the output "
+         "directory output/<name>), got {}", where, given ? quote(name) : "'" + name + "' (the file's stem: give [case] name)");
 }
 
 }  // namespace
@@ -1091,13 +1205,14 @@ Case parse_case(std::string_view text, const std::string& name, const fs::path& 
   Case c;
   Section info = top.table("case");
   c.name = info.string("name", fs::path(name).stem().string());
+  check_case_name(c.name, info.has("name"), info.where("name"));
   c.description = info.string("description", "case file " + name);
   const std::string units = info.string("units", "SI");  // for the figures' labels (OutputOptions::units)
   info.finish();
 
   auto p = std::make_shared<Problem>();
   p->name = c.name;
-  p->mesh = read_mesh(top.table("mesh"), base_dir, origins, mesh_request);
+  p->mesh = read_mesh(top.table("mesh"), base_dir, origins, mesh_request, overrides.memory_limit);
   read_boundary(top.table("boundary"), *p, origins, mesh_request.build);
   p->elasticity = read_elasticity(top.table("elasticity"), p->mesh.dim(), name);
   p->law = read_viscoplasticity(top.table("viscoplasticity"), p->elasticity.young());
@@ -1136,24 +1251,53 @@ std::string case_description(std::string_view text) {
 
 CaseInfo case_info(std::string_view text, const std::string& name, const CaseOverrides& overrides) {
   CaseInfo info{fs::path(name).stem().string(), "case file " + name, ""};
+  std::string name_where;  // where an explicit case.name is given
   try {
     Origins origins{name, {}, {}};
     const toml::table t = parse_toml(text, key_overrides(overrides, std::nullopt), origins);
     info.name = t["case"]["name"].value_or(info.name);
     info.description = t["case"]["description"].value_or(info.description);
     info.output_directory = t["output"]["directory"].value_or(std::string());
+    if (const toml::node* n = t["case"]["name"].node(); n && n->is_string())
+      name_where = n->source().begin.line > 0 ? location(*n, name) + ": case.name" : origins.of("case.name");
   } catch (const std::exception&) {
     // parse_case reports it, with the line and column
   }
+  // Before the output directory output/<name> is made (and cleaned): here, not in parse_case only.
+  check_case_name(info.name, !name_where.empty(), name_where.empty() ? name : name_where);
   return info;
 }
 
 std::string read_text_file(const fs::path& file, std::string_view what) {
-  std::ifstream in(file, std::ios::binary);
-  require(in.good(), "cannot read {} '{}': {}", what, file.string(), std::strerror(errno));
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
+  // Opened without blocking, and refused unless regular: a FIFO would wait for a writer for ever.
+  const int fd = ::open(file.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+  require(fd >= 0, "cannot read {} '{}': {}", what, file.string(), std::strerror(errno));
+  struct stat st {};
+  const bool stat_ok = ::fstat(fd, &st) == 0;
+  const int mode = stat_ok ? static_cast<int>(st.st_mode & S_IFMT) : 0;
+  if (!stat_ok || mode != S_IFREG) {
+    ::close(fd);
+    const char* kind = mode == S_IFIFO ? "a named pipe (FIFO)" : mode == S_IFDIR ? "a directory"
+                       : mode == S_IFCHR ? "a character device" : mode == S_IFBLK ? "a block device"
+                       : mode == S_IFSOCK ? "a socket" : "not a regular file";
+    fail("cannot read {} '{}': it is {}; expected a regular file", what, file.string(), kind);
+  }
+  ::fcntl(fd, F_SETFL, ::fcntl(fd, F_GETFL) & ~O_NONBLOCK);
+  std::string text;
+  char buffer[1 << 16];
+  for (;;) {
+    const ssize_t n = ::read(fd, buffer, sizeof buffer);
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0) {
+      const int err = errno;
+      ::close(fd);
+      fail("cannot read {} '{}': {}", what, file.string(), std::strerror(err));
+    }
+    if (n == 0) break;
+    text.append(buffer, static_cast<std::size_t>(n));
+  }
+  ::close(fd);
+  return text;
 }
 
 Case read_case_file(const fs::path& file, const CaseOverrides& overrides, const MeshRequest& mesh) {

@@ -19,6 +19,7 @@ struct CaseOverrides {
   std::optional<int> steps{};        // --steps: time.steps
   std::optional<double> time_step{}; // --dt: time.dt
   std::optional<int> every{};        // --every: output.every
+  std::string memory_limit{};        // --memory-limit: also what meshing a .geo may take, unless [mesh] memory_limit
 };
 
 /// Reads a case file; `overrides` are applied before validation. `mesh` says

@@ -1,6 +1,7 @@
 #include "la/memory_estimate.hpp"
 
 #include "core/error.hpp"
+#include "core/quote.hpp"
 
 #include <algorithm>
 #include <cctype>
@@ -87,8 +88,8 @@ double parse_memory_size(const std::string& text, const std::string& where) {
   else if (!unit.empty() && unit != "b")
     end = const_cast<char*>(begin);  // an unknown unit: not a size
   require(end != begin && std::isfinite(v) && v > 0,
-          "{}: expected a memory size > 0 such as 512M, 8G or 2000000000 (bytes), or \"unlimited\"; got '{}'", where,
-          text);
+          "{}: expected a memory size > 0 such as 512M, 8G or 2000000000 (bytes), or \"unlimited\"; got {}", where,
+          quote(text));
   return v * scale;
 }
 

@@ -3,6 +3,7 @@
 // shared libraries (OpenCASCADE, VTK, ...) whose loading costs every start of a
 // program linked with it ~0.15 s; loaded here, only runs that read a Gmsh file pay.
 #include "core/error.hpp"
+#include "core/quote.hpp"
 #include "mesh/gmsh_model.hpp"
 
 #include <gmsh.h>
@@ -54,7 +55,7 @@ class GmshSession {
     std::string first = errors.front();
     const auto colon = first.find(": ");
     if (colon != std::string::npos) first.erase(0, colon + 2);
-    fail("{}: Gmsh failed while {}: {}{}", file_, doing, first,
+    fail("{}: Gmsh failed while {}: {}{}", file_, doing, printable(first, 200),
          errors.size() > 1 ? fmt::format(" (and {} more errors)", errors.size() - 1) : "");
   }
 
@@ -140,9 +141,12 @@ extern "C" __attribute__((visibility("default"))) void vpcontact_gmsh_write_mode
     error = e.what();
   } catch (const std::string& what) {  // Gmsh throws std::string, not std::exception
     error = fmt::format("{}: Gmsh failed: {}", file, what);
-  } catch (const std::bad_alloc&) {
-    error = fmt::format("{}: Gmsh ran out of memory while reading the file ({}); the file is probably malformed",
-                        file, budget > 0 ? fmt::format("limit {} MiB", budget >> 20) : "no limit");
+  } catch (const std::bad_alloc&) {  // the reader says why (a malformed .msh, a script's mesh beyond the limit)
+    w = gmsh_model::Writer();
+    w.value('O');
+    w.send(fd);
+    (void)budget;
+    return;
   } catch (const std::exception& e) {
     error = fmt::format("{}: Gmsh failed: {}", file, e.what());
   } catch (...) {

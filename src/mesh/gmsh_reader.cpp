@@ -1,10 +1,13 @@
 #include "mesh/gmsh_reader.hpp"
 
 #include "core/error.hpp"
+#include "core/quote.hpp"
 
 #include "mesh/gmsh_model.hpp"
+#include "mesh/gmsh_script.hpp"
 
 #include <dlfcn.h>
+#include <poll.h>
 #include <sys/prctl.h>
 #include <sys/resource.h>
 #include <sys/wait.h>
@@ -12,6 +15,7 @@
 
 #include <algorithm>
 #include <array>
+#include <chrono>
 #include <cerrno>
 #include <cmath>
 #include <csignal>
@@ -46,10 +50,42 @@ const char* simplex_name(int d) {
 
 using namespace gmsh_model;
 
-std::string read_all(int fd) {
+/// Waits for the child `pid` to end; its wait status.
+int reap(pid_t pid) {
+  int status = 0;
+  while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+  }
+  return status;
+}
+
+/// The child's answer on `fd`, read until it closes. The child is killed (and
+/// reaped) when the time limit passes or options.check_stop throws (Ctrl-C).
+std::string read_answer(int fd, pid_t pid, const std::string& file, const GmshOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
+  auto stop_child = [&] {
+    ::kill(pid, SIGKILL);
+    reap(pid);
+    ::close(fd);
+  };
   std::string out;
   char buffer[1 << 16];
   for (;;) {
+    if (options.check_stop) try {
+        options.check_stop();
+      } catch (...) {
+        stop_child();
+        throw;
+      }
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (options.time_limit > 0 && seconds > options.time_limit) {
+      stop_child();
+      fail("{}: Gmsh did not finish within {:g} s and was stopped (a loop that does not end, or elements far too "
+           "small?); {} sets the limit",
+           file, options.time_limit, options.time_limit_how);
+    }
+    pollfd p{fd, POLLIN, 0};
+    const int ready = ::poll(&p, 1, 100);  // a signal ends the wait early (EINTR): check_stop sees it
+    if (ready <= 0) continue;
     const ssize_t n = ::read(fd, buffer, sizeof buffer);
     if (n < 0 && errno == EINTR) continue;
     if (n <= 0) return out;
@@ -71,14 +107,16 @@ constexpr int kGmshCalledExit = 86;
 /// The memory Gmsh may take (beyond what the process already maps) to read a
 /// mesh file: some malformed .msh files make Gmsh 4.8 ask for gigabytes (a
 /// 58-byte $Nodes header: 15 GB and a minute; fuzz/), while reading a real one
-/// needs a small multiple of its size. 0: no limit (a geometry is meshed, which
-/// may need much more; under AddressSanitizer, which reserves terabytes).
-std::size_t memory_budget(const std::string& file) {
+/// needs a small multiple of its size. A geometry is meshed within the limit of
+/// the options (which may need much more). 0: no limit (also under
+/// AddressSanitizer, which reserves terabytes).
+std::size_t memory_budget(const std::string& file, const GmshOptions& options) {
 #ifdef VPC_ADDRESS_SANITIZER
   (void)file;
+  (void)options;
   return 0;
 #else
-  if (fs::path(file).extension() != ".msh") return 0;
+  if (fs::path(file).extension() != ".msh") return options.memory_limit;
   std::error_code ec;
   const std::uintmax_t size = fs::file_size(file, ec);
   if (ec) return 0;
@@ -107,7 +145,8 @@ void limit_memory(std::size_t budget) {
 /// readers crash on some malformed files (fuzz/, docs/reliability.md), `Exit;`
 /// in a .geo script ends the process, and Gmsh keeps global state.
 GmshModel read_in_child(const std::string& file, const GmshOptions& options) {
-  const std::size_t budget = memory_budget(file);
+  const std::size_t budget = memory_budget(file, options);
+  const bool script = fs::path(file).extension() != ".msh";
   int fds[2];
   require(::pipe(fds) == 0, "{}: cannot create a pipe for Gmsh: {}", file, std::strerror(errno));
   std::fflush(nullptr);  // nothing buffered is written twice
@@ -131,6 +170,18 @@ GmshModel read_in_child(const std::string& file, const GmshOptions& options) {
     // destructors are the parent's, so the child leaves at once, saying so.
     std::atexit([] { ::_exit(kGmshCalledExit); });
     limit_memory(budget);
+    // Ctrl-C reaches the whole process group: the parent stops the child (read_answer).
+    std::signal(SIGINT, SIG_IGN);
+    std::signal(SIGTERM, SIG_IGN);
+    // The CPU time, a second bound behind the parent's clock (SIGXCPU ends the child).
+    if (options.time_limit > 0) {
+      rlimit r{};
+      if (::getrlimit(RLIMIT_CPU, &r) == 0) {
+        r.rlim_cur = static_cast<rlim_t>(std::ceil(options.time_limit)) + 5;
+        if (r.rlim_max != RLIM_INFINITY && r.rlim_cur > r.rlim_max) r.rlim_cur = r.rlim_max;
+        ::setrlimit(RLIMIT_CPU, &r);
+      }
+    }
     // Gmsh's library is loaded here only (gmsh_module.cpp): the parent never pays for it.
     const char* module = std::getenv("VPCONTACT_GMSH_MODULE");
     if (module == nullptr || *module == '\0') module = VPC_GMSH_MODULE;
@@ -148,24 +199,44 @@ GmshModel read_in_child(const std::string& file, const GmshOptions& options) {
     ::_exit(0);  // no exit handlers: they belong to the parent
   }
   ::close(fds[1]);
-  const std::string bytes = read_all(fds[0]);
+  const std::string bytes = read_answer(fds[0], pid, file, options);
   ::close(fds[0]);
-  int status = 0;
-  while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
-  }
+  const int status = reap(pid);
   const std::string how = WIFSIGNALED(status) ? fmt::format("crashed ({})", strsignal(WTERMSIG(status)))
                                               : fmt::format("ended with exit status {}", WEXITSTATUS(status));
+  const std::string limit = budget > 0 ? fmt::format("{} MiB", budget >> 20) : "no limit";
+  // A crash on a mesh file is most likely a malformed file (fuzz/); a script
+  // that Gmsh accepts can crash Gmsh itself (issue 26: Gmsh 4.8 on some recombined meshes).
+  auto crash = [&]() -> Error {
+    if (WIFSIGNALED(status) && WTERMSIG(status) == SIGXCPU)
+      return Error(fmt::format("{}: Gmsh used more than {:g} s of CPU time and was stopped; {} sets the limit", file,
+                               options.time_limit, options.time_limit_how));
+    if (!script)
+      return Error(fmt::format("{}: Gmsh {} while reading the file; the file is probably malformed", file, how));
+    return Error(fmt::format(
+        "{}: Gmsh {} while meshing the file: a failure of Gmsh itself, which a valid script can meet too (e.g. "
+        "recombined or quadrilateral meshes, which vpcontact does not take anyway){}; try other mesh options or "
+        "element sizes",
+        file, how, budget > 0 ? fmt::format(", or memory beyond the limit of {} ({})", limit, options.memory_limit_how) : ""));
+  };
   if (bytes.empty()) {
     if (WIFEXITED(status) && WEXITSTATUS(status) == kGmshCalledExit)
       fail("{}: Gmsh ended the program while reading the file (does the .geo file call Exit?)", file);
-    fail("{}: Gmsh {} while reading the file; the file is probably malformed", file, how);
+    throw crash();
   }
   try {
     Reader r(bytes);
-    if (r.value<char>() == 'E') throw Error(r.string());
+    const char kind = r.value<char>();
+    if (kind == 'E') throw Error(r.string());
+    if (kind == 'O') {
+      if (!script) fail("{}: Gmsh ran out of memory while reading the file ({}); the file is probably malformed", file,
+                        budget > 0 ? "limit " + limit : limit);
+      fail("{}: Gmsh ran out of memory while meshing the file ({}); make the elements larger, or raise the limit "
+           "with {}", file, budget > 0 ? "limit " + limit : limit, options.memory_limit_how);
+    }
     return r.model();
   } catch (const Reader::Truncated&) {
-    fail("{}: Gmsh {} while reading the file; the file is probably malformed", file, how);
+    throw crash();
   }
 }
 
@@ -291,25 +362,25 @@ void read_parts(const std::string& file, const GmshModel& model, Mesh& mesh,
 
     for (const auto& b : group.blocks) {
       require(b.type == simplex_type(fd),
-              "{}: physical group '{}' holds elements of type '{}' (Gmsh type {}); the facets of "
+              "{}: physical group {} holds elements of type '{}' (Gmsh type {}); the facets of "
               "a {}D mesh must be {} (Gmsh type {})",
-              file, part, b.type_name, b.type, d, simplex_name(fd), simplex_type(fd));
+              file, quote(part), b.type_name, b.type, d, simplex_name(fd), simplex_type(fd));
       check_block(file, b, npf);
       for (std::size_t e = 0; e < b.tags.size(); ++e) {
         int v[3];
         for (int a = 0; a < npf; ++a) {
           auto it = index.find(b.nodes[e * npf + a]);
           require(it != index.end(),
-                  "{}: physical group '{}' holds Gmsh element {}, which is not on the boundary of the "
+                  "{}: physical group {} holds Gmsh element {}, which is not on the boundary of the "
                   "mesh (one of its nodes belongs to no cell)",
-                  file, part, b.tags[e]);
+                  file, quote(part), b.tags[e]);
           v[a] = it->second;
         }
         auto [it, inserted] = tagged.emplace(facet_key(v, npf), Tagged{part});
         require(inserted || it->second.part == part,
-                "{}: Gmsh element {} is in the physical groups '{}' and '{}'; a boundary facet can "
+                "{}: Gmsh element {} is in the physical groups {} and {}; a boundary facet can "
                 "belong to one part only",
-                file, b.tags[e], it->second.part, part);
+                file, b.tags[e], quote(it->second.part), quote(part));
       }
     }
   }
@@ -323,9 +394,9 @@ void read_parts(const std::string& file, const GmshModel& model, Mesh& mesh,
   for (const auto& [key, t] : tagged)
     if (!t.on_boundary) {
       const Point& p = mesh.node(key[0]);
-      fail("{}: physical group '{}' holds a facet (at node ({}, {}, {})) that is not on the "
+      fail("{}: physical group {} holds a facet (at node ({}, {}, {})) that is not on the "
            "boundary of the mesh; only boundary facets can form a part",
-           file, t.part, p[0], p[1], p[2]);
+           file, quote(t.part), p[0], p[1], p[2]);
     }
 }
 
@@ -348,9 +419,9 @@ void read_regions(const std::string& file, const GmshModel& model, Mesh& mesh) {
         if (it == cell_of_tag.end()) continue;
         std::string& r = region_of[static_cast<std::size_t>(it->second)];
         require(r.empty() || r == region,
-                "{}: Gmsh element {} is in the physical groups '{}' and '{}'; a cell can belong to one "
+                "{}: Gmsh element {} is in the physical groups {} and {}; a cell can belong to one "
                 "region (material) only",
-                file, tag, r, region);
+                file, tag, quote(r), quote(region));
         if (r.empty()) {
           r = region;
           mesh.set_cell_region(it->second, region);
@@ -385,6 +456,7 @@ Mesh read_gmsh(const fs::path& file, const GmshOptions& options) {
   require(fs::exists(file, ec), "mesh file '{}' does not exist", name);
   require(fs::is_regular_file(file, ec), "mesh file '{}' is not a regular file", name);
   require(std::ifstream(file).good(), "mesh file '{}' cannot be opened for reading", name);
+  if (!options.trust_script) check_gmsh_script(file, options.trust_how);
   return build_mesh(name, read_in_child(name, options));
 }
 
@@ -394,7 +466,7 @@ std::string describe_parts(const Mesh& mesh) {
     const int n = mesh.part_size(part);
     out += fmt::format("{}{} ({} facet{})", out.empty() ? "" : ", ", part, n, n == 1 ? "" : "s");
   }
-  return out.empty() ? "no parts" : out;
+  return out.empty() ? "no parts" : printable(out, 300);
 }
 
 }  // namespace vpc

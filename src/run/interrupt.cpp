@@ -10,11 +10,22 @@ namespace vpc {
 namespace {
 
 volatile std::sig_atomic_t g_signal = 0;
+volatile std::sig_atomic_t g_at_once = 0;  // SetUpStopsAtOnce
+
+/// write(2) of a literal: async-signal-safe.
+template <std::size_t N>
+void say(const char (&msg)[N]) {
+  [[maybe_unused]] const auto n = ::write(STDERR_FILENO, msg, N - 1);
+}
 
 extern "C" void on_signal(int s) {
+  if (g_at_once != 0) {  // set-up: nothing to keep (the text of Interrupted)
+    if (s == SIGINT) say("\nvpcontact: interrupted by SIGINT during set-up; nothing was computed\n");
+    else say("\nvpcontact: interrupted by SIGTERM during set-up; nothing was computed\n");
+    ::_exit(128 + s);
+  }
   if (g_signal != 0) {  // the second one: no waiting for the step or factorization under way
-    constexpr char msg[] = "\nvpcontact: second signal: stopping at once (the last checkpoint is kept)\n";
-    [[maybe_unused]] const auto n = ::write(STDERR_FILENO, msg, sizeof msg - 1);
+    say("\nvpcontact: second signal: stopping at once (the last checkpoint is kept)\n");
     ::_exit(128 + s);
   }
   g_signal = s;
@@ -42,6 +53,16 @@ Interrupted::Interrupted(int s)
 void stop_if_interrupted() {
   if (const int s = interrupt_signal()) throw Interrupted(s);
 }
+
+SetUpStopsAtOnce::SetUpStopsAtOnce() {
+  g_at_once = 1;
+  if (g_signal != 0) {  // arrived before: reported as ever
+    g_at_once = 0;
+    stop_if_interrupted();
+  }
+}
+
+SetUpStopsAtOnce::~SetUpStopsAtOnce() { g_at_once = 0; }
 
 std::string shell_quote(std::string_view s) {
   const bool safe = !s.empty() && s.find_first_not_of("ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz"

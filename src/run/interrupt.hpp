@@ -3,7 +3,10 @@
 // handler only records the signal; the run loop stops after the step under way,
 // writes a checkpoint and prints the command that continues the run; the exit
 // code is 128 + the signal (130, 143). A second signal ends the process at once
-// (for a long factorization that cannot stop in between).
+// (for a long factorization that cannot stop in between). During the set-up of a
+// run on one process (SetUpStopsAtOnce), which has nothing to keep, the first
+// signal ends the process at once, saying so: meshing or factorizing may take
+// minutes.
 #include <filesystem>
 #include <stdexcept>
 #include <string>
@@ -30,6 +33,17 @@ struct Interrupted : std::runtime_error {
 
 /// Throws Interrupted if a signal has arrived.
 void stop_if_interrupted();
+
+/// While one exists, the first signal ends the process at once with "interrupted
+/// by SIGINT during set-up; nothing was computed" and 128 + the signal. Not where
+/// other processes would wait in a collective call (the PETSc engine).
+class SetUpStopsAtOnce {
+ public:
+  SetUpStopsAtOnce();  // a signal already received is thrown (Interrupted)
+  ~SetUpStopsAtOnce();
+  SetUpStopsAtOnce(const SetUpStopsAtOnce&) = delete;
+  SetUpStopsAtOnce& operator=(const SetUpStopsAtOnce&) = delete;
+};
 
 /// `s` quoted for a POSIX shell so that pasting it gives back exactly `s`:
 /// unchanged when it holds only safe characters, else in single quotes ('\'' for ').

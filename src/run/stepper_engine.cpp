@@ -2,6 +2,7 @@
 // process's part of a distributed mesh), RunOutput and the checkpoints of
 // io/checkpoint.hpp. Whatever concerns the processes goes through la::Comm, so
 // on one process every collective is the identity.
+#include "core/quote.hpp"
 #include "io/checkpoint.hpp"
 #include "io/run_output.hpp"
 #include "run/progress.hpp"
@@ -98,10 +99,11 @@ void describe_data(const Problem& p, const SolverChoice& solvers, double setup_s
     laws += fmt::format("; on {}: {}", fmt::join(pl.parts, ", "), law(pl.law));
   fmt::print("  {}Γ3 (contact): {} ({})\n", held, fmt::join(p.contact.parts, ", "), laws);
   fmt::print("  elasticity: {} (E = {}, nu = {}); G: {}; phi: {}\n", p.elasticity.name(), p.elasticity.young(),
-             p.elasticity.poisson(), p.law->describe(), p.source->describe());
+             p.elasticity.poisson(), p.law->describe(), printable(p.source->describe(), 200));
   for (const Material& m : p.materials)
-    fmt::print("  material '{}' on {}: E = {}, nu = {}; G: {}; phi: {}\n", m.name, fmt::join(m.regions, ", "),
-               m.elasticity.young(), m.elasticity.poisson(), m.law->describe(), m.source->describe());
+    fmt::print("  material {} on {}: E = {}, nu = {}; G: {}; phi: {}\n", quote(m.name),
+               printable(fmt::format("{}", fmt::join(m.regions, ", "))), m.elasticity.young(), m.elasticity.poisson(),
+               m.law->describe(), printable(m.source->describe(), 200));
   fmt::print("  kappa = {}; T = {}, {}; solvers: contact {}, damage {}; setup {:.3f} s\n", p.kappa, p.final_time,
              p.describe_steps(), solvers.contact, solvers.damage, setup_seconds);
   std::fflush(stdout);
@@ -115,7 +117,7 @@ std::unique_ptr<Engine> make_engine(Case c, std::unique_ptr<TimeStepper> stepper
 
 std::unique_ptr<Engine> set_up_serial(const CaseLoader& load, const RunOptions& o) {
   begin_run(o);
-  stop_if_interrupted();
+  const SetUpStopsAtOnce at_once;  // a signal ends set-up (meshing, factorizing) at once
   Case c = load({});
   StageLog log(o.quiet);
   c.solvers.max_halvings = o.halvings;

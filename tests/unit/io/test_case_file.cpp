@@ -145,6 +145,76 @@ TEST(CaseFile, OverridesReplaceTheKeysTheyExclude) {
       << error_of(kValid, {"time.steps=10", "time.dt=0.1"});
 }
 
+// Issue 26 item 18: an inline table merges into the section (it replaced the whole
+// table: the damage source became zero); a line break in a value is refused (the rest
+// was dropped); a new law drops the old law's parameters; [[obstacle]]-like arrays of
+// tables are indexed.
+TEST(CaseFile, SetMergesTablesAndIndexesArraysOfTables) {
+  Case c = parse_case(kValid, "ok.toml", ".", {.sets = {"damage={kappa=0.25}"}});
+  EXPECT_DOUBLE_EQ(c.problem->kappa, 0.25);
+  EXPECT_NE(c.problem->source->describe().find("vm"), std::string::npos) << c.problem->source->describe();
+  c = parse_case(kValid, "ok.toml", ".", {.sets = {"time={T=1.0, dt=0.25}"}});
+  EXPECT_EQ(c.problem->n_steps, 4);
+  EXPECT_EQ(error_of(kValid, {"damage.kappa=0.5\nphi = \"0\""}),
+            "--set damage.kappa=0.5\\nphi = \"0\": the value holds a line break; give one value, on one line");
+  // perzyna-von-mises (lambda, sigma_y) to elastic, and to maxwell-damage (its own parameter).
+  c = parse_case(kValid, "ok.toml", ".", {.sets = {"viscoplasticity.law=elastic"}});
+  EXPECT_NE(c.problem->law->describe().find("elastic"), std::string::npos) << c.problem->law->describe();
+  c = parse_case(kValid, "ok.toml", ".", {.sets = {"viscoplasticity.law=perzyna"}});  // shares lambda and sigma_y
+  EXPECT_NE(c.problem->law->describe().find("10"), std::string::npos) << c.problem->law->describe();
+  EXPECT_NE(error_of(kValid, {"viscoplasticity.lambda=2", "viscoplasticity.law=elastic"})
+                .find("--set viscoplasticity.law=elastic: conflicts with --set viscoplasticity.lambda=2"),
+            std::string::npos);
+  // The i-th table of [[mesh.part]] (and [[obstacle]], [[material]], ...).
+  c = parse_case(kValid, "ok.toml", ".", {.sets = {"mesh.part[0].where=\"abs(y) < 1e-9\""}});
+  EXPECT_EQ(c.problem->mesh.part_size("patch"), 10);
+  EXPECT_EQ(error_of(kValid, {"mesh.part[1].name=x"}), "--set mesh.part[1].name=x: the case has 1 [[mesh.part]] table (part[0])");
+  EXPECT_EQ(error_of(kValid, {"mesh.part[0].nme=x"}), "--set mesh.part[0].nme=x: unknown key 'nme' in [mesh.part[0]]; did you mean 'name'?");
+  EXPECT_EQ(error_of(kValid, {"mesh.part[0]=1"}), "--set mesh.part[0]=1: give a key of the indexed table, e.g. mesh.part[0].radius");
+  EXPECT_EQ(error_of(kValid, {"mesh.part[a].name=x"}),
+            "--set mesh.part[a].name=x: expected a key part such as obstacle or obstacle[0], got 'part[a]'");
+  EXPECT_EQ(error_of(kValid, {"damage[0].c=1"}),
+            "--set damage[0].c=1: 'damage' is not an array of tables ([[damage]]) in the case file");
+}
+
+// Issue 26 item 16: case.name names output/<name>; "../../escaped" wrote outside output/.
+TEST(CaseFile, CaseNameIsOneSafePathComponent) {
+  for (const char* name : {"../../escaped", "/tmp/x", ".", "..", "a b", "x\x1b[31m"}) {
+    const std::string set = std::string("case.name=\"") + name + "\"";
+    EXPECT_NE(error_of(kValid, {set}).find(": expected a name of at most 100 letters, digits, '-', '_' and '.' (not '.' or "
+                                           "'..'; it names the output directory output/<name>), got '"),
+              std::string::npos)
+        << error_of(kValid, {set});
+    try {
+      case_info(kValid, "ok.toml", {.sets = {set}});
+      ADD_FAILURE() << "case_info took " << name;
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find("--set case.name="), std::string::npos) << e.what();
+    }
+  }
+  EXPECT_EQ(error_of(variant("name = \"small\"", "name = \"../up\"")),
+            "bad.toml:3:8: case.name: expected a name of at most 100 letters, digits, '-', '_' and '.' (not '.' or '..'; "
+            "it names the output directory output/<name>), got '../up'");
+  EXPECT_EQ(parse_case(kValid, "ok.toml", ".", {.sets = {"case.name=run-2_b.1"}}).name, "run-2_b.1");
+}
+
+// Issue 26 item 17: user text echoed in a message is bounded and has no control characters.
+TEST(CaseFile, EchoedTextIsBoundedAndPrintable) {
+  const std::string long_name(300000, 'x');
+  std::string m = error_of(variant("kind = \"plane-strain\"", "kind = \"" + long_name + "\""));
+  EXPECT_LT(m.size(), 400u) << m.size();
+  EXPECT_NE(m.find("xxx…' (300000 characters); expected one of"), std::string::npos) << m.substr(0, 400);
+  m = error_of(variant("f0 = [\"0\", \"-5*t\"]", "f0 = [\"0\", \"-5*t+" + std::string(1000000, '(') + "\"]"));
+  EXPECT_LT(m.size(), 600u) << m.size();
+  EXPECT_NE(m.find("(1000005 characters)"), std::string::npos) << m.substr(0, 600);
+  m = error_of(variant("kind = \"plane-strain\"", "kind = \"plane\\u001b[2J\\u0007\""));
+  EXPECT_EQ(m.find('\x1b'), std::string::npos);
+  EXPECT_EQ(m.find('\x07'), std::string::npos);
+  EXPECT_NE(m.find("unknown value 'plane\\x1b[2J\\x07'"), std::string::npos) << m;
+  m = error_of(kValid, {"damage.kappa" + std::string(5000, 'k') + "=1"});
+  EXPECT_LT(m.size(), 800u) << m.size();
+}
+
 // `--n` (MeshRequest::cells) on a case that reads a mesh file says so.
 TEST(CaseFile, CellsOfTheCommandLineApplyToGeneratedMeshesOnly) {
   Case c = parse_case(kValid, "ok.toml", ".", {}, {.cells = 4});
