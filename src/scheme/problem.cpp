@@ -72,7 +72,9 @@ double Problem::largest_step() const {
 
 std::string Problem::describe_steps() const {
   if (step_control) return stable_step_control(*this).describe();
-  if (step_times.empty()) return fmt::format("k = {}, N = {}", step(), n_steps);
+  // 6 significant digits, as below: T / N is often not the decimal it looks like (1.3 / 100 prints
+  // as 0.013000000000000001 in its shortest round-trip form).
+  if (step_times.empty()) return fmt::format("k = {:.6g}, N = {}", step(), n_steps);
   double lo = INFINITY;
   for (int n = 1; n <= n_steps; ++n) lo = std::min(lo, step_at(n));
   return fmt::format("k in [{:.6g}, {:.6g}], N = {}", lo, largest_step(), n_steps);

@@ -130,5 +130,14 @@ TEST(StepStability, ErrorControlledStepsStayWithinTheBound) {
   EXPECT_NE(e.find("dt_min = 0.005 exceeds the largest stable step 0.004 of material 'body'"), std::string::npos) << e;
 }
 
+TEST(StepStability, TheHeaderPrintsStepsToSixDigits) {
+  // Issue 26 item 22: T/100 with T = 1.3 is 0.013000000000000001 in its shortest round-trip form.
+  Case c = block({"time.T=1.3", "time.tolerance=1e-3"}, std::nullopt);
+  EXPECT_NE(c.problem->describe_steps().find("k from 0.013 in [1.3e-06, 0.13]"), std::string::npos)
+      << c.problem->describe_steps();
+  c = block({"time.T=1.3"}, 100);
+  EXPECT_EQ(c.problem->describe_steps(), "k = 0.013, N = 100");
+}
+
 }  // namespace
 }  // namespace vpc
