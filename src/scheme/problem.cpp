@@ -1,6 +1,7 @@
 #include "scheme/problem.hpp"
 
 #include "core/error.hpp"
+#include "scheme/stability.hpp"
 
 #include <fmt/ranges.h>
 
@@ -62,19 +63,23 @@ int Problem::step_nearest(double t) const {
 
 int Problem::expected_steps() const {
   if (!step_control) return n_steps;
-  return std::max(1, static_cast<int>(std::lround(final_time / step_control->completed(final_time).dt_initial)));
+  return std::max(1, static_cast<int>(std::lround(final_time / stable_step_control(*this).dt_initial)));
 }
 
+double Problem::first_step() const { return step_control ? stable_step_control(*this).dt_initial : step_at(1); }
+
 double Problem::largest_step() const {
-  if (step_control) return step_control->dt_max;
+  if (step_control) return stable_step_control(*this).dt_max;
   double k = 0;
   for (int n = 1; n <= n_steps && !step_times.empty(); ++n) k = std::max(k, step_at(n));
   return step_times.empty() ? step() : k;
 }
 
 std::string Problem::describe_steps() const {
-  if (step_control) return step_control->completed(final_time).describe();
-  if (step_times.empty()) return fmt::format("k = {}, N = {}", step(), n_steps);
+  if (step_control) return stable_step_control(*this).describe();
+  // 6 significant digits, as below: T / N is often not the decimal it looks like (1.3 / 100 prints
+  // as 0.013000000000000001 in its shortest round-trip form).
+  if (step_times.empty()) return fmt::format("k = {:.6g}, N = {}", step(), n_steps);
   double lo = INFINITY;
   for (int n = 1; n <= n_steps; ++n) lo = std::min(lo, step_at(n));
   return fmt::format("k in [{:.6g}, {:.6g}], N = {}", lo, largest_step(), n_steps);
@@ -150,7 +155,7 @@ void Problem::validate() const {
       require(!bc.value[c], "{}: prescribed displacement {} gives component {} of {}, but the mesh has d = {}", where,
               k + 1, c + 1, 3, mesh.dim());
   }
-  cell_materials(*this);                                  // checks the materials' regions and kinds
+  const std::vector<int> cell_material = cell_materials(*this);  // checks the materials' regions and kinds
   const DirichletDofs dirichlet = dirichlet_dofs(*this);  // checks the symmetry parts, values and conflicts
   require(!contact.parts.empty(), "{}: no contact part Γ3 given", where);
   for (const auto& p : contact.parts)
@@ -192,6 +197,7 @@ void Problem::validate() const {
     const Point& v = *contact.direction;
     require(std::hypot(v[0], v[1], v[2]) > 0, "{}: the contact direction must be a non-zero vector", where);
   }
+  check_step_stability(*this, cell_material);  // the explicit G of (3.6): k L <= 2
 }
 
 std::vector<std::vector<int>> pressure_facets(const Problem& p) {

@@ -119,10 +119,11 @@ struct Problem {
   /// The step of a fixed grid whose time is nearest t (ties: the earlier one).
   int step_nearest(double t) const;
   /// The first step's size (the one the damage matrix is factorized for at set-up).
-  double first_step() const { return step_control ? step_control->dt_initial : step_at(1); }
+  double first_step() const;
   /// N of a fixed grid; with error control, T / dt_initial (for estimates of the run's cost).
   int expected_steps() const;
-  /// The largest step of a fixed grid (the k of Theorem 3.5); dt_max when error-controlled.
+  /// The largest step of a fixed grid (the k of Theorem 3.5); dt_max when error-controlled
+  /// (capped at the stable step of the explicit G: stable_step_control, scheme/stability.hpp).
   double largest_step() const;
   /// "k = 0.01, N = 100", "k in [0.001, 0.05], N = 57", or the step control's description.
   std::string describe_steps() const;

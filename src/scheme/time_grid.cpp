@@ -47,8 +47,10 @@ std::string StepControl::describe() const {
   std::string events;
   if (contact_events) events = "contact set";
   if (damage_events) events += events.empty() ? "damage bounds" : " and damage bounds";
-  return fmt::format("error-controlled: tolerance {}, k from {} in [{}, {}]{}", tolerance, dt_initial, dt_min, dt_max,
-                     events.empty() ? "" : fmt::format(", events ({}) located to {}", events, event_dt));
+  // 6 significant digits: the defaults T/100, T/10, T·1e-6 are rarely the decimals they look like
+  // (T = 1.3: "k from 0.013000000000000001").
+  return fmt::format("error-controlled: tolerance {:.6g}, k from {:.6g} in [{:.6g}, {:.6g}]{}", tolerance, dt_initial,
+                     dt_min, dt_max, events.empty() ? "" : fmt::format(", events ({}) located to {:.6g}", events, event_dt));
 }
 
 void check_fixed_grid(double T, std::span<const double> times, std::span<const double> sizes) {

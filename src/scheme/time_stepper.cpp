@@ -2,6 +2,7 @@
 
 #include "core/error.hpp"
 #include "la/memory_estimate.hpp"
+#include "scheme/stability.hpp"
 #include "solvers/primal_active_set.hpp"
 #include "solvers/solver_cost.hpp"
 
@@ -114,7 +115,8 @@ TimeStepper::TimeStepper(std::shared_ptr<const Problem> problem, MeshPart part,
   state_.z.assign(mesh.n_cells(), SymTensor{});
   state_.lambda = Vector::Zero(part_.n_contact);
   u_free_ = Vector::Zero(part_.n_owned_dofs);
-  if (p.step_control) control_ = p.step_control->completed(p.final_time);
+  // Error-controlled steps stay within the explicit G's stable step (scheme/stability.hpp).
+  if (p.step_control) control_ = stable_step_control(p);
   for (const CellGeometry& g : geo_) volume_ += g.volume;
   volume_ = part_.comm.sum(volume_);
   const auto owned_beta = state_.beta.head(part_.n_owned_nodes).array();
@@ -396,6 +398,7 @@ StepReport TimeStepper::step() {
   StepReport rep = p.step_control ? controlled_step() : advance_or_halve(0, p.step_at(n), p.time_at(n));
   state_.n = rep.n = n;
   times_.push_back(state_.t);
+  check_lagged_step(rep);
   control_state_.sigma_scale = std::max(control_state_.sigma_scale, rep.sigma_norm);
   control_state_.n_active = rep.contact.n_active;
   control_state_.n_beta_zero = rep.damage.n_lower;
@@ -573,6 +576,38 @@ void TimeStepper::beta_range(StepReport& rep) const {
   rep.beta_max = comm.max(n ? state_.beta.head(static_cast<Eigen::Index>(n)).maxCoeff() : -INFINITY);
 }
 
+void TimeStepper::check_lagged_step(const StepReport& rep) {
+  // An unstable mode of the explicit step has ΔG_n = (1 − kL) ΔG_{n−1}, kL > 2: it flips sign
+  // and grows, which a stable step cannot do (|1 − kL| ≤ 1). A smooth extremum of G flips ΔG
+  // once (through zero), a load that alternates step by step does not grow: the run stops after
+  // two flips in a row (cos < −½: the mode carries most of ΔG) over which |ΔG| grew kUnstableGrowth times.
+  constexpr double kUnstableGrowth = 4;
+  const double growth = dG2_last_ > 0 ? std::sqrt(dG2_attempt_ / dG2_last_) : 0.0;
+  const bool flips_and_grows = growth > 1 && dG_dot_attempt_ < -0.5 * std::sqrt(dG2_attempt_ * dG2_last_);
+  growing_steps_ = flips_and_grows ? growing_steps_ + 1 : 0;
+  growth_product_ = flips_and_grows ? growth_product_ * growth : 1.0;
+  dG2_last_ = dG2_attempt_;
+  std::swap(dG_last_, dG_attempt_);
+  if (growing_steps_ < 2 || growth_product_ < kUnstableGrowth) return;
+  // Name the material where ΔG is largest, and its least β where ΔG is (the β its L is worst at).
+  const Mesh& mesh = part_.mesh();
+  std::vector<double> largest(materials_.size(), 0.0), beta(materials_.size(), INFINITY);
+  for (int c = 0; c < mesh.n_cells(); ++c) {
+    double& l = largest[static_cast<std::size_t>(part_.cell_material[c])];
+    l = std::max(l, dG_last_[c].dot(dG_last_[c]));
+  }
+  for (double& l : largest) l = part_.comm.max(l);
+  const auto m = static_cast<std::size_t>(std::max_element(largest.begin(), largest.end()) - largest.begin());
+  for (int c = 0; c < mesh.n_cells(); ++c)
+    if (static_cast<std::size_t>(part_.cell_material[c]) == m && dG_last_[c].dot(dG_last_[c]) >= 0.25 * largest[m])
+      beta[m] = std::min(beta[m], cell_mean(mesh, state_.beta, c));
+  const double b = part_.comm.min(beta[m]);
+  la::collective(part_.comm, [&] {
+    fail("{}", unstable_step_message(*problem_, materials_[m], std::isfinite(b) ? b : 1.0, rep.n, rep.t, rep.k,
+                                     growth_product_, growing_steps_));
+  });
+}
+
 StepReport TimeStepper::advance(double k, double t_end) {
   const Mesh& mesh = part_.mesh();
   const la::Comm& comm = part_.comm;
@@ -655,12 +690,16 @@ StepReport TimeStepper::advance(double k, double t_end) {
   // order on each process (an OpenMP reduction's order varies, and the estimate chooses steps).
   t0 = Clock::now();
   compute_rates();
-  double sums[3] = {0, 0, 0};  // |ΔG|², |Δβ'|², |σ_n|² (L2)
+  double sums[4] = {0, 0, 0, 0};  // |ΔG|², |Δβ'|², |σ_n|², (ΔG, ΔG of the last accepted step) (L2)
   std::vector<double> dphi(n_cells);
+  dG_attempt_.resize(n_cells);
+  const bool have_last = dG_last_.size() == static_cast<std::size_t>(n_cells);
   for (int c = 0; c < n_cells; ++c) {
     const double w = geo_[c].volume;
     const SymTensor dG = rates_G_[c] - G[c];
     sums[0] += w * dG.dot(dG);
+    if (have_last) sums[3] += w * dG.dot(dG_last_[c]);
+    dG_attempt_[c] = dG;
     sums[2] += w * state_.sigma[c].dot(state_.sigma[c]);
     dphi[c] = rates_phi_[c] - phi[c];
   }
@@ -668,7 +707,9 @@ StepReport TimeStepper::advance(double k, double t_end) {
   phi_.add_ghosts_to_owners();
   for (int i = 0; i < part_.n_owned_nodes; ++i)
     if (beta[i] > 0 && beta[i] < 1) sums[1] += phi_.owned()[i] * phi_.owned()[i] / lumped_mass_[i];
-  comm.sum(sums, 3);
+  comm.sum(sums, 4);
+  dG2_attempt_ = sums[0];
+  dG_dot_attempt_ = sums[3];
   rep.sigma_norm = std::sqrt(sums[2]);
   const double sigma_scale = std::max(control_state_.sigma_scale, rep.sigma_norm);
   const double e_sigma = sigma_scale > 0 ? k / 2 * std::sqrt(sums[0]) / sigma_scale : 0.0;

@@ -233,6 +233,9 @@ class TimeStepper {
   void reactions(StepReport& rep, const Vector& F) const;
   /// min β over all processes by minimum_at's rule, and max β.
   void beta_range(StepReport& rep) const;
+  /// The backstop for an unstable explicit G (scheme/stability.hpp): after an accepted step,
+  /// throws vpc::Error when ΔG_n = G_n − G_{n−1} flipped sign and grew in a row. Collective.
+  void check_lagged_step(const StepReport& rep);
 
   std::shared_ptr<const Problem> problem_;
   MeshPart part_;
@@ -267,6 +270,13 @@ class TimeStepper {
   std::vector<SymTensor> rates_G_;           // G at the current state (valid: rates_valid_)
   std::vector<double> rates_phi_;            // φ at the current state
   bool rates_valid_ = false;
+  /// The backstop's data: ΔG of the last accepted step and of the last attempt, |ΔG|² of the
+  /// last accepted step, the last attempt's |ΔG|² and (ΔG, ΔG of the last accepted step) (L2),
+  /// the accepted steps in a row in which ΔG flipped sign and grew, and its growth over them.
+  std::vector<SymTensor> dG_last_, dG_attempt_;
+  double dG2_last_ = 0, dG2_attempt_ = 0, dG_dot_attempt_ = 0;
+  int growing_steps_ = 0;
+  double growth_product_ = 1;
   std::optional<StepControl> control_;       // completed (defaults filled)
   StepControlState control_state_;
   std::vector<double> times_{0.0};           // t_0 … t_n

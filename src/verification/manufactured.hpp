@@ -114,6 +114,8 @@ class ManufacturedLaw final : public ViscoplasticLaw {
   /// g_m(x, t) alone.
   SymTensor forcing(const Point& x, double t) const;
   std::string describe() const override;
+  /// The base law's: g_m(x, t) does not depend on σ.
+  Lipschitz lipschitz(double beta) const override { return base_->lipschitz(beta); }
 
  private:
   std::shared_ptr<const ViscoplasticLaw> base_;

@@ -100,6 +100,7 @@ class BrokenLaw final : public ViscoplasticLaw {
     }
   }
   std::string describe() const override { return "broken"; }
+  Lipschitz lipschitz(double beta) const override { return base_->lipschitz(beta); }
 
  private:
   std::shared_ptr<const ViscoplasticLaw> base_;

@@ -9,6 +9,7 @@ class ElasticLaw final : public ViscoplasticLaw {
   explicit ElasticLaw(const Parameters&) {}
   SymTensor rate(const PointState&) const override { return {}; }
   std::string describe() const override { return "elastic (G = 0)"; }
+  Lipschitz lipschitz(double) const override { return {}; }
 };
 
 }  // namespace vpc

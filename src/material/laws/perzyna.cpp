@@ -23,6 +23,8 @@ SymTensor PerzynaLaw::rate(const PointState& s) const {
   return (-E_ / (2 * lambda_)) * (s.sigma - project(s.sigma, radius, s.dim));
 }
 
+Lipschitz PerzynaLaw::lipschitz(double) const { return {E_ / (2 * lambda_), "E/(2 lambda)"}; }
+
 std::string PerzynaLaw::describe() const {
   return fmt::format("perzyna (E = {}, lambda = {}, sigma_y = {})", E_, lambda_, sigma_y_);
 }

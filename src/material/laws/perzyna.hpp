@@ -11,6 +11,9 @@ class PerzynaLaw : public ViscoplasticLaw {
   explicit PerzynaLaw(const Parameters& p);
   SymTensor rate(const PointState& s) const override;
   std::string describe() const override;
+  /// E/(2λ): ∂G/∂σ = −E/(2λ) (I − ∂P), and ∂P of a projection onto a convex set has its
+  /// eigenvalues in [0, 1] (far outside R(β), ∂P → 0: G → −E/(2λ) σ). The same for the von Mises variant.
+  Lipschitz lipschitz(double beta) const override;
 
  protected:
   /// Projection onto R(β); the von Mises variant overrides it.
