@@ -10,6 +10,7 @@
 #include <cmath>
 #include <limits>
 #include <omp.h>
+#include <tuple>
 
 namespace vpc {
 
@@ -21,7 +22,8 @@ std::vector<std::string> Expression::variables(Kind kind) {
   }
 }
 
-Expression::Expression(const std::string& text, Kind kind, const std::string& where) : text_(text), where_(where) {
+Expression::Expression(const std::string& text, Kind kind, const std::string& where)
+    : text_(text), where_(where), kind_(kind) {
   const int n_slots = std::max(1, omp_get_max_threads());
   for (int k = 0; k < n_slots; ++k) {
     Slot s{std::make_unique<mu::Parser>(), std::make_unique<Vars>()};
@@ -55,11 +57,35 @@ Expression::Slot& Expression::slot() const {
 double Expression::eval(Slot& s) const {
   // Evaluation runs inside OpenMP loops, which exceptions must not leave: a
   // formula that cannot be evaluated gives NaN, which the scheme reports.
+  double v = std::numeric_limits<double>::quiet_NaN();
   try {
-    return s.parser->Eval();
+    v = s.parser->Eval();
   } catch (const mu::Parser::exception_type&) {
-    return std::numeric_limits<double>::quiet_NaN();
   }
+  if (!std::isfinite(v)) note_not_finite(*s.vars, v);
+  return v;
+}
+
+void Expression::note_not_finite(const Vars& at, double value) const {
+  const std::lock_guard<std::mutex> lock(not_finite_mutex_);
+  // The earliest (t, x, y, z): the same evaluation whichever thread met it first.
+  auto key = [](const Vars& v) { return std::tuple(v.t, v.x, v.y, v.z); };
+  if (!not_finite_ || key(at) < key(not_finite_->first)) not_finite_ = std::pair(at, value);
+}
+
+void Expression::check_finite() const {
+  const std::lock_guard<std::mutex> lock(not_finite_mutex_);
+  if (!not_finite_) return;
+  const auto& [v, value] = *not_finite_;
+  std::string at;
+  if (kind_ == Kind::PointState)
+    at = fmt::format(" at the centroid ({:.6g}, {:.6g}, {:.6g}) of a cell, where vm = {:.6g}, tr_sigma = {:.6g}, tr_eps = "
+                     "{:.6g}, eps_eq = {:.6g}, beta = {:.6g}",
+                     v.x, v.y, v.z, v.vm, v.tr_sigma, v.tr_eps, v.eps_eq, v.beta);
+  else if (uses_position_)
+    at = fmt::format(" at the point ({}, {}, {})", v.x, v.y, v.z);
+  fail("{}: the formula \"{}\" gives {} at t = {}{}; every value it takes in a run must be a finite number", where_,
+       text_, std::isnan(value) ? "NaN" : fmt::format("{}", value), v.t, at);
 }
 
 double Expression::operator()(const Point& x, double t) const {

@@ -6,6 +6,8 @@
 #include "core/sym_tensor.hpp"
 
 #include <memory>
+#include <mutex>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -38,6 +40,12 @@ class Expression {
   bool uses_time() const { return uses_time_; }
   static std::vector<std::string> variables(Kind kind);
 
+  /// Throws vpc::Error if an evaluation since construction gave a value that is not a
+  /// finite number (NaN, ±inf), naming the formula's key (`where`), the value, the time
+  /// and the point of the earliest such evaluation (the least t, then x). The scheme
+  /// calls it through check_formulas (scheme/problem.hpp) after each step's data.
+  void check_finite() const;
+
  private:
   struct Vars {
     double x = 0, y = 0, z = 0, t = 0, vm = 0, tr_sigma = 0, tr_eps = 0, eps_eq = 0, beta = 1;
@@ -51,9 +59,15 @@ class Expression {
   };
   Slot& slot() const;
   double eval(Slot& s) const;
+  void note_not_finite(const Vars& at, double value) const;
   std::string text_, where_;
   std::vector<Slot> slots_;
   bool uses_position_ = true, uses_time_ = true;
+  Kind kind_;
+  /// The earliest evaluation that was not finite (evaluations run in OpenMP loops,
+  /// which exceptions must not leave: it is noted here and reported by check_finite).
+  mutable std::mutex not_finite_mutex_;
+  mutable std::optional<std::pair<Vars, double>> not_finite_;
 };
 
 }  // namespace vpc

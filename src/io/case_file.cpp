@@ -93,6 +93,9 @@ struct Origins {
   std::string file;
   std::map<std::string, std::string> of_key;  // key path -> "--kappa -1", "--set damage.kappa=-1"
   toml::table replaced_grid;  // the file's [time] steps or dt that a tolerance override replaced (read_output)
+  /// The formulas whose values reach the state (Problem::formulas), as they are read.
+  std::shared_ptr<std::vector<std::shared_ptr<const Expression>>> formulas =
+      std::make_shared<std::vector<std::shared_ptr<const Expression>>>();
 
   std::string of(const std::string& key_path) const {
     const auto it = of_key.find(key_path);
@@ -214,6 +217,17 @@ class Section {
     if (n && n->is_number()) return std::make_shared<Expression>(fmt::format("{:.17g}", number(k)), kind, where(k));
     if (!n || !n->is_string()) expected(k, "a formula (a string such as \"-10*t\") or a number");
     return std::make_shared<Expression>(*n->value<std::string>(), kind, where(k));
+  }
+  /// A formula whose values reach the state: checked at every step (check_formulas).
+  std::shared_ptr<const Expression> state_expression(const std::string& k, Expression::Kind kind) {
+    auto e = expression(k, kind);
+    origins_.formulas->push_back(e);
+    return e;
+  }
+  std::vector<std::shared_ptr<const Expression>> state_expressions(const std::string& k, int d, Expression::Kind kind) {
+    auto e = expressions(k, d, kind);
+    origins_.formulas->insert(origins_.formulas->end(), e.begin(), e.end());
+    return e;
   }
   /// An array of d formulas (strings or numbers).
   std::vector<std::shared_ptr<const Expression>> expressions(const std::string& k, int d, Expression::Kind kind) {
@@ -638,7 +652,7 @@ void read_displacements(Section& b, Problem& p, const Origins& origins, bool che
       const std::string key = std::string("u") + "xyz"[c];
       if (!s.has(key)) continue;
       if (c >= d) fail("{}: the mesh has d = {}: its components are {}", s.where(key), d, d == 1 ? "ux" : "ux, uy");
-      const auto e = s.expression(key, Expression::Kind::SpaceTime);
+      const auto e = s.state_expression(key, Expression::Kind::SpaceTime);
       bc.value[c] = [e](const Point& x, double t) { return (*e)(x, t); };
     }
     if (std::none_of(bc.value.begin(), bc.value.end(), [](const ScalarField& f) { return static_cast<bool>(f); }))
@@ -726,7 +740,7 @@ std::shared_ptr<const DamageSource> read_damage_source(Section& dm) {
   if (dm.has("phi")) {
     if (dm.has("source") && dm.string("source") != "expression")
       fail("{}: give either source = \"<name>\" or phi = \"<formula>\", not both", dm.where("phi"));
-    return std::make_shared<ExpressionSource>(dm.expression("phi", Expression::Kind::PointState));
+    return std::make_shared<ExpressionSource>(dm.state_expression("phi", Expression::Kind::PointState));
   }
   const std::string src = dm.choice("source", damage_source_names(), "zero");
   Parameters params = law_parameters(dm);
@@ -825,7 +839,7 @@ void read_pressure(Section& l, Problem& p, const Origins& origins, bool check) {
     Section s(node.as_table(), fmt::format("loads.pressure[{}]", i++), origins);
     PressureLoad load;
     load.parts = read_parts(s, "parts", p.mesh, true, check);
-    const auto pressure = s.expression("p", Expression::Kind::SpaceTime);
+    const auto pressure = s.state_expression("p", Expression::Kind::SpaceTime);
     load.p = [pressure](const Point& x, double t) { return (*pressure)(x, t); };
     s.finish();
     p.pressure.push_back(std::move(load));
@@ -835,7 +849,7 @@ void read_pressure(Section& l, Problem& p, const Origins& origins, bool check) {
 void read_loads(Section l, Problem& p, const Origins& origins, bool check) {
   auto load = [&](const char* key, bool& uniform) {
     if (!l.has(key)) return VectorField{};
-    auto e = l.expressions(key, p.mesh.dim(), Expression::Kind::SpaceTime);
+    auto e = l.state_expressions(key, p.mesh.dim(), Expression::Kind::SpaceTime);
     uniform = std::none_of(e.begin(), e.end(), [](const auto& f) { return f->uses_position(); });
     return vector_field(std::move(e));
   };
@@ -877,7 +891,7 @@ Obstacle read_obstacle(Section& s, int k, int d) {
   const std::string shape = s.choice("shape", {"plane", "sphere", "cylinder"});
   o.shape = shape == "plane" ? Obstacle::Shape::Plane : shape == "sphere" ? Obstacle::Shape::Sphere : Obstacle::Shape::Cylinder;
   const std::string at = o.shape == Obstacle::Shape::Plane ? "point" : "center";
-  auto position = s.expressions(at, d, Expression::Kind::SpaceTime);
+  auto position = s.state_expressions(at, d, Expression::Kind::SpaceTime);
   for (const auto& e : position)
     if (e->uses_position()) fail("{}: the position of an obstacle is a formula in t only (got {})", s.where(at), quote_formula(e->text()));
   o.position = vector_field(std::move(position));
@@ -958,7 +972,7 @@ void record_key_locations(Section& top, Problem& p, const Origins& origins) {
 
 /// Returns whether a gap was given.
 bool read_contact(Section ct, Problem& p, const Origins& origins) {
-  const auto gap = ct.has("gap") ? ct.expression("gap", Expression::Kind::SpaceTime) : nullptr;
+  const auto gap = ct.has("gap") ? ct.state_expression("gap", Expression::Kind::SpaceTime) : nullptr;
   p.contact.gap = [gap](const Point& x, double t) { return gap ? (*gap)(x, t) : 0.0; };
   p.contact.gap_moves = gap && gap->uses_time();
   located(ct.where("gap"), [&] { check_gap(p.mesh, p.contact); });
@@ -1226,6 +1240,7 @@ Case parse_case(std::string_view text, const std::string& name, const fs::path& 
   c.solvers = read_solver(top.table("solver"));
   top.finish();
   record_key_locations(top, *p, origins);
+  p->formulas = *origins.formulas;
   // Without the mesh (a rank that did not build it): validated by the rank that has it.
   // A message that names a key of the file has its location already.
   if (mesh_request.build) {

@@ -1,6 +1,7 @@
 #include "scheme/problem.hpp"
 
 #include "core/error.hpp"
+#include "core/expression.hpp"
 #include "scheme/stability.hpp"
 
 #include <fmt/ranges.h>
@@ -83,6 +84,10 @@ std::string Problem::describe_steps() const {
   double lo = INFINITY;
   for (int n = 1; n <= n_steps; ++n) lo = std::min(lo, step_at(n));
   return fmt::format("k in [{:.6g}, {:.6g}], N = {}", lo, largest_step(), n_steps);
+}
+
+void check_formulas(const Problem& p) {
+  for (const auto& f : p.formulas) f->check_finite();
 }
 
 void check_beta0(const Mesh& mesh, const ScalarField& beta0) {

@@ -20,6 +20,8 @@
 
 namespace vpc {
 
+class Expression;
+
 /// The normal law on a contact part (SPEC §6): Signorini (the paper's), or normal
 /// compliance σ_ν = −c (u_ν − g)₊^e (c: a pressure per unit of penetration^e; e ≥ 1,
 /// 1 the linear law), lumped at the contact nodes.
@@ -104,6 +106,10 @@ struct Problem {
   /// Where a case file gives the keys that the checks across keys name, by key path
   /// ("boundary.contact" -> "case.toml:9:1: boundary.contact"); filled by the case reader.
   std::map<std::string, std::string> key_locations;
+  /// The formulas whose values reach the state (loads, prescribed displacements, the gap,
+  /// the obstacles' positions, φ): check_formulas stops a run at the first value of
+  /// theirs that is not finite.
+  std::vector<std::shared_ptr<const Expression>> formulas;
 
   /// `key` located for a message: its key_locations entry, else "<name>: <key>".
   std::string where(const std::string& key) const;
@@ -145,6 +151,10 @@ void check_n_steps(int n_steps);
 int steps_of_time_step(double final_time, double k);
 /// β0 in [0, 1] at every node.
 void check_beta0(const Mesh& mesh, const ScalarField& beta0);
+/// Throws vpc::Error, naming the key, the value, the time and the point, if a formula
+/// of p.formulas has given a value that is not finite (Expression::check_finite): the
+/// time stepper calls it after each step's data (F_n, u_D, g) and sources (φ_n).
+void check_formulas(const Problem& p);
 /// g finite and ≥ 0 at every node of Γ3.
 void check_gap(const Mesh& mesh, const ContactSpec& contact);
 

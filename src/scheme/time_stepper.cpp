@@ -299,7 +299,11 @@ Vector TimeStepper::contact_gap(double t) const {
       bad = fmt::format("the gap g is not finite ({}) at t = {} at contact node {} ({}, {}, {})", gaps.back(), t,
                         part_.original_node[node.local_node], x[0], x[1], x[2]);
   }
-  la::collective(part_.comm, [&] { require(bad.empty(), "{}", bad); });
+  // This step's data (F_n, u_D and g at t_n, all evaluated by now) is finite (issue 26).
+  la::collective(part_.comm, [&] {
+    check_formulas(*problem_);
+    require(bad.empty(), "{}", bad);
+  });
   return Eigen::Map<Vector>(gaps.data(), static_cast<Eigen::Index>(gaps.size()));
 }
 
@@ -690,6 +694,7 @@ StepReport TimeStepper::advance(double k, double t_end) {
   // order on each process (an OpenMP reduction's order varies, and the estimate chooses steps).
   t0 = Clock::now();
   compute_rates();
+  la::collective(comm, [&] { check_formulas(*problem_); });  // φ_n finite (issue 26)
   double sums[4] = {0, 0, 0, 0};  // |ΔG|², |Δβ'|², |σ_n|², (ΔG, ΔG of the last accepted step) (L2)
   std::vector<double> dphi(n_cells);
   dG_attempt_.resize(n_cells);

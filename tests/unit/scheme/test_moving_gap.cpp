@@ -55,9 +55,7 @@ TEST(MovingGap, AGapThatStopsBeingANumberIsNamedWithItsTime) {
   const std::string msg = error_of([&] {
     while (!s.done()) s.step();
   });
-  EXPECT_NE(msg.find("the gap g is not finite"), std::string::npos) << msg;
-  EXPECT_NE(msg.find("at t = 0.6"), std::string::npos) << msg;
-  EXPECT_NE(msg.find("contact node 8 (1, 0, 0)"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("contact.gap: the formula \"sqrt(0.55 - t)\" gives NaN at t = 0.6"), std::string::npos) << msg;
 }
 
 TEST(MovingGap, TheGapAtTheStartMustStillBeNonNegative) {
