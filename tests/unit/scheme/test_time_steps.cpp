@@ -353,6 +353,29 @@ TEST(TimeSteps, ExtendingAnErrorControlledRunGoesOnWithItsSteps) {
   expect_same_state(to2, longer);
 }
 
+TEST(TimeSteps, AnErrorControlledRunContinuedWithTheDefaultsGoesOnFromItsProposal) {
+  // Issue 26 (item 7), what docs/cases.md claims with the default limits (T/100, T/10) and output
+  // times (T/10, …): continued to T = 2, the run to T = 1 takes as its next step the proposal
+  // its controller made at T = 1, on the new ladder (dt_max = 0.2), ending at the new output
+  // times (0.2, 0.4, …).
+  TimeStepper to1(rod({"time.tolerance=2e-3"})), to2(rod({"time.T=2", "time.tolerance=2e-3"}));
+  run_to_end(to1);
+  const double proposal = to1.step_control_state().k_next;
+  checkpoint_into(to1, to2, "extend_defaults");
+  EXPECT_EQ(to2.step_control_state().k_next, proposal);
+  const StepReport first = to2.step();
+  ASSERT_TRUE(first.ok);
+  ASSERT_EQ(first.rejected, 0);
+  const StepControl c = to2.problem().step_control->completed(2.0);
+  EXPECT_EQ(first.t, step_end(1.0, step_on_ladder(proposal, c.dt_min, c.dt_max), 2.0, c.landings));
+  // The run to T = 2 from the start takes other steps before t = 1 (dt_initial 0.02, output
+  // times 0.2, 0.4, …): the continued run is not it, as docs/cases.md says.
+  TimeStepper longer(rod({"time.T=2", "time.tolerance=2e-3"}));
+  while (longer.state().t < 1.0) longer.step();
+  EXPECT_NE(std::vector<double>(longer.times().begin(), longer.times().begin() + 3),
+            std::vector<double>(to1.times().begin(), to1.times().begin() + 3));
+}
+
 TEST(TimeSteps, AResumeRefusesOtherStepsBeforeTheCheckpointAndSaysWhere) {
   TimeStepper a(rod({"time.dt=0.1"}));
   for (int i = 0; i < 5; ++i) a.step();
