@@ -15,14 +15,17 @@ namespace vpc {
 
 /// Error-controlled steps. The estimate of a step from t_{n−1} to t_n is the local error
 /// (k_n/2)|x'(t_n) − x'(t_{n−1})| of a first-order step, for the rates of (3.6) and (3.8):
-///   e_σ = (k_n / 2) |G_n − G_{n−1}|_{L2} / max_{m ≤ n} |σ_m|_{L2},
+///   e_σ = (k_n / 2) |G_n − G_{n−1}|_{L2} / max_{m ≤ n} |σ_m|_{L2} · min(1, 1 / (μ_n T)),
 ///   e_β = (k_n / 2) |M_L⁻¹ (F_φ(n) − F_φ(n−1) − κ A (β_n − β_{n−1}))|_{M_L} / |Ω|^{1/2}
 /// (M β' = F_φ − κAβ; M_L the lumped mass; nodes at β = 0 or 1 left out),
 /// e_n = max(e_σ, e_β): the relative error the step adds in the norms of Theorem 3.5
-/// (u follows z through K, so σ's error bounds u's). A step is accepted when
-/// e_n ≤ tolerance · k_n (an error per unit of time: the errors of all steps add up to
-/// about tolerance · T over [0, T], and the criterion does not depend on T, so a run
-/// continued to a later T takes the steps of the longer run); the next step is
+/// (u follows z through K, so σ's error bounds u's). μ_n is the rate at which the law damps
+/// an error of z along ΔG = G_n − G_{n−1}: −⟨ΔG, J ΔG⟩/|ΔG|² with J = ∂G/∂σ, as the explicit
+/// step keeps it (min(μ, −ln|1 − k_n μ| / k_n), 0 from k_n μ ≥ 2 on). Such an error lasts
+/// about 1/μ_n, not until T: counted as lasting to T, a Perzyna law with E/(2λ) = 50 had its
+/// errors overstated 50 times (issue 26). A step is accepted when e_n ≤ tolerance · k_n (an
+/// error per unit of time: the errors add up to about tolerance · T at any time up to T; the
+/// criterion depends on T only where μ_n T > 1); the next step is
 /// k_n · safety / r, r = e_n / (tolerance k_n),
 /// limited to [cut, growth] times k_n and to [dt_min, dt_max]. A rejected step is redone
 /// from the exact state before it with k_n · max(cut, safety / r).

@@ -612,6 +612,28 @@ void TimeStepper::check_lagged_step(const StepReport& rep) {
   });
 }
 
+std::vector<double> TimeStepper::error_damping(const std::vector<SymTensor>& G_before) const {
+  const Mesh& mesh = part_.mesh();
+  const int n_cells = mesh.n_cells();
+  std::vector<double> jd(n_cells, 0.0);
+#pragma omp parallel for schedule(static) if (n_cells >= kParallelCells)
+  for (int c = 0; c < n_cells; ++c) {
+    const SymTensor dG = rates_G_[c] - G_before[c];
+    const double size = dG.norm(), s = state_.sigma[c].norm();
+    if (size == 0 || s == 0) continue;
+    // A difference quotient along ΔG (the laws' rates are Lipschitz in σ, not all differentiable),
+    // with σ moved by a relative 1e-6.
+    const double h = 1e-6 * s / size;
+    const Material& m = material(c);
+    const PointState moved{state_.sigma[c] + h * dG, state_.eps[c], cell_mean(mesh, state_.beta, c),
+                           m.elasticity.stress_dim(), mesh.cell_centroid(c), state_.t};
+    SymTensor rate = m.law->rate(moved);
+    m.elasticity.restrict_stress(rate);
+    jd[c] = dG.dot(rate - rates_G_[c]) / h;
+  }
+  return jd;
+}
+
 StepReport TimeStepper::advance(double k, double t_end) {
   const Mesh& mesh = part_.mesh();
   const la::Comm& comm = part_.comm;
@@ -695,7 +717,9 @@ StepReport TimeStepper::advance(double k, double t_end) {
   t0 = Clock::now();
   compute_rates();
   la::collective(comm, [&] { check_formulas(*problem_); });  // φ_n finite (issue 26)
-  double sums[4] = {0, 0, 0, 0};  // |ΔG|², |Δβ'|², |σ_n|², (ΔG, ΔG of the last accepted step) (L2)
+  const std::vector<double> damping = error_damping(G);
+  // |ΔG|², |Δβ'|², |σ_n|² (L2), ⟨ΔG, J ΔG⟩, (ΔG, ΔG of the last accepted step)
+  double sums[5] = {0, 0, 0, 0, 0};
   std::vector<double> dphi(n_cells);
   dG_attempt_.resize(n_cells);
   const bool have_last = dG_last_.size() == static_cast<std::size_t>(n_cells);
@@ -703,21 +727,29 @@ StepReport TimeStepper::advance(double k, double t_end) {
     const double w = geo_[c].volume;
     const SymTensor dG = rates_G_[c] - G[c];
     sums[0] += w * dG.dot(dG);
-    if (have_last) sums[3] += w * dG.dot(dG_last_[c]);
+    if (have_last) sums[4] += w * dG.dot(dG_last_[c]);
     dG_attempt_[c] = dG;
     sums[2] += w * state_.sigma[c].dot(state_.sigma[c]);
+    sums[3] += w * damping[c];
     dphi[c] = rates_phi_[c] - phi[c];
   }
   phi_.local() = assemble_p0_source(mesh, geo_, dphi) - problem_->kappa * (A_local_ * (state_.beta - beta_before));
   phi_.add_ghosts_to_owners();
   for (int i = 0; i < part_.n_owned_nodes; ++i)
     if (beta[i] > 0 && beta[i] < 1) sums[1] += phi_.owned()[i] * phi_.owned()[i] / lumped_mass_[i];
-  comm.sum(sums, 4);
+  comm.sum(sums, 5);
   dG2_attempt_ = sums[0];
-  dG_dot_attempt_ = sums[3];
+  dG_dot_attempt_ = sums[4];
   rep.sigma_norm = std::sqrt(sums[2]);
   const double sigma_scale = std::max(control_state_.sigma_scale, rep.sigma_norm);
-  const double e_sigma = sigma_scale > 0 ? k / 2 * std::sqrt(sums[0]) / sigma_scale : 0.0;
+  // The law damps an error in z along ΔG at the rate μ = −⟨ΔG, J ΔG⟩ / |ΔG|² (J = ∂G/∂σ); the
+  // explicit step keeps a factor |1 − kμ| of it per step, a rate −ln|1 − kμ| / k (none from
+  // kμ ≥ 2 on: the step is unstable). Such an error lasts about 1/μ, not until T, so the step's
+  // share of the error at any time up to T is its local error times 1/(μT) (at most 1).
+  const double mu = sums[0] > 0 ? -sums[3] / sums[0] : 0.0;
+  const double mu_step = k * mu >= 2 ? 0.0 : std::min(mu, -std::log(std::abs(1 - k * mu)) / k);
+  const double lasting = mu_step * problem_->final_time > 1 ? 1 / (mu_step * problem_->final_time) : 1.0;
+  const double e_sigma = sigma_scale > 0 ? k / 2 * std::sqrt(sums[0]) / sigma_scale * lasting : 0.0;
   const double e_beta = k / 2 * std::sqrt(sums[1] / volume_);
   rep.error_estimate = std::max(e_sigma, e_beta);
   rep.seconds_sources += seconds_since(t0);

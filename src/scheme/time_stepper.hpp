@@ -222,6 +222,10 @@ class TimeStepper {
   DamageSolver& damage_solver(double k, std::unique_ptr<la::SpdOperator> H = nullptr);
   /// G and φ of step 1 at the current state, per cell: the next step's rates and the last one's estimate.
   void compute_rates();
+  /// Per cell, ⟨ΔG, J ΔG⟩ with ΔG = G_n − G_{n−1} and J = ∂G/∂σ at the current state (a difference
+  /// quotient of the law): how fast the law damps an error of z in the direction of the step's
+  /// local error (the error estimate's μ). After compute_rates().
+  std::vector<double> error_damping(const std::vector<SymTensor>& G_before) const;
   /// F_n of (3.3) without the Bᵀz term: the loads f0, f2 at time t (the part's full dofs).
   Vector load(double t) const;
   /// The contact area and the force on each obstacle, from λ of the step ending at t. Collective.

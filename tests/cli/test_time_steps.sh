@@ -3,7 +3,8 @@
 # run bit for bit (history.csv identical); a resume with other steps before the
 # checkpoint is refused with the step that differs; error-controlled steps write
 # their sizes, estimates and rejections and their k(t) figure; converge --adaptive
-# runs error-controlled levels beside the fixed ones.
+# runs error-controlled levels beside the fixed ones; an error-controlled run continued to a
+# later T with its limits given is the longer run.
 #
 # Usage: tests/cli/test_time_steps.sh PATH/TO/vpcontact TMPDIR
 set -uo pipefail
@@ -45,6 +46,19 @@ assert all(round(0.1 * i, 12) in times for i in range(1, 11)), "an output time w
 PY
 [ -f adaptive/figures/time_steps.png ] || fail "no time_steps.png: $(cat log5)"
 [ "$(ls adaptive/solution_*.vtu | wc -l)" -eq 11 ] || fail "not 11 VTU files (t = 0, 0.1, ..., 1): $(ls adaptive)"
+
+# Error-controlled, continued to T = 2 (issue 26 item 7, docs/cases.md "Continuing a run"): the
+# longer run bit for bit when the limits that default to T/100, T/10 are given and both runs end
+# steps at the same output times up to t = 1.
+limits="--set time.tolerance=2e-3 --set time.dt_initial=0.01 --set time.dt_max=0.1 --set time.dt_min=1e-6 --set time.event_dt=0.01"
+"$vpcontact" run paper-1d -q --no-vtu $limits --set 'output.times=[0.5, 1.0]' -o adaptive_to1 > log7 2>&1 ||
+  fail "adaptive run to T = 1: $(cat log7)"
+"$vpcontact" run paper-1d -q --no-vtu $limits --set time.T=2 --set 'output.times=[0.5, 1.0, 2.0]' --resume adaptive_to1 \
+  > log8 2>&1 || fail "adaptive run continued to T = 2: $(cat log8)"
+"$vpcontact" run paper-1d -q --no-vtu $limits --set time.T=2 --set 'output.times=[0.5, 1.0, 2.0]' -o adaptive_to2 \
+  > log9 2>&1 || fail "adaptive run to T = 2: $(cat log9)"
+cmp -s adaptive_to1/history.csv adaptive_to2/history.csv ||
+  fail "the continued error-controlled run differs from the longer run: $(diff adaptive_to1/history.csv adaptive_to2/history.csv | head -4)"
 
 # converge --adaptive: fixed and error-controlled levels, compared at the base grid's times.
 "$vpcontact" converge paper-1d --sequence k --levels 2 --steps 10 --adaptive 4e-3 --no-plot -q -o conv > log6 2>&1 ||
