@@ -781,8 +781,8 @@ void read_materials(Section& top, Problem& p, const Origins& origins, bool build
     } else {
       const auto where = s.expression("where", Expression::Kind::Space);
       if (build && p.mesh.find_region(m.name) >= 0)
-        fail("{}: the mesh has a region named {} already; name the material otherwise, or give regions = [that name]",
-             s.where("name"), quote(m.name));
+        fail("{}: the mesh has a region named {} already; name the material otherwise, or give regions = [{}]",
+             s.where("name"), quote(m.name), quote_formula(m.name));
       p.mesh.tag_cells(m.name, [&](const Point& x) { return (*where)(x) != 0.0; });
       if (build && p.mesh.region_size(m.name) == 0)
         fail("{}: the predicate {} selects no cell (it is evaluated at cell centroids)", s.where("where"),
