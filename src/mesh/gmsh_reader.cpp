@@ -59,7 +59,7 @@ int reap(pid_t pid) {
 }
 
 /// The child's answer on `fd`, read until it closes. The child is killed (and
-/// reaped) when the time limit passes or options.check_stop throws (Ctrl-C).
+/// reaped) when the time limit passes.
 std::string read_answer(int fd, pid_t pid, const std::string& file, const GmshOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   auto stop_child = [&] {
@@ -70,12 +70,6 @@ std::string read_answer(int fd, pid_t pid, const std::string& file, const GmshOp
   std::string out;
   char buffer[1 << 16];
   for (;;) {
-    if (options.check_stop) try {
-        options.check_stop();
-      } catch (...) {
-        stop_child();
-        throw;
-      }
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (options.time_limit > 0 && seconds > options.time_limit) {
       stop_child();
@@ -84,7 +78,7 @@ std::string read_answer(int fd, pid_t pid, const std::string& file, const GmshOp
            file, options.time_limit, options.time_limit_how);
     }
     pollfd p{fd, POLLIN, 0};
-    const int ready = ::poll(&p, 1, 100);  // a signal ends the wait early (EINTR): check_stop sees it
+    const int ready = ::poll(&p, 1, 100);  // or a signal (EINTR): then the clock is looked at again
     if (ready <= 0) continue;
     const ssize_t n = ::read(fd, buffer, sizeof buffer);
     if (n < 0 && errno == EINTR) continue;
