@@ -29,7 +29,8 @@ constexpr std::uintmax_t kMaxScriptBytes = std::uintmax_t{256} << 20;
 std::string unscannable(const fs::path& file) {
   std::string ext = file.extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
-  if (ext == ".gz") return "reads a compressed file, which Gmsh uncompresses with a shell command (uncompress it first)";
+  if (ext == ".gz")
+    return "reads a compressed file, which Gmsh uncompresses with a shell command (uncompress it first)";
   std::error_code ec;
   const auto status = fs::status(file, ec);
   if (ec || !fs::exists(status)) return {};  // Gmsh reports a missing file
