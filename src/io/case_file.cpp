@@ -539,8 +539,10 @@ Mesh read_mesh_file(Section& m, const fs::path& base_dir, const std::string& mem
                                               "[mesh] memory_limit"}
                                 : memory_limit(memory_limit_option);
   // At least 1 GiB: the limit is on address space, of which Gmsh's libraries alone map hundreds of MiB.
-  g.memory_limit = std::isfinite(limit.bytes) ? static_cast<std::size_t>(std::max(limit.bytes, 1024.0 * 1024 * 1024)) : 0;
-  g.memory_limit_how = m.has("memory_limit") ? limit.source : limit.source + "; [mesh] memory_limit sets it for meshing";
+  g.memory_limit =
+      std::isfinite(limit.bytes) ? static_cast<std::size_t>(std::max(limit.bytes, 1024.0 * 1024 * 1024)) : 0;
+  g.memory_limit_how =
+      m.has("memory_limit") ? limit.source : limit.source + "; [mesh] memory_limit sets it for meshing";
   return located(m.where("file"), [&] { return read_gmsh(path, g); });
 }
 
@@ -800,8 +802,8 @@ void read_materials(Section& top, Problem& p, const Origins& origins, bool build
     } else {
       const auto where = s.expression("where", Expression::Kind::Space);
       if (build && p.mesh.find_region(m.name) >= 0)
-        fail("{}: the mesh has a region named {} already; name the material otherwise, or give regions = [that name]",
-             s.where("name"), quote(m.name));
+        fail("{}: the mesh has a region named {} already; name the material otherwise, or give regions = [{}]",
+             s.where("name"), quote(m.name), quote_formula(m.name));
       p.mesh.tag_cells(m.name, [&](const Point& x) { return (*where)(x) != 0.0; });
       if (build && p.mesh.region_size(m.name) == 0)
         fail("{}: the predicate {} selects no cell (it is evaluated at cell centroids)", s.where("where"),
@@ -893,7 +895,8 @@ Obstacle read_obstacle(Section& s, int k, int d) {
   const std::string at = o.shape == Obstacle::Shape::Plane ? "point" : "center";
   auto position = s.state_expressions(at, d, Expression::Kind::SpaceTime);
   for (const auto& e : position)
-    if (e->uses_position()) fail("{}: the position of an obstacle is a formula in t only (got {})", s.where(at), quote_formula(e->text()));
+    if (e->uses_position())
+      fail("{}: the position of an obstacle is a formula in t only (got {})", s.where(at), quote_formula(e->text()));
   o.position = vector_field(std::move(position));
   if (o.shape == Obstacle::Shape::Plane) {
     o.normal = unit_vector(s, "normal", d);
@@ -1206,7 +1209,8 @@ void check_case_name(const std::string& name, bool given, const std::string& whe
                     });
   if (dots || (given && !safe))
     fail("{}: expected a name of at most 100 letters, digits, '-', '_' and '.' (not '.' or '..'; it names the output "
-         "directory output/<name>), got {}", where, given ? quote(name) : "'" + name + "' (the file's stem: give [case] name)");
+         "directory output/<name>), got {}",
+         where, given ? quote(name) : "'" + name + "' (the file's stem: give [case] name)");
 }
 
 }  // namespace

@@ -7,7 +7,6 @@
 
 #include <cstddef>
 #include <filesystem>
-#include <functional>
 #include <string>
 
 namespace vpc {
@@ -33,9 +32,6 @@ struct GmshOptions {
   std::size_t memory_limit = 0;
   /// Where the limits are set, for the messages when one is reached.
   std::string time_limit_how = "GmshOptions::time_limit", memory_limit_how = "GmshOptions::memory_limit";
-  /// Called while Gmsh runs (every 0.1 s, and when a signal arrives): a stop
-  /// it throws (Ctrl-C) stops Gmsh at once and is thrown on.
-  std::function<void()> check_stop;
 };
 
 /// Reads (or generates) the mesh of `file`. Cells are the linear simplices of

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <cctype>
+#include <cstdint>
 #include <fstream>
 #include <sstream>
 #include <utility>
@@ -18,6 +19,25 @@ namespace fs = std::filesystem;
 
 /// Includes nested deeper are refused (a script that includes itself would never end).
 constexpr int kMaxIncludeDepth = 16;
+
+/// Scripts larger are refused rather than read (no real geometry comes near).
+constexpr std::uintmax_t kMaxScriptBytes = std::uintmax_t{256} << 20;
+
+/// Why Gmsh's reading of `file` cannot be checked, or empty: Gmsh 4.8 uncompresses a .gz
+/// file with a shell command built from its name ("gunzip -c NAME > ..."), then runs it;
+/// a FIFO or device would block the scan (and Gmsh).
+std::string unscannable(const fs::path& file) {
+  std::string ext = file.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  if (ext == ".gz")
+    return "reads a compressed file, which Gmsh uncompresses with a shell command (uncompress it first)";
+  std::error_code ec;
+  const auto status = fs::status(file, ec);
+  if (ec || !fs::exists(status)) return {};  // Gmsh reports a missing file
+  if (!fs::is_regular_file(status)) return "reads a file that is not a regular file";
+  if (fs::file_size(file, ec) > kMaxScriptBytes) return "reads a script larger than 256 MiB, which vpcontact does not scan";
+  return {};
+}
 
 struct Token {
   enum Kind { Name, String, Number, Punct } kind;
@@ -166,6 +186,7 @@ class Scanner {
                    "reads a file named by an expression, which vpcontact cannot check for commands (name the "
                    "file by a literal string)");
     const fs::path file = fs::path(t_[i + 1].text).is_absolute() ? fs::path(t_[i + 1].text) : dir_ / t_[i + 1].text;
+    if (const std::string why = unscannable(file); !why.empty()) return found(i, name, why);
     if (!is_gmsh_script(file)) return std::nullopt;  // a mesh or CAD file: data
     if (depth_ >= kMaxIncludeDepth)
       return found(i, name, fmt::format("nests scripts more than {} deep (does a file include itself?)", kMaxIncludeDepth));
@@ -204,6 +225,9 @@ std::optional<GmshScriptCommand> find_unsafe_command(const fs::path& file, int d
 }
 
 void check_gmsh_script(const fs::path& file, const std::string& opt_in) {
+  if (const std::string why = unscannable(file); !why.empty())
+    fail("{}: Gmsh {}; vpcontact does not read such a file ({} allows it, for a file you trust)", file.string(), why,
+         opt_in);
   if (!is_gmsh_script(file)) return;
   if (const auto c = find_unsafe_command(file))
     fail("{}:{}:{}: '{}' {}; vpcontact does not run a .geo script that runs programs or writes files ({} "

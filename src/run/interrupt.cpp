@@ -11,6 +11,7 @@ namespace {
 
 volatile std::sig_atomic_t g_signal = 0;
 volatile std::sig_atomic_t g_at_once = 0;  // SetUpStopsAtOnce
+volatile std::sig_atomic_t g_checkpoint = 0;  // note_checkpoint
 
 /// write(2) of a literal: async-signal-safe.
 template <std::size_t N>
@@ -25,7 +26,8 @@ extern "C" void on_signal(int s) {
     ::_exit(128 + s);
   }
   if (g_signal != 0) {  // the second one: no waiting for the step or factorization under way
-    say("\nvpcontact: second signal: stopping at once (the last checkpoint is kept)\n");
+    if (g_checkpoint != 0) say("\nvpcontact: second signal: stopping at once (the last checkpoint is kept)\n");
+    else say("\nvpcontact: second signal: stopping at once (no checkpoint was written)\n");
     ::_exit(128 + s);
   }
   g_signal = s;
@@ -63,6 +65,8 @@ SetUpStopsAtOnce::SetUpStopsAtOnce() {
 }
 
 SetUpStopsAtOnce::~SetUpStopsAtOnce() { g_at_once = 0; }
+
+void note_checkpoint() { g_checkpoint = 1; }
 
 std::string shell_quote(std::string_view s) {
   const bool safe = !s.empty() && s.find_first_not_of("ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz"

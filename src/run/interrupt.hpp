@@ -34,6 +34,9 @@ struct Interrupted : std::runtime_error {
 /// Throws Interrupted if a signal has arrived.
 void stop_if_interrupted();
 
+/// A checkpoint exists (written or resumed from): what a second signal keeps.
+void note_checkpoint();
+
 /// While one exists, the first signal ends the process at once with "interrupted
 /// by SIGINT during set-up; nothing was computed" and 128 + the signal. Not where
 /// other processes would wait in a collective call (the PETSc engine).

@@ -35,10 +35,12 @@ class StepperEngine final : public Engine {
   void finish(double wall_seconds) override { output_->finish(wall_seconds); }
   void checkpoint() override {
     write_checkpoint(*stepper_, output_->directory(), case_.name, output_->pvd_entries(), output_->totals());
+    note_checkpoint();
   }
   std::optional<ResumedAt> resume(const std::filesystem::path& dir, std::vector<std::string>& skipped) override {
     auto saved = resume_from_checkpoint(*stepper_, dir, &skipped);
     if (!saved) return std::nullopt;
+    note_checkpoint();
     output_->resume(saved->n, std::move(saved->pvd), saved->totals);
     return ResumedAt{saved->n, saved->t};
   }

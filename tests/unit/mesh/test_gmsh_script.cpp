@@ -6,6 +6,7 @@
 #include "mesh/gmsh_reader.hpp"
 
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <filesystem>
@@ -97,6 +98,13 @@ TEST(GmshScript, IncludedScriptsAreScanned) {
   EXPECT_EQ(c->command, "Save");
   EXPECT_EQ(first("Merge \"bad.geo\";", dir), "3:1 Save");  // Merge of a script runs it
   EXPECT_EQ(first("Include \"self.geo\";", dir), "1:1 Include");
+  // Gmsh 4.8 uncompresses a .gz with a shell command made from its name; a FIFO would block.
+  std::ofstream(dir / "a.geo.gz") << "x";
+  EXPECT_EQ(first("Merge \"a.geo.gz\";", dir), "1:1 Merge");
+  fs::remove(dir / "fifo.geo");
+  ASSERT_EQ(::mkfifo((dir / "fifo.geo").c_str(), 0600), 0);
+  EXPECT_EQ(first("Include \"fifo.geo\";", dir), "1:1 Include");
+  EXPECT_EQ(first("Include \"missing.geo\";", dir), "none");  // Gmsh reports it
   EXPECT_TRUE(is_gmsh_script("a.geo"));
   EXPECT_TRUE(is_gmsh_script("a.pos"));
   EXPECT_FALSE(is_gmsh_script("a.MSH"));
@@ -122,6 +130,16 @@ TEST(GmshScript, ReaderRefusesUntrustedScripts) {
             std::string::npos)
       << what;
   EXPECT_FALSE(fs::exists(marker));
+  std::ofstream(dir / "body.msh.gz") << "x";  // gunzip -c NAME: a shell command
+  try {
+    read_gmsh(dir / "body.msh.gz");
+    ADD_FAILURE() << "a .gz was read";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("body.msh.gz: Gmsh reads a compressed file, which Gmsh uncompresses with a "
+                                         "shell command"),
+              std::string::npos)
+        << e.what();
+  }
   GmshOptions trusted;
   trusted.trust_script = true;
   EXPECT_EQ(read_gmsh(file, trusted).n_cells() > 0, true);
