@@ -7,6 +7,7 @@
 #include "material/sources/expression_source.hpp"
 #include "mesh/generators.hpp"
 #include "mesh/gmsh_reader.hpp"
+#include "mesh/mesh_extent.hpp"
 
 #include <fmt/ranges.h>
 #include <toml++/toml.h>
@@ -619,6 +620,9 @@ Mesh read_mesh(Section m, const fs::path& base_dir, const Origins& origins, cons
     return Mesh(request.dim);  // [mesh] is read by the rank that builds the mesh
   }
   Mesh mesh = m.has("file") ? read_mesh_file(m, base_dir, memory_limit_option) : generate_mesh(m);
+  // Coordinates such as 1e120 overflow the method's products (issue 26): refused here, at check.
+  located(m.has("file") ? fmt::format("{}: '{}'", m.where("file"), m.string("file")) : m.where("upper"),
+          [&] { check_mesh_extent(mesh); });
   read_mesh_parts(m, mesh, origins);
   m.finish();
   return mesh;

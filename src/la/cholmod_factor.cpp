@@ -12,6 +12,7 @@
 #include <cstdint>
 #include <cstring>
 #include <string>
+#include <string_view>
 #include <thread>
 
 namespace vpc::la {
@@ -139,8 +140,16 @@ class CholmodFactor final : public Factor {
     if (!ok || c_.status < CHOLMOD_OK)
       fail("{}: the Cholesky factorization failed: {}; the factor would hold {:.4g} entries ({})", describe(),
            cholmod_failure(c_), estimate_.entries, format_bytes(estimate_.factor_bytes));
-    require(c_.status != CHOLMOD_NOT_POSDEF && L_->minor == L_->n && rcond() > kMinRcond,
-            "{}: the matrix is not positive definite (is the body clamped on a non-empty part Γ1?)", describe());
+    // The hint about Γ1 is K's alone (issue 26: it was given for the damage matrix H as well,
+    // whose maker, solvers/damage_solver.cpp, adds its own cause).
+    const std::string hint =
+        std::string_view(what_).starts_with("elastic stiffness K") ? " (is the body clamped on a non-empty part Γ1?)" : "";
+    require(c_.status != CHOLMOD_NOT_POSDEF && L_->minor == L_->n, "{}: the matrix is not positive definite (pivot {} of {}){}",
+            describe(), L_->minor + 1, n_, hint);
+    const double rc = rcond();
+    require(rc > kMinRcond,
+            "{}: the matrix is not positive definite: numerically singular (reciprocal condition estimate {:.1e} < {:.0e}){}",
+            describe(), rc, kMinRcond, hint);
     // The supernodal factor is always LLᵀ; forward()/backward() rely on it.
     require(L_->is_ll, "{}: CHOLMOD returned an LDLᵀ factor where LLᵀ was asked for", what);
     // Frees CHOLMOD's factorization workspace (for 2D meshes ~1/3 of the factor's

@@ -4,6 +4,7 @@
 #include "io/checkpoint.hpp"
 #include "io/output_files.hpp"
 #include "run/progress.hpp"
+#include "scheme/step_failure.hpp"
 
 #include <fmt/format.h>
 
@@ -53,17 +54,20 @@ void start(Engine& e, const RunOptions& o) {
           ? std::string("No output directory")
           : fmt::format("Results up to step {} are in '{}'; `--resume {}` continues from step {}", r.n - 1,
                         e.directory().string(), shell_quote(e.directory().string()), last_checkpoint);
-  throw CollectiveError(fmt::format(
-      "step {} (t = {:.6g}) failed{}{}: contact solver {} after {} iterations (residual {:.2e}), damage solver {} "
-      "after {} iterations (KKT residual {:.2e}, beta in [{}, {}]); tolerance {:.1e}. {}{}",
-      r.n, r.t, o.halvings > 0 ? fmt::format(" after {} step halvings", o.halvings) : "",
-      not_finite ? " (NaN or Inf in the data of the step: a formula for phi, f0 or f2?)" : "",
-      r.contact.converged ? "converged" : "did not converge", r.contact.iterations, r.contact.residuals.max(),
-      r.damage.converged ? "converged" : "did not converge", r.damage.iterations, r.damage.kkt_residual, r.beta_min,
-      r.beta_max, e.tolerance(), results,
-      o.halvings == 0 && e.n_steps() > 0 ? " (--retry-halvings N retries a failed step with smaller steps)"
-      : e.n_steps() == 0                 ? " (the error control redid it down to dt_min or max_rejections)"
-                                         : ""));
+  // Which solver failed, with the residual and its value against the tolerance (issue 26: "converged"
+  // was printed for a solver whose residual failed); smaller steps only where they can help.
+  const double tol = e.tolerance();
+  const std::string halve =
+      !halving_can_help(r, tol)
+          ? " (smaller steps cannot help: the contact solver solved this step's problem, and the step size does not "
+            "change its residual; another --contact-solver may)"
+      : o.halvings == 0 && e.n_steps() > 0 ? " (--retry-halvings N retries a failed step with smaller steps)"
+      : e.n_steps() == 0                   ? " (the error control redid it down to dt_min or max_rejections)"
+                                           : "";
+  throw CollectiveError(fmt::format("step {} (t = {:.6g}) failed{}{}: {} (beta in [{}, {}]). {}{}", r.n, r.t,
+                                    o.halvings > 0 ? fmt::format(" after {} step halvings", o.halvings) : "",
+                                    not_finite ? " (NaN or Inf in the data of the step: a formula for phi, f0 or f2?)" : "",
+                                    step_failure(r, tol), r.beta_min, r.beta_max, results, halve));
 }
 
 }  // namespace

@@ -755,7 +755,8 @@ StepReport TimeStepper::advance(double k, double t_end) {
   rep.seconds_sources += seconds_since(t0);
 
   const double tol = choice_.residual_tolerance;
-  const bool finite = std::isfinite(comm.sum(u_free_.squaredNorm() + beta.squaredNorm()));
+  // allFinite, not a sum of squares: that overflows for a finite |u| > 1e154 (issue 26).
+  const bool finite = comm.all(u_free_.allFinite() && beta.allFinite());
   rep.ok = rep.contact.converged && rep.damage.converged && rep.contact.residuals.max() <= tol &&
            rep.damage.kkt_residual <= tol && finite;
   return rep;

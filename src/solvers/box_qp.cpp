@@ -59,8 +59,9 @@ const la::Comm& BoxQpOperator::comm() const {
 }
 
 SparseBoxQpOperator::SparseBoxQpOperator(std::unique_ptr<la::SpdOperator> H, const la::FactorFactory& make_factor,
-                                         ReducedSolve method)
-    : H_(std::move(H)), diag_(H_->diagonal()), method_(method), full_(make_factor("H")), reduced_(make_factor("H_reduced")) {
+                                         ReducedSolve method, std::string what)
+    : H_(std::move(H)), what_(std::move(what)), what_reduced_("reduced " + what_), diag_(H_->diagonal()),
+      method_(method), full_(make_factor("H")), reduced_(make_factor("H_reduced")) {
   require(method_ != ReducedSolve::capacitance || full_->has_halves(),
           "damage: reduced = \"capacitance\" needs a factor with triangular halves (CHOLMOD); this linear solver "
           "has none (use \"automatic\" or \"reduced-factor\")");
@@ -68,11 +69,11 @@ SparseBoxQpOperator::SparseBoxQpOperator(std::unique_ptr<la::SpdOperator> H, con
   // The automatic choice's costs from the factor's symbolic analysis, at 10⁹ flop/s (as the
   // dense a × a Cholesky's below), not from timings: measured times made the choice, and so
   // the last bits of β, differ from run to run (a resumed run, a solver made for another step).
-  if (const auto e = full_->analyze(*H_, "box QP matrix")) {
+  if (const auto e = full_->analyze(*H_, what_.c_str())) {
     seconds_factor_ = e->flops / 1e9;
     seconds_forward_ = 2 * e->entries / 1e9;
   }
-  full_->factorize(*H_, "box QP matrix");
+  full_->factorize(*H_, what_.c_str());
 }
 
 SparseBoxQpOperator::SparseBoxQpOperator(SparseMatrix H, ReducedSolve method)
@@ -167,7 +168,7 @@ void SparseBoxQpOperator::solve_reduced_factor(const std::vector<char>& fixed, c
     for (int i = 0; i < n; ++i)
       if (!fixed[i]) free_ids_.push_back(i);
     HFF_ = H_->restrict_to_free(fixed);
-    reduced_->factorize(*HFF_, "reduced box QP matrix");
+    reduced_->factorize(*HFF_, what_reduced_.c_str());
     reduced_mask_ = fixed;
   }
   Vector rf(static_cast<Eigen::Index>(free_ids_.size())), xf(rf.size());

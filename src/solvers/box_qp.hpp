@@ -14,9 +14,9 @@
 #include <Eigen/Dense>
 #include <Eigen/Sparse>
 #include <memory>
+#include <string>
 #include <vector>
 
-#include "la/factor.hpp"
 #include "la/factor.hpp"
 
 namespace vpc {
@@ -70,9 +70,10 @@ enum class ReducedSolve {
 /// factor has triangular halves) or a factor of H_FF made when the active set changes.
 class SparseBoxQpOperator final : public BoxQpOperator {
  public:
-  /// `make_factor` makes the factors of H and of the H_FF (a backend's la::Factor).
+  /// `make_factor` makes the factors of H and of the H_FF (a backend's la::Factor); `what`
+  /// names H in their errors (e.g. the damage matrix).
   SparseBoxQpOperator(std::unique_ptr<la::SpdOperator> H, const la::FactorFactory& make_factor,
-                      ReducedSolve method = ReducedSolve::automatic);
+                      ReducedSolve method = ReducedSolve::automatic, std::string what = "box QP matrix");
   /// One process: H in Eigen, factors by CHOLMOD.
   explicit SparseBoxQpOperator(SparseMatrix H, ReducedSolve method = ReducedSolve::automatic);
   const la::Comm& comm() const override { return H_->comm(); }
@@ -103,6 +104,7 @@ class SparseBoxQpOperator final : public BoxQpOperator {
   void solve_reduced_factor(const std::vector<char>& fixed, const Vector& b, Vector& x);
 
   std::unique_ptr<la::SpdOperator> H_, HFF_;
+  std::string what_, what_reduced_;  // the factors keep the names' pointers
   Vector diag_;
   ReducedSolve method_;
   std::unique_ptr<la::Factor> full_, reduced_;

@@ -7,10 +7,12 @@
 #include "solvers/primal_active_set.hpp"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <tuple>
 
 namespace vpc {
 
@@ -52,8 +54,15 @@ ContactResiduals contact_residuals(const la::SpdOperator& K, const ContactConstr
   auto inf = [&](const Vector& v) { return comm.max(v.size() ? v.cwiseAbs().maxCoeff() : 0.0); };
   const double f_scale = std::max({inf(F), inf(Ku), 1e-300});
   r.equilibrium = inf(Vector(Ku - F + c.N.transpose() * lambda_local)) / f_scale;
-  const double u_scale = std::max({inf(u), inf(c.gap), 1e-300});
   const double l_scale = std::max({lambda.size() ? lambda.cwiseAbs().maxCoeff() : 0.0, f_scale});
+  // Not max(‖u‖, ‖g‖) alone: where every free dof is held by contact at a zero gap the exact
+  // u is 0, and the dual solver's u = K⁻¹(F − Nᵀλ) is 0 only to round-off (~1e-17), which
+  // that scale measured against itself: penetration and complementarity ~1 (issue 26). The
+  // displacement l_scale / max K_ii is below any u the forces make otherwise, so elsewhere
+  // the scale, and so every residual, is what it was.
+  const Vector K_diag = K.diagonal();
+  const double k_max = comm.max(K_diag.size() ? K_diag.maxCoeff() : 0.0);
+  const double u_scale = std::max({inf(u), inf(c.gap), k_max > 0 ? l_scale / k_max : 0.0, 1e-300});
   for (int i = 0; i < s.size(); ++i) {
     r.penetration = std::max(r.penetration, -s[i] / u_scale);
     r.negative_force = std::max(r.negative_force, -lambda_local[i] / l_scale);
@@ -63,6 +72,31 @@ ContactResiduals contact_residuals(const la::SpdOperator& K, const ContactConstr
   r.negative_force = comm.max(r.negative_force);
   r.complementarity = comm.max(r.complementarity);
   return r;
+}
+
+namespace {
+/// "1 iteration" / "3 iterations".
+std::string iterations(int n) { return fmt::format("{} iteration{}", n, n == 1 ? "" : "s"); }
+}  // namespace
+
+std::string contact_failure(const ContactReport& r, double tolerance) {
+  const ContactResiduals& x = r.residuals;
+  if (std::isinf(x.max()) || std::isnan(x.max())) return "met NaN or Inf in its data or solution";
+  std::vector<std::string> above;
+  const std::tuple<const char*, const char*, double> named[] = {
+      {"equilibrium", "KKT stationarity: Ku = F - N^T lambda", x.equilibrium},
+      {"penetration", "feasibility: Nu <= g", x.penetration},
+      {"negative-force", "feasibility: lambda >= 0", x.negative_force},
+      {"complementarity", "lambda_i (g - Nu)_i = 0", x.complementarity}};
+  for (const auto& [name, meaning, value] : named)
+    if (!(value <= tolerance)) above.push_back(fmt::format("{} residual {:.2e} ({})", name, value, meaning));
+  const std::string residuals =
+      above.empty() ? "" : fmt::format("{} above the tolerance {:.1e}", fmt::join(above, ", "), tolerance);
+  if (!r.converged)
+    return fmt::format("stopped at its iteration limit after {} without converging{}", iterations(r.iterations),
+                       residuals.empty() ? "" : "; " + residuals);
+  if (residuals.empty()) return "";
+  return fmt::format("ended after {} with its {}", iterations(r.iterations), residuals);
 }
 
 ContactReport contact_report(const la::SpdOperator& K, const ContactConstraints& c, const Vector& F, const Vector& u,

@@ -63,8 +63,19 @@ struct ContactConstraints {
 
 /// Residuals of (3.9) at (u owned, λ replicated), reductions over K.comm(); with
 /// normal compliance the gap left is s = g − Nu + (λ/k)^{1/e} (≥ 0, ⟂ λ) in place of g − Nu.
+/// scale_u = max(‖u‖∞, ‖g‖∞, scale_λ / max K_ii), scale_λ = max(‖λ‖∞, ‖F‖∞, ‖Ku‖∞): the last
+/// term of scale_u (the displacement a force scale_λ gives a dof against its own stiffness)
+/// keeps the scale from vanishing where the exact u is 0 and g = 0 (issue 26: every free node a
+/// contact node pressed onto a zero gap), where u's round-off would be measured against itself.
 ContactResiduals contact_residuals(const la::SpdOperator& K, const ContactConstraints& c, const Vector& F,
                                    const Vector& u, const Vector& lambda);
+
+/// What failed in a contact solve judged against `tolerance` (SolverChoice::residual_tolerance),
+/// for a failed step's message; empty when it converged with every residual within it. Names the
+/// residual (equilibrium: KKT stationarity Ku = F − Nᵀλ; penetration and negative force: primal and
+/// dual feasibility; complementarity), its value and the tolerance, or the iteration limit, or
+/// NaN/Inf; never "converged" for a failure.
+std::string contact_failure(const ContactReport& r, double tolerance);
 
 /// For the solvers' implementations (solvers/*.cpp): λ's entries at this rank's rows; m numbers,
 /// the same on every rank, from this rank's rows' values; `gap` checked to have one value per

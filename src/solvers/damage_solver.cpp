@@ -12,10 +12,45 @@ namespace vpc {
 
 namespace {
 
+const char* const kDamageMatrix = "damage matrix H = M + k kappa A";
+
+/// max_i (H·1)_i / H_ii over every rank: H = M + kκA is definite only through the mass part M
+/// (A·1 = 0, so H·1 = M·1 up to round-off): this is M's share of H's diagonal, or round-off
+/// where kκA has swamped M.
+double mass_share(const la::SpdOperator& H) {
+  Vector row_sums;
+  H.mult(Vector::Ones(H.n_owned()), row_sums);
+  const Vector diag = H.diagonal();
+  double share = 0;
+  for (Eigen::Index i = 0; i < diag.size(); ++i) share = std::max(share, std::abs(row_sums[i]) / diag[i]);
+  return H.comm().max(share);
+}
+
+/// Makes a damage solver, whose set-up factorizes H; if that fails, says the likely cause,
+/// measured on H (issue 26: a singular H was blamed on a missing clamp, which concerns K).
+template <typename Make>
+std::unique_ptr<DamageSolver> with_cause(const la::SpdOperator& H, Make&& make) {
+  const double share = mass_share(H);  // before `make` takes H
+  try {
+    return make();
+  } catch (const Error& e) {
+    // M's share of H's diagonal is about h²/(kκ) (h the cell size); CHOLMOD refuses H from about
+    // kκ/h² = 1e14 (measured: 10 × 10 cells, k = 0.5: κ = 1e12 runs, 1e13 fails). Another cause
+    // (a share above 1e-10) is left to the factor's own message.
+    if (!(share < 1e-10)) throw;
+    fail("{}. Likely cause: k kappa is too large for the cells: H is definite only through its mass part M "
+         "(A 1 = 0), and M, {:.1e} of H's diagonal, is lost in round-off next to k kappa A (k kappa / h^2 must stay "
+         "below about 1e14, k the time step, h the cell size). Check [damage] kappa and the unit of length: kappa "
+         "is a length^2 per unit of time, so a mesh in a small unit (a body 1e-9 across, in metres) needs kappa "
+         "scaled by the square of that unit, or another unit",
+         e.what(), share);
+  }
+}
+
 class ActiveSetDamageSolver final : public DamageSolver {
  public:
   ActiveSetDamageSolver(std::unique_ptr<la::SpdOperator> H, const la::FactorFactory& make_factor, ReducedSolve reduced)
-      : op_(std::move(H), make_factor, reduced) {}
+      : op_(std::move(H), make_factor, reduced, kDamageMatrix) {}
   DamageReport solve(const Vector& rhs, Vector& beta) override {
     const int n = op_.size();
     const BoxQpResult r = solve_box_qp(op_, rhs, Vector::Zero(n), Vector::Ones(n), beta);
@@ -127,12 +162,30 @@ class PenaltyDualityDamageSolver final : public DamageSolver {
 
 }  // namespace
 
+std::string damage_failure(const DamageReport& r, double tolerance) {
+  if (std::isinf(r.kkt_residual) || std::isnan(r.kkt_residual)) return "met NaN or Inf in its data or solution";
+  const std::string above =
+      r.kkt_residual <= tolerance
+          ? ""
+          : fmt::format("KKT residual {:.2e} (stationarity, 0 <= beta <= 1 and complementarity) above the tolerance {:.1e}",
+                        r.kkt_residual, tolerance);
+  const std::string its = fmt::format("{} iteration{}", r.iterations, r.iterations == 1 ? "" : "s");
+  if (!r.converged)
+    return fmt::format("stopped at its iteration limit after {} without converging{}", its,
+                       above.empty() ? "" : "; " + above);
+  return above.empty() ? "" : fmt::format("ended after {} with its {}", its, above);
+}
+
 std::unique_ptr<DamageSolver> make_damage_solver(const std::string& name, std::unique_ptr<la::SpdOperator> H,
                                                  const la::FactorFactory& make_factor, ReducedSolve reduced,
                                                  double tolerance, int max_iterations) {
-  if (name == "active-set") return std::make_unique<ActiveSetDamageSolver>(std::move(H), make_factor, reduced);
+  const la::SpdOperator& h = *H;
+  if (name == "active-set")
+    return with_cause(h, [&] { return std::make_unique<ActiveSetDamageSolver>(std::move(H), make_factor, reduced); });
   if (name == "penalty-duality")
-    return std::make_unique<PenaltyDualityDamageSolver>(std::move(H), make_factor, tolerance, max_iterations);
+    return with_cause(h, [&] {
+      return std::make_unique<PenaltyDualityDamageSolver>(std::move(H), make_factor, tolerance, max_iterations);
+    });
   fail("unknown damage solver '{}'; expected active-set or penalty-duality", name);
 }
 

@@ -17,6 +17,11 @@ struct DamageReport {
   double kkt_residual = 0;       // relative natural KKT residual (box_qp_kkt_residual)
 };
 
+/// What failed in a damage solve judged against `tolerance`, for a failed step's message; empty
+/// when it converged within it: the KKT residual (stationarity, bounds and complementarity of
+/// the box QP together, box_qp_kkt_residual) against the tolerance, the iteration limit, or NaN/Inf.
+std::string damage_failure(const DamageReport& r, double tolerance);
+
 class DamageSolver {
  public:
   virtual ~DamageSolver() = default;

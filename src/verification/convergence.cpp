@@ -3,6 +3,7 @@
 #include "core/error.hpp"
 #include "io/atomic_file.hpp"
 #include "io/checkpoint.hpp"
+#include "scheme/step_failure.hpp"
 #include "verification/refine.hpp"
 
 #include <fmt/format.h>
@@ -108,12 +109,8 @@ void advance(Run& run, bool strict = true) {
   const StepReport rep = run.stepper->step();
   run.result.seconds += seconds_since(t0);
   if (!rep.ok) ++run.result.n_failed_steps;
-  require(rep.ok || !strict,
-          "convergence study: level {} step {} (t = {}) failed: contact solver {} ({} iterations, residual {:.2e}), "
-          "damage solver {} ({} iterations, KKT residual {:.2e})",
-          run.level, rep.n, rep.t, rep.contact.converged ? "converged" : "did not converge", rep.contact.iterations,
-          rep.contact.residuals.max(), rep.damage.converged ? "converged" : "did not converge", rep.damage.iterations,
-          rep.damage.kkt_residual);
+  require(rep.ok || !strict, "convergence study: level {} step {} (t = {}) failed: {}", run.level, rep.n, rep.t,
+          step_failure(rep, run.stepper->solvers().residual_tolerance));
   run.gather();
   ++run.n_stepped;
   run.result.n_rejected += rep.rejected;

@@ -308,6 +308,45 @@ TEST(ContactSolver, ElasticBlockActiveSetAndPenaltyDualityAgree) {
   EXPECT_EQ(lambda[0][m - 1], 0.0);
 }
 
+// Issue 26 item 4: a layer one element thick, clamped on top, pressed onto a zero gap: every
+// free node is a contact node, all of them touch, and the exact u is 0. The dual solver's u =
+// K⁻¹(F − Nᵀλ) is 0 to round-off; measured against max(‖u‖, ‖g‖), that round-off itself, its
+// penetration and complementarity were ~1 and the step failed. It must agree with the primal
+// solver (which fixes the touching dofs exactly) to round-off, residuals included.
+TEST(ContactSolver, EveryFreeNodeInContactDualAgreesWithPrimal) {
+  const Mesh mesh = make_rectangle({0, 0, 0}, {10, 0.1, 0}, 100, 1);
+  const auto geo = compute_geometry(mesh);
+  const DofMap dofs(mesh.n_nodes(), 2, mesh.nodes_of_parts({"top"}));
+  const SparseMatrix K = assemble_stiffness(mesh, geo, Elasticity(Elasticity::Kind::PlaneStrain, 100, 0.3), dofs);
+  const VectorField f0 = [](const Point&, double) { return Point{0, -0.5, 0}; };
+  const Vector F = restrict_to_free(dofs, assemble_load(mesh, geo, {}, f0, nullptr, 0.0));
+  const std::vector<int> bottom = mesh.nodes_of_parts({"bottom"});
+  ASSERT_EQ(2 * static_cast<int>(bottom.size()), dofs.n_free());  // every free node is a contact node
+  std::vector<Eigen::Triplet<double>> t;
+  for (int r = 0; r < static_cast<int>(bottom.size()); ++r)
+    t.emplace_back(r, dofs.free_index(dofs.full_index(bottom[r], 1)), -1.0);
+  SparseMatrix N(static_cast<Eigen::Index>(bottom.size()), dofs.n_free());
+  N.setFromTriplets(t.begin(), t.end());
+  const Vector g = Vector::Zero(N.rows());
+  const char* const names[] = {"primal-active-set", "active-set", "penalty-duality"};
+  Vector u[3], lambda[3];
+  for (int s = 0; s < 3; ++s) {
+    SCOPED_TRACE(names[s]);
+    const ContactReport rep = make_contact_solver(names[s], K, N, g)->solve(F, u[s], lambda[s]);
+    ASSERT_TRUE(rep.converged);
+    EXPECT_EQ(rep.n_active, N.rows());
+    EXPECT_LE(rep.residuals.max(), s == 2 ? 1e-10 : 1e-13) << contact_failure(rep, 0);
+    EXPECT_EQ(contact_failure(rep, 1e-8), "");
+  }
+  // The primal solution: u = 0 exactly, λ the nodal loads.
+  EXPECT_EQ(u[0].cwiseAbs().maxCoeff(), 0.0);
+  const double ls = lambda[0].cwiseAbs().maxCoeff(), us = ls / K.diagonal().maxCoeff();
+  for (int s = 1; s < 3; ++s) {
+    EXPECT_LE((lambda[s] - lambda[0]).cwiseAbs().maxCoeff(), (s == 1 ? 1e-13 : 1e-9) * ls) << names[s];
+    EXPECT_LE(u[s].cwiseAbs().maxCoeff(), (s == 1 ? 1e-13 : 1e-9) * us) << names[s];
+  }
+}
+
 // A moving obstacle: after set_gap, a solver answers as one made with that gap
 // (nothing it set up from K and N depends on g), for both methods.
 TEST(ContactSolver, SetGapSolvesWithTheNewGap) {
