@@ -1031,6 +1031,9 @@ OutputOptions read_output(Section out, Problem& p) {
   if (out.has("fields")) o.fields = read_fields(out);
   o.encoding.compression = vtu_compression(out.choice("compression", {"zlib", "none"}, "zlib"));
   if (out.has("probes")) o.probes = read_probes(out, p.mesh.dim());
+  // A probe must lie in the body (on a rank without the mesh: rank 0 checks it).
+  for (std::size_t i = 0; i < o.probes.size() && p.mesh.n_cells() > 0; ++i)
+    located(fmt::format("{}[{}]", out.where("probes"), i), [&] { (void)locate_point(p.mesh, o.probes[i]); });
   out.finish();
   return o;
 }
