@@ -114,6 +114,8 @@ vpc::Case build_case(const Options& o, const CLI::App& cmd, const vpc::CaseSourc
       -1);
   vpc::Case c = load_case(o, cmd, src, outdir, mesh);
   log("", std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count());
+  std::fflush(stdout);  // after the stage's line
+  for (const auto& w : c.warnings) fmt::print(stderr, "vpcontact: warning: {}\n", w);
   return c;
 }
 

@@ -8,6 +8,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace vpc {
 
@@ -29,6 +30,9 @@ struct Case {
   std::shared_ptr<Problem> problem;
   OutputOptions output;  // an empty directory means output/<name>
   SolverChoice solvers;
+  /// Lines the program prints as warnings: data that is valid but likely to give a poor
+  /// answer (ν near 1/2 with P1 elements), each located in the case file.
+  std::vector<std::string> warnings;
 };
 
 }  // namespace vpc

@@ -81,7 +81,8 @@ DirichletDofs dirichlet_dofs(const Problem& p) {
     const std::size_t i = static_cast<std::size_t>(node) * d + c;
     for (double t : {0.0, p.final_time}) {
       const double v = value(k, c, x, t);
-      require(std::isfinite(v), "{}: {} gives u{} = {} (not finite) at t = {} at node {} ({}, {}, {})", p.name, what,
+      require(std::isfinite(v), "{}: {} gives u{} = {} (not finite) at t = {} at node {} ({}, {}, {})",
+              k > 0 ? p.where(fmt::format("boundary.displacement[{}]", k - 1)) : p.name, what,
               kAxis[c], v, t, node, x[0], x[1], x[2]);
       if (out.condition[i] < 0) continue;
       const double before = value(out.condition[i], c, x, t);

@@ -4,10 +4,12 @@
 #include "core/expression.hpp"
 #include "scheme/stability.hpp"
 
+#include <Eigen/Dense>
 #include <fmt/ranges.h>
 
 #include <algorithm>
 #include <cmath>
+#include <set>
 
 namespace vpc {
 
@@ -124,6 +126,76 @@ void check_gap(const Mesh& mesh, const ContactSpec& contact) {
   }
 }
 
+namespace {
+
+/// Where the prescribed components (`condition`: DirichletDofs::condition) leave a
+/// rigid motion of the body free, the elastic stiffness K is singular and contact cannot
+/// hold the body (every contact solver factors or inverts K without it): refused before
+/// K's factorization fails, located at [boundary] and naming the free motion.
+void check_held(const Problem& p, const std::vector<int>& condition) {
+  const Mesh& mesh = p.mesh;
+  const int d = mesh.dim(), m = d == 1 ? 1 : d == 2 ? 3 : 6;  // rigid motions: translations, then rotations
+  if (mesh.n_nodes() == 0) return;
+  Point lo = mesh.node(0), hi = lo;
+  for (const Point& x : mesh.nodes())
+    for (int j = 0; j < 3; ++j) {
+      lo[j] = std::min(lo[j], x[j]);
+      hi[j] = std::max(hi[j], x[j]);
+    }
+  Point centre{0, 0, 0};
+  for (int j = 0; j < 3; ++j) centre[j] = (lo[j] + hi[j]) / 2;
+  double scale = 1e-300;
+  for (int j = 0; j < d; ++j) scale = std::max(scale, hi[j] - lo[j]);
+  // G = Σ r rᵀ over the prescribed dofs, r the rigid motions' values there (in coordinates
+  // centred and scaled to the body): a motion in G's kernel moves no prescribed dof.
+  Eigen::MatrixXd G = Eigen::MatrixXd::Zero(m, m);
+  Eigen::VectorXd r(m);
+  for (int node = 0; node < mesh.n_nodes(); ++node)
+    for (int c = 0; c < d; ++c) {
+      if (condition[static_cast<std::size_t>(node) * d + c] < 0) continue;
+      Point y;
+      for (int j = 0; j < 3; ++j) y[j] = (mesh.node(node)[j] - centre[j]) / scale;
+      r.setZero();
+      r[c] = 1;
+      if (d == 2) r[2] = c == 0 ? -y[1] : y[0];  // ω e_z × y
+      if (d == 3) {                                // e_i × y, i = x, y, z
+        const double cross[3][3] = {{0, -y[2], y[1]}, {y[2], 0, -y[0]}, {-y[1], y[0], 0}};
+        for (int i = 0; i < 3; ++i) r[3 + i] = cross[i][c];
+      }
+      G += r * r.transpose();
+    }
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(G);
+  const Eigen::VectorXd& lambda = eig.eigenvalues();  // increasing
+  if (lambda[0] > 1e-12 * std::max(lambda[m - 1], 1.0)) return;
+  Eigen::VectorXd v = eig.eigenvectors().col(0);
+  Eigen::Index big = 0;
+  v.cwiseAbs().maxCoeff(&big);
+  if (v[big] < 0) v = -v;  // the same motion, named with its larger component positive
+  v = v.unaryExpr([](double c) { return std::abs(c) < 1e-12 ? 0.0 : c; });  // no "-0"
+
+  std::string motion;
+  const double w = d == 2 ? std::abs(v[2]) : d == 3 ? v.tail(3).norm() : 0.0;
+  if (w <= 1e-6 * v.norm()) {
+    motion = fmt::format("a translation along ({:.3g}{})", v[0],
+                         d == 1 ? std::string() : fmt::format(", {:.3g}", v[1]) + (d == 3 ? fmt::format(", {:.3g}", v[2]) : ""));
+  } else if (d == 2) {  // a + ω e_z × y vanishes at y = (−a_y, a_x) / ω
+    motion = fmt::format("a rotation about the point ({:.6g}, {:.6g})", centre[0] - scale * v[1] / v[2],
+                         centre[1] + scale * v[0] / v[2]);
+  } else {  // a + w × y: its axis along w through (w × a) / |w|²
+    const Eigen::Vector3d a = v.head(3), axis = v.tail(3);
+    const Eigen::Vector3d y = axis.cross(a) / axis.squaredNorm();
+    const Eigen::Vector3d u = axis.normalized();
+    motion = fmt::format("a rotation about the axis along ({:.3g}, {:.3g}, {:.3g}) through ({:.6g}, {:.6g}, {:.6g})", u[0],
+                         u[1], u[2], centre[0] + scale * y[0], centre[1] + scale * y[1], centre[2] + scale * y[2]);
+  }
+  fail("{}: the body is not held: the prescribed displacements (clamped, displacement and symmetry parts) leave {} "
+       "free, so the elastic stiffness K is singular; contact cannot hold the body (K must be positive definite "
+       "without it): clamp a part, or prescribe components that stop this motion",
+       p.where("boundary"), motion);
+}
+
+}  // namespace
+
 void Problem::validate() const {
   const std::string where = name.empty() ? "problem" : name;
   require(mesh.n_cells() > 0, "{}: the mesh has no cells", where);
@@ -162,6 +234,7 @@ void Problem::validate() const {
   }
   const std::vector<int> cell_material = cell_materials(*this);  // checks the materials' regions and kinds
   const DirichletDofs dirichlet = dirichlet_dofs(*this);  // checks the symmetry parts, values and conflicts
+  check_held(*this, dirichlet.condition);
   require(!contact.parts.empty(), "{}: no contact part Γ3 given", where);
   for (const auto& p : contact.parts)
     require(mesh.part_size(p) > 0, "{}: contact part '{}' has no boundary facets in the mesh", where, p);
@@ -244,6 +317,16 @@ void check_direction(const Problem& p, int node, const Point& direction, const P
        "with the outward normal ({:.6g}, {:.6g}, {:.6g}) of the contact part is {:.6g} degrees; a fixed direction "
        "must make an angle below 90 degrees with the outward normal at every contact node (e.g. its opposite)",
        p.name, direction[0], direction[1], direction[2], node, x[0], x[1], x[2], n[0], n[1], n[2], angle);
+}
+
+/// The key that prescribes component c at a node (condition: DirichletDofs::condition),
+/// located for a message.
+std::string prescribed_by(const Problem& p, int node, int c, const std::vector<int>& condition) {
+  const int k = condition[static_cast<std::size_t>(node) * p.mesh.dim() + c];
+  if (k > 0) return p.where(fmt::format("boundary.displacement[{}]", k - 1));
+  const auto clamped = p.mesh.nodes_of_parts(p.clamped);
+  const bool on_clamped = std::find(clamped.begin(), clamped.end(), node) != clamped.end();
+  return p.where(on_clamped ? "boundary.clamped" : "boundary.symmetry");
 }
 
 /// Obstacle k located for a message: "case.toml:27:1: obstacle[0] ('punch')".
@@ -343,11 +426,12 @@ std::vector<ContactRow> contact_rows(const Problem& p, const std::vector<int>& c
     // one would make N act on a dof that is not an unknown.
     for (int c = 0; c < d; ++c) {
       if (fixed[c] < 0 || v[c] == 0) continue;
-      require(fixed[c] == 0 && !p.contact.direction && std::abs(v[c]) < 0.5,
-              "{}: contact node {} ({}, {}, {}) has u{} prescribed, but its contact direction ({:.6g}, {:.6g}, {:.6g}) "
-              "has a component along it; a node cannot be in contact along a prescribed component (remove the node "
-              "from one of the parts, or use a symmetry part for a symmetry plane)",
-              p.name, node, x[0], x[1], x[2], c == 0 ? "x" : c == 1 ? "y" : "z", v[0], v[1], v[2]);
+      if (!(fixed[c] == 0 && !p.contact.direction && std::abs(v[c]) < 0.5))
+        fail("{}: contact node {} ({}, {}, {}) has u{} prescribed (by {}), but its contact direction ({:.6g}, {:.6g}, "
+             "{:.6g}) has a component along it; a node cannot be in contact along a prescribed component (remove the "
+             "node from one of the parts, or use a symmetry part for a symmetry plane)",
+             p.where("boundary.contact"), node, x[0], x[1], x[2], c == 0 ? "x" : c == 1 ? "y" : "z",
+             prescribed_by(p, node, c, condition), v[0], v[1], v[2]);
       v[c] = 0;
       l = length(v);
       for (double& vc : v) vc /= l;
@@ -362,7 +446,15 @@ std::vector<ContactRow> contact_rows(const Problem& p, const std::vector<int>& c
     const bool compliant = !signorini[node];
     rows.push_back({node, v, g, compliant ? stiffness[node] : 0.0, compliant ? exponent[node] : 1.0, obstacles[node]});
   }
-  require(!rows.empty(), "{}: the contact part has no free nodes (all are clamped or it is empty)", p.name);
+  if (rows.empty()) {  // every contact node has every component prescribed: by which keys
+    std::set<std::string> by;
+    for (int node : mesh.nodes_of_parts(p.contact.parts))
+      for (int c = 0; c < d; ++c) by.insert(prescribed_by(p, node, c, condition));
+    fail("{}: the contact part has no free node: every displacement component of each of its nodes is prescribed, by "
+         "{}; a contact node must be free to move (take the contact part's nodes out of those parts, or give another "
+         "contact part)",
+         p.where("boundary.contact"), fmt::join(by, " and "));
+  }
   return rows;
 }
 
