@@ -281,7 +281,6 @@ class Section {
     return out;
   }
   const std::set<std::string>& known() const { return known_; }
-  const Origins& origins() const { return origins_; }
 
  private:
   const toml::table* t_;

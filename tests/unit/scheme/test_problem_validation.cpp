@@ -24,7 +24,12 @@ TEST(ProblemValidation, EmptyContactPart) {
 TEST(ProblemValidation, ContactPartEntirelyClamped) {
   auto p = paper_2d();
   p->contact.parts = {"top"};  // the clamped side: no free contact node remains
-  EXPECT_NE(error_of([&] { TimeStepper s(p); }).find("paper-2d: boundary.contact: the contact part has no free node: every displacement component of each of its nodes is prescribed, by paper-2d: boundary.clamped;"), std::string::npos);
+  const std::string m = error_of([&] { TimeStepper s(p); });
+  EXPECT_NE(m.find("boundary.contact: the contact part has no free node: every displacement component of each of its "
+                   "nodes is prescribed, by "),
+            std::string::npos)
+      << m;
+  EXPECT_NE(m.find("boundary.clamped;"), std::string::npos) << m;
 }
 
 TEST(ProblemValidation, MissingClampedPart) {
