@@ -84,7 +84,7 @@ void Expression::check_finite() const {
                      v.x, v.y, v.z, v.vm, v.tr_sigma, v.tr_eps, v.eps_eq, v.beta);
   else if (uses_position_)
     at = fmt::format(" at the point ({}, {}, {})", v.x, v.y, v.z);
-  fail("{}: the formula \"{}\" gives {} at t = {}{}; every value it takes in a run must be a finite number", where_,
+  fail("{}: the formula \"{}\" gives {} at t = {:.10g}{}; every value it takes in a run must be a finite number", where_,
        text_, std::isnan(value) ? "NaN" : fmt::format("{}", value), v.t, at);
 }
 

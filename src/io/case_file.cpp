@@ -621,7 +621,7 @@ Mesh read_mesh(Section m, const fs::path& base_dir, const Origins& origins, cons
   }
   Mesh mesh = m.has("file") ? read_mesh_file(m, base_dir, memory_limit_option) : generate_mesh(m);
   // Coordinates such as 1e120 overflow the method's products (issue 26): refused here, at check.
-  located(m.has("file") ? fmt::format("{}: '{}'", m.where("file"), m.string("file")) : m.where("upper"),
+  located(m.has("file") ? fmt::format("{}: {}", m.where("file"), quote(m.string("file"))) : m.where("upper"),
           [&] { check_mesh_extent(mesh); });
   read_mesh_parts(m, mesh, origins);
   m.finish();

@@ -47,13 +47,16 @@ void start(Engine& e, const RunOptions& o) {
   e.checkpoint();
 }
 
+/// Where the steps before a failed one are, and how to go on from them.
+std::string results_so_far(const Engine& e, const RunOptions& o, int done, int last_checkpoint) {
+  if (!o.files) return "No output directory";  // RunLoop without an output directory: no files
+  return fmt::format("Results up to step {} are in '{}'; `--resume {}` continues from step {}", done,
+                     e.directory().string(), shell_quote(e.directory().string()), last_checkpoint);
+}
+
 [[noreturn]] void failed_step(const Engine& e, const StepReport& r, const RunOptions& o, int last_checkpoint) {
   const bool not_finite = std::isinf(r.contact.residuals.max()) || std::isinf(r.damage.kkt_residual);
-  const std::string results =  // RunLoop without an output directory: no files
-      !o.files
-          ? std::string("No output directory")
-          : fmt::format("Results up to step {} are in '{}'; `--resume {}` continues from step {}", r.n - 1,
-                        e.directory().string(), shell_quote(e.directory().string()), last_checkpoint);
+  const std::string results = results_so_far(e, o, r.n - 1, last_checkpoint);
   // Which solver failed, with the residual and its value against the tolerance (issue 26: "converged"
   // was printed for a solver whose residual failed); smaller steps only where they can help.
   const double tol = e.tolerance();
@@ -135,7 +138,20 @@ RunLoop::RunLoop(Engine& e, const RunOptions& o)
 
 StepReport RunLoop::step() {
   Engine& e = engine_;
-  const StepReport r = e.step();
+  StepReport r;
+  try {
+    r = e.step();
+  } catch (const Error& stop) {
+    // A stop found inside the step (a formula's non-finite value, an unstable explicit step; issue
+    // 26), thrown alike on every process: the steps before it stay written, and the message says
+    // where, as a failed step's does. No summary.json: the state is the unfinished step's.
+    if (e.ranks() > 1 && dynamic_cast<const CollectiveError*>(&stop) == nullptr) throw;
+    progress_.finish();
+    finished_ = true;  // no further step from the unfinished one
+    const std::string what = stop.what();
+    throw CollectiveError(fmt::format("{}{} {}", what, what.ends_with('.') ? "" : ".",
+                                      results_so_far(e, options_, result_.steps, last_checkpoint_)));
+  }
   result_.steps = r.n;
   if (!r.ok) {
     finish();

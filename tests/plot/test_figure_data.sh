@@ -21,7 +21,7 @@ texts() { "$python" "$src/tests/plot/check_plot.py" texts "$1" > "$1.txt" 2> "$1
 
 # --- item 8: the L bracket, from the reporter's files
 cp "$src/tests/data/reported/lpart.toml" "$src/tests/data/reported/lpart.geo" .
-"$vpcontact" run lpart.toml --steps 4 --every 4 -q -o lp || fail "run lpart.toml"
+"$vpcontact" run lpart.toml --steps 25 --every 25 -q -o lp || fail "run lpart.toml"
 "$python" - lp/summary.json <<'PY' || fail "lpart: symmetry_planes in summary.json"
 import json, sys
 s = json.load(open(sys.argv[1]))

@@ -65,14 +65,17 @@ def test_unknown_case_and_bad_values():
         vpcontact.Case("paper-1d").set("damage.kappa", object())
 
 
-def test_a_failed_step_raises_run_error(tmp_path):
+def test_a_formula_that_gives_nan_in_a_run_raises_run_error(tmp_path):
+    # Issue 26 item 3: the run stops at the first non-finite value, naming the key, the time and the point
     text = BAD_CASE.replace("kappa = -1", 'phi = "t > 0.2 ? sqrt(-1) : -0.1"') + "[time]\nsteps = 10\n"
     sim = vpcontact.Simulation(vpcontact.Case("nan.toml", text=text), output=tmp_path)
-    with pytest.raises(vpcontact.RunError, match=r"step 4 \(t = 0.4\) failed \(NaN or Inf in the data") as e:
+    with pytest.raises(vpcontact.RunError, match=r"damage.phi: the formula .* gives NaN at t = 0.3 at the centroid") as e:
         sim.run()
-    assert isinstance(e.value, RuntimeError) and sim.finished and sim.n == 4  # the failed step's state
-    assert "Results up to step 3 are in" in str(e.value)
-    assert len(vpcontact.read(tmp_path).history(frame=False)) == 3
+    assert isinstance(e.value, RuntimeError) and sim.finished
+    assert "Results up to step 2 are in" in str(e.value)
+    assert len((tmp_path / "history.csv").read_text().splitlines()) == 1 + 2  # header, steps 1 and 2
+    with pytest.raises(vpcontact.Error, match="the simulation is finished"):
+        sim.step()
 
 
 def test_resume_without_checkpoint(tmp_path):
