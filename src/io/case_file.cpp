@@ -975,6 +975,9 @@ void record_key_locations(Section& top, Problem& p, const Origins& origins) {
   Section ct = top.table("contact");
   for (const char* key : {"gap", "direction"}) record(ct, key);
   record_tables(top, "obstacle");
+  Section tm = top.table("time");
+  if (tm.exists()) p.key_locations["time"] = fmt::format("{}: [time]", tm.where_section());
+  for (const char* key : {"steps", "dt", "tolerance", "dt_min"}) record(tm, key);
 }
 
 /// ν near 1/2 locks P1 elements in plane strain and 3D: λ/μ = 2ν/(1 − 2ν) grows without

@@ -527,14 +527,18 @@ RunSummary RunOutput::summary(double wall_seconds) const {
   r.factorizations = stepper_.n_factorizations();
   r.contact_solver = stepper_.contact_solver();
   // Each symmetry part's plane x_i = c: the axis along which its nodes (over the
-  // processes) do not spread.
+  // processes) do not spread. Its nodes from the part's Dirichlet nodes (a process's
+  // part mesh has no boundary parts of its own).
+  const std::vector<std::string> dirichlet = dirichlet_parts(stepper_.problem());
   for (const std::string& name : stepper_.problem().symmetry) {
+    const auto bit = std::uint64_t{1} << (std::find(dirichlet.begin(), dirichlet.end(), name) - dirichlet.begin());
     Point lo{INFINITY, INFINITY, INFINITY}, hi{-INFINITY, -INFINITY, -INFINITY};
-    for (int node : mesh.nodes_of_parts({name}))
-      for (int i = 0; i < mesh.dim(); ++i) {
-        lo[i] = std::min(lo[i], mesh.node(node)[i]);
-        hi[i] = std::max(hi[i], mesh.node(node)[i]);
-      }
+    for (const auto& [node, on_parts] : part.dirichlet_nodes)
+      if (on_parts & bit)
+        for (int i = 0; i < mesh.dim(); ++i) {
+          lo[i] = std::min(lo[i], mesh.node(node)[i]);
+          hi[i] = std::max(hi[i], mesh.node(node)[i]);
+        }
     double extent = 0;
     for (int i = 0; i < mesh.dim(); ++i) {
       lo[i] = comm.min(lo[i]);

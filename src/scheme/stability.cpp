@@ -51,7 +51,14 @@ StepControl stable_step_control(const Problem& p) {
 }
 
 void check_step_stability(const Problem& p, const std::vector<int>& cell_material) {
-  const std::string where = p.name.empty() ? "problem" : p.name;
+  // The key that sets the step (Problem::where: its file, line and column, or the option).
+  std::string key = "time";
+  for (const char* k : {"time.dt_min", "time.tolerance", "time.steps", "time.dt"})
+    if (p.key_locations.count(k)) {
+      key = k;
+      break;
+    }
+  const std::string where = p.where(key);
   const std::vector<Material> materials = p.material_list();
   if (p.step_control) {
     const StepControl c = p.step_control->completed(p.final_time);
