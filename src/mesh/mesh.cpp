@@ -240,6 +240,16 @@ std::vector<int> Mesh::nodes_of_parts(const std::vector<std::string>& parts) con
   return out;
 }
 
+std::pair<Point, Point> Mesh::bounding_box() const {
+  Point lo = x_.at(0), hi = lo;
+  for (const Point& x : x_)
+    for (int j = 0; j < 3; ++j) {
+      lo[j] = std::min(lo[j], x[j]);
+      hi[j] = std::max(hi[j], x[j]);
+    }
+  return {lo, hi};
+}
+
 std::pair<double, double> Mesh::size_range() const {
   double hmin = INFINITY, hmax = 0;
   const int npc = nodes_per_cell();

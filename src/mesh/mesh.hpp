@@ -79,6 +79,9 @@ class Mesh {
 
   /// Smallest and largest cell diameter (longest edge).
   std::pair<double, double> size_range() const;
+  /// The smallest box holding the nodes: its lower and upper corners (all three coordinates).
+  /// Needs a node.
+  std::pair<Point, Point> bounding_box() const;
 
   /// Builds the boundary facets of the cell complex (facets used by one cell),
   /// all untagged; called by generators and readers after cells are added.

@@ -10,14 +10,12 @@ namespace vpc {
 void check_mesh_extent(const Mesh& mesh) {
   if (mesh.n_nodes() == 0) return;
   const int d = mesh.dim();
-  double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
   for (int i = 0; i < mesh.n_nodes(); ++i)
     for (int a = 0; a < d; ++a) {
       const double x = mesh.node(i)[a];
       require(std::isfinite(x), "node {} has the coordinate {}: expected finite coordinates", i, x);
-      lo[a] = std::min(lo[a], x);
-      hi[a] = std::max(hi[a], x);
     }
+  const auto [lo, hi] = mesh.bounding_box();
   double extent = 0, largest = 0;
   for (int a = 0; a < d; ++a) {
     extent = std::max(extent, hi[a] - lo[a]);

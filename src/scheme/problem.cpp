@@ -136,12 +136,7 @@ void check_held(const Problem& p, const std::vector<int>& condition) {
   const Mesh& mesh = p.mesh;
   const int d = mesh.dim(), m = d == 1 ? 1 : d == 2 ? 3 : 6;  // rigid motions: translations, then rotations
   if (mesh.n_nodes() == 0) return;
-  Point lo = mesh.node(0), hi = lo;
-  for (const Point& x : mesh.nodes())
-    for (int j = 0; j < 3; ++j) {
-      lo[j] = std::min(lo[j], x[j]);
-      hi[j] = std::max(hi[j], x[j]);
-    }
+  const auto [lo, hi] = mesh.bounding_box();
   Point centre{0, 0, 0};
   for (int j = 0; j < 3; ++j) centre[j] = (lo[j] + hi[j]) / 2;
   double scale = 1e-300;
@@ -320,12 +315,12 @@ void check_direction(const Problem& p, int node, const Point& direction, const P
 }
 
 /// The key that prescribes component c at a node (condition: DirichletDofs::condition),
-/// located for a message.
-std::string prescribed_by(const Problem& p, int node, int c, const std::vector<int>& condition) {
+/// located for a message; `clamped`: the nodes of Γ1 (Mesh::nodes_of_parts, sorted).
+std::string prescribed_by(const Problem& p, int node, int c, const std::vector<int>& condition,
+                          const std::vector<int>& clamped) {
   const int k = condition[static_cast<std::size_t>(node) * p.mesh.dim() + c];
   if (k > 0) return p.where(fmt::format("boundary.displacement[{}]", k - 1));
-  const auto clamped = p.mesh.nodes_of_parts(p.clamped);
-  const bool on_clamped = std::find(clamped.begin(), clamped.end(), node) != clamped.end();
+  const bool on_clamped = std::binary_search(clamped.begin(), clamped.end(), node);
   return p.where(on_clamped ? "boundary.clamped" : "boundary.symmetry");
 }
 
@@ -370,14 +365,7 @@ std::vector<ContactRow> contact_rows(const Problem& p, const std::vector<int>& c
     for (int a = 0; a < mesh.nodes_per_facet(); ++a)
       for (int j = 0; j < 3; ++j) normal[mesh.facet(f)[a]][j] += w * nf[j];
   }
-  Point lo{0, 0, 0}, hi{0, 0, 0};
-  for (int j = 0; j < 3; ++j) {
-    lo[j] = hi[j] = mesh.node(0)[j];
-    for (int i = 0; i < mesh.n_nodes(); ++i) {
-      lo[j] = std::min(lo[j], mesh.node(i)[j]);
-      hi[j] = std::max(hi[j], mesh.node(i)[j]);
-    }
-  }
+  const auto [lo, hi] = mesh.bounding_box();
   const double miss = contact_miss_gap(lo, hi);
   // Per node: its law (Signorini where any of its Γ3 facets is; else the lumped k and
   // the one exponent of its facets) and the obstacles acting on its parts.
@@ -431,7 +419,7 @@ std::vector<ContactRow> contact_rows(const Problem& p, const std::vector<int>& c
              "{:.6g}) has a component along it; a node cannot be in contact along a prescribed component (remove the "
              "node from one of the parts, or use a symmetry part for a symmetry plane)",
              p.where("boundary.contact"), node, x[0], x[1], x[2], c == 0 ? "x" : c == 1 ? "y" : "z",
-             prescribed_by(p, node, c, condition), v[0], v[1], v[2]);
+             prescribed_by(p, node, c, condition, mesh.nodes_of_parts(p.clamped)), v[0], v[1], v[2]);
       v[c] = 0;
       l = length(v);
       for (double& vc : v) vc /= l;
@@ -448,8 +436,9 @@ std::vector<ContactRow> contact_rows(const Problem& p, const std::vector<int>& c
   }
   if (rows.empty()) {  // every contact node has every component prescribed: by which keys
     std::set<std::string> by;
+    const std::vector<int> clamped = mesh.nodes_of_parts(p.clamped);
     for (int node : mesh.nodes_of_parts(p.contact.parts))
-      for (int c = 0; c < d; ++c) by.insert(prescribed_by(p, node, c, condition));
+      for (int c = 0; c < d; ++c) by.insert(prescribed_by(p, node, c, condition, clamped));
     fail("{}: the contact part has no free node: every displacement component of each of its nodes is prescribed, by "
          "{}; a contact node must be free to move (take the contact part's nodes out of those parts, or give another "
          "contact part)",

@@ -1,6 +1,7 @@
 #include "scheme/stability.hpp"
 
 #include "core/error.hpp"
+#include "fem/assembly.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -76,13 +77,11 @@ void check_step_stability(const Problem& p, const std::vector<int>& cell_materia
   std::vector<double> beta(materials.size(), 1.0);
   if (p.beta0) {
     const Mesh& mesh = p.mesh;
-    std::vector<double> nodal(mesh.n_nodes());
+    Vector nodal(mesh.n_nodes());
     for (int i = 0; i < mesh.n_nodes(); ++i) nodal[i] = p.beta0(mesh.node(i), 0.0);
     for (int c = 0; c < mesh.n_cells(); ++c) {
-      double mean = 0;
-      for (int a = 0; a <= mesh.dim(); ++a) mean += nodal[mesh.cell(c)[a]];
       double& b = beta[static_cast<std::size_t>(cell_material[c])];
-      b = std::min(b, mean / (mesh.dim() + 1));
+      b = std::min(b, cell_mean(mesh, nodal, c));
     }
   }
   const double k = p.largest_step();
@@ -100,14 +99,13 @@ void check_step_stability(const Problem& p, const std::vector<int>& cell_materia
 std::string unstable_step_message(const Problem& p, const Material& material, double beta, int n, double t, double k,
                                   double growth, int steps) {
   const ViscoplasticLaw& law = *material.law;
-  const double L = law.lipschitz(beta).value;
   return fmt::format(
       "{}: step {} (t = {:.6g}): the explicit viscoplastic step is unstable and the run is stopped: G_n - G_(n-1) "
       "changed sign in each of the last {} steps and grew {:.3g} times over them, which a stable step cannot do. "
       "Material '{}', {}: {}, stable only for k <= 2/L = {:.6g} (z_n = z_(n-1) + k G_(n-1) is explicit in G, the "
       "paper's (3.6)), and k = {:.6g}. Use {}",
       p.name.empty() ? "problem" : p.name, n, t, steps, growth, material.name, law.describe(),
-      describe_lipschitz(law, beta), L > 0 ? 2 / L : INFINITY, k, stable_steps(p.final_time, law));
+      describe_lipschitz(law, beta), stable_step(law, beta), k, stable_steps(p.final_time, law));
 }
 
 }  // namespace vpc

@@ -5,6 +5,7 @@
 #include "solvers/compliance_dual.hpp"
 #include "solvers/penalty_duality.hpp"
 #include "solvers/primal_active_set.hpp"
+#include "solvers/solver_failure.hpp"
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
@@ -74,14 +75,9 @@ ContactResiduals contact_residuals(const la::SpdOperator& K, const ContactConstr
   return r;
 }
 
-namespace {
-/// "1 iteration" / "3 iterations".
-std::string iterations(int n) { return fmt::format("{} iteration{}", n, n == 1 ? "" : "s"); }
-}  // namespace
-
 std::string contact_failure(const ContactReport& r, double tolerance) {
   const ContactResiduals& x = r.residuals;
-  if (std::isinf(x.max()) || std::isnan(x.max())) return "met NaN or Inf in its data or solution";
+  if (std::isinf(x.max()) || std::isnan(x.max())) return kSolverMetNonFinite;
   std::vector<std::string> above;
   const std::tuple<const char*, const char*, double> named[] = {
       {"equilibrium", "KKT stationarity: Ku = F - N^T lambda", x.equilibrium},
@@ -90,13 +86,8 @@ std::string contact_failure(const ContactReport& r, double tolerance) {
       {"complementarity", "lambda_i (g - Nu)_i = 0", x.complementarity}};
   for (const auto& [name, meaning, value] : named)
     if (!(value <= tolerance)) above.push_back(fmt::format("{} residual {:.2e} ({})", name, value, meaning));
-  const std::string residuals =
-      above.empty() ? "" : fmt::format("{} above the tolerance {:.1e}", fmt::join(above, ", "), tolerance);
-  if (!r.converged)
-    return fmt::format("stopped at its iteration limit after {} without converging{}", iterations(r.iterations),
-                       residuals.empty() ? "" : "; " + residuals);
-  if (residuals.empty()) return "";
-  return fmt::format("ended after {} with its {}", iterations(r.iterations), residuals);
+  return solver_failure(r.converged, r.iterations,
+                        above.empty() ? "" : fmt::format("{} above the tolerance {:.1e}", fmt::join(above, ", "), tolerance));
 }
 
 ContactReport contact_report(const la::SpdOperator& K, const ContactConstraints& c, const Vector& F, const Vector& u,

@@ -3,6 +3,7 @@
 #include "core/error.hpp"
 #include "solvers/box_qp.hpp"
 #include "solvers/penalty_duality.hpp"
+#include "solvers/solver_failure.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -163,17 +164,13 @@ class PenaltyDualityDamageSolver final : public DamageSolver {
 }  // namespace
 
 std::string damage_failure(const DamageReport& r, double tolerance) {
-  if (std::isinf(r.kkt_residual) || std::isnan(r.kkt_residual)) return "met NaN or Inf in its data or solution";
-  const std::string above =
+  if (std::isinf(r.kkt_residual) || std::isnan(r.kkt_residual)) return kSolverMetNonFinite;
+  return solver_failure(
+      r.converged, r.iterations,
       r.kkt_residual <= tolerance
           ? ""
           : fmt::format("KKT residual {:.2e} (stationarity, 0 <= beta <= 1 and complementarity) above the tolerance {:.1e}",
-                        r.kkt_residual, tolerance);
-  const std::string its = fmt::format("{} iteration{}", r.iterations, r.iterations == 1 ? "" : "s");
-  if (!r.converged)
-    return fmt::format("stopped at its iteration limit after {} without converging{}", its,
-                       above.empty() ? "" : "; " + above);
-  return above.empty() ? "" : fmt::format("ended after {} with its {}", its, above);
+                        r.kkt_residual, tolerance));
 }
 
 std::unique_ptr<DamageSolver> make_damage_solver(const std::string& name, std::unique_ptr<la::SpdOperator> H,
