@@ -16,7 +16,11 @@ struct State {
   std::vector<SymTensor> sigma;  // P0 stress σ_n
   std::vector<SymTensor> eps;    // P0 strain ε(u_n)
   std::vector<SymTensor> z;      // P0 history z_n = σ_n − ℰε(u_n)
-  Eigen::VectorXd lambda;        // contact force per contact node (≥ 0)
+  /// Contact unknowns per contact node (the contact law's block, src/contact/): λ holds
+  /// contact_block numbers per contact node, node after node, the normal force first
+  /// (1: the normal force only, every normal law of the paper; 1 + (d − 1) with friction).
+  int contact_block = 1;
+  Eigen::VectorXd lambda;        // contact forces: contact_block numbers per contact node
 };
 
 }  // namespace vpc
