@@ -1,5 +1,6 @@
 #include "parallel/distributed_mesh.hpp"
 
+#include "contact/contact_rows.hpp"
 #include "la/petsc.hpp"
 
 #include <petscmat.h>
@@ -183,8 +184,8 @@ std::vector<Message> pack_parts(const Problem& p, int n_parts) {
               static_cast<long long>(dirichlet.parts.size())};
     m.ints.insert(m.ints.end(), dirichlet.components.begin(), dirichlet.components.end());
     m.ints.reserve(kHeader + dirichlet.parts.size() + (4 + d) * nodes.size() + (npc + 2) * cells_of[r].size() + (d + 1) * facets_of[r].size() +
-                   4 * contacts.size());
-    m.reals.reserve(3 * nodes.size() + 7 * contacts.size());
+                   5 * contacts.size());
+    m.reals.reserve(3 * nodes.size() + 6 * contacts.size());
     for (int v : nodes) {
       m.ints.insert(m.ints.end(), {new_id[v], v, first_dof[v], static_cast<long long>(dirichlet.on_parts[v])});
       for (int c = 0; c < d; ++c) m.ints.push_back(dirichlet.condition[static_cast<std::size_t>(v) * d + c]);
@@ -200,9 +201,10 @@ std::vector<Message> pack_parts(const Problem& p, int n_parts) {
     }
     for (int v : contacts) {
       const ContactRow& row = rows[contact_row[v]];
-      m.ints.insert(m.ints.end(), {contact_row[v], local[v], owner[v] == r ? 1 : 0, static_cast<long long>(row.obstacles)});
+      m.ints.insert(m.ints.end(),
+                    {contact_row[v], local[v], owner[v] == r ? 1 : 0, static_cast<long long>(row.obstacles), row.law});
       m.reals.insert(m.reals.end(), {row.direction[0], row.direction[1], row.direction[2], row.gap, measure[v],
-                                     row.stiffness, row.exponent});
+                                     row.stiffness});
     }
     for (int v : nodes) local[v] = -1;
   }
@@ -268,12 +270,12 @@ MeshPart unpack_part(MPI_Comm comm, const Message& m) {
     c.local_node = static_cast<int>(*in++);
     c.owned = *in++ != 0;
     c.obstacles = static_cast<ObstacleMask>(*in++);
+    c.law = static_cast<int>(*in++);
     c.direction = {x[0], x[1], x[2]};
     c.gap = x[3];
     c.measure = x[4];
     c.stiffness = x[5];
-    c.exponent = x[6];
-    x += 7;
+    x += 6;
     dm.contact.push_back(c);
   }
   dm.dofs = DofMap(d, dm.dirichlet);

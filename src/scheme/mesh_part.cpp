@@ -1,5 +1,6 @@
 #include "scheme/mesh_part.hpp"
 
+#include "contact/contact_rows.hpp"
 #include "scheme/problem.hpp"
 
 #include <numeric>
@@ -50,7 +51,7 @@ MeshPart whole_mesh_part(std::shared_ptr<const Problem> problem) {
   const std::vector<double> measure = tributary_measures(mesh, p.contact.parts);
   for (std::size_t k = 0; k < rows.size(); ++k)
     part.contact.push_back({static_cast<int>(k), rows[k].node, true, rows[k].direction, rows[k].gap,
-                            measure[rows[k].node], rows[k].stiffness, rows[k].exponent, rows[k].obstacles});
+                            measure[rows[k].node], rows[k].law, rows[k].stiffness, rows[k].obstacles});
   part.n_contact = static_cast<int>(rows.size());
   part.n_global_nodes = n;
   part.n_global_dofs = part.n_owned_dofs;

@@ -113,7 +113,8 @@ TimeStepper::TimeStepper(std::shared_ptr<const Problem> problem, MeshPart part,
   state_.sigma.assign(mesh.n_cells(), SymTensor{});
   state_.eps.assign(mesh.n_cells(), SymTensor{});
   state_.z.assign(mesh.n_cells(), SymTensor{});
-  state_.lambda = Vector::Zero(part_.n_contact);
+  state_.contact_block = p.contact.block_size(mesh.dim());  // the contact laws' block (1: normal laws)
+  state_.lambda = Vector::Zero(part_.n_contact * state_.contact_block);
   u_free_ = Vector::Zero(part_.n_owned_dofs);
   // Error-controlled steps stay within the explicit G's stable step (scheme/stability.hpp).
   if (p.step_control) control_ = stable_step_control(p);
@@ -167,7 +168,8 @@ void TimeStepper::assemble_and_factorize() {
                     K_->nonzeros(), backend_->describe()));
   t1 = Clock::now();
   ContactConstraints constraints = contact_constraints();
-  contact_pick_ = pick_contact_solver(choice_.contact, part_.n_contact, backend_->linear_solver(), constraints.power_law);
+  const bool nonlinear_law = nonlinear_in_dual(part_.comm, constraints);  // only the dual solves it
+  contact_pick_ = pick_contact_solver(choice_.contact, part_.n_contact, backend_->linear_solver(), nonlinear_law);
   const bool primal = contact_pick_.name == "primal-active-set";
   K_factor_ = make_stiffness_factor(block);
   // Refuse a run that cannot fit before the costly factorizations (issue 11); the
@@ -184,7 +186,7 @@ void TimeStepper::assemble_and_factorize() {
                  memory_limit(choice_.memory_limit), p.name);
     solver_cost_ = estimate_solver_cost(*K_size, static_cast<double>(K_->nonzeros()), part_.n_contact, p.expected_steps(),
                                         !primal);
-    if (choice_.iterative_fallback && choice_.contact == "auto" && !constraints.power_law &&
+    if (choice_.iterative_fallback && choice_.contact == "auto" && !nonlinear_law &&
         iterative_is_faster(*solver_cost_))
       throw IterativeIsFaster(fmt::format("{}: CG + GAMG is estimated to take less than half the direct solver's "
                                           "time ({})", p.name, solver_cost_->detail));
@@ -264,19 +266,17 @@ ContactConstraints TimeStepper::contact_constraints() const {
     if (node.owned) c.rows.push_back(node.row);
   c.N = contact_matrix(true);
   c.gap = contact_gap(0.0);
-  // λ_i = k_i (N_i u − g_i)₊^{e_i}, k_i = c |Γ3|_i: the law at the node times its measure (ContactRow).
-  std::vector<double> compliance, exponent;
+  // Each row's law (contact/contact_law.hpp) and its compliance 1/k_i, k_i = c |Γ3|_i: the law
+  // lumped at the node (ContactRow).
+  c.laws = problem_->contact.laws();
+  c.block = problem_->contact.block_size(part_.mesh().dim());
+  std::vector<double> compliance;
   for (const PartContactNode& node : part_.contact)
     if (node.owned) {
+      c.law.push_back(node.law);
       compliance.push_back(node.stiffness > 0 ? 1 / node.stiffness : 0.0);
-      exponent.push_back(node.exponent);
     }
-  c.normal_compliance = part_.comm.any(std::ranges::any_of(compliance, [](double x) { return x > 0; }));
-  c.power_law = part_.comm.any(std::ranges::any_of(part_.contact, [](const PartContactNode& n) {
-    return n.owned && n.stiffness > 0 && n.exponent != 1;
-  }));
-  if (c.normal_compliance) c.compliance = Eigen::Map<Vector>(compliance.data(), static_cast<Eigen::Index>(compliance.size()));
-  if (c.power_law) c.exponent = Eigen::Map<Vector>(exponent.data(), static_cast<Eigen::Index>(exponent.size()));
+  c.compliance = Eigen::Map<Vector>(compliance.data(), static_cast<Eigen::Index>(compliance.size()));
   return c;
 }
 
