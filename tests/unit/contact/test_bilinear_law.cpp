@@ -16,6 +16,7 @@
 #include <cmath>
 
 #include "../error_of.hpp"
+#include "../scheme/bar_case.hpp"
 
 namespace vpc {
 namespace {
@@ -57,34 +58,13 @@ class BilinearCompliance final : public ContactLaw {
 const bool registered = register_contact_law(
     "bilinear", [](LawKeys& keys) { return std::make_shared<const BilinearCompliance>(keys); });
 
-/// [0, 1], E = 1, elastic, clamped at x = 0, pushed by f0 = 1 towards the obstacle at
-/// x = 1 + g, g = 0.3: alone the tip would move by 1/2 (P1 is exact at the nodes in 1D).
-/// With the tip force λ, u(1) = 1/2 − λ, so the penetration is d = 0.2 − λ.
+/// The contact-law tests' bar (scheme/bar_case.hpp: [0, 1], E = 1, clamped at x = 0, pushed by
+/// f0 = 1) made elastic, against the obstacle at x = 1 + g, g = 0.3: alone the tip would move by
+/// 1/2 (P1 is exact at the nodes in 1D). With the tip force λ, u(1) = 1/2 − λ, so the
+/// penetration is d = 0.2 − λ.
 Case bar(const std::string& law, const std::string& contact_solver = "auto") {
-  return parse_case(R"toml(
-[mesh]
-generator = "interval"
-lower = [0.0]
-upper = [1.0]
-cells = [8]
-[boundary]
-clamped = ["left"]
-contact = ["right"]
-[elasticity]
-E = 1.0
-[viscoplasticity]
-law = "elastic"
-[loads]
-f0 = ["1"]
-[time]
-T = 1.0
-steps = 2
-[solver]
-contact = ")toml" + contact_solver + R"toml("
-[contact]
-gap = 0.3
-)toml" + law,
-                    "bilinear.toml", ".", {});
+  return parse_case(test::bar_text("[contact]\ngap = 0.3\n" + law), "bilinear.toml", ".",
+                    {.sets = {"viscoplasticity.law=\"elastic\"", "solver.contact=\"" + contact_solver + "\""}});
 }
 
 TEST(BilinearContactLaw, IsRegisteredByItsLine) {
