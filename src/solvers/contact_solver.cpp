@@ -24,15 +24,8 @@ Vector local_rows(const ContactConstraints& c, const Vector& lambda) {
   return l;
 }
 
-const ContactLaw& ContactConstraints::law_of(Eigen::Index i) const {
-  return laws.empty() ? *signorini_law() : *laws[static_cast<std::size_t>(law[static_cast<std::size_t>(i)])];
-}
-
 bool nonlinear_in_dual(const la::Comm& comm, const ContactConstraints& c) {
-  bool nonlinear = false;
-  for (Eigen::Index i = 0; i < static_cast<Eigen::Index>(c.rows.size()) && !c.laws.empty(); ++i)
-    nonlinear = nonlinear || !c.law_of(i).linear();
-  return comm.any(nonlinear);
+  return comm.any(std::ranges::any_of(c.law, [&](int k) { return !c.laws[static_cast<std::size_t>(k)]->linear(); }));
 }
 
 double ContactResiduals::max() const {
@@ -159,20 +152,17 @@ class ActiveSetContactSolver final : public ContactSolver {
                                               : dual_matrix_from_solves(max_cached_share);
     S = 0.5 * (S + S.transpose()).eval();
     if (!c_.laws.empty()) {  // every row's law and compliance, the same on every rank
-      Vector law(static_cast<Eigen::Index>(c_.rows.size()));
-      for (Eigen::Index i = 0; i < law.size(); ++i) law[i] = c_.law[static_cast<std::size_t>(i)];
-      const Vector all = replicate(comm(), c_, law);
+      const auto n = static_cast<Eigen::Index>(c_.law.size());
+      const Vector all = replicate(comm(), c_, Eigen::Map<const Eigen::VectorXi>(c_.law.data(), n).cast<double>());
       for (Eigen::Index j = 0; j < all.size(); ++j) row_laws_.push_back(c_.laws[static_cast<std::size_t>(all[j])].get());
       compliance_ = replicate(comm(), c_, c_.compliance);
       nonlinear_ = std::ranges::any_of(row_laws_, [](const ContactLaw* l) { return !l->linear(); });
     }
     if (nonlinear_) S_plain_ = S;  // the nonlinear law's dual (solve_compliance_dual) on S itself
     // A linear law's λ_i = k_i d₊ adds its spring's compliance 1/k_i to S_ii (the box QP of S + diag(1/k)).
-    for (std::size_t j = 0; j < row_laws_.size(); ++j)
-      if (!row_laws_[j]->rigid()) {
-        const auto jj = static_cast<Eigen::Index>(j);
-        S(jj, jj) += row_laws_[j]->spring_compliance(compliance_[jj]);
-      }
+    for (Eigen::Index j = 0; j < compliance_.size(); ++j)
+      if (const ContactLaw* law = row_laws_[static_cast<std::size_t>(j)]; !law->rigid())
+        S(j, j) += law->spring_compliance(compliance_[j]);
     S_ = std::make_unique<DenseBoxQpOperator>(std::move(S));
   }
 
@@ -373,8 +363,9 @@ std::unique_ptr<ContactSolver> make_contact_solver(const std::string& name, std:
           constraints.law.size(), rows);
   require(constraints.block == 1, "internal: contact blocks of {} unknowns per node; the solvers take 1 (a normal law)",
           constraints.block);
-  bool compliant = false;
-  for (Eigen::Index i = 0; i < rows && !constraints.laws.empty(); ++i) compliant = compliant || !constraints.law_of(i).rigid();
+  const bool compliant = std::ranges::any_of(constraints.law, [&](int k) {
+    return !constraints.laws[static_cast<std::size_t>(k)]->rigid();
+  });
   if (name == "active-set")
     return std::make_unique<ActiveSetContactSolver>(std::move(K), std::move(K_factor), std::move(constraints),
                                                     opt.max_cached_share);

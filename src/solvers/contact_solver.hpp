@@ -63,7 +63,9 @@ struct ContactConstraints {
   /// numbers, row after row. 1 for every normal law, the only block the solvers take today.
   int block = 1;
   /// The law of local row i (Signorini where there are no laws).
-  const ContactLaw& law_of(Eigen::Index i) const;
+  const ContactLaw& law_of(Eigen::Index i) const {
+    return laws.empty() ? *signorini_law() : *laws[static_cast<std::size_t>(law[static_cast<std::size_t>(i)])];
+  }
 };
 
 /// Some row's law is not linear (ContactLaw::linear; the same answer on every process): only the
