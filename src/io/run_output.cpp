@@ -553,7 +553,7 @@ RunSummary RunOutput::summary(double wall_seconds) const {
   }
   for (const auto& [t, file] : pvd_) r.output_times.push_back(t);
   if (r.output_times.empty() || r.output_times.back() != s.t) r.output_times.push_back(s.t);
-  if (!comm.serial()) {  // the PETSc backend, on one rank too
+  if (stepper_.backend().engine() == "petsc") {  // on one rank too
     r.ranks = comm.size();
     r.linear_solver = stepper_.backend().linear_solver();
   }
