@@ -88,9 +88,6 @@ vpc::Case load_case(const Options& o, const CLI::App& cmd, const vpc::CaseSource
   if (!o.contact_solver.empty()) c.solvers.contact = o.contact_solver;
   if (!o.damage_solver.empty()) c.solvers.damage = o.damage_solver;
   c.solvers.memory_limit = o.memory_limit;
-#ifdef VPCONTACT_WITH_PETSC
-  c.solvers.iterative_fallback = o.engine == "auto" && !vpc::use_petsc_engine(o.engine);  // on_engine
-#endif
   if (given(cmd, "--tolerance")) {
     vpc::require(o.tolerance > 0, "--tolerance must be > 0 (got {})", o.tolerance);
     c.solvers.residual_tolerance = o.tolerance;
@@ -128,31 +125,14 @@ vpc::RunOptions run_options(const Options& o, const vpc::CaseInfo& info, const f
   return r;
 }
 
-/// Runs `task` on the engine --engine chooses (parallel_run.hpp). With `auto` outside mpirun,
-/// a run whose CHOLMOD factors would not fit in memory, or which CG + GAMG would do in less
-/// than half the time (solvers/solver_cost.hpp), goes to CG + GAMG on the PETSc engine on
-/// this one process instead (no factor: memory linear in the unknowns; issue 14).
+/// Runs `task` on the engine --engine chooses (parallel_run.hpp): the PETSc engine under mpirun,
+/// with --engine petsc or a --linear-solver; with `auto` on one process, the solver plan
+/// (run/solver_plan.hpp) takes CHOLMOD or CG + GAMG once the mesh is built, before set-up.
 int on_engine(const Options& o, const vpc::RunOptions& ro, const vpc::EngineTask& task) {
-  if (vpc::use_petsc_engine(o.engine)) return vpc::parallel_run(ro, task);
+  if (vpc::use_petsc_engine(o.engine) || (o.engine == "auto" && !ro.linear_solver.empty()))
+    return vpc::parallel_run(ro, task);
 #ifdef VPCONTACT_WITH_PETSC
-  if (o.engine == "auto") {
-    try {
-      return task(vpc::serial_engine());
-    } catch (const vpc::DirectSolverDeclined& e) {
-      const bool memory = dynamic_cast<const vpc::MemoryLimitError*>(&e) != nullptr;
-      if (!o.run.quiet) {  // close the set-up stage the direct solver declined ("factorization of K ...")
-        fmt::print(" not done\n");
-        std::fflush(stdout);
-      }
-      fmt::print(stderr,
-                 "vpcontact: {}\nvpcontact: so the run goes on with CG + GAMG (the PETSc engine on one process: "
-                 "no factor, memory linear in the unknowns); --engine serial {}\n",
-                 e.what(), memory ? "refuses instead" : "keeps the direct solver");
-      vpc::RunOptions iterative = ro;
-      iterative.linear_solver = "cg-gamg";
-      return vpc::parallel_run(iterative, task);
-    }
-  }
+  if (o.engine == "auto") return vpc::auto_run(task);
 #endif
   return task(vpc::serial_engine());
 }
@@ -235,9 +215,11 @@ void add_case_options(CLI::App* cmd, Options& o) {
   cmd->add_option("--memory-limit", o.memory_limit,
                   "refuse a run estimated to need more memory, e.g. 8G (default: $VPCONTACT_MEMORY_LIMIT, else the "
                   "memory available; 'unlimited': no check); also what meshing a .geo may take");
-  cmd->add_option("--engine", o.engine, "auto (PETSc under mpirun, if built with it; else serial, or CG + GAMG on one process when "
-                  "CHOLMOD's factors would not fit in memory or CG + GAMG is estimated to take less than half the time), serial or petsc");
-  cmd->add_option("--linear-solver", o.run.linear_solver, "PETSc engine: mumps (default), cg-gamg or cg-hypre");
+  cmd->add_option("--engine", o.engine, "auto (PETSc under mpirun or with --linear-solver, if built with it; else one process: "
+                  "CHOLMOD, or CG + GAMG when CHOLMOD's factors would not fit in memory or CG + GAMG is estimated to "
+                  "be faster; chosen before set-up and printed), serial or petsc");
+  cmd->add_option("--linear-solver", o.run.linear_solver, "PETSc engine: mumps (default; CG + GAMG instead, saying so, "
+                  "where MUMPS's factors would not fit in memory), cg-gamg or cg-hypre");
   cmd->add_flag("-q,--quiet", o.run.quiet, "print nothing but errors");
 }
 

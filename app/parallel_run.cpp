@@ -26,7 +26,7 @@ int parallel_run(const RunOptions& o, const EngineTask& task) {
   catch_interrupts();
   try {
     la::collective(la::make_mpi_comm(comm), [&] {  // choices every rank rejects alike, before any set-up
-      la::check_linear_solver(o.linear_solver);
+      if (!o.linear_solver.empty()) la::check_linear_solver(o.linear_solver);
     });
     rc = task(petsc_engine(comm, o.linear_solver));
   } catch (const Interrupted& e) {  // every rank alike (the engine asks every rank)
@@ -46,6 +46,26 @@ int parallel_run(const RunOptions& o, const EngineTask& task) {
   }
   PetscFinalize();
   return rc;
+}
+
+int auto_run(const EngineTask& task) {
+  bool started = false;
+  struct Finalize {  // after the task, which has freed every PETSc object
+    const bool& started;
+    ~Finalize() {
+      if (started) PetscFinalize();
+    }
+  } finalize{started};
+  return task(auto_engine([&started] {
+    if (!started) {
+      require(PetscInitializeNoArguments() == 0, "PETSc/MPI could not be initialized");
+      started = true;
+      if (!std::getenv("OMP_NUM_THREADS")) omp_set_num_threads(1);  // as parallel_run
+      set_blas_threads(1);
+      catch_interrupts();
+    }
+    return PETSC_COMM_WORLD;
+  }));
 }
 
 }  // namespace vpc

@@ -53,6 +53,9 @@ using EngineTask = std::function<int(const EngineChoice&)>;
 /// initialized, one thread per rank); returns the exit code. An error every rank
 /// meets alike is reported once; any other stops every rank (MPI_Abort).
 int parallel_run(const RunOptions& options, const EngineTask& task);
+/// Calls `task` with --engine auto's engine on this one process (parallel/petsc_engine.hpp
+/// auto_engine): PETSc is initialized only if the solver plan takes CG + GAMG.
+int auto_run(const EngineTask& task);
 #else
 inline int parallel_run(const RunOptions&, const EngineTask&) {
   fail("this vpcontact was built without PETSc (docs/parallel.md)");

@@ -277,10 +277,10 @@ void bind_simulation(py::module_& m) {
                              "The index in u.ravel() of each free dof (the rows of K and the columns of N).")
       .def("_matrices", [](const S& s) {
         const TimeStepper& ts = s.stepper();
-        const auto* K = dynamic_cast<const la::SparseOperator*>(&ts.stiffness_operator());
+        const SparseMatrix* K = ts.stiffness_operator().whole_matrix();
         require(K != nullptr, "K is not an Eigen sparse matrix (not the serial engine)");
         py::dict d;
-        d["K"] = csc(K->matrix());
+        d["K"] = csc(*K);
         d["M"] = csc(ts.mass_matrix());
         d["A"] = csc(ts.laplacian_matrix());
         d["N"] = csc(ts.contact_rows());

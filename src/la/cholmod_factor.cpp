@@ -1,4 +1,4 @@
-// The serial backend (la/backend.hpp): Eigen operators, and la::Factor by
+// The serial backend (la/backend.hpp): Eigen operators, and la::LinearSolver by
 // CHOLMOD's supernodal Cholesky.
 #include "core/error.hpp"
 #include "la/backend.hpp"
@@ -17,10 +17,10 @@
 
 namespace vpc::la {
 
-Eigen::MatrixXd Factor::forward(const Eigen::MatrixXd&) const {
+Eigen::MatrixXd LinearSolver::forward(const Eigen::MatrixXd&) const {
   fail("internal: forward half of a factor that has no triangular halves");
 }
-Eigen::MatrixXd Factor::backward(const Eigen::MatrixXd&) const {
+Eigen::MatrixXd LinearSolver::backward(const Eigen::MatrixXd&) const {
   fail("internal: backward half of a factor that has no triangular halves");
 }
 
@@ -68,7 +68,7 @@ const SparseMatrix& matrix_of(const SpdOperator& A, const char* what) {
 /// Supernodal LLᵀ through CHOLMOD's 64-bit integer interface (cholmod_l_*): a
 /// factor may exceed 2³¹ entries (issue 11: the 32-bit one stopped at "problem
 /// too large" and the unchecked status then crashed). Every call's status is checked.
-class CholmodFactor final : public Factor {
+class CholmodFactor final : public LinearSolver {
  public:
   CholmodFactor() {
     cholmod_l_start(&c_);
@@ -310,9 +310,10 @@ class SerialBackend final : public Backend {
             "internal: the serial backend assembles one process's matrices");
     return std::make_unique<SparseOperator>(local);
   }
-  std::unique_ptr<Factor> factor(const std::string& name) const override { return make_cholmod_factor(name); }
+  std::unique_ptr<LinearSolver> factor(const std::string& name) const override { return make_cholmod_factor(name); }
   std::string describe() const override { return "CHOLMOD"; }
   std::string linear_solver() const override { return "cholmod"; }
+  std::string engine() const override { return "serial"; }
 
  private:
   Comm comm_;
@@ -320,7 +321,7 @@ class SerialBackend final : public Backend {
 
 }  // namespace
 
-std::unique_ptr<Factor> make_cholmod_factor(const std::string&) { return std::make_unique<CholmodFactor>(); }
+std::unique_ptr<LinearSolver> make_cholmod_factor(const std::string&) { return std::make_unique<CholmodFactor>(); }
 
 std::shared_ptr<const Backend> serial_backend() {
   static const auto backend = std::make_shared<const SerialBackend>();

@@ -1,6 +1,6 @@
 #pragma once
-// A factorization (or a preconditioned iterative solver) of an SpdOperator:
-// solve for one right-hand side or a block. The triangular halves of a Cholesky
+// The linear solver of an SpdOperator, direct (a factorization) or iterative (a
+// preconditioned Krylov solver): solve for one right-hand side or a block. The triangular halves of a Cholesky
 // factor A = PᵀLLᵀP (forward(B) = L⁻¹PB, backward(Y) = PᵀL⁻ᵀY) are an optional
 // capability: CHOLMOD has them, MUMPS and CG do not (has_halves()).
 // Backends: make_cholmod_factor (one process, la/cholmod_factor.cpp) and the
@@ -46,9 +46,9 @@ FactorEstimate estimate_cholmod_factor(const SparseMatrix& A, const char* what);
 
 namespace vpc::la {
 
-class Factor {
+class LinearSolver {
  public:
-  virtual ~Factor() = default;
+  virtual ~LinearSolver() = default;
   /// Factorizes A (kept by reference by iterative backends: A must outlive the
   /// next factorize). Throws vpc::Error naming `what` when it fails.
   virtual void factorize(const SpdOperator& A, const char* what) = 0;
@@ -83,10 +83,14 @@ class Factor {
 
 /// Makes a backend's factor; `name` says which matrix ("H", "H_reduced": the PETSc
 /// backend reads its options under the prefix vpc_<name>_).
-using FactorFactory = std::function<std::unique_ptr<Factor>(const std::string& name)>;
+using LinearSolverFactory = std::function<std::unique_ptr<LinearSolver>(const std::string& name)>;
+
+/// The names before issue 27 (la::Factor also named the CG solvers), until every use is renamed.
+using Factor = LinearSolver;
+using FactorFactory = LinearSolverFactory;
 
 /// CHOLMOD's supernodal Cholesky (64-bit integer interface) of a SparseOperator
 /// (one process), with halves and a symbolic analysis.
-std::unique_ptr<Factor> make_cholmod_factor(const std::string& name = "");
+std::unique_ptr<LinearSolver> make_cholmod_factor(const std::string& name = "");
 
 }  // namespace vpc::la

@@ -1,7 +1,7 @@
 #pragma once
 // Whether a run fits in memory (issue 11): what it will hold, by part, against
 // the memory it may use, checked before the costly factorizations. The factors'
-// sizes come from CHOLMOD's symbolic analysis (la::Factor::analyze).
+// sizes come from CHOLMOD's symbolic analysis (la::LinearSolver::analyze).
 #include "la/factor.hpp"
 
 #include "core/error.hpp"

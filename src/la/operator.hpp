@@ -20,6 +20,12 @@ class SpdOperator {
   virtual int n_owned() const = 0;
   /// y = A x.
   virtual void mult(const Eigen::VectorXd& x, Eigen::VectorXd& y) const = 0;
+  /// y = A x over this process's threads where the backend can (the whole matrix of one
+  /// process: Aᵀx, the same for a symmetric A stored whole, whose row-major product Eigen
+  /// spreads over the OpenMP threads); else mult.
+  virtual void mult_threaded(const Eigen::VectorXd& x, Eigen::VectorXd& y) const { mult(x, y); }
+  /// The whole matrix where one process holds it (the serial backend); null otherwise.
+  virtual const Eigen::SparseMatrix<double>* whole_matrix() const { return nullptr; }
   /// r = b − A x.
   virtual void residual(const Eigen::VectorXd& b, const Eigen::VectorXd& x, Eigen::VectorXd& r) const = 0;
   virtual Eigen::VectorXd diagonal() const = 0;
@@ -46,6 +52,8 @@ class SparseOperator final : public SpdOperator {
   const Comm& comm() const override { return comm_; }
   int n_owned() const override { return static_cast<int>(A_.rows()); }
   void mult(const Eigen::VectorXd& x, Eigen::VectorXd& y) const override { y = A_ * x; }
+  void mult_threaded(const Eigen::VectorXd& x, Eigen::VectorXd& y) const override { y = A_.transpose() * x; }
+  const Eigen::SparseMatrix<double>* whole_matrix() const override { return &A_; }
   void residual(const Eigen::VectorXd& b, const Eigen::VectorXd& x, Eigen::VectorXd& r) const override {
     r = b - A_ * x;
   }

@@ -98,7 +98,7 @@ class Placed {
 /// (so any PETSc solver can be chosen from the command line or PETSC_OPTIONS, e.g.
 /// -vpc_K_ksp_monitor). The iterative ones start from the x passed in (the previous
 /// step's solution) and stop at a relative residual of `rtol`.
-class PetscFactor final : public Factor {
+class PetscFactor final : public LinearSolver {
  public:
   PetscFactor(MPI_Comm comm, const std::string& name, const PetscSolverOptions& options)
       : comm_(comm), prefix_("vpc_" + name + "_"), options_(options) {
@@ -449,11 +449,12 @@ class PetscBackend final : public Backend {
     std::copy(layout.ghosts().begin(), layout.ghosts().end(), l2g.begin() + layout.n_owned());
     return std::make_unique<PetscOperator>(comm_, local, l2g, layout.n_owned(), layout.n_global(), block_size);
   }
-  std::unique_ptr<Factor> factor(const std::string& name) const override {
+  std::unique_ptr<LinearSolver> factor(const std::string& name) const override {
     return std::make_unique<PetscFactor>(mpi_of(comm_), name, options_);
   }
   std::string describe() const override { return "PETSc " + options_.kind; }
   std::string linear_solver() const override { return options_.kind; }
+  std::string engine() const override { return "petsc"; }
 
  private:
   Comm comm_;

@@ -3,6 +3,9 @@
 #include "la/petsc.hpp"
 #include "parallel/distributed_mesh.hpp"
 #include "run/progress.hpp"
+#include "run/solver_plan.hpp"
+
+#include <algorithm>
 
 namespace vpc {
 
@@ -59,27 +62,76 @@ std::unique_ptr<TimeStepper> petsc_stepper(MPI_Comm mpi_comm, Case& c, const std
 
 EngineChoice petsc_engine(MPI_Comm comm, const std::string& linear_solver) {
   return {[comm, linear_solver](const CaseLoader& load, const RunOptions& o) {
-            RunOptions with = o;  // the engine's solver (the command line's fallback may differ from --linear-solver)
+            RunOptions with = o;
             with.linear_solver = linear_solver;
             return set_up_petsc(comm, load, with);
           },
           [comm, linear_solver](std::shared_ptr<const Problem> problem, const SolverChoice& choice) {
-            return distributed_stepper(comm, std::move(problem), choice, linear_solver);
+            return distributed_stepper(comm, std::move(problem), choice, linear_solver.empty() ? "mumps" : linear_solver);
           },
           la::make_mpi_comm(comm).rank() == 0};
 }
 
-std::unique_ptr<Engine> set_up_petsc(MPI_Comm mpi_comm, const CaseLoader& load, const RunOptions& o) {
+namespace {
+
+/// The ranks of `comm` on this rank's machine, which share its memory. Collective.
+int ranks_on_machine(MPI_Comm comm) {
+  MPI_Comm machine;
+  MPI_Comm_split_type(comm, MPI_COMM_TYPE_SHARED, 0, MPI_INFO_NULL, &machine);
+  int n = 1;
+  MPI_Comm_size(machine, &n);
+  MPI_Comm_free(&machine);
+  return n;
+}
+
+/// The engine of the loaded case `c` on the ranks of `comm` with `linear_solver`. Collective.
+std::unique_ptr<Run> engine_on_ranks(MPI_Comm mpi_comm, Case c, const RunOptions& o,
+                                        const std::string& linear_solver) {
+  const la::Comm comm = la::make_mpi_comm(mpi_comm);
+  c.solvers.max_halvings = o.halvings;
+  // Collective stages: a signal is looked at after them all.
+  c.solvers.on_setup_stage = StageLog(o.quiet || comm.rank() != 0);
+  auto stepper = petsc_stepper(mpi_comm, c, linear_solver);
+  stop_if_interrupted_anywhere(comm);
+  return make_run(std::move(c), std::move(stepper), o.quiet);
+}
+
+const std::vector<std::string> kLinearSolvers = {"mumps", "cg-gamg", "cg-hypre"};
+
+}  // namespace
+
+std::unique_ptr<Run> set_up_petsc(MPI_Comm mpi_comm, const CaseLoader& load, const RunOptions& o) {
   const la::Comm comm = la::make_mpi_comm(mpi_comm);
   la::on_root(comm, [&] { begin_run(o); });
   Case c = load_case_everywhere(load, comm);
-  c.solvers.max_halvings = o.halvings;
   stop_if_interrupted_anywhere(comm);
-  // Collective stages: a signal is looked at after them all.
-  c.solvers.on_setup_stage = StageLog(o.quiet || comm.rank() != 0);
-  auto stepper = petsc_stepper(mpi_comm, c, o.linear_solver);
-  stop_if_interrupted_anywhere(comm);
-  return make_engine(std::move(c), std::move(stepper), o.quiet);
+  // Rank 0, which holds the whole mesh, chooses the linear solver (or refuses) for every rank.
+  const SolverRequest request{.engine = "petsc", .linear_solver = o.linear_solver, .ranks = comm.size(),
+                              .ranks_on_machine = ranks_on_machine(mpi_comm)};
+  double chosen = 0;
+  la::on_root(comm, [&] {
+    const SolverPlan plan = plan_run(c, request, o.quiet);
+    chosen = static_cast<double>(std::ranges::find(kLinearSolvers, plan.linear_solver) - kLinearSolvers.begin());
+  });
+  chosen = la::broadcast(comm, std::vector<double>{chosen})[0];
+  return engine_on_ranks(mpi_comm, std::move(c), o, kLinearSolvers.at(static_cast<std::size_t>(chosen)));
+}
+
+EngineChoice auto_engine(const std::function<MPI_Comm()>& start_petsc) {
+  EngineChoice e = serial_engine();
+  e.set_up = [start_petsc](const CaseLoader& load, const RunOptions& o) -> std::unique_ptr<Run> {
+    begin_run(o);
+    Case c;
+    SolverPlan plan;
+    {
+      const SetUpStopsAtOnce at_once;  // as set_up_serial, until the engine is known
+      c = load({});
+      plan = plan_run(c, {.engine = "auto", .petsc_built = true}, o.quiet);
+      if (!plan.petsc) return set_up_on_one_process(std::move(c), o);
+    }
+    return engine_on_ranks(start_petsc(), std::move(c), o, plan.linear_solver);
+  };
+  return e;
 }
 
 }  // namespace vpc

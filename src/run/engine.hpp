@@ -1,6 +1,6 @@
 #pragma once
 // What the run loop (run/run_case.hpp) needs of an engine: a stepper, its output
-// and its checkpoints. make_engine builds the one implementation (TimeStepper,
+// and its checkpoints. make_run builds the one implementation (TimeStepper,
 // RunOutput, io/checkpoint) on one process or on many (parallel/petsc_engine.hpp
 // sets that up); every call is collective and returns the same on every process.
 #include "run/interrupt.hpp"
@@ -21,9 +21,9 @@ struct ResumedAt {
   double t = 0;
 };
 
-class Engine {
+class Run {
  public:
-  virtual ~Engine() = default;
+  virtual ~Run() = default;
 
   // The scheme.
   virtual bool done() const = 0;
@@ -65,12 +65,15 @@ class Engine {
   virtual const TimeStepper* stepper() const { return nullptr; }
 };
 
+/// The name before issue 27 (it also meant --engine's choice), until every use is renamed.
+using Engine = Run;
+
 struct Case;  // io/case.hpp
 
 /// The engine over `stepper` (one process, or this process's part), its output
 /// and checkpoints, for the case `c`; unless quiet, rank 0 prints what set-up
 /// found. Collective.
-std::unique_ptr<Engine> make_engine(Case c, std::unique_ptr<TimeStepper> stepper, bool quiet);
+std::unique_ptr<Run> make_run(Case c, std::unique_ptr<TimeStepper> stepper, bool quiet);
 
 /// The lines of an engine's description that come from the case: boundary
 /// parts, material, damage, time and solvers, and the set-up time.

@@ -20,7 +20,7 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 }
 
 /// Continues from the newest good checkpoint; returns its step.
-int resume(Engine& e, const RunOptions& o) {
+int resume(Run& e, const RunOptions& o) {
   std::vector<std::string> skipped;
   const auto saved = e.resume(o.resume, skipped);
   if (e.root())
@@ -36,7 +36,7 @@ int resume(Engine& e, const RunOptions& o) {
 
 /// A fresh run: removes an earlier run's files (stale solution_*.vtu, and
 /// checkpoints not to resume from), writes step 0 and its checkpoint.
-void start(Engine& e, const RunOptions& o) {
+void start(Run& e, const RunOptions& o) {
   e.on_root([&] {
     const auto removed = remove_run_outputs(e.directory());
     if (!o.quiet && !removed.empty())
@@ -48,13 +48,13 @@ void start(Engine& e, const RunOptions& o) {
 }
 
 /// Where the steps before a failed one are, and how to go on from them.
-std::string results_so_far(const Engine& e, const RunOptions& o, int done, int last_checkpoint) {
+std::string results_so_far(const Run& e, const RunOptions& o, int done, int last_checkpoint) {
   if (!o.files) return "No output directory";  // RunLoop without an output directory: no files
   return fmt::format("Results up to step {} are in '{}'; `--resume {}` continues from step {}", done,
                      e.directory().string(), shell_quote(e.directory().string()), last_checkpoint);
 }
 
-[[noreturn]] void failed_step(const Engine& e, const StepReport& r, const RunOptions& o, int last_checkpoint) {
+[[noreturn]] void failed_step(const Run& e, const StepReport& r, const RunOptions& o, int last_checkpoint) {
   const bool not_finite = std::isinf(r.contact.residuals.max()) || std::isinf(r.damage.kkt_residual);
   const std::string results = results_so_far(e, o, r.n - 1, last_checkpoint);
   // Which solver failed, with the residual and its value against the tolerance (issue 26: "converged"
@@ -90,11 +90,11 @@ void begin_run(const RunOptions& o) {
 }
 
 RunResult run_case(const CaseLoader& load, const RunOptions& options, const EngineSetUp& set_up) {
-  const std::unique_ptr<Engine> engine = set_up(load, options);
+  const std::unique_ptr<Run> engine = set_up(load, options);
   return run_engine(*engine, options);
 }
 
-RunResult run_engine(Engine& e, const RunOptions& o) {
+RunResult run_engine(Run& e, const RunOptions& o) {
   RunLoop loop(e, o);
   while (!loop.done()) {
     const StepReport r = loop.step();
@@ -120,7 +120,7 @@ RunResult run_engine(Engine& e, const RunOptions& o) {
   return result;
 }
 
-RunLoop::RunLoop(Engine& e, const RunOptions& o)
+RunLoop::RunLoop(Run& e, const RunOptions& o)
     : engine_(e),
       options_(o),
       schedule_(o.checkpoint_every, o.checkpoint_seconds),
@@ -137,7 +137,7 @@ RunLoop::RunLoop(Engine& e, const RunOptions& o)
 }
 
 StepReport RunLoop::step() {
-  Engine& e = engine_;
+  Run& e = engine_;
   StepReport r;
   try {
     r = e.step();

@@ -28,7 +28,7 @@ struct RunOptions {
   std::filesystem::path output_directory;   // checked before any set-up; empty: no output (a check)
   std::filesystem::path resume;             // non-empty: continue from the newest good checkpoint there
   int halvings = 0;                         // --retry-halvings
-  std::string linear_solver = "mumps";      // PETSc engine: mumps, cg-gamg, cg-hypre
+  std::string linear_solver{};              // PETSc engine: mumps, cg-gamg, cg-hypre; empty: the default (run/solver_plan.hpp)
   int checkpoint_every = -1;                // steps; -1: by wall time (CheckpointSchedule)
   double checkpoint_seconds = 60;
   std::vector<std::string> argv;            // the command line, for the --resume command after a signal
@@ -43,13 +43,23 @@ struct RunResult {
   double wall_seconds = 0;
 };
 
-/// Sets up an engine: begin_run, then builds the case and its stepper (assembly,
+/// Sets up a run on an engine: begin_run, then builds the case and its stepper (assembly,
 /// factorization), reporting the stages, and describes them (unless quiet).
 /// Throws vpc::Error (Interrupted for a signal during set-up).
-using EngineSetUp = std::function<std::unique_ptr<Engine>(const CaseLoader&, const RunOptions&)>;
+using EngineSetUp = std::function<std::unique_ptr<Run>(const CaseLoader&, const RunOptions&)>;
 
-/// The engine on one process (TimeStepper over the serial backend: Eigen + CHOLMOD).
-std::unique_ptr<Engine> set_up_serial(const CaseLoader& load, const RunOptions& options);
+/// A run on the serial engine (TimeStepper over the serial backend: Eigen + CHOLMOD), after
+/// the solver plan (run/solver_plan.hpp) has found that CHOLMOD fits.
+std::unique_ptr<Run> set_up_serial(const CaseLoader& load, const RunOptions& options);
+
+/// set_up_serial's steps after begin_run and the plan: the stepper of the loaded case `c`.
+std::unique_ptr<Run> set_up_on_one_process(Case c, const RunOptions& options);
+
+struct SolverPlan;
+struct SolverRequest;
+/// Chooses the engine and linear solver of the loaded case `c` (plan_solver), reported as
+/// a set-up stage and one line (unless quiet). Throws vpc::Error for a run that does not fit.
+SolverPlan plan_run(const Case& c, const SolverRequest& request, bool quiet);
 
 /// Makes a TimeStepper of a problem with its solver choices: what `converge` runs each
 /// level on. Collective on a distributed engine (which distributes rank 0's mesh).
@@ -75,8 +85,8 @@ void begin_run(const RunOptions& options);
 /// vpc::CollectiveError for a step that failed (every process alike).
 RunResult run_case(const CaseLoader& load, const RunOptions& options, const EngineSetUp& set_up = set_up_serial);
 
-/// Runs a set-up engine: run_case after set-up (a RunLoop to the end).
-RunResult run_engine(Engine& engine, const RunOptions& options);
+/// Runs a set-up run: run_case after set-up (a RunLoop to the end).
+RunResult run_engine(Run& run, const RunOptions& options);
 
 /// The run loop one step at a time: run_engine runs it to the end, the Python
 /// module (python/, docs/python.md) steps it. With RunOptions::files false it
@@ -85,10 +95,10 @@ class RunLoop {
  public:
   /// Opens the output, then resumes (RunOptions::resume) or starts a fresh run
   /// (step 0 and its checkpoint written). Throws vpc::Error (no checkpoint to resume).
-  RunLoop(Engine& engine, const RunOptions& options);
+  RunLoop(Run& run, const RunOptions& options);
   bool done() const { return engine_.done(); }
   /// One step, recorded; a checkpoint when due, at the end or after a signal. A
-  /// signal (Engine::interrupt_anywhere) before the end finishes the run: then
+  /// signal (Run::interrupt_anywhere) before the end finishes the run: then
   /// result().signal is set. Throws vpc::CollectiveError for a failed step (after finish()).
   StepReport step();
   /// A checkpoint of the state now (none without an output directory).
@@ -103,7 +113,7 @@ class RunLoop {
  private:
   bool writes() const { return options_.files; }
 
-  Engine& engine_;
+  Run& engine_;
   RunOptions options_;
   int last_checkpoint_ = 0;
   CheckpointSchedule schedule_;

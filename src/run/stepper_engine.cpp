@@ -7,10 +7,12 @@
 #include "io/run_output.hpp"
 #include "run/progress.hpp"
 #include "run/run_case.hpp"
+#include "run/solver_plan.hpp"
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include <chrono>
 #include <cmath>
 #include <optional>
 
@@ -18,9 +20,9 @@ namespace vpc {
 
 namespace {
 
-class StepperEngine final : public Engine {
+class StepperRun final : public Run {
  public:
-  StepperEngine(Case c, std::unique_ptr<TimeStepper> stepper) : case_(std::move(c)), stepper_(std::move(stepper)) {}
+  StepperRun(Case c, std::unique_ptr<TimeStepper> stepper) : case_(std::move(c)), stepper_(std::move(stepper)) {}
 
   bool done() const override { return stepper_->done(); }
   StepReport step() override { return stepper_->step(); }
@@ -46,7 +48,7 @@ class StepperEngine final : public Engine {
   }
 
   bool root() const override { return comm().rank() == 0; }
-  int ranks() const override { return comm().serial() ? 0 : comm().size(); }
+  int ranks() const override { return petsc() ? comm().size() : 0; }
   int interrupt_anywhere() const override { return static_cast<int>(comm().max(interrupt_signal())); }
   bool root_decides(bool value) const override { return comm().sum(root() && value ? 1.0 : 0.0) > 0; }
   void on_root(const std::function<void()>& work) override { la::on_root(comm(), work); }
@@ -60,7 +62,7 @@ class StepperEngine final : public Engine {
     h_min = comm().min(h_min);
     h_max = comm().max(h_max);
     if (!root()) return;
-    if (!comm().serial())
+    if (petsc())
       fmt::print("  PETSc engine on {} MPI rank{}: linear solver {}; {}\n", comm().size(), comm().size() > 1 ? "s" : "",
                  stepper_->backend().linear_solver(), stepper_->contact_method());
     fmt::print("  mesh: d = {}, {} nodes, {} cells, h in [{:.3g}, {:.3g}]; {} free displacement dofs, {} contact "
@@ -74,6 +76,7 @@ class StepperEngine final : public Engine {
 
  private:
   const la::Comm& comm() const { return stepper_->comm(); }
+  bool petsc() const { return stepper_->backend().engine() == "petsc"; }
 
   Case case_;
   std::unique_ptr<TimeStepper> stepper_;
@@ -106,16 +109,24 @@ void describe_data(const Problem& p, const SolverChoice& solvers, double setup_s
   std::fflush(stdout);
 }
 
-std::unique_ptr<Engine> make_engine(Case c, std::unique_ptr<TimeStepper> stepper, bool quiet) {
-  auto engine = std::make_unique<StepperEngine>(std::move(c), std::move(stepper));
+std::unique_ptr<Run> make_run(Case c, std::unique_ptr<TimeStepper> stepper, bool quiet) {
+  auto engine = std::make_unique<StepperRun>(std::move(c), std::move(stepper));
   if (!quiet) engine->describe();
   return engine;
 }
 
-std::unique_ptr<Engine> set_up_serial(const CaseLoader& load, const RunOptions& o) {
-  begin_run(o);
-  const SetUpStopsAtOnce at_once;  // a signal ends set-up (meshing, factorizing) at once
-  Case c = load({});
+SolverPlan plan_run(const Case& c, const SolverRequest& request, bool quiet) {
+  const StageLog log(quiet);
+  const auto t0 = std::chrono::steady_clock::now();
+  log("choosing the linear solver (symbolic analysis of the node graph)", -1);
+  SolverPlan plan = plan_solver(*c.problem, c.solvers, request);
+  log("", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+  if (!quiet) fmt::print("  {}\n", plan.why);
+  std::fflush(stdout);
+  return plan;
+}
+
+std::unique_ptr<Run> set_up_on_one_process(Case c, const RunOptions& o) {
   StageLog log(o.quiet);
   c.solvers.max_halvings = o.halvings;
   c.solvers.on_setup_stage = [log](const std::string& stage, double seconds) {  // a copy: it outlives set-up
@@ -123,7 +134,15 @@ std::unique_ptr<Engine> set_up_serial(const CaseLoader& load, const RunOptions& 
     if (seconds >= 0) stop_if_interrupted();
   };
   auto stepper = std::make_unique<TimeStepper>(c.problem, c.solvers);
-  return make_engine(std::move(c), std::move(stepper), o.quiet);
+  return make_run(std::move(c), std::move(stepper), o.quiet);
+}
+
+std::unique_ptr<Run> set_up_serial(const CaseLoader& load, const RunOptions& o) {
+  begin_run(o);
+  const SetUpStopsAtOnce at_once;  // a signal ends set-up (meshing, factorizing) at once
+  Case c = load({});
+  plan_run(c, {.engine = "serial"}, o.quiet);  // CHOLMOD, if it fits
+  return set_up_on_one_process(std::move(c), o);
 }
 
 }  // namespace vpc

@@ -1,6 +1,7 @@
 #include "solvers/box_qp.hpp"
 
 #include "core/error.hpp"
+#include "la/backend.hpp"
 #include "solvers/active_set_history.hpp"
 
 #include <algorithm>
@@ -77,7 +78,7 @@ SparseBoxQpOperator::SparseBoxQpOperator(std::unique_ptr<la::SpdOperator> H, con
 }
 
 SparseBoxQpOperator::SparseBoxQpOperator(SparseMatrix H, ReducedSolve method)
-    : SparseBoxQpOperator(std::make_unique<la::SparseOperator>(std::move(H)), [](const std::string& name) { return la::make_cholmod_factor(name); }, method) {}
+    : SparseBoxQpOperator(std::make_unique<la::SparseOperator>(std::move(H)), la::factor_factory(la::serial_backend()), method) {}
 
 void SparseBoxQpOperator::solve_free(const std::vector<char>& fixed, const Vector& b, Vector& x) {
   std::vector<int> active;

@@ -1,6 +1,7 @@
 #include "solvers/contact_solver.hpp"
 
 #include "core/error.hpp"
+#include "la/backend.hpp"
 #include "solvers/box_qp.hpp"
 #include "solvers/compliance_dual.hpp"
 #include "solvers/penalty_duality.hpp"
@@ -41,13 +42,7 @@ ContactResiduals contact_residuals(const la::SpdOperator& K, const ContactConstr
     return {inf, inf, inf, inf};
   }
   Vector Ku;
-  if (const auto* s = dynamic_cast<const la::SparseOperator*>(&K)) {
-    // K is symmetric and stored whole: Kᵀu is the same product, and Eigen spreads
-    // a row-major one (which Kᵀ is) over the OpenMP threads.
-    Ku = s->matrix().transpose() * u;
-  } else {
-    K.mult(u, Ku);
-  }
+  K.mult_threaded(u, Ku);
   const Vector lambda_local = local_rows(c, lambda);
   Vector s = c.gap - c.N * u;  // the gap left: ≥ 0, plus the penetration a compliant law gives at λ
   for (Eigen::Index i = 0; i < s.size() && !c.laws.empty(); ++i)
@@ -338,7 +333,7 @@ ContactSolverPick pick_contact_solver(const std::string& requested, int m, const
                                       bool power_law) {
   if (requested != "auto") return {requested, "as asked"};
   if (power_law) return {"active-set", "auto: a nonlinear compliance law is solved on the dual"};
-  if (linear_solver.starts_with("cg"))
+  if (!la::Backend::is_direct(linear_solver))
     return {"primal-active-set", fmt::format("auto: {} is iterative (the dual's S would take {} solves)", linear_solver, m)};
   if (m > kDualContactRows)
     return {"primal-active-set", fmt::format("auto: {} contact nodes > {} (the dual's S would be dense {} x {})", m,
@@ -387,7 +382,7 @@ std::unique_ptr<ContactSolver> make_contact_solver(const std::string& name, cons
                                                    const SparseMatrix& N, const Vector& gap,
                                                    const ContactSolverOptions& opt) {
   auto op = std::make_shared<const la::SparseOperator>(K);
-  std::shared_ptr<la::Factor> factor = la::make_cholmod_factor("K");
+  std::shared_ptr<la::Factor> factor = la::serial_backend()->factor("K");
   ContactConstraints c;
   c.m = static_cast<int>(N.rows());
   c.N = N;
@@ -399,7 +394,7 @@ std::unique_ptr<ContactSolver> make_contact_solver(const std::string& name, cons
     return make_primal_active_set_solver(std::move(op), std::move(K_rot), std::move(factor), std::move(c));
   }
   factor->factorize(*op, "elastic stiffness K");
-  return make_contact_solver(name, std::move(op), std::move(factor), std::move(c), la::make_cholmod_factor, opt);
+  return make_contact_solver(name, std::move(op), std::move(factor), std::move(c), la::factor_factory(la::serial_backend()), opt);
 }
 
 }  // namespace vpc

@@ -1,6 +1,7 @@
 #include "solvers/damage_solver.hpp"
 
 #include "core/error.hpp"
+#include "la/backend.hpp"
 #include "solvers/box_qp.hpp"
 #include "solvers/penalty_duality.hpp"
 #include "solvers/solver_failure.hpp"
@@ -188,7 +189,7 @@ std::unique_ptr<DamageSolver> make_damage_solver(const std::string& name, std::u
 
 std::unique_ptr<DamageSolver> make_damage_solver(const std::string& name, const SparseMatrix& H, double tolerance,
                                                  int max_iterations, ReducedSolve reduced) {
-  return make_damage_solver(name, std::make_unique<la::SparseOperator>(H), la::make_cholmod_factor, reduced,
+  return make_damage_solver(name, std::make_unique<la::SparseOperator>(H), la::factor_factory(la::serial_backend()), reduced,
                             tolerance, max_iterations);
 }
 

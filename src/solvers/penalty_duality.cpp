@@ -1,6 +1,7 @@
 #include "solvers/penalty_duality.hpp"
 
 #include "core/error.hpp"
+#include "la/backend.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -18,7 +19,7 @@ PenaltyDuality::PenaltyDuality(const la::SpdOperator& H, SparseMatrix E, double 
 }
 
 PenaltyDuality::PenaltyDuality(const SparseMatrix& H, SparseMatrix E, double omega)
-    : PenaltyDuality(la::SparseOperator(H), std::move(E), omega, la::make_cholmod_factor, "H_pd") {}
+    : PenaltyDuality(la::SparseOperator(H), std::move(E), omega, la::factor_factory(la::serial_backend()), "H_pd") {}
 
 PenaltyDualityResult PenaltyDuality::solve(const Vector& b, const Vector& lo, const Vector& hi, Vector& x,
                                            Vector& theta, double tolerance, int max_iterations,

@@ -19,25 +19,31 @@ struct SolverCost {
   std::string detail;    // both estimates by part, for the message
 };
 
-/// The measured rates the estimate scales (this machine: 2 cores; docs/performance.md).
+/// The rates the estimate scales; measured_rates() are this machine's (2 cores;
+/// docs/performance.md, "Direct or iterative"), kept in solver_cost.cpp.
 struct SolverRates {
-  // foundation-3d, one process (docs/performance.md, "Direct or iterative"):
-  double factor_flops_per_second = 2.5e10;  // CHOLMOD's supernodal factorization, 2 BLAS threads (n = 30)
-  double solve_seconds_per_entry = 1.0e-9;  // one solve with the factor, per entry of L (n = 20, 30)
-  double column_share = 0.18;               // a column of S (solved in blocks of 8), per solve (n = 20-40)
-  double dual_solves_per_step = 2.4;        // the dual active set's solves a step
-  double primal_direct_factorizations_per_step = 0.5;  // the primal solver on a factor: at set changes
-  double cg_step_seconds_per_nonzero = 1.2e-7;  // a step of the primal solver on CG + GAMG (n = 40, 100 steps)
+  double factor_flops_per_second = 1;   // CHOLMOD's supernodal factorization
+  double solve_seconds_per_entry = 0;   // one solve with the factor, per entry of L
+  double column_share = 0;              // a column of S (solved in blocks of 8), per solve
+  double dual_solves_per_step = 0;      // the dual active set's solves a step
+  double primal_direct_factorizations_per_step = 0;  // the primal solver on a factor: at set changes
+  double cg_step_seconds_per_nonzero = 0;   // a step of the primal solver on CG + GAMG
+  double cg_setup_seconds_per_nonzero = 0;  // GAMG's hierarchy and the contact start's extra solves
+  double cg_fixed_seconds = 0;              // starting PETSc (MPI) on one process
+  double direct_fixed_seconds = 0;          // what the direct path costs whatever the size
 };
+
+/// This machine's rates.
+SolverRates measured_rates();
 
 /// The estimate for `steps` steps of a problem with K (`K_nonzeros`, both triangles; its
 /// factor `K_factor` from the symbolic analysis) and m contact nodes. `dual`: the direct path
 /// takes the dual solver (m ≤ kDualContactRows), else the primal one refactorizing at set changes.
 SolverCost estimate_solver_cost(const FactorEstimate& K_factor, double K_nonzeros, double contact_nodes, int steps,
-                                bool dual, const SolverRates& rates = {});
+                                bool dual, const SolverRates& rates = measured_rates());
 
-/// Whether the iterative path is clearly faster: less than half the direct path's estimate.
-inline bool iterative_is_faster(const SolverCost& c) { return c.iterative < 0.5 * c.direct; }
+/// Whether auto takes the iterative path: estimated faster by the margin solver_cost.cpp sets.
+bool iterative_is_faster(const SolverCost& c);
 
 /// Thrown by the set-up of a run that may go on with CG + GAMG (SolverChoice::iterative_fallback)
 /// when iterative_is_faster.

@@ -48,7 +48,7 @@ struct Run {
   bool stepped_now = false;
   State gathered;  // a distributed stepper's state on rank 0, in the numbering of the level's mesh
 
-  bool distributed() const { return !stepper->comm().serial(); }
+  bool distributed() const { return stepper->backend().engine() == "petsc"; }
   const State& state() const { return distributed() ? gathered : stepper->state(); }
   int n_steps() const { return problem->n_steps; }
   /// After set-up and each step: a distributed state to rank 0. Collective.

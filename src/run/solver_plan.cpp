@@ -1,0 +1,209 @@
+#include "run/solver_plan.hpp"
+
+#include "contact/contact_rows.hpp"
+#include "core/error.hpp"
+#include "fem/cell_geometry.hpp"
+#include "solvers/contact_solver.hpp"
+#include "solvers/solver_cost.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cstdint>
+#include <vector>
+
+namespace vpc {
+
+namespace {
+
+/// The node graph of the mesh (nodes joined by a cell), lower triangle with the diagonal:
+/// the pattern of M, A and H, and K's with each entry a d × d block. Built from sorted
+/// pairs, not triplets of values: 8 bytes a pair of a cell.
+SparseMatrix node_graph(const Mesh& mesh) {
+  const int per_cell = mesh.dim() + 1;
+  std::vector<std::uint64_t> pairs;  // column (the smaller node) << 32 | row
+  pairs.reserve(static_cast<std::size_t>(mesh.n_cells()) * per_cell * (per_cell - 1) / 2 + mesh.n_nodes());
+  for (int i = 0; i < mesh.n_nodes(); ++i) pairs.push_back((std::uint64_t(i) << 32) | std::uint64_t(i));
+  for (int c = 0; c < mesh.n_cells(); ++c) {
+    const int* v = mesh.cell(c);
+    for (int a = 0; a < per_cell; ++a)
+      for (int b = 0; b < per_cell; ++b)
+        if (v[a] < v[b]) pairs.push_back((std::uint64_t(v[a]) << 32) | std::uint64_t(v[b]));
+  }
+  std::sort(pairs.begin(), pairs.end());
+  pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+  SparseMatrix G(mesh.n_nodes(), mesh.n_nodes());
+  G.reserve(static_cast<Eigen::Index>(pairs.size()));
+  int column = -1;
+  for (const std::uint64_t key : pairs) {  // in column order, rows increasing: appended as they come
+    const int j = static_cast<int>(key >> 32), i = static_cast<int>(key & 0xffffffffu);
+    while (column < j) G.startVec(++column);
+    G.insertBackByOuterInner(j, i) = 1.0;
+  }
+  while (column < mesh.n_nodes() - 1) G.startVec(++column);
+  G.finalize();
+  return G;
+}
+
+/// K's factor from the node graph's: every entry a d × d block, so d² the entries and
+/// (each column's count d times, d times the columns) d³ the flops.
+FactorEstimate blocked(const FactorEstimate& node, int d, double unknowns) {
+  FactorEstimate K = node;
+  K.rows = unknowns;
+  K.entries *= d * d;
+  K.flops *= d * d * d;
+  K.factor_bytes *= d * d;
+  K.workspace_bytes *= d * d;
+  return K;
+}
+
+double mesh_bytes(const ProblemSize& s, int d) {
+  return 24.0 * s.nodes + 4.0 * (d + 1) * s.cells + (sizeof(CellGeometry) + 3.0 * sizeof(SymTensor)) * s.cells;
+}
+
+/// K, M, A and H (twice: H and its reduced copies) as Eigen or AIJ matrices, 12 bytes an entry.
+double matrix_bytes(const ProblemSize& s) { return 12.0 * (s.K_nonzeros + 4.0 * s.node_nonzeros); }
+
+/// MUMPS (the MUMPS users' guide, "memory"): its working area is the factors plus the stack
+/// of contribution blocks, sized from the analysis and enlarged by ICNTL(14) percent (20 by
+/// default; la/petsc.cpp retries a failed factorization with more). Conservatively: 1.5 ×
+/// CHOLMOD's entries for MUMPS's own ordering (METIS on the distributed graph, or PORD) and
+/// the non-distributed parts, 20 % relaxation, integers at 8 bytes for a fifth of the entries;
+/// a stack of two largest contribution blocks on every rank, and 25 % imbalance on P > 1.
+double mumps_factor_bytes(const FactorEstimate& f, int ranks, int ranks_on_machine) {
+  const double factors = 1.5 * f.entries * (8.0 * 1.2 + 8.0 * 0.2);
+  const double stack = 1.2 * 2.0 * f.workspace_bytes;
+  const double per_rank = (ranks > 1 ? 1.25 : 1.0) * factors / ranks + stack;
+  return per_rank * ranks_on_machine;
+}
+
+/// CG + GAMG: the multigrid hierarchy (operator complexity under 1.5), its smoother's and
+/// the Krylov vectors, and PETSc's copies of K (AIJ, assembly stash): measured about 8.1 GB
+/// on the machine at foundation-3d n = 70 on 2 ranks (docs/performance.md), K with 4.6e7
+/// nonzeros: 170 bytes a nonzero of K in all; the parts below add up to it.
+constexpr double kIterativeBytesPerKNonzero = 120;
+
+/// "memory about 12 MiB (CG + GAMG: about 5 MiB), limit 20 GiB".
+std::string memory(const MemoryEstimate& e, const std::string& other, const MemoryEstimate& o, const MemoryLimit& limit) {
+  return fmt::format("memory about {} ({}: about {}), limit {}", format_bytes(e.total()), other, format_bytes(o.total()),
+                     format_bytes(limit.bytes));
+}
+
+[[noreturn]] void refuse(const Problem& p, const MemoryEstimate& e, const MemoryLimit& limit, const std::string& path,
+                         const std::string& instead) {
+  throw MemoryLimitError(fmt::format(
+      "{}: {} would need about {} of memory ({}), more than the limit of {} set by {}; {}use a coarser mesh, or set "
+      "the limit with --memory-limit SIZE or {}=SIZE (e.g. 16G, or unlimited)",
+      p.name, path, format_bytes(e.total()), e.describe(), format_bytes(limit.bytes), limit.source,
+      instead.empty() ? "" : instead + ", ", kMemoryLimitVariable));
+}
+
+}  // namespace
+
+ProblemSize problem_size(const Problem& p) {
+  const Mesh& mesh = p.mesh;
+  const int d = mesh.dim();
+  ProblemSize s;
+  s.nodes = mesh.n_nodes();
+  s.cells = mesh.n_cells();
+  const DirichletDofs dirichlet = dirichlet_dofs(p);
+  s.unknowns = static_cast<double>(std::ranges::count(dirichlet.condition, -1));
+  const std::vector<ContactRow> rows = contact_rows(p, dirichlet.condition);
+  s.contact_nodes = static_cast<double>(rows.size());
+  const auto laws = p.contact.laws();  // a law that is not linear: only the dual solver takes it
+  s.power_law = std::ranges::any_of(
+      rows, [&](const ContactRow& r) { return !laws[static_cast<std::size_t>(r.law)]->linear(); });
+  const SparseMatrix G = node_graph(mesh);
+  s.node_nonzeros = 2.0 * static_cast<double>(G.nonZeros()) - s.nodes;
+  const double free_share = s.nodes > 0 ? s.unknowns / (d * s.nodes) : 0;  // of a node's d × d block
+  s.K_nonzeros = d * d * s.node_nonzeros * free_share;
+  s.H = estimate_cholmod_factor(G, "the node graph of the mesh");
+  s.K = blocked(s.H, d, s.unknowns);
+  return s;
+}
+
+MemoryEstimate cholmod_memory(const Problem& p, const ProblemSize& s, const SolverChoice& solvers) {
+  const bool dual = solvers.contact == "active-set" ||
+                    (solvers.contact == "auto" && (s.power_law || s.contact_nodes <= kDualContactRows));
+  return estimate_run_memory(mesh_bytes(s, p.mesh.dim()), matrix_bytes(s), s.K, s.H, solvers.damage == "active-set",
+                             dual ? s.contact_nodes : 0);
+}
+
+MemoryEstimate mumps_memory(const Problem& p, const ProblemSize& s, int ranks, int ranks_on_machine) {
+  MemoryEstimate e;
+  e.add("mesh and state", mesh_bytes(s, p.mesh.dim()));
+  e.add("matrices", matrix_bytes(s));
+  e.add(fmt::format("MUMPS factors of K and H on {} rank{}", ranks_on_machine, ranks_on_machine > 1 ? "s" : ""),
+        mumps_factor_bytes(s.K, ranks, ranks_on_machine) + mumps_factor_bytes(s.H, ranks, ranks_on_machine));
+  // The dual contact solver's W = K⁻¹Nᵀ (dense, m columns) where it takes the dual.
+  if (s.contact_nodes <= kDualContactRows) e.add("contact solver", 8.0 * s.unknowns * s.contact_nodes);
+  return e;
+}
+
+MemoryEstimate iterative_memory(const Problem& p, const ProblemSize& s) {
+  MemoryEstimate e;
+  e.add("mesh and state", mesh_bytes(s, p.mesh.dim()));
+  e.add("matrices", matrix_bytes(s));
+  e.add("multigrid and Krylov vectors", kIterativeBytesPerKNonzero * s.K_nonzeros);
+  return e;
+}
+
+SolverPlan plan_solver(const Problem& p, const SolverChoice& solvers, const SolverRequest& request) {
+  return plan_solver(p, problem_size(p), solvers, request, memory_limit(solvers.memory_limit));
+}
+
+SolverPlan plan_solver(const Problem& p, const ProblemSize& s, const SolverChoice& solvers,
+                       const SolverRequest& r, const MemoryLimit& limit) {
+  const MemoryEstimate iterative = iterative_memory(p, s);
+  auto go_iterative = [&](const std::string& why) {
+    if (iterative.total() > limit.bytes) refuse(p, iterative, limit, "CG + GAMG", "");
+    return SolverPlan{true, "cg-gamg", fmt::format("{}; memory about {}, limit {}", why, format_bytes(iterative.total()),
+                                                   format_bytes(limit.bytes)),
+                      iterative.total()};
+  };
+  if (r.engine == "petsc") {  // the PETSc engine: MUMPS (default or asked), or a Krylov solver as asked
+    const std::string asked = r.linear_solver.empty() ? "mumps" : r.linear_solver;
+    const std::string on = fmt::format("on {} MPI rank{}", r.ranks, r.ranks > 1 ? "s" : "");
+    if (asked != "mumps") {
+      if (iterative.total() > limit.bytes) refuse(p, iterative, limit, asked, "");
+      return {true, asked, fmt::format("linear solver {} {} (as asked); memory about {}, limit {}", asked, on,
+                                       format_bytes(iterative.total()), format_bytes(limit.bytes)),
+              iterative.total()};
+    }
+    const MemoryEstimate mumps = mumps_memory(p, s, r.ranks, r.ranks_on_machine);
+    if (mumps.total() <= limit.bytes)
+      return {true, "mumps", fmt::format("linear solver MUMPS {}{}; {}", on,
+                                         r.linear_solver.empty() ? " (the default)" : " (as asked)",
+                                         memory(mumps, "CG + GAMG", iterative, limit)),
+              mumps.total()};
+    if (!r.linear_solver.empty()) refuse(p, mumps, limit, "MUMPS", "--linear-solver cg-gamg needs about " +
+                                                                       format_bytes(iterative.total()));
+    return go_iterative(fmt::format("linear solver CG + GAMG {}: MUMPS's factors would need about {} ({}), more than "
+                                    "the limit of {} set by {}",
+                                    on, format_bytes(mumps.total()), mumps.describe(), format_bytes(limit.bytes),
+                                    limit.source));
+  }
+  // One process: CHOLMOD, or (auto) CG + GAMG where CHOLMOD does not fit or is clearly slower.
+  const MemoryEstimate direct = cholmod_memory(p, s, solvers);
+  const bool can_switch = r.engine == "auto" && r.petsc_built;
+  if (direct.total() > limit.bytes) {
+    if (!can_switch) refuse(p, direct, limit, "the run", r.petsc_built ? "--engine auto would take CG + GAMG (about " +
+                                                          format_bytes(iterative.total()) + ")" : "");
+    return go_iterative(fmt::format("CG + GAMG on one process (the PETSc engine): CHOLMOD's factors would need about "
+                                    "{} ({}), more than the limit of {} set by {}; --engine serial refuses instead",
+                                    format_bytes(direct.total()), direct.describe(), format_bytes(limit.bytes),
+                                    limit.source));
+  }
+  const bool dual = s.power_law || s.contact_nodes <= kDualContactRows;
+  const SolverCost cost = estimate_solver_cost(s.K, s.K_nonzeros, s.contact_nodes, p.expected_steps(), dual);
+  if (can_switch && solvers.contact == "auto" && !s.power_law && iterative_is_faster(cost))
+    return go_iterative(fmt::format("CG + GAMG on one process (the PETSc engine), estimated faster: {}; --engine "
+                                    "serial keeps CHOLMOD",
+                                    cost.detail));
+  return {false, "cholmod",
+          fmt::format("linear solver CHOLMOD on one process{}; {}", can_switch ? fmt::format(" ({})", cost.detail) : "",
+                      memory(direct, "CG + GAMG", iterative, limit)),
+          direct.total()};
+}
+
+}  // namespace vpc

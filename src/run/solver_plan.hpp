@@ -1,0 +1,66 @@
+#pragma once
+// The engine and linear solver of a run, chosen once before anything is assembled or
+// factorized (issue 27), for the command line, the Python module and mpirun alike:
+// from the mesh (its node graph's symbolic Cholesky analysis: K's and H's factors),
+// the options and the memory limit. A requested solver that does not fit is refused,
+// naming the estimate, the limit and the option to use; the default moves to CG + GAMG
+// (memory linear in the unknowns), saying so. One process: CHOLMOD or, when CG + GAMG
+// is estimated clearly faster (solvers/solver_cost.hpp), CG + GAMG on the PETSc engine.
+//   SolverPlan plan = plan_solver(problem, solvers, {.engine = "auto"});
+//   if (!quiet) fmt::print("  {}\n", plan.why);
+#include "la/factor.hpp"
+#include "la/memory_estimate.hpp"
+#include "scheme/time_stepper.hpp"
+
+#include <string>
+
+namespace vpc {
+
+/// What the options ask for.
+struct SolverRequest {
+  /// --engine: "serial" (one process, CHOLMOD), "petsc" (the PETSc engine, on `ranks`
+  /// processes) or "auto" (one process: CHOLMOD or CG + GAMG by the estimates).
+  std::string engine = "auto";
+  /// --linear-solver: mumps, cg-gamg or cg-hypre on the PETSc engine; empty: the default
+  /// (MUMPS if it fits, else CG + GAMG).
+  std::string linear_solver{};
+  int ranks = 1;              // the processes the run is spread over
+  int ranks_on_machine = 1;   // of them, those sharing this machine's memory
+  bool petsc_built = false;   // the PETSc engine exists in this build (one process, auto)
+};
+
+/// The sizes the choice is made from, before any matrix is built.
+struct ProblemSize {
+  double unknowns = 0;       // free displacement dofs (rows of K)
+  double nodes = 0, cells = 0;
+  double contact_nodes = 0;  // m: rows of N
+  double K_nonzeros = 0;     // both triangles
+  double node_nonzeros = 0;  // of M, A, H (the node graph, both triangles)
+  FactorEstimate K, H;       // CHOLMOD's factors (symbolic analysis of the node graph)
+  bool power_law = false;    // a law that is not linear, e.g. a power-law compliance (only the dual solver takes it)
+};
+
+/// The sizes of `p`'s run on one process: Dirichlet data, contact rows and the symbolic
+/// analysis of the node graph, K's factor scaled from it by d (blocks of d dofs a node).
+ProblemSize problem_size(const Problem& p);
+
+/// The chosen engine and linear solver.
+struct SolverPlan {
+  bool petsc = false;         // the PETSc engine (else one process: Eigen + CHOLMOD)
+  std::string linear_solver;  // cholmod, mumps, cg-gamg, cg-hypre
+  std::string why;            // one line for the run's header: the choice and its estimates
+  double memory = 0;          // the chosen path's estimate on this machine (bytes)
+};
+
+/// The memory of each path on this machine (bytes), by part.
+MemoryEstimate cholmod_memory(const Problem& p, const ProblemSize& s, const SolverChoice& solvers);
+MemoryEstimate mumps_memory(const Problem& p, const ProblemSize& s, int ranks, int ranks_on_machine);
+MemoryEstimate iterative_memory(const Problem& p, const ProblemSize& s);
+
+/// Chooses for `p` (its whole mesh: on one process, or rank 0's before distribute_mesh).
+/// Throws vpc::Error (MemoryLimitError) for a run that fits no allowed path.
+SolverPlan plan_solver(const Problem& p, const SolverChoice& solvers, const SolverRequest& request);
+SolverPlan plan_solver(const Problem& p, const ProblemSize& size, const SolverChoice& solvers,
+                       const SolverRequest& request, const MemoryLimit& limit);
+
+}  // namespace vpc

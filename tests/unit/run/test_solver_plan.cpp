@@ -1,0 +1,118 @@
+// Issue 27: the engine and linear solver chosen before set-up (run/solver_plan.hpp): the
+// estimates from the node graph, MUMPS's memory, the refusals and the moves to CG + GAMG.
+#include "../error_of.hpp"
+#include "run/solver_plan.hpp"
+
+#include "cases/builtin_cases.hpp"
+#include "fem/assembly.hpp"
+#include "scheme/mesh_part.hpp"
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <string>
+
+namespace vpc {
+namespace {
+
+ProblemSize size_of(const char* name, int n) { return problem_size(*load_case(name, {}, {.cells = n}).problem); }
+
+// K's factor scaled from the node graph's analysis is close to CHOLMOD's analysis of K itself.
+TEST(SolverPlan, NodeGraphEstimateMatchesTheAnalysisOfK) {
+  auto c = load_case("block-3d", {}, {.cells = 10});
+  const ProblemSize s = problem_size(*c.problem);
+  const MeshPart part = whole_mesh_part(c.problem);
+  const Mesh& mesh = c.problem->mesh;
+  const auto geo = compute_geometry(mesh);
+  const SparseMatrix K = assemble_stiffness(mesh, geo, c.problem->elasticity, part.dofs);
+  const FactorEstimate exact = estimate_cholmod_factor(K, "K");
+  EXPECT_EQ(s.unknowns, static_cast<double>(K.rows()));
+  EXPECT_NEAR(s.K_nonzeros / static_cast<double>(K.nonZeros()), 1.0, 0.15);
+  EXPECT_GT(s.K.entries, 0.8 * exact.entries);
+  EXPECT_LT(s.K.entries, 2.0 * exact.entries);
+  EXPECT_GT(s.K.flops, 0.8 * exact.flops);
+  EXPECT_LT(s.K.flops, 3.0 * exact.flops);
+  EXPECT_EQ(s.contact_nodes, static_cast<double>(part.n_contact));
+}
+
+// MUMPS's estimate holds at least CHOLMOD's factors, and every estimate grows with the mesh.
+TEST(SolverPlan, MumpsEstimateCoversTheFactorAndGrowsWithTheMesh) {
+  double last_mumps = 0, last_cg = 0, last_cholmod = 0;
+  for (int n : {4, 6, 8, 10}) {
+    auto c = load_case("foundation-3d", {}, {.cells = n});
+    const ProblemSize s = problem_size(*c.problem);
+    for (int ranks : {1, 2, 4}) {
+      const double mumps = mumps_memory(*c.problem, s, ranks, ranks).total();
+      EXPECT_GE(mumps, s.K.factor_bytes + s.H.factor_bytes) << n << " " << ranks;
+    }
+    const double mumps = mumps_memory(*c.problem, s, 2, 2).total();
+    const double cg = iterative_memory(*c.problem, s).total();
+    const double cholmod = cholmod_memory(*c.problem, s, {}).total();
+    EXPECT_GT(mumps, last_mumps) << n;
+    EXPECT_GT(cg, last_cg) << n;
+    EXPECT_GT(cholmod, last_cholmod) << n;
+    last_mumps = mumps, last_cg = cg, last_cholmod = cholmod;
+  }
+}
+
+// An explicit solver that does not fit is refused, naming the estimate, the limit and the
+// option to use; the default moves to CG + GAMG and says why.
+TEST(SolverPlan, RefusesOrMovesToCgBeforeSetUp) {
+  auto c = load_case("foundation-3d", {}, {.cells = 8});
+  const Problem& p = *c.problem;
+  const ProblemSize s = problem_size(p);
+  const double mumps = mumps_memory(p, s, 2, 2).total(), cg = iterative_memory(p, s).total();
+  ASSERT_GT(mumps, cg);
+  const MemoryLimit between{0.5 * (mumps + cg), "--memory-limit"};
+  const SolverChoice choice;
+
+  const SolverPlan moved = plan_solver(p, s, choice, {.engine = "petsc", .ranks = 2, .ranks_on_machine = 2}, between);
+  EXPECT_EQ(moved.linear_solver, "cg-gamg");
+  EXPECT_NE(moved.why.find("MUMPS's factors would need about"), std::string::npos) << moved.why;
+  const std::string refused = error_of([&] {
+    plan_solver(p, s, choice, {.engine = "petsc", .linear_solver = "mumps", .ranks = 2, .ranks_on_machine = 2},
+                between);
+  });
+  for (const char* part : {"foundation-3d: MUMPS would need about", "more than the limit of",
+                           "set by --memory-limit", "--linear-solver cg-gamg needs about"})
+    EXPECT_NE(refused.find(part), std::string::npos) << part << ": " << refused;
+  const std::string nothing_fits = error_of([&] {
+    plan_solver(p, s, choice, {.engine = "petsc", .ranks = 2, .ranks_on_machine = 2}, {1024.0 * 1024, "test"});
+  });
+  EXPECT_NE(nothing_fits.find("CG + GAMG would need about"), std::string::npos) << nothing_fits;
+
+  const SolverPlan fits = plan_solver(p, s, choice, {.engine = "petsc", .ranks = 2}, {1e15, "test"});
+  EXPECT_EQ(fits.linear_solver, "mumps");
+  EXPECT_TRUE(fits.petsc);
+}
+
+// One process: --engine serial refuses a run whose CHOLMOD factors would not fit, at once,
+// naming the estimate by part (issue 11); auto takes CG + GAMG instead where the build has it.
+TEST(SolverPlan, OneProcessRefusesOrMoves) {
+  auto c = load_case("block-3d", {}, {.cells = 10});
+  const Problem& p = *c.problem;
+  SolverChoice choice;
+  choice.memory_limit = "1M";
+  const auto t0 = std::chrono::steady_clock::now();
+  const std::string msg = error_of([&] { plan_solver(p, choice, {.engine = "serial"}); });
+  EXPECT_NE(msg.find("block-3d: the run would need about"), std::string::npos) << msg;
+  for (const char* part : {"mesh and state", "matrices", "factor of K", "factor of H",
+                           "more than the limit of 1 MiB set by --memory-limit"})
+    EXPECT_NE(msg.find(part), std::string::npos) << part << ": " << msg;
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 5.0);
+
+  const ProblemSize s = problem_size(p);
+  const double direct = cholmod_memory(p, s, choice).total(), cg = iterative_memory(p, s).total();
+  ASSERT_GT(direct, cg);
+  const MemoryLimit between{0.5 * (direct + cg), "test"};
+  const SolverPlan moved = plan_solver(p, s, choice, {.engine = "auto", .petsc_built = true}, between);
+  EXPECT_TRUE(moved.petsc);
+  EXPECT_EQ(moved.linear_solver, "cg-gamg");
+  EXPECT_NE(moved.why.find("CHOLMOD's factors would need about"), std::string::npos) << moved.why;
+  const SolverPlan direct_plan = plan_solver(p, s, choice, {.engine = "serial"}, {1e15, "test"});
+  EXPECT_FALSE(direct_plan.petsc);
+  EXPECT_EQ(direct_plan.linear_solver, "cholmod");
+}
+
+}  // namespace
+}  // namespace vpc
