@@ -1,5 +1,6 @@
 #include "io/case_file.hpp"
 
+#include "contact/registry.hpp"
 #include "core/error.hpp"
 #include "core/expression.hpp"
 #include "core/quote.hpp"
@@ -923,21 +924,25 @@ std::vector<std::string> contact_parts(Section& s, const std::string& key, const
   return parts;
 }
 
-/// A contact law: `law` ("signorini" or "normal-compliance") with `stiffness` c > 0 and
-/// `exponent` e ≥ 1 (default 1: linear) for the latter.
-ContactLaw read_contact_law(Section& s) {
-  ContactLaw law;
-  if (s.choice("law", {"signorini", "normal-compliance"}, "signorini") == "normal-compliance") {
-    law.stiffness = s.number("stiffness");
-    if (!(law.stiffness > 0)) fail("{}: expected a stiffness > 0, got {}", s.where("stiffness"), law.stiffness);
-    law.exponent = s.number("exponent", 1.0);
-    if (!(law.exponent >= 1)) fail("{}: expected an exponent >= 1, got {}", s.where("exponent"), law.exponent);
-  } else {
-    for (const char* key : {"stiffness", "exponent"})
-      if (s.has(key))
-        fail("{}: {} belongs to law = \"normal-compliance\" (the law here is Signorini)", s.where(key), key);
-  }
-  return law;
+/// A law's keys as a Section's (located errors; each key read is a known one for finish()).
+class SectionKeys final : public LawKeys {
+ public:
+  explicit SectionKeys(Section& s) : s_(s) {}
+  bool has(const std::string& key) override { return s_.has(key); }
+  double number(const std::string& key) override { return s_.number(key); }
+  double number(const std::string& key, double fallback) override { return s_.number(key, fallback); }
+  std::string where(const std::string& key) override { return s_.where(key); }
+
+ private:
+  Section& s_;
+};
+
+/// A contact law: `law`, a name in the registry (contact/registry.cpp; default "signorini"),
+/// which reads its own keys (normal-compliance: stiffness c > 0, exponent e ≥ 1).
+std::shared_ptr<const ContactLaw> read_contact_law(Section& s) {
+  const std::string name = s.choice("law", contact_law_names(), "signorini");
+  SectionKeys keys(s);
+  return make_contact_law(name, keys);
 }
 
 /// [[obstacle]] sections (instead of [contact] gap).

@@ -79,11 +79,10 @@ struct Message {
   std::vector<double> reals;
 };
 
-// A contact node travels as 4 integers and 7 reals.
+// A contact node travels as 5 integers and 6 reals.
 void pack_contact_node(const PartContactNode& c, Message& m) {
-  m.ints.insert(m.ints.end(), {c.row, c.local_node, c.owned ? 1 : 0, static_cast<long long>(c.obstacles)});
-  m.reals.insert(m.reals.end(),
-                 {c.direction[0], c.direction[1], c.direction[2], c.gap, c.measure, c.stiffness, c.exponent});
+  m.ints.insert(m.ints.end(), {c.row, c.local_node, c.owned ? 1 : 0, static_cast<long long>(c.obstacles), c.law});
+  m.reals.insert(m.reals.end(), {c.direction[0], c.direction[1], c.direction[2], c.gap, c.measure, c.stiffness});
 }
 
 PartContactNode unpack_contact_node(const long long*& in, const double*& x) {
@@ -92,12 +91,12 @@ PartContactNode unpack_contact_node(const long long*& in, const double*& x) {
   c.local_node = static_cast<int>(*in++);
   c.owned = *in++ != 0;
   c.obstacles = static_cast<ObstacleMask>(*in++);
+  c.law = static_cast<int>(*in++);
   c.direction = {x[0], x[1], x[2]};
   c.gap = x[3];
   c.measure = x[4];
   c.stiffness = x[5];
-  c.exponent = x[6];
-  x += 7;
+  x += 6;
   return c;
 }
 
@@ -162,8 +161,8 @@ std::vector<Message> pack_parts(const Problem& p, int n_parts) {
               static_cast<long long>(whole.pressure_facets.size())};
     m.ints.insert(m.ints.end(), piece.dirichlet_components.begin(), piece.dirichlet_components.end());
     m.ints.reserve(m.ints.size() + (4 + d) * nodes.size() + (npc + 2) * cells_of[r].size() +
-                   (d + 1) * facets_of[r].size() + 4 * piece.contact.size());
-    m.reals.reserve(3 * nodes.size() + 7 * piece.contact.size());
+                   (d + 1) * facets_of[r].size() + 5 * piece.contact.size());
+    m.reals.reserve(3 * nodes.size() + 6 * piece.contact.size());
     for (size_t k = 0; k < nodes.size(); ++k) {
       m.ints.insert(m.ints.end(), {piece.global_node[k], piece.original_node[k], piece.first_dof[k],
                                    static_cast<long long>(piece.dirichlet_on_parts[k])});

@@ -1,5 +1,6 @@
 #include "run/solver_plan.hpp"
 
+#include "contact/contact_rows.hpp"
 #include "core/error.hpp"
 #include "fem/cell_geometry.hpp"
 #include "solvers/contact_solver.hpp"
@@ -109,7 +110,8 @@ ProblemSize problem_size(const Problem& p) {
   s.unknowns = static_cast<double>(std::ranges::count(dirichlet.condition, -1));
   const std::vector<ContactRow> rows = contact_rows(p, dirichlet.condition);
   s.contact_nodes = static_cast<double>(rows.size());
-  s.power_law = std::ranges::any_of(rows, [](const ContactRow& r) { return r.stiffness > 0 && r.exponent != 1; });
+  const auto laws = p.contact.laws();
+  s.power_law = std::ranges::any_of(rows, [&](const ContactRow& r) { return !laws[static_cast<std::size_t>(r.law)]->linear(); });
   const SparseMatrix G = node_graph(mesh);
   s.node_nonzeros = 2.0 * static_cast<double>(G.nonZeros()) - s.nodes;
   const double free_share = s.nodes > 0 ? s.unknowns / (d * s.nodes) : 0;  // of a node's d × d block

@@ -94,14 +94,9 @@ void describe_data(const Problem& p, const SolverChoice& solvers, double setup_s
       if (d.value[i]) comps += fmt::format("{}u{}", comps.empty() ? "" : ", ", "xyz"[i]);
     held += fmt::format("{} prescribed on {}; ", comps, fmt::join(d.parts, ", "));
   }
-  auto law = [](const ContactLaw& l) {
-    if (l.stiffness == 0) return std::string("Signorini");
-    return l.exponent == 1 ? fmt::format("normal compliance c = {}", l.stiffness)
-                           : fmt::format("normal compliance c = {}, e = {}", l.stiffness, l.exponent);
-  };
-  std::string laws = law(p.contact.law);
+  std::string laws = p.contact.law->describe();
   for (const PartContactLaw& pl : p.contact.part_laws)
-    laws += fmt::format("; on {}: {}", fmt::join(pl.parts, ", "), law(pl.law));
+    laws += fmt::format("; on {}: {}", fmt::join(pl.parts, ", "), pl.law->describe());
   fmt::print("  {}Γ3 (contact): {} ({})\n", held, fmt::join(p.contact.parts, ", "), laws);
   fmt::print("  elasticity: {} (E = {}, nu = {}); G: {}; phi: {}\n", p.elasticity.name(), p.elasticity.young(),
              p.elasticity.poisson(), p.law->describe(), printable(p.source->describe(), 200));

@@ -136,24 +136,22 @@ ContactConstraints contact_constraints(const DiscreteSystem& sys) {
     if (node.owned) c.rows.push_back(node.row);
   c.N = sys.N;
   c.gap = checked_contact_gap(sys, 0.0);
-  // λ_i = k_i (N_i u − g_i)₊^{e_i}, k_i = c |Γ3|_i: the law at the node times its measure (ContactRow).
-  std::vector<double> compliance, exponent;
+  // Each row's law (contact/contact_law.hpp) and its compliance 1/k_i, k_i = c |Γ3|_i: the law
+  // lumped at the node (ContactRow).
+  c.laws = sys.problem->contact.laws();
+  c.block = sys.problem->contact.block_size(part.mesh().dim());
+  std::vector<double> compliance;
   for (const PartContactNode& node : part.contact)
     if (node.owned) {
+      c.law.push_back(node.law);
       compliance.push_back(node.stiffness > 0 ? 1 / node.stiffness : 0.0);
-      exponent.push_back(node.exponent);
     }
-  c.normal_compliance = part.comm.any(std::ranges::any_of(compliance, [](double x) { return x > 0; }));
-  c.power_law = part.comm.any(std::ranges::any_of(part.contact, [](const PartContactNode& n) {
-    return n.owned && n.stiffness > 0 && n.exponent != 1;
-  }));
-  if (c.normal_compliance) c.compliance = Eigen::Map<Vector>(compliance.data(), static_cast<Eigen::Index>(compliance.size()));
-  if (c.power_law) c.exponent = Eigen::Map<Vector>(exponent.data(), static_cast<Eigen::Index>(exponent.size()));
+  c.compliance = Eigen::Map<Vector>(compliance.data(), static_cast<Eigen::Index>(compliance.size()));
   return c;
 }
 
 std::optional<SolverCost> check_before_factorizing(const DiscreteSystem& sys, la::Factor& K_factor,
-                                                   const SolverChoice& choice, bool primal, bool power_law) {
+                                                   const SolverChoice& choice, bool primal, bool nonlinear_law) {
   const Problem& p = *sys.problem;
   const Mesh& mesh = sys.part.mesh();
   const auto K_size = K_factor.analyze(*sys.K, "elastic stiffness K");
@@ -168,7 +166,7 @@ std::optional<SolverCost> check_before_factorizing(const DiscreteSystem& sys, la
                memory_limit(choice.memory_limit), p.name);
   SolverCost cost = estimate_solver_cost(*K_size, static_cast<double>(sys.K->nonzeros()), sys.part.n_contact,
                                          p.expected_steps(), !primal);
-  if (choice.iterative_fallback && choice.contact == "auto" && !power_law && iterative_is_faster(cost))
+  if (choice.iterative_fallback && choice.contact == "auto" && !nonlinear_law && iterative_is_faster(cost))
     throw IterativeIsFaster(fmt::format("{}: CG + GAMG is estimated to take less than half the direct solver's "
                                         "time ({})", p.name, cost.detail));
   return cost;

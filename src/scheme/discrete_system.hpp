@@ -73,6 +73,6 @@ ContactConstraints contact_constraints(const DiscreteSystem& sys);
 /// where CG + GAMG is estimated much faster. Returns the run's estimated cost by both paths
 /// (nothing without a symbolic analysis). `primal`: the primal contact solver (no S = N K⁻¹ Nᵀ).
 std::optional<SolverCost> check_before_factorizing(const DiscreteSystem& sys, la::Factor& K_factor,
-                                                   const SolverChoice& choice, bool primal, bool power_law);
+                                                   const SolverChoice& choice, bool primal, bool nonlinear_law);
 
 }  // namespace vpc

@@ -30,8 +30,8 @@ struct PartContactNode {
   Point direction{};   // ν, unit
   double gap = 0;      // g at the node
   double measure = 0;  // its tributary measure on Γ3 (for the contact pressure)
-  double stiffness = 0;  // ContactRow::stiffness: the lumped compliance law (0: Signorini)
-  double exponent = 1;
+  int law = 0;           // ContactRow::law: its index in ContactSpec::laws()
+  double stiffness = 0;  // ContactRow::stiffness: k_i, the law's parameter lumped at the node (0: a rigid law)
   ObstacleMask obstacles = kAllObstacles;
 };
 

@@ -1,5 +1,6 @@
 #include "scheme/problem.hpp"
 
+#include "contact/contact_rows.hpp"
 #include "core/error.hpp"
 #include "core/expression.hpp"
 #include "scheme/stability.hpp"
@@ -107,10 +108,22 @@ double contact_gap_at(const ContactSpec& contact, const Point& x, const Point& n
   return contact.obstacles.empty() ? contact.gap(x, t) : obstacle_gap(contact.obstacles, x, nu, t, miss, obstacles);
 }
 
-const ContactLaw& ContactSpec::law_of(const std::string& part) const {
-  for (const PartContactLaw& p : part_laws)
-    if (std::find(p.parts.begin(), p.parts.end(), part) != p.parts.end()) return p.law;
-  return law;
+std::vector<std::shared_ptr<const ContactLaw>> ContactSpec::laws() const {
+  std::vector<std::shared_ptr<const ContactLaw>> all = {law};
+  for (const PartContactLaw& p : part_laws) all.push_back(p.law);
+  return all;
+}
+
+int ContactSpec::law_index(const std::string& part) const {
+  for (std::size_t k = 0; k < part_laws.size(); ++k)
+    if (std::ranges::find(part_laws[k].parts, part) != part_laws[k].parts.end()) return static_cast<int>(k) + 1;
+  return 0;
+}
+
+int ContactSpec::block_size(int dim) const {
+  int block = 1;
+  for (const auto& l : laws()) block = std::max(block, l->block_size(dim));
+  return block;
 }
 
 double contact_miss_gap(const Point& lo, const Point& hi) { return std::hypot(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]); }
@@ -252,13 +265,10 @@ void Problem::validate() const {
     for (const auto& part : o.parts)
       require(on_gamma3(part), "{}: obstacle '{}' acts on part '{}', which is not a contact part (Γ3: {})", where,
               o.name, part, fmt::join(contact.parts, ", "));
-  auto check_law = [&](const ContactLaw& law) {
-    require(law.stiffness >= 0 && law.exponent >= 1, "{}: a contact law needs c >= 0 and e >= 1 (got c = {}, e = {})",
-            where, law.stiffness, law.exponent);
-  };
-  check_law(contact.law);
+  // A law checks its own parameters when it is made (contact/registry.cpp).
+  require(contact.law != nullptr, "{}: no contact law", where);
   for (const PartContactLaw& pl : contact.part_laws) {
-    check_law(pl.law);
+    require(pl.law != nullptr, "{}: no contact law on {}", where, fmt::join(pl.parts, ", "));
     for (const auto& part : pl.parts)
       require(on_gamma3(part), "{}: a contact law is given on part '{}', which is not a contact part (Γ3: {})", where,
               part, fmt::join(contact.parts, ", "));
@@ -288,177 +298,6 @@ std::vector<int> traction_facets(const Problem& p) {
   for (int f = 0; f < mesh.n_facets(); ++f)
     if (std::find(excluded.begin(), excluded.end(), mesh.facet_part(f)) == excluded.end()) facets.push_back(f);
   return facets;
-}
-
-namespace {
-
-double length(const Point& v) { return std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]); }
-
-/// A fixed contact direction must point out of the body: at a node where it makes
-/// an angle of 90° or more with the outward normal of Γ3, a displacement along it
-/// moves the node into the body, u_ν ≤ g never binds and the body falls through
-/// the foundation. (cos ≤ 1e-9 also refuses 90° up to round-off.)
-void check_direction(const Problem& p, int node, const Point& direction, const Point& normal) {
-  const double ld = length(direction), ln = length(normal);
-  double cos = 0;
-  for (int j = 0; j < 3; ++j) cos += direction[j] * normal[j];
-  cos /= ld * ln;
-  if (cos > 1e-9) return;
-  const double angle = std::acos(std::clamp(cos, -1.0, 1.0)) * 180.0 / 3.14159265358979323846;
-  const Point& x = p.mesh.node(node);
-  Point n = normal;
-  for (double& c : n) c /= ln;
-  fail("{}: the contact direction ({}, {}, {}) points into the body at contact node {} ({}, {}, {}): its angle "
-       "with the outward normal ({:.6g}, {:.6g}, {:.6g}) of the contact part is {:.6g} degrees; a fixed direction "
-       "must make an angle below 90 degrees with the outward normal at every contact node (e.g. its opposite)",
-       p.name, direction[0], direction[1], direction[2], node, x[0], x[1], x[2], n[0], n[1], n[2], angle);
-}
-
-/// The key that prescribes component c at a node (condition: DirichletDofs::condition),
-/// located for a message; `clamped`: the nodes of Γ1 (Mesh::nodes_of_parts, sorted).
-std::string prescribed_by(const Problem& p, int node, int c, const std::vector<int>& condition,
-                          const std::vector<int>& clamped) {
-  const int k = condition[static_cast<std::size_t>(node) * p.mesh.dim() + c];
-  if (k > 0) return p.where(fmt::format("boundary.displacement[{}]", k - 1));
-  const bool on_clamped = std::binary_search(clamped.begin(), clamped.end(), node);
-  return p.where(on_clamped ? "boundary.clamped" : "boundary.symmetry");
-}
-
-/// Obstacle k located for a message: "case.toml:27:1: obstacle[0] ('punch')".
-std::string obstacle_where(const Problem& p, int k) {
-  return fmt::format("{} ('{}')", p.where(fmt::format("obstacle[{}]", k)), p.contact.obstacles[k].name);
-}
-
-/// At t = 0 the body, u0 = 0, must lie outside every obstacle (docs/cases.md, [[obstacle]]):
-/// a contact node inside one is refused, whichever way its ray along ν goes (a ray
-/// pointing away from a plane, or along a cylinder's axis, misses the obstacle, which
-/// the gap alone would then ignore).
-void check_outside_obstacles(const Problem& p, int node, ObstacleMask mask) {
-  const Point& x = p.mesh.node(node);
-  for (std::size_t k = 0; k < p.contact.obstacles.size(); ++k) {
-    if (!(mask >> k & 1)) continue;
-    const Obstacle& o = p.contact.obstacles[k];
-    const double depth_0 = depth(o, x, 0.0);
-    if (!(depth_0 > 0)) continue;  // outside, on the surface (or NaN: reported with the gap)
-    const std::string where = obstacle_where(p, static_cast<int>(k));
-    if (o.shape == Obstacle::Shape::Plane)
-      fail("{}: contact node {} ({}, {}, {}) lies inside the obstacle at t = 0: {:.6g} behind the plane, on the side "
-           "its normal ({:.6g}, {:.6g}, {:.6g}) points away from; the normal must point from the obstacle towards the "
-           "body, and at t = 0 every contact node must lie outside every obstacle",
-           where, node, x[0], x[1], x[2], depth_0, o.normal[0], o.normal[1], o.normal[2]);
-    fail("{}: contact node {} ({}, {}, {}) lies inside the {} at t = 0, {:.6g} from its {} (radius {}); at t = 0 "
-         "every contact node must lie outside every obstacle",
-         where, node, x[0], x[1], x[2], o.shape == Obstacle::Shape::Sphere ? "sphere" : "cylinder",
-         o.radius - depth_0, o.shape == Obstacle::Shape::Sphere ? "centre" : "axis", o.radius);
-  }
-}
-
-}  // namespace
-
-std::vector<ContactRow> contact_rows(const Problem& p, const std::vector<int>& condition) {
-  const Mesh& mesh = p.mesh;
-  const int d = mesh.dim();
-  std::vector<Point> normal(mesh.n_nodes(), Point{0, 0, 0});
-  for (int f : mesh.facets_of_parts(p.contact.parts)) {
-    const Point nf = mesh.facet_normal(f);
-    const double w = mesh.facet_measure(f);
-    for (int a = 0; a < mesh.nodes_per_facet(); ++a)
-      for (int j = 0; j < 3; ++j) normal[mesh.facet(f)[a]][j] += w * nf[j];
-  }
-  const auto [lo, hi] = mesh.bounding_box();
-  const double miss = contact_miss_gap(lo, hi);
-  // Per node: its law (Signorini where any of its Γ3 facets is; else the lumped k and
-  // the one exponent of its facets) and the obstacles acting on its parts.
-  std::vector<double> stiffness(mesh.n_nodes(), 0.0), exponent(mesh.n_nodes(), 0.0);
-  std::vector<char> signorini(mesh.n_nodes(), 0);
-  std::vector<ObstacleMask> obstacles(mesh.n_nodes(), 0);
-  for (int f : mesh.facets_of_parts(p.contact.parts)) {  // each facet once, with its part's law and obstacles
-    const std::string& part = mesh.part_names()[static_cast<std::size_t>(mesh.facet_part(f))];
-    const ContactLaw& law = p.contact.law_of(part);
-    ObstacleMask acting = 0;
-    for (std::size_t k = 0; k < p.contact.obstacles.size(); ++k) {
-      const auto& on = p.contact.obstacles[k].parts;
-      if (on.empty() || std::find(on.begin(), on.end(), part) != on.end()) acting |= ObstacleMask{1} << k;
-    }
-    for (int a = 0; a < mesh.nodes_per_facet(); ++a) {
-      const int i = mesh.facet(f)[a];
-      obstacles[i] |= acting;
-      if (law.stiffness == 0) {
-        signorini[i] = 1;
-        continue;
-      }
-      const Point& x = mesh.node(i);
-      require(exponent[i] == 0 || exponent[i] == law.exponent,
-              "{}: contact node {} ({}, {}, {}) lies on contact parts whose compliance laws have the exponents {} and "
-              "{}; parts with different exponents cannot share a node",
-              p.name, i, x[0], x[1], x[2], exponent[i], law.exponent);
-      exponent[i] = law.exponent;
-      stiffness[i] += law.stiffness * mesh.facet_measure(f) / mesh.nodes_per_facet();
-    }
-  }
-  std::vector<ContactRow> rows;
-  for (int node : mesh.nodes_of_parts(p.contact.parts)) {
-    const int* fixed = condition.data() + static_cast<std::size_t>(node) * d;
-    if (std::all_of(fixed, fixed + d, [](int k) { return k >= 0; })) continue;  // u prescribed there
-    const Point& x = mesh.node(node);
-    require(length(normal[node]) > 0,
-            "{}: the outward normal of the contact part vanishes at node {} ({}, {}, {}) (its facets face opposite "
-            "ways); split the contact part there",
-            p.name, node, x[0], x[1], x[2]);
-    if (p.contact.direction) check_direction(p, node, *p.contact.direction, normal[node]);
-    Point v = p.contact.direction ? *p.contact.direction : normal[node];
-    double l = length(v);
-    for (double& c : v) c /= l;
-    // On a symmetry plane the mirrored half's facets would cancel the normal's
-    // component across the plane: drop it. Any other component along a prescribed
-    // one would make N act on a dof that is not an unknown.
-    for (int c = 0; c < d; ++c) {
-      if (fixed[c] < 0 || v[c] == 0) continue;
-      if (!(fixed[c] == 0 && !p.contact.direction && std::abs(v[c]) < 0.5))
-        fail("{}: contact node {} ({}, {}, {}) has u{} prescribed (by {}), but its contact direction ({:.6g}, {:.6g}, "
-             "{:.6g}) has a component along it; a node cannot be in contact along a prescribed component (remove the "
-             "node from one of the parts, or use a symmetry part for a symmetry plane)",
-             p.where("boundary.contact"), node, x[0], x[1], x[2], c == 0 ? "x" : c == 1 ? "y" : "z",
-             prescribed_by(p, node, c, condition, mesh.nodes_of_parts(p.clamped)), v[0], v[1], v[2]);
-      v[c] = 0;
-      l = length(v);
-      for (double& vc : v) vc /= l;
-    }
-    check_outside_obstacles(p, node, obstacles[node]);
-    const double g = contact_gap_at(p.contact, x, v, 0.0, miss, obstacles[node]);
-    if (!(std::isfinite(g) && g >= 0)) {
-      const int k = p.contact.obstacles.empty() ? -1 : nearest_obstacle(p.contact.obstacles, x, v, 0.0, obstacles[node]);
-      fail("{}: the gap g must be a number >= 0 at t = 0; it is {} at contact node {} ({}, {}, {})",
-           k < 0 ? p.where("contact.gap") : obstacle_where(p, k), g, node, x[0], x[1], x[2]);
-    }
-    const bool compliant = !signorini[node];
-    rows.push_back({node, v, g, compliant ? stiffness[node] : 0.0, compliant ? exponent[node] : 1.0, obstacles[node]});
-  }
-  if (rows.empty()) {  // every contact node has every component prescribed: by which keys
-    std::set<std::string> by;
-    const std::vector<int> clamped = mesh.nodes_of_parts(p.clamped);
-    for (int node : mesh.nodes_of_parts(p.contact.parts))
-      for (int c = 0; c < d; ++c) by.insert(prescribed_by(p, node, c, condition, clamped));
-    fail("{}: the contact part has no free node: every displacement component of each of its nodes is prescribed, by "
-         "{}; a contact node must be free to move (take the contact part's nodes out of those parts, or give another "
-         "contact part)",
-         p.where("boundary.contact"), fmt::join(by, " and "));
-  }
-  return rows;
-}
-
-}  // namespace vpc
-
-namespace vpc {
-
-std::vector<double> tributary_measures(const Mesh& mesh, const std::vector<std::string>& parts) {
-  std::vector<double> m(static_cast<std::size_t>(mesh.n_nodes()), 0.0);
-  const int nv = mesh.nodes_per_facet();
-  for (int f : mesh.facets_of_parts(parts)) {
-    const double share = mesh.facet_measure(f) / nv;
-    for (int a = 0; a < nv; ++a) m[mesh.facet(f)[a]] += share;
-  }
-  return m;
 }
 
 }  // namespace vpc

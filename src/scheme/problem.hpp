@@ -2,6 +2,7 @@
 // Everything that defines one instance of Problem 2.1 and its discretization:
 // mesh and boundary parts, ℰ, G, φ, κ, loads, gap, initial damage and times.
 // Case files (cases/*.toml included) and the manufactured cases fill it.
+#include "contact/contact_law.hpp"
 #include "fem/assembly.hpp"
 #include "material/damage_source.hpp"
 #include "material/elasticity.hpp"
@@ -22,29 +23,25 @@ namespace vpc {
 
 class Expression;
 
-/// The normal law on a contact part (SPEC §6): Signorini (the paper's), or normal
-/// compliance σ_ν = −c (u_ν − g)₊^e (c: a pressure per unit of penetration^e; e ≥ 1,
-/// 1 the linear law), lumped at the contact nodes.
-struct ContactLaw {
-  double stiffness = 0;  // c; 0: Signorini
-  double exponent = 1;   // e
-  bool operator==(const ContactLaw&) const = default;
-};
-
 /// A contact law on some parts of Γ3, instead of ContactSpec::law.
 struct PartContactLaw {
   std::vector<std::string> parts;
-  ContactLaw law;
+  std::shared_ptr<const ContactLaw> law;
 };
 
 struct ContactSpec {
   std::vector<std::string> parts;    // Γ3
   ScalarField gap;                   // g(x, t), measured along the contact direction; g(x, 0) ≥ 0
   bool gap_moves = false;            // g depends on t (a moving obstacle): evaluated at every step
-  ContactLaw law;                    // on the parts of Γ3 that no part_laws entry names
+  /// The normal law (contact/contact_law.hpp) on the parts of Γ3 that no part_laws entry names.
+  std::shared_ptr<const ContactLaw> law = signorini_law();
   std::vector<PartContactLaw> part_laws;
-  /// The law on one part of Γ3.
-  const ContactLaw& law_of(const std::string& part) const;
+  /// Every law: `law`, then part_laws' in order (ContactRow::law and PartContactNode::law index it).
+  std::vector<std::shared_ptr<const ContactLaw>> laws() const;
+  /// The index in laws() of the law on one part of Γ3.
+  int law_index(const std::string& part) const;
+  /// Contact unknowns per node (State::contact_block): the largest ContactLaw::block_size.
+  int block_size(int dim) const;
   /// Rigid obstacles instead of `gap`: g is the distance along ν to the nearest one, at every step.
   std::vector<Obstacle> obstacles;
   std::optional<Point> direction;    // a fixed direction, < 90° from the outward normal; unset: the normal
@@ -199,39 +196,5 @@ std::vector<int> traction_facets(const Problem& p);
 /// The facets of each pressure load's parts, in the order of Problem::pressure.
 std::vector<std::vector<int>> pressure_facets(const Problem& p);
 
-/// A row of the contact matrix N of (3.9): a node of Γ3 that is not clamped, its
-/// unit direction ν (the given one, or the measure-weighted mean of the outward
-/// normals of its Γ3 facets), its gap g, its contact law and its obstacles.
-struct ContactRow {
-  int node = 0;
-  Point direction{0, 0, 0};
-  double gap = 0;
-  /// The law at the node: k = Σ c |facet| / (its nodes) over its Γ3 facets (0: Signorini,
-  /// where any of them is Signorini) and their exponent e.
-  double stiffness = 0;
-  double exponent = 1;
-  ObstacleMask obstacles = kAllObstacles;  // the obstacles acting on the node's parts
-};
-
-/// The contact rows in increasing node order, for the nodes of Γ3 with a free
-/// component (`condition`: DirichletDofs::condition). At a node on a symmetry plane
-/// the outward normal loses its component across the plane (the mirrored half's
-/// facets would cancel it); any other direction with a component along a prescribed
-/// one is refused. Throws vpc::Error for that, for a fixed direction at 90° or more
-/// from the outward normal at some node (it would point into the body), for a gap
-/// below 0 at t = 0, for a node where parts of different exponents meet and when no
-/// free node is left on Γ3.
-std::vector<ContactRow> contact_rows(const Problem& p, const std::vector<int>& condition);
-
 }  // namespace vpc
 
-namespace vpc {
-
-/// The tributary measure of each node on the facets of `parts` (Γ3): the sum over
-/// those facets containing the node of facet measure / vertices per facet (a
-/// length in 2D, an area in 3D, 1 in 1D); 0 at the other nodes. A uniform
-/// pressure p on Γ3 has the P1 nodal forces p × this measure, so a nodal force
-/// divided by it is the contact pressure (VTU field contact_pressure).
-std::vector<double> tributary_measures(const Mesh& mesh, const std::vector<std::string>& parts);
-
-}  // namespace vpc

@@ -28,10 +28,11 @@ SchemeSolvers set_up_solvers(DiscreteSystem& sys, const SolverChoice& choice, Se
                            sys.K->nonzeros(), sys.backend->describe()));
   auto t1 = Clock::now();
   ContactConstraints constraints = contact_constraints(sys);
-  s.contact_pick = pick_contact_solver(choice.contact, part.n_contact, sys.backend->linear_solver(), constraints.power_law);
+  const bool nonlinear_law = nonlinear_in_dual(part.comm, constraints);  // only the dual solves it
+  s.contact_pick = pick_contact_solver(choice.contact, part.n_contact, sys.backend->linear_solver(), nonlinear_law);
   const bool primal = s.contact_pick.name == "primal-active-set";
   s.K_factor = sys.make_stiffness_factor();
-  cost = check_before_factorizing(sys, *s.K_factor, choice, primal, constraints.power_law);
+  cost = check_before_factorizing(sys, *s.K_factor, choice, primal, nonlinear_law);
   // The primal contact solver factors K with its active rows when it first solves.
   if (!primal) s.K_factor->factorize(*sys.K, "elastic stiffness K");
   timing.factor_K = seconds_since(t1);

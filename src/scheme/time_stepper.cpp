@@ -40,7 +40,8 @@ TimeStepper::TimeStepper(std::shared_ptr<const Problem> problem_in, MeshPart par
   state_.sigma.assign(mesh.n_cells(), SymTensor{});
   state_.eps.assign(mesh.n_cells(), SymTensor{});
   state_.z.assign(mesh.n_cells(), SymTensor{});
-  state_.lambda = Vector::Zero(part.n_contact);
+  state_.contact_block = p.contact.block_size(mesh.dim());  // the contact laws' block (1: normal laws)
+  state_.lambda = Vector::Zero(part.n_contact * state_.contact_block);
   u_free_ = Vector::Zero(part.n_owned_dofs);
   // Error-controlled steps stay within the explicit G's stable step (scheme/stability.hpp).
   if (p.step_control) control_ = stable_step_control(p);

@@ -12,14 +12,15 @@ namespace vpc {
 namespace {
 
 /// Φ(λ) and, when J is given, its generalized Jacobian (rows as in the header).
-Vector residual(const Eigen::MatrixXd& S, const Vector& b, const Vector& compliance, const Vector& exponent,
-                const Vector& lambda, Eigen::MatrixXd* J) {
+Vector residual(const Eigen::MatrixXd& S, const Vector& b, const std::vector<const ContactLaw*>& laws,
+                const Vector& compliance, const Vector& lambda, Eigen::MatrixXd* J) {
   const Eigen::Index m = lambda.size();
   const Vector d = b - S * lambda;
   Vector phi(m);
   if (J) J->setZero(m, m);
   for (Eigen::Index i = 0; i < m; ++i) {
-    if (compliance[i] == 0) {  // Signorini, −d scaled to a force by S_ii
+    const ContactLaw& law = *laws[static_cast<std::size_t>(i)];
+    if (law.rigid()) {  // Signorini, −d scaled to a force by S_ii
       const double gap = -d[i] / S(i, i);
       if (lambda[i] <= gap) {
         phi[i] = lambda[i];
@@ -30,10 +31,9 @@ Vector residual(const Eigen::MatrixXd& S, const Vector& b, const Vector& complia
       }
       continue;
     }
-    const double k = 1 / compliance[i], e = exponent[i], pen = std::max(d[i], 0.0);
-    phi[i] = lambda[i] - k * std::pow(pen, e);
+    phi[i] = lambda[i] - law.force(d[i], compliance[i]);
     if (J) {
-      J->row(i) = (pen > 0 ? k * e * std::pow(pen, e - 1) : 0.0) * S.row(i);  // −∂(k d₊^e)/∂λ = k e d₊^{e−1} S_i
+      J->row(i) = law.force_slope(d[i], compliance[i]) * S.row(i);  // −∂λ(d)/∂λ = λ'(d) S_i
       (*J)(i, i) += 1;
     }
   }
@@ -42,12 +42,12 @@ Vector residual(const Eigen::MatrixXd& S, const Vector& b, const Vector& complia
 
 }  // namespace
 
-BoxQpResult solve_compliance_dual(const Eigen::MatrixXd& S, const Vector& b, const Vector& compliance,
-                                  const Vector& exponent, Vector& lambda, int max_iterations) {
+BoxQpResult solve_compliance_dual(const Eigen::MatrixXd& S, const Vector& b, const std::vector<const ContactLaw*>& laws,
+                                  const Vector& compliance, Vector& lambda, int max_iterations) {
   const Eigen::Index m = b.size();
-  require(S.rows() == m && S.cols() == m && compliance.size() == m && exponent.size() == m,
-          "internal: compliance dual of size {} with S {} x {}, {} compliances, {} exponents", m, S.rows(), S.cols(),
-          compliance.size(), exponent.size());
+  require(S.rows() == m && S.cols() == m && compliance.size() == m && static_cast<Eigen::Index>(laws.size()) == m,
+          "internal: compliance dual of size {} with S {} x {}, {} compliances, {} laws", m, S.rows(), S.cols(),
+          compliance.size(), laws.size());
   if (lambda.size() != m) lambda = Vector::Zero(m);
   lambda = lambda.cwiseMax(0.0);
   BoxQpResult r;
@@ -60,7 +60,7 @@ BoxQpResult solve_compliance_dual(const Eigen::MatrixXd& S, const Vector& b, con
   // Rows are weighted by 1/J_ii: a stiff law's row λ − k d₊^e carries round-off of d
   // times k e d^{e−1}, which the weight brings back to a force of the size of λ's error.
   Eigen::MatrixXd J;
-  Vector phi = residual(S, b, compliance, exponent, lambda, &J);
+  Vector phi = residual(S, b, laws, compliance, lambda, &J);
   Vector w = J.diagonal().cwiseInverse();
   for (r.iterations = 0; r.iterations < max_iterations; ++r.iterations) {
     if (w.cwiseProduct(phi).cwiseAbs().maxCoeff() <= 1e-13 * scale()) {
@@ -74,12 +74,12 @@ BoxQpResult solve_compliance_dual(const Eigen::MatrixXd& S, const Vector& b, con
     Vector trial;
     for (int halving = 0; halving < 40; ++halving, alpha *= 0.5) {
       trial = lambda + alpha * step;
-      trial_merit = w.cwiseProduct(residual(S, b, compliance, exponent, trial, nullptr)).squaredNorm();
+      trial_merit = w.cwiseProduct(residual(S, b, laws, compliance, trial, nullptr)).squaredNorm();
       if (trial_merit <= (1 - 1e-4 * alpha) * merit) break;
     }
     if (!(trial_merit < merit)) break;  // no decrease at all: round-off, or a stall
     lambda = trial;
-    phi = residual(S, b, compliance, exponent, lambda, &J);
+    phi = residual(S, b, laws, compliance, lambda, &J);
     w = J.diagonal().cwiseInverse();
   }
   r.kkt_residual = w.cwiseProduct(phi).cwiseAbs().maxCoeff() / scale();

@@ -25,6 +25,17 @@ Vector local_rows(const ContactConstraints& c, const Vector& lambda) {
   return l;
 }
 
+const ContactLaw& ContactConstraints::law_of(Eigen::Index i) const {
+  return laws.empty() ? *signorini_law() : *laws[static_cast<std::size_t>(law[static_cast<std::size_t>(i)])];
+}
+
+bool nonlinear_in_dual(const la::Comm& comm, const ContactConstraints& c) {
+  bool nonlinear = false;
+  for (Eigen::Index i = 0; i < static_cast<Eigen::Index>(c.rows.size()) && !c.laws.empty(); ++i)
+    nonlinear = nonlinear || !c.law_of(i).linear();
+  return comm.any(nonlinear);
+}
+
 double ContactResiduals::max() const {
   return std::max({equilibrium, penetration, negative_force, complementarity});
 }
@@ -40,13 +51,9 @@ ContactResiduals contact_residuals(const la::SpdOperator& K, const ContactConstr
   Vector Ku;
   K.mult_threaded(u, Ku);
   const Vector lambda_local = local_rows(c, lambda);
-  Vector s = c.gap - c.N * u;  // the gap left: ≥ 0
-  if (c.normal_compliance) s += c.compliance.cwiseProduct(lambda_local);
-  if (c.power_law)  // (λ/k)^{1/e} in place of λ/k on the rows with e ≠ 1
-    for (Eigen::Index i = 0; i < s.size(); ++i)
-      if (c.exponent[i] != 1 && c.compliance[i] > 0)
-        s[i] += std::pow(std::max(c.compliance[i] * lambda_local[i], 0.0), 1 / c.exponent[i]) -
-                c.compliance[i] * lambda_local[i];
+  Vector s = c.gap - c.N * u;  // the gap left: ≥ 0, plus the penetration a compliant law gives at λ
+  for (Eigen::Index i = 0; i < s.size() && !c.laws.empty(); ++i)
+    if (const ContactLaw& law = c.law_of(i); !law.rigid()) s[i] = law.gap_left(s[i], lambda_local[i], c.compliance[i]);
   auto inf = [&](const Vector& v) { return comm.max(v.size() ? v.cwiseAbs().maxCoeff() : 0.0); };
   const double f_scale = std::max({inf(F), inf(Ku), 1e-300});
   r.equilibrium = inf(Vector(Ku - F + c.N.transpose() * lambda_local)) / f_scale;
@@ -146,12 +153,21 @@ class ActiveSetContactSolver final : public ContactSolver {
     Eigen::MatrixXd S = factor_->has_halves() ? dual_matrix_from_halves(max_cached_share)
                                               : dual_matrix_from_solves(max_cached_share);
     S = 0.5 * (S + S.transpose()).eval();
-    if (c_.power_law) {  // the nonlinear law's dual (solve_compliance_dual) on S itself
+    if (!c_.laws.empty()) {  // every row's law and compliance, the same on every rank
+      Vector law(static_cast<Eigen::Index>(c_.rows.size()));
+      for (Eigen::Index i = 0; i < law.size(); ++i) law[i] = c_.law[static_cast<std::size_t>(i)];
+      const Vector all = replicate(comm(), c_, law);
+      for (Eigen::Index j = 0; j < all.size(); ++j) row_laws_.push_back(c_.laws[static_cast<std::size_t>(all[j])].get());
       compliance_ = replicate(comm(), c_, c_.compliance);
-      exponent_ = replicate(comm(), c_, c_.exponent);
-      S_plain_ = S;
+      nonlinear_ = std::ranges::any_of(row_laws_, [](const ContactLaw* l) { return !l->linear(); });
     }
-    if (c_.normal_compliance) S.diagonal() += replicate(comm(), c_, c_.compliance);
+    if (nonlinear_) S_plain_ = S;  // the nonlinear law's dual (solve_compliance_dual) on S itself
+    // A linear law's λ_i = k_i d₊ adds its spring's compliance 1/k_i to S_ii (the box QP of S + diag(1/k)).
+    for (std::size_t j = 0; j < row_laws_.size(); ++j)
+      if (!row_laws_[j]->rigid()) {
+        const auto jj = static_cast<Eigen::Index>(j);
+        S(jj, jj) += row_laws_[j]->spring_compliance(compliance_[jj]);
+      }
     S_ = std::make_unique<DenseBoxQpOperator>(std::move(S));
   }
 
@@ -185,17 +201,21 @@ class ActiveSetContactSolver final : public ContactSolver {
   void set_gap(const Vector& gap) override { c_.gap = checked_gap(c_, gap); }
   std::string name() const override { return "active-set"; }
   std::string describe() const override {
-    if (c_.power_law) return describe_solves() + "; semismooth Newton for the power-law compliance";
+    if (nonlinear_) return describe_solves() + "; semismooth Newton for the nonlinear compliance law";
     return describe_solves();
   }
 
  private:
-  /// The dual problem for b = N K⁻¹F − g (replicated): the box QP λ ≥ 0 with S (+ diag(1/k)),
-  /// or, for a compliance law with e ≠ 1 on some row, solve_compliance_dual.
+  /// The dual problem for b = N K⁻¹F − g (replicated): the box QP with S (+ diag(1/k)) over
+  /// each row's dual set (λ ≥ 0), or, for a law that is not linear on some row, solve_compliance_dual.
   BoxQpResult dual(const Vector& b, Vector& lambda) {
-    if (c_.power_law) return solve_compliance_dual(S_plain_, b, compliance_, exponent_, lambda);
+    if (nonlinear_) return solve_compliance_dual(S_plain_, b, row_laws_, compliance_, lambda);
     const int m = c_.m;
-    const Vector lo = Vector::Zero(m), hi = Vector::Constant(m, std::numeric_limits<double>::infinity());
+    Vector lo = Vector::Zero(m), hi = Vector::Constant(m, std::numeric_limits<double>::infinity());
+    for (std::size_t j = 0; j < row_laws_.size(); ++j) {
+      lo[static_cast<Eigen::Index>(j)] = row_laws_[j]->dual_lower();
+      hi[static_cast<Eigen::Index>(j)] = row_laws_[j]->dual_upper();
+    }
     return solve_box_qp(*S_, b, lo, hi, lambda);
   }
   std::string describe_solves() const {
@@ -259,8 +279,10 @@ class ActiveSetContactSolver final : public ContactSolver {
   ContactConstraints c_;
   std::shared_ptr<const la::Factor> factor_;
   std::unique_ptr<DenseBoxQpOperator> S_;
-  Eigen::MatrixXd S_plain_;        // S without diag(1/k), for the power law only
-  Vector compliance_, exponent_;   // replicated, for the power law only
+  Eigen::MatrixXd S_plain_;                  // S without diag(1/k), for a nonlinear law only
+  std::vector<const ContactLaw*> row_laws_;  // every row's law (replicated); empty: Signorini
+  Vector compliance_;                        // every row's 1/k_i (replicated), with row_laws_
+  bool nonlinear_ = false;                   // some row's law is not linear
   SparseMatrix Y_;     // L⁻¹PNᵀ (factors with halves), or empty
   Eigen::MatrixXd W_;  // K⁻¹Nᵀ on the owned rows (factors without halves), or empty
   static constexpr double kMaxCachedBytes = 256.0 * 1024 * 1024;
@@ -320,7 +342,7 @@ class PenaltyDualityContactSolver final : public ContactSolver {
 ContactSolverPick pick_contact_solver(const std::string& requested, int m, const std::string& linear_solver,
                                       bool power_law) {
   if (requested != "auto") return {requested, "as asked"};
-  if (power_law) return {"active-set", "auto: a power-law compliance is solved on the dual"};
+  if (power_law) return {"active-set", "auto: a nonlinear compliance law is solved on the dual"};
   if (!la::Backend::is_direct(linear_solver))
     return {"primal-active-set", fmt::format("auto: {} is iterative (the dual's S would take {} solves)", linear_solver, m)};
   if (m > kDualContactRows)
@@ -340,14 +362,18 @@ std::unique_ptr<ContactSolver> make_contact_solver(const std::string& name, std:
   require(constraints.N.rows() == rows && constraints.gap.size() == rows && constraints.N.cols() == K->n_owned(),
           "internal: contact constraints of {} rows x {} columns for {} rows, {} gaps and {} owned dofs",
           constraints.N.rows(), constraints.N.cols(), rows, constraints.gap.size(), K->n_owned());
-  require(!constraints.normal_compliance || constraints.compliance.size() == rows,
-          "internal: {} compliances for {} contact rows", constraints.compliance.size(), rows);
-  require(!constraints.power_law || (constraints.normal_compliance && constraints.exponent.size() == rows),
-          "internal: {} exponents for {} contact rows", constraints.exponent.size(), rows);
+  require(constraints.laws.empty() ||
+              (constraints.compliance.size() == rows && constraints.law.size() == constraints.rows.size()),
+          "internal: {} compliances and {} laws for {} contact rows", constraints.compliance.size(),
+          constraints.law.size(), rows);
+  require(constraints.block == 1, "internal: contact blocks of {} unknowns per node; the solvers take 1 (a normal law)",
+          constraints.block);
+  bool compliant = false;
+  for (Eigen::Index i = 0; i < rows && !constraints.laws.empty(); ++i) compliant = compliant || !constraints.law_of(i).rigid();
   if (name == "active-set")
     return std::make_unique<ActiveSetContactSolver>(std::move(K), std::move(K_factor), std::move(constraints),
                                                     opt.max_cached_share);
-  require(name != "penalty-duality" || !constraints.normal_compliance,
+  require(name != "penalty-duality" || !K->comm().any(compliant),
           "contact solver 'penalty-duality' solves the Signorini conditions only; normal compliance needs 'active-set'");
   if (name == "penalty-duality")
     return std::make_unique<PenaltyDualityContactSolver>(std::move(K), *K_factor, std::move(constraints), make_factor,

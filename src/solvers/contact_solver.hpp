@@ -10,6 +10,7 @@
 // that owns its node, with all its dofs); λ is replicated (m numbers, the same on
 // every rank): the dual QP with the dense S = N K⁻¹ Nᵀ is small and solved alike on
 // every rank. On one process the rows are 0..m−1 and N is the whole matrix.
+#include "contact/contact_law.hpp"
 #include "la/factor.hpp"
 
 #include <memory>
@@ -50,19 +51,27 @@ struct ContactConstraints {
   std::vector<int> rows;  // the global row (0..m-1) of each local row, increasing
   SparseMatrix N;         // local rows × owned free dofs
   Vector gap;             // g of each local row
-  /// Normal compliance (the contact law of the paper's reference [4]), set alike on
-  /// every process: per local row 1/k_i (0: a Signorini row, k = ∞) and e_i, the force
-  /// λ_i = k_i (N_i u − g_i)₊^{e_i}. With e = 1 on every row the dual problem is the same
-  /// QP with S + diag(1/k); otherwise solve_compliance_dual. false: Signorini everywhere.
-  bool normal_compliance = false;
-  Vector compliance;
-  Vector exponent;  // per local row; empty: 1 on every row
-  /// Some row has e ≠ 1 (the same on every process).
-  bool power_law = false;
+  /// The contact laws (contact/contact_law.hpp), the same list on every process, and per
+  /// local row the index of its law in it and its compliance 1/k_i (k_i = the law lumped at the
+  /// node, ContactRow::stiffness; 0 for a rigid law). No laws: Signorini on every row. The
+  /// solvers ask the law: linear laws give the dual QP with S + diag(1/k); a law that is not
+  /// linear, solve_compliance_dual's Newton (active-set only).
+  std::vector<std::shared_ptr<const ContactLaw>> laws;
+  std::vector<int> law;  // per local row
+  Vector compliance;     // per local row
+  /// Contact unknowns per row (ContactLaw::block_size; State::contact_block): λ holds m × block
+  /// numbers, row after row. 1 for every normal law, the only block the solvers take today.
+  int block = 1;
+  /// The law of local row i (Signorini where there are no laws).
+  const ContactLaw& law_of(Eigen::Index i) const;
 };
 
-/// Residuals of (3.9) at (u owned, λ replicated), reductions over K.comm(); with
-/// normal compliance the gap left is s = g − Nu + (λ/k)^{1/e} (≥ 0, ⟂ λ) in place of g − Nu.
+/// Some row's law is not linear (ContactLaw::linear; the same answer on every process): only the
+/// dual ("active-set") solves it, with solve_compliance_dual's Newton.
+bool nonlinear_in_dual(const la::Comm& comm, const ContactConstraints& c);
+
+/// Residuals of (3.9) at (u owned, λ replicated), reductions over K.comm(); with a compliant
+/// law the gap left is s = ContactLaw::gap_left(g − Nu, λ) = g − Nu + (λ/k)^{1/e} (≥ 0, ⟂ λ).
 /// scale_u = max(‖u‖∞, ‖g‖∞, scale_λ / max K_ii), scale_λ = max(‖λ‖∞, ‖F‖∞, ‖Ku‖∞): the last
 /// term of scale_u (the displacement a force scale_λ gives a dof against its own stiffness)
 /// keeps the scale from vanishing where the exact u is 0 and g = 0 (issue 26: every free node a
@@ -120,7 +129,8 @@ struct ContactSolverOptions {
 
 /// The contact solver for a problem (issue 14): `requested` unless it is "auto". "auto" takes
 /// the dual "active-set" while S = N K⁻¹Nᵀ is cheap (a direct solver and at most
-/// kDualContactRows contact nodes, or a power-law compliance, which only the dual solves), else
+/// kDualContactRows contact nodes, or a law that is not linear (`power_law`: nonlinear_in_dual),
+/// which only the dual solves), else
 /// "primal-active-set". `why` says which rule decided, for the run's header.
 struct ContactSolverPick {
   std::string name;

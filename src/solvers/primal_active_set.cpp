@@ -77,8 +77,15 @@ class PrimalActiveSetSolver final : public ContactSolver {
                         std::shared_ptr<la::Factor> factor, ContactConstraints c)
       : K_(std::move(K)), K_rot_(K_rot ? std::move(K_rot) : K_), factor_(std::move(factor)), c_(std::move(c)),
         Q_(contact_reflections(c_.N)), rows_(rotated_rows(c_.N)) {
-    require(!c_.power_law, "contact solver 'primal-active-set' solves Signorini and linear normal compliance rows; "
-                           "a power-law compliance needs 'active-set'");
+    for (Eigen::Index i = 0; i < static_cast<Eigen::Index>(rows_.size()) && !c_.laws.empty(); ++i) {
+      const ContactLaw& law = c_.law_of(i);
+      require(law.rigid() || law.linear(),
+              "contact solver 'primal-active-set' solves Signorini and linear normal compliance rows; a {} needs "
+              "'active-set'",
+              law.kind());
+      // An active compliant row is the spring of the law's linearization (exact for a linear law).
+      spring_.push_back(law.rigid() ? 0.0 : law.spring_compliance(c_.compliance[i]));
+    }
     require(Q_.size() == 0 || K_rot_ != K_, "internal: the primal contact solver needs Q K Q for rotated rows");
     // c_i of the update rule λ_i + c_i (N_i u − g_i) > 0: K's stiffness at the row's dof, per unit of N_i u.
     diagonal_ = K_rot_->diagonal();
@@ -120,7 +127,7 @@ class PrimalActiveSetSolver final : public ContactSolver {
         const RotatedRow& row = rows_[i];
         const double gap = gap_left(w, i);
         if (compliant(i)) {  // λ = k (N u − g)₊: active where the row penetrates
-          lambda_local[i] = active[i] ? -gap / c_.compliance[i] : 0.0;
+          lambda_local[i] = active[i] ? -gap / spring_[static_cast<std::size_t>(i)] : 0.0;
           next[i] = gap < 0;
         } else {
           lambda_local[i] = active[i] ? r[row.dof] / row.alpha : 0.0;
@@ -181,7 +188,7 @@ class PrimalActiveSetSolver final : public ContactSolver {
   static constexpr double kLooseTolerance = 1e-4;
   static constexpr double kLooseReduction = 1e-2, kLooseFloor = 1e-9;
 
-  bool compliant(Eigen::Index i) const { return c_.normal_compliance && c_.compliance[i] > 0; }
+  bool compliant(Eigen::Index i) const { return !spring_.empty() && spring_[static_cast<std::size_t>(i)] > 0; }
   /// g_i − N_i u, in the rotated dofs.
   double gap_left(const Vector& w, Eigen::Index i) const { return c_.gap[i] - rows_[i].alpha * w[rows_[i].dof]; }
   Vector rotate(const Vector& x) const { return Q_.size() ? Vector(Q_ * x) : x; }
@@ -196,7 +203,7 @@ class PrimalActiveSetSolver final : public ContactSolver {
     for (size_t i = 0; i < rows_.size(); ++i) {
       if (!active[i]) continue;
       if (compliant(static_cast<Eigen::Index>(i)))
-        springs.emplace_back(rows_[i].dof, rows_[i].dof, rows_[i].alpha * rows_[i].alpha / c_.compliance[i]);
+        springs.emplace_back(rows_[i].dof, rows_[i].dof, rows_[i].alpha * rows_[i].alpha / spring_[i]);
       else
         fixed[rows_[i].dof] = 1;
     }
@@ -228,7 +235,7 @@ class PrimalActiveSetSolver final : public ContactSolver {
       if (!active[i]) continue;
       const auto e = static_cast<Eigen::Index>(i);
       if (compliant(e))
-        rhs[rows_[i].dof] += rows_[i].alpha * c_.gap[e] / c_.compliance[e];
+        rhs[rows_[i].dof] += rows_[i].alpha * c_.gap[e] / spring_[i];
       else
         fixed_values[rows_[i].dof] = c_.gap[e] / rows_[i].alpha;
     }
@@ -263,6 +270,7 @@ class PrimalActiveSetSolver final : public ContactSolver {
   SparseMatrix Q_;                 // empty: no row needs a rotation
   std::vector<RotatedRow> rows_;   // per local row
   std::vector<double> scale_;      // c_i of the update rule
+  std::vector<double> spring_;     // per local row: 1/k of an active compliant row's spring, 0 for a rigid row
   Vector diagonal_;                // K_rot's
   std::shared_ptr<const la::SpdOperator> A_;  // K_rot (+ springs) with the factored set's rows fixed
   std::vector<char> factored_, fixed_;

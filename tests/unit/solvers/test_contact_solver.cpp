@@ -2,6 +2,7 @@
 // known by hand, a 2D elastic block touching a sloped obstacle on part of its
 // base (active-set vs penalty–duality), warm starts, and the error paths.
 #include "../error_of.hpp"
+#include "contact/normal_compliance.hpp"
 #include "solvers/compliance_dual.hpp"
 #include "solvers/contact_solver.hpp"
 
@@ -20,6 +21,13 @@
 
 namespace vpc {
 namespace {
+
+/// One law on every row of `cc`, with the compliance 1/k of each row.
+void set_law(ContactConstraints& cc, std::shared_ptr<const ContactLaw> law, const Vector& compliance) {
+  cc.laws = {std::move(law)};
+  cc.law.assign(static_cast<std::size_t>(compliance.size()), 0);
+  cc.compliance = compliance;
+}
 
 /// x = A⁻¹b with a factor of A.
 inline Vector solve_with(const la::Factor& f, const Vector& b) {
@@ -136,8 +144,7 @@ TEST(ContactSolver, NormalComplianceSprings) {
     cc.rows = {0};
     cc.N = s.N;
     cc.gap = Vector::Constant(1, s.g);
-    cc.normal_compliance = true;
-    cc.compliance = Vector::Constant(1, 1 / c);
+    set_law(cc, std::make_shared<const NormalComplianceLaw>(c, 1.0), Vector::Constant(1, 1 / c));
     auto solver = make_contact_solver("active-set", K, factor, cc, la::make_cholmod_factor);
     Vector u, lambda;
     const ContactReport rep = solver->solve(F, u, lambda);
@@ -152,8 +159,7 @@ TEST(ContactSolver, NormalComplianceSprings) {
   cc.rows = {0};
   cc.N = s.N;
   cc.gap = Vector::Constant(1, s.g);
-  cc.normal_compliance = true;
-  cc.compliance = Vector::Constant(1, 1.0);
+  set_law(cc, std::make_shared<const NormalComplianceLaw>(1.0, 1.0), Vector::Constant(1, 1.0));
   const std::string msg = error_of([&] { make_contact_solver("penalty-duality", K, factor, cc, la::make_cholmod_factor); });
   EXPECT_NE(msg.find("normal compliance needs 'active-set'"), std::string::npos) << msg;
 }
@@ -181,9 +187,7 @@ TEST(ContactSolver, PowerLawComplianceSprings) {
       cc.rows = {0};
       cc.N = s.N;
       cc.gap = Vector::Constant(1, s.g);
-      cc.normal_compliance = cc.power_law = true;
-      cc.compliance = Vector::Constant(1, 1 / c);
-      cc.exponent = Vector::Constant(1, e);
+      set_law(cc, std::make_shared<const NormalComplianceLaw>(c, e), Vector::Constant(1, 1 / c));
       auto solver = make_contact_solver("active-set", K, factor, cc, la::make_cholmod_factor);
       EXPECT_NE(solver->describe().find("semismooth Newton"), std::string::npos);
       Vector u, lambda;
@@ -206,15 +210,24 @@ TEST(ComplianceDual, MixedRowsMeetTheirLaws) {
   const Eigen::MatrixXd S = A * A.transpose() + m * Eigen::MatrixXd::Identity(m, m);
   const Vector b = (Vector(m) << 1.0, -0.5, 2.0, 0.3, -1.0, 1.5).finished();
   const Vector compliance = (Vector(m) << 0, 0.1, 0.2, 0, 0.5, 0.05).finished();
-  Vector linear = Vector::Ones(m), lambda_qp = Vector::Zero(m), lambda = Vector::Zero(m);
+  Vector lambda_qp = Vector::Zero(m), lambda = Vector::Zero(m);
+  // Each row's law: Signorini where the compliance is 0, else normal compliance of exponent e_i.
+  std::vector<std::shared_ptr<const ContactLaw>> owned;
+  auto laws = [&](const Vector& e) {
+    std::vector<const ContactLaw*> l;
+    for (int i = 0; i < m; ++i)
+      l.push_back(compliance[i] == 0 ? signorini_law().get()
+                                     : owned.emplace_back(std::make_shared<const NormalComplianceLaw>(1 / compliance[i], e[i])).get());
+    return l;
+  };
   Eigen::MatrixXd H = S;
   H.diagonal() += compliance;
   DenseBoxQpOperator op(H);
   ASSERT_TRUE(solve_box_qp(op, b, Vector::Zero(m), Vector::Constant(m, INFINITY), lambda_qp).converged);
-  ASSERT_TRUE(solve_compliance_dual(S, b, compliance, linear, lambda).converged);
+  ASSERT_TRUE(solve_compliance_dual(S, b, laws(Vector::Ones(m)), compliance, lambda).converged);
   EXPECT_LE((lambda - lambda_qp).cwiseAbs().maxCoeff(), 1e-12);
   const Vector exponent = (Vector(m) << 1, 2, 1.5, 1, 3, 2.5).finished();
-  const BoxQpResult r = solve_compliance_dual(S, b, compliance, exponent, lambda);
+  const BoxQpResult r = solve_compliance_dual(S, b, laws(exponent), compliance, lambda);
   ASSERT_TRUE(r.converged);
   EXPECT_LE(r.iterations, 30);
   const Vector d = b - S * lambda;  // the penetration

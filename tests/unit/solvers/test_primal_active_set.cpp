@@ -3,6 +3,7 @@
 // directions (Signorini and linear compliance rows mixed), warm starts, the automatic
 // choice, and its refusals.
 #include "../error_of.hpp"
+#include "contact/normal_compliance.hpp"
 #include "solvers/contact_solver.hpp"
 #include "solvers/primal_active_set.hpp"
 
@@ -103,9 +104,13 @@ TEST(PrimalActiveSet, AgreesWithTheDualSolverOnSlantedRows) {
       c.gap = b.g;
       for (int i = 0; i < m; ++i) c.rows.push_back(i);
       if (compliance) {
-        c.normal_compliance = true;
+        c.laws = {signorini_law(), std::make_shared<const NormalComplianceLaw>(1 / 0.05, 1.0)};
+        c.law.assign(static_cast<std::size_t>(m), 0);
         c.compliance = Vector::Zero(m);
-        for (int i = 0; i < m; i += 3) c.compliance[i] = 0.05;
+        for (int i = 0; i < m; i += 3) {
+          c.law[static_cast<std::size_t>(i)] = 1;
+          c.compliance[i] = 0.05;
+        }
       }
       auto K = std::make_shared<const la::SparseOperator>(b.K);
       std::unique_ptr<ContactSolver> solver;
@@ -195,9 +200,9 @@ TEST(PrimalActiveSet, RefusesAPowerLaw) {
   c.N = b.N;
   c.gap = b.g;
   for (int i = 0; i < c.m; ++i) c.rows.push_back(i);
-  c.normal_compliance = c.power_law = true;
+  c.laws = {std::make_shared<const NormalComplianceLaw>(10.0, 2.0)};
+  c.law.assign(static_cast<std::size_t>(c.m), 0);
   c.compliance = Vector::Constant(c.m, 0.1);
-  c.exponent = Vector::Constant(c.m, 2.0);
   auto K = std::make_shared<const la::SparseOperator>(b.K);
   const SparseMatrix Q = contact_reflections(b.N);
   auto K_rot = std::make_shared<const la::SparseOperator>(SparseMatrix(Q * b.K * Q));

@@ -1,0 +1,186 @@
+// The rows of the contact matrix N of (3.9): one per node of Γ3 with a free component,
+// its direction, its gap at t = 0, its contact law lumped at the node, its obstacles.
+#include "contact/contact_rows.hpp"
+
+#include "core/error.hpp"
+
+#include <fmt/ranges.h>
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+
+namespace vpc {
+
+namespace {
+
+double length(const Point& v) { return std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]); }
+
+/// A fixed contact direction must point out of the body: at a node where it makes
+/// an angle of 90° or more with the outward normal of Γ3, a displacement along it
+/// moves the node into the body, u_ν ≤ g never binds and the body falls through
+/// the foundation. (cos ≤ 1e-9 also refuses 90° up to round-off.)
+void check_direction(const Problem& p, int node, const Point& direction, const Point& normal) {
+  const double ld = length(direction), ln = length(normal);
+  double cos = 0;
+  for (int j = 0; j < 3; ++j) cos += direction[j] * normal[j];
+  cos /= ld * ln;
+  if (cos > 1e-9) return;
+  const double angle = std::acos(std::clamp(cos, -1.0, 1.0)) * 180.0 / 3.14159265358979323846;
+  const Point& x = p.mesh.node(node);
+  Point n = normal;
+  for (double& c : n) c /= ln;
+  fail("{}: the contact direction ({}, {}, {}) points into the body at contact node {} ({}, {}, {}): its angle "
+       "with the outward normal ({:.6g}, {:.6g}, {:.6g}) of the contact part is {:.6g} degrees; a fixed direction "
+       "must make an angle below 90 degrees with the outward normal at every contact node (e.g. its opposite)",
+       p.name, direction[0], direction[1], direction[2], node, x[0], x[1], x[2], n[0], n[1], n[2], angle);
+}
+
+/// The key that prescribes component c at a node (condition: DirichletDofs::condition),
+/// located for a message; `clamped`: the nodes of Γ1 (Mesh::nodes_of_parts, sorted).
+std::string prescribed_by(const Problem& p, int node, int c, const std::vector<int>& condition,
+                          const std::vector<int>& clamped) {
+  const int k = condition[static_cast<std::size_t>(node) * p.mesh.dim() + c];
+  if (k > 0) return p.where(fmt::format("boundary.displacement[{}]", k - 1));
+  const bool on_clamped = std::binary_search(clamped.begin(), clamped.end(), node);
+  return p.where(on_clamped ? "boundary.clamped" : "boundary.symmetry");
+}
+
+/// Obstacle k located for a message: "case.toml:27:1: obstacle[0] ('punch')".
+std::string obstacle_where(const Problem& p, int k) {
+  return fmt::format("{} ('{}')", p.where(fmt::format("obstacle[{}]", k)), p.contact.obstacles[k].name);
+}
+
+/// At t = 0 the body, u0 = 0, must lie outside every obstacle (docs/cases.md, [[obstacle]]):
+/// a contact node inside one is refused, whichever way its ray along ν goes (a ray
+/// pointing away from a plane, or along a cylinder's axis, misses the obstacle, which
+/// the gap alone would then ignore).
+void check_outside_obstacles(const Problem& p, int node, ObstacleMask mask) {
+  const Point& x = p.mesh.node(node);
+  for (std::size_t k = 0; k < p.contact.obstacles.size(); ++k) {
+    if (!(mask >> k & 1)) continue;
+    const Obstacle& o = p.contact.obstacles[k];
+    const double depth_0 = depth(o, x, 0.0);
+    if (!(depth_0 > 0)) continue;  // outside, on the surface (or NaN: reported with the gap)
+    const std::string where = obstacle_where(p, static_cast<int>(k));
+    if (o.shape == Obstacle::Shape::Plane)
+      fail("{}: contact node {} ({}, {}, {}) lies inside the obstacle at t = 0: {:.6g} behind the plane, on the side "
+           "its normal ({:.6g}, {:.6g}, {:.6g}) points away from; the normal must point from the obstacle towards the "
+           "body, and at t = 0 every contact node must lie outside every obstacle",
+           where, node, x[0], x[1], x[2], depth_0, o.normal[0], o.normal[1], o.normal[2]);
+    fail("{}: contact node {} ({}, {}, {}) lies inside the {} at t = 0, {:.6g} from its {} (radius {}); at t = 0 "
+         "every contact node must lie outside every obstacle",
+         where, node, x[0], x[1], x[2], o.shape == Obstacle::Shape::Sphere ? "sphere" : "cylinder",
+         o.radius - depth_0, o.shape == Obstacle::Shape::Sphere ? "centre" : "axis", o.radius);
+  }
+}
+
+}  // namespace
+
+std::vector<ContactRow> contact_rows(const Problem& p, const std::vector<int>& condition) {
+  const Mesh& mesh = p.mesh;
+  const int d = mesh.dim();
+  std::vector<Point> normal(mesh.n_nodes(), Point{0, 0, 0});
+  for (int f : mesh.facets_of_parts(p.contact.parts)) {
+    const Point nf = mesh.facet_normal(f);
+    const double w = mesh.facet_measure(f);
+    for (int a = 0; a < mesh.nodes_per_facet(); ++a)
+      for (int j = 0; j < 3; ++j) normal[mesh.facet(f)[a]][j] += w * nf[j];
+  }
+  const auto [lo, hi] = mesh.bounding_box();
+  const double miss = contact_miss_gap(lo, hi);
+  // Per node: its law (a rigid one where any of its Γ3 facets has one; else the compliant law
+  // of its facets, which must agree: ContactLaw::conflict), k_i (their shares, lumped by the
+  // law) and the obstacles acting on its parts.
+  const std::vector<std::shared_ptr<const ContactLaw>> laws = p.contact.laws();
+  std::vector<double> stiffness(mesh.n_nodes(), 0.0);
+  std::vector<int> compliant_law(mesh.n_nodes(), -1), rigid_law(mesh.n_nodes(), -1);
+  std::vector<ObstacleMask> obstacles(mesh.n_nodes(), 0);
+  for (int f : mesh.facets_of_parts(p.contact.parts)) {  // each facet once, with its part's law and obstacles
+    const std::string& part = mesh.part_names()[static_cast<std::size_t>(mesh.facet_part(f))];
+    const int k = p.contact.law_index(part);
+    const ContactLaw& law = *laws[static_cast<std::size_t>(k)];
+    ObstacleMask acting = 0;
+    for (std::size_t o = 0; o < p.contact.obstacles.size(); ++o) {
+      const auto& on = p.contact.obstacles[o].parts;
+      if (on.empty() || std::find(on.begin(), on.end(), part) != on.end()) acting |= ObstacleMask{1} << o;
+    }
+    for (int a = 0; a < mesh.nodes_per_facet(); ++a) {
+      const int i = mesh.facet(f)[a];
+      obstacles[i] |= acting;
+      if (law.rigid()) {
+        if (rigid_law[i] < 0) rigid_law[i] = k;
+        continue;
+      }
+      if (compliant_law[i] < 0) compliant_law[i] = k;
+      const std::string why = laws[static_cast<std::size_t>(compliant_law[i])]->conflict(law);
+      const Point& x = mesh.node(i);
+      require(why.empty(), "{}: contact node {} ({}, {}, {}) lies on contact parts whose {}", p.name, i, x[0], x[1], x[2],
+              why);
+      stiffness[i] += law.lumped(mesh.facet_measure(f), mesh.nodes_per_facet());
+    }
+  }
+  std::vector<ContactRow> rows;
+  for (int node : mesh.nodes_of_parts(p.contact.parts)) {
+    const int* fixed = condition.data() + static_cast<std::size_t>(node) * d;
+    if (std::all_of(fixed, fixed + d, [](int k) { return k >= 0; })) continue;  // u prescribed there
+    const Point& x = mesh.node(node);
+    require(length(normal[node]) > 0,
+            "{}: the outward normal of the contact part vanishes at node {} ({}, {}, {}) (its facets face opposite "
+            "ways); split the contact part there",
+            p.name, node, x[0], x[1], x[2]);
+    if (p.contact.direction) check_direction(p, node, *p.contact.direction, normal[node]);
+    Point v = p.contact.direction ? *p.contact.direction : normal[node];
+    double l = length(v);
+    for (double& c : v) c /= l;
+    // On a symmetry plane the mirrored half's facets would cancel the normal's
+    // component across the plane: drop it. Any other component along a prescribed
+    // one would make N act on a dof that is not an unknown.
+    for (int c = 0; c < d; ++c) {
+      if (fixed[c] < 0 || v[c] == 0) continue;
+      if (!(fixed[c] == 0 && !p.contact.direction && std::abs(v[c]) < 0.5))
+        fail("{}: contact node {} ({}, {}, {}) has u{} prescribed (by {}), but its contact direction ({:.6g}, {:.6g}, "
+             "{:.6g}) has a component along it; a node cannot be in contact along a prescribed component (remove the "
+             "node from one of the parts, or use a symmetry part for a symmetry plane)",
+             p.where("boundary.contact"), node, x[0], x[1], x[2], c == 0 ? "x" : c == 1 ? "y" : "z",
+             prescribed_by(p, node, c, condition, mesh.nodes_of_parts(p.clamped)), v[0], v[1], v[2]);
+      v[c] = 0;
+      l = length(v);
+      for (double& vc : v) vc /= l;
+    }
+    check_outside_obstacles(p, node, obstacles[node]);
+    const double g = contact_gap_at(p.contact, x, v, 0.0, miss, obstacles[node]);
+    if (!(std::isfinite(g) && g >= 0)) {
+      const int k = p.contact.obstacles.empty() ? -1 : nearest_obstacle(p.contact.obstacles, x, v, 0.0, obstacles[node]);
+      fail("{}: the gap g must be a number >= 0 at t = 0; it is {} at contact node {} ({}, {}, {})",
+           k < 0 ? p.where("contact.gap") : obstacle_where(p, k), g, node, x[0], x[1], x[2]);
+    }
+    const bool rigid = rigid_law[node] >= 0;
+    rows.push_back({node, v, g, rigid ? rigid_law[node] : compliant_law[node], rigid ? 0.0 : stiffness[node],
+                    obstacles[node]});
+  }
+  if (rows.empty()) {  // every contact node has every component prescribed: by which keys
+    std::set<std::string> by;
+    const std::vector<int> clamped = mesh.nodes_of_parts(p.clamped);
+    for (int node : mesh.nodes_of_parts(p.contact.parts))
+      for (int c = 0; c < d; ++c) by.insert(prescribed_by(p, node, c, condition, clamped));
+    fail("{}: the contact part has no free node: every displacement component of each of its nodes is prescribed, by "
+         "{}; a contact node must be free to move (take the contact part's nodes out of those parts, or give another "
+         "contact part)",
+         p.where("boundary.contact"), fmt::join(by, " and "));
+  }
+  return rows;
+}
+
+
+std::vector<double> tributary_measures(const Mesh& mesh, const std::vector<std::string>& parts) {
+  std::vector<double> m(static_cast<std::size_t>(mesh.n_nodes()), 0.0);
+  const int nv = mesh.nodes_per_facet();
+  for (int f : mesh.facets_of_parts(parts)) {
+    const double share = mesh.facet_measure(f) / nv;
+    for (int a = 0; a < nv; ++a) m[mesh.facet(f)[a]] += share;
+  }
+  return m;
+}
+
+}  // namespace vpc

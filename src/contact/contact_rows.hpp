@@ -1,0 +1,41 @@
+#pragma once
+// The contact rows of (3.9), from the problem: per node of Γ3 its direction, gap and law.
+#include "scheme/problem.hpp"
+
+#include <vector>
+
+namespace vpc {
+
+/// A row of the contact matrix N of (3.9): a node of Γ3 that is not clamped, its
+/// unit direction ν (the given one, or the measure-weighted mean of the outward
+/// normals of its Γ3 facets), its gap g, its contact law and its obstacles.
+struct ContactRow {
+  int node = 0;
+  Point direction{0, 0, 0};
+  double gap = 0;
+  /// The law at the node (its index in ContactSpec::laws(): a rigid one where any of its Γ3
+  /// facets has one) and k_i = Σ ContactLaw::lumped over its Γ3 facets (0 for a rigid law).
+  int law = 0;
+  double stiffness = 0;
+  ObstacleMask obstacles = kAllObstacles;  // the obstacles acting on the node's parts
+};
+
+/// The contact rows in increasing node order, for the nodes of Γ3 with a free
+/// component (`condition`: DirichletDofs::condition). At a node on a symmetry plane
+/// the outward normal loses its component across the plane (the mirrored half's
+/// facets would cancel it); any other direction with a component along a prescribed
+/// one is refused. Throws vpc::Error for that, for a fixed direction at 90° or more
+/// from the outward normal at some node (it would point into the body), for a gap
+/// below 0 at t = 0, for a node where parts of laws that cannot share it meet
+/// (ContactLaw::conflict: compliance laws of different exponents) and when no free
+/// node is left on Γ3.
+std::vector<ContactRow> contact_rows(const Problem& p, const std::vector<int>& condition);
+
+/// The tributary measure of each node on the facets of `parts` (Γ3): the sum over
+/// those facets containing the node of facet measure / vertices per facet (a
+/// length in 2D, an area in 3D, 1 in 1D); 0 at the other nodes. A uniform
+/// pressure p on Γ3 has the P1 nodal forces p × this measure, so a nodal force
+/// divided by it is the contact pressure (VTU field contact_pressure).
+std::vector<double> tributary_measures(const Mesh& mesh, const std::vector<std::string>& parts);
+
+}  // namespace vpc
