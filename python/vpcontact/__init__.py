@@ -210,8 +210,10 @@ class Simulation(_core.Simulation):
 
     @property
     def active(self):
-        """Whether each contact node is in contact (contact_force > 0), a copy."""
-        return self.contact_force > 0
+        """Whether each contact node is in contact (its normal force, the first of contact_force's
+        numbers per node, > 0), a copy."""
+        f = self.contact_force
+        return (f if f.ndim == 1 else f[:, 0]) > 0
 
     @property
     def boundary_parts(self):

@@ -133,8 +133,9 @@ void RunTotals::add(const StepReport& r) {
   seconds_stress += r.seconds_stress;
 }
 
-long long active_contact_nodes(const RunTotals& totals, const Vector& lambda) {
-  return totals.last_n_active >= 0 ? totals.last_n_active : static_cast<long long>((lambda.array() > 0).count());
+long long active_contact_nodes(const RunTotals& totals, const Vector& normal_force) {
+  return totals.last_n_active >= 0 ? totals.last_n_active
+                                   : static_cast<long long>((normal_force.array() > 0).count());
 }
 
 std::vector<int> tensor_components(const Elasticity& e) { return e.stress_components(); }
@@ -481,8 +482,9 @@ RunSummary RunOutput::summary(double wall_seconds) const {
     r.k_max = std::max(r.k_max, k);
   }
   r.rejected = static_cast<long long>(stepper_.step_control_state().rejected);
-  r.total_contact_force = s.lambda.sum();
-  r.active_contact_nodes = active_contact_nodes(totals_, s.lambda);
+  const Vector normal = normal_forces(s);  // λ's normal force per contact node
+  r.total_contact_force = normal.sum();
+  r.active_contact_nodes = active_contact_nodes(totals_, normal);
   for (const auto& p : probes_) r.probes.push_back(p.where.x);
   r.totals = totals_;
   r.wall_seconds = wall_seconds;

@@ -85,8 +85,8 @@ struct RunTotals {
 };
 
 /// The active contact nodes summary.json reports: the last step's count by the
-/// solver's own rule, or (no step yet) the nodes with λ > 0.
-long long active_contact_nodes(const RunTotals& totals, const Vector& lambda);
+/// solver's own rule, or (no step yet) the nodes whose normal force (normal_forces) is > 0.
+long long active_contact_nodes(const RunTotals& totals, const Vector& normal_force);
 
 /// What summary.json says about a run beyond the problem's data: global values,
 /// gathered by RunOutput on rank 0.

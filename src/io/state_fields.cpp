@@ -104,6 +104,13 @@ constexpr StateField kFields[] = {
 
 }  // namespace
 
+Eigen::VectorXd normal_forces(const State& s) {
+  const int b = s.contact_block;
+  if (b == 1) return s.lambda;
+  return Eigen::Map<const Eigen::VectorXd, 0, Eigen::InnerStride<>>(s.lambda.data(), s.lambda.size() / b,
+                                                                     Eigen::InnerStride<>(b));
+}
+
 const char* location_name(FieldLocation l) {
   switch (l) {
     case L::node: return "node";

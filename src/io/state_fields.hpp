@@ -50,6 +50,10 @@ struct StateField {
   bool point_data() const { return location != FieldLocation::cell; }
 };
 
+/// The normal force of each contact node: the first of λ's numbers per node (λ itself
+/// when State::contact_block is 1).
+Eigen::VectorXd normal_forces(const State& s);
+
 /// Every field, in the order of the VTU arrays (point data, then cell data, each in this order).
 std::span<const StateField> state_fields();
 /// The field of this name (StateField::name); throws vpc::Error when there is none.

@@ -127,6 +127,15 @@ TEST(StateFields, CheckpointStoresTheBlockAndRefusesAnother) {
   EXPECT_EQ(read_checkpoint(dir / "checkpoint_00001.bin").snapshot.state.contact_block, 1);
 }
 
+TEST(StateFields, NormalForcesAreTheFirstOfEachBlock) {
+  State s;
+  s.contact_block = 2;
+  s.lambda = Eigen::Vector4d(1, 9, 2, 8);
+  EXPECT_EQ(normal_forces(s), Eigen::VectorXd(Eigen::Vector2d(1, 2)));
+  s.contact_block = 1;
+  EXPECT_EQ(normal_forces(s), s.lambda);
+}
+
 /// The lines of `text` between the marker comment `<!-- begin NAME -->` and `<!-- end NAME -->`.
 std::string between(const std::string& text, const std::string& name) {
   const std::string begin = fmt::format("<!-- begin {} -->\n", name), end = fmt::format("<!-- end {} -->", name);
