@@ -1,12 +1,14 @@
 // Simulation: the library's run loop (run/run_case.hpp: set_up_serial, then RunLoop)
 // stepped from Python, as `vpcontact run` runs it: the same set-up, steps, output files
-// and checkpoints. What Python sees of it: the step reports as history.csv's rows
-// (io/run_output.hpp: history_header, history_row), read-only numpy views of the state
-// and the mesh (never copies: they follow the steps), and the constant matrices.
+// and checkpoints. What Python sees of it: the step reports as history.csv's numbers
+// (io/history_columns.hpp), read-only numpy views of the state's fields (io/state_fields.hpp:
+// never copies, they follow the steps) and the mesh, copies of the output fields, and the
+// constant matrices.
 #include "bindings.hpp"
 
 #include "core/error.hpp"
-#include "io/run_output.hpp"
+#include "io/history_columns.hpp"
+#include "io/state_fields.hpp"
 #include "la/operator.hpp"
 #include "run/run_case.hpp"
 
@@ -64,6 +66,7 @@ class Simulation {
     stepper_ = engine_->stepper();
     require(stepper_ != nullptr, "internal error: the engine has no stepper");
     loop_.emplace(*engine_, o);
+    columns_ = history_column_names(stepper_->problem(), stepper_->part());
     fields_ = field_addresses();
   }
 
@@ -72,8 +75,8 @@ class Simulation {
   bool done() const { return loop_->done(); }
   bool finished() const { return loop_->finished(); }
 
-  /// One step of the run loop: recorded, checkpointed as due; history.csv's row of it.
-  std::string step() {
+  /// One step of the run loop: recorded, checkpointed as due; history.csv's numbers of it.
+  void step() {
     require(!loop_->finished(), "the simulation is finished (finish() was called or a step failed)");
     require(!loop_->done(), "the simulation is at its final time (step {}, t = T = {})", state().n,
             stepper_->problem().final_time);
@@ -85,13 +88,11 @@ class Simulation {
     // The views point into the state: a step must never move it (same-size assignments).
     const auto now = field_addresses();
     for (std::size_t i = 0; i < now.size(); ++i)
-      if (now[i] != fields_[i])
+      if (now[i].second != fields_[i].second)
         throw std::logic_error(fmt::format("vpcontact: the state's {} was reallocated by a step: views taken before "
                                            "it are stale",
-                                           std::array{"u", "beta", "sigma", "eps", "z", "lambda"}[i]));
-    rows_.push_back(history_row(r));
-    rows_.back().pop_back();  // the newline
-    return rows_.back();
+                                           fields_[i].first));
+    rows_.push_back(history_values(r));
   }
 
   void checkpoint() {
@@ -105,32 +106,29 @@ class Simulation {
     loop_->finish();
   }
 
-  std::vector<std::string> history_columns() const {
-    std::string h = history_header(stepper_->problem(), stepper_->part());
-    h.pop_back();
-    std::vector<std::string> names;
-    std::size_t start = 0;
-    for (std::size_t comma; (comma = h.find(',', start)) != std::string::npos; start = comma + 1)
-      names.push_back(h.substr(start, comma - start));
-    names.push_back(h.substr(start));
-    return names;
-  }
-  const std::vector<std::string>& rows() const { return rows_; }
+  const std::vector<std::string>& history_columns() const { return columns_; }
+  /// The reports so far: one list of numbers per step (ints where history.csv writes
+  /// integers), history_columns' order.
+  const std::vector<std::vector<HistoryValue>>& rows() const { return rows_; }
   const RunLoop& loop() const { return *loop_; }
   /// The output directory; None: a run without files.
   const std::optional<std::string>& output() const { return output_; }
 
  private:
-  std::array<const void*, 6> field_addresses() const {
-    const State& s = state();
-    return {s.u.data(), s.beta.data(), s.sigma.data(), s.eps.data(), s.z.data(), s.lambda.data()};
+  /// Where each stored field's numbers are (the views point there).
+  std::vector<std::pair<std::string_view, const double*>> field_addresses() const {
+    std::vector<std::pair<std::string_view, const double*>> a;
+    for (const StateField& f : state_fields())
+      if (f.stored()) a.emplace_back(f.name, f.values(state()).data());
+    return a;
   }
 
   std::unique_ptr<Engine> engine_;
   const TimeStepper* stepper_ = nullptr;
   std::optional<RunLoop> loop_;
-  std::array<const void*, 6> fields_{};
-  std::vector<std::string> rows_;
+  std::vector<std::pair<std::string_view, const double*>> fields_;
+  std::vector<std::string> columns_;
+  std::vector<std::vector<HistoryValue>> rows_;
   std::optional<std::string> output_;
 };
 
@@ -149,14 +147,60 @@ py::array copy(const std::vector<T>& v) {
   return py::array_t<T>(static_cast<py::ssize_t>(v.size()), v.data());
 }
 
+/// A report's numbers as Python numbers: ints where history.csv writes integers.
+py::list numbers(const std::vector<HistoryValue>& row) {
+  py::list out;
+  for (const HistoryValue& v : row)
+    if (v.format == ColumnFormat::integer)
+      out.append(py::int_(static_cast<long long>(v.value)));
+    else
+      out.append(py::float_(v.value));
+  return out;
+}
+
+/// The shape of a field's array: one axis for a field of one number per entity whatever
+/// the dimension (beta, lambda of a normal law), else (entities, components).
+std::vector<py::ssize_t> shape(const StateField& f, const State& s, int d, std::size_t values) {
+  const int c = f.components(s, d);
+  const bool scalar = f.components(s, 1) == 1 && f.components(s, 3) == 1;
+  if (scalar) return {static_cast<py::ssize_t>(values)};
+  return {static_cast<py::ssize_t>(values / static_cast<std::size_t>(c)), c};
+}
+
+/// The table of the state's fields (io/state_fields.hpp) for the Python package.
+py::list field_table() {
+  py::list out;
+  for (const StateField& f : state_fields()) {
+    py::dict e;
+    e["name"] = std::string(f.name);
+    e["python"] = std::string(f.python);
+    e["vtu"] = std::string(f.vtu);
+    e["location"] = location_name(f.location);
+    e["stored"] = f.stored();
+    e["meaning"] = std::string(f.meaning);
+    out.append(e);
+  }
+  return out;
+}
+
+/// The table of history.csv's fixed columns (io/history_columns.hpp).
+py::list column_table() {
+  py::list out;
+  for (const HistoryColumn& c : history_columns()) {
+    py::dict e;
+    e["name"] = std::string(c.name);
+    e["format"] = c.format == ColumnFormat::integer ? "integer" : c.format == ColumnFormat::exact ? "exact" : "residual";
+    e["meaning"] = std::string(c.meaning);
+    out.append(e);
+  }
+  return out;
+}
+
 }  // namespace
 
 void bind_simulation(py::module_& m) {
   using S = Simulation;
   auto sim = [](py::handle self) -> S& { return self.cast<S&>(); };
-  auto sym = [](const std::vector<SymTensor>& f, py::handle self) {
-    return view(f.empty() ? nullptr : f.front().c.data(), {static_cast<py::ssize_t>(f.size()), 6}, self);
-  };
 
   py::class_<S>(m, "Simulation")
       .def(py::init([](const CaseSpec& spec, std::optional<std::string> output, bool resume, bool quiet,
@@ -190,7 +234,17 @@ void bind_simulation(py::module_& m) {
       .def_property_readonly("setup_seconds", [](const S& s) { return s.stepper().setup_seconds(); })
       .def_property_readonly("contact_solver", [](const S& s) { return s.stepper().contact_solver(); })
       .def_property_readonly("_history_columns", &S::history_columns)
-      .def_property_readonly("_rows", &S::rows)
+      .def_property_readonly("_rows",
+                             [](const S& s) {
+                               py::list rows;
+                               for (const auto& r : s.rows()) rows.append(numbers(r));
+                               return rows;
+                             })
+      .def_property_readonly("_last_row",
+                             [](const S& s) -> py::object {
+                               if (s.rows().empty()) return py::none();
+                               return numbers(s.rows().back());
+                             })
       // The mesh (the whole mesh: one process).
       .def_property_readonly("dim", [](const S& s) { return s.stepper().mesh().dim(); })
       .def_property_readonly("points",
@@ -221,33 +275,7 @@ void bind_simulation(py::module_& m) {
                              },
                              "Each facet's part (an index into part_names; -1: none), a copy.")
       .def_property_readonly("part_names", [](const S& s) { return s.stepper().mesh().part_names(); })
-      // The state.
-      .def_property_readonly("u",
-                             [sim](py::handle self) {
-                               const S& s = sim(self);
-                               const int d = s.stepper().mesh().dim();
-                               const State& st = s.state();
-                               return view(st.u.data(), {st.u.size() / d, d}, self);
-                             },
-                             "The displacement u_n at the nodes, (n_nodes, d).")
-      .def_property_readonly("beta",
-                             [sim](py::handle self) {
-                               const State& st = sim(self).state();
-                               return view(st.beta.data(), {st.beta.size()}, self);
-                             },
-                             "The damage beta_n at the nodes, (n_nodes,).")
-      .def_property_readonly("sigma", [sim, sym](py::handle self) { return sym(sim(self).state().sigma, self); },
-                             "The stress sigma_n per cell, (n_cells, 6): 11, 22, 33, 23, 13, 12.")
-      .def_property_readonly("eps", [sim, sym](py::handle self) { return sym(sim(self).state().eps, self); },
-                             "The strain eps(u_n) per cell, (n_cells, 6).")
-      .def_property_readonly("z", [sim, sym](py::handle self) { return sym(sim(self).state().z, self); },
-                             "The viscoplastic history z_n per cell, (n_cells, 6).")
-      .def_property_readonly("contact_force",
-                             [sim](py::handle self) {
-                               const State& st = sim(self).state();
-                               return view(st.lambda.data(), {st.lambda.size()}, self);
-                             },
-                             "The contact force lambda_n >= 0 at each contact node (contact_nodes order).")
+      // The state's fields are added from their table below.
       .def_property_readonly("contact_nodes",
                              [](const S& s) {
                                const MeshPart& part = s.stepper().part();
@@ -286,6 +314,29 @@ void bind_simulation(py::module_& m) {
         d["N"] = csc(ts.contact_rows());
         return d;
       });
+  // The state's fields (io/state_fields.hpp): views of the stored ones, copies of the
+  // output fields made as the VTU files make them.
+  auto cls = py::reinterpret_borrow<py::class_<S>>(m.attr("Simulation"));
+  for (const StateField& f : state_fields()) {
+    if (f.python.empty()) continue;
+    const std::string doc = fmt::format("{} (per {}{})", f.meaning, location_name(f.location),
+                                        f.stored() ? ", a read-only view" : ", a copy");
+    if (f.stored())
+      cls.def_property_readonly(std::string(f.python).c_str(), [&f, sim](py::handle self) {
+        const S& s = sim(self);
+        const std::span<const double> v = f.values(s.state());
+        return view(v.data(), shape(f, s.state(), s.stepper().mesh().dim(), v.size()), self);
+      }, doc.c_str());
+    else
+      cls.def_property_readonly(std::string(f.python).c_str(), [&f](const S& s) {
+        const VtuField a = f.vtu_field({s.state(), s.stepper().part()});
+        py::array_t<double> out(shape(f, s.state(), s.stepper().mesh().dim(), a.values.size()));
+        std::copy(a.values.begin(), a.values.end(), out.mutable_data());
+        return out;
+      }, doc.c_str());
+  }
+  m.def("_state_fields", &field_table, "The table of the state's fields (io/state_fields.hpp).");
+  m.def("_history_column_table", &column_table, "The table of history.csv's columns (io/history_columns.hpp).");
 }
 
 }  // namespace vpc::python

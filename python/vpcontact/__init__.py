@@ -30,7 +30,22 @@ from .tables import table as _table  # noqa: E402
 
 __version__ = _core.__version__
 __all__ = ["Case", "Simulation", "run", "read", "plot", "builtin_cases", "case_text", "toml_value",
-           "Results", "Fields", "Error", "CaseError", "RunError"]
+           "Results", "Fields", "Error", "CaseError", "RunError", "state_fields", "history_column_table"]
+
+
+def state_fields():
+    """The table of the state's fields the library declares once (src/io/state_fields.hpp): a list
+    of dicts with name, python (the attribute of Simulation and Fields), vtu (the VTU array, as
+    [output] fields names it), location (node, cell, contact node), stored (a view of the state)
+    and meaning."""
+    return _core._state_fields()
+
+
+def history_column_table():
+    """The table of history.csv's columns every run has (src/io/history_columns.hpp): a list of
+    dicts with name, format (integer, exact, residual: 4 digits in the file) and meaning; a run
+    adds force_<obstacle> and reaction_<part>_<x|y|z> after them (Simulation.history_columns)."""
+    return _core._history_column_table()
 
 
 def toml_value(value):
@@ -125,9 +140,11 @@ class Simulation(_core.Simulation):
         sim.checkpoint(); sim.finish()
         Simulation(case, output=dir, resume=True)  # continues from dir's newest checkpoint
 
-    Views (read-only numpy arrays that follow the steps): u, beta, sigma, eps, z,
-    contact_force; points, cells, facets. Copies: active, contact_nodes,
-    contact_directions, facet_parts, free_dofs, boundary_parts, matrices().
+    Views (read-only numpy arrays that follow the steps): the state's fields (fields():
+    u, beta, sigma, eps, z, contact_force); points, cells, facets. Copies: the output
+    fields as the VTU files have them (contact_force_vector, contact_pressure, von_mises),
+    active, contact_nodes, contact_directions, facet_parts, free_dofs, boundary_parts,
+    matrices(). state_fields() and history_column_table() list the fields and columns.
     """
 
     def __init__(self, case, output=None, *, resume=False, quiet=True, checkpoint_every=-1,
@@ -152,11 +169,10 @@ class Simulation(_core.Simulation):
 
     @property
     def report(self):
-        """The last step's numbers as in history.csv (a dict column -> number); None before a step."""
-        from .tables import record
-
-        rows = self._rows
-        return record(self._history_columns, rows[-1]) if rows else None
+        """The last step's numbers, history.csv's columns (a dict column -> number: an int
+        where the file writes an integer, else the float itself); None before a step."""
+        row = self._last_row
+        return None if row is None else dict(zip(self._history_columns, row))
 
     @property
     def history_columns(self):
@@ -165,7 +181,7 @@ class Simulation(_core.Simulation):
     def history(self, frame=None):
         """The reports of the steps taken by this object, as history.csv's table
         (a structured array, or a DataFrame where pandas is installed: tables.table)."""
-        return _table(self._history_columns, [r.split(",") for r in self._rows], frame)
+        return _table(self._history_columns, self._rows, frame)
 
     def run(self, progress=None):
         """Runs the remaining steps and finishes (summary.json). progress: None or False
@@ -194,8 +210,10 @@ class Simulation(_core.Simulation):
 
     @property
     def active(self):
-        """Whether each contact node is in contact (contact_force > 0), a copy."""
-        return self.contact_force > 0
+        """Whether each contact node is in contact (its normal force, the first of contact_force's
+        numbers per node, > 0), a copy."""
+        f = self.contact_force
+        return (f if f.ndim == 1 else f[:, 0]) > 0
 
     @property
     def boundary_parts(self):
@@ -206,8 +224,9 @@ class Simulation(_core.Simulation):
         return {name: np.unique(facets[parts == i]) for i, name in enumerate(self.part_names)}
 
     def fields(self):
-        """The state's views by name (u, beta, sigma, eps, z, contact_force)."""
-        return {k: getattr(self, k) for k in ("u", "beta", "sigma", "eps", "z", "contact_force")}
+        """The state's views by name (the stored fields of state_fields(): u, beta, contact_force,
+        sigma, eps, z)."""
+        return {f["python"]: getattr(self, f["python"]) for f in state_fields() if f["stored"] and f["python"]}
 
     def matrices(self):
         """The constant matrices as scipy.sparse.csr_matrix (copies; scipy needed): K (the

@@ -23,34 +23,34 @@ VTK_TO_SYM = [0, 1, 2, 4, 5, 3]
 
 class Fields:
     """The state at one output time, as a Simulation shows it: t, n, points (n_nodes, 3),
-    cells (n_cells, d + 1), u (n_nodes, d), beta (n_nodes,), sigma, eps, z (n_cells, 6 in
-    the order 11, 22, 33, 23, 13, 12), von_mises (n_cells,), contact_force_vector (the
-    point field -lambda nu, (n_nodes, 3)), contact_pressure (n_nodes,), active (the nodes
-    with a contact pressure > 0). Fields the run did not write ([output] fields) are None;
-    `arrays` holds every VTU array by its VTU name."""
+    cells (n_cells, d + 1), and each field of the library's table (vpcontact.state_fields())
+    that the VTU files hold, by its Python name: u (n_nodes, d), beta (n_nodes,), sigma, eps,
+    z (n_cells, 6 in the order 11, 22, 33, 23, 13, 12), von_mises (n_cells,),
+    contact_force_vector (the point field -lambda nu, (n_nodes, 3)), contact_pressure
+    (n_nodes,), contact_force (lambda's block at each node, written where it has more than
+    one number); active (the nodes with a contact pressure > 0). Fields the run did not write
+    ([output] fields) are None; `arrays` holds every VTU array by its VTU name."""
 
     def __init__(self, t, n, vtu, dim):
+        from . import state_fields
+
         self.t = t
         self.n = n
         self.points = vtu.points
         self.cells = vtu.cells
         self.arrays = dict(vtu.point_data)
         self.arrays.update(vtu.cell_data)
-        pd, cd = vtu.point_data, vtu.cell_data
-        u = pd.get("displacement")
-        self.u = None if u is None else np.ascontiguousarray(u[:, :dim])
-        self.beta = pd.get("beta", pd.get("damage"))
-
-        def sym(name):
-            v = cd.get(name)
-            return None if v is None else np.ascontiguousarray(v[:, VTK_TO_SYM])
-
-        self.sigma = sym("stress")
-        self.eps = sym("strain")
-        self.z = sym("history_z")
-        self.von_mises = cd.get("von_mises")
-        self.contact_force_vector = pd.get("contact_force")
-        self.contact_pressure = pd.get("contact_pressure")
+        for f in state_fields():
+            if not f["vtu"] or not f["python"]:
+                continue
+            v = self.arrays.get(f["vtu"])
+            if v is None and f["vtu"] == "beta":
+                v = self.arrays.get("damage")  # beta's name in earlier versions
+            if v is not None and f["name"] == "u":
+                v = np.ascontiguousarray(v[:, :dim])  # VTU vectors have 3 components
+            elif v is not None and f["location"] == "cell" and v.ndim == 2 and v.shape[1] == 6:
+                v = np.ascontiguousarray(v[:, VTK_TO_SYM])
+            setattr(self, f["python"], v)
         self.active = None if self.contact_pressure is None else self.contact_pressure > 0
 
     def __repr__(self):

@@ -36,19 +36,19 @@ def have_pandas():
 
 
 def table(columns, rows, frame=None):
-    """Rows of CSV fields (lists of strings) as a structured array with one field
-    per column (int64 where every entry is an integer, else float64), or a
-    pandas DataFrame: frame=True (pandas needed), False (never), None (when
-    pandas is installed)."""
+    """Rows of CSV fields (lists of strings) or of numbers (a Simulation's reports) as a
+    structured array with one field per column (int64 where every entry is an integer,
+    else float64), or a pandas DataFrame: frame=True (pandas needed), False (never), None
+    (when pandas is installed)."""
     if frame is None:
         frame = have_pandas()
     data = {}
     for j, c in enumerate(columns):
-        tokens = [r[j] for r in rows]
-        try:
-            data[c] = np.array([int(t) for t in tokens], dtype=np.int64)
-        except ValueError:
-            data[c] = np.array([float(t) for t in tokens], dtype=np.float64)
+        entries = [value(r[j]) if isinstance(r[j], str) else r[j] for r in rows]
+        if all(isinstance(v, int) for v in entries):
+            data[c] = np.array(entries, dtype=np.int64)
+        else:
+            data[c] = np.array(entries, dtype=np.float64)
     if frame:
         import pandas
 

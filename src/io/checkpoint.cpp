@@ -4,6 +4,7 @@
 #include "core/hash.hpp"
 #include "fem/assembly.hpp"
 #include "io/checkpoint_file.hpp"
+#include "io/state_fields.hpp"
 
 #include <fmt/format.h>
 
@@ -37,29 +38,34 @@ Checkpoint read_whole(CheckpointFile& f) {
   c.problem_key = f.problem_key;
   s.n = static_cast<int>(f.n);
   s.t = f.t;
-  s.lambda = f.read(kLambda);
+  s.contact_block = f.contact_block();
   const Vector times = f.read(kTimes);
   c.times.assign(times.begin(), times.end());
   c.step_control = f.read(kStepControl);
   c.snapshot.contact_warm = f.read(kContactWarm);
   c.pvd = f.pvd;
   c.totals = f.totals;
+  // The stored fields: those of contact nodes from piece 0, those of nodes and cells
+  // piece after piece.
+  std::array<Vector, kArrays> field;
   for (std::uint64_t r = 0; r < f.head().count; ++r) {
     std::optional<CheckpointFile> other;
     if (r > 0) other.emplace(open_piece(f, r, true));
     CheckpointFile& piece = r == 0 ? f : *other;
-    require(piece.head().node_begin == static_cast<std::uint64_t>(s.beta.size()) &&
-                piece.head().cell_begin == s.sigma.size(),
+    require(piece.head().node_begin == static_cast<std::uint64_t>(field[kBeta].size()) &&
+                piece.head().cell_begin == static_cast<std::uint64_t>(field[kSigma].size() / 6),
             "checkpoint '{}': its blocks do not follow those of the pieces before it", piece.name());
-    append(s.u, piece.read(kU));
-    append(s.beta, piece.read(kBeta));
+    for (const StateField& sf : state_fields())
+      if (sf.stored() && (r == 0 || sf.location != FieldLocation::contact_node))
+        append(field[file_array(sf.name)], piece.read(file_array(sf.name)));
     append(c.snapshot.u_free, piece.read(kUFree));
     append(c.snapshot.damage_warm, piece.read(kDamageWarm));
-    for (auto [a, t] : {std::pair{kSigma, &s.sigma}, std::pair{kEps, &s.eps}, std::pair{kZ, &s.z}}) {
-      const std::vector<SymTensor> more = piece.tensors(a);
-      t->insert(t->end(), more.begin(), more.end());
-    }
   }
+  for (const StateField& sf : state_fields())
+    if (sf.stored()) {
+      const Vector& v = field[file_array(sf.name)];
+      sf.assign(s, {v.data(), static_cast<std::size_t>(v.size())});
+    }
   return c;
 }
 
@@ -78,9 +84,19 @@ la::Layout cell_layout(const MeshPart& part) {
 struct StateBlock {
   long long node_begin = 0, node_end = 0, cell_begin = 0, cell_end = 0;
   int d = 1;
-  Vector u, free, beta, damage_warm;  // per node d, d (1 at a free dof), 1 and 1 (or none) values
-  Vector sigma, eps, z;               // 6 per cell
+  /// The stored fields of nodes and cells (io/state_fields.hpp) at their file arrays,
+  /// `width` values per node or cell.
+  std::array<Vector, kArrays> field;
+  std::array<int, kArrays> width{};
+  Vector free, damage_warm;  // per node d (1 at a free dof) and 1 (or none) values
 };
+
+/// The stored fields of nodes and cells: the arrays of the blocks.
+template <typename F>
+void for_block_fields(F&& f) {
+  for (const StateField& sf : state_fields())
+    if (sf.stored() && sf.location != FieldLocation::contact_node) f(sf, file_array(sf.name));
+}
 
 /// The stepper's node and cell arrays sent to the processes whose blocks hold them:
 /// all to rank 0 (`to_root`) or PETSc's split over the processes. Collective.
@@ -100,11 +116,16 @@ StateBlock state_block(const TimeStepper& stepper, bool to_root) {
   b.node_end = node_split.end(comm.rank());
   b.cell_begin = cell_split.begin(comm.rank());
   b.cell_end = cell_split.end(comm.rank());
-  b.u = nodes.to_blocks(st.u, node_split, b.d);
+  for_block_fields([&](const StateField& f, Array a) {
+    const std::span<const double> v = f.values(st);
+    const Eigen::Map<const Vector> values(v.data(), static_cast<Eigen::Index>(v.size()));
+    b.width[a] = f.components(st, b.d);
+    b.field[a] = f.location == FieldLocation::node ? nodes.to_blocks(values, node_split, b.width[a])
+                                                   : cells.to_blocks(values, cell_split, b.width[a]);
+  });
   Vector free(part.dofs.n_full());
   for (int i = 0; i < part.dofs.n_full(); ++i) free[i] = part.dofs.free_index(i) >= 0;
   b.free = nodes.to_blocks(free, node_split, b.d);
-  b.beta = nodes.to_blocks(st.beta, node_split);
   // The damage solver's warm start: a node field (owned entries), or none.
   const Vector damage_warm = stepper.damage_warm_state();
   if (comm.any(damage_warm.size() > 0)) {
@@ -112,13 +133,6 @@ StateBlock state_block(const TimeStepper& stepper, bool to_root) {
                       "internal: the damage solver's warm state is not a node field");
     b.damage_warm = nodes.to_blocks(damage_warm, node_split);
   }
-  const auto n_cells = static_cast<Eigen::Index>(st.sigma.size());
-  auto tensors = [&](const std::vector<SymTensor>& t) {
-    return cells.to_blocks(Eigen::Map<const Vector>(t.empty() ? nullptr : t[0].c.data(), 6 * n_cells), cell_split, 6);
-  };
-  b.sigma = tensors(st.sigma);
-  b.eps = tensors(st.eps);
-  b.z = tensors(st.z);
   return b;
 }
 
@@ -131,29 +145,21 @@ FileContent block_content(const StateBlock& b, long long n0, long long n1, long 
   u_free.resize(static_cast<Eigen::Index>(b.free.segment(i0, i1 - i0).sum()));
   Eigen::Index k = 0;
   for (Eigen::Index i = i0; i < i1; ++i)
-    if (b.free[i] != 0) u_free[k++] = b.u[i];
+    if (b.free[i] != 0) u_free[k++] = b.field[kU][i];
   auto nodes = [&](const Vector& v, Eigen::Index width) -> Values {
     if (v.size() == 0) return {};
     return {v.data() + (n0 - b.node_begin) * width, static_cast<std::size_t>((n1 - n0) * width)};
   };
-  auto cells = [&](const Vector& v) -> Values {
-    return {v.data() + (c0 - b.cell_begin) * 6, static_cast<std::size_t>((c1 - c0) * 6)};
+  auto cells = [&](const Vector& v, Eigen::Index width) -> Values {
+    return {v.data() + (c0 - b.cell_begin) * width, static_cast<std::size_t>((c1 - c0) * width)};
   };
   FileContent f;
-  f.arrays[kU] = nodes(b.u, d);
-  f.arrays[kBeta] = nodes(b.beta, 1);
+  for_block_fields([&](const StateField& sf, Array a) {
+    f.arrays[a] = sf.location == FieldLocation::node ? nodes(b.field[a], b.width[a]) : cells(b.field[a], b.width[a]);
+  });
   f.arrays[kUFree] = values(u_free);
-  f.arrays[kSigma] = cells(b.sigma);
-  f.arrays[kEps] = cells(b.eps);
-  f.arrays[kZ] = cells(b.z);
   f.arrays[kDamageWarm] = nodes(b.damage_warm, 1);
   return f;
-}
-
-std::vector<SymTensor> to_tensors(const Vector& v) {
-  std::vector<SymTensor> t(static_cast<std::size_t>(v.size() / 6));
-  for (std::size_t i = 0; i < t.size(); ++i) std::copy_n(v.data() + 6 * i, 6, t[i].c.data());
-  return t;
 }
 
 /// The first error that `work` throws on any process (the lowest rank's message),
@@ -254,12 +260,14 @@ Snapshot gather_snapshot(const TimeStepper& stepper) {
   Snapshot g;
   g.state.n = stepper.state().n;
   g.state.t = stepper.state().t;
-  g.state.u = b.u;
-  g.state.beta = b.beta;
-  g.state.sigma = to_tensors(b.sigma);
-  g.state.eps = to_tensors(b.eps);
-  g.state.z = to_tensors(b.z);
-  g.state.lambda = stepper.state().lambda;         // every process holds all of λ
+  g.state.contact_block = stepper.state().contact_block;
+  for (const StateField& f : state_fields()) {
+    if (!f.stored()) continue;
+    if (f.location == FieldLocation::contact_node)  // every process holds all of them
+      f.assign(g.state, f.values(stepper.state()));
+    else
+      f.assign(g.state, values(b.field[file_array(f.name)]));
+  }
   g.contact_warm = contact_warm;
   g.damage_warm = b.damage_warm;
   block_content(b, b.node_begin, b.node_end, b.cell_begin, b.cell_end, g.u_free);
@@ -289,12 +297,14 @@ void write_checkpoint(const TimeStepper& stepper, const fs::path& dir, const std
     f.problem_key = key;
     f.n = st.n;
     f.t = st.t;
+    f.contact_block = st.contact_block;
     if (pieces > 1)
       f.head = PieceHead{static_cast<std::uint64_t>(q), static_cast<std::uint64_t>(pieces),
                          static_cast<std::uint64_t>(node_split.begin(q)), static_cast<std::uint64_t>(node_split.end(q)),
                          static_cast<std::uint64_t>(cell_split.begin(q)), static_cast<std::uint64_t>(cell_split.end(q))};
     if (q == 0) {  // the run's data, rank 0's (λ and the contact warm state are the same everywhere)
-      f.arrays[kLambda] = values(st.lambda);
+      for (const StateField& sf : state_fields())
+        if (sf.stored() && sf.location == FieldLocation::contact_node) f.arrays[file_array(sf.name)] = sf.values(st);
       f.arrays[kContactWarm] = values(contact_warm);
       f.arrays[kTimes] = stepper.times();
       f.arrays[kStepControl] = values(control);
@@ -332,6 +342,17 @@ std::optional<ResumePoint> resume_from_checkpoint(TimeStepper& stepper, const fs
   const int p = comm.size(), me = comm.rank();
   const std::string key = problem_key(stepper);
   const std::uint64_t fingerprint = fnv1a(key.data(), key.size());
+  const State& now = stepper.state();
+  const int block = now.contact_block, d = part.dofs.dim();
+  // Whether a piece's node and cell fields have this problem's widths.
+  auto fields_fit = [&](const CheckpointFile& piece, std::uint64_t n_nodes, std::uint64_t n_cells) {
+    bool fit = true;
+    for_block_fields([&](const StateField& f, Array a) {
+      const auto width = static_cast<std::uint64_t>(f.components(now, d));
+      fit = fit && piece.count(a) == width * (f.location == FieldLocation::node ? n_nodes : n_cells);
+    });
+    return fit;
+  };
   const la::BlockSplit node_split(part.n_global_nodes, p), cell_split(part.n_global_cells, p);
   const long long n0 = node_split.begin(me), n1 = node_split.end(me), c0 = cell_split.begin(me),
                   c1 = cell_split.end(me);
@@ -359,9 +380,13 @@ std::optional<ResumePoint> resume_from_checkpoint(TimeStepper& stepper, const fs
       times.assign(saved.begin(), saved.end());
       const std::string times_differ = time_levels_difference(stepper.problem(), times);
       require(times_differ.empty(), "{}: {}", f.name(), times_differ);
-      require(static_cast<long long>(f.count(kLambda)) == part.n_contact,
+      require(f.contact_block() == block,
+              "checkpoint '{}': written by a run with {} contact unknowns per contact node, this problem has {} "
+              "(another contact law): it cannot continue it",
+              f.name(), f.contact_block(), block);
+      require(static_cast<long long>(f.count(kLambda)) == part.n_contact * block,
               "checkpoint '{}': does not fit this problem ({} contact forces for {} contact nodes)", f.name(),
-              f.count(kLambda), part.n_contact);
+              f.count(kLambda), part.n_contact * block);
       const std::uint64_t pieces = f.head().count;
       const la::BlockSplit nodes_then(part.n_global_nodes, static_cast<int>(pieces)),
           cells_then(part.n_global_cells, static_cast<int>(pieces));
@@ -378,7 +403,7 @@ std::optional<ResumePoint> resume_from_checkpoint(TimeStepper& stepper, const fs
         require(h.node_begin == static_cast<std::uint64_t>(nodes_then.begin(q)) && h.node_end - h.node_begin == nodes &&
                     h.cell_begin == static_cast<std::uint64_t>(cells_then.begin(q)) &&
                     h.cell_end - h.cell_begin == static_cast<std::uint64_t>(cells_then.size(q)) &&
-                    piece.count(kU) == nodes * part.dofs.dim() &&
+                    fields_fit(piece, nodes, h.cell_end - h.cell_begin) &&
                     piece.count(kDamageWarm) == (damage_warm ? nodes : 0),
                 "checkpoint '{}': does not fit this problem (its blocks are not those of {} nodes and {} cells in {} "
                 "pieces)",
@@ -397,7 +422,6 @@ std::optional<ResumePoint> resume_from_checkpoint(TimeStepper& stepper, const fs
   // to the processes that own or ghost its node or cell.
   const la::Layout& nodes = *part.node_layout;
   const la::Layout cells = cell_layout(part);
-  const int d = part.dofs.dim();
   auto read = [&](Array a, bool of_nodes, int width) {
     Vector block;
     la::collective(comm, [&] {
@@ -408,36 +432,41 @@ std::optional<ResumePoint> resume_from_checkpoint(TimeStepper& stepper, const fs
   Snapshot s;
   s.state.n = static_cast<int>(first->n);
   s.state.t = first->t;
-  nodes.from_blocks(read(kU, true, d), node_split, s.state.u, d);
-  nodes.from_blocks(read(kBeta, true, 1), node_split, s.state.beta);
+  s.state.contact_block = block;
+  for_block_fields([&](const StateField& f, Array a) {
+    const int width = f.components(now, d);
+    Vector local;
+    if (f.location == FieldLocation::node)
+      nodes.from_blocks(read(a, true, width), node_split, local, width);
+    else
+      cells.from_blocks(read(a, false, width), cell_split, local, width);
+    f.assign(s.state, values(local));
+  });
   s.u_free = restrict_to_free(part.dofs, s.state.u).head(part.n_owned_dofs);
   if (first->count(kDamageWarm) > 0) {
     Vector w;
     nodes.from_blocks(read(kDamageWarm, true, 1), node_split, w);
     s.damage_warm = w.head(part.n_owned_nodes);
   }
-  for (auto [a, t] : {std::pair{kSigma, &s.state.sigma}, std::pair{kEps, &s.state.eps}, std::pair{kZ, &s.state.z}}) {
-    Vector local;
-    cells.from_blocks(read(a, false, 6), cell_split, local, 6);
-    *t = to_tensors(local);
-  }
-  // λ and the contact warm state (one value per contact row) from rank 0, the PVD entries and totals on rank 0.
+  // The contact nodes' fields (λ) and the contact warm state (one value per contact row)
+  // from rank 0, the PVD entries and totals on rank 0.
   ResumePoint at{s.state.n, s.state.t, {}, {}};
   // The time levels: every process read them to check the checkpoint.
-  std::vector<double> lambda, contact_warm, control;
+  auto from_root = [&](Array a) {
+    std::vector<double> v;
+    la::on_root(comm, [&] {
+      v.resize(first->count(a));
+      first->read(a, 0, v.size(), v.data());
+    });
+    return la::broadcast(comm, std::move(v));
+  };
+  for (const StateField& f : state_fields())
+    if (f.stored() && f.location == FieldLocation::contact_node) f.assign(s.state, from_root(file_array(f.name)));
+  const std::vector<double> contact_warm = from_root(kContactWarm), control = from_root(kStepControl);
   la::on_root(comm, [&] {
-    for (auto [a, v] : {std::pair{kLambda, &lambda}, std::pair{kContactWarm, &contact_warm},
-                        std::pair{kStepControl, &control}}) {
-      v->resize(first->count(a));
-      first->read(a, 0, v->size(), v->data());
-    }
     at.pvd = first->pvd;
     at.totals = first->totals;
   });
-  lambda = la::broadcast(comm, std::move(lambda));
-  contact_warm = la::broadcast(comm, std::move(contact_warm));
-  control = la::broadcast(comm, std::move(control));
-  s.state.lambda = Eigen::Map<const Vector>(lambda.data(), static_cast<Eigen::Index>(lambda.size()));
   s.contact_warm = Eigen::Map<const Vector>(contact_warm.data(), static_cast<Eigen::Index>(contact_warm.size()));
   stepper.restore(s);
   stepper.set_step_history(std::move(times), StepControlState::from_values(
@@ -453,9 +482,14 @@ fs::path write_checkpoint(const fs::path& dir, const Checkpoint& c, int keep) {
   f.problem_key = c.problem_key;
   f.n = s.n;
   f.t = s.t;
-  f.arrays = {values(s.u),     values(s.beta), values(s.lambda),           values(c.snapshot.u_free),
-              values(s.sigma), values(s.eps),  values(s.z),                values(c.snapshot.contact_warm),
-              values(c.snapshot.damage_warm), c.times, values(c.step_control)};
+  f.contact_block = s.contact_block;
+  for (const StateField& sf : state_fields())
+    if (sf.stored()) f.arrays[file_array(sf.name)] = sf.values(s);
+  f.arrays[kUFree] = values(c.snapshot.u_free);
+  f.arrays[kContactWarm] = values(c.snapshot.contact_warm);
+  f.arrays[kDamageWarm] = values(c.snapshot.damage_warm);
+  f.arrays[kTimes] = c.times;
+  f.arrays[kStepControl] = values(c.step_control);
   f.pvd = &c.pvd;
   f.totals = &c.totals;
   const fs::path path = main_file(dir, s.n);

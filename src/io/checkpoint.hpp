@@ -5,14 +5,16 @@
 // Format (docs/reliability.md), little-endian, each file written atomically:
 //   8 bytes  magic "VPCCKPT\0"
 //   u32      format version: 4 (the whole state in one file) or 5 (one piece of several)
-//   u32      0 (reserved)
+//   u32      λ's numbers per contact node (State::contact_block) where above 1, else 0
+//            (reserved before: every earlier file reads as 1)
 //   u64      payload size in bytes
 //   u64      FNV-1a 64 checksum of the payload
 //   payload: case name (u64 length + bytes); u64 problem fingerprint; the problem key it is
 //              made of (string: problem_key); i64 n; f64 t;
 //            version 5 only: u64 P (pieces), u64 r (this piece), u64 ×4: its blocks
 //              [node_begin, node_end) and [cell_begin, cell_end) of the numbering of the mesh as read;
-//            arrays (u64 count + f64 values): u, β, λ, u_free, σ, ε, z (6 per cell),
+//            arrays (u64 count + f64 values): u, β, λ (contact_block per contact node), u_free,
+//              σ, ε, z (6 per cell) (the state's stored fields, io/state_fields.hpp),
 //              contact and damage solver warm states, the time levels t_0 … t_n, the
 //              step-size state (StepControlState) (version 5: the node and cell arrays
 //              restricted to the piece's blocks; λ, the contact warm state, the times and

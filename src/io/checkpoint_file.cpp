@@ -19,6 +19,12 @@ static_assert(kHeaderBytes == sizeof kMagic + 2 * sizeof(std::uint32_t) + 2 * si
 
 }  // namespace
 
+Array file_array(std::string_view field) {
+  for (const FileArray& a : kFileArrays)
+    if (a.field == field) return a.array;
+  fail("internal: the state field '{}' has no place in the checkpoint format (checkpoint_file.hpp: kFileArrays)", field);
+}
+
 // ---------------------------------------------------------------------------------
 // File names: checkpoint_NNNNN.bin (the whole state, or piece 0) and
 // checkpoint_NNNNN.pRRRR-of-PPPP.bin (piece r ≥ 1 of P).
@@ -151,10 +157,13 @@ PieceSum write_file(const fs::path& path, const FileContent& f) {
   write_payload(measure, f);
   write_file_atomic(path, [&](std::ostream& out) {
     out.write(kMagic, sizeof kMagic);
-    const std::uint32_t version = f.head ? kPiece : kWhole, reserved = 0;
+    // The header's second u32: the contact block where it is above 1, else 0, so
+    // that the checkpoints of a normal law are those of earlier versions.
+    const std::uint32_t version = f.head ? kPiece : kWhole;
+    const auto block = static_cast<std::uint32_t>(f.contact_block == 1 ? 0 : f.contact_block);
     const std::uint64_t size = measure.size(), sum = measure.checksum();
     out.write(reinterpret_cast<const char*>(&version), sizeof version);
-    out.write(reinterpret_cast<const char*>(&reserved), sizeof reserved);
+    out.write(reinterpret_cast<const char*>(&block), sizeof block);
     out.write(reinterpret_cast<const char*>(&size), sizeof size);
     out.write(reinterpret_cast<const char*>(&sum), sizeof sum);
     Writer w(&out);
@@ -174,10 +183,10 @@ CheckpointFile::CheckpointFile(const fs::path& file, bool verify) : path_(file),
   std::error_code ec;
   const std::uint64_t bytes = fs::file_size(file, ec);
   char magic[sizeof kMagic] = {};
-  std::uint32_t reserved = 0;
+  std::uint32_t block = 0;
   in_.read(magic, sizeof magic);
   in_.read(reinterpret_cast<char*>(&version_), sizeof version_);
-  in_.read(reinterpret_cast<char*>(&reserved), sizeof reserved);
+  in_.read(reinterpret_cast<char*>(&block), sizeof block);
   in_.read(reinterpret_cast<char*>(&sum_.size), sizeof sum_.size);
   in_.read(reinterpret_cast<char*>(&sum_.checksum), sizeof sum_.checksum);
   require(!ec && in_.good() && bytes >= kHeaderBytes && std::memcmp(magic, kMagic, sizeof kMagic) == 0,
@@ -187,6 +196,9 @@ CheckpointFile::CheckpointFile(const fs::path& file, bool verify) : path_(file),
           kPiece);
   require(bytes - kHeaderBytes == sum_.size, "checkpoint '{}': {} payload bytes, the header says {} (truncated?)",
           name(), bytes - kHeaderBytes, sum_.size);
+  require(block < 1024, "checkpoint '{}': a contact block of {} numbers per contact node (damaged header?)", name(),
+          block);
+  contact_block_ = block == 0 ? 1 : static_cast<int>(block);
   end_ = bytes;
   if (verify) verify_checksum();
   parse();
@@ -244,6 +256,7 @@ void CheckpointFile::parse() {
               (count_[kDamageWarm] == 0 || count_[kDamageWarm] == n_nodes()) &&
               (n_nodes() == 0 ? count_[kU] == 0 : count_[kU] % n_nodes() == 0) &&
               (head_.index == 0 || count_[kLambda] + count_[kContactWarm] + count_[kTimes] + count_[kStepControl] == 0) &&
+              count_[kLambda] % static_cast<std::uint64_t>(contact_block_) == 0 &&
               (head_.index != 0 || count_[kTimes] == static_cast<std::uint64_t>(n) + 1),
           "checkpoint '{}': its arrays do not match its blocks (nodes [{}, {}), cells [{}, {}))", name(),
           head_.node_begin, head_.node_end, head_.cell_begin, head_.cell_end);

@@ -58,9 +58,22 @@ struct PieceSum {
   bool operator==(const PieceSum&) const = default;
 };
 
-/// The arrays of a file, in their order.
+/// The arrays of a file, in their order: the state's stored fields (io/state_fields.hpp)
+/// where kFileArrays places them, u on the free dofs, the solvers' warm states, and
 /// kTimes: t_0 … t_n; kStepControl: StepControlState::values (both in piece 0 only).
 enum Array { kU, kBeta, kLambda, kUFree, kSigma, kEps, kZ, kContactWarm, kDamageWarm, kTimes, kStepControl, kArrays };
+
+/// Where the format (versions 4 and 5) has each stored state field (StateField::name). A
+/// stored field added to the table needs its place here, in a new format version
+/// (tests/unit/io/test_state_fields.cpp checks that every one has one).
+struct FileArray {
+  std::string_view field;
+  Array array;
+};
+constexpr FileArray kFileArrays[] = {{"u", kU},       {"beta", kBeta}, {"lambda", kLambda},
+                                     {"sigma", kSigma}, {"eps", kEps},   {"z", kZ}};
+/// The file's array of a stored state field; throws vpc::Error when the format has none.
+Array file_array(std::string_view field);
 
 /// What one file holds, as views (nothing copied). Without a head: version 4, the
 /// whole state. With one: version 5, piece head->index, its state arrays its blocks.
@@ -71,6 +84,7 @@ struct FileContent {
   std::int64_t n = 0;
   double t = 0;
   std::optional<PieceHead> head;
+  int contact_block = 1;  // State::contact_block: λ's numbers per contact node
   std::array<Values, kArrays> arrays;
   const std::vector<std::pair<double, std::string>>* pvd = nullptr;  // version 4 and piece 0
   const RunTotals* totals = nullptr;
@@ -97,17 +111,14 @@ class CheckpointFile {
   std::uint64_t n_nodes() const { return head_.node_end - head_.node_begin; }
   std::uint64_t n_cells() const { return head_.cell_end - head_.cell_begin; }
   std::uint64_t count(Array a) const { return count_[a]; }
+  /// λ's numbers per contact node (State::contact_block) of the run that wrote it.
+  int contact_block() const { return contact_block_; }
   /// Values [first, first + n) of array a into out.
   void read(Array a, std::uint64_t first, std::uint64_t n, double* out);
   Vector read(Array a) {
     Vector v(static_cast<Eigen::Index>(count(a)));
     read(a, 0, count(a), v.data());
     return v;
-  }
-  std::vector<SymTensor> tensors(Array a) {
-    std::vector<SymTensor> t(count(a) / 6);
-    read(a, 0, count(a), t.empty() ? nullptr : t[0].c.data());
-    return t;
   }
 
   std::string case_name;
@@ -136,6 +147,7 @@ class CheckpointFile {
   fs::path path_;
   std::ifstream in_;
   std::uint32_t version_ = 0;
+  int contact_block_ = 1;
   PieceSum sum_;
   std::uint64_t at_ = kHeaderBytes, end_ = kHeaderBytes;  // file offsets: the next field, the payload's end
   PieceHead head_;

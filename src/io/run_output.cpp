@@ -3,6 +3,8 @@
 #include "core/error.hpp"
 #include "io/atomic_file.hpp"
 #include "io/build_info.hpp"
+#include "io/history_columns.hpp"
+#include "io/state_fields.hpp"
 #include "io/vtu_writer.hpp"
 
 #include <fmt/format.h>
@@ -61,8 +63,7 @@ const char* component_name(int i) {
 }  // namespace
 
 const std::vector<std::string>& OutputOptions::field_names() {
-  static const std::vector<std::string> names = {"displacement", "beta",   "contact_force", "contact_pressure",
-                                                 "stress",       "strain", "von_mises",     "history_z"};
+  static const std::vector<std::string> names = vtu_field_names();
   return names;
 }
 
@@ -132,36 +133,23 @@ void RunTotals::add(const StepReport& r) {
   seconds_stress += r.seconds_stress;
 }
 
-long long active_contact_nodes(const RunTotals& totals, const Vector& lambda) {
-  return totals.last_n_active >= 0 ? totals.last_n_active : static_cast<long long>((lambda.array() > 0).count());
+long long active_contact_nodes(const RunTotals& totals, const Vector& normal_force) {
+  return totals.last_n_active >= 0 ? totals.last_n_active
+                                   : static_cast<long long>((normal_force.array() > 0).count());
 }
 
 std::vector<int> tensor_components(const Elasticity& e) { return e.stress_components(); }
 
 std::string history_header(const Problem& p, const MeshPart& part) {
-  std::string h = "step,t,n_active,total_contact_force,contact_iterations,contact_equilibrium,"
-                  "contact_penetration,contact_negative_force,contact_complementarity,damage_iterations,"
-                  "damage_kkt_residual,beta_min,beta_max,n_beta_zero,n_beta_one,max_von_mises,ok,contact_area,dt,"
-                  "error_estimate,rejected";
-  for (const Obstacle& o : p.contact.obstacles) h += ",force_" + o.name;
-  const std::vector<std::string> parts = dirichlet_parts(p);
-  for (std::size_t j = 0; j < parts.size(); ++j)
-    for (int i = 0; i < part.dofs.dim(); ++i)
-      if (part.dirichlet_components[j] >> i & 1) h += fmt::format(",reaction_{}_{}", parts[j], "xyz"[i]);
-  return h + "\n";
+  return fmt::format("{}\n", fmt::join(history_column_names(p, part), ","));
 }
 
 std::string history_row(const StepReport& r) {
-  const auto& c = r.contact;
-  std::string row =
-      fmt::format("{},{:.17g},{},{:.17g},{},{:.3e},{:.3e},{:.3e},{:.3e},{},{:.3e},{:.17g},{:.17g},{},{},{:.17g},{},{:.17g},"
-                  "{:.17g},{:.17g},{}",
-                  r.n, r.t, c.n_active, c.total_force, c.iterations, c.residuals.equilibrium, c.residuals.penetration,
-                  c.residuals.negative_force, c.residuals.complementarity, r.damage.iterations, r.damage.kkt_residual,
-                  r.beta_min, r.beta_max, r.damage.n_lower, r.damage.n_upper, r.max_von_mises, r.ok ? 1 : 0,
-                  r.contact_area, r.k, r.error_estimate, r.rejected);
-  for (double f : r.obstacle_force) row += fmt::format(",{:.17g}", f);
-  for (double f : r.reaction) row += fmt::format(",{:.17g}", f);
+  std::string row;
+  for (const HistoryValue& v : history_values(r)) {
+    if (!row.empty()) row += ',';
+    row += v.text();
+  }
   return row + "\n";
 }
 
@@ -298,28 +286,8 @@ void RunOutput::write_fields() {
   const State& s = stepper_.state();
   const Mesh& mesh = stepper_.mesh();
   const la::Comm& comm = stepper_.comm();
-  const int d = mesh.dim(), n_nodes = mesh.n_nodes();
-  VtuField u{"displacement", 3, std::vector<double>(static_cast<size_t>(n_nodes) * 3, 0.0)};
-  for (int i = 0; i < n_nodes; ++i)
-    for (int c = 0; c < d; ++c) u.values[i * 3 + c] = s.u[i * d + c];
-  VtuField beta{"beta", 1, std::vector<double>(s.beta.data(), s.beta.data() + n_nodes)};
-  // Contact force on Γ3: the nodal force the foundation exerts, −λ ν at each
-  // contact node; the pressure: λ over the node's tributary measure.
-  VtuField force{"contact_force", 3, std::vector<double>(static_cast<size_t>(n_nodes) * 3, 0.0)};
-  VtuField pressure{"contact_pressure", 1, std::vector<double>(static_cast<size_t>(n_nodes), 0.0)};
-  for (const auto& c : stepper_.part().contact) {
-    for (int j = 0; j < 3; ++j) force.values[c.local_node * 3 + j] = -s.lambda[c.row] * c.direction[j];
-    pressure.values[c.local_node] = s.lambda[c.row] / c.measure;
-  }
-  VtuField vm{"von_mises", 1, {}};
-  for (const auto& t : s.sigma) vm.values.push_back(t.von_mises());
   std::vector<VtuField> point_data, cell_data;
-  for (auto* f : {&u, &beta, &force, &pressure})
-    if (wants(f->name)) point_data.push_back(std::move(*f));
-  if (wants("stress")) cell_data.push_back(tensor_field("stress", s.sigma));
-  if (wants("strain")) cell_data.push_back(tensor_field("strain", s.eps));
-  if (wants("von_mises")) cell_data.push_back(std::move(vm));
-  if (wants("history_z")) cell_data.push_back(tensor_field("history_z", s.z));
+  make_vtu_fields({s, stepper_.part()}, options_.fields, point_data, cell_data);
   if (!stepper_.problem().materials.empty()) {  // which material each cell has (Problem::material_list order)
     const std::vector<int>& m = stepper_.part().cell_material;
     cell_data.push_back({"material", 1, std::vector<double>(m.begin(), m.end()), true});
@@ -359,10 +327,6 @@ void RunOutput::record_untimed(const StepReport& r) {
   write_probe_row();
   totals_.add(r);
   if (is_output_step(r.n, r.t)) write_fields();
-}
-
-bool RunOutput::wants(const std::string& field) const {
-  return options_.fields.empty() || std::find(options_.fields.begin(), options_.fields.end(), field) != options_.fields.end();
 }
 
 bool RunOutput::is_output_step(int n, double t_n) const {
@@ -518,8 +482,9 @@ RunSummary RunOutput::summary(double wall_seconds) const {
     r.k_max = std::max(r.k_max, k);
   }
   r.rejected = static_cast<long long>(stepper_.step_control_state().rejected);
-  r.total_contact_force = s.lambda.sum();
-  r.active_contact_nodes = active_contact_nodes(totals_, s.lambda);
+  const Vector normal = normal_forces(s);  // λ's normal force per contact node
+  r.total_contact_force = normal.sum();
+  r.active_contact_nodes = active_contact_nodes(totals_, normal);
   for (const auto& p : probes_) r.probes.push_back(p.where.x);
   r.totals = totals_;
   r.wall_seconds = wall_seconds;

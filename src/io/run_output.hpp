@@ -1,7 +1,7 @@
 #pragma once
 // What a run writes into its output directory, on one process or many:
-//   solution_NNNNN.vtu + solution.pvd  fields at output times (u, σ, ε, |σ|_VM, β, z,
-//                                      contact force and pressure on Γ3), zlib-compressed
+//   solution_NNNNN.vtu + solution.pvd  fields at output times (the table of the state's
+//                                      fields, io/state_fields.hpp), zlib-compressed
 //                                      by default (io/vtu_writer.hpp); on several
 //                                      processes each writes its piece
 //                                      solution_NNNNN_pRRRR.vtu (with a "rank" cell
@@ -9,6 +9,7 @@
 //                                      that the .pvd lists
 //   history.csv                        one row per step: contact and damage solver
 //                                      iterations and residuals, active set, β range
+//                                      (the table of its columns, io/history_columns.hpp)
 //   probes.csv                         u, σ, β at the probe points, every step
 //   summary.json                       the run's data, final values and checks, and
 //                                      what made it (version, commit, command line, date)
@@ -29,7 +30,7 @@ struct OutputOptions {
   int every = 10;              // VTU every this many steps (and at the final step); 0: final only
   std::vector<double> times;   // or: VTU at the steps nearest these times (replaces `every`)
   bool vtu = true;             // write VTU/PVD at all
-  std::vector<std::string> fields;  // VTU fields to write; empty: all (see field_names())
+  std::vector<std::string> fields;  // VTU fields to write; empty: all (field_names(): io/state_fields.hpp)
   std::vector<Point> probes;
   VtuEncoding encoding;             // [output] compression: zlib (default) or none
   // For summary.json: the program's command line (argv) and when the run started
@@ -61,10 +62,8 @@ ProbeLocation locate_point(const Mesh& mesh, const Point& x);
 std::vector<int> tensor_components(const Elasticity& e);
 
 // The CSV formats.
-/// history.csv: the header line, and the row of one step (both end in a newline).
-/// After contact_area: force_<name> for each obstacle, then reaction_<part>_<x|y|z>
-/// for each Dirichlet part (dirichlet_parts) and each component it prescribes
-/// (MeshPart::dirichlet_components: every process has them, not every one the mesh).
+/// history.csv: the header line, and the row of one step (both end in a newline), from
+/// the table of its columns (io/history_columns.hpp).
 std::string history_header(const Problem& p, const MeshPart& part);
 std::string history_row(const StepReport& r);
 /// probes.csv: the header line for `n_probes` probes in d dimensions.
@@ -86,8 +85,8 @@ struct RunTotals {
 };
 
 /// The active contact nodes summary.json reports: the last step's count by the
-/// solver's own rule, or (no step yet) the nodes with λ > 0.
-long long active_contact_nodes(const RunTotals& totals, const Vector& lambda);
+/// solver's own rule, or (no step yet) the nodes whose normal force (normal_forces) is > 0.
+long long active_contact_nodes(const RunTotals& totals, const Vector& normal_force);
 
 /// What summary.json says about a run beyond the problem's data: global values,
 /// gathered by RunOutput on rank 0.
@@ -163,7 +162,6 @@ class RunOutput {
   void write_fields();
   void write_probe_row();
   bool is_output_step(int n, double t_n) const;
-  bool wants(const std::string& field) const;
   RunSummary summary(double wall_seconds) const;
 
   const TimeStepper& stepper_;

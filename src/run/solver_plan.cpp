@@ -110,9 +110,8 @@ ProblemSize problem_size(const Problem& p) {
   s.unknowns = static_cast<double>(std::ranges::count(dirichlet.condition, -1));
   const std::vector<ContactRow> rows = contact_rows(p, dirichlet.condition);
   s.contact_nodes = static_cast<double>(rows.size());
-  const auto laws = p.contact.laws();  // a law that is not linear: only the dual solver takes it
-  s.power_law = std::ranges::any_of(
-      rows, [&](const ContactRow& r) { return !laws[static_cast<std::size_t>(r.law)]->linear(); });
+  const auto laws = p.contact.laws();
+  s.power_law = std::ranges::any_of(rows, [&](const ContactRow& r) { return !laws[static_cast<std::size_t>(r.law)]->linear(); });
   const SparseMatrix G = node_graph(mesh);
   s.node_nonzeros = 2.0 * static_cast<double>(G.nonZeros()) - s.nodes;
   const double free_share = s.nodes > 0 ? s.unknowns / (d * s.nodes) : 0;  // of a node's d × d block

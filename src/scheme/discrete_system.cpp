@@ -3,6 +3,7 @@
 #include "core/error.hpp"
 #include "fem/assembly.hpp"
 #include "la/memory_estimate.hpp"
+#include "scheme/stability.hpp"
 #include "scheme/step_data.hpp"
 
 #include <algorithm>
@@ -41,6 +42,9 @@ DiscreteSystem::DiscreteSystem(std::shared_ptr<const Problem> problem_in, MeshPa
   require(part.n_global_dofs > 0, "{}: every node is clamped; nothing to solve", p.name);
   geo = compute_geometry(mesh);
   materials = p.material_list();
+  // Error-controlled steps stay within the explicit G's stable step (scheme/stability.hpp).
+  if (p.step_control) control = stable_step_control(p);
+  first_step = control ? control->dt_initial : p.step_at(1);
   for (const CellGeometry& g : geo) volume += g.volume;
   volume = part.comm.sum(volume);
 
@@ -92,7 +96,7 @@ DiscreteSystem::DiscreteSystem(std::shared_ptr<const Problem> problem_in, MeshPa
   lumped.local() = M_local * Vector::Ones(M_local.cols());
   lumped.add_ghosts_to_owners();
   lumped_mass = lumped.owned();
-  const SparseMatrix H_local = M_local + (p.first_step() * p.kappa) * A_local;
+  const SparseMatrix H_local = M_local + (first_step * p.kappa) * A_local;
   H_first = backend->assemble(H_local, *part.node_layout, 1);
   H_first_local_nonzeros = static_cast<double>(H_local.nonZeros());
   assembly_seconds = seconds_since(t1);

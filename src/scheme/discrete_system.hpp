@@ -11,6 +11,7 @@
 #include "scheme/mesh_part.hpp"
 #include "scheme/problem.hpp"
 #include "scheme/solver_choice.hpp"
+#include "scheme/time_grid.hpp"
 #include "solvers/contact_solver.hpp"
 #include "solvers/solver_cost.hpp"
 
@@ -33,6 +34,10 @@ struct DiscreteSystem {
   std::vector<Material> materials;  // Problem::material_list(), indexed by part.cell_material
   const Material& material(int cell) const { return materials[part.cell_material[cell]]; }
   double volume = 0;  // |Ω|, over every process
+  /// The error control of Problem::step_control completed and capped at the stable step
+  /// (stable_step_control, scheme/stability.hpp); empty for a fixed grid.
+  std::optional<StepControl> control;
+  double first_step = 0;  // k_1 (Problem::first_step): the step the set-up's H is for
 
   /// K of (3.9) over the free dofs, shared with the contact solver; its dofs come in blocks
   /// of K_block (d, or 1 where some node has only some components prescribed: a roller).

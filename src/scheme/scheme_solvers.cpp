@@ -21,7 +21,6 @@ constexpr std::size_t kDamageSolversKept = 4;
 
 SchemeSolvers set_up_solvers(DiscreteSystem& sys, const SolverChoice& choice, SetupTiming& timing,
                              std::optional<SolverCost>& cost) {
-  const Problem& p = *sys.problem;
   const MeshPart& part = sys.part;
   SchemeSolvers s;
   choice.stage(fmt::format("factorization of K ({} x {}, {} nonzeros; {})", part.n_global_dofs, part.n_global_dofs,
@@ -41,7 +40,7 @@ SchemeSolvers set_up_solvers(DiscreteSystem& sys, const SolverChoice& choice, Se
   choice.stage(fmt::format("factorization of H ({} x {}, {} nonzeros)", part.n_global_nodes, part.n_global_nodes,
                            sys.H_first->nonzeros()));
   t1 = Clock::now();
-  s.damage.for_step(sys, choice, p.first_step(), std::move(sys.H_first));
+  s.damage.for_step(sys, choice, sys.first_step, std::move(sys.H_first));
   timing.factor_H = seconds_since(t1);
   choice.stage("factorization of H", timing.factor_H);
 

@@ -27,15 +27,20 @@ StepTaken SchemeStep::take(const DiscreteSystem& sys, SchemeSolvers& solvers, co
   rep.t = t_end;
   rep.k = k;
   out.beta_before = s.beta;
-  timed(rep.seconds_sources, [&] { out.lagged = take_rates(sys, s); });                              // step 1
-  timed(rep.seconds_damage, [&] { rep.damage = solve_damage(sys, solvers.damage, choice, s, out.lagged.phi, k); });  // 2
-  update_history(s, out.lagged.G, k);                                                                 // step 3
-  timed(rep.seconds_contact, [&] {                                                                    // step 4
+  // Step 1: the lagged sources G_{n−1}, φ_{n−1}.
+  timed(rep.seconds_sources, [&] { out.lagged = take_rates(sys, s); });
+  // Step 2, (3.8): β_n.
+  timed(rep.seconds_damage, [&] { rep.damage = solve_damage(sys, solvers.damage, choice, s, out.lagged.phi, k); });
+  // Step 3, (3.6): z_n.
+  update_history(s, out.lagged.G, k);
+  // Step 4, (3.9): u_n and λ_n, with the data of t_n.
+  timed(rep.seconds_contact, [&] {
     out.data = step_data(sys, t_end);
     rep.contact = solve_contact(sys, *solvers.contact, s, u_free, out.data);
   });
-  timed(rep.seconds_stress, [&] { rep.max_von_mises = update_stress(sys, s); });                      // step 5
-  s.t = t_end;
+  // Step 5, (3.6): ε_n, σ_n.
+  timed(rep.seconds_stress, [&] { rep.max_von_mises = update_stress(sys, s); });
+  s.t = t_end;  // s.n counts accepted steps: the caller's
   return out;
 }
 

@@ -1,7 +1,6 @@
 #include "scheme/time_stepper.hpp"
 
 #include "core/error.hpp"
-#include "scheme/stability.hpp"
 
 #include <chrono>
 #include <utility>
@@ -43,8 +42,6 @@ TimeStepper::TimeStepper(std::shared_ptr<const Problem> problem_in, MeshPart par
   state_.contact_block = p.contact.block_size(mesh.dim());  // the contact laws' block (1: normal laws)
   state_.lambda = Vector::Zero(part.n_contact * state_.contact_block);
   u_free_ = Vector::Zero(part.n_owned_dofs);
-  // Error-controlled steps stay within the explicit G's stable step (scheme/stability.hpp).
-  if (p.step_control) control_ = stable_step_control(p);
   const auto owned_beta = state_.beta.head(part.n_owned_nodes).array();
   control_state_.n_beta_zero = part.comm.sum(static_cast<double>((owned_beta <= 0).count()));
   control_state_.n_beta_one = part.comm.sum(static_cast<double>((owned_beta >= 1).count()));
@@ -56,7 +53,7 @@ StepReport TimeStepper::step() {
   const Problem& p = problem();
   require(!done(), "{}: the run is already at the final time", p.name);
   const int n = state_.n + 1;
-  StepReport rep = p.step_control ? controlled_step(attempts(), *control_, control_state_, p.final_time)
+  StepReport rep = p.step_control ? controlled_step(attempts(), *sys_.control, control_state_, p.final_time)
                                   : advance_or_halve(attempts(), 0, choice_.max_halvings, p.step_at(n), p.time_at(n));
   state_.n = rep.n = n;
   times_.push_back(state_.t);

@@ -123,7 +123,6 @@ class TimeStepper {
   SchemeSolvers solvers_;
   SchemeStep step_;
   LaggedStepBackstop backstop_;
-  std::optional<StepControl> control_;  // completed (defaults filled)
   StepControlState control_state_;
   std::vector<double> times_{0.0};      // t_0 … t_n
   State state_;

@@ -75,6 +75,10 @@ def test_views_equal_the_files(tmp_path):
     assert np.array_equal(np.flatnonzero(f.active), np.sort(s.contact_nodes[s.active]))
     # contact_force_vector = -lambda nu at the contact nodes
     assert np.array_equal(f.contact_force_vector[s.contact_nodes], -s.contact_force[:, None] * s.contact_directions)
+    # the output fields: the same table makes the files' arrays and the Simulation's copies
+    for k in ("contact_force_vector", "contact_pressure", "von_mises"):
+        assert np.array_equal(getattr(f, k), getattr(s, k)), k
+    assert f.contact_force is None  # lambda's own array: only with more than one number per node
     first = r.fields(index=0)
     assert first.n == 0 and np.all(first.u == 0)
     assert r.fields(t=0.45).n == 3
@@ -140,3 +144,16 @@ def test_keyboard_interrupt_writes_a_checkpoint(tmp_path):
     whole = vpcontact.run(case, output=tmp_path / "whole")
     assert np.array_equal(rest.u, whole.u) and np.array_equal(rest.z, whole.z)
     assert open(tmp_path / "run" / "history.csv").read() == open(tmp_path / "whole" / "history.csv").read()
+
+
+def test_fields_and_columns_come_from_the_library_tables(sim):
+    table = vpcontact.state_fields()
+    stored = [f["python"] for f in table if f["stored"]]
+    assert list(sim.fields()) == stored == ["u", "beta", "contact_force", "sigma", "eps", "z"]
+    assert {f["location"] for f in table} == {"node", "cell", "contact node"}
+    for f in table:
+        assert getattr(vpcontact.Simulation, f["python"]).__doc__.startswith(f["meaning"])
+    columns = [c["name"] for c in vpcontact.history_column_table()]
+    assert sim.history_columns[: len(columns)] == columns
+    sim.step()
+    assert isinstance(sim.report["n_active"], int) and isinstance(sim.report["contact_equilibrium"], float)

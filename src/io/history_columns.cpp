@@ -1,0 +1,83 @@
+#include "io/history_columns.hpp"
+
+#include <fmt/format.h>
+
+namespace vpc {
+
+namespace {
+
+using F = ColumnFormat;
+
+// The contact residuals are relative (docs/verification.md, "contact checks").
+constexpr HistoryColumn kColumns[] = {
+    {"step", F::integer, [](const StepReport& r) { return double(r.n); }, "the step n"},
+    {"t", F::exact, [](const StepReport& r) { return r.t; }, "its time t_n"},
+    {"n_active", F::integer, [](const StepReport& r) { return double(r.contact.n_active); },
+     "active contact nodes, as the contact solver counts them"},
+    {"total_contact_force", F::exact, [](const StepReport& r) { return r.contact.total_force; },
+     "Σ λ_i, the normal contact forces summed over the contact nodes"},
+    {"contact_iterations", F::integer, [](const StepReport& r) { return double(r.contact.iterations); },
+     "the contact solver's iterations"},
+    {"contact_equilibrium", F::residual, [](const StepReport& r) { return r.contact.residuals.equilibrium; },
+     "‖Ku − F + Nᵀλ‖∞, relative"},
+    {"contact_penetration", F::residual, [](const StepReport& r) { return r.contact.residuals.penetration; },
+     "max(0, Nu − g), relative"},
+    {"contact_negative_force", F::residual, [](const StepReport& r) { return r.contact.residuals.negative_force; },
+     "max(0, −λ), relative"},
+    {"contact_complementarity", F::residual, [](const StepReport& r) { return r.contact.residuals.complementarity; },
+     "max over the nodes of λ_i (g − Nu)_i in absolute value, relative"},
+    {"damage_iterations", F::integer, [](const StepReport& r) { return double(r.damage.iterations); },
+     "the damage solver's iterations"},
+    {"damage_kkt_residual", F::residual, [](const StepReport& r) { return r.damage.kkt_residual; },
+     "the damage inequality's KKT residual, relative"},
+    {"beta_min", F::exact, [](const StepReport& r) { return r.beta_min; }, "min β_n over the nodes"},
+    {"beta_max", F::exact, [](const StepReport& r) { return r.beta_max; }, "max β_n over the nodes"},
+    {"n_beta_zero", F::integer, [](const StepReport& r) { return double(r.damage.n_lower); },
+     "nodes at β = 0 (fully damaged)"},
+    {"n_beta_one", F::integer, [](const StepReport& r) { return double(r.damage.n_upper); },
+     "nodes at β = 1 (undamaged)"},
+    {"max_von_mises", F::exact, [](const StepReport& r) { return r.max_von_mises; }, "the largest von Mises norm of σ_n over the cells"},
+    {"ok", F::integer, [](const StepReport& r) { return r.ok ? 1.0 : 0.0; },
+     "1: both solvers converged within the tolerance"},
+    {"contact_area", F::exact, [](const StepReport& r) { return r.contact_area; },
+     "the tributary measures of the active contact nodes, summed"},
+    {"dt", F::exact, [](const StepReport& r) { return r.k; }, "the step's size t_n − t_{n−1}"},
+    {"error_estimate", F::exact, [](const StepReport& r) { return r.error_estimate; },
+     "the estimate of the relative error the step adds"},
+    {"rejected", F::integer, [](const StepReport& r) { return double(r.rejected); },
+     "attempts of the step rejected and redone smaller"},
+};
+
+}  // namespace
+
+std::span<const HistoryColumn> history_columns() { return kColumns; }
+
+std::vector<std::string> history_column_names(const Problem& p, const MeshPart& part) {
+  std::vector<std::string> names;
+  for (const HistoryColumn& c : kColumns) names.emplace_back(c.name);
+  for (const Obstacle& o : p.contact.obstacles) names.push_back("force_" + o.name);
+  const std::vector<std::string> parts = dirichlet_parts(p);
+  for (std::size_t j = 0; j < parts.size(); ++j)
+    for (int i = 0; i < part.dofs.dim(); ++i)
+      if (part.dirichlet_components[j] >> i & 1) names.push_back(fmt::format("reaction_{}_{}", parts[j], "xyz"[i]));
+  return names;
+}
+
+std::vector<HistoryValue> history_values(const StepReport& r) {
+  std::vector<HistoryValue> row;
+  for (const HistoryColumn& c : kColumns) row.push_back({c.value(r), c.format});
+  for (double f : r.obstacle_force) row.push_back({f, F::exact});
+  for (double f : r.reaction) row.push_back({f, F::exact});
+  return row;
+}
+
+std::string HistoryValue::text() const {
+  switch (format) {
+    case F::integer: return fmt::format("{}", static_cast<long long>(value));
+    case F::residual: return fmt::format("{:.3e}", value);
+    case F::exact: break;
+  }
+  return fmt::format("{:.17g}", value);
+}
+
+}  // namespace vpc

@@ -1,0 +1,47 @@
+#pragma once
+// history.csv's columns, declared once: each column's name, meaning, how it is written
+// and where its number comes from in a step's report. The file's header and rows
+// (io/run_output.cpp) and Python's step reports (python/src/simulation.cpp, as numbers)
+// are made from this table, and docs/cases.md's list of the columns is checked against it
+// (tests/unit/io/test_history_columns.cpp): a new column is one entry.
+#include "scheme/time_stepper.hpp"
+
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace vpc {
+
+/// How a column's numbers are written: a whole number; exactly (17 significant
+/// digits, read back bit for bit); a residual (4 significant digits).
+enum class ColumnFormat { integer, exact, residual };
+
+struct HistoryColumn {
+  std::string_view name;
+  ColumnFormat format;
+  double (*value)(const StepReport&);  // integers exactly (counts < 2^53)
+  std::string_view meaning;            // for docs/cases.md and Python
+};
+
+/// The columns every run has, in order.
+std::span<const HistoryColumn> history_columns();
+
+/// After them, per case (totals over the case's nodes, never per contact node): the
+/// force on each obstacle (force_<name>, Problem::contact.obstacles order), then the
+/// reaction of each Dirichlet part (dirichlet_parts) in each component it prescribes
+/// (reaction_<part>_<x|y|z>; MeshPart::dirichlet_components: every process has them).
+std::vector<std::string> history_column_names(const Problem& p, const MeshPart& part);
+
+/// One number of a row and how it is written.
+struct HistoryValue {
+  double value = 0;
+  ColumnFormat format = ColumnFormat::exact;
+  /// As history.csv writes it.
+  std::string text() const;
+};
+
+/// A step's numbers, in the order of history_column_names.
+std::vector<HistoryValue> history_values(const StepReport& r);
+
+}  // namespace vpc
