@@ -497,12 +497,12 @@ RunSummary RunOutput::summary(double wall_seconds) const {
   r.h_max = comm.max(h_max);
   for (const auto& x : s.sigma) r.max_von_mises = std::max(r.max_von_mises, x.von_mises());
   r.max_von_mises = comm.max(r.max_von_mises);
-  // min β by the rule of the step reports (TimeStepper::beta_range, minimum_at);
+  // min β by the rule of the step reports (global_minimum_at, scheme/step_checks.hpp);
   // its location from the process that owns the node (the others add zeros).
   const auto n = static_cast<std::size_t>(part.n_owned_nodes);
-  const MinimumAt mine = minimum_at({s.beta.data(), n}, {part.original_node.data(), n});
-  r.beta_min = comm.min(mine.index < 0 ? INFINITY : mine.value);
-  const double at = comm.min(mine.index >= 0 && mine.value == r.beta_min ? mine.index : INFINITY);
+  const MinimumAt lo = global_minimum_at(comm, {s.beta.data(), n}, {part.original_node.data(), n});
+  r.beta_min = lo.value;
+  const int at = lo.index;
   r.beta_max = comm.max(n ? s.beta.head(static_cast<Eigen::Index>(n)).maxCoeff() : -INFINITY);
   Point x{0, 0, 0};
   for (std::size_t i = 0; i < n; ++i)

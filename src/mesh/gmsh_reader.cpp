@@ -3,6 +3,7 @@
 #include "core/error.hpp"
 #include "core/quote.hpp"
 
+#include "mesh/facet_key.hpp"
 #include "mesh/gmsh_model.hpp"
 #include "mesh/gmsh_script.hpp"
 
@@ -242,18 +243,6 @@ GmshModel read_in_child(const std::string& file, const GmshOptions& options) {
 
 // ---------------------------------------------------------------------------
 // In this process: check the model and build the Mesh.
-
-/// Sorted node indices of a facet (unused entries -1), to match facets with groups.
-using FacetKey = std::array<int, 3>;
-
-FacetKey facet_key(const int* nodes, int n) {
-  FacetKey k{-1, -1, -1};
-  for (int i = 0; i < n; ++i) k[i] = nodes[i];
-  // Insertion sort (std::sort on three entries trips g++ 12's -Warray-bounds).
-  for (int i = 1; i < n; ++i)
-    for (int j = i; j > 0 && k[j - 1] > k[j]; --j) std::swap(k[j - 1], k[j]);
-  return k;
-}
 
 /// Gmsh gives each element its number of nodes; anything else is a broken model.
 void check_block(const std::string& file, const ElementBlock& b, int nodes_per_element) {

@@ -1,6 +1,7 @@
 #include "mesh/mesh.hpp"
 
 #include "core/error.hpp"
+#include "mesh/facet_key.hpp"
 
 #include <Eigen/Dense>
 
@@ -10,37 +11,6 @@
 #include <unordered_map>
 
 namespace vpc {
-
-namespace {
-
-/// Sorted facet key (up to 3 nodes) for matching facets to cells.
-using FacetKey = std::array<int, 3>;
-
-FacetKey make_key(const int* nodes, int n) {
-  FacetKey k{-1, -1, -1};
-  for (int i = 0; i < n; ++i) k[i] = nodes[i];
-  // Insertion sort of at most three entries.
-  for (int i = 1; i < n; ++i)
-    for (int j = i; j > 0 && k[j - 1] > k[j]; --j) std::swap(k[j - 1], k[j]);
-  return k;
-}
-
-struct KeyHash {
-  size_t operator()(const FacetKey& k) const {
-    size_t h = 1469598103934665603ull;
-    for (int v : k) h = (h ^ static_cast<size_t>(v + 1)) * 1099511628211ull;
-    return h;
-  }
-};
-
-/// The facets of a simplex: facet i omits local vertex i.
-void cell_facet(const int* cell, int n_per_cell, int i, int* out) {
-  int m = 0;
-  for (int j = 0; j < n_per_cell; ++j)
-    if (j != i) out[m++] = cell[j];
-}
-
-}  // namespace
 
 int Mesh::add_node(const Point& p) {
   x_.push_back(p);
@@ -105,17 +75,39 @@ void Mesh::set_facet_part(int f, const std::string& part) {
   facet_part_[f] = part.empty() ? -1 : part_id(part);
 }
 
-void Mesh::build_boundary() {
-  std::unordered_map<FacetKey, std::pair<int, int>, KeyHash> count;  // key -> (uses, cell*local)
-  const int npc = nodes_per_cell(), npf = nodes_per_facet();
+namespace {
+
+/// Calls visit(key, c, i) for facet i of every cell c, cell after cell.
+template <class Visit>
+void for_each_cell_facet(const Mesh& mesh, Visit visit) {
+  const int npc = mesh.nodes_per_cell();
   int f[3];
-  for (int c = 0; c < n_cells(); ++c)
+  for (int c = 0; c < mesh.n_cells(); ++c)
     for (int i = 0; i < npc; ++i) {
-      cell_facet(cell(c), npc, i, f);
-      auto& e = count[make_key(f, npf)];
-      e.first += 1;
-      e.second = c * npc + i;
+      cell_facet(mesh.cell(c), npc, i, f);
+      visit(facet_key(f, mesh.nodes_per_facet()), c, i);
     }
+}
+
+/// The mean of the points x[v[0]], ..., x[v[n − 1]].
+Point centroid(const std::vector<Point>& x, const int* v, int n) {
+  Point m{0, 0, 0};
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < 3; ++j) m[j] += x[v[i]][j] / n;
+  return m;
+}
+
+}  // namespace
+
+void Mesh::build_boundary() {
+  std::unordered_map<FacetKey, std::pair<int, int>, FacetKeyHash> count;  // key -> (uses, cell*local)
+  const int npc = nodes_per_cell(), npf = nodes_per_facet();
+  for_each_cell_facet(*this, [&](const FacetKey& key, int c, int i) {
+    auto& e = count[key];
+    e.first += 1;
+    e.second = c * npc + i;
+  });
+  int f[3];
   facets_.clear();
   facet_part_.clear();
   facet_cell_.clear();
@@ -134,20 +126,19 @@ void Mesh::build_boundary() {
 
 void Mesh::find_facet_cells() const {
   if (static_cast<int>(facet_cell_.size()) == n_facets()) return;
-  const int npc = nodes_per_cell(), npf = nodes_per_facet();
-  std::unordered_map<FacetKey, int, KeyHash> owner;
-  int f[3];
-  for (int c = 0; c < n_cells(); ++c)
-    for (int i = 0; i < npc; ++i) {
-      cell_facet(cell(c), npc, i, f);
-      owner[make_key(f, npf)] = c;
-    }
+  std::unordered_map<FacetKey, int, FacetKeyHash> owner;
+  for_each_cell_facet(*this, [&](const FacetKey& key, int c, int) { owner[key] = c; });
   facet_cell_.assign(n_facets(), -1);
   for (int k = 0; k < n_facets(); ++k) {
-    auto it = owner.find(make_key(facet(k), npf));
+    auto it = owner.find(facet_key(facet(k), nodes_per_facet()));
     require(it != owner.end(), "mesh: boundary facet {} is not a face of any cell", k);
     facet_cell_[k] = it->second;
   }
+}
+
+int Mesh::facet_cell(int f) const {
+  find_facet_cells();
+  return facet_cell_[f];
 }
 
 void Mesh::tag_facets(const std::string& name, const std::function<bool(const Point&)>& pred) {
@@ -156,21 +147,9 @@ void Mesh::tag_facets(const std::string& name, const std::function<bool(const Po
     if (pred(facet_centroid(f))) facet_part_[f] = p;
 }
 
-Point Mesh::facet_centroid(int f) const {
-  Point c{0, 0, 0};
-  const int* v = facet(f);
-  for (int i = 0; i < nodes_per_facet(); ++i)
-    for (int j = 0; j < 3; ++j) c[j] += x_[v[i]][j] / nodes_per_facet();
-  return c;
-}
+Point Mesh::facet_centroid(int f) const { return centroid(x_, facet(f), nodes_per_facet()); }
 
-Point Mesh::cell_centroid(int c) const {
-  Point m{0, 0, 0};
-  const int* v = cell(c);
-  for (int i = 0; i < nodes_per_cell(); ++i)
-    for (int j = 0; j < 3; ++j) m[j] += x_[v[i]][j] / nodes_per_cell();
-  return m;
-}
+Point Mesh::cell_centroid(int c) const { return centroid(x_, cell(c), nodes_per_cell()); }
 
 namespace {
 Point sub(const Point& a, const Point& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
@@ -199,7 +178,6 @@ double Mesh::facet_measure(int f) const {
 }
 
 Point Mesh::facet_normal(int f) const {
-  find_facet_cells();
   const int* v = facet(f);
   Point n{0, 0, 0};
   switch (dim_) {
@@ -212,7 +190,7 @@ Point Mesh::facet_normal(int f) const {
     default: n = cross(sub(x_[v[1]], x_[v[0]]), sub(x_[v[2]], x_[v[0]])); break;
   }
   // Orient away from the owning cell's centroid.
-  if (dot(n, sub(facet_centroid(f), cell_centroid(facet_cell_[f]))) < 0)
+  if (dot(n, sub(facet_centroid(f), cell_centroid(facet_cell(f)))) < 0)
     for (double& c : n) c = -c;
   const double l = norm(n);
   for (double& c : n) c /= l;

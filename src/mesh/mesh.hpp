@@ -67,6 +67,8 @@ class Mesh {
   /// Re-tags every cell whose centroid satisfies `pred` as region `name`.
   void tag_cells(const std::string& name, const std::function<bool(const Point&)>& pred);
 
+  /// The cell that boundary facet f bounds (found once for every facet, then kept).
+  int facet_cell(int f) const;
   /// Outward unit normal of boundary facet f (needs the owning cell for orientation).
   Point facet_normal(int f) const;
   /// Measure (length/area; 1 for a point) of boundary facet f.

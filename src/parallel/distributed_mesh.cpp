@@ -1,6 +1,7 @@
 #include "parallel/distributed_mesh.hpp"
 
 #include "la/petsc.hpp"
+#include "scheme/part_cut.hpp"
 
 #include <petscmat.h>
 
@@ -73,29 +74,37 @@ std::vector<int> partition_cells(const Mesh& mesh, const NodeCells& nc, int n_pa
   return part;
 }
 
-/// A cell containing all nodes of facet f.
-int facet_cell(const Mesh& mesh, const NodeCells& nc, int f) {
-  const int v0 = mesh.facet(f)[0];
-  for (int k = nc.start[v0]; k < nc.start[v0 + 1]; ++k) {
-    const int c = nc.list[k];
-    bool all = true;
-    for (int a = 1; a < mesh.nodes_per_facet() && all; ++a) {
-      const int v = mesh.facet(f)[a];
-      all = std::find(mesh.cell(c), mesh.cell(c) + mesh.nodes_per_cell(), v) != mesh.cell(c) + mesh.nodes_per_cell();
-    }
-    if (all) return c;
-  }
-  fail("mesh: boundary facet {} belongs to no cell", f);
-}
-
 struct Message {
   std::vector<long long> ints;
   std::vector<double> reals;
 };
 
-constexpr int kHeader = 14;
+// A contact node travels as 4 integers and 7 reals.
+void pack_contact_node(const PartContactNode& c, Message& m) {
+  m.ints.insert(m.ints.end(), {c.row, c.local_node, c.owned ? 1 : 0, static_cast<long long>(c.obstacles)});
+  m.reals.insert(m.reals.end(),
+                 {c.direction[0], c.direction[1], c.direction[2], c.gap, c.measure, c.stiffness, c.exponent});
+}
 
-/// Rank 0: the part of every rank, packed.
+PartContactNode unpack_contact_node(const long long*& in, const double*& x) {
+  PartContactNode c;
+  c.row = static_cast<int>(*in++);
+  c.local_node = static_cast<int>(*in++);
+  c.owned = *in++ != 0;
+  c.obstacles = static_cast<ObstacleMask>(*in++);
+  c.direction = {x[0], x[1], x[2]};
+  c.gap = x[3];
+  c.measure = x[4];
+  c.stiffness = x[5];
+  c.exponent = x[6];
+  x += 7;
+  return c;
+}
+
+constexpr int kHeader = 12;
+
+/// Rank 0: the part of every rank, cut from the whole problem (cut_part) and packed
+/// with its mesh: its nodes, its cells and their loaded facets.
 std::vector<Message> pack_parts(const Problem& p, int n_parts) {
   const Mesh& mesh = p.mesh;
   const int d = mesh.dim(), npc = mesh.nodes_per_cell(), n_nodes = mesh.n_nodes();
@@ -104,49 +113,24 @@ std::vector<Message> pack_parts(const Problem& p, int n_parts) {
 
   // A node belongs to the lowest rank among its cells.
   std::vector<int> owner(n_nodes, 0);
+  std::vector<std::vector<int>> owned(n_parts);
   for (int i = 0; i < n_nodes; ++i) {
     int o = n_parts;
     for (int k = nc.start[i]; k < nc.start[i + 1]; ++k) o = std::min(o, part[nc.list[k]]);
     owner[i] = o == n_parts ? 0 : o;
+    owned[owner[i]].push_back(i);
   }
-  const DirichletDofs dirichlet = dirichlet_dofs(p);
-  auto n_free = [&](int i) {
-    return static_cast<int>(std::count(dirichlet.condition.begin() + static_cast<std::ptrdiff_t>(i) * d,
-                                       dirichlet.condition.begin() + static_cast<std::ptrdiff_t>(i + 1) * d, -1));
-  };
-
+  const WholeMeshData whole(p);
   // Global numbers: the nodes of rank 0, then of rank 1, ...; each in its original order.
-  std::vector<std::vector<int>> owned(n_parts);
-  for (int i = 0; i < n_nodes; ++i) owned[owner[i]].push_back(i);
-  std::vector<long long> new_id(n_nodes), first_dof(n_nodes, -1), node_begin(n_parts), dof_begin(n_parts + 1);
-  long long next_node = 0, next_dof = 0;
-  for (int r = 0; r < n_parts; ++r) {
-    node_begin[r] = next_node;
-    dof_begin[r] = next_dof;
-    for (int i : owned[r]) {
-      new_id[i] = next_node++;
-      if (const int k = n_free(i); k > 0) {  // the node's free components, in order
-        first_dof[i] = next_dof;
-        next_dof += k;
-      }
-    }
-  }
-  dof_begin[n_parts] = next_dof;
-
-  const std::vector<ContactRow> rows = contact_rows(p, dirichlet.condition);
-  const std::vector<int> material = cell_materials(p);
-  const std::vector<double> measure = tributary_measures(mesh, p.contact.parts);  // for the output's contact pressure
-  std::vector<int> contact_row(n_nodes, -1);
-  for (size_t k = 0; k < rows.size(); ++k) contact_row[rows[k].node] = static_cast<int>(k);
+  const WholeNumbering numbering(owned, whole.dirichlet, d);
 
   std::vector<std::vector<int>> cells_of(n_parts);
   for (int c = 0; c < mesh.n_cells(); ++c) cells_of[part[c]].push_back(c);
   // Loaded facets, each with the part of its cell: (facet, 0) on Γ2, (facet, k) under pressure load k − 1.
   std::vector<std::vector<std::pair<int, int>>> facets_of(n_parts);
-  for (int f : traction_facets(p)) facets_of[part[facet_cell(mesh, nc, f)]].push_back({f, 0});
-  const std::vector<std::vector<int>> pressure = pressure_facets(p);
-  for (std::size_t k = 0; k < pressure.size(); ++k)
-    for (int f : pressure[k]) facets_of[part[facet_cell(mesh, nc, f)]].push_back({f, static_cast<int>(k) + 1});
+  for (int f : whole.traction_facets) facets_of[part[mesh.facet_cell(f)]].push_back({f, 0});
+  for (std::size_t k = 0; k < whole.pressure_facets.size(); ++k)
+    for (int f : whole.pressure_facets[k]) facets_of[part[mesh.facet_cell(f)]].push_back({f, static_cast<int>(k) + 1});
 
   std::vector<Message> out(n_parts);
   std::vector<int> local(n_nodes, -1);
@@ -157,60 +141,53 @@ std::vector<Message> pack_parts(const Problem& p, int n_parts) {
         const int v = mesh.cell(c)[a];
         if (owner[v] != r) ghosts.push_back(v);
       }
-    std::sort(ghosts.begin(), ghosts.end(), [&](int a, int b) { return new_id[a] < new_id[b]; });
+    std::sort(ghosts.begin(), ghosts.end(), [&](int a, int b) { return numbering.node[a] < numbering.node[b]; });
     ghosts.erase(std::unique(ghosts.begin(), ghosts.end()), ghosts.end());
     nodes.insert(nodes.end(), ghosts.begin(), ghosts.end());
     for (size_t k = 0; k < nodes.size(); ++k) local[nodes[k]] = static_cast<int>(k);
+    const PartPieces piece = cut_part(p, whole, numbering, nodes, static_cast<int>(owned[r].size()), cells_of[r]);
 
     Message& m = out[r];
-    std::vector<int> contacts;
-    for (int v : nodes)
-      if (contact_row[v] >= 0) contacts.push_back(v);
-    long long n_owned_dofs = dof_begin[r + 1] - dof_begin[r];
     m.ints = {d,
               static_cast<long long>(nodes.size()),
-              static_cast<long long>(owned[r].size()),
+              piece.n_owned_nodes,
               static_cast<long long>(cells_of[r].size()),
               static_cast<long long>(facets_of[r].size()),
-              static_cast<long long>(contacts.size()),
-              static_cast<long long>(rows.size()),
-              n_nodes,
-              next_dof,
-              mesh.n_cells(),
-              node_begin[r],
-              dof_begin[r],
-              n_owned_dofs,
-              static_cast<long long>(dirichlet.parts.size())};
-    m.ints.insert(m.ints.end(), dirichlet.components.begin(), dirichlet.components.end());
-    m.ints.reserve(kHeader + dirichlet.parts.size() + (4 + d) * nodes.size() + (npc + 2) * cells_of[r].size() + (d + 1) * facets_of[r].size() +
-                   4 * contacts.size());
-    m.reals.reserve(3 * nodes.size() + 7 * contacts.size());
-    for (int v : nodes) {
-      m.ints.insert(m.ints.end(), {new_id[v], v, first_dof[v], static_cast<long long>(dirichlet.on_parts[v])});
-      for (int c = 0; c < d; ++c) m.ints.push_back(dirichlet.condition[static_cast<std::size_t>(v) * d + c]);
-      m.reals.insert(m.reals.end(), mesh.node(v).begin(), mesh.node(v).end());
+              static_cast<long long>(piece.contact.size()),
+              piece.n_contact,
+              piece.n_global_nodes,
+              piece.n_global_dofs,
+              piece.n_global_cells,
+              static_cast<long long>(piece.dirichlet_components.size()),
+              static_cast<long long>(whole.pressure_facets.size())};
+    m.ints.insert(m.ints.end(), piece.dirichlet_components.begin(), piece.dirichlet_components.end());
+    m.ints.reserve(m.ints.size() + (4 + d) * nodes.size() + (npc + 2) * cells_of[r].size() +
+                   (d + 1) * facets_of[r].size() + 4 * piece.contact.size());
+    m.reals.reserve(3 * nodes.size() + 7 * piece.contact.size());
+    for (size_t k = 0; k < nodes.size(); ++k) {
+      m.ints.insert(m.ints.end(), {piece.global_node[k], piece.original_node[k], piece.first_dof[k],
+                                   static_cast<long long>(piece.dirichlet_on_parts[k])});
+      m.ints.insert(m.ints.end(), piece.dirichlet.begin() + static_cast<std::ptrdiff_t>(k) * d,
+                    piece.dirichlet.begin() + static_cast<std::ptrdiff_t>(k + 1) * d);
+      m.reals.insert(m.reals.end(), mesh.node(nodes[k]).begin(), mesh.node(nodes[k]).end());
     }
-    for (int c : cells_of[r]) {
-      for (int a = 0; a < npc; ++a) m.ints.push_back(local[mesh.cell(c)[a]]);
-      m.ints.insert(m.ints.end(), {c, material[c]});
+    for (size_t k = 0; k < cells_of[r].size(); ++k) {
+      for (int a = 0; a < npc; ++a) m.ints.push_back(local[mesh.cell(cells_of[r][k])[a]]);
+      m.ints.insert(m.ints.end(), {piece.original_cell[k], piece.cell_material[k]});
     }
     for (auto [f, load] : facets_of[r]) {
       for (int a = 0; a < d; ++a) m.ints.push_back(local[mesh.facet(f)[a]]);
       m.ints.push_back(load);
     }
-    for (int v : contacts) {
-      const ContactRow& row = rows[contact_row[v]];
-      m.ints.insert(m.ints.end(), {contact_row[v], local[v], owner[v] == r ? 1 : 0, static_cast<long long>(row.obstacles)});
-      m.reals.insert(m.reals.end(), {row.direction[0], row.direction[1], row.direction[2], row.gap, measure[v],
-                                     row.stiffness, row.exponent});
-    }
+    for (const PartContactNode& c : piece.contact) pack_contact_node(c, m);
     for (int v : nodes) local[v] = -1;
   }
   return out;
 }
 
-MeshPart unpack_part(MPI_Comm comm, const Message& m) {
-  MeshPart dm;
+/// A rank: its part's pieces and mesh from rank 0's message.
+PartPieces unpack_part(MPI_Comm comm, const Message& m) {
+  PartPieces dm;
   dm.comm = la::make_mpi_comm(comm);
   auto mesh = std::make_shared<Mesh>();
   const auto* h = m.ints.data();
@@ -221,22 +198,22 @@ MeshPart unpack_part(MPI_Comm comm, const Message& m) {
   dm.n_global_nodes = h[7];
   dm.n_global_dofs = h[8];
   dm.n_global_cells = h[9];
-  const long long dof_begin = h[11];
-  dm.n_owned_dofs = static_cast<int>(h[12]);
   const long long* in = h + kHeader;
-  dm.dirichlet_components.assign(in, in + h[13]);  // per Dirichlet part
-  in += h[13];
+  dm.dirichlet_components.assign(in, in + h[10]);  // per Dirichlet part
+  in += h[10];
+  dm.pressure_facets.resize(h[11]);  // every load, even one with no facet in this part
   const double* x = m.reals.data();
   *mesh = Mesh(d);
-  std::vector<long long> first_dof(n_local);
   dm.dirichlet.resize(static_cast<std::size_t>(n_local) * d);
   dm.global_node.resize(n_local);
   dm.original_node.resize(n_local);
+  dm.first_dof.resize(n_local);
+  dm.dirichlet_on_parts.resize(n_local);
   for (int i = 0; i < n_local; ++i) {
     dm.global_node[i] = *in++;
     dm.original_node[i] = static_cast<int>(*in++);
-    first_dof[i] = *in++;
-    if (const auto bits = static_cast<std::uint64_t>(*in++)) dm.dirichlet_nodes.emplace_back(i, bits);
+    dm.first_dof[i] = *in++;
+    dm.dirichlet_on_parts[i] = static_cast<std::uint64_t>(*in++);
     for (int c = 0; c < d; ++c) dm.dirichlet[static_cast<std::size_t>(i) * d + c] = static_cast<int>(*in++);
     mesh->add_node({x[0], x[1], x[2]});
     x += 3;
@@ -254,38 +231,10 @@ MeshPart unpack_part(MPI_Comm comm, const Message& m) {
     for (int a = 0; a < d; ++a) nodes[a] = static_cast<int>(*in++);
     const int load = static_cast<int>(*in++);
     mesh->add_facet(nodes, load == 0 ? "traction" : fmt::format("pressure{}", load));
-    if (load == 0) {
-      dm.traction_facets.push_back(f);
-      continue;
-    }
-    if (dm.pressure_facets.size() < static_cast<std::size_t>(load)) dm.pressure_facets.resize(load);
-    dm.pressure_facets[load - 1].push_back(f);
+    (load == 0 ? dm.traction_facets : dm.pressure_facets[load - 1]).push_back(f);
   }
   dm.mesh_ptr = std::move(mesh);
-  for (int k = 0; k < n_contacts; ++k) {
-    PartContactNode c;
-    c.row = static_cast<int>(*in++);
-    c.local_node = static_cast<int>(*in++);
-    c.owned = *in++ != 0;
-    c.obstacles = static_cast<ObstacleMask>(*in++);
-    c.direction = {x[0], x[1], x[2]};
-    c.gap = x[3];
-    c.measure = x[4];
-    c.stiffness = x[5];
-    c.exponent = x[6];
-    x += 7;
-    dm.contact.push_back(c);
-  }
-  dm.dofs = DofMap(d, dm.dirichlet);
-  dm.global_dof.assign(dm.dofs.n_free(), -1);
-  for (int i = 0; i < n_local; ++i)
-    for (int c = 0, j = 0; c < d; ++c) {  // j: the node's free components before c
-      const int k = dm.dofs.free_index(dm.dofs.full_index(i, c));
-      if (k >= 0) dm.global_dof[k] = first_dof[i] + j++;
-    }
-  for (int k = 0; k < dm.n_owned_dofs; ++k)
-    require(dm.global_dof[k] == dof_begin + k, "internal: the owned dofs of a part are not contiguous");
-  dm.make_layouts();
+  for (int k = 0; k < n_contacts; ++k) dm.contact.push_back(unpack_contact_node(in, x));
   return dm;
 }
 
@@ -318,9 +267,7 @@ MeshPart distribute_mesh(MPI_Comm comm, const Problem& problem) {
     MPI_Recv(mine.ints.data(), static_cast<int>(sizes[0]), MPI_LONG_LONG, 0, 2, comm, MPI_STATUS_IGNORE);
     MPI_Recv(mine.reals.data(), static_cast<int>(sizes[1]), MPI_DOUBLE, 0, 3, comm, MPI_STATUS_IGNORE);
   }
-  MeshPart part = unpack_part(comm, mine);
-  part.pressure_facets.resize(problem.pressure.size());  // a part may hold no facet of the last loads
-  return part;
+  return make_mesh_part(unpack_part(comm, mine));
 }
 
 }  // namespace vpc

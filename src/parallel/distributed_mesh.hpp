@@ -21,7 +21,8 @@ namespace vpc {
 
 /// Partitions problem.mesh (read on rank 0, where the problem is validated; other
 /// ranks' meshes are ignored) and gives every rank its part, with the contact rows
-/// and Γ2 facets of the one-process part (whole_mesh_part). Collective on comm.
+/// and Γ2 facets of the one-process part: rank 0 cuts every part from the whole problem
+/// (cut_part) and each rank finishes its own (make_mesh_part). Collective on comm.
 MeshPart distribute_mesh(MPI_Comm comm, const Problem& problem);
 
 }  // namespace vpc

@@ -40,5 +40,16 @@ TEST(MinimumAt, EmptyHasNoIndex) {
   EXPECT_EQ(minimum_at(std::vector<double>{}).index, -1);
 }
 
+TEST(MinimumAt, OverTheProcessesOnOneProcessIsTheLocalRule) {
+  // global_minimum_at: the one function behind the step reports' and summary.json's min β.
+  const la::Comm one;
+  const std::vector<double> beta = {0.5, 0.25, 0.25, 1};
+  const std::vector<int> node = {4, 9, 2, 0};
+  const MinimumAt m = global_minimum_at(one, beta, node);
+  EXPECT_EQ(m.value, 0.25);
+  EXPECT_EQ(m.index, 2);
+  EXPECT_EQ(global_minimum_at(one, std::vector<double>{}).index, -1);
+}
+
 }  // namespace
 }  // namespace vpc

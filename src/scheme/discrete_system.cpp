@@ -1,0 +1,177 @@
+#include "scheme/discrete_system.hpp"
+
+#include "core/error.hpp"
+#include "fem/assembly.hpp"
+#include "la/memory_estimate.hpp"
+#include "scheme/step_data.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+namespace vpc {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+/// K's dofs come in blocks of d per node unless some node has only some components
+/// prescribed (a roller): then blocks of 1, and no rigid-body modes for multigrid. Collective.
+int stiffness_block(const MeshPart& part) {
+  const int d = part.mesh().dim();
+  bool partial = false;
+  for (std::size_t i = 0; i < part.dirichlet.size() && !partial; i += d) {
+    const auto fixed = std::count_if(part.dirichlet.begin() + i, part.dirichlet.begin() + i + d, [](int k) { return k >= 0; });
+    partial = fixed > 0 && fixed < d;
+  }
+  return part.comm.any(partial) ? 1 : d;
+}
+
+}  // namespace
+
+DiscreteSystem::DiscreteSystem(std::shared_ptr<const Problem> problem_in, MeshPart part_in,
+                               std::shared_ptr<const la::Backend> backend_in, const SolverChoice& choice)
+    : problem(std::move(problem_in)), part(std::move(part_in)), backend(std::move(backend_in)) {
+  const auto t0 = Clock::now();
+  const Problem& p = *problem;
+  const Mesh& mesh = part.mesh();
+  const int d = mesh.dim();
+  require(part.n_global_dofs > 0, "{}: every node is clamped; nothing to solve", p.name);
+  geo = compute_geometry(mesh);
+  materials = p.material_list();
+  for (const CellGeometry& g : geo) volume += g.volume;
+  volume = part.comm.sum(volume);
+
+  // Loads uniform in space: (f(t), ψ_a e_i) = f_i(t) ∫ψ_a, with the same quadrature.
+  const VectorField unit = [](const Point&, double) { return Point{1, 0, 0}; };
+  auto basis_integral = [&](const VectorField& f0, const VectorField& f2) {
+    const Vector F = assemble_load(mesh, geo, part.traction_facets, f0, f2, 0.0);
+    return Vector(Eigen::Map<const Vector, 0, Eigen::InnerStride<>>(F.data(), mesh.n_nodes(), Eigen::InnerStride<>(d)));
+  };
+  if (p.f0 && p.f0_uniform) basis_integral_cells = basis_integral(unit, nullptr);
+  if (p.f2 && p.f2_uniform) basis_integral_traction = basis_integral(nullptr, unit);
+
+  if (!p.contact.obstacles.empty()) {  // the body's bounding box, over every process's nodes
+    Point lo{0, 0, 0}, hi{0, 0, 0};
+    for (int j = 0; j < 3; ++j) {
+      double l = INFINITY, h = -INFINITY;
+      for (int i = 0; i < mesh.n_nodes(); ++i) {
+        l = std::min(l, mesh.node(i)[j]);
+        h = std::max(h, mesh.node(i)[j]);
+      }
+      lo[j] = part.comm.min(l);
+      hi[j] = part.comm.max(h);
+    }
+    miss_gap = contact_miss_gap(lo, hi);
+  }
+  for (int c = 0; c < mesh.n_cells() && !part.dirichlet_nodes.empty(); ++c)
+    for (int a = 0; a <= d; ++a)
+      if (std::ranges::any_of(part.dirichlet.begin() + mesh.cell(c)[a] * d,
+                              part.dirichlet.begin() + (mesh.cell(c)[a] + 1) * d, [](int k) { return k >= 0; })) {
+        dirichlet_cells.push_back(c);
+        break;
+      }
+  N = contact_matrix(true);
+
+  // Constant matrices: K of (3.9), factorized once; H = M + kκA of (3.8). Each
+  // process assembles its cells; the backend sums the parts.
+  choice.stage("assembly");
+  const auto t1 = Clock::now();
+  K_block = stiffness_block(part);
+  std::vector<Elasticity> elasticity;
+  for (const Material& m : materials) elasticity.push_back(m.elasticity);
+  K_local = assemble_stiffness(mesh, geo, elasticity, part.cell_material, part.dofs);
+  K = backend->assemble(K_local, *part.dof_layout, K_block);
+  K_local_nonzeros = static_cast<double>(K_local.nonZeros());
+  M_local = assemble_mass(mesh, geo);
+  A_local = assemble_laplacian(mesh, geo);
+  M = backend->assemble(M_local, *part.node_layout, 1);
+  la::Vector lumped(part.node_layout);
+  lumped.local() = M_local * Vector::Ones(M_local.cols());
+  lumped.add_ghosts_to_owners();
+  lumped_mass = lumped.owned();
+  const SparseMatrix H_local = M_local + (p.first_step() * p.kappa) * A_local;
+  H_first = backend->assemble(H_local, *part.node_layout, 1);
+  H_first_local_nonzeros = static_cast<double>(H_local.nonZeros());
+  assembly_seconds = seconds_since(t1);
+  choice.stage("assembly", assembly_seconds);
+  build_seconds = seconds_since(t0);
+}
+
+SparseMatrix DiscreteSystem::contact_matrix(bool owned_only) const {
+  const int d = part.mesh().dim();
+  std::vector<Eigen::Triplet<double>> t;
+  int row = 0;
+  for (const PartContactNode& node : part.contact) {
+    if (owned_only && !node.owned) continue;
+    for (int i = 0; i < d; ++i)
+      if (const int k = part.dofs.free_index(part.dofs.full_index(node.local_node, i)); node.direction[i] != 0 && k >= 0)
+        t.emplace_back(row, k, node.direction[i]);
+    ++row;
+  }
+  SparseMatrix out(row, owned_only ? part.n_owned_dofs : part.dofs.n_free());
+  out.setFromTriplets(t.begin(), t.end());
+  return out;
+}
+
+std::shared_ptr<la::Factor> DiscreteSystem::make_stiffness_factor() const {
+  const Mesh& mesh = part.mesh();
+  const int d = mesh.dim();
+  std::shared_ptr<la::Factor> factor = backend->factor("K");
+  Vector coordinates(part.n_owned_dofs);  // GAMG's rigid-body modes
+  for (int i = 0; i < part.n_owned_nodes; ++i)
+    for (int c = 0; c < d; ++c)
+      if (const int k = part.dofs.free_index(part.dofs.full_index(i, c)); k >= 0) coordinates[k] = mesh.node(i)[c];
+  factor->set_coordinates(coordinates, K_block == d ? d : 0);
+  return factor;
+}
+
+ContactConstraints contact_constraints(const DiscreteSystem& sys) {
+  const MeshPart& part = sys.part;
+  ContactConstraints c;
+  c.m = part.n_contact;
+  for (const PartContactNode& node : part.contact)
+    if (node.owned) c.rows.push_back(node.row);
+  c.N = sys.N;
+  c.gap = checked_contact_gap(sys, 0.0);
+  // λ_i = k_i (N_i u − g_i)₊^{e_i}, k_i = c |Γ3|_i: the law at the node times its measure (ContactRow).
+  std::vector<double> compliance, exponent;
+  for (const PartContactNode& node : part.contact)
+    if (node.owned) {
+      compliance.push_back(node.stiffness > 0 ? 1 / node.stiffness : 0.0);
+      exponent.push_back(node.exponent);
+    }
+  c.normal_compliance = part.comm.any(std::ranges::any_of(compliance, [](double x) { return x > 0; }));
+  c.power_law = part.comm.any(std::ranges::any_of(part.contact, [](const PartContactNode& n) {
+    return n.owned && n.stiffness > 0 && n.exponent != 1;
+  }));
+  if (c.normal_compliance) c.compliance = Eigen::Map<Vector>(compliance.data(), static_cast<Eigen::Index>(compliance.size()));
+  if (c.power_law) c.exponent = Eigen::Map<Vector>(exponent.data(), static_cast<Eigen::Index>(exponent.size()));
+  return c;
+}
+
+std::optional<SolverCost> check_before_factorizing(const DiscreteSystem& sys, la::Factor& K_factor,
+                                                   const SolverChoice& choice, bool primal, bool power_law) {
+  const Problem& p = *sys.problem;
+  const Mesh& mesh = sys.part.mesh();
+  const auto K_size = K_factor.analyze(*sys.K, "elastic stiffness K");
+  if (!K_size) return std::nullopt;
+  const auto H_size = sys.backend->factor("H")->analyze(*sys.H_first, "damage matrix H = M + k kappa A");
+  const double mesh_bytes = 24.0 * mesh.n_nodes() + 4.0 * mesh.cell_array().size() +
+                            (sizeof(CellGeometry) + 3.0 * sizeof(SymTensor)) * mesh.n_cells();
+  const double matrix_bytes = 12.0 * (sys.K_local_nonzeros + sys.M_local.nonZeros() + sys.A_local.nonZeros() +
+                                      2.0 * sys.H_first_local_nonzeros);
+  check_memory(estimate_run_memory(mesh_bytes, matrix_bytes, *K_size, H_size.value_or(FactorEstimate{}),
+                                   choice.damage == "active-set", primal ? 0 : sys.part.n_contact),
+               memory_limit(choice.memory_limit), p.name);
+  SolverCost cost = estimate_solver_cost(*K_size, static_cast<double>(sys.K->nonzeros()), sys.part.n_contact,
+                                         p.expected_steps(), !primal);
+  if (choice.iterative_fallback && choice.contact == "auto" && !power_law && iterative_is_faster(cost))
+    throw IterativeIsFaster(fmt::format("{}: CG + GAMG is estimated to take less than half the direct solver's "
+                                        "time ({})", p.name, cost.detail));
+  return cost;
+}
+
+}  // namespace vpc

@@ -1,0 +1,78 @@
+#pragma once
+// The discrete system of SPEC §2 on this process's part (scheme/mesh_part.hpp): everything
+// the scheme derives from the problem once and keeps over the run, like MFEM's
+// TimeDependentOperator: the cells' geometry and materials, K of (3.9), M and A of (3.8),
+// the lumped mass of the error estimate, the basis integrals of uniform loads, the cells
+// that u_D's lifting touches, the contact rows N and |Ω|. Built once by TimeStepper's
+// set-up; the step (scheme/scheme_step.hpp) and its checks only read it.
+#include "fem/cell_geometry.hpp"
+#include "la/backend.hpp"
+#include "la/vector.hpp"
+#include "scheme/mesh_part.hpp"
+#include "scheme/problem.hpp"
+#include "scheme/solver_choice.hpp"
+#include "solvers/contact_solver.hpp"
+#include "solvers/solver_cost.hpp"
+
+#include <memory>
+#include <optional>
+#include <vector>
+
+namespace vpc {
+
+struct DiscreteSystem {
+  /// Computes the geometry, materials and data above and assembles K, M, A and the first
+  /// step's H = M + k_1 κA (the set-up stage "assembly", told to choice.on_setup_stage). Collective.
+  DiscreteSystem(std::shared_ptr<const Problem> problem, MeshPart part, std::shared_ptr<const la::Backend> backend,
+                 const SolverChoice& choice);
+
+  std::shared_ptr<const Problem> problem;
+  MeshPart part;
+  std::shared_ptr<const la::Backend> backend;
+  std::vector<CellGeometry> geo;
+  std::vector<Material> materials;  // Problem::material_list(), indexed by part.cell_material
+  const Material& material(int cell) const { return materials[part.cell_material[cell]]; }
+  double volume = 0;  // |Ω|, over every process
+
+  /// K of (3.9) over the free dofs, shared with the contact solver; its dofs come in blocks
+  /// of K_block (d, or 1 where some node has only some components prescribed: a roller).
+  std::shared_ptr<la::SpdOperator> K;
+  int K_block = 1;
+  double K_local_nonzeros = 0;  // for model_bytes
+  /// The part's K: kept until the contact solver's set-up has made the reflections of the
+  /// primal solver from it (scheme/scheme_solvers.hpp), then released.
+  SparseMatrix K_local;
+  std::unique_ptr<la::SpdOperator> M;
+  SparseMatrix M_local, A_local;  // the part's mass and Laplacian (H for other step sizes)
+  /// H = M + k_1 κA of the first step, assembled with K: handed to its damage solver at set-up.
+  std::unique_ptr<la::SpdOperator> H_first;
+  double H_first_local_nonzeros = 0;
+  Vector lumped_mass;  // the row sums of M (owned nodes): the error estimate's M_L
+  Vector basis_integral_cells, basis_integral_traction;  // ∫ψ_a over Ω and Γ2 (for uniform f0, f2; else empty)
+  std::vector<int> dirichlet_cells;  // the part's cells with a prescribed dof: u_D's lifting, the reactions
+  double miss_gap = 0;  // the gap where no obstacle lies ahead (contact_miss_gap)
+  /// N: one row per owned contact node, in part.contact order, over the owned free dofs
+  /// (ContactConstraints::N).
+  SparseMatrix N;
+  double assembly_seconds = 0, build_seconds = 0;
+
+  /// N over the owned free dofs (owned_only), or one row per contact node the part knows,
+  /// ghosts included, over its local free dofs (owned, then ghosts: the reflections of K_rot's
+  /// local matrix).
+  SparseMatrix contact_matrix(bool owned_only) const;
+  /// A factor of K's kind (name "K"), its coordinates set for multigrid's rigid-body modes.
+  std::shared_ptr<la::Factor> make_stiffness_factor() const;
+};
+
+/// The contact solver's data: N, g(0) and the compliance law of each owned contact row. Collective.
+ContactConstraints contact_constraints(const DiscreteSystem& sys);
+
+/// Refuses a run that cannot fit before the costly factorizations (issue 11), from the factors'
+/// symbolic analyses (K's is kept in K_factor for its factorization), where the backend has them
+/// (CHOLMOD); then, with choice.iterative_fallback and contact "auto", throws IterativeIsFaster
+/// where CG + GAMG is estimated much faster. Returns the run's estimated cost by both paths
+/// (nothing without a symbolic analysis). `primal`: the primal contact solver (no S = N K⁻¹ Nᵀ).
+std::optional<SolverCost> check_before_factorizing(const DiscreteSystem& sys, la::Factor& K_factor,
+                                                   const SolverChoice& choice, bool primal, bool power_law);
+
+}  // namespace vpc

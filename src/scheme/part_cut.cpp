@@ -1,0 +1,68 @@
+#include "scheme/part_cut.hpp"
+
+#include <algorithm>
+#include <cstddef>
+
+namespace vpc {
+
+// The order of the calls is the order of their checks (the first error is the one reported).
+WholeMeshData::WholeMeshData(const Problem& p)
+    : cell_material(cell_materials(p)),
+      traction_facets(vpc::traction_facets(p)),
+      pressure_facets(vpc::pressure_facets(p)),
+      dirichlet(dirichlet_dofs(p)),
+      rows(contact_rows(p, dirichlet.condition)),
+      row_of(p.mesh.n_nodes(), -1),
+      measure(tributary_measures(p.mesh, p.contact.parts)) {
+  for (std::size_t k = 0; k < rows.size(); ++k) row_of[rows[k].node] = static_cast<int>(k);
+}
+
+WholeNumbering::WholeNumbering(const std::vector<std::vector<int>>& owned, const DirichletDofs& dirichlet, int dim) {
+  const std::size_t n_nodes = dirichlet.condition.size() / static_cast<std::size_t>(dim);
+  node.assign(n_nodes, -1);
+  first_dof.assign(n_nodes, -1);
+  long long next_node = 0;
+  for (const std::vector<int>& nodes : owned)
+    for (int i : nodes) {
+      node[i] = next_node++;
+      const auto begin = dirichlet.condition.begin() + static_cast<std::ptrdiff_t>(i) * dim;
+      if (const auto k = std::count(begin, begin + dim, -1); k > 0) {  // the node's free components
+        first_dof[i] = n_dofs;
+        n_dofs += k;
+      }
+    }
+}
+
+PartContactNode part_contact_node(int k, const ContactRow& row, int local_node, bool owned, double measure) {
+  return {k, local_node, owned, row.direction, row.gap, measure, row.stiffness, row.exponent, row.obstacles};
+}
+
+PartPieces cut_part(const Problem& p, const WholeMeshData& whole, const WholeNumbering& numbering,
+                    const std::vector<int>& nodes, int n_owned, const std::vector<int>& cells) {
+  const int d = p.mesh.dim();
+  const DirichletDofs& dirichlet = whole.dirichlet;
+  PartPieces part;
+  part.n_owned_nodes = n_owned;
+  for (std::size_t a = 0; a < nodes.size(); ++a) {
+    const int v = nodes[a];
+    part.global_node.push_back(numbering.node[v]);
+    part.original_node.push_back(v);
+    part.first_dof.push_back(numbering.first_dof[v]);
+    part.dirichlet_on_parts.push_back(dirichlet.on_parts[v]);
+    const auto begin = dirichlet.condition.begin() + static_cast<std::ptrdiff_t>(v) * d;
+    part.dirichlet.insert(part.dirichlet.end(), begin, begin + d);
+    if (const int k = whole.row_of[v]; k >= 0)
+      part.contact.push_back(part_contact_node(k, whole.rows[k], static_cast<int>(a), a < static_cast<std::size_t>(n_owned),
+                                               whole.measure[v]));
+  }
+  part.original_cell = cells;
+  for (int c : cells) part.cell_material.push_back(whole.cell_material[c]);
+  part.dirichlet_components = dirichlet.components;
+  part.n_contact = static_cast<int>(whole.rows.size());
+  part.n_global_nodes = p.mesh.n_nodes();
+  part.n_global_dofs = numbering.n_dofs;
+  part.n_global_cells = p.mesh.n_cells();
+  return part;
+}
+
+}  // namespace vpc

@@ -1,0 +1,48 @@
+#pragma once
+// Cutting parts from the whole problem: its derived data (Dirichlet conditions,
+// materials, loaded facets, contact rows (3.9)) computed once on the whole mesh,
+// the global numbering of nodes and free dofs, and the share of one part. One
+// process cuts one part, the whole mesh (whole_mesh_part); under MPI rank 0 cuts
+// one per rank and sends it (parallel/distributed_mesh.cpp).
+#include "scheme/mesh_part.hpp"
+#include "scheme/problem.hpp"
+
+#include <vector>
+
+namespace vpc {
+
+/// The problem's data on the whole mesh, computed once, from which parts are cut.
+struct WholeMeshData {
+  std::vector<int> cell_material;  // cell_materials
+  std::vector<int> traction_facets;
+  std::vector<std::vector<int>> pressure_facets;
+  DirichletDofs dirichlet;
+  std::vector<ContactRow> rows;
+  std::vector<int> row_of;       // per node: its contact row, −1 off Γ3
+  std::vector<double> measure;   // per node: tributary measure on Γ3 (the output's contact pressure)
+  /// Throws vpc::Error as the functions of scheme/problem.hpp it calls.
+  explicit WholeMeshData(const Problem& p);
+};
+
+/// The global numbering of the whole mesh's nodes and free dofs: the nodes of
+/// `owned[0]` (in its order), then of `owned[1]`, ...; the free components of a
+/// node numbered together, in order.
+struct WholeNumbering {
+  std::vector<long long> node;       // global number per node
+  std::vector<long long> first_dof;  // per node: its first free dof, −1 where none
+  long long n_dofs = 0;
+  WholeNumbering(const std::vector<std::vector<int>>& owned, const DirichletDofs& dirichlet, int dim);
+};
+
+/// The contact node of `row` (the row numbered `k`) in a part, at its local node.
+/// The one place a contact row's law and geometry reach the scheme.
+PartContactNode part_contact_node(int k, const ContactRow& row, int local_node, bool owned, double measure);
+
+/// The pieces of the part whose local nodes are `nodes` (numbers of the whole mesh:
+/// its `n_owned` owned nodes first, then the ghosts) and whose cells are `cells`:
+/// everything but the communicator, the mesh and the loaded facets, which are in
+/// the part's own mesh (the caller's).
+PartPieces cut_part(const Problem& p, const WholeMeshData& whole, const WholeNumbering& numbering,
+                    const std::vector<int>& nodes, int n_owned, const std::vector<int>& cells);
+
+}  // namespace vpc

@@ -1,0 +1,107 @@
+#include "scheme/scheme_solvers.hpp"
+
+#include "solvers/primal_active_set.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <utility>
+
+namespace vpc {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+/// Damage solvers kept for the step sizes in use.
+constexpr std::size_t kDamageSolversKept = 4;
+
+}  // namespace
+
+SchemeSolvers set_up_solvers(DiscreteSystem& sys, const SolverChoice& choice, SetupTiming& timing,
+                             std::optional<SolverCost>& cost) {
+  const Problem& p = *sys.problem;
+  const MeshPart& part = sys.part;
+  SchemeSolvers s;
+  choice.stage(fmt::format("factorization of K ({} x {}, {} nonzeros; {})", part.n_global_dofs, part.n_global_dofs,
+                           sys.K->nonzeros(), sys.backend->describe()));
+  auto t1 = Clock::now();
+  ContactConstraints constraints = contact_constraints(sys);
+  s.contact_pick = pick_contact_solver(choice.contact, part.n_contact, sys.backend->linear_solver(), constraints.power_law);
+  const bool primal = s.contact_pick.name == "primal-active-set";
+  s.K_factor = sys.make_stiffness_factor();
+  cost = check_before_factorizing(sys, *s.K_factor, choice, primal, constraints.power_law);
+  // The primal contact solver factors K with its active rows when it first solves.
+  if (!primal) s.K_factor->factorize(*sys.K, "elastic stiffness K");
+  timing.factor_K = seconds_since(t1);
+  choice.stage("factorization of K", timing.factor_K);
+
+  choice.stage(fmt::format("factorization of H ({} x {}, {} nonzeros)", part.n_global_nodes, part.n_global_nodes,
+                           sys.H_first->nonzeros()));
+  t1 = Clock::now();
+  s.damage.for_step(sys, choice, p.first_step(), std::move(sys.H_first));
+  timing.factor_H = seconds_since(t1);
+  choice.stage("factorization of H", timing.factor_H);
+
+  choice.stage("contact set-up");
+  t1 = Clock::now();
+  if (primal) {
+    // Rows off the axes are turned into one dof each by node-local reflections Q: K_rot = Q K Q,
+    // assembled from the cells' matrices like K (Q acts within each node's dofs).
+    std::shared_ptr<const la::SpdOperator> K_rot;
+    if (part.comm.any(contact_reflections(constraints.N).size() > 0)) {
+      const SparseMatrix Q = contact_reflections(sys.contact_matrix(false));
+      K_rot = sys.backend->assemble(SparseMatrix(Q * sys.K_local * Q), *part.dof_layout, sys.K_block);
+    }
+    s.contact = make_primal_active_set_solver(sys.K, std::move(K_rot), std::exchange(s.K_factor, nullptr),
+                                              std::move(constraints));
+  } else {
+    s.contact = make_contact_solver(s.contact_pick.name, sys.K, s.K_factor, std::move(constraints),
+                                    la::factor_factory(sys.backend), choice.contact_options);
+  }
+  sys.K_local = SparseMatrix();
+  timing.contact = seconds_since(t1);
+  choice.stage("contact set-up", timing.contact);
+  return s;
+}
+
+DamageSolver& DamageSolvers::for_step(const DiscreteSystem& sys, const SolverChoice& choice, double k,
+                                      std::unique_ptr<la::SpdOperator> H) {
+  auto it = std::find_if(kept_.begin(), kept_.end(), [k](const ForStep& d) { return d.k == k; });
+  if (it == kept_.end()) {
+    const Vector warm = current_ ? current_->warm_state() : Vector();
+    if (kept_.size() >= kDamageSolversKept) {  // the least recently used (never the current: it is last)
+      dropped_factorizations_ += kept_.front().solver->n_factorizations();
+      kept_.erase(kept_.begin());
+    }
+    if (!H)
+      H = sys.backend->assemble(SparseMatrix(sys.M_local + (k * sys.problem->kappa) * sys.A_local),
+                                *sys.part.node_layout, 1);
+    ++matrices_made_;
+    kept_.push_back({k, make_damage_solver(choice.damage, std::move(H), la::factor_factory(sys.backend),
+                                           choice.damage_reduced)});
+    if (current_) kept_.back().solver->set_warm_state(warm);
+    current_ = kept_.back().solver.get();
+    return *current_;
+  }
+  if (it + 1 != kept_.end()) std::rotate(it, it + 1, kept_.end());
+  DamageSolver* next = kept_.back().solver.get();
+  if (next != current_) next->set_warm_state(current_->warm_state());  // the warm start is the state's
+  current_ = next;
+  return *next;
+}
+
+int DamageSolvers::n_factorizations() const {
+  int n = dropped_factorizations_;
+  for (const ForStep& d : kept_) n += d.solver->n_factorizations();
+  return n;
+}
+
+double DamageSolvers::factor_bytes() const {
+  double bytes = 0;
+  for (const ForStep& d : kept_) bytes += d.solver->factor_bytes();
+  return bytes;
+}
+
+}  // namespace vpc

@@ -1,0 +1,141 @@
+#include "scheme/step_checks.hpp"
+
+#include "core/error.hpp"
+#include "fem/assembly.hpp"
+#include "scheme/stability.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <utility>
+
+namespace vpc {
+
+MinimumAt minimum_at(std::span<const double> values, std::span<const int> index) {
+  MinimumAt best;
+  for (std::size_t i = 0; i < values.size(); ++i)
+    best = minimum_at(best, {values[i], index.empty() ? static_cast<int>(i) : index[i]});
+  return best;
+}
+
+MinimumAt minimum_at(const MinimumAt& a, const MinimumAt& b) {
+  if (a.index < 0) return b;
+  if (b.index < 0) return a;
+  return b.value < a.value || (b.value == a.value && b.index < a.index) ? b : a;
+}
+
+MinimumAt global_minimum_at(const la::Comm& comm, std::span<const double> values, std::span<const int> index) {
+  const MinimumAt mine = minimum_at(values, index);
+  // minimum_at's rule over the processes: the least value, then the least node holding it.
+  const double lo = comm.min(mine.index < 0 ? INFINITY : mine.value);
+  const double at = comm.min(mine.index >= 0 && mine.value == lo ? mine.index : INFINITY);
+  return {lo, std::isfinite(at) ? static_cast<int>(at) : mine.index};
+}
+
+void contact_totals(const DiscreteSystem& sys, const State& s, StepReport& rep) {
+  const auto& obstacles = sys.problem->contact.obstacles;
+  std::vector<double> sums(obstacles.size() + 1, 0.0);  // area, then the obstacles' forces
+  for (const PartContactNode& node : sys.part.contact) {
+    if (!node.owned) continue;
+    const double lambda = s.lambda[node.row];
+    if (lambda > rep.contact.active_threshold) sums[0] += node.measure;
+    if (obstacles.empty() || lambda == 0) continue;
+    const int nearest = nearest_obstacle(obstacles, sys.part.mesh().node(node.local_node), node.direction, rep.t,
+                                         node.obstacles);
+    if (nearest >= 0) sums[static_cast<std::size_t>(nearest) + 1] += lambda;
+  }
+  sys.part.comm.sum(sums.data(), static_cast<int>(sums.size()));
+  rep.contact_area = sums[0];
+  rep.obstacle_force.assign(sums.begin() + 1, sums.end());
+}
+
+void reactions(const DiscreteSystem& sys, const State& s, const Vector& F, StepReport& rep) {
+  const MeshPart& part = sys.part;
+  const Mesh& mesh = part.mesh();
+  const int d = mesh.dim();
+  // r = (σ_n, ε(φ)) − F_n at the prescribed dofs; each cell and loaded facet lives on
+  // one process, so the part's sums over its nodes (owned and ghost) add up to the whole.
+  Vector r = Vector::Zero(part.dofs.n_full());
+  for (int c : sys.dirichlet_cells)
+    for (int a = 0; a <= d; ++a)
+      for (int i = 0; i < d; ++i) r[mesh.cell(c)[a] * d + i] += stress_divergence_entry(sys.geo[c], s.sigma[c], d, a, i);
+  // A part's reaction has the components it prescribes (a roller's: its normal one); each
+  // prescribed dof counts once, for the first part that prescribes it there, so that the
+  // reactions of all parts add up to the supports' total force.
+  const auto& prescribes = part.dirichlet_components;
+  std::vector<double> sums(prescribes.size() * d, 0.0);
+  for (const auto& [node, bits] : part.dirichlet_nodes)
+    for (int i = 0; i < d; ++i)
+      for (std::size_t j = 0; j < prescribes.size(); ++j)
+        if ((bits >> j & 1) && (prescribes[j] >> i & 1)) {
+          sums[j * d + i] += r[node * d + i] - F[node * d + i];
+          break;
+        }
+  part.comm.sum(sums.data(), static_cast<int>(sums.size()));
+  rep.reaction.clear();
+  for (std::size_t j = 0; j < prescribes.size(); ++j)
+    for (int i = 0; i < d; ++i)
+      if (prescribes[j] >> i & 1) rep.reaction.push_back(sums[j * d + i]);
+}
+
+void beta_range(const DiscreteSystem& sys, const State& s, StepReport& rep) {
+  const auto n = static_cast<std::size_t>(sys.part.n_owned_nodes);
+  const MinimumAt lo = global_minimum_at(sys.part.comm, {s.beta.data(), n}, {sys.part.original_node.data(), n});
+  rep.beta_min = lo.value;
+  rep.beta_min_node = lo.index;
+  rep.beta_max = sys.part.comm.max(n ? s.beta.head(static_cast<Eigen::Index>(n)).maxCoeff() : -INFINITY);
+}
+
+void report_step(const DiscreteSystem& sys, const State& s, const Vector& F, StepReport& rep) {
+  contact_totals(sys, s, rep);
+  reactions(sys, s, F, rep);
+  beta_range(sys, s, rep);
+}
+
+bool step_accepted(const la::Comm& comm, const StepReport& rep, double tolerance, const Vector& u_free,
+                   const Vector& beta_owned) {
+  // allFinite, not a sum of squares: that overflows for a finite |u| > 1e154 (issue 26).
+  const bool finite = comm.all(u_free.allFinite() && beta_owned.allFinite());
+  return rep.contact.converged && rep.damage.converged && rep.contact.residuals.max() <= tolerance &&
+         rep.damage.kkt_residual <= tolerance && finite;
+}
+
+void LaggedStepBackstop::attempted(std::vector<SymTensor> dG, double dG2, double dot_last) {
+  dG_attempt_ = std::move(dG);
+  dG2_attempt_ = dG2;
+  dG_dot_attempt_ = dot_last;
+}
+
+void LaggedStepBackstop::check_accepted(const DiscreteSystem& sys, const State& s, const StepReport& rep) {
+  // An unstable mode of the explicit step has ΔG_n = (1 − kL) ΔG_{n−1}, kL > 2: it flips sign
+  // and grows, which a stable step cannot do (|1 − kL| ≤ 1). A smooth extremum of G flips ΔG
+  // once (through zero), a load that alternates step by step does not grow: the run stops after
+  // two flips in a row (cos < −½: the mode carries most of ΔG) over which |ΔG| grew kUnstableGrowth times.
+  constexpr double kUnstableGrowth = 4;
+  const double growth = dG2_last_ > 0 ? std::sqrt(dG2_attempt_ / dG2_last_) : 0.0;
+  const bool flips_and_grows = growth > 1 && dG_dot_attempt_ < -0.5 * std::sqrt(dG2_attempt_ * dG2_last_);
+  growing_steps_ = flips_and_grows ? growing_steps_ + 1 : 0;
+  growth_product_ = flips_and_grows ? growth_product_ * growth : 1.0;
+  dG2_last_ = dG2_attempt_;
+  std::swap(dG_last_, dG_attempt_);
+  if (growing_steps_ < 2 || growth_product_ < kUnstableGrowth) return;
+  // Name the material where ΔG is largest, and its least β where ΔG is (the β its L is worst at).
+  const MeshPart& part = sys.part;
+  const Mesh& mesh = part.mesh();
+  std::vector<double> largest(sys.materials.size(), 0.0), beta(sys.materials.size(), INFINITY);
+  for (int c = 0; c < mesh.n_cells(); ++c) {
+    double& l = largest[static_cast<std::size_t>(part.cell_material[c])];
+    l = std::max(l, dG_last_[c].dot(dG_last_[c]));
+  }
+  for (double& l : largest) l = part.comm.max(l);
+  const auto m = static_cast<std::size_t>(std::max_element(largest.begin(), largest.end()) - largest.begin());
+  for (int c = 0; c < mesh.n_cells(); ++c)
+    if (static_cast<std::size_t>(part.cell_material[c]) == m && dG_last_[c].dot(dG_last_[c]) >= 0.25 * largest[m])
+      beta[m] = std::min(beta[m], cell_mean(mesh, s.beta, c));
+  const double b = part.comm.min(beta[m]);
+  la::collective(part.comm, [&] {
+    fail("{}", unstable_step_message(*sys.problem, sys.materials[m], std::isfinite(b) ? b : 1.0, rep.n, rep.t, rep.k,
+                                     growth_product_, growing_steps_));
+  });
+}
+
+}  // namespace vpc

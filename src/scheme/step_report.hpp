@@ -1,0 +1,64 @@
+#pragma once
+// What a step reports (SPEC §2): the solvers' reports, β's range, the stress, the contact
+// totals and reactions, the error estimate and whether the step is accepted. Filled by the
+// step (scheme/scheme_step.hpp), its checks (scheme/step_checks.hpp) and step-size control
+// (scheme/step_control.hpp).
+#include "solvers/contact_solver.hpp"
+#include "solvers/damage_solver.hpp"
+
+#include <vector>
+
+namespace vpc {
+
+/// The smallest value and where it is. The one rule for min β in the step
+/// reports and summary.json of both engines and any rank count: among equal
+/// minima (β = 0 or β = 1 at many nodes), the smallest node index in the
+/// numbering of the mesh as read (minimum_at, global_minimum_at: scheme/step_checks.hpp).
+struct MinimumAt {
+  double value = 0;
+  int index = -1;
+};
+
+struct StepReport {
+  int n = 0;
+  double t = 0;
+  double k = 0;  // the step's size t_n − t_{n−1}
+  /// The estimate of the relative error this step adds (StepControl, scheme/time_grid.hpp),
+  /// made for every grid; error-controlled steps are chosen by it.
+  double error_estimate = 0;
+  /// Attempts of this step that were rejected and redone from the state before it
+  /// (error-controlled steps: error, event or solver).
+  int rejected = 0;
+  ContactReport contact;
+  DamageReport damage;
+  double beta_min = 1, beta_max = 1;
+  int beta_min_node = 0;  // by the rule of minimum_at
+  double max_von_mises = 0;
+  double sigma_norm = 0;  // |σ_n|_{L2}
+  /// The contact area: the summed tributary measures of the active contact nodes
+  /// (a length in 2D, 1 per node in 1D).
+  double contact_area = 0;
+  /// With obstacles: the total contact force on each (Problem::contact.obstacles order),
+  /// each node's force counted for the obstacle nearest to it at this step.
+  std::vector<double> obstacle_force;
+  /// The reaction force on each Dirichlet part (dirichlet_parts order): the force its
+  /// supports exert on the body, Σ over the part's nodes of (σ_n, ε(φ)) − F_n, in each
+  /// component the part prescribes (DirichletDofs::components), in increasing order. A
+  /// dof on several parts counts for the first of them that prescribes it.
+  std::vector<double> reaction;
+  double seconds_sources = 0, seconds_damage = 0, seconds_contact = 0, seconds_stress = 0;
+  /// True when both solvers converged and all residuals are within tolerance.
+  bool ok = true;
+  /// Sub-steps taken (1, or more after step halving).
+  int substeps = 1;
+};
+
+/// Adds the step phases' times of `from` to `to` (substeps, rejected attempts).
+inline void add_seconds(StepReport& to, const StepReport& from) {
+  to.seconds_sources += from.seconds_sources;
+  to.seconds_damage += from.seconds_damage;
+  to.seconds_contact += from.seconds_contact;
+  to.seconds_stress += from.seconds_stress;
+}
+
+}  // namespace vpc
