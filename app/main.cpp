@@ -121,6 +121,9 @@ vpc::RunOptions run_options(const Options& o, const vpc::CaseInfo& info, const f
   vpc::RunOptions r = o.run;
   r.header = fmt::format("vpcontact: {} — {}", vpc::printable(info.name), vpc::printable(info.description, 200));
   r.output_directory = outdir;
+#ifdef VPCONTACT_WITH_PETSC
+  r.petsc_built = true;
+#endif
   if (o.plot) r.after_run = [p = o.plot_options](const fs::path& dir) { vpc::draw_figures(dir, p, true); };
   return r;
 }

@@ -51,18 +51,10 @@ struct MemoryEstimate {
 MemoryEstimate estimate_run_memory(double mesh_bytes, double matrix_bytes, const FactorEstimate& K,
                                    const FactorEstimate& H, bool damage_active_set, double contact_nodes);
 
-/// A run the direct solver declines: its factors would not fit (MemoryLimitError), or CG +
-/// GAMG is estimated to be much faster (IterativeIsFaster, solvers/solver_cost.hpp). The
-/// command line may then take the iterative solver instead (app/main.cpp, --engine auto).
-class DirectSolverDeclined : public Error {
+/// A run that does not fit (check_memory, run/solver_plan.hpp's refusals).
+class MemoryLimitError : public Error {
  public:
   using Error::Error;
-};
-
-/// A run whose direct factors do not fit (check_memory).
-class MemoryLimitError : public DirectSolverDeclined {
- public:
-  using DirectSolverDeclined::DirectSolverDeclined;
 };
 
 /// Throws MemoryLimitError naming the estimate by part and the limit when the estimate

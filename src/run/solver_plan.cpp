@@ -77,11 +77,12 @@ double mumps_factor_bytes(const FactorEstimate& f, int ranks, int ranks_on_machi
   return per_rank * ranks_on_machine;
 }
 
-/// CG + GAMG: the multigrid hierarchy (operator complexity under 1.5), its smoother's and
-/// the Krylov vectors, and PETSc's copies of K (AIJ, assembly stash): measured about 8.1 GB
-/// on the machine at foundation-3d n = 70 on 2 ranks (docs/performance.md), K with 4.6e7
-/// nonzeros: 170 bytes a nonzero of K in all; the parts below add up to it.
-constexpr double kIterativeBytesPerKNonzero = 120;
+/// CG + GAMG: the multigrid hierarchy (operator complexity under 1.5), its smoother's and the
+/// Krylov vectors, PETSc's copies of K (AIJ, assembly stash), rank 0's whole mesh while it
+/// distributes it: beyond the mesh and the matrices, 146 bytes a nonzero of K at foundation-3d
+/// n = 70 (8.1 GB on the machine, 2 ranks, K with 4.6e7 nonzeros) and 123 at n = 100 (20.4 GB,
+/// 1.36e8): docs/performance.md, issue 14.
+constexpr double kIterativeBytesPerKNonzero = 150;
 
 /// "memory about 12 MiB (CG + GAMG: about 5 MiB), limit 20 GiB".
 std::string memory(const MemoryEstimate& e, const std::string& other, const MemoryEstimate& o, const MemoryLimit& limit) {

@@ -119,7 +119,14 @@ SolverPlan plan_run(const Case& c, const SolverRequest& request, bool quiet) {
   const StageLog log(quiet);
   const auto t0 = std::chrono::steady_clock::now();
   log("choosing the linear solver (symbolic analysis of the node graph)", -1);
-  SolverPlan plan = plan_solver(*c.problem, c.solvers, request);
+  SolverPlan plan;
+  try {
+    plan = plan_solver(*c.problem, c.solvers, request);
+  } catch (const MemoryLimitError&) {
+    if (!quiet) fmt::print(" refused\n");  // the stage's line closed before the error
+    std::fflush(stdout);
+    throw;
+  }
   log("", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
   if (!quiet) fmt::print("  {}\n", plan.why);
   std::fflush(stdout);
@@ -141,7 +148,7 @@ std::unique_ptr<Run> set_up_serial(const CaseLoader& load, const RunOptions& o) 
   begin_run(o);
   const SetUpStopsAtOnce at_once;  // a signal ends set-up (meshing, factorizing) at once
   Case c = load({});
-  plan_run(c, {.engine = "serial"}, o.quiet);  // CHOLMOD, if it fits
+  plan_run(c, {.engine = "serial", .petsc_built = o.petsc_built}, o.quiet);  // CHOLMOD, if it fits
   return set_up_on_one_process(std::move(c), o);
 }
 

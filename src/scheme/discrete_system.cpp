@@ -155,7 +155,7 @@ ContactConstraints contact_constraints(const DiscreteSystem& sys) {
 }
 
 std::optional<SolverCost> check_before_factorizing(const DiscreteSystem& sys, la::Factor& K_factor,
-                                                   const SolverChoice& choice, bool primal, bool nonlinear_law) {
+                                                   const SolverChoice& choice, bool primal) {
   const Problem& p = *sys.problem;
   const Mesh& mesh = sys.part.mesh();
   const auto K_size = K_factor.analyze(*sys.K, "elastic stiffness K");
@@ -170,9 +170,6 @@ std::optional<SolverCost> check_before_factorizing(const DiscreteSystem& sys, la
                memory_limit(choice.memory_limit), p.name);
   SolverCost cost = estimate_solver_cost(*K_size, static_cast<double>(sys.K->nonzeros()), sys.part.n_contact,
                                          p.expected_steps(), !primal);
-  if (choice.iterative_fallback && choice.contact == "auto" && !nonlinear_law && iterative_is_faster(cost))
-    throw IterativeIsFaster(fmt::format("{}: CG + GAMG is estimated to take less than half the direct solver's "
-                                        "time ({})", p.name, cost.detail));
   return cost;
 }
 

@@ -74,10 +74,10 @@ ContactConstraints contact_constraints(const DiscreteSystem& sys);
 
 /// Refuses a run that cannot fit before the costly factorizations (issue 11), from the factors'
 /// symbolic analyses (K's is kept in K_factor for its factorization), where the backend has them
-/// (CHOLMOD); then, with choice.iterative_fallback and contact "auto", throws IterativeIsFaster
-/// where CG + GAMG is estimated much faster. Returns the run's estimated cost by both paths
+/// (CHOLMOD): a stepper made without the solver plan (run/solver_plan.hpp: `converge`'s levels,
+/// the library's callers) is refused here. Returns the run's estimated cost by both paths
 /// (nothing without a symbolic analysis). `primal`: the primal contact solver (no S = N K⁻¹ Nᵀ).
 std::optional<SolverCost> check_before_factorizing(const DiscreteSystem& sys, la::Factor& K_factor,
-                                                   const SolverChoice& choice, bool primal, bool nonlinear_law);
+                                                   const SolverChoice& choice, bool primal);
 
 }  // namespace vpc

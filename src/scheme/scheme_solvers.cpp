@@ -31,7 +31,7 @@ SchemeSolvers set_up_solvers(DiscreteSystem& sys, const SolverChoice& choice, Se
   s.contact_pick = pick_contact_solver(choice.contact, part.n_contact, sys.backend->linear_solver(), nonlinear_law);
   const bool primal = s.contact_pick.name == "primal-active-set";
   s.K_factor = sys.make_stiffness_factor();
-  cost = check_before_factorizing(sys, *s.K_factor, choice, primal, nonlinear_law);
+  cost = check_before_factorizing(sys, *s.K_factor, choice, primal);
   // The primal contact solver factors K with its active rows when it first solves.
   if (!primal) s.K_factor->factorize(*sys.K, "elastic stiffness K");
   timing.factor_K = seconds_since(t1);

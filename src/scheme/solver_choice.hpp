@@ -26,10 +26,6 @@ struct SolverChoice {
   /// The memory a run may use (la/memory_estimate.hpp): a size such as "8G",
   /// or empty for $VPCONTACT_MEMORY_LIMIT, else the machine's available memory.
   std::string memory_limit;
-  /// The caller can run the case on CG + GAMG instead (--engine auto on one process): with
-  /// contact "auto", a set-up whose direct path is estimated to be much slower
-  /// (solvers/solver_cost.hpp) throws IterativeIsFaster before factorizing.
-  bool iterative_fallback = false;
 
   /// Tells on_setup_stage, if set.
   void stage(const std::string& what, double seconds = -1) const {

@@ -45,11 +45,4 @@ SolverCost estimate_solver_cost(const FactorEstimate& K_factor, double K_nonzero
 /// Whether auto takes the iterative path: estimated faster by the margin solver_cost.cpp sets.
 bool iterative_is_faster(const SolverCost& c);
 
-/// Thrown by the set-up of a run that may go on with CG + GAMG (SolverChoice::iterative_fallback)
-/// when iterative_is_faster.
-class IterativeIsFaster : public DirectSolverDeclined {
- public:
-  using DirectSolverDeclined::DirectSolverDeclined;
-};
-
 }  // namespace vpc

@@ -101,15 +101,16 @@ TEST(SolverPlan, OneProcessRefusesOrMoves) {
     EXPECT_NE(msg.find(part), std::string::npos) << part << ": " << msg;
   EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 5.0);
 
-  const ProblemSize s = problem_size(p);
-  const double direct = cholmod_memory(p, s, choice).total(), cg = iterative_memory(p, s).total();
+  auto f = load_case("foundation-3d", {}, {.cells = 12});
+  const ProblemSize s = problem_size(*f.problem);
+  const double direct = cholmod_memory(*f.problem, s, choice).total(), cg = iterative_memory(*f.problem, s).total();
   ASSERT_GT(direct, cg);
   const MemoryLimit between{0.5 * (direct + cg), "test"};
-  const SolverPlan moved = plan_solver(p, s, choice, {.engine = "auto", .petsc_built = true}, between);
+  const SolverPlan moved = plan_solver(*f.problem, s, choice, {.engine = "auto", .petsc_built = true}, between);
   EXPECT_TRUE(moved.petsc);
   EXPECT_EQ(moved.linear_solver, "cg-gamg");
   EXPECT_NE(moved.why.find("CHOLMOD's factors would need about"), std::string::npos) << moved.why;
-  const SolverPlan direct_plan = plan_solver(p, s, choice, {.engine = "serial"}, {1e15, "test"});
+  const SolverPlan direct_plan = plan_solver(*f.problem, s, choice, {.engine = "serial"}, {1e15, "test"});
   EXPECT_FALSE(direct_plan.petsc);
   EXPECT_EQ(direct_plan.linear_solver, "cholmod");
 }

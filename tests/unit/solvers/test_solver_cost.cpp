@@ -43,10 +43,8 @@ TEST(SolverCost, TheChoiceNeedsAWideMargin) {
   SolverCost c;
   c.direct = 10;
   c.iterative = 6;
-  EXPECT_FALSE(iterative_is_faster(c));  // faster, but not by 4x: CG's rate varies with the mesh
+  EXPECT_FALSE(iterative_is_faster(c));  // faster, but not by half: the estimate is rough
   c.iterative = 4.9;
-  EXPECT_FALSE(iterative_is_faster(c));
-  c.iterative = 2.4;
   EXPECT_TRUE(iterative_is_faster(c));
 }
 
@@ -59,10 +57,14 @@ TEST(SolverCost, TheMeasuredRatesKeepSmallProblemsDirectAndLargeZonesIterative) 
   EXPECT_FALSE(iterative_is_faster(small)) << small.detail;
   const SolverCost large = estimate_solver_cost(factor(6.4e8, 2.8e12), 1.71e7, 2601, 100, false);
   EXPECT_TRUE(iterative_is_faster(large)) << large.detail;
-  // Issue 27: hertz-3d (27,354 unknowns, 766 contact nodes, one step; CHOLMOD's analysis) stays
-  // direct: CG + GAMG was chosen on "0.14 s against 3.3 s" and took 18 s more.
+  // Issue 27: the contact start counts. Two steps of foundation-3d n = 16 (13,872 unknowns, 289
+  // contact nodes) stay direct (CG's estimate was 0.14 s, its start alone costs more); hertz-3d
+  // (27,354 unknowns, 766 contact nodes: S is 766 solves) takes CG + GAMG, measured 1.3-1.7x faster.
+  const SolverCost small_run = estimate_solver_cost(factor(8.83e6, 5.39e9), 5.67e5, 289, 2, true);
+  EXPECT_FALSE(iterative_is_faster(small_run)) << small_run.detail;
+  EXPECT_GT(small_run.iterative, 7 * 1.2e-7 * 5.67e5);  // the start: about five steps more
   const SolverCost hertz = estimate_solver_cost(factor(1.95e7, 1.5e10), 1.15e6, 766, 1, true);
-  EXPECT_FALSE(iterative_is_faster(hertz)) << hertz.detail;
+  EXPECT_TRUE(iterative_is_faster(hertz)) << hertz.detail;
 }
 
 }  // namespace
