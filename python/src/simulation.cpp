@@ -123,7 +123,7 @@ class Simulation {
     return a;
   }
 
-  std::unique_ptr<Engine> engine_;
+  std::unique_ptr<Run> engine_;
   const TimeStepper* stepper_ = nullptr;
   std::optional<RunLoop> loop_;
   std::vector<std::pair<std::string_view, const double*>> fields_;

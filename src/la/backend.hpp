@@ -5,7 +5,7 @@
 // step-40 over LinearAlgebraPETSc or DOLFINx over its la::MatSet callable:
 //   serial_backend()        one process: Eigen matrices, CHOLMOD (with triangular halves)
 //   make_petsc_backend(...) MPI: MPIAIJ matrices, MUMPS / CG + GAMG / CG + hypre (la/petsc.hpp)
-#include "la/factor.hpp"
+#include "la/linear_solver.hpp"
 #include "la/layout.hpp"
 
 #include <memory>

@@ -3,7 +3,7 @@
 #include "core/error.hpp"
 #include "la/backend.hpp"
 #include "la/blas.hpp"
-#include "la/factor.hpp"
+#include "la/linear_solver.hpp"
 #include "la/memory_estimate.hpp"
 
 #include <cholmod.h>

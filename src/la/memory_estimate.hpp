@@ -2,7 +2,7 @@
 // Whether a run fits in memory (issue 11): what it will hold, by part, against
 // the memory it may use, checked before the costly factorizations. The factors'
 // sizes come from CHOLMOD's symbolic analysis (la::LinearSolver::analyze).
-#include "la/factor.hpp"
+#include "la/linear_solver.hpp"
 
 #include "core/error.hpp"
 

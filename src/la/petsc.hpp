@@ -4,7 +4,7 @@
 // factors (MUMPS Cholesky, CG + GAMG, CG + hypre), each a KSP with its own
 // options prefix.
 #include "la/backend.hpp"
-#include "la/factor.hpp"
+#include "la/linear_solver.hpp"
 #include "la/operator.hpp"
 #include "la/petsc_util.hpp"
 

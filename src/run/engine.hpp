@@ -65,9 +65,6 @@ class Run {
   virtual const TimeStepper* stepper() const { return nullptr; }
 };
 
-/// The name before issue 27 (it also meant --engine's choice), until every use is renamed.
-using Engine = Run;
-
 struct Case;  // io/case.hpp
 
 /// The engine over `stepper` (one process, or this process's part), its output

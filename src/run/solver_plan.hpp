@@ -8,7 +8,7 @@
 // is estimated clearly faster (solvers/solver_cost.hpp), CG + GAMG on the PETSc engine.
 //   SolverPlan plan = plan_solver(problem, solvers, {.engine = "auto"});
 //   if (!quiet) fmt::print("  {}\n", plan.why);
-#include "la/factor.hpp"
+#include "la/linear_solver.hpp"
 #include "la/memory_estimate.hpp"
 #include "scheme/time_stepper.hpp"
 

@@ -120,10 +120,10 @@ SparseMatrix DiscreteSystem::contact_matrix(bool owned_only) const {
   return out;
 }
 
-std::shared_ptr<la::Factor> DiscreteSystem::make_stiffness_factor() const {
+std::shared_ptr<la::LinearSolver> DiscreteSystem::make_stiffness_factor() const {
   const Mesh& mesh = part.mesh();
   const int d = mesh.dim();
-  std::shared_ptr<la::Factor> factor = backend->factor("K");
+  std::shared_ptr<la::LinearSolver> factor = backend->factor("K");
   Vector coordinates(part.n_owned_dofs);  // GAMG's rigid-body modes
   for (int i = 0; i < part.n_owned_nodes; ++i)
     for (int c = 0; c < d; ++c)
@@ -154,7 +154,7 @@ ContactConstraints contact_constraints(const DiscreteSystem& sys) {
   return c;
 }
 
-std::optional<SolverCost> check_before_factorizing(const DiscreteSystem& sys, la::Factor& K_factor,
+std::optional<SolverCost> check_before_factorizing(const DiscreteSystem& sys, la::LinearSolver& K_factor,
                                                    const SolverChoice& choice, bool primal) {
   const Problem& p = *sys.problem;
   const Mesh& mesh = sys.part.mesh();

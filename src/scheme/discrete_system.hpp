@@ -66,7 +66,7 @@ struct DiscreteSystem {
   /// local matrix).
   SparseMatrix contact_matrix(bool owned_only) const;
   /// A factor of K's kind (name "K"), its coordinates set for multigrid's rigid-body modes.
-  std::shared_ptr<la::Factor> make_stiffness_factor() const;
+  std::shared_ptr<la::LinearSolver> make_stiffness_factor() const;
 };
 
 /// The contact solver's data: N, g(0) and the compliance law of each owned contact row. Collective.
@@ -77,7 +77,7 @@ ContactConstraints contact_constraints(const DiscreteSystem& sys);
 /// (CHOLMOD): a stepper made without the solver plan (run/solver_plan.hpp: `converge`'s levels,
 /// the library's callers) is refused here. Returns the run's estimated cost by both paths
 /// (nothing without a symbolic analysis). `primal`: the primal contact solver (no S = N K⁻¹ Nᵀ).
-std::optional<SolverCost> check_before_factorizing(const DiscreteSystem& sys, la::Factor& K_factor,
+std::optional<SolverCost> check_before_factorizing(const DiscreteSystem& sys, la::LinearSolver& K_factor,
                                                    const SolverChoice& choice, bool primal);
 
 }  // namespace vpc

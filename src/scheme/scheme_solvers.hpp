@@ -44,7 +44,7 @@ class DamageSolvers {
 struct SchemeSolvers {
   ContactSolverPick contact_pick;
   /// Of K; made on demand under the primal contact solver (which factors K with its active rows).
-  std::shared_ptr<la::Factor> K_factor;
+  std::shared_ptr<la::LinearSolver> K_factor;
   std::unique_ptr<ContactSolver> contact;
   DamageSolvers damage;
 };

@@ -89,7 +89,7 @@ StepAttempts TimeStepper::attempts() {
           [this](const Snapshot& s) { restore(s); }};
 }
 
-const la::Factor& TimeStepper::stiffness_factor() {
+const la::LinearSolver& TimeStepper::stiffness_factor() {
   if (!solvers_.K_factor) {
     solvers_.K_factor = sys_.make_stiffness_factor();
     solvers_.K_factor->factorize(*sys_.K, "elastic stiffness K");
@@ -98,7 +98,7 @@ const la::Factor& TimeStepper::stiffness_factor() {
 }
 
 double TimeStepper::factor_bytes() const {
-  const la::Factor* contact = solvers_.contact->own_factor();
+  const la::LinearSolver* contact = solvers_.contact->own_factor();
   return (solvers_.K_factor ? solvers_.K_factor->factor_bytes() : 0.0) + (contact ? contact->factor_bytes() : 0.0) +
          solvers_.damage.factor_bytes();
 }
@@ -114,7 +114,7 @@ double TimeStepper::model_bytes() const {
 }
 
 int TimeStepper::n_factorizations() const {
-  const la::Factor* contact = solvers_.contact->own_factor();
+  const la::LinearSolver* contact = solvers_.contact->own_factor();
   return (solvers_.K_factor ? solvers_.K_factor->n_factorizations() : 0) +
          (contact ? contact->n_factorizations() : 0) + solvers_.damage.n_factorizations();
 }

@@ -95,7 +95,7 @@ class TimeStepper {
   int n_damage_matrices() const { return solvers_.damage.n_matrices(); }
   /// The factor of K (for benchmarks: the cost of one solve; made here when the contact
   /// solver is the primal one, which factors K with its active rows instead).
-  const la::Factor& stiffness_factor();
+  const la::LinearSolver& stiffness_factor();
   /// One line on how the contact step solves (ContactSolver::describe) and why that solver.
   std::string contact_method() const { return solvers_.contact->describe() + "; " + solvers_.contact_pick.why; }
   /// The contact solver in use ("auto" resolved).

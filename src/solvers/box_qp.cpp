@@ -59,7 +59,7 @@ const la::Comm& BoxQpOperator::comm() const {
   return one_process;
 }
 
-SparseBoxQpOperator::SparseBoxQpOperator(std::unique_ptr<la::SpdOperator> H, const la::FactorFactory& make_factor,
+SparseBoxQpOperator::SparseBoxQpOperator(std::unique_ptr<la::SpdOperator> H, const la::LinearSolverFactory& make_factor,
                                          ReducedSolve method, std::string what)
     : H_(std::move(H)), what_(std::move(what)), what_reduced_("reduced " + what_), diag_(H_->diagonal()),
       method_(method), full_(make_factor("H")), reduced_(make_factor("H_reduced")) {

@@ -17,7 +17,7 @@
 #include <string>
 #include <vector>
 
-#include "la/factor.hpp"
+#include "la/linear_solver.hpp"
 
 namespace vpc {
 
@@ -70,9 +70,9 @@ enum class ReducedSolve {
 /// factor has triangular halves) or a factor of H_FF made when the active set changes.
 class SparseBoxQpOperator final : public BoxQpOperator {
  public:
-  /// `make_factor` makes the factors of H and of the H_FF (a backend's la::Factor); `what`
+  /// `make_factor` makes the factors of H and of the H_FF (a backend's la::LinearSolver); `what`
   /// names H in their errors (e.g. the damage matrix).
-  SparseBoxQpOperator(std::unique_ptr<la::SpdOperator> H, const la::FactorFactory& make_factor,
+  SparseBoxQpOperator(std::unique_ptr<la::SpdOperator> H, const la::LinearSolverFactory& make_factor,
                       ReducedSolve method = ReducedSolve::automatic, std::string what = "box QP matrix");
   /// One process: H in Eigen, factors by CHOLMOD.
   explicit SparseBoxQpOperator(SparseMatrix H, ReducedSolve method = ReducedSolve::automatic);
@@ -107,7 +107,7 @@ class SparseBoxQpOperator final : public BoxQpOperator {
   std::string what_, what_reduced_;  // the factors keep the names' pointers
   Vector diag_;
   ReducedSolve method_;
-  std::unique_ptr<la::Factor> full_, reduced_;
+  std::unique_ptr<la::LinearSolver> full_, reduced_;
   std::vector<char> reduced_mask_;
   std::vector<int> free_ids_;
   // Capacitance: columns L⁻¹P e_i of the indices active so far, and the Cholesky

@@ -140,7 +140,7 @@ int common_block_columns(const la::Comm& comm, Eigen::Index n_owned, int most) {
 
 class ActiveSetContactSolver final : public ContactSolver {
  public:
-  ActiveSetContactSolver(std::shared_ptr<const la::SpdOperator> K, std::shared_ptr<const la::Factor> factor,
+  ActiveSetContactSolver(std::shared_ptr<const la::SpdOperator> K, std::shared_ptr<const la::LinearSolver> factor,
                          ContactConstraints c, double max_cached_share)
       : K_(std::move(K)), c_(std::move(c)), factor_(std::move(factor)) {
     Eigen::MatrixXd S = factor_->has_halves() ? dual_matrix_from_halves(max_cached_share)
@@ -267,7 +267,7 @@ class ActiveSetContactSolver final : public ContactSolver {
 
   std::shared_ptr<const la::SpdOperator> K_;  // for the reported residuals
   ContactConstraints c_;
-  std::shared_ptr<const la::Factor> factor_;
+  std::shared_ptr<const la::LinearSolver> factor_;
   std::unique_ptr<DenseBoxQpOperator> S_;
   Eigen::MatrixXd S_plain_;                  // S without diag(1/k), for a nonlinear law only
   std::vector<const ContactLaw*> row_laws_;  // every row's law (replicated); empty: Signorini
@@ -280,7 +280,7 @@ class ActiveSetContactSolver final : public ContactSolver {
 
 /// The iteration contracts at the rate |ωc − 1| / (ωc + 1) along a constraint of
 /// compliance c = N_i K⁻¹ N_iᵀ, so ω = 1 / mean(c) (not the stiffness scale).
-double default_omega(const la::Comm& comm, const la::Factor& factor, const ContactConstraints& c) {
+double default_omega(const la::Comm& comm, const la::LinearSolver& factor, const ContactConstraints& c) {
   double sum = 0;
   for (int j0 = 0; j0 < c.m; j0 += 64) {
     const int nb = std::min(64, c.m - j0);
@@ -292,8 +292,8 @@ double default_omega(const la::Comm& comm, const la::Factor& factor, const Conta
 
 class PenaltyDualityContactSolver final : public ContactSolver {
  public:
-  PenaltyDualityContactSolver(std::shared_ptr<const la::SpdOperator> K, const la::Factor& K_factor,
-                              ContactConstraints c, const la::FactorFactory& make_factor,
+  PenaltyDualityContactSolver(std::shared_ptr<const la::SpdOperator> K, const la::LinearSolver& K_factor,
+                              ContactConstraints c, const la::LinearSolverFactory& make_factor,
                               const ContactSolverOptions& opt)
       : K_(std::move(K)), c_(std::move(c)), opt_(opt),
         pd_(*K_, c_.N, opt.omega > 0 ? opt.omega : default_omega(K_->comm(), K_factor, c_), make_factor, "K_pd") {}
@@ -342,8 +342,8 @@ ContactSolverPick pick_contact_solver(const std::string& requested, int m, const
 }
 
 std::unique_ptr<ContactSolver> make_contact_solver(const std::string& name, std::shared_ptr<const la::SpdOperator> K,
-                                                   std::shared_ptr<const la::Factor> K_factor,
-                                                   ContactConstraints constraints, const la::FactorFactory& make_factor,
+                                                   std::shared_ptr<const la::LinearSolver> K_factor,
+                                                   ContactConstraints constraints, const la::LinearSolverFactory& make_factor,
                                                    const ContactSolverOptions& opt) {
   require(K != nullptr, "contact solver: no stiffness matrix");
   require(constraints.m > 0, "contact solver: there are no contact unknowns (is the contact part empty?)");
@@ -372,7 +372,7 @@ std::unique_ptr<ContactSolver> make_contact_solver(const std::string& name, std:
   if (name == "primal-active-set") {
     require(contact_reflections(constraints.N).size() == 0,
             "internal: the primal contact solver with rows off the axes needs Q K Q (make_primal_active_set_solver)");
-    return make_primal_active_set_solver(K, nullptr, std::shared_ptr<la::Factor>(make_factor("K_active")),
+    return make_primal_active_set_solver(K, nullptr, std::shared_ptr<la::LinearSolver>(make_factor("K_active")),
                                          std::move(constraints));
   }
   fail("unknown contact solver '{}'; expected active-set, primal-active-set or penalty-duality", name);
@@ -382,7 +382,7 @@ std::unique_ptr<ContactSolver> make_contact_solver(const std::string& name, cons
                                                    const SparseMatrix& N, const Vector& gap,
                                                    const ContactSolverOptions& opt) {
   auto op = std::make_shared<const la::SparseOperator>(K);
-  std::shared_ptr<la::Factor> factor = la::serial_backend()->factor("K");
+  std::shared_ptr<la::LinearSolver> factor = la::serial_backend()->factor("K");
   ContactConstraints c;
   c.m = static_cast<int>(N.rows());
   c.N = N;

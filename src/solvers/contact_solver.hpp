@@ -11,7 +11,7 @@
 // every rank): the dual QP with the dense S = N K⁻¹ Nᵀ is small and solved alike on
 // every rank. On one process the rows are 0..m−1 and N is the whole matrix.
 #include "contact/contact_law.hpp"
-#include "la/factor.hpp"
+#include "la/linear_solver.hpp"
 
 #include <memory>
 #include <string>
@@ -113,7 +113,7 @@ class ContactSolver {
   /// bit-identical.
   virtual Vector warm_state() const { return {}; }
   /// A factor the solver holds itself (primal-active-set: of K with its active rows), for reports.
-  virtual const la::Factor* own_factor() const { return nullptr; }
+  virtual const la::LinearSolver* own_factor() const { return nullptr; }
   virtual void set_warm_state(const Vector&) {}
 };
 
@@ -153,8 +153,8 @@ ContactSolverPick pick_contact_solver(const std::string& requested, int m, const
 /// or, when too large, a step is two solves. "penalty-duality": the paper's
 /// Bermúdez–Moreno iteration on u (cross-check), factor of K + ωNᵀN.
 std::unique_ptr<ContactSolver> make_contact_solver(const std::string& name, std::shared_ptr<const la::SpdOperator> K,
-                                                   std::shared_ptr<const la::Factor> K_factor,
-                                                   ContactConstraints constraints, const la::FactorFactory& make_factor,
+                                                   std::shared_ptr<const la::LinearSolver> K_factor,
+                                                   ContactConstraints constraints, const la::LinearSolverFactory& make_factor,
                                                    const ContactSolverOptions& opt = {});
 /// One process, for tests and benchmarks: K and N in Eigen, CHOLMOD.
 std::unique_ptr<ContactSolver> make_contact_solver(const std::string& name, const SparseMatrix& K,

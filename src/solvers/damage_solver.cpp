@@ -51,7 +51,7 @@ std::unique_ptr<DamageSolver> with_cause(const la::SpdOperator& H, Make&& make) 
 
 class ActiveSetDamageSolver final : public DamageSolver {
  public:
-  ActiveSetDamageSolver(std::unique_ptr<la::SpdOperator> H, const la::FactorFactory& make_factor, ReducedSolve reduced)
+  ActiveSetDamageSolver(std::unique_ptr<la::SpdOperator> H, const la::LinearSolverFactory& make_factor, ReducedSolve reduced)
       : op_(std::move(H), make_factor, reduced, kDamageMatrix) {}
   DamageReport solve(const Vector& rhs, Vector& beta) override {
     const int n = op_.size();
@@ -107,7 +107,7 @@ double default_omega(const la::SpdOperator& H) {
 
 class PenaltyDualityDamageSolver final : public DamageSolver {
  public:
-  PenaltyDualityDamageSolver(std::unique_ptr<la::SpdOperator> H, const la::FactorFactory& make_factor, double tol,
+  PenaltyDualityDamageSolver(std::unique_ptr<la::SpdOperator> H, const la::LinearSolverFactory& make_factor, double tol,
                              int maxit)
       : H_(std::move(H)), diag_(H_->diagonal()),
         pd_(*H_, identity(H_->n_owned()), default_omega(*H_), make_factor, "H_pd"), tol_(tol), maxit_(maxit) {}
@@ -175,7 +175,7 @@ std::string damage_failure(const DamageReport& r, double tolerance) {
 }
 
 std::unique_ptr<DamageSolver> make_damage_solver(const std::string& name, std::unique_ptr<la::SpdOperator> H,
-                                                 const la::FactorFactory& make_factor, ReducedSolve reduced,
+                                                 const la::LinearSolverFactory& make_factor, ReducedSolve reduced,
                                                  double tolerance, int max_iterations) {
   const la::SpdOperator& h = *H;
   if (name == "active-set")

@@ -3,7 +3,7 @@
 //     min ½ βᵀHβ − rᵀβ,  0 ≤ β ≤ 1,  H = M + kκA (constant over a run),
 //     r = M β_{n−1} + k F_φ.
 #include "solvers/box_qp.hpp"
-#include "la/factor.hpp"
+#include "la/linear_solver.hpp"
 
 #include <memory>
 #include <string>
@@ -47,7 +47,7 @@ class DamageSolver {
 /// ReducedSolve) or "penalty-duality" (Bermúdez–Moreno, factor of H + ωI).
 /// Collective.
 std::unique_ptr<DamageSolver> make_damage_solver(const std::string& name, std::unique_ptr<la::SpdOperator> H,
-                                                 const la::FactorFactory& make_factor,
+                                                 const la::LinearSolverFactory& make_factor,
                                                  ReducedSolve reduced = ReducedSolve::automatic,
                                                  double tolerance = 1e-13, int max_iterations = 200000);
 /// One process: H in Eigen, CHOLMOD.

@@ -10,7 +10,7 @@
 namespace vpc {
 
 PenaltyDuality::PenaltyDuality(const la::SpdOperator& H, SparseMatrix E, double omega,
-                               const la::FactorFactory& make_factor, const std::string& name)
+                               const la::LinearSolverFactory& make_factor, const std::string& name)
     : E_(std::move(E)), Et_(E_.transpose()), omega_(omega), comm_(H.comm()) {
   require(omega > 0, "penalty-duality: omega must be > 0 (got {})", omega);
   Hp_ = H.plus(omega * SparseMatrix(Et_ * E_));

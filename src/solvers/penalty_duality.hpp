@@ -12,7 +12,7 @@
 // Written once over la/: x and b are this rank's owned entries, the rows of E (and
 // lo, hi, q, θ) this rank's constraint rows; every scale and the KKT decision are
 // reductions over H.comm(), so all ranks iterate alike.
-#include "la/factor.hpp"
+#include "la/linear_solver.hpp"
 
 #include <functional>
 #include <string>
@@ -28,7 +28,7 @@ class PenaltyDuality {
  public:
   /// Factorizes H + ω EᵀE once (H->plus, a factor by make_factor(name)); E: this
   /// rank's constraint rows × owned columns. Collective.
-  PenaltyDuality(const la::SpdOperator& H, SparseMatrix E, double omega, const la::FactorFactory& make_factor,
+  PenaltyDuality(const la::SpdOperator& H, SparseMatrix E, double omega, const la::LinearSolverFactory& make_factor,
                  const std::string& name);
   /// One process: H in Eigen, CHOLMOD.
   PenaltyDuality(const SparseMatrix& H, SparseMatrix E, double omega);
@@ -55,7 +55,7 @@ class PenaltyDuality {
   double omega_;
   la::Comm comm_;
   std::unique_ptr<la::SpdOperator> Hp_;  // H + ωEᵀE (kept: iterative factors use it)
-  std::unique_ptr<la::Factor> factor_;
+  std::unique_ptr<la::LinearSolver> factor_;
   Vector q_;  // multiplier state, kept between calls as a warm start
 };
 

@@ -74,7 +74,7 @@ namespace {
 class PrimalActiveSetSolver final : public ContactSolver {
  public:
   PrimalActiveSetSolver(std::shared_ptr<const la::SpdOperator> K, std::shared_ptr<const la::SpdOperator> K_rot,
-                        std::shared_ptr<la::Factor> factor, ContactConstraints c)
+                        std::shared_ptr<la::LinearSolver> factor, ContactConstraints c)
       : K_(std::move(K)), K_rot_(K_rot ? std::move(K_rot) : K_), factor_(std::move(factor)), c_(std::move(c)),
         Q_(contact_reflections(c_.N)), rows_(rotated_rows(c_.N)) {
     for (Eigen::Index i = 0; i < static_cast<Eigen::Index>(rows_.size()) && !c_.laws.empty(); ++i) {
@@ -174,7 +174,7 @@ class PrimalActiveSetSolver final : public ContactSolver {
   }
 
   void set_gap(const Vector& gap) override { c_.gap = checked_gap(c_, gap); }
-  const la::Factor* own_factor() const override { return factor_.get(); }
+  const la::LinearSolver* own_factor() const override { return factor_.get(); }
   std::string name() const override { return "primal-active-set"; }
   std::string describe() const override {
     return "primal active set on u (K with the active rows as constraints; refactorized when the set changes)";
@@ -265,7 +265,7 @@ class PrimalActiveSetSolver final : public ContactSolver {
   }
 
   std::shared_ptr<const la::SpdOperator> K_, K_rot_;
-  std::shared_ptr<la::Factor> factor_;
+  std::shared_ptr<la::LinearSolver> factor_;
   ContactConstraints c_;
   SparseMatrix Q_;                 // empty: no row needs a rotation
   std::vector<RotatedRow> rows_;   // per local row
@@ -282,7 +282,7 @@ class PrimalActiveSetSolver final : public ContactSolver {
 
 std::unique_ptr<ContactSolver> make_primal_active_set_solver(std::shared_ptr<const la::SpdOperator> K,
                                                              std::shared_ptr<const la::SpdOperator> K_rot,
-                                                             std::shared_ptr<la::Factor> factor,
+                                                             std::shared_ptr<la::LinearSolver> factor,
                                                              ContactConstraints constraints) {
   return std::make_unique<PrimalActiveSetSolver>(std::move(K), std::move(K_rot), std::move(factor),
                                                  std::move(constraints));

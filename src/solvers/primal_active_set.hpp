@@ -27,7 +27,7 @@ SparseMatrix contact_reflections(const SparseMatrix& N);
 /// unfactorized (its coordinates set for AMG) and refactorized whenever the active set changes.
 std::unique_ptr<ContactSolver> make_primal_active_set_solver(std::shared_ptr<const la::SpdOperator> K,
                                                              std::shared_ptr<const la::SpdOperator> K_rot,
-                                                             std::shared_ptr<la::Factor> factor,
+                                                             std::shared_ptr<la::LinearSolver> factor,
                                                              ContactConstraints constraints);
 
 }  // namespace vpc

@@ -5,7 +5,7 @@
 // the number of contact nodes and of steps. The rates are measured on the project's
 // machine (docs/performance.md, "Direct or iterative"); the choice only acts where the
 // two differ by a wide margin, so a rough rate does not flip it.
-#include "la/factor.hpp"
+#include "la/linear_solver.hpp"
 #include "la/memory_estimate.hpp"
 
 #include <string>

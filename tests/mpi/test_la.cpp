@@ -81,7 +81,7 @@ void check_solvers(const la::Comm& comm, const Chain& c, const Eigen::SparseMatr
   const auto seg = [&](const Eigen::VectorXd& a) { return Eigen::VectorXd(a.segment(c.begin, c.n_owned)); };
   const Eigen::SparseMatrix<double> K_serial = element_matrix_sum(0, c.N, h);
   auto make_op = [&] { return std::make_unique<la::PetscOperator>(comm, local, l2g, c.n_owned, c.N, 1); };
-  const la::FactorFactory factory = la::factor_factory(la::make_petsc_backend(comm, {}));
+  const la::LinearSolverFactory factory = la::factor_factory(la::make_petsc_backend(comm, {}));
 
   // Contact (3.9): u_j ≤ g_j at every third node (rows numbered in node order, each
   // on the rank owning its node), an upward load, a gap growing along the chain:
@@ -119,7 +119,7 @@ void check_solvers(const la::Comm& comm, const Chain& c, const Eigen::SparseMatr
     Eigen::VectorXd u_s, l_s;
     const ContactReport rs = serial->solve(F, u_s, l_s);
     std::shared_ptr<const la::SpdOperator> K = make_op();
-    std::shared_ptr<la::Factor> K_factor = factory("K");
+    std::shared_ptr<la::LinearSolver> K_factor = factory("K");
     K_factor->factorize(*K, "chain stiffness");
     ContactConstraints cc;
     cc.m = m;

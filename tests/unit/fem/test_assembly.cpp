@@ -2,7 +2,7 @@
 // constant strain state is reproduced exactly in 2D and 3D on distorted meshes.
 #include "fem/assembly.hpp"
 #include "mesh/generators.hpp"
-#include "la/factor.hpp"
+#include "la/linear_solver.hpp"
 
 #include <gtest/gtest.h>
 
@@ -13,7 +13,7 @@ namespace vpc {
 namespace {
 
 /// x = A⁻¹b with a factor of A.
-inline Vector solve_with(const la::Factor& f, const Vector& b) {
+inline Vector solve_with(const la::LinearSolver& f, const Vector& b) {
   Vector x;
   f.solve(b, x);
   return x;

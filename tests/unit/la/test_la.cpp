@@ -4,7 +4,7 @@
 // and the box QP over a factor without halves (the path the PETSc backend takes).
 #include "core/error.hpp"
 #include "la/comm.hpp"
-#include "la/factor.hpp"
+#include "la/linear_solver.hpp"
 #include "la/vector.hpp"
 #include "solvers/box_qp.hpp"
 
@@ -153,7 +153,7 @@ TEST(LaFactor, CholmodSolvesAndItsHalvesComposeToTheSolve) {
 }
 
 /// CHOLMOD without its halves: stands for MUMPS or CG in a serial test.
-class NoHalves final : public Factor {
+class NoHalves final : public LinearSolver {
  public:
   void factorize(const SpdOperator& A, const char* what) override { f_->factorize(A, what); }
   void solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) const override { f_->solve(b, x); }
@@ -161,7 +161,7 @@ class NoHalves final : public Factor {
   int n_factorizations() const override { return f_->n_factorizations(); }
 
  private:
-  std::unique_ptr<Factor> f_ = make_cholmod_factor();
+  std::unique_ptr<LinearSolver> f_ = make_cholmod_factor();
 };
 
 TEST(LaBoxQp, WithoutHalvesTheReducedFactorGivesTheCapacitanceSolution) {
@@ -173,7 +173,7 @@ TEST(LaBoxQp, WithoutHalvesTheReducedFactorGivesTheCapacitanceSolution) {
   SparseBoxQpOperator with(H, ReducedSolve::capacitance);
   Eigen::VectorXd x1 = Eigen::VectorXd::Zero(n);
   const BoxQpResult r1 = solve_box_qp(with, b, lo, hi, x1);
-  const FactorFactory no_halves = [](const std::string&) { return std::make_unique<NoHalves>(); };
+  const LinearSolverFactory no_halves = [](const std::string&) { return std::make_unique<NoHalves>(); };
   SparseBoxQpOperator without(std::make_unique<SparseOperator>(H), no_halves);
   Eigen::VectorXd x2 = Eigen::VectorXd::Zero(n);
   const BoxQpResult r2 = solve_box_qp(without, b, lo, hi, x2);
@@ -189,7 +189,7 @@ TEST(LaBoxQp, WithoutHalvesTheReducedFactorGivesTheCapacitanceSolution) {
 }
 
 TEST(LaBoxQp, CapacitanceAskedOfAFactorWithoutHalvesIsAnError) {
-  const FactorFactory no_halves = [](const std::string&) { return std::make_unique<NoHalves>(); };
+  const LinearSolverFactory no_halves = [](const std::string&) { return std::make_unique<NoHalves>(); };
   try {
     SparseBoxQpOperator op(std::make_unique<SparseOperator>(tridiagonal(4, 2.0, -1.0)), no_halves,
                            ReducedSolve::capacitance);

@@ -16,7 +16,7 @@ namespace {
 namespace fs = std::filesystem;
 
 /// An engine whose steps are scripted: it logs what the loop asks of it.
-class ScriptedEngine final : public Engine {
+class ScriptedRun final : public Run {
  public:
   int n = 0, total = 5, fail_at = -1, signal_after = -1;
   std::string log;
@@ -55,7 +55,7 @@ RunOptions quiet(int checkpoint_every = 0) {
 }
 
 TEST(RunLoop, CheckpointsAtTheStartOnScheduleAndAtTheEnd) {
-  ScriptedEngine e;
+  ScriptedRun e;
   const RunResult r = run_engine(e, quiet(2));
   EXPECT_EQ(e.log, "open start c0 s1 r1 s2 r2 c2 s3 r3 s4 r4 c4 s5 r5 c5 finish");
   EXPECT_EQ(r.steps, 5);
@@ -63,7 +63,7 @@ TEST(RunLoop, CheckpointsAtTheStartOnScheduleAndAtTheEnd) {
 }
 
 TEST(RunLoop, ASignalStopsAfterTheStepWithACheckpoint) {
-  ScriptedEngine e;
+  ScriptedRun e;
   e.signal_after = 2;
   const RunResult r = run_engine(e, quiet());
   EXPECT_EQ(e.log, "open start c0 s1 r1 s2 r2 c2 finish");
@@ -72,7 +72,7 @@ TEST(RunLoop, ASignalStopsAfterTheStepWithACheckpoint) {
 }
 
 TEST(RunLoop, AFailedStepIsOneErrorForEveryProcess) {
-  ScriptedEngine e;
+  ScriptedRun e;
   e.fail_at = 3;
   try {
     run_engine(e, quiet());
@@ -86,7 +86,7 @@ TEST(RunLoop, AFailedStepIsOneErrorForEveryProcess) {
 }
 
 TEST(RunLoop, ResumeWithoutAGoodCheckpointSaysWhy) {
-  ScriptedEngine e;
+  ScriptedRun e;
   RunOptions o = quiet();
   o.resume = "somewhere";
   try {
@@ -101,7 +101,7 @@ TEST(RunLoop, ResumeWithoutAGoodCheckpointSaysWhy) {
 // RunLoop one step at a time (the Python module's Simulation): the same calls as run_engine,
 // a checkpoint when asked, finish once; without files it only steps.
 TEST(RunLoop, StepByStepAndWithoutFiles) {
-  ScriptedEngine e;
+  ScriptedRun e;
   RunLoop loop(e, quiet(0));
   loop.step();
   loop.step();
@@ -112,7 +112,7 @@ TEST(RunLoop, StepByStepAndWithoutFiles) {
   EXPECT_TRUE(loop.finished());
   EXPECT_EQ(e.log, "open start c0 s1 r1 s2 r2 c2 finish");
 
-  ScriptedEngine bare;
+  ScriptedRun bare;
   RunOptions o = quiet(0);
   o.files = false;
   RunLoop only_steps(bare, o);

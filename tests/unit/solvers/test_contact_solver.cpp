@@ -30,7 +30,7 @@ void set_law(ContactConstraints& cc, std::shared_ptr<const ContactLaw> law, cons
 }
 
 /// x = A⁻¹b with a factor of A.
-inline Vector solve_with(const la::Factor& f, const Vector& b) {
+inline Vector solve_with(const la::LinearSolver& f, const Vector& b) {
   Vector x;
   f.solve(b, x);
   return x;
@@ -135,7 +135,7 @@ TEST(ContactSolver, NormalComplianceSprings) {
   const Vector F = (Vector(2) << 0, 1.5).finished();
   const double ks = s.k_series();
   auto K = std::make_shared<const la::SparseOperator>(s.K);
-  std::shared_ptr<la::Factor> factor = la::make_cholmod_factor();
+  std::shared_ptr<la::LinearSolver> factor = la::make_cholmod_factor();
   factor->factorize(*K, "springs");
   for (double c : {0.5, 10.0, 1e12}) {
     SCOPED_TRACE(c);
@@ -172,7 +172,7 @@ TEST(ContactSolver, PowerLawComplianceSprings) {
   const Vector F = (Vector(2) << 0, 1.5).finished();
   const double ks = s.k_series();
   auto K = std::make_shared<const la::SparseOperator>(s.K);
-  std::shared_ptr<la::Factor> factor = la::make_cholmod_factor();
+  std::shared_ptr<la::LinearSolver> factor = la::make_cholmod_factor();
   factor->factorize(*K, "springs");
   for (double e : {1.5, 2.0, 3.0})
     for (double c : {0.5, 10.0, 1e8}) {
@@ -486,7 +486,7 @@ TEST(ContactSolver, DoesNotDependOnCallersStiffnessAfterConstruction) {
 
 /// CHOLMOD with its triangular halves hidden, as MUMPS and CG are: the active-set
 /// solver must then take its block-solve path (W = K⁻¹Nᵀ kept, or two solves).
-class FactorWithoutHalves final : public la::Factor {
+class FactorWithoutHalves final : public la::LinearSolver {
  public:
   void factorize(const la::SpdOperator& A, const char* what) override { f_->factorize(A, what); }
   void solve(const Vector& b, Vector& x) const override { f_->solve(b, x); }
@@ -494,11 +494,11 @@ class FactorWithoutHalves final : public la::Factor {
   int n_factorizations() const override { return f_->n_factorizations(); }
 
  private:
-  std::unique_ptr<la::Factor> f_ = la::make_cholmod_factor();
+  std::unique_ptr<la::LinearSolver> f_ = la::make_cholmod_factor();
 };
 
 /// The block's contact problem over la/ on one process, with the given factor of K.
-std::unique_ptr<ContactSolver> block_solver(const Block& b, std::shared_ptr<la::Factor> factor,
+std::unique_ptr<ContactSolver> block_solver(const Block& b, std::shared_ptr<la::LinearSolver> factor,
                                             const ContactSolverOptions& opt = {}) {
   auto K = std::make_shared<const la::SparseOperator>(b.K);
   factor->factorize(*K, "block stiffness");

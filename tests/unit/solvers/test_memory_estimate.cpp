@@ -23,7 +23,7 @@ namespace vpc {
 namespace {
 
 /// x = A⁻¹b with a factor of A.
-inline Vector solve_with(const la::Factor& f, const Vector& b) {
+inline Vector solve_with(const la::LinearSolver& f, const Vector& b) {
   Vector x;
   f.solve(b, x);
   return x;

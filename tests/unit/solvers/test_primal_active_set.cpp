@@ -115,7 +115,7 @@ TEST(PrimalActiveSet, AgreesWithTheDualSolverOnSlantedRows) {
       auto K = std::make_shared<const la::SparseOperator>(b.K);
       std::unique_ptr<ContactSolver> solver;
       if (s == 0) {
-        std::shared_ptr<la::Factor> f = la::make_cholmod_factor("K");
+        std::shared_ptr<la::LinearSolver> f = la::make_cholmod_factor("K");
         f->factorize(*K, "K");
         solver = make_contact_solver(names[s], K, f, c, la::make_cholmod_factor);
       } else {

@@ -85,10 +85,6 @@ class LinearSolver {
 /// backend reads its options under the prefix vpc_<name>_).
 using LinearSolverFactory = std::function<std::unique_ptr<LinearSolver>(const std::string& name)>;
 
-/// The names before issue 27 (la::Factor also named the CG solvers), until every use is renamed.
-using Factor = LinearSolver;
-using FactorFactory = LinearSolverFactory;
-
 /// CHOLMOD's supernodal Cholesky (64-bit integer interface) of a SparseOperator
 /// (one process), with halves and a symbolic analysis.
 std::unique_ptr<LinearSolver> make_cholmod_factor(const std::string& name = "");
