@@ -1,6 +1,6 @@
 #include "run/solver_plan.hpp"
 
-#include "contact/contact_rows.hpp"
+#include "scheme/contact_rows.hpp"
 #include "core/error.hpp"
 #include "fem/cell_geometry.hpp"
 #include "solvers/contact_solver.hpp"

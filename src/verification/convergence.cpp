@@ -3,6 +3,7 @@
 #include "core/error.hpp"
 #include "io/atomic_file.hpp"
 #include "io/checkpoint.hpp"
+#include "io/state_fields.hpp"
 #include "scheme/step_failure.hpp"
 #include "verification/refine.hpp"
 
@@ -34,7 +35,7 @@ void take_max(ErrorNorms& acc, const ErrorNorms& e) {
 }
 
 /// One run of the scheme inside a study, with what is accumulated about it.
-struct Run {
+struct LevelRun {
   int level = 0;       // position in the study (the reference is last)
   int mesh_level = 0;  // level in the mesh hierarchy
   std::shared_ptr<const Problem> problem;
@@ -58,7 +59,7 @@ struct Run {
 };
 
 /// Norms of (fine − prolonged coarse) on the fine run's mesh at the current time.
-ErrorNorms compare_runs(const Run& coarse, const Run& fine, const MeshHierarchy& meshes) {
+ErrorNorms compare_runs(const LevelRun& coarse, const LevelRun& fine, const MeshHierarchy& meshes) {
   const int d = fine.problem->mesh.dim();
   const State& c = coarse.state();
   const State& f = fine.state();
@@ -72,11 +73,11 @@ ErrorNorms compare_runs(const Run& coarse, const Run& fine, const MeshHierarchy&
   e.sigma_l2 = fine.norms->l2(ds);
   e.beta_l2 = fine.norms->l2(db);
   e.beta_grad = fine.norms->h1_seminorm(db);
-  e.contact_force = std::abs(f.lambda.sum() - c.lambda.sum());
+  e.contact_force = std::abs(normal_forces(f).sum() - normal_forces(c).sum());  // λ's normal force per node
   return e;
 }
 
-ErrorNorms compare_exact(const Run& run, const ExactSolution& exact, const std::vector<QuadraturePoint>& rule) {
+ErrorNorms compare_exact(const LevelRun& run, const ExactSolution& exact, const std::vector<QuadraturePoint>& rule) {
   const FieldErrors fe = errors_against_exact(run.problem->mesh, run.norms->geometry(), run.problem->elasticity,
                                               run.state(), exact, run.state().t, rule);
   ErrorNorms e;
@@ -89,7 +90,7 @@ ErrorNorms compare_exact(const Run& run, const ExactSolution& exact, const std::
   return e;
 }
 
-void fill_sizes(LevelResult& r, const Run& run) {
+void fill_sizes(LevelResult& r, const LevelRun& run) {
   const Mesh& m = run.problem->mesh;
   r.level = run.level;
   r.h = m.size_range().second;
@@ -104,7 +105,7 @@ void fill_sizes(LevelResult& r, const Run& run) {
 /// Advances a run by one step and records its solver statistics. A failed step
 /// (a solver did not converge or a residual is above tolerance) is an error when
 /// `strict`, else it is counted.
-void advance(Run& run, bool strict = true) {
+void advance(LevelRun& run, bool strict = true) {
   const auto t0 = Clock::now();
   const StepReport rep = run.stepper->step();
   run.result.seconds += seconds_since(t0);
@@ -131,7 +132,7 @@ void advance(Run& run, bool strict = true) {
   run.result.active_contact = rep.contact.n_active;
 }
 
-void finish(Run& run) {
+void finish(LevelRun& run) {
   run.result.contact_iterations.mean = run.n_stepped ? run.contact_iter_sum / run.n_stepped : 0;
   run.result.damage_iterations.mean = run.n_stepped ? run.damage_iter_sum / run.n_stepped : 0;
 }
@@ -220,9 +221,9 @@ ConvergenceResult run_convergence(const std::string& case_name, const Mesh& base
   std::vector<double> base_times;
   for (int n = 1; n <= o.base_steps; ++n) base_times.push_back(base->time_at(n));
 
-  std::vector<Run> runs(n_runs);
+  std::vector<LevelRun> runs(n_runs);
   for (int i = 0; i < n_runs; ++i) {
-    Run& r = runs[i];
+    LevelRun& r = runs[i];
     const bool adaptive = i >= n_fixed && i < n_measured;
     r.level = i < n_measured ? i % o.levels : ref_level;
     r.mesh_level = refine_h ? r.level : 0;
@@ -273,12 +274,12 @@ ConvergenceResult run_convergence(const std::string& case_name, const Mesh& base
   const bool root = runs.front().stepper->comm().rank() == 0;
   auto compare = [&](int i, bool at_start, double k) {
     if (!root) return;
-    Run& r = runs[i];
+    LevelRun& r = runs[i];
     const ErrorNorms e = exact ? compare_exact(r, *exact, rule) : compare_runs(r, runs.back(), meshes);
     take_max(r.err_max, e);
     if (!at_start) r.err_grad_sum += k * e.beta_grad * e.beta_grad;
     if (const int j = next_of(i); j >= 0) {
-      const Run& next = runs[j];
+      const LevelRun& next = runs[j];
       require(std::abs(next.state().t - r.state().t) <= 1e-9 * r.problem->final_time,
               "convergence study: levels {} and {} are at different times", r.level, next.level);
       const ErrorNorms dn = compare_runs(r, next, meshes);
@@ -292,7 +293,7 @@ ConvergenceResult run_convergence(const std::string& case_name, const Mesh& base
     double before = 0;
     for (std::size_t j = 0; j < base_times.size(); ++j) {
       const double t = base_times[j];
-      for (Run& r : runs)
+      for (LevelRun& r : runs)
         while (!r.stepper->done() && r.stepper->state().t < t - 1e-12 * base->final_time) advance(r);
       for (int i = 0; i < n_measured; ++i) compare(i, false, t - before);
       before = t;
@@ -301,10 +302,10 @@ ConvergenceResult run_convergence(const std::string& case_name, const Mesh& base
     }
   } else {
     int n_fine = 0;
-    for (const Run& r : runs) n_fine = std::max(n_fine, r.n_steps());
+    for (const LevelRun& r : runs) n_fine = std::max(n_fine, r.n_steps());
     const int report_every = std::max(1, n_fine / 10);
     for (int m = 1; m <= n_fine; ++m) {
-      for (Run& r : runs) {
+      for (LevelRun& r : runs) {
         r.stepped_now = m % (n_fine / r.n_steps()) == 0;
         if (r.stepped_now) advance(r);
       }
@@ -322,7 +323,7 @@ ConvergenceResult run_convergence(const std::string& case_name, const Mesh& base
   out.exact = exact != nullptr;
   out.at_base_times = controlled;
   for (int i = 0; i < n_runs; ++i) {
-    Run& r = runs[i];
+    LevelRun& r = runs[i];
     finish(r);
     r.result.error = r.err_max;
     r.result.error.beta_grad = std::sqrt(r.err_grad_sum);
@@ -468,7 +469,7 @@ std::vector<SolverComparisonLevel> compare_solvers(const Mesh& base_mesh, const 
   std::vector<SolverComparisonLevel> out;
   for (int l = 0; l < levels; ++l) {
     const auto problem = factory(meshes.mesh(l), n_steps);
-    Run ra, rp;
+    LevelRun ra, rp;
     ra.level = rp.level = l;
     ra.problem = rp.problem = problem;
     ra.stepper = std::make_unique<TimeStepper>(problem, as);
