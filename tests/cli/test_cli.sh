@@ -70,7 +70,7 @@ echo "item 9: ok"
 for cmd in run check; do
   extra=(); [ "$cmd" = run ] && extra=(--no-vtu -o stages)
   "$vpcontact" "$cmd" paper-2d "${extra[@]}" > stages.log || fail "$cmd paper-2d failed"
-  order=$(grep -noE "^vpcontact: paper-2d —|building the mesh \.\.\. [0-9.]+ s|choosing the linear solver \([a-z ]+\) \.\.\. [0-9.]+ s|^  linear solver CHOLMOD on one process \(|^  assembly \.\.\. [0-9.]+ s|factorization of K \([0-9]+ x [0-9]+, [0-9]+ nonzeros; [A-Za-z -]+\) \.\.\. [0-9.]+ s|factorization of H \([0-9]+ x [0-9]+, [0-9]+ nonzeros\) \.\.\. [0-9.]+ s|contact set-up \.\.\. [0-9.]+ s|^  mesh: " stages.log | cut -d: -f1 | tr '\n' ' ')
+  order=$(grep -noE "^vpcontact: paper-2d —|building the mesh \.\.\. [0-9.]+ s|choosing the linear solver \([a-z ]+\) \.\.\. [0-9.]+ s|^  linear solver CHOLMOD on one process[ ;(]|^  assembly \.\.\. [0-9.]+ s|factorization of K \([0-9]+ x [0-9]+, [0-9]+ nonzeros; [A-Za-z -]+\) \.\.\. [0-9.]+ s|factorization of H \([0-9]+ x [0-9]+, [0-9]+ nonzeros\) \.\.\. [0-9.]+ s|contact set-up \.\.\. [0-9.]+ s|^  mesh: " stages.log | cut -d: -f1 | tr '\n' ' ')
   [ "$order" = "1 2 3 4 5 6 7 8 9 " ] || fail "$cmd: header and stages out of order or missing ($order): $(cat stages.log)"
 done
 # On a terminal the progress line is redrawn; each drawing clears the rest of the line.
