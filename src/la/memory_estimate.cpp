@@ -136,13 +136,14 @@ MemoryEstimate estimate_run_memory(double mesh_bytes, double matrix_bytes, const
   return e;
 }
 
-void check_memory(const MemoryEstimate& estimate, const MemoryLimit& limit, const std::string& what) {
+void check_memory(const MemoryEstimate& estimate, const MemoryLimit& limit, const std::string& what,
+                  const std::string& path, const std::string& instead) {
   if (estimate.total() <= limit.bytes) return;
   throw MemoryLimitError(fmt::format(
-          "{}: the run would need about {} of memory ({}), more than the limit of {} set by {}; use a coarser "
-          "mesh, or set the limit with --memory-limit SIZE or {}=SIZE (e.g. 16G, or unlimited)",
-          what, format_bytes(estimate.total()), estimate.describe(), format_bytes(limit.bytes), limit.source,
-          kMemoryLimitVariable));
+      "{}: {} would need about {} of memory ({}), more than the limit of {} set by {}; {}use a coarser mesh, or set "
+      "the limit with --memory-limit SIZE or {}=SIZE (e.g. 16G, or unlimited)",
+      what, path, format_bytes(estimate.total()), estimate.describe(), format_bytes(limit.bytes), limit.source,
+      instead.empty() ? "" : instead + ", ", kMemoryLimitVariable));
 }
 
 }  // namespace vpc

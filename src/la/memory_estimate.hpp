@@ -58,7 +58,9 @@ class MemoryLimitError : public Error {
 };
 
 /// Throws MemoryLimitError naming the estimate by part and the limit when the estimate
-/// exceeds it; `what` names the run.
-void check_memory(const MemoryEstimate& estimate, const MemoryLimit& limit, const std::string& what);
+/// exceeds it; `what` names the run, `path` what would need the memory ("the run", "MUMPS")
+/// and `instead` (if not empty) the option that would fit.
+void check_memory(const MemoryEstimate& estimate, const MemoryLimit& limit, const std::string& what,
+                  const std::string& path = "the run", const std::string& instead = "");
 
 }  // namespace vpc

@@ -1,6 +1,7 @@
 #include "run/solver_plan.hpp"
 
 #include "scheme/contact_rows.hpp"
+#include "scheme/discrete_system.hpp"
 #include "core/error.hpp"
 #include "fem/cell_geometry.hpp"
 #include "solvers/contact_solver.hpp"
@@ -57,9 +58,7 @@ FactorEstimate blocked(const FactorEstimate& node, int d, double unknowns) {
   return K;
 }
 
-double mesh_bytes(const ProblemSize& s, int d) {
-  return 24.0 * s.nodes + 4.0 * (d + 1) * s.cells + (sizeof(CellGeometry) + 3.0 * sizeof(SymTensor)) * s.cells;
-}
+double mesh_bytes(const ProblemSize& s, int d) { return mesh_and_state_bytes(s.nodes, (d + 1) * s.cells, s.cells); }
 
 /// K, M, A and H (twice: H and its reduced copies) as Eigen or AIJ matrices, 12 bytes an entry.
 double matrix_bytes(const ProblemSize& s) { return 12.0 * (s.K_nonzeros + 4.0 * s.node_nonzeros); }
@@ -90,13 +89,11 @@ std::string memory(const MemoryEstimate& e, const std::string& other, const Memo
                      format_bytes(limit.bytes));
 }
 
+/// Refuses the path of estimate `e` (check_memory's message); called only where it does not fit.
 [[noreturn]] void refuse(const Problem& p, const MemoryEstimate& e, const MemoryLimit& limit, const std::string& path,
                          const std::string& instead) {
-  throw MemoryLimitError(fmt::format(
-      "{}: {} would need about {} of memory ({}), more than the limit of {} set by {}; {}use a coarser mesh, or set "
-      "the limit with --memory-limit SIZE or {}=SIZE (e.g. 16G, or unlimited)",
-      p.name, path, format_bytes(e.total()), e.describe(), format_bytes(limit.bytes), limit.source,
-      instead.empty() ? "" : instead + ", ", kMemoryLimitVariable));
+  check_memory(e, limit, p.name, path, instead);
+  throw MemoryLimitError(fmt::format("{}: internal: {} refused within the memory limit", p.name, path));
 }
 
 }  // namespace

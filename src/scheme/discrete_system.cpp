@@ -154,6 +154,10 @@ ContactConstraints contact_constraints(const DiscreteSystem& sys) {
   return c;
 }
 
+double mesh_and_state_bytes(double nodes, double cell_entries, double cells) {
+  return 24.0 * nodes + 4.0 * cell_entries + (sizeof(CellGeometry) + 3.0 * sizeof(SymTensor)) * cells;
+}
+
 std::optional<SolverCost> check_before_factorizing(const DiscreteSystem& sys, la::LinearSolver& K_factor,
                                                    const SolverChoice& choice, bool primal) {
   const Problem& p = *sys.problem;
@@ -161,8 +165,8 @@ std::optional<SolverCost> check_before_factorizing(const DiscreteSystem& sys, la
   const auto K_size = K_factor.analyze(*sys.K, "elastic stiffness K");
   if (!K_size) return std::nullopt;
   const auto H_size = sys.backend->factor("H")->analyze(*sys.H_first, "damage matrix H = M + k kappa A");
-  const double mesh_bytes = 24.0 * mesh.n_nodes() + 4.0 * mesh.cell_array().size() +
-                            (sizeof(CellGeometry) + 3.0 * sizeof(SymTensor)) * mesh.n_cells();
+  const double mesh_bytes = mesh_and_state_bytes(mesh.n_nodes(), static_cast<double>(mesh.cell_array().size()),
+                                                 mesh.n_cells());
   const double matrix_bytes = 12.0 * (sys.K_local_nonzeros + sys.M_local.nonZeros() + sys.A_local.nonZeros() +
                                       2.0 * sys.H_first_local_nonzeros);
   check_memory(estimate_run_memory(mesh_bytes, matrix_bytes, *K_size, H_size.value_or(FactorEstimate{}),

@@ -72,6 +72,11 @@ struct DiscreteSystem {
 /// The contact solver's data: N, g(0) and the compliance law of each owned contact row. Collective.
 ContactConstraints contact_constraints(const DiscreteSystem& sys);
 
+/// The memory of a mesh (coordinates and cell array: `cell_entries` node numbers) and of the
+/// state on its cells (bytes): what the estimates before set-up (run/solver_plan.hpp) and
+/// check_before_factorizing count for them.
+double mesh_and_state_bytes(double nodes, double cell_entries, double cells);
+
 /// Refuses a run that cannot fit before the costly factorizations (issue 11), from the factors'
 /// symbolic analyses (K's is kept in K_factor for its factorization), where the backend has them
 /// (CHOLMOD): a stepper made without the solver plan (run/solver_plan.hpp: `converge`'s levels,
