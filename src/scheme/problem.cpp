@@ -120,8 +120,18 @@ int ContactSpec::law_index(const std::string& part) const {
   return 0;
 }
 
+std::vector<std::shared_ptr<const FrictionLaw>> ContactSpec::frictions() const {
+  std::vector<std::shared_ptr<const FrictionLaw>> all = {friction};
+  for (const PartContactLaw& p : part_laws) all.push_back(p.friction);
+  return all;
+}
+
+bool ContactSpec::frictional() const {
+  return std::ranges::any_of(frictions(), [](const auto& f) { return f != nullptr; });
+}
+
 int ContactSpec::block_size(int dim) const {
-  int block = 1;
+  int block = frictional() ? dim : 1;
   for (const auto& l : laws()) block = std::max(block, l->block_size(dim));
   return block;
 }

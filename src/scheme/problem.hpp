@@ -3,6 +3,7 @@
 // mesh and boundary parts, ℰ, G, φ, κ, loads, gap, initial damage and times.
 // Case files (cases/*.toml included) and the manufactured cases fill it.
 #include "contact/contact_law.hpp"
+#include "contact/friction_law.hpp"
 #include "fem/assembly.hpp"
 #include "material/damage_source.hpp"
 #include "material/elasticity.hpp"
@@ -27,6 +28,9 @@ class Expression;
 struct PartContactLaw {
   std::vector<std::string> parts;
   std::shared_ptr<const ContactLaw> law;
+  /// Its friction (SPEC §7; contact/friction_law.hpp): nullptr frictionless. A [[contact.part]]
+  /// without a friction key takes [contact]'s.
+  std::shared_ptr<const FrictionLaw> friction;
 };
 
 struct ContactSpec {
@@ -36,11 +40,17 @@ struct ContactSpec {
   /// The normal law (contact/contact_law.hpp) on the parts of Γ3 that no part_laws entry names.
   std::shared_ptr<const ContactLaw> law = signorini_law();
   std::vector<PartContactLaw> part_laws;
+  /// The friction law on the parts of Γ3 that no part_laws entry names (nullptr: frictionless, the paper's (2.6)).
+  std::shared_ptr<const FrictionLaw> friction;
   /// Every law: `law`, then part_laws' in order (ContactRow::law and PartContactNode::law index it).
   std::vector<std::shared_ptr<const ContactLaw>> laws() const;
+  /// Every friction law, in the order of laws() (nullptr: that entry is frictionless).
+  std::vector<std::shared_ptr<const FrictionLaw>> frictions() const;
+  bool frictional() const;
   /// The index in laws() of the law on one part of Γ3.
   int law_index(const std::string& part) const;
-  /// Contact unknowns per node (State::contact_block): the largest ContactLaw::block_size.
+  /// Contact unknowns per node (State::contact_block): the largest ContactLaw::block_size, or
+  /// `dim` (λ_ν and d − 1 tangential forces) with friction on some part.
   int block_size(int dim) const;
   /// Rigid obstacles instead of `gap`: g is the distance along ν to the nearest one, at every step.
   std::vector<Obstacle> obstacles;

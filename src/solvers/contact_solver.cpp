@@ -30,7 +30,55 @@ bool nonlinear_in_dual(const la::Comm& comm, const ContactConstraints& c) {
 }
 
 double ContactResiduals::max() const {
-  return std::max({equilibrium, penetration, negative_force, complementarity});
+  return std::max({equilibrium, penetration, negative_force, complementarity, friction_bound, stick_slip, slip_direction});
+}
+
+Vector local_normal(const ContactConstraints& c, const Vector& lambda) {
+  Vector l(static_cast<Eigen::Index>(c.rows.size()));
+  for (size_t k = 0; k < c.rows.size(); ++k) l[static_cast<Eigen::Index>(k)] = lambda[c.rows[k] * c.block];
+  return l;
+}
+
+Vector local_tangential(const ContactConstraints& c, const Vector& lambda) {
+  const int t = c.block - 1;
+  Vector l(static_cast<Eigen::Index>(c.rows.size()) * t);
+  for (size_t k = 0; k < c.rows.size(); ++k)
+    for (int j = 0; j < t; ++j) l[static_cast<Eigen::Index>(k) * t + j] = lambda[c.rows[k] * c.block + 1 + j];
+  return l;
+}
+
+Vector replicate_blocks(const la::Comm& comm, const ContactConstraints& c, const Vector& normal, const Vector& tangential) {
+  const int b = c.block, t = b - 1;
+  Vector all = Vector::Zero(static_cast<Eigen::Index>(c.m) * b);
+  for (size_t k = 0; k < c.rows.size(); ++k) {
+    const auto e = static_cast<Eigen::Index>(k);
+    all[c.rows[k] * b] = normal[e];
+    for (int j = 0; j < t; ++j) all[c.rows[k] * b + 1 + j] = tangential[e * t + j];
+  }
+  comm.sum(all.data(), all.size());
+  return all;
+}
+
+void set_friction_data(ContactConstraints& c, const Vector& tresca, const Vector& shift) {
+  const auto rows = static_cast<Eigen::Index>(c.rows.size());
+  require(c.frictional(), "internal: friction data for frictionless contact constraints");
+  require(tresca.size() == rows && shift.size() == rows * (c.block - 1),
+          "internal: {} friction bounds and {} slip shifts for {} contact rows of {} tangents", tresca.size(),
+          shift.size(), rows, c.block - 1);
+  require(tresca.allFinite() && shift.allFinite() && (tresca.size() == 0 || tresca.minCoeff() >= 0),
+          "internal: friction bounds must be finite and >= 0 and slip shifts finite");
+  c.tresca = tresca;
+  c.shift = shift;
+}
+
+Vector slip_increment(const ContactConstraints& c, const Vector& u) {
+  if (!c.frictional()) return {};
+  return c.T * u - c.shift;
+}
+
+ContactStatus contact_status(double lambda_nu, double tangential_norm, double bound) {
+  if (!(lambda_nu > 0)) return ContactStatus::Free;
+  return tangential_norm >= (1 - kSlipShare) * bound ? ContactStatus::Slip : ContactStatus::Stick;
 }
 
 ContactResiduals contact_residuals(const la::SpdOperator& K, const ContactConstraints& c, const Vector& F,
@@ -39,17 +87,23 @@ ContactResiduals contact_residuals(const la::SpdOperator& K, const ContactConstr
   ContactResiduals r;
   if (!comm.all(F.allFinite() && u.allFinite() && c.gap.allFinite()) || !lambda.allFinite()) {
     const double inf = std::numeric_limits<double>::infinity();  // NaN would compare as "small"
-    return {inf, inf, inf, inf};
+    return {inf, inf, inf, inf, inf, inf, inf};
   }
   Vector Ku;
   K.mult_threaded(u, Ku);
-  const Vector lambda_local = local_rows(c, lambda);
+  const Vector lambda_local = local_normal(c, lambda);
   Vector s = c.gap - c.N * u;  // the gap left: ≥ 0, plus the penetration a compliant law gives at λ
   for (Eigen::Index i = 0; i < s.size() && !c.laws.empty(); ++i)
     if (const ContactLaw& law = c.law_of(i); !law.rigid()) s[i] = law.gap_left(s[i], lambda_local[i], c.compliance[i]);
   auto inf = [&](const Vector& v) { return comm.max(v.size() ? v.cwiseAbs().maxCoeff() : 0.0); };
   const double f_scale = std::max({inf(F), inf(Ku), 1e-300});
-  r.equilibrium = inf(Vector(Ku - F + c.N.transpose() * lambda_local)) / f_scale;
+  Vector stationarity = Ku - F + c.N.transpose() * lambda_local;
+  Vector tangential;
+  if (c.frictional()) {
+    tangential = local_tangential(c, lambda);
+    stationarity += c.T.transpose() * tangential;
+  }
+  r.equilibrium = inf(stationarity) / f_scale;
   const double l_scale = std::max({lambda.size() ? lambda.cwiseAbs().maxCoeff() : 0.0, f_scale});
   // Not max(‖u‖, ‖g‖) alone: where every free dof is held by contact at a zero gap the exact
   // u is 0, and the dual solver's u = K⁻¹(F − Nᵀλ) is 0 only to round-off (~1e-17), which
@@ -64,9 +118,21 @@ ContactResiduals contact_residuals(const la::SpdOperator& K, const ContactConstr
     r.negative_force = std::max(r.negative_force, -lambda_local[i] / l_scale);
     r.complementarity = std::max(r.complementarity, std::abs(lambda_local[i] * s[i]) / (l_scale * u_scale));
   }
-  r.penetration = comm.max(r.penetration);
-  r.negative_force = comm.max(r.negative_force);
-  r.complementarity = comm.max(r.complementarity);
+  if (c.frictional()) {  // SPEC §7: |λ_τ| ≤ s; below it Δ = 0; at it Δ along λ_τ
+    const int t = c.block - 1;
+    const Vector slip = slip_increment(c, u);
+    for (Eigen::Index i = 0; i < s.size(); ++i) {
+      const auto l = tangential.segment(i * t, t);
+      const auto d = slip.segment(i * t, t);
+      const double bound = c.bound(i, lambda_local[i]), ln = l.norm(), dn = d.norm();
+      r.friction_bound = std::max(r.friction_bound, (ln - bound) / l_scale);
+      r.stick_slip = std::max(r.stick_slip, std::max(bound - ln, 0.0) * dn / (l_scale * u_scale));
+      r.slip_direction = std::max(r.slip_direction, (ln * dn - l.dot(d)) / (l_scale * u_scale));
+    }
+  }
+  for (double* x : {&r.penetration, &r.negative_force, &r.complementarity}) *x = comm.max(*x);
+  if (c.frictional())
+    for (double* x : {&r.friction_bound, &r.stick_slip, &r.slip_direction}) *x = comm.max(*x);
   return r;
 }
 
@@ -78,7 +144,10 @@ std::string contact_failure(const ContactReport& r, double tolerance) {
       {"equilibrium", "KKT stationarity: Ku = F - N^T lambda", x.equilibrium},
       {"penetration", "feasibility: Nu <= g", x.penetration},
       {"negative-force", "feasibility: lambda >= 0", x.negative_force},
-      {"complementarity", "lambda_i (g - Nu)_i = 0", x.complementarity}};
+      {"complementarity", "lambda_i (g - Nu)_i = 0", x.complementarity},
+      {"friction-bound", "|lambda_t| <= its bound", x.friction_bound},
+      {"stick-slip", "no slip below the bound", x.stick_slip},
+      {"slip-direction", "slip along the tangential force", x.slip_direction}};
   for (const auto& [name, meaning, value] : named)
     if (!(value <= tolerance)) above.push_back(fmt::format("{} residual {:.2e} ({})", name, value, meaning));
   return solver_failure(r.converged, r.iterations,
@@ -91,9 +160,33 @@ ContactReport contact_report(const la::SpdOperator& K, const ContactConstraints&
   rep.converged = converged;
   rep.iterations = iterations;
   rep.active_threshold = active_threshold;
-  rep.n_active = static_cast<int>((lambda.array() > active_threshold).count());
-  rep.total_force = lambda.sum();
   rep.residuals = contact_residuals(K, c, F, u, lambda);
+  if (!c.frictional()) {
+    rep.n_active = static_cast<int>((lambda.array() > active_threshold).count());
+    rep.total_force = lambda.sum();
+    return rep;
+  }
+  const int b = c.block, t = b - 1;
+  for (int i = 0; i < c.m; ++i) {
+    rep.n_active += lambda[i * b] > active_threshold;
+    rep.total_force += lambda[i * b];
+  }
+  // Stick and slip counts and the dissipation from this rank's rows.
+  const Vector normal = local_normal(c, lambda), tangential = local_tangential(c, lambda);
+  const Vector slip = slip_increment(c, u);
+  double sums[3] = {0, 0, 0};
+  for (Eigen::Index i = 0; i < normal.size(); ++i) {
+    const auto l = tangential.segment(i * t, t);
+    const ContactStatus st = normal[i] > active_threshold ? contact_status(normal[i], l.norm(), c.bound(i, normal[i]))
+                                                         : ContactStatus::Free;
+    sums[0] += st == ContactStatus::Stick;
+    sums[1] += st == ContactStatus::Slip;
+    sums[2] += l.dot(slip.segment(i * t, t));
+  }
+  K.comm().sum(sums, 3);
+  rep.n_stick = static_cast<int>(sums[0]);
+  rep.n_slip = static_cast<int>(sums[1]);
+  rep.dissipation = sums[2];
   return rep;
 }
 
@@ -189,6 +282,7 @@ class ActiveSetContactSolver final : public ContactSolver {
     return make_report(*K_, c_, F, u, lambda, r);
   }
   void set_gap(const Vector& gap) override { c_.gap = checked_gap(c_, gap); }
+  void set_friction(const Vector& tresca, const Vector& shift) override { set_friction_data(c_, tresca, shift); }
   std::string name() const override { return "active-set"; }
   std::string describe() const override {
     if (nonlinear_) return describe_solves() + "; semismooth Newton for the nonlinear compliance law";
@@ -310,6 +404,7 @@ class PenaltyDualityContactSolver final : public ContactSolver {
     return make_report(*K_, c_, F, u, lambda, {r.converged, r.iterations}, opt_.tolerance * force_scale);
   }
   void set_gap(const Vector& gap) override { c_.gap = checked_gap(c_, gap); }
+  void set_friction(const Vector& tresca, const Vector& shift) override { set_friction_data(c_, tresca, shift); }
   std::string name() const override { return "penalty-duality"; }
   std::string describe() const override { return "penalty-duality, factor of K + omega N^T N"; }
   Vector warm_state() const override {

@@ -25,6 +25,11 @@ struct ContactResiduals {
   double penetration = 0;           // max(0, max(Nu − g)) / scale_u
   double negative_force = 0;        // max(0, −min λ) / scale_λ
   double complementarity = 0;       // max |λ_i (g − Nu)_i| / (scale_λ scale_u)
+  // Friction (SPEC §7; 0 without): with Δ_i = T_i u − h_i the slip increment and s_i the bound
+  // (ContactConstraints::bound) of node i,
+  double friction_bound = 0;        // max(0, max_i |λ_τ,i| − s_i) / scale_λ: |λ_τ| ≤ s
+  double stick_slip = 0;            // max_i (s_i − |λ_τ,i|)₊ |Δ_i| / (scale_λ scale_u): below the bound, no slip
+  double slip_direction = 0;        // max_i (|λ_τ,i| |Δ_i| − λ_τ,i·Δ_i) / (scale_λ scale_u): slip along λ_τ
   double max() const;
 };
 
@@ -41,7 +46,11 @@ struct ContactReport {
   /// size below which its own KKT test takes a multiplier for zero.
   int n_active = 0;
   double active_threshold = 0;
-  double total_force = 0;  // Σ λ_i
+  double total_force = 0;  // Σ λ_i (the normal forces)
+  /// Friction (0 without): active nodes below their bound (stick) and at it (slip, or about
+  /// to), by contact_status; the frictional dissipation Σ λ_τ,i·Δ_i of the step (≥ 0).
+  int n_stick = 0, n_slip = 0;
+  double dissipation = 0;
   ContactResiduals residuals;
 };
 
@@ -59,14 +68,46 @@ struct ContactConstraints {
   std::vector<std::shared_ptr<const ContactLaw>> laws;
   std::vector<int> law;  // per local row
   Vector compliance;     // per local row
-  /// Contact unknowns per row (ContactLaw::block_size; State::contact_block): λ holds m × block
-  /// numbers, row after row. 1 for every normal law, the only block the solvers take today.
+  /// Contact unknowns per row (State::contact_block): λ holds m × block numbers, row after row,
+  /// the normal force first. 1 for a normal law; d with friction (SPEC §7): λ_ν then the
+  /// d − 1 tangential forces λ_τ along the node's tangents.
   int block = 1;
   /// The law of local row i (Signorini where there are no laws).
   const ContactLaw& law_of(Eigen::Index i) const {
     return laws.empty() ? *signorini_law() : *laws[static_cast<std::size_t>(law[static_cast<std::size_t>(i)])];
   }
+
+  // Friction (block > 1; SPEC §7), per local row i and its tangents j < block − 1:
+  /// T: row i(b−1) + j is the unit tangent t_ij on the owned free dofs (set_tangents: the columns
+  /// of the node-local reflection Q of contact_reflections other than ν's, so that in w = Qu the
+  /// tangential coordinate is one dof, tangent_dof). A node with fewer free tangents (a symmetry
+  /// plane) has zero rows and tangent_dof −1 there; its λ_τ,ij is 0.
+  SparseMatrix T;
+  std::vector<int> tangent_dof;  // per local row × (b − 1): owned free dof, −1 where none
+  /// The bound of the tangential force, s_i = tresca_i + μ_i λ_ν,i (|λ_τ,i| ≤ s_i, Euclidean: a
+  /// disc in 3D): Coulomb's μ_i (constant), Tresca's g_τ(x_i, t_n) |Γ3|_i as a force (per step).
+  Vector mu, tresca;
+  /// h of the slip increment Δ_i = T_i u − h_i (per local row × (b − 1), per step): t_ij·u_{n−1}
+  /// plus the obstacle's tangential displacement over the step.
+  Vector shift;
+  bool frictional() const { return block > 1; }
+  double bound(Eigen::Index i, double lambda_nu) const { return tresca[i] + mu[i] * std::max(lambda_nu, 0.0); }
 };
+
+/// The tangents of friction (ContactConstraints::T, tangent_dof) for c.block − 1 tangents per row:
+/// `node_dofs[i]` are the free dofs (owned free numbering) of local row i's node, in order. Rows of
+/// N off the axes use contact_reflections' Householder frame. Sets c.T, c.tangent_dof and zero
+/// shift and tresca (mu is the caller's).
+void set_tangents(ContactConstraints& c, const std::vector<std::vector<int>>& node_dofs);
+
+/// Δ = T u − shift, the slip increments of this rank's rows (rows × (b − 1)); empty without friction.
+Vector slip_increment(const ContactConstraints& c, const Vector& u);
+
+/// A contact node's state after a step, for friction's outputs: not in contact (λ_ν = 0),
+/// sticking (|λ_τ| below the bound by more than kSlipShare of it) or slipping (at it).
+enum class ContactStatus { Free = 0, Stick = 1, Slip = 2 };
+constexpr double kSlipShare = 1e-9;
+ContactStatus contact_status(double lambda_nu, double tangential_norm, double bound);
 
 /// Some row's law is not linear (ContactLaw::linear; the same answer on every process): only the
 /// dual ("active-set") solves it, with solve_compliance_dual's Newton.
@@ -93,6 +134,14 @@ std::string contact_failure(const ContactReport& r, double tolerance);
 /// row; the report of a solve (n_active counts λ_i > active_threshold, see ContactReport).
 Vector local_rows(const ContactConstraints& c, const Vector& lambda);
 Vector replicate(const la::Comm& comm, const ContactConstraints& c, const Vector& local);
+/// With blocks (m × block numbers in λ): this rank's rows' normal forces (rows numbers) and
+/// tangential forces (rows × (block − 1)), and λ (m × block, replicated) from them.
+Vector local_normal(const ContactConstraints& c, const Vector& lambda);
+Vector local_tangential(const ContactConstraints& c, const Vector& lambda);
+Vector replicate_blocks(const la::Comm& comm, const ContactConstraints& c, const Vector& normal,
+                        const Vector& tangential);
+/// Checks friction's data of a step (sizes, finite, tresca ≥ 0) and stores it in c (set_friction).
+void set_friction_data(ContactConstraints& c, const Vector& tresca, const Vector& shift);
 const Vector& checked_gap(const ContactConstraints& c, const Vector& gap);
 ContactReport contact_report(const la::SpdOperator& K, const ContactConstraints& c, const Vector& F, const Vector& u,
                              const Vector& lambda, bool converged, int iterations, double active_threshold = 0);
@@ -105,6 +154,9 @@ class ContactSolver {
   /// Replaces g of this process's rows (ContactConstraints::gap) for the following solves: the gap of
   /// step n, g(t_n), where it changes in time. Nothing set up from K and N depends on g.
   virtual void set_gap(const Vector& gap) = 0;
+  /// Friction's data of step n for this process's rows (ContactConstraints::tresca, shift), before
+  /// its solve; only for frictional constraints.
+  virtual void set_friction(const Vector& tresca, const Vector& shift) = 0;
   virtual std::string name() const = 0;
   /// One line for the run's description, e.g. "one solve per step (K's halves)" / "two solves per step".
   virtual std::string describe() const = 0;

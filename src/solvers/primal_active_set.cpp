@@ -69,6 +69,39 @@ SparseMatrix contact_reflections(const SparseMatrix& N) {
   return Q;
 }
 
+void set_tangents(ContactConstraints& c, const std::vector<std::vector<int>>& node_dofs) {
+  const auto rows = static_cast<Eigen::Index>(c.rows.size());
+  const int t = c.block - 1;
+  require(t >= 1 && static_cast<Eigen::Index>(node_dofs.size()) == rows,
+          "internal: tangents for {} nodes of {} contact rows (block {})", node_dofs.size(), rows, c.block);
+  // In w = Qu a row's normal is its dof k (rotated_rows) and every other free dof j of its node
+  // is a tangent: Q e_j is a unit vector orthogonal to ν (Q is a reflection, symmetric).
+  const SparseMatrix Q = contact_reflections(c.N);
+  const std::vector<RotatedRow> normal = rotated_rows(c.N);
+  std::vector<Eigen::Triplet<double>> entries;
+  c.tangent_dof.assign(static_cast<std::size_t>(rows * t), -1);
+  for (Eigen::Index i = 0; i < rows; ++i) {
+    int j = 0;
+    for (const int dof : node_dofs[static_cast<std::size_t>(i)]) {
+      if (dof == normal[static_cast<std::size_t>(i)].dof) continue;
+      require(j < t, "internal: contact row {} has more than {} tangents", i, t);
+      const auto row = static_cast<int>(i * t + j);
+      c.tangent_dof[static_cast<std::size_t>(row)] = dof;
+      if (Q.size() == 0) {
+        entries.emplace_back(row, dof, 1.0);
+      } else {
+        for (SparseMatrix::InnerIterator it(Q, dof); it; ++it) entries.emplace_back(row, static_cast<int>(it.row()), it.value());
+      }
+      ++j;
+    }
+  }
+  c.T.resize(rows * t, c.N.cols());
+  c.T.setFromTriplets(entries.begin(), entries.end());
+  c.shift = Vector::Zero(rows * t);
+  c.tresca = Vector::Zero(rows);
+  if (c.mu.size() != rows) c.mu = Vector::Zero(rows);
+}
+
 namespace {
 
 class PrimalActiveSetSolver final : public ContactSolver {
@@ -174,6 +207,7 @@ class PrimalActiveSetSolver final : public ContactSolver {
   }
 
   void set_gap(const Vector& gap) override { c_.gap = checked_gap(c_, gap); }
+  void set_friction(const Vector& tresca, const Vector& shift) override { set_friction_data(c_, tresca, shift); }
   const la::LinearSolver* own_factor() const override { return factor_.get(); }
   std::string name() const override { return "primal-active-set"; }
   std::string describe() const override {

@@ -1,0 +1,107 @@
+// The friction laws (SPEC §7) and their registry: one line per law.
+#include "contact/friction_law.hpp"
+
+#include "core/error.hpp"
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include <algorithm>
+#include <cmath>
+#include <utility>
+
+namespace vpc {
+
+namespace {
+
+/// The field of `key`, refusing a negative or non-finite value where it is a number (a
+/// formula's values are checked where they are used: ContactSpec's per-node checks).
+LawField field_at_least_zero(FrictionKeys& keys, const std::string& key, bool time, std::string& text) {
+  if (!keys.has(key)) fail("{}: missing key {} (a number or a formula)", keys.where(key), key);
+  LawField f = keys.field(key, time);
+  if (!keys.field_moves(key)) {
+    // A constant is checked here; a formula per node (contact_rows and the step's data).
+    const double v = f(Point{0, 0, 0}, 0.0);
+    text = fmt::format("{}", v);
+  } else {
+    text = "(a formula)";
+  }
+  return f;
+}
+
+void refuse_keys_of_others(FrictionKeys& keys, const std::string& mine, const std::string& law) {
+  for (const std::string& k : friction_keys())
+    if (k != mine && keys.has(k)) fail("{}: {} does not belong to friction = \"{}\"", keys.where(k), k, law);
+}
+
+template <typename T>
+FrictionLawFactory entry() {
+  return [](FrictionKeys& keys) -> std::shared_ptr<const FrictionLaw> { return std::make_shared<const T>(keys); };
+}
+
+std::vector<std::pair<std::string, FrictionLawFactory>>& table() {
+  static std::vector<std::pair<std::string, FrictionLawFactory>> t = {
+      {"none", [](FrictionKeys& keys) -> std::shared_ptr<const FrictionLaw> {
+         refuse_keys_of_others(keys, "", "none");
+         return nullptr;
+       }},
+      {"coulomb", entry<CoulombFriction>()},
+      {"tresca", entry<TrescaFriction>()},
+  };
+  return t;
+}
+
+}  // namespace
+
+CoulombFriction::CoulombFriction(FrictionKeys& keys) {
+  refuse_keys_of_others(keys, "mu", "coulomb");
+  mu_ = field_at_least_zero(keys, "mu", false, text_);
+  if (!keys.field_moves("mu")) {
+    const double v = mu_(Point{0, 0, 0}, 0.0);
+    if (!(v >= 0) || !std::isfinite(v)) fail("{}: expected a friction coefficient mu >= 0, got {}", keys.where("mu"), v);
+  }
+}
+
+CoulombFriction::CoulombFriction(double mu) : mu_([mu](const Point&, double) { return mu; }), text_(fmt::format("{}", mu)) {
+  require(mu >= 0 && std::isfinite(mu), "a friction coefficient mu >= 0, got {}", mu);
+}
+
+TrescaFriction::TrescaFriction(FrictionKeys& keys) {
+  refuse_keys_of_others(keys, "friction_bound", "tresca");
+  g_ = field_at_least_zero(keys, "friction_bound", true, text_);
+  moves_ = keys.field_moves("friction_bound");
+  if (!moves_) {
+    const double v = g_(Point{0, 0, 0}, 0.0);
+    if (!(v >= 0) || !std::isfinite(v))
+      fail("{}: expected a friction bound >= 0 (a traction), got {}", keys.where("friction_bound"), v);
+  }
+}
+
+TrescaFriction::TrescaFriction(double bound)
+    : g_([bound](const Point&, double) { return bound; }), text_(fmt::format("{}", bound)) {
+  require(bound >= 0 && std::isfinite(bound), "a friction bound >= 0, got {}", bound);
+}
+
+bool register_friction_law(const std::string& name, FrictionLawFactory make) {
+  auto& t = table();
+  require(std::none_of(t.begin(), t.end(), [&](const auto& e) { return e.first == name; }),
+          "internal: the friction law '{}' is registered twice", name);
+  t.emplace_back(name, std::move(make));
+  return true;
+}
+
+std::vector<std::string> friction_law_names() {
+  std::vector<std::string> names;
+  for (const auto& [name, make] : table()) names.push_back(name);
+  return names;
+}
+
+std::vector<std::string> friction_keys() { return {"mu", "friction_bound"}; }
+
+std::shared_ptr<const FrictionLaw> make_friction_law(const std::string& name, FrictionKeys& keys) {
+  for (const auto& [n, make] : table())
+    if (n == name) return make(keys);
+  fail("unknown friction law '{}'; expected one of: {}", name, fmt::join(friction_law_names(), ", "));
+}
+
+}  // namespace vpc

@@ -1,0 +1,88 @@
+#pragma once
+// A friction law on Γ3 (SPEC §7): the bound of a contact node's tangential force,
+//     |λ_τ,i| ≤ s_i = g_τ(x_i, t) |Γ3|_i + μ(x_i) λ_ν,i,
+// Tresca (a given bound g_τ, a traction) or Coulomb (μ times the normal force of the same
+// step). Below the bound the node sticks (its slip increment Δu_τ vanishes), at it it slips
+// along λ_τ (the friction force on the body, −λ_τ, opposes the slip). The normal part is
+// the node's ContactLaw (Signorini or normal compliance). Registered by name in
+// contact/registry.cpp; [contact] friction = "coulomb" | "tresca" | "none".
+#include "contact/contact_law.hpp"
+#include "core/sym_tensor.hpp"
+
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace vpc {
+
+/// A number or a formula of a case file's key, at a point and a time.
+using LawField = std::function<double(const Point& x, double t)>;
+
+/// The keys of a friction law's table: LawKeys plus fields (a number or a formula).
+class FrictionKeys : public LawKeys {
+ public:
+  /// A required field: a number or a formula in x, y, z (and t where `time`); located errors.
+  virtual LawField field(const std::string& key, bool time) = 0;
+  /// Whether the field of `key` depends on t.
+  virtual bool field_moves(const std::string& key) = 0;
+};
+
+class FrictionLaw {
+ public:
+  virtual ~FrictionLaw() = default;
+  /// Its registry name ("coulomb") and one line for the run's header ("Coulomb friction mu = 0.3").
+  virtual std::string name() const = 0;
+  virtual std::string describe() const = 0;
+  /// μ(x) ≥ 0: the share of the normal force in the bound (Coulomb; 0 for Tresca).
+  virtual double coefficient(const Point& /*x*/) const { return 0; }
+  /// g_τ(x, t) ≥ 0: the bound per unit of Γ3, a traction (Tresca; 0 for Coulomb), lumped at a
+  /// node by its tributary measure.
+  virtual double bound(const Point& /*x*/, double /*t*/) const { return 0; }
+  /// Whether bound() changes in time (then it is evaluated at every step).
+  virtual bool bound_moves() const { return false; }
+};
+
+/// Coulomb: s_i = μ(x_i) λ_ν,i; key mu (a number or a formula in x, y, z; ≥ 0).
+class CoulombFriction final : public FrictionLaw {
+ public:
+  explicit CoulombFriction(FrictionKeys& keys);
+  explicit CoulombFriction(double mu);
+  std::string name() const override { return "coulomb"; }
+  std::string describe() const override { return "Coulomb friction mu = " + text_; }
+  double coefficient(const Point& x) const override { return mu_(x, 0.0); }
+
+ private:
+  LawField mu_;
+  std::string text_;
+};
+
+/// Tresca: s_i = g_τ(x_i, t) |Γ3|_i; key friction_bound (a traction, a number or a formula in
+/// x, y, z, t; ≥ 0).
+class TrescaFriction final : public FrictionLaw {
+ public:
+  explicit TrescaFriction(FrictionKeys& keys);
+  explicit TrescaFriction(double bound);
+  std::string name() const override { return "tresca"; }
+  std::string describe() const override { return "Tresca friction bound = " + text_; }
+  double bound(const Point& x, double t) const override { return g_(x, t); }
+  bool bound_moves() const override { return moves_; }
+
+ private:
+  LawField g_;
+  bool moves_ = false;
+  std::string text_;
+};
+
+using FrictionLawFactory = std::function<std::shared_ptr<const FrictionLaw>(FrictionKeys&)>;
+/// Adds a friction law under `name`; returns true, for a static initializer.
+bool register_friction_law(const std::string& name, FrictionLawFactory make);
+/// "none", "coulomb", "tresca", then the added ones.
+std::vector<std::string> friction_law_names();
+/// The law `name` with its keys (nullptr for "none"); throws vpc::Error listing the names for an unknown one.
+std::shared_ptr<const FrictionLaw> make_friction_law(const std::string& name, FrictionKeys& keys);
+/// The keys each friction law reads ("mu", "friction_bound"), for the messages of a key given to
+/// the wrong law.
+std::vector<std::string> friction_keys();
+
+}  // namespace vpc
