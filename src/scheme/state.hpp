@@ -21,6 +21,13 @@ struct State {
   /// (1: the normal force only, every normal law of the paper; 1 + (d − 1) with friction).
   int contact_block = 1;
   Eigen::VectorXd lambda;        // contact forces: contact_block numbers per contact node
+  /// Friction (SPEC §7; empty without, contact_block = 1), per contact node (replicated, like λ):
+  /// the slip increment Δ_i = T_i u_n − h_i of the last step (contact_block − 1 numbers: along
+  /// the node's tangents, ContactConstraints::T), the accumulated slip Σ_n |Δ_i| (a path
+  /// length) and the status after the last step (ContactStatus: 0 free, 1 stick, 2 slip).
+  Eigen::VectorXd slip_step;
+  Eigen::VectorXd slip;
+  Eigen::VectorXd contact_status;
 };
 
 }  // namespace vpc

@@ -41,6 +41,11 @@ TimeStepper::TimeStepper(std::shared_ptr<const Problem> problem_in, MeshPart par
   state_.z.assign(mesh.n_cells(), SymTensor{});
   state_.contact_block = p.contact.block_size(mesh.dim());  // the contact laws' block (1: normal laws)
   state_.lambda = Vector::Zero(part.n_contact * state_.contact_block);
+  if (state_.contact_block > 1) {
+    state_.slip_step = Vector::Zero(part.n_contact * (state_.contact_block - 1));
+    state_.slip = Vector::Zero(part.n_contact);
+    state_.contact_status = Vector::Zero(part.n_contact);
+  }
   u_free_ = Vector::Zero(part.n_owned_dofs);
   const auto owned_beta = state_.beta.head(part.n_owned_nodes).array();
   control_state_.n_beta_zero = part.comm.sum(static_cast<double>((owned_beta <= 0).count()));
