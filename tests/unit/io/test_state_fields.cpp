@@ -6,6 +6,7 @@
 #include "io/checkpoint.hpp"
 #include "io/checkpoint_file.hpp"
 #include "io/state_fields.hpp"
+#include "test_files.hpp"
 
 #include <gtest/gtest.h>
 
@@ -20,19 +21,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-fs::path fresh_dir(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("vpc_fields_" + name + "_" + std::to_string(::getpid()));
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
-
-std::string read_text(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+fs::path fresh_dir(const std::string& name) { return test::fresh_dir("vpc_fields_", name); }
+std::string read_text(const fs::path& p) { return test::read_bytes(p); }
 
 /// The state of a small run with λ made a block of b numbers per contact node (the
 /// normal force first, then b − 1 numbers of its own), as a law with friction would.
