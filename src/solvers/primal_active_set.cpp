@@ -222,6 +222,7 @@ class PrimalActiveSetSolver final : public ContactSolver {
     bool monotone = false, converged = false, tight = !factor_->iterative();
     const double inf = std::numeric_limits<double>::infinity();
     double last_direction = inf, last_bound = inf;  // the last changes after tight solves
+    double bound_change = inf;                       // of the last Tresca problem's bound
     const double b_scale = comm.max(b.size() ? b.cwiseAbs().maxCoeff() : 0.0);
     auto settled = [&](double change, double& last) {
       const bool yes = change <= kForceTolerance ||
@@ -265,19 +266,29 @@ class PrimalActiveSetSolver final : public ContactSolver {
         last_direction = inf;
         continue;
       }
-      const bool was_tight = tight, forces_held = settled(comm.max(up.change) / scale, last_direction);
+      // Within a Tresca problem the slip directions are iterated only to a share of the bound's last
+      // change (an inexact inner solve; 3D partial slip on the test block: 93 → 38 solves, 3D full slip 47 → 19), to
+      // kForceTolerance at the end.
+      const double direction_change = comm.max(up.change) / scale;
+      const bool was_tight = tight, directions_held = settled(direction_change, last_direction);
       tight = true;  // sets found: tight solves from here on (an iterative solver's forces need them)
-      if (!forces_held) {  // the same sets, new slip forces: a right-hand side on the same factor
-        up.force = directions->next(comm, friction_->force(), up.force);
+      if (!directions_held && direction_change > kInnerShare * bound_change) {
+        up.force = directions->next(comm, friction_->force(), up.force);  // a right-hand side on the same factor
         friction_->take(std::move(up));
         continue;
       }
       // This Tresca problem is solved: Coulomb's bound from its λ_ν.
       Vector coulomb_bound(rows);
       for (Eigen::Index i = 0; i < rows; ++i) coulomb_bound[i] = c_.bound(i, active[i] ? lambda_local[i] : 0.0);
-      double change = rows ? (coulomb_bound - bound).cwiseAbs().maxCoeff() : 0.0;
-      if (settled(comm.max(change) / scale, last_bound)) {
+      bound_change = comm.max(rows ? (coulomb_bound - bound).cwiseAbs().maxCoeff() : 0.0) / scale;
+      const bool bound_held = settled(bound_change, last_bound);
+      if (bound_held && directions_held) {
         converged = was_tight;
+        continue;
+      }
+      if (bound_held) {  // the directions still to settle
+        up.force = directions->next(comm, friction_->force(), up.force);
+        friction_->take(std::move(up));
         continue;
       }
       bound = coulomb.next(comm, bound, coulomb_bound);
@@ -310,7 +321,8 @@ class PrimalActiveSetSolver final : public ContactSolver {
   // Slip forces within this share of the force scale (max(‖QF‖∞, ‖λ_ν‖∞)) count as settled; on an
   // iterative solver also forces that no longer halve below kNoiseCeiling (its accuracy).
   static constexpr double kForceTolerance = 1e-12, kNoiseCeiling = 1e-8;
-  static constexpr int kAndersonDepth = 8;  // the last bounds Coulomb's fixed point combines
+  static constexpr int kAndersonDepth = 8;
+  static constexpr double kInnerShare = 0.1;  // the last bounds Coulomb's fixed point combines
   // Loose enough that finding a set costs a few iterations, tight enough that the signs
   // rarely mislead (foundation-3d n = 40, 5 steps on CG + GAMG: 1e-6 → 3.2 s a step,
   // 1e-4 → 3.0 s, 1e-3 → up to 25 set iterations in a step).
