@@ -14,18 +14,19 @@ namespace vpc {
 
 namespace {
 
-/// The field of `key`, refusing a negative or non-finite value where it is a number (a
-/// formula's values are checked where they are used: ContactSpec's per-node checks).
-LawField field_at_least_zero(FrictionKeys& keys, const std::string& key, bool time, std::string& text) {
-  if (!keys.has(key)) fail("{}: missing key {} (a number or a formula)", keys.where(key), key);
+/// The field of `key` (required); a plain number is checked here to be finite and >= 0 (a
+/// formula's values at the nodes: DiscreteSystem's friction data and the step's).
+LawField nonnegative_field(FrictionKeys& keys, const std::string& key, bool time, const std::string& what,
+                           std::string& text) {
+  if (!keys.has(key)) fail("{}: missing key {} ({}: a number or a formula)", keys.where(key), key, what);
   LawField f = keys.field(key, time);
-  if (!keys.field_moves(key)) {
-    // A constant is checked here; a formula per node (contact_rows and the step's data).
-    const double v = f(Point{0, 0, 0}, 0.0);
-    text = fmt::format("{}", v);
-  } else {
+  if (!keys.is_number(key)) {
     text = "(a formula)";
+    return f;
   }
+  const double v = f(Point{0, 0, 0}, 0.0);
+  if (!(v >= 0) || !std::isfinite(v)) fail("{}: expected {} >= 0, got {}", keys.where(key), what, v);
+  text = fmt::format("{}", v);
   return f;
 }
 
@@ -55,11 +56,7 @@ std::vector<std::pair<std::string, FrictionLawFactory>>& table() {
 
 CoulombFriction::CoulombFriction(FrictionKeys& keys) {
   refuse_keys_of_others(keys, "mu", "coulomb");
-  mu_ = field_at_least_zero(keys, "mu", false, text_);
-  if (!keys.field_moves("mu")) {
-    const double v = mu_(Point{0, 0, 0}, 0.0);
-    if (!(v >= 0) || !std::isfinite(v)) fail("{}: expected a friction coefficient mu >= 0, got {}", keys.where("mu"), v);
-  }
+  mu_ = nonnegative_field(keys, "mu", false, "a friction coefficient mu", text_);
 }
 
 CoulombFriction::CoulombFriction(double mu) : mu_([mu](const Point&, double) { return mu; }), text_(fmt::format("{}", mu)) {
@@ -68,13 +65,8 @@ CoulombFriction::CoulombFriction(double mu) : mu_([mu](const Point&, double) { r
 
 TrescaFriction::TrescaFriction(FrictionKeys& keys) {
   refuse_keys_of_others(keys, "friction_bound", "tresca");
-  g_ = field_at_least_zero(keys, "friction_bound", true, text_);
-  moves_ = keys.field_moves("friction_bound");
-  if (!moves_) {
-    const double v = g_(Point{0, 0, 0}, 0.0);
-    if (!(v >= 0) || !std::isfinite(v))
-      fail("{}: expected a friction bound >= 0 (a traction), got {}", keys.where("friction_bound"), v);
-  }
+  g_ = nonnegative_field(keys, "friction_bound", true, "a friction bound (a traction)", text_);
+  moves_ = keys.uses_time("friction_bound");
 }
 
 TrescaFriction::TrescaFriction(double bound)

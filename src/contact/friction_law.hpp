@@ -24,8 +24,10 @@ class FrictionKeys : public LawKeys {
  public:
   /// A required field: a number or a formula in x, y, z (and t where `time`); located errors.
   virtual LawField field(const std::string& key, bool time) = 0;
-  /// Whether the field of `key` depends on t.
-  virtual bool field_moves(const std::string& key) = 0;
+  /// Whether `key` is a plain number (then the law checks its value at once; a formula's values
+  /// are checked at the nodes) and whether its formula uses t.
+  virtual bool is_number(const std::string& key) = 0;
+  virtual bool uses_time(const std::string& key) = 0;
 };
 
 class FrictionLaw {

@@ -937,6 +937,45 @@ class SectionKeys final : public LawKeys {
   Section& s_;
 };
 
+/// A friction law's keys: a number or a formula (mu in x, y, z; friction_bound also in t),
+/// registered for the per-step finiteness check.
+class SectionFrictionKeys final : public FrictionKeys {
+ public:
+  explicit SectionFrictionKeys(Section& s) : s_(s) {}
+  bool has(const std::string& key) override { return s_.has(key); }
+  double number(const std::string& key) override { return s_.number(key); }
+  double number(const std::string& key, double fallback) override { return s_.number(key, fallback); }
+  std::string where(const std::string& key) override { return s_.has(key) ? s_.where(key) : s_.where_section(); }
+  LawField field(const std::string& key, bool time) override {
+    std::shared_ptr<const Expression> e =
+        s_.state_expression(key, time ? Expression::Kind::SpaceTime : Expression::Kind::Space);
+    return [e](const Point& x, double t) { return (*e)(x, t); };
+  }
+  bool is_number(const std::string& key) override { return s_.get(key) && s_.get(key)->is_number(); }
+  bool uses_time(const std::string& key) override {
+    return s_.get(key) && s_.get(key)->is_string() && s_.expression(key, Expression::Kind::SpaceTime)->uses_time();
+  }
+
+ private:
+  Section& s_;
+};
+
+/// The friction law of a [contact] or [[contact.part]] table (SPEC §7): friction = "none",
+/// "coulomb" (mu) or "tresca" (friction_bound); `inherited` where the table has no friction key.
+std::shared_ptr<const FrictionLaw> read_friction_law(Section& s, std::shared_ptr<const FrictionLaw> inherited, int dim) {
+  if (!s.has("friction")) {
+    for (const std::string& k : friction_keys())
+      if (s.has(k))
+        fail("{}: {} needs friction = \"{}\" in the same table", s.where(k), k, k == "mu" ? "coulomb" : "tresca");
+    return inherited;
+  }
+  const std::string name = s.choice("friction", friction_law_names(), "none");
+  if (name != "none" && dim < 2)
+    fail("{}: friction needs a body of dimension 2 or 3 (a 1D bar has no tangential direction)", s.where("friction"));
+  SectionFrictionKeys keys(s);
+  return make_friction_law(name, keys);
+}
+
 /// A contact law: `law`, a name in the registry (contact/registry.cpp; default "signorini"),
 /// which reads its own keys (normal-compliance: stiffness c > 0, exponent e ≥ 1).
 std::shared_ptr<const ContactLaw> read_contact_law(Section& s) {
@@ -978,7 +1017,7 @@ void record_key_locations(Section& top, Problem& p, const Origins& origins) {
   for (const char* key : {"contact", "clamped", "symmetry"}) record(b, key);
   record_tables(b, "displacement");
   Section ct = top.table("contact");
-  for (const char* key : {"gap", "direction"}) record(ct, key);
+  for (const char* key : {"gap", "direction", "friction", "mu", "friction_bound"}) record(ct, key);
   record_tables(top, "obstacle");
   Section tm = top.table("time");
   if (tm.exists()) p.key_locations["time"] = fmt::format("{}: [time]", tm.where_section());
@@ -1026,6 +1065,7 @@ bool read_contact(Section ct, Problem& p, const Origins& origins) {
   located(ct.where("gap"), [&] { check_gap(p.mesh, p.contact); });
   p.contact.direction = read_contact_direction(ct, p.mesh.dim());
   p.contact.law = read_contact_law(ct);
+  p.contact.friction = read_friction_law(ct, nullptr, p.mesh.dim());
   if (ct.has("part")) {  // [[contact.part]]: another law on some parts
     const toml::node* list = ct.get("part");
     if (!list->is_array_of_tables())
@@ -1041,6 +1081,7 @@ bool read_contact(Section ct, Problem& p, const Origins& origins) {
           if (std::find(other.parts.begin(), other.parts.end(), part) != other.parts.end())
             fail("{}: contact part {} has a law already (an earlier [[contact.part]])", s.where("parts"), quote(part));
       pl.law = read_contact_law(s);
+      pl.friction = read_friction_law(s, p.contact.friction, p.mesh.dim());
       s.finish();
       p.contact.part_laws.push_back(std::move(pl));
     }

@@ -95,8 +95,10 @@ void describe_data(const Problem& p, const SolverChoice& solvers, double setup_s
     held += fmt::format("{} prescribed on {}; ", comps, fmt::join(d.parts, ", "));
   }
   std::string laws = p.contact.law->describe();
+  if (p.contact.friction) laws += ", " + p.contact.friction->describe();
   for (const PartContactLaw& pl : p.contact.part_laws)
-    laws += fmt::format("; on {}: {}", fmt::join(pl.parts, ", "), pl.law->describe());
+    laws += fmt::format("; on {}: {}{}", fmt::join(pl.parts, ", "), pl.law->describe(),
+                        pl.friction ? ", " + pl.friction->describe() : "");
   fmt::print("  {}Γ3 (contact): {} ({})\n", held, fmt::join(p.contact.parts, ", "), laws);
   fmt::print("  elasticity: {} (E = {}, nu = {}); G: {}; phi: {}\n", p.elasticity.name(), p.elasticity.young(),
              p.elasticity.poisson(), p.law->describe(), printable(p.source->describe(), 200));

@@ -78,6 +78,7 @@ DiscreteSystem::DiscreteSystem(std::shared_ptr<const Problem> problem_in, MeshPa
         break;
       }
   N = contact_matrix(true);
+  if (p.contact.frictional()) set_friction_frame();
 
   // Constant matrices: K of (3.9), factorized once; H = M + kκA of (3.8). Each
   // process assembles its cells; the backend sums the parts.
@@ -120,6 +121,40 @@ SparseMatrix DiscreteSystem::contact_matrix(bool owned_only) const {
   return out;
 }
 
+void DiscreteSystem::set_friction_frame() {
+  const Problem& p = *problem;
+  const Mesh& mesh = part.mesh();
+  const int d = mesh.dim();
+  ContactConstraints c;
+  c.N = N;
+  c.block = p.contact.block_size(d);
+  for (const PartContactNode& node : part.contact)
+    if (node.owned) c.rows.push_back(node.row);
+  std::vector<std::vector<int>> node_dofs;
+  const auto frictions = p.contact.frictions();
+  std::vector<double> mus;
+  for (const PartContactNode& node : part.contact) {
+    if (!node.owned) continue;
+    std::vector<int> dofs;
+    for (int i = 0; i < d; ++i)
+      if (const int k = part.dofs.free_index(part.dofs.full_index(node.local_node, i)); k >= 0) dofs.push_back(k);
+    node_dofs.push_back(std::move(dofs));
+    const FrictionLaw* law = frictions[static_cast<std::size_t>(node.law)].get();
+    row_friction.push_back(law);
+    const Point& x = mesh.node(node.local_node);
+    const double mu_i = law ? law->coefficient(x) : 0.0;
+    if (!(std::isfinite(mu_i) && mu_i >= 0))
+      fail("{}: the friction coefficient mu is {} at contact node ({}, {}, {}) ({}); expected a number >= 0",
+           p.where("contact.mu"), mu_i, x[0], x[1], x[2], law->describe());
+    mus.push_back(mu_i);
+  }
+  c.mu = Eigen::Map<Vector>(mus.data(), static_cast<Eigen::Index>(mus.size()));
+  set_tangents(c, node_dofs);
+  T = std::move(c.T);
+  tangent_dof = std::move(c.tangent_dof);
+  mu = std::move(c.mu);
+}
+
 std::shared_ptr<la::LinearSolver> DiscreteSystem::make_stiffness_factor() const {
   const Mesh& mesh = part.mesh();
   const int d = mesh.dim();
@@ -151,6 +186,13 @@ ContactConstraints contact_constraints(const DiscreteSystem& sys) {
       compliance.push_back(node.stiffness > 0 ? 1 / node.stiffness : 0.0);
     }
   c.compliance = Eigen::Map<Vector>(compliance.data(), static_cast<Eigen::Index>(compliance.size()));
+  if (c.frictional()) {
+    c.T = sys.T;
+    c.tangent_dof = sys.tangent_dof;
+    c.mu = sys.mu;
+    c.tresca = Vector::Zero(static_cast<Eigen::Index>(c.rows.size()));
+    c.shift = Vector::Zero(static_cast<Eigen::Index>(c.rows.size()) * (c.block - 1));
+  }
   return c;
 }
 

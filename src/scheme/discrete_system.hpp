@@ -59,12 +59,20 @@ struct DiscreteSystem {
   /// N: one row per owned contact node, in part.contact order, over the owned free dofs
   /// (ContactConstraints::N).
   SparseMatrix N;
+  /// Friction (SPEC §7; empty without): T, tangent_dof and Coulomb's μ_i of the owned rows
+  /// (ContactConstraints; set_tangents), and each owned row's friction law (nullptr: none).
+  SparseMatrix T;
+  std::vector<int> tangent_dof;
+  Vector mu;
+  std::vector<const FrictionLaw*> row_friction;
   double assembly_seconds = 0, build_seconds = 0;
 
   /// N over the owned free dofs (owned_only), or one row per contact node the part knows,
   /// ghosts included, over its local free dofs (owned, then ghosts: the reflections of K_rot's
   /// local matrix).
   SparseMatrix contact_matrix(bool owned_only) const;
+  /// T, tangent_dof, mu and row_friction from N and the problem's friction laws (constructor).
+  void set_friction_frame();
   /// A factor of K's kind (name "K"), its coordinates set for multigrid's rigid-body modes.
   std::shared_ptr<la::LinearSolver> make_stiffness_factor() const;
 };

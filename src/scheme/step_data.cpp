@@ -2,6 +2,7 @@
 
 #include "core/error.hpp"
 #include "fem/assembly.hpp"
+#include "scheme/friction_data.hpp"
 
 #include <cmath>
 #include <tuple>
@@ -12,6 +13,7 @@ StepData step_data(const DiscreteSystem& sys, double t) {
   StepData data{t, load(sys, t), prescribed_displacement(sys, t), {}};
   std::string bad;
   data.gap = contact_gap(sys, t, bad);
+  if (sys.problem->contact.frictional()) data.tresca = friction_bounds(sys, t, bad);
   check_step_data(sys, bad);
   return data;
 }

@@ -14,6 +14,7 @@ struct StepData {
   Vector F;    // the loads f0, f2 and the pressures at t (the part's full dofs)
   Vector u_D;  // the prescribed values at t, zero elsewhere; empty when every prescribed value is zero
   Vector gap;  // g(t) at the owned contact rows, in row order
+  Vector tresca;  // friction only: the Tresca bounds g_τ(x_i, t)|Γ3|_i at the owned rows (friction_bounds)
 };
 
 /// F_n, u_D and g at t, then check_step_data. Collective.

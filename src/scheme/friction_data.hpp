@@ -1,0 +1,27 @@
+#pragma once
+// Friction's data of a step (SPEC §7) and what a step leaves of it in the state: the Tresca
+// bounds at t_n, the shift h of the slip increment Δ = T u_n − h (the last position plus the
+// obstacle's tangential motion over the step), and after the solve the slip increment, the
+// accumulated slip and each node's stick/slip/free status.
+#include "scheme/discrete_system.hpp"
+#include "scheme/state.hpp"
+
+#include <string>
+
+namespace vpc {
+
+/// g_τ(x_i, t) |Γ3|_i at the owned contact rows (Tresca; 0 on other rows). A value that is not
+/// a number ≥ 0 is described in `bad` (the first one; else left as is).
+Vector friction_bounds(const DiscreteSystem& sys, double t, std::string& bad);
+
+/// h = T (u_{n−1} + w) at the owned rows, per tangent: u_{n−1} the state's displacement (its free
+/// dofs: a tangent has no prescribed component) and w, at each contact node, the translation over
+/// [s.t, t] of the obstacle nearest along ν at t (0 for a gap formula: a foundation that does not
+/// slide). A rotating obstacle's surface motion is not modelled (only translations).
+Vector slip_shift(const DiscreteSystem& sys, const State& s, double t);
+
+/// After the step's contact solve (u_free: the owned free dofs, λ in s.lambda), with the step's
+/// `tresca` and `shift`: s.slip_step = Δ, s.slip += |Δ|, s.contact_status. Collective.
+void record_slip(const DiscreteSystem& sys, const Vector& tresca, const Vector& shift, const Vector& u_free, State& s);
+
+}  // namespace vpc
