@@ -26,6 +26,10 @@ the neutral name:
                                                         (on the case's symmetry planes it touches)    (VTU)
   2,3  probes                      probes               u, von Mises, beta versus time at the probes   (probes.csv)
   all  history                     history              total contact force, active nodes, min/max beta (history.csv)
+  all  friction                    friction             with friction: the tangential force (total, per obstacle)
+                                                        and the normal force against the displacement of the
+                                                        first probe along the push (else t); stick/slip nodes
+                                                        and the dissipation per step  (history.csv, probes.csv)
   all  time_steps                  time_steps           the step size k(t), the error estimate per step and the
                                                         rejected steps, when the steps are not uniform, and the
                                                         tolerance of error-controlled steps   (history.csv)
@@ -78,6 +82,7 @@ NEUTRAL_NAMES = {
     "probes": "probes",
     "history": "history",
     "time_steps": "time_steps",
+    "friction": "friction",
 }
 # The paper's examples (SPEC §4), by the case name summary.json records, and their dimension.
 PAPER_CASES = {"paper-1d": 1, "paper-2d": 2}
@@ -96,6 +101,7 @@ FIGSIZES = {
     "probes": (15.0, 4.8),
     "history": (12.0, 4.8),
     "time_steps": (12.0, 4.8),
+    "friction": (12.0, 4.8),
 }
 
 # Sequential, perceptually uniform, readable in grey and by colour-blind readers.
@@ -1205,6 +1211,76 @@ class Plotter:
         fig.suptitle(self.title(key, "per-step history" + note))
         self.save(fig, key)
 
+    def friction_abscissa(self, comp):
+        """The displacement a force-displacement curve is drawn against: the first probe's
+        component `comp` at each step of history.csv (probes.csv has the same steps, and
+        step 0), where it moves; else the time."""
+        h, pr = self.run.history, self.run.probes
+        col = "p0_u" + comp
+        if col in pr and "step" in pr and "step" in h:
+            at = {int(s): i for i, s in enumerate(pr["step"])}
+            if all(int(s) in at for s in h["step"]):
+                u = pr[col][[at[int(s)] for s in h["step"]]]
+                if len(u) and float(abs(u).max()) > 0:
+                    p = self.run.probe_points[0] if self.run.probe_points else ()
+                    where = " at %s" % probe_label(p, self.run.dim) if p else ""
+                    return u, "displacement $u_%s$%s" % (comp, where) + UNITS.br("length")
+        return h["t"], r"time $t$" + UNITS.br("time")
+
+    def friction_figure(self):
+        """A frictional run's (history.csv has tangential_force_<x|y|z>): the tangential
+        force, the force on the obstacles (the body gets its opposite), against the
+        displacement along the push, with the normal force; the stick and slip nodes and
+        the frictional dissipation per step."""
+        key = "friction"
+        h = self.run.history
+        comps = [c for c in "xyz"[: self.run.dim] if "tangential_force_" + c in h]
+        if not comps or not len(h["t"]):
+            return
+        # The push: the component of the largest tangential force.
+        size = {c: float(abs(h["tangential_force_" + c]).max()) for c in comps}
+        push = max(comps, key=lambda c: size[c])
+        x, xlabel = self.friction_abscissa(push)
+        fig = self.figure(key)
+        ax_f, ax_s = fig.subplots(1, 2)
+        for k, c in enumerate(comps):
+            if c != push and size[c] <= 1e-9 * size[push]:
+                continue  # a component at round-off level (the push along one axis)
+            ax_f.plot(x, h["tangential_force_" + c], "C%d" % k, marker="." if len(x) < 40 else None,
+                      label="tangential force, %s" % c)
+        obstacles = [o for o in (self.run.obstacles or []) if isinstance(o, dict) and "name" in o]
+        for k, o in enumerate(obstacles):
+            col = "tangential_force_%s_%s" % (o["name"], push)
+            if col in h and len(obstacles) > 1:
+                ax_f.plot(x, h[col], "C%d:" % (5 + k % 5), label="on %s, %s" % (o["name"], push))
+        if "total_contact_force" in h:
+            ax_f.plot(x, h["total_contact_force"], color="0.45", ls="--", label="normal force")
+        ax_f.axhline(0.0, color="0.7", lw=0.8)
+        ax_f.set_xlabel(xlabel)
+        ax_f.set_ylabel("force on the obstacle" + UNITS.br(force_quantity(self.run.dim)))
+        ax_f.set_title("tangential force against the displacement")
+        ax_f.legend(fontsize="small")
+        t = h["t"]
+        lines = []
+        for col, style, label in (("n_stick", "C2", "stick nodes"), ("n_slip", "C3--", "slip nodes")):
+            if col in h:
+                lines += ax_s.step(t, h[col], style, where="post", label=label)
+        ax_s.set_ylabel("contact nodes")
+        ax_s.yaxis.set_major_locator(self.plt.MaxNLocator(integer=True))
+        if "dissipation" in h:
+            ax_d = ax_s.twinx()
+            lines += ax_d.plot(t, h["dissipation"].cumsum(), "C4-.", label="dissipation so far")
+            force, length = UNITS.of(force_quantity(self.run.dim)), UNITS.of("length")
+            ax_d.set_ylabel("frictional dissipation" + (" [%s %s]" % (force, length) if force and length else ""))
+        if lines:
+            ax_s.legend(lines, [l.get_label() for l in lines], fontsize="small", loc="upper left")
+        ax_s.set_xlabel(r"time $t$" + UNITS.br("time"))
+        ax_s.set_title("stick, slip and dissipation")
+        for ax in (ax_f, ax_s):
+            ax.grid(True, alpha=0.4)
+        fig.suptitle(self.title(key, "friction"))
+        self.save(fig, key)
+
     def time_steps_figure(self):
         """k(t) and the error estimate of each step, with the rejected steps marked: drawn
         when the steps are not all of one size (a list, a formula, error control)."""
@@ -1262,6 +1338,7 @@ class Plotter:
             self.contact_pressure()
             self.probes_figure()
         self.history_figure()
+        self.friction_figure()
         self.time_steps_figure()
 
 

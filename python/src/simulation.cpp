@@ -163,7 +163,7 @@ py::list numbers(const std::vector<HistoryValue>& row) {
 std::vector<py::ssize_t> shape(const StateField& f, const State& s, int d, std::size_t values) {
   const int c = f.components(s, d);
   const bool scalar = f.components(s, 1) == 1 && f.components(s, 3) == 1;
-  if (scalar) return {static_cast<py::ssize_t>(values)};
+  if (scalar || c == 0) return {static_cast<py::ssize_t>(values)};  // c = 0: friction's fields without friction
   return {static_cast<py::ssize_t>(values / static_cast<std::size_t>(c)), c};
 }
 
@@ -178,21 +178,28 @@ py::list field_table() {
     e["location"] = location_name(f.location);
     e["stored"] = f.stored();
     e["meaning"] = std::string(f.meaning);
+    e["friction"] = f.friction;
     out.append(e);
   }
   return out;
 }
 
-/// The table of history.csv's fixed columns (io/history_columns.hpp).
+/// The table of history.csv's fixed columns (io/history_columns.hpp), then those of a
+/// frictional run (friction: True).
 py::list column_table() {
   py::list out;
-  for (const HistoryColumn& c : history_columns()) {
-    py::dict e;
-    e["name"] = std::string(c.name);
-    e["format"] = c.format == ColumnFormat::integer ? "integer" : c.format == ColumnFormat::exact ? "exact" : "residual";
-    e["meaning"] = std::string(c.meaning);
-    out.append(e);
-  }
+  auto add = [&](std::span<const HistoryColumn> columns, bool friction) {
+    for (const HistoryColumn& c : columns) {
+      py::dict e;
+      e["name"] = std::string(c.name);
+      e["format"] = c.format == ColumnFormat::integer ? "integer" : c.format == ColumnFormat::exact ? "exact" : "residual";
+      e["meaning"] = std::string(c.meaning);
+      e["friction"] = friction;
+      out.append(e);
+    }
+  };
+  add(history_columns(), false);
+  add(friction_columns(), true);
   return out;
 }
 
@@ -233,6 +240,9 @@ void bind_simulation(py::module_& m) {
                              "The run's wall time, set by finish().")
       .def_property_readonly("setup_seconds", [](const S& s) { return s.stepper().setup_seconds(); })
       .def_property_readonly("contact_solver", [](const S& s) { return s.stepper().contact_solver(); })
+      .def_property_readonly("frictional", [](const S& s) { return s.state().contact_block > 1; },
+                             "Whether the run has friction (contact_force then holds lambda_nu and the "
+                             "tangential forces per node; the friction fields and history columns exist).")
       .def_property_readonly("_history_columns", &S::history_columns)
       .def_property_readonly("_rows",
                              [](const S& s) {

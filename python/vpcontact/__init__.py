@@ -42,9 +42,12 @@ def state_fields():
 
 
 def history_column_table():
-    """The table of history.csv's columns every run has (src/io/history_columns.hpp): a list of
-    dicts with name, format (integer, exact, residual: 4 digits in the file) and meaning; a run
-    adds force_<obstacle> and reaction_<part>_<x|y|z> after them (Simulation.history_columns)."""
+    """The table of history.csv's columns (src/io/history_columns.hpp): a list of dicts with
+    name, format (integer, exact, residual: 4 digits in the file), meaning and friction. Every
+    run has those with friction False, in order; a run adds force_<obstacle> and
+    reaction_<part>_<x|y|z> after them, and a frictional run then those with friction True
+    and tangential_force_<x|y|z>, tangential_force_<obstacle>_<x|y|z>
+    (Simulation.history_columns)."""
     return _core._history_column_table()
 
 
@@ -141,8 +144,10 @@ class Simulation(_core.Simulation):
         Simulation(case, output=dir, resume=True)  # continues from dir's newest checkpoint
 
     Views (read-only numpy arrays that follow the steps): the state's fields (fields():
-    u, beta, sigma, eps, z, contact_force); points, cells, facets. Copies: the output
-    fields as the VTU files have them (contact_force_vector, contact_pressure, von_mises),
+    u, beta, sigma, eps, z, contact_force; with friction (frictional) slip_step, slip,
+    contact_status per contact node); points, cells, facets. Copies: the output fields as
+    the VTU files have them (contact_force_vector, contact_pressure, von_mises; with
+    friction tangential_force, tangential_traction, slip_increment),
     active, contact_nodes, contact_directions, facet_parts, free_dofs, boundary_parts,
     matrices(). state_fields() and history_column_table() list the fields and columns.
     """
@@ -225,8 +230,9 @@ class Simulation(_core.Simulation):
 
     def fields(self):
         """The state's views by name (the stored fields of state_fields(): u, beta, contact_force,
-        sigma, eps, z)."""
-        return {f["python"]: getattr(self, f["python"]) for f in state_fields() if f["stored"] and f["python"]}
+        sigma, eps, z; with friction also slip_step, slip, contact_status)."""
+        return {f["python"]: getattr(self, f["python"]) for f in state_fields()
+                if f["stored"] and f["python"] and (self.frictional or not f["friction"])}
 
     def matrices(self):
         """The constant matrices as scipy.sparse.csr_matrix (copies; scipy needed): K (the

@@ -19,8 +19,11 @@
 //              step-size state (StepControlState) (version 5: the node and cell arrays
 //              restricted to the piece's blocks; λ, the contact warm state, the times and
 //              the step-size state in piece 0 only);
+//            with friction only (contact block > 1): the arrays of the slip increment (block − 1
+//              per contact node), the accumulated slip and the status (1 each) (piece 0 only);
 //            version 4 and piece 0: PVD entries (u64 count, then f64 time + string file each),
-//              run totals (f64 ×7, i64 ×2, u8 all_ok, i64);
+//              run totals (f64 ×7, i64 ×2, u8 all_ok, i64; with friction f64 ×4 more: the
+//              friction residuals' maxima and the dissipation);
 //            piece 0 of version 5: u64 payload size and u64 checksum of each of pieces 1 … P − 1.
 // One process writes checkpoint_NNNNN.bin in version 4, the whole state in one file. P
 // processes write P pieces, each its own contiguous blocks of the node and cell arrays

@@ -129,7 +129,7 @@ void write_payload(Writer& w, const FileContent& f) {
     for (std::uint64_t v : {f.head->count, f.head->index, f.head->node_begin, f.head->node_end, f.head->cell_begin,
                             f.head->cell_end})
       w.pod(v);
-  for (Values a : f.arrays) w.doubles(a);
+  for (int a = 0; a < arrays_in_file(f.contact_block); ++a) w.doubles(f.arrays[static_cast<std::size_t>(a)]);
   if (!f.whole_or_first()) return;
   w.pod<std::uint64_t>(f.pvd->size());
   for (const auto& [t, file] : *f.pvd) {
@@ -144,6 +144,8 @@ void write_payload(Writer& w, const FileContent& f) {
   w.pod<std::int64_t>(r.max_damage_iterations);
   w.pod<std::uint8_t>(r.all_ok ? 1 : 0);
   w.pod<std::int64_t>(r.last_n_active);
+  if (f.contact_block > 1)  // friction's totals: only in a frictional run's files
+    for (double v : {r.max_friction_bound, r.max_stick_slip, r.max_slip_direction, r.dissipation}) w.pod(v);
   for (const PieceSum& s : f.others) {
     w.pod(s.size);
     w.pod(s.checksum);
@@ -238,7 +240,7 @@ void CheckpointFile::parse() {
     for (std::uint64_t* v : {&head_.count, &head_.index, &head_.node_begin, &head_.node_end, &head_.cell_begin,
                              &head_.cell_end})
       *v = pod<std::uint64_t>();
-  for (int a = 0; a < kArrays; ++a) {  // located, not read
+  for (int a = 0; a < arrays_in_file(contact_block_); ++a) {  // located, not read
     count_[a] = pod<std::uint64_t>();
     require(count_[a] <= (end_ - at_) / sizeof(double), "checkpoint '{}': truncated payload", name());
     offset_[a] = at_;
@@ -255,8 +257,14 @@ void CheckpointFile::parse() {
               count_[kEps] == 6 * n_cells() && count_[kZ] == 6 * n_cells() &&
               (count_[kDamageWarm] == 0 || count_[kDamageWarm] == n_nodes()) &&
               (n_nodes() == 0 ? count_[kU] == 0 : count_[kU] % n_nodes() == 0) &&
-              (head_.index == 0 || count_[kLambda] + count_[kContactWarm] + count_[kTimes] + count_[kStepControl] == 0) &&
+              (head_.index == 0 || count_[kLambda] + count_[kContactWarm] + count_[kTimes] + count_[kStepControl] +
+                                           count_[kSlipStep] + count_[kSlip] + count_[kContactStatus] ==
+                                       0) &&
               count_[kLambda] % static_cast<std::uint64_t>(contact_block_) == 0 &&
+              (contact_block_ == 1 || count_[kSlip] + count_[kSlipStep] + count_[kContactStatus] == 0 ||
+               (count_[kSlip] * static_cast<std::uint64_t>(contact_block_) == count_[kLambda] &&
+                count_[kContactStatus] == count_[kSlip] &&
+                count_[kSlipStep] == count_[kSlip] * static_cast<std::uint64_t>(contact_block_ - 1))) &&
               (head_.index != 0 || count_[kTimes] == static_cast<std::uint64_t>(n) + 1),
           "checkpoint '{}': its arrays do not match its blocks (nodes [{}, {}), cells [{}, {}))", name(),
           head_.node_begin, head_.node_end, head_.cell_begin, head_.cell_end);
@@ -274,6 +282,10 @@ void CheckpointFile::parse() {
     totals.max_damage_iterations = static_cast<int>(pod<std::int64_t>());
     totals.all_ok = pod<std::uint8_t>() != 0;
     totals.last_n_active = pod<std::int64_t>();
+    if (contact_block_ > 1)
+      for (double* v : {&totals.max_friction_bound, &totals.max_stick_slip, &totals.max_slip_direction,
+                        &totals.dissipation})
+        *v = pod<double>();
     if (version_ == kPiece) {
       need((head_.count - 1) * 2 * sizeof(std::uint64_t));
       others.resize(head_.count - 1);

@@ -60,8 +60,15 @@ struct PieceSum {
 
 /// The arrays of a file, in their order: the state's stored fields (io/state_fields.hpp)
 /// where kFileArrays places them, u on the free dofs, the solvers' warm states, and
-/// kTimes: t_0 … t_n; kStepControl: StepControlState::values (both in piece 0 only).
-enum Array { kU, kBeta, kLambda, kUFree, kSigma, kEps, kZ, kContactWarm, kDamageWarm, kTimes, kStepControl, kArrays };
+/// kTimes: t_0 … t_n; kStepControl: StepControlState::values (both in piece 0 only); then,
+/// only in the files of a frictional run (contact block > 1, in the header), friction's
+/// fields of the contact nodes (piece 0 only): files without friction are those of before.
+enum Array {
+  kU, kBeta, kLambda, kUFree, kSigma, kEps, kZ, kContactWarm, kDamageWarm, kTimes, kStepControl,
+  kSlipStep, kSlip, kContactStatus, kArrays
+};
+/// The arrays a file of this contact block has: all, or those before friction's.
+constexpr int arrays_in_file(int contact_block) { return contact_block > 1 ? kArrays : kSlipStep; }
 
 /// Where the format (versions 4 and 5) has each stored state field (StateField::name). A
 /// stored field added to the table needs its place here, in a new format version
@@ -70,8 +77,9 @@ struct FileArray {
   std::string_view field;
   Array array;
 };
-constexpr FileArray kFileArrays[] = {{"u", kU},       {"beta", kBeta}, {"lambda", kLambda},
-                                     {"sigma", kSigma}, {"eps", kEps},   {"z", kZ}};
+constexpr FileArray kFileArrays[] = {{"u", kU},         {"beta", kBeta},  {"lambda", kLambda},
+                                     {"sigma", kSigma},   {"eps", kEps},    {"z", kZ},
+                                     {"slip_step", kSlipStep}, {"slip", kSlip}, {"contact_status", kContactStatus}};
 /// The file's array of a stored state field; throws vpc::Error when the format has none.
 Array file_array(std::string_view field);
 

@@ -48,9 +48,26 @@ constexpr HistoryColumn kColumns[] = {
      "attempts of the step rejected and redone smaller"},
 };
 
+// Friction's (SPEC §7): the residuals are relative, as the contact residuals.
+constexpr HistoryColumn kFrictionColumns[] = {
+    {"n_stick", F::integer, [](const StepReport& r) { return double(r.contact.n_stick); },
+     "contact nodes that stick: in contact, the tangential force below its bound"},
+    {"n_slip", F::integer, [](const StepReport& r) { return double(r.contact.n_slip); },
+     "contact nodes that slip: in contact, the tangential force at its bound"},
+    {"dissipation", F::exact, [](const StepReport& r) { return r.contact.dissipation; },
+     "the step's frictional dissipation Σ λ_τ,i·Δ_i (≥ 0)"},
+    {"friction_bound", F::residual, [](const StepReport& r) { return r.contact.residuals.friction_bound; },
+     "max(0, ‖λ_τ‖ − s) over the nodes (s = tresca + μ λ_ν), relative"},
+    {"friction_stick_slip", F::residual, [](const StepReport& r) { return r.contact.residuals.stick_slip; },
+     "max (s − ‖λ_τ‖)₊ ‖Δ‖ over the nodes: no slip below the bound, relative"},
+    {"friction_slip_direction", F::residual, [](const StepReport& r) { return r.contact.residuals.slip_direction; },
+     "max ‖λ_τ‖ ‖Δ‖ − λ_τ·Δ over the nodes: slip along λ_τ, relative"},
+};
+
 }  // namespace
 
 std::span<const HistoryColumn> history_columns() { return kColumns; }
+std::span<const HistoryColumn> friction_columns() { return kFrictionColumns; }
 
 std::vector<std::string> history_column_names(const Problem& p, const MeshPart& part) {
   std::vector<std::string> names;
@@ -60,6 +77,12 @@ std::vector<std::string> history_column_names(const Problem& p, const MeshPart& 
   for (std::size_t j = 0; j < parts.size(); ++j)
     for (int i = 0; i < part.dofs.dim(); ++i)
       if (part.dirichlet_components[j] >> i & 1) names.push_back(fmt::format("reaction_{}_{}", parts[j], "xyz"[i]));
+  const int d = part.dofs.dim();
+  if (p.contact.block_size(d) == 1) return names;
+  for (const HistoryColumn& c : kFrictionColumns) names.emplace_back(c.name);
+  for (int i = 0; i < d; ++i) names.push_back(fmt::format("tangential_force_{}", "xyz"[i]));
+  for (const Obstacle& o : p.contact.obstacles)
+    for (int i = 0; i < d; ++i) names.push_back(fmt::format("tangential_force_{}_{}", o.name, "xyz"[i]));
   return names;
 }
 
@@ -68,6 +91,10 @@ std::vector<HistoryValue> history_values(const StepReport& r) {
   for (const HistoryColumn& c : kColumns) row.push_back({c.value(r), c.format});
   for (double f : r.obstacle_force) row.push_back({f, F::exact});
   for (double f : r.reaction) row.push_back({f, F::exact});
+  if (r.tangential_force.empty()) return row;  // no friction
+  for (const HistoryColumn& c : kFrictionColumns) row.push_back({c.value(r), c.format});
+  for (double f : r.tangential_force) row.push_back({f, F::exact});
+  for (double f : r.obstacle_tangential_force) row.push_back({f, F::exact});
   return row;
 }
 

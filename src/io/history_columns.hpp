@@ -26,11 +26,16 @@ struct HistoryColumn {
 
 /// The columns every run has, in order.
 std::span<const HistoryColumn> history_columns();
+/// The columns of a frictional run (contact block > 1), after the per-case ones below.
+std::span<const HistoryColumn> friction_columns();
 
-/// After them, per case (totals over the case's nodes, never per contact node): the
-/// force on each obstacle (force_<name>, Problem::contact.obstacles order), then the
+/// After history_columns, per case (totals over the case's nodes, never per contact node):
+/// the force on each obstacle (force_<name>, Problem::contact.obstacles order), then the
 /// reaction of each Dirichlet part (dirichlet_parts) in each component it prescribes
 /// (reaction_<part>_<x|y|z>; MeshPart::dirichlet_components: every process has them).
+/// With friction (only: a frictionless run's file is that of before) then
+/// friction_columns, the total tangential force (tangential_force_<x|y|z>, d components)
+/// and that on each obstacle (tangential_force_<name>_<x|y|z>).
 std::vector<std::string> history_column_names(const Problem& p, const MeshPart& part);
 
 /// One number of a row and how it is written.

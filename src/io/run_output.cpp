@@ -127,6 +127,11 @@ void RunTotals::add(const StepReport& r) {
   max_damage_iterations = std::max(max_damage_iterations, r.damage.iterations);
   all_ok = all_ok && r.ok;
   last_n_active = r.contact.n_active;
+  const ContactResiduals& f = r.contact.residuals;
+  max_friction_bound = std::max(max_friction_bound, f.friction_bound);
+  max_stick_slip = std::max(max_stick_slip, f.stick_slip);
+  max_slip_direction = std::max(max_slip_direction, f.slip_direction);
+  dissipation += r.contact.dissipation;
   seconds_sources += r.seconds_sources;
   seconds_damage += r.seconds_damage;
   seconds_contact += r.seconds_contact;
@@ -425,6 +430,13 @@ std::string summary_json(const Problem& p, const RunSummary& r, const OutputOpti
                  {"max_damage_kkt_residual", t.max_damage_residual},
                  {"max_contact_iterations", t.max_contact_iterations},
                  {"max_damage_iterations", t.max_damage_iterations}};
+  if (r.n_stick >= 0)  // a frictional run (SPEC §7): the friction residuals' maxima, the final statuses
+    j["friction"] = {{"max_friction_bound", t.max_friction_bound},
+                     {"max_stick_slip", t.max_stick_slip},
+                     {"max_slip_direction", t.max_slip_direction},
+                     {"n_stick", r.n_stick},
+                     {"n_slip", r.n_slip},
+                     {"dissipation", t.dissipation}};
   j["probes"] = Json::array();
   for (const auto& x : r.probes) j["probes"].push_back(xyz(x));
   j["timing_seconds"] = {{"wall", r.wall_seconds},       {"setup", r.setup.total},     {"sources", t.seconds_sources},
@@ -485,6 +497,11 @@ RunSummary RunOutput::summary(double wall_seconds) const {
   const Vector normal = normal_forces(s);  // λ's normal force per contact node
   r.total_contact_force = normal.sum();
   r.active_contact_nodes = active_contact_nodes(totals_, normal);
+  if (s.contact_block > 1) {  // contact_status is replicated, as λ
+    const auto status = s.contact_status.array();
+    r.n_stick = (status == static_cast<double>(ContactStatus::Stick)).count();
+    r.n_slip = (status == static_cast<double>(ContactStatus::Slip)).count();
+  }
   for (const auto& p : probes_) r.probes.push_back(p.where.x);
   r.totals = totals_;
   r.wall_seconds = wall_seconds;

@@ -80,6 +80,9 @@ struct RunTotals {
   /// Active contact nodes of the last step, as the contact solver counts them
   /// (penalty–duality: multipliers above its threshold); −1 before the first step.
   long long last_n_active = -1;
+  /// Friction (0 without): the largest of each friction residual over the steps and the
+  /// frictional dissipation summed over them.
+  double max_friction_bound = 0, max_stick_slip = 0, max_slip_direction = 0, dissipation = 0;
   double seconds_sources = 0, seconds_damage = 0, seconds_contact = 0, seconds_stress = 0, seconds_output = 0;
   void add(const StepReport& r);
 };
@@ -99,6 +102,9 @@ struct RunSummary {
   long long rejected = 0;       // error-controlled steps rejected
   double t = 0, total_contact_force = 0, max_von_mises = 0, beta_min = 0, beta_max = 0;
   long long active_contact_nodes = 0;
+  /// Friction (a frictional run only: −1 without): the contact nodes that stick and slip
+  /// after the last step (State::contact_status).
+  long long n_stick = -1, n_slip = -1;
   Point beta_min_location{0, 0, 0};
   std::vector<Point> probes;
   RunTotals totals;

@@ -1,6 +1,7 @@
 #include "io/state_fields.hpp"
 
 #include "core/error.hpp"
+#include "scheme/contact_tangents.hpp"
 
 #include <algorithm>
 
@@ -24,6 +25,10 @@ int tensor(const State&, int) { return 6; }
 int dim(const State&, int d) { return d; }
 int block(const State& s, int) { return s.contact_block; }
 int three(const State&, int) { return 3; }
+int tangents(const State& s, int) { return std::max(s.contact_block - 1, 0); }
+bool frictional(const State& s) { return s.contact_block > 1; }
+// Friction's slip fields (State::slip_step, slip, contact_status): those of a frictional run.
+bool has_slip(const State& s) { return s.contact_block > 1 && s.slip.size() * s.contact_block == s.lambda.size(); }
 
 std::size_t n_nodes(const FieldContext& c) { return static_cast<std::size_t>(c.part.mesh().n_nodes()); }
 
@@ -37,6 +42,30 @@ VtuField node_field(const FieldContext& c, std::string_view name, int width, Fil
 
 // λ's normal force at contact node c (the first of its block).
 double normal_force(const State& s, const PartContactNode& c) { return s.lambda[c.row * s.contact_block]; }
+
+/// Friction's vectors Σ_j x_j t_j at the contact nodes (zero elsewhere), x_j the numbers of
+/// `values` (per contact row: the block − 1 numbers after `offset` of every `stride`) along
+/// the node's tangents (contact_tangents), each divided by `per` (1, or the node's measure).
+template <typename Per>
+VtuField tangent_vector_field(const FieldContext& c, std::string_view name, const Eigen::VectorXd& values, int stride,
+                              int offset, Per per) {
+  const int b = c.state.contact_block;
+  const std::vector<Point> t = contact_tangents(c.part, b);
+  return node_field(c, name, 3, [&](double* out) {
+    for (std::size_t k = 0; k < c.part.contact.size(); ++k) {
+      const PartContactNode& n = c.part.contact[k];
+      const Point v = along_tangents(t, k, b, values.data() + n.row * stride + offset);
+      for (int i = 0; i < 3; ++i) out[n.local_node * 3 + i] = v[static_cast<std::size_t>(i)] / per(n);
+    }
+  });
+}
+
+/// A field of one number per contact node as a node field (zero off Γ3).
+VtuField contact_scalar_field(const FieldContext& c, std::string_view name, const Eigen::VectorXd& values) {
+  return node_field(c, name, 1, [&](double* out) {
+    for (const PartContactNode& n : c.part.contact) out[n.local_node] = values[n.row];
+  });
+}
 
 constexpr StateField kFields[] = {
     {"u", "u", "displacement", L::node, dim, [](const State& s) { return span_of(s.u); },
@@ -84,6 +113,43 @@ constexpr StateField kFields[] = {
        });
      },
      nullptr, "λ over the node's tributary measure on Γ3 (a pressure)"},
+    // Friction (SPEC §7): written when the contact block has more than one number.
+    {"tangential_force", "tangential_force", "tangential_force", L::node, three, nullptr, nullptr,
+     [](const FieldContext& c) {
+       const int b = c.state.contact_block;
+       return tangent_vector_field(c, "tangential_force", c.state.lambda, b, 1, [](const PartContactNode&) { return 1.0; });
+     },
+     frictional,
+     "the tangential force Σ_j λ_τ,j t_j at each node of Γ3 as a vector: the force on the obstacle (the body "
+     "gets its opposite, against its slip; friction only)", true},
+    {"tangential_traction", "tangential_traction", "tangential_traction", L::node, three, nullptr, nullptr,
+     [](const FieldContext& c) {
+       const int b = c.state.contact_block;
+       return tangent_vector_field(c, "tangential_traction", c.state.lambda, b, 1,
+                                   [](const PartContactNode& n) { return n.measure; });
+     },
+     frictional, "the tangential force over the node's tributary measure on Γ3 (a traction, like contact_pressure; friction "
+     "only)", true},
+    {"slip_step", "slip_step", "", L::contact_node, tangents, [](const State& s) { return span_of(s.slip_step); },
+     [](State& s, Span v) { set(s.slip_step, v); }, nullptr, nullptr,
+     "the last step's slip increment Δ = T u_n − h: contact_block − 1 numbers per contact node, along its "
+     "tangents (friction only)", true},
+    {"slip_increment", "slip_increment", "slip_increment", L::node, three, nullptr, nullptr,
+     [](const FieldContext& c) {
+       const int t = c.state.contact_block - 1;
+       return tangent_vector_field(c, "slip_increment", c.state.slip_step, t, 0,
+                                   [](const PartContactNode&) { return 1.0; });
+     },
+     has_slip, "the last step's slip increment at each node of Γ3 as a vector Σ_j Δ_j t_j (friction only)", true},
+    {"slip", "slip", "slip", L::contact_node, one, [](const State& s) { return span_of(s.slip); },
+     [](State& s, Span v) { set(s.slip, v); },
+     [](const FieldContext& c) { return contact_scalar_field(c, "slip", c.state.slip); }, has_slip,
+     "the accumulated slip Σ_n ‖Δ_n‖ at each contact node, a path length (friction only; VTU: zero off Γ3)", true},
+    {"contact_status", "contact_status", "contact_status", L::contact_node, one,
+     [](const State& s) { return span_of(s.contact_status); }, [](State& s, Span v) { set(s.contact_status, v); },
+     [](const FieldContext& c) { return contact_scalar_field(c, "contact_status", c.state.contact_status); },
+     has_slip, "each contact node's status after the last step: 0 free, 1 stick, 2 slip (friction only; VTU: zero off "
+     "Γ3)", true},
     {"sigma", "sigma", "stress", L::cell, tensor, [](const State& s) { return span_of(s.sigma); },
      [](State& s, Span v) { set(s.sigma, v); }, [](const FieldContext& c) { return tensor_field("stress", c.state.sigma); },
      nullptr, "the stress σ_n"},

@@ -45,6 +45,9 @@ struct StateField {
   /// Whether the VTU files have it for this state (null: always, as [output] fields says).
   bool (*in_vtu)(const State& s) = nullptr;
   std::string_view meaning;
+  /// Friction's (SPEC §7): the state has it only with friction (contact_block > 1; empty,
+  /// or not written, without).
+  bool friction = false;
 
   bool stored() const { return values != nullptr; }
   bool point_data() const { return location != FieldLocation::cell; }

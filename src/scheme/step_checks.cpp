@@ -2,6 +2,7 @@
 
 #include "core/error.hpp"
 #include "fem/assembly.hpp"
+#include "scheme/contact_tangents.hpp"
 #include "scheme/stability.hpp"
 
 #include <algorithm>
@@ -33,19 +34,42 @@ MinimumAt global_minimum_at(const la::Comm& comm, std::span<const double> values
 
 void contact_totals(const DiscreteSystem& sys, const State& s, StepReport& rep) {
   const auto& obstacles = sys.problem->contact.obstacles;
-  std::vector<double> sums(obstacles.size() + 1, 0.0);  // area, then the obstacles' forces
-  for (const PartContactNode& node : sys.part.contact) {
+  const int b = s.contact_block, d = sys.part.mesh().dim();
+  const std::size_t n_obstacles = obstacles.size();
+  // area, the obstacles' forces, then with friction the tangential force (d) and its share
+  // on each obstacle (obstacles × d)
+  const std::size_t friction = b > 1 ? static_cast<std::size_t>(d) * (n_obstacles + 1) : 0;
+  std::vector<double> sums(n_obstacles + 1 + friction, 0.0);
+  const std::vector<Point> tangents = contact_tangents(sys.part, b);
+  for (std::size_t k = 0; k < sys.part.contact.size(); ++k) {
+    const PartContactNode& node = sys.part.contact[k];
     if (!node.owned) continue;
-    const double lambda = s.lambda[node.row];
+    const double lambda = s.lambda[node.row * b];
     if (lambda > rep.contact.active_threshold) sums[0] += node.measure;
-    if (obstacles.empty() || lambda == 0) continue;
+    Point tangential{0, 0, 0};
+    if (b > 1) {
+      tangential = along_tangents(tangents, k, b, s.lambda.data() + node.row * b + 1);
+      for (int i = 0; i < d; ++i) sums[n_obstacles + 1 + static_cast<std::size_t>(i)] += tangential[i];
+    }
+    if (obstacles.empty() || (lambda == 0 && tangential == Point{0, 0, 0})) continue;
     const int nearest = nearest_obstacle(obstacles, sys.part.mesh().node(node.local_node), node.direction, rep.t,
                                          node.obstacles);
-    if (nearest >= 0) sums[static_cast<std::size_t>(nearest) + 1] += lambda;
+    if (nearest < 0) continue;
+    sums[static_cast<std::size_t>(nearest) + 1] += lambda;
+    for (int i = 0; i < d && b > 1; ++i)
+      sums[n_obstacles + 1 + static_cast<std::size_t>(d) * (static_cast<std::size_t>(nearest) + 1) +
+           static_cast<std::size_t>(i)] += tangential[i];
   }
   sys.part.comm.sum(sums.data(), static_cast<int>(sums.size()));
   rep.contact_area = sums[0];
-  rep.obstacle_force.assign(sums.begin() + 1, sums.end());
+  const auto obstacles_end = sums.begin() + static_cast<std::ptrdiff_t>(n_obstacles + 1);
+  rep.obstacle_force.assign(sums.begin() + 1, obstacles_end);
+  rep.tangential_force.clear();
+  rep.obstacle_tangential_force.clear();
+  if (b > 1) {
+    rep.tangential_force.assign(obstacles_end, obstacles_end + d);
+    rep.obstacle_tangential_force.assign(obstacles_end + d, sums.end());
+  }
 }
 
 void reactions(const DiscreteSystem& sys, const State& s, const Vector& F, StepReport& rep) {

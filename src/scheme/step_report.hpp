@@ -41,6 +41,11 @@ struct StepReport {
   /// With obstacles: the total contact force on each (Problem::contact.obstacles order),
   /// each node's force counted for the obstacle nearest to it at this step.
   std::vector<double> obstacle_force;
+  /// Friction (SPEC §7; both empty without, and history.csv has no friction columns): the
+  /// tangential forces Σ_j λ_τ,j t_j summed over the contact nodes as a vector of d
+  /// components (the force on the obstacles; the body gets its opposite), and with
+  /// obstacles the same per obstacle (d after d, as obstacle_force counts the nodes).
+  std::vector<double> tangential_force, obstacle_tangential_force;
   /// The reaction force on each Dirichlet part (dirichlet_parts order): the force its
   /// supports exert on the body, Σ over the part's nodes of (σ_n, ε(φ)) − F_n, in each
   /// component the part prescribes (DirichletDofs::components), in increasing order. A

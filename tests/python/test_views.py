@@ -148,12 +148,17 @@ def test_keyboard_interrupt_writes_a_checkpoint(tmp_path):
 
 def test_fields_and_columns_come_from_the_library_tables(sim):
     table = vpcontact.state_fields()
-    stored = [f["python"] for f in table if f["stored"]]
+    stored = [f["python"] for f in table if f["stored"] and not f["friction"]]
     assert list(sim.fields()) == stored == ["u", "beta", "contact_force", "sigma", "eps", "z"]
+    assert not sim.frictional
+    assert [f["python"] for f in table if f["stored"] and f["friction"]] == ["slip_step", "slip", "contact_status"]
+    assert sim.slip.shape == (0,) and sim.slip_step.shape == (0,)  # friction's fields: empty without friction
     assert {f["location"] for f in table} == {"node", "cell", "contact node"}
     for f in table:
         assert getattr(vpcontact.Simulation, f["python"]).__doc__.startswith(f["meaning"])
-    columns = [c["name"] for c in vpcontact.history_column_table()]
+    columns = [c["name"] for c in vpcontact.history_column_table() if not c["friction"]]
     assert sim.history_columns[: len(columns)] == columns
+    friction = [c["name"] for c in vpcontact.history_column_table() if c["friction"]]
+    assert "n_stick" in friction and not set(friction) & set(sim.history_columns)  # none without friction
     sim.step()
     assert isinstance(sim.report["n_active"], int) and isinstance(sim.report["contact_equilibrium"], float)

@@ -41,26 +41,35 @@ TEST(HistoryColumns, HeaderAndRowsComeFromTheTable) {
   EXPECT_EQ(history_row(r), line + "\n");
 }
 
-// docs/cases.md's table of the columns is this table's (paste the expected text there
-// when a column is added).
-TEST(HistoryColumns, DocsListEveryColumn) {
-  std::ifstream in(fs::path(VPC_TEST_DATA_DIR) / "../../docs/cases.md");
-  std::stringstream text;
-  text << in.rdbuf();
-  const std::string doc = text.str();
+/// The markdown table of `columns`, as docs/cases.md has it.
+std::string table_of(std::span<const HistoryColumn> columns) {
   std::string expected = "| column | written as | meaning |\n|---|---|---|\n";
-  for (const HistoryColumn& c : history_columns())
+  for (const HistoryColumn& c : columns)
     expected += fmt::format("| `{}` | {} | {} |\n", c.name,
                             c.format == ColumnFormat::integer ? "integer"
                             : c.format == ColumnFormat::exact ? "17 digits"
                                                               : "4 digits",
                             c.meaning);
-  const std::string begin = "<!-- begin history columns -->\n", end = "<!-- end history columns -->";
-  const auto a = doc.find(begin), b = doc.find(end);
-  ASSERT_TRUE(a != std::string::npos && b != std::string::npos) << "docs/cases.md: no markers";
-  EXPECT_EQ(doc.substr(a + begin.size(), b - a - begin.size()), expected)
-      << "docs/cases.md between the markers should read:\n"
-      << expected;
+  return expected;
+}
+
+// docs/cases.md's tables of the columns (every run's; a frictional run's) are the tables
+// (paste the expected text there when a column is added).
+TEST(HistoryColumns, DocsListEveryColumn) {
+  std::ifstream in(fs::path(VPC_TEST_DATA_DIR) / "../../docs/cases.md");
+  std::stringstream text;
+  text << in.rdbuf();
+  const std::string doc = text.str();
+  for (const auto& [name, columns] : {std::pair{"history columns", history_columns()},
+                                      std::pair{"friction columns", friction_columns()}}) {
+    const std::string expected = table_of(columns);
+    const std::string begin = fmt::format("<!-- begin {} -->\n", name), end = fmt::format("<!-- end {} -->", name);
+    const auto a = doc.find(begin), b = doc.find(end);
+    ASSERT_TRUE(a != std::string::npos && b != std::string::npos) << "docs/cases.md: no markers " << name;
+    EXPECT_EQ(doc.substr(a + begin.size(), b - a - begin.size()), expected)
+        << "docs/cases.md between the markers " << name << " should read:\n"
+        << expected;
+  }
 }
 
 }  // namespace

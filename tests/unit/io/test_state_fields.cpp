@@ -81,7 +81,10 @@ TEST(StateFields, LambdaBlockIsAPointFieldOfBComponents) {
   points.clear();
   cells.clear();
   make_vtu_fields({st, s.part()}, {}, points, cells);
-  ASSERT_EQ(points.size(), 5u);
+  // (and friction's tangential force and traction, from λ's other numbers: test_friction_outputs.cpp)
+  ASSERT_EQ(points.size(), 7u);
+  EXPECT_EQ(points[5].name, "tangential_force");
+  EXPECT_EQ(points[6].name, "tangential_traction");
   const VtuField& block = points[2];
   EXPECT_EQ(block.name, "contact_lambda");
   EXPECT_EQ(block.n_components, 3);
