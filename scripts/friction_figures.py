@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """Figures of issue 28's frictional cases (docs/verification.md), from a run's output directory:
 
   scripts/friction_figures.py cattaneo-mindlin OUTDIR FIGDIR   # vpcontact run cattaneo-mindlin-2d -o OUTDIR
@@ -8,7 +8,7 @@ cattaneo-mindlin: traction.png, the tangential traction q(x) = |lambda_tau|/|Gam
 tangential step against Cattaneo-Mindlin's mu p0 [sqrt(1 - x^2/a^2) - (c/a) sqrt(1 - x^2/c^2)], with
 a, p0 from Hertz with the computed P and c/a = sqrt(1 - Q/(mu P)); stick_zone.png, c/a against
 Q/(mu P). ironing: tangential_force.png, the drag and normal forces (the bottom's reactions, which
-balance the contact forces) against t; beta_track.png, beta along the track's centre line at the
+balance the contact forces, and history.csv's tangential force) against t; beta_track.png, beta along the track's centre line at the
 surface and below it at the end of the run.
 """
 import os
@@ -58,6 +58,8 @@ def cattaneo_mindlin(outdir, figdir, R=1.0, mu=0.5, E=1000.0, nu=0.49):
             continue
         x, ln, lt, q = contact_nodes(vtu)
         if t <= 1 + 1e-9:
+            if ln.sum() <= 0:
+                continue
             P = ln.sum()
             a = np.sqrt(4 * P * R / (np.pi * E_star))
             p0 = 2 * P / (np.pi * a)
@@ -65,8 +67,17 @@ def cattaneo_mindlin(outdir, figdir, R=1.0, mu=0.5, E=1000.0, nu=0.49):
         Q = abs(lt.sum())
         ratio = Q / (mu * ln.sum())
         c = a * np.sqrt(max(0.0, 1 - ratio))
-        stick = (ln > 0) & (np.abs(lt) < mu * ln * (1 - 1e-9))
-        c_num = 0.5 * (x[stick].max() - x[stick].min()) / a if stick.any() else 0.0
+        status = vtu.point_data.get("contact_status")
+        if status is not None:  # the run's own stick/slip/free status (1: stick)
+            stick = np.abs(status[np.abs(vtu.points[:, 1]) < 1e-12][np.argsort(vtu.points[np.abs(vtu.points[:, 1]) < 1e-12, 0])] - 1) < 0.5
+        else:
+            stick = (ln > 0) & (np.abs(lt) < mu * ln * (1 - 1e-9))
+        c_num = 0.0
+        if stick.any():  # the edges midway between the outermost sticking nodes and the next nodes out
+            lo, hi = x[stick].min(), x[stick].max()
+            left = 0.5 * (lo + (x[x < lo].max() if (x < lo).any() else lo))
+            right = 0.5 * (hi + (x[x > hi].min() if (x > hi).any() else hi))
+            c_num = 0.5 * (right - left) / a
         curves.append((t, ratio, c, x, q))
         zone.append((ratio, c / a, c_num))
     if a is None or not curves:
@@ -75,7 +86,9 @@ def cattaneo_mindlin(outdir, figdir, R=1.0, mu=0.5, E=1000.0, nu=0.49):
     xs = np.linspace(-a, a, 400)
     for i, (t, ratio, c, x, q) in enumerate(curves):
         colour = plt.cm.viridis(i / max(1, len(curves) - 1))
-        exact = np.sqrt(1 - xs**2 / a**2) - np.where(np.abs(xs) < c, (c / a) * np.sqrt(np.clip(1 - xs**2 / c**2, 0, None)), 0)
+        exact = np.sqrt(1 - xs**2 / a**2)
+        if c > 0:
+            exact -= np.where(np.abs(xs) < c, (c / a) * np.sqrt(np.clip(1 - xs**2 / c**2, 0, None)), 0)
         ax.plot(xs / a, exact, "-", color=colour, lw=1)
         inside = np.abs(x) <= 1.3 * a
         ax.plot(x[inside] / a, q[inside] / (mu * p0), "o", ms=3, color=colour, label="Q/(mu P) = %.2f" % ratio)
@@ -106,6 +119,8 @@ def ironing(outdir, figdir):
     t = h["t"]
     drag, normal = np.abs(h["reaction_bottom_x"]), np.abs(h["reaction_bottom_z"])
     fig, ax = plt.subplots(figsize=(6, 4))
+    if "tangential_force_x" in h:  # history.csv's total tangential force (Σ λ_τ along the tangents)
+        ax.plot(t, np.abs(h["tangential_force_x"]), "s", ms=5, mfc="none", label="|tangential force x|")
     ax.plot(t, drag, "-o", ms=3, label="drag |R_x|")
     ax.plot(t, normal, "-", label="normal |R_z|")
     ax.plot(t, 0.3 * normal, "--", label="mu |R_z|")

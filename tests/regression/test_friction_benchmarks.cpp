@@ -71,11 +71,11 @@ TEST(FrictionBenchmarks, CattaneoMindlinStickZoneAndTraction) {
     const double c_theory = a * std::sqrt(std::max(0.0, 1 - ratio));
     // The stick zone's edges: midway between the outermost sticking node and the next node out.
     double left = 0, right = 0, sq = 0;
-    int n_in = 0;
+    int n_in = 0, n_stick = 0;
     for (const NodeForces& f : forces) {
       const bool stick = f.status >= 0 ? f.status == static_cast<int>(ContactStatus::Stick)
                                         : contact_status(f.normal, f.tangential_norm(), mu * f.normal) == ContactStatus::Stick;
-      if (stick) left = std::min(left, f.x[0]), right = std::max(right, f.x[0]);
+      if (stick) left = std::min(left, f.x[0]), right = std::max(right, f.x[0]), ++n_stick;
     }
     double left_out = -INFINITY, right_out = INFINITY;
     for (const NodeForces& f : forces) {
@@ -91,13 +91,17 @@ TEST(FrictionBenchmarks, CattaneoMindlinStickZoneAndTraction) {
       }
     }
     const double c_left = 0.5 * (left + left_out), c_right = 0.5 * (right + right_out);
-    const double c_computed = 0.5 * (c_right - c_left), rms = std::sqrt(sq / n_in);
+    const double c_computed = n_stick ? 0.5 * (c_right - c_left) : 0.0, rms = std::sqrt(sq / n_in);
     std::printf("  | %.1f | %.5g | %.4f | %.4f | %.4f | %+.4f | %.2f %% |\n", r.t, Q, ratio, c_theory / a, c_computed / a,
                 0.5 * (c_right + c_left) / a, 100 * rms);
     if (ratio > 0.1 && ratio < 0.9) {
       ++checked;
+      // docs/verification.md §8f: c within about one element of the theory's (h/a = 0.074), the
+      // stick zone shifted by up to one element (the finite block's moment tilts the pressure), q
+      // within about 10 % of μp0 in RMS (the cusps at |x| = c and the edges at |x| = a on the mesh).
       EXPECT_LE(std::abs(c_computed - c_theory), 1.5 * h) << "t = " << r.t;
-      EXPECT_LT(rms, 0.05) << "t = " << r.t;
+      EXPECT_LE(std::abs(0.5 * (c_right + c_left)), 1.5 * h) << "t = " << r.t;
+      EXPECT_LT(rms, 0.12) << "t = " << r.t;
     }
   });
   EXPECT_GE(checked, 4);

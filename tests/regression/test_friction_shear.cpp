@@ -1,7 +1,7 @@
 // Issue 28: the shipped shear-2d and shear-3d cases (docs/verification.md "Shear of a block on a
 // rigid plane"): an elastic block clamped on top, pressed by a rigid plane that then slides.
-//   (a) once the whole face slides, Σ|λ_τ,i| = μ Σ λ_ν,i and the top's reaction has
-//       |R_τ| = μ |R_ν|, to the solver's tolerance;
+//   (a) once the whole face slides, Σ|λ_τ,i| = μ Σ λ_ν,i to the solver's tolerance, and the
+//       top's reaction has |R_τ| = μ |R_ν| (in 3D once the forces have turned parallel);
 //   (b) with μ large the face sticks and the solution is the bonded one (the face's tangential
 //       displacement prescribed equal to the plane's) to round-off;
 //   (c) a Tresca run whose bound is μ times the Coulomb run's nodal pressure is the Coulomb run.
@@ -28,7 +28,7 @@ constexpr double kMu = 0.3;
 
 void full_sliding(const ShearCase& sc) {
   const Case c = case_of(sc.name, shipped_text(sc.name));
-  double err_nodes = 0, err_reaction = 0;
+  double err_nodes = 0, err_reaction = 0, err_reaction_last = 0;
   int sliding_steps = 0;
   run_to_end(c, [&](const TimeStepper& s, const StepReport& r) {
     double tau = 0, nu = 0;
@@ -49,13 +49,20 @@ void full_sliding(const ShearCase& sc) {
       ++sliding_steps;
       err_nodes = std::max(err_nodes, std::abs(tau / (kMu * nu) - 1));
       err_reaction = std::max(err_reaction, std::abs(rt / (kMu * rn) - 1));
+      err_reaction_last = std::abs(rt / (kMu * rn) - 1);
     }
   });
-  std::printf("  %s: %d steps of full sliding; largest relative error of the limit load: nodes %.3g, reaction %.3g\n",
-              sc.name.c_str(), sliding_steps, err_nodes, err_reaction);
+  std::printf("  %s: %d steps of full sliding; largest relative error of the limit load: nodes %.3g, reaction %.3g "
+              "(at the last step %.3g)\n",
+              sc.name.c_str(), sliding_steps, err_nodes, err_reaction, err_reaction_last);
   EXPECT_GE(sliding_steps, 3) << "the face must slide whole in the last steps";
   EXPECT_LE(err_nodes, 1e-8);
-  EXPECT_LE(err_reaction, 1e-6);
+  // In 2D every node slides along the one tangent: the reaction is μ|R_ν| exactly. In 3D the
+  // tangential forces left by the pressing and the partial slip point elsewhere and turn towards
+  // the plane's direction as the slip grows (|Σ λ_τ,i| < Σ |λ_τ,i| until they are parallel): the
+  // reaction reaches μ|R_ν| as the block slides on (1 % short at the first sliding step, 1e-7 after
+  // 0.1 of sliding).
+  EXPECT_LE(sc.dim == 2 ? err_reaction : err_reaction_last, 1e-6);
 }
 
 TEST(FrictionShear, FullSlidingLimitLoadIsMuTimesNormalLoad2d) { full_sliding(kShear2d); }
@@ -104,24 +111,34 @@ TEST(FrictionShear, LargeMuSticksAsTheBondedSolution2d) { sticks_as_bonded(kShea
 TEST(FrictionShear, LargeMuSticksAsTheBondedSolution3d) { sticks_as_bonded(kShear3d); }
 
 /// (c): the Coulomb run's nodal pressures p_i(t_n) = λ_ν,i / |Γ3|_i, as a Tresca bound g(x, t) =
-/// μ p_i(t_n) at node i and step n (indicators of the node's cell of the face and of the step).
+/// μ p_i(t_n) at node i and step n: per node an indicator of its cell of the face times the step's
+/// value (t < t_1 + k/2 ? … : …), within muParser's 20,000 characters.
 void tresca_is_coulomb(const ShearCase& sc) {
   const std::vector<std::string> sets = {"time.steps=4"};
   const Case coulomb = case_of(sc.name, shipped_text(sc.name), sets);
   const double h = sc.dim == 2 ? 0.1 : 0.125;  // the face's node spacing (shear-2d: 2/20, shear-3d: 1/8)
-  std::ostringstream g;
-  g.precision(17);
   std::vector<Vector> u, lambda;
+  std::vector<double> times;
+  std::vector<NodeForces> nodes;
+  std::vector<std::vector<double>> bound;  // per node, per step
   run_to_end(coulomb, [&](const TimeStepper& s, const StepReport& r) {
     u.push_back(s.state().u);
     lambda.push_back(s.state().lambda);
-    for (const NodeForces& f : node_forces(s)) {
-      if (f.normal <= 0) continue;
-      g << (g.tellp() > 0 ? " + " : "") << kMu * f.normal / f.measure << "*(abs(t - " << r.t << ") < 0.25)*(abs(x - "
-        << f.x[0] << ") < " << h / 2 << ")";
-      if (sc.dim == 3) g << "*(abs(y - " << f.x[1] << ") < " << h / 2 << ")";
-    }
+    times.push_back(r.t);
+    nodes = node_forces(s);
+    bound.resize(nodes.size());
+    for (std::size_t i = 0; i < nodes.size(); ++i) bound[i].push_back(kMu * nodes[i].normal / nodes[i].measure);
   });
+  std::ostringstream g;
+  g.precision(17);
+  for (std::size_t i = 0; i < nodes.size(); ++i) {
+    if (*std::max_element(bound[i].begin(), bound[i].end()) <= 0) continue;
+    g << (g.tellp() > 0 ? " + " : "") << "(abs(x - " << nodes[i].x[0] << ") < " << h / 2 << ")";
+    if (sc.dim == 3) g << "*(abs(y - " << nodes[i].x[1] << ") < " << h / 2 << ")";
+    g << "*(";
+    for (std::size_t n = 0; n + 1 < times.size(); ++n) g << "t < " << 0.5 * (times[n] + times[n + 1]) << " ? " << bound[i][n] << " : ";
+    g << bound[i].back() << ")";
+  }
   const Case tresca =
       case_of(sc.name, replaced(shipped_text(sc.name), kCoulomb, "friction = \"tresca\"\nfriction_bound = \"" + g.str() + "\""), sets);
   std::size_t n = 0;
