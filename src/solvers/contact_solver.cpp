@@ -561,8 +561,6 @@ std::unique_ptr<ContactSolver> make_contact_solver(const std::string& name, std:
               (constraints.compliance.size() == rows && constraints.law.size() == constraints.rows.size()),
           "internal: {} compliances and {} laws for {} contact rows", constraints.compliance.size(),
           constraints.law.size(), rows);
-  require(constraints.block == 1 || name == "active-set", "internal: contact blocks of {} unknowns per node; the solvers take 1 (a normal law)",
-          constraints.block);
   const bool compliant = std::ranges::any_of(constraints.law, [&](int k) {
     return !constraints.laws[static_cast<std::size_t>(k)]->rigid();
   });
