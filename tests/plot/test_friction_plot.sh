@@ -17,7 +17,7 @@ rm -rf "$tmp" && mkdir -p "$tmp" || exit 1
 "$vpcontact" run paper-2d -q --n 10 --steps 10 -o "$tmp/plain" || fail "run paper-2d"
 "$python" "$script" "$tmp/plain" > "$tmp/plain.log" 2>&1 || fail "plot paper-2d: $(tail -1 "$tmp/plain.log")"
 [ ! -e "$tmp/plain/figures/friction.png" ] || fail "a frictionless run got friction.png"
-grep -q "friction" "$tmp/plain.log" && fail "a frictionless run mentions friction: $(grep friction "$tmp/plain.log")"
+grep -q "friction\.png" "$tmp/plain.log" && fail "a frictionless run mentions friction.png: $(grep friction "$tmp/plain.log")"
 
 "$vpcontact" run "$friction_case" -q -o "$tmp/fric" || fail "run $friction_case"
 "$python" "$script" "$tmp/fric" > "$tmp/fric.log" 2>&1 || fail "plot the frictional run: $(tail -1 "$tmp/fric.log")"
