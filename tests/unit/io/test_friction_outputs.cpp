@@ -207,6 +207,27 @@ TEST(FrictionOutputs, CheckpointKeepsTheFrictionStateBitForBit) {
   }
 }
 
+// A rejected step is redone from the snapshot before it (step control, halving, resume): the
+// slip it accumulated must go with it, so the redone step ends bit for bit where it did.
+TEST(FrictionOutputs, RestoringASnapshotUndoesTheSlipOfTheStep) {
+  const Case c = load_case((fs::path(VPC_TEST_DATA_DIR) / "friction-2d.toml").string());
+  TimeStepper s(c.problem, c.solvers);
+  for (int n = 0; n < 7; ++n) s.step();  // sliding from step 6 on
+  const Snapshot before = s.snapshot();
+  s.step();
+  const State once = s.state();
+  ASSERT_GT((once.slip - before.state.slip).maxCoeff(), 0.0);
+  s.restore(before);
+  EXPECT_EQ(s.state().slip, before.state.slip);
+  EXPECT_EQ(s.state().slip_step, before.state.slip_step);
+  EXPECT_EQ(s.state().contact_status, before.state.contact_status);
+  s.step();
+  EXPECT_EQ(s.state().slip, once.slip);
+  EXPECT_EQ(s.state().slip_step, once.slip_step);
+  EXPECT_EQ(s.state().contact_status, once.contact_status);
+  EXPECT_EQ(s.state().lambda, once.lambda);
+}
+
 TEST(FrictionOutputs, HistoryHasFrictionColumnsOnlyWithFriction) {
   const Case plain = load_case("hertz-2d", {.steps = 1}, {.cells = 20});
   const MeshPart part = whole_mesh_part(plain.problem);
