@@ -1,5 +1,8 @@
 #pragma once
-// Files of the io tests: a fresh directory per test and process, and a file's bytes.
+// Files of the io tests: a fresh directory per test and process, a file's bytes, and a
+// stepper's checkpoint as a run writes it.
+#include "io/checkpoint.hpp"
+
 #include <unistd.h>
 
 #include <filesystem>
@@ -22,6 +25,18 @@ inline std::string read_bytes(const std::filesystem::path& p) {
   std::stringstream s;
   s << in.rdbuf();
   return s.str();
+}
+
+/// The stepper's state now as a checkpoint (no PVD entries, zero totals).
+inline Checkpoint checkpoint_of(const TimeStepper& s) {
+  Checkpoint c;
+  c.case_name = s.problem().name;
+  c.fingerprint = problem_fingerprint(s);
+  c.problem_key = problem_key(s);
+  c.snapshot = s.snapshot();
+  c.times = s.times();
+  c.step_control = s.step_control_state().values();
+  return c;
 }
 
 }  // namespace vpc::test

@@ -153,13 +153,7 @@ TEST(FrictionOutputs, VtuFieldsAreTheTangentialVectorsSlipAndStatus) {
 TEST(FrictionOutputs, CheckpointKeepsTheFrictionStateBitForBit) {
   TimeStepper s(load_case("paper-2d", {.steps = 4}, {.cells = 10}).problem);
   s.step();
-  Checkpoint c;
-  c.case_name = s.problem().name;
-  c.fingerprint = problem_fingerprint(s);
-  c.problem_key = problem_key(s);
-  c.snapshot = s.snapshot();
-  c.times = s.times();
-  c.step_control = s.step_control_state().values();
+  Checkpoint c = test::checkpoint_of(s);
   RunTotals friction_totals;
   friction_totals.max_friction_bound = 1.5e-12;
   friction_totals.max_stick_slip = 2.5e-11;

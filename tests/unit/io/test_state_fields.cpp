@@ -91,14 +91,8 @@ TEST(StateFields, LambdaBlockIsAPointFieldOfBComponents) {
 TEST(StateFields, CheckpointStoresTheBlockAndRefusesAnother) {
   TimeStepper s(load_case("paper-2d", {.steps = 4}, {.cells = 10}).problem);
   s.step();
-  Checkpoint c;
-  c.case_name = s.problem().name;
-  c.fingerprint = problem_fingerprint(s);
-  c.problem_key = problem_key(s);
-  c.snapshot = s.snapshot();
+  Checkpoint c = test::checkpoint_of(s);
   c.snapshot.state = with_block(s, 2);
-  c.times = s.times();
-  c.step_control = s.step_control_state().values();
   const fs::path dir = fresh_dir("ckpt_block");
   const fs::path file = write_checkpoint(dir, c);
   const Checkpoint back = read_checkpoint(file);
