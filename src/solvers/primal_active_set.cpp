@@ -193,7 +193,8 @@ class PrimalActiveSetSolver final : public ContactSolver {
   /// next bound is its Anderson-accelerated update. On an iterative solver the forces count as
   /// settled also when they stop contracting at its accuracy (below kNoiseCeiling and less than
   /// halved by a tight solve). The first bound: tresca + μ (λ_ν + c (N u − g))₊ (HSW's) after
-  /// the first solve, or the warm start's λ_ν.
+  /// the first solve, also with a warm start (the last step's λ_ν is the last load's: a 2D block
+  /// pressed down, 40 x 20 cells, 20 steps: 18–26 → 12 solves a step, 131 → 62 factorizations).
   /// Cycling within a Tresca problem: once a pair of sets comes back (ActiveSetHistory), updates
   /// turn monotone: every violated normal row is added and only the most negative force released
   /// (as without friction); every slip row that would stick sticks, but only the stick row
@@ -211,9 +212,8 @@ class PrimalActiveSetSolver final : public ContactSolver {
     std::vector<char> active(static_cast<size_t>(rows));
     for (Eigen::Index i = 0; i < rows; ++i) active[i] = normal_in[i] > 0 || gap_left(w, i) < 0;
     friction_->start(c_, active, normal_in, warm ? local_tangential(c_, lambda) : Vector());
-    Vector bound(rows);  // s of the Tresca problem being solved
-    for (Eigen::Index i = 0; i < rows; ++i) bound[i] = c_.bound(i, normal_in[i]);
-    bool bound_known = warm;
+    Vector bound = Vector::Zero(rows);  // s of the Tresca problem being solved, from the first solve
+    bool bound_known = false;
     AndersonMixing coulomb(kAndersonDepth);
     auto directions = std::make_unique<AndersonMixing>(kAndersonDepth);  // the slip forces of one Tresca problem
     Vector lambda_local = Vector::Zero(rows), tangential;
