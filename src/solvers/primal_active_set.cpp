@@ -251,6 +251,7 @@ class PrimalActiveSetSolver final : public ContactSolver {
         }
         bound_known = true;
       }
+      friction_->secant(c_, w, comm);
       PrimalFriction::Next up = friction_->next(c_, w, tangential, bound);
       if (monotone) friction_->slip_one(up, comm);
       const double scale = std::max({b_scale, comm.max(lambda_local.size() ? lambda_local.cwiseAbs().maxCoeff() : 0.0),
