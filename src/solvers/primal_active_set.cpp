@@ -251,7 +251,9 @@ class PrimalActiveSetSolver final : public ContactSolver {
         }
         bound_known = true;
       }
-      friction_->secant(c_, w, comm);
+      // c's secant step while the slip forces still move much; then fixed, for Anderson's mixing
+      // (a 3D block pressed, ν = 0.3: with it updated to the end, a step stalled near 1e-9).
+      friction_->secant(c_, w, comm, last_direction > kSecantUntil);
       PrimalFriction::Next up = friction_->next(c_, w, tangential, bound);
       if (monotone) friction_->slip_one(up, comm);
       const double scale = std::max({b_scale, comm.max(lambda_local.size() ? lambda_local.cwiseAbs().maxCoeff() : 0.0),
@@ -323,7 +325,7 @@ class PrimalActiveSetSolver final : public ContactSolver {
   // iterative solver also forces that no longer halve below kNoiseCeiling (its accuracy).
   static constexpr double kForceTolerance = 1e-12, kNoiseCeiling = 1e-8;
   static constexpr int kAndersonDepth = 8;
-  static constexpr double kInnerShare = 0.1;  // the last bounds Coulomb's fixed point combines
+  static constexpr double kInnerShare = 0.1, kSecantUntil = 1e-6;  // the last bounds Coulomb's fixed point combines
   // Loose enough that finding a set costs a few iterations, tight enough that the signs
   // rarely mislead (foundation-3d n = 40, 5 steps on CG + GAMG: 1e-6 → 3.2 s a step,
   // 1e-4 → 3.0 s, 1e-3 → up to 25 set iterations in a step).

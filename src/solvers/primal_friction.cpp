@@ -135,11 +135,11 @@ void PrimalFriction::take(Next&& next) {
   force_ = std::move(next.force);
 }
 
-void PrimalFriction::secant(const ContactConstraints& c, const Vector& w, const la::Comm& comm) {
+void PrimalFriction::secant(const ContactConstraints& c, const Vector& w, const la::Comm& comm, bool update) {
   Vector slip = Vector::Zero(force_.size());
   for (Eigen::Index k = 0; k < slip.size(); ++k)
     if (const int dof = dof_[static_cast<std::size_t>(k)]; dof >= 0) slip[k] = w[dof] - c.shift[k];
-  if (last_force_.size() == force_.size() && last_stick_ == stick_) {
+  if (update && last_force_.size() == force_.size() && comm.all(last_stick_ == stick_)) {
     double sums[2] = {0, 0};
     for (std::size_t i = 0; i < stick_.size(); ++i) {
       if (stick_[i] || !(scale_[i] > 0)) continue;

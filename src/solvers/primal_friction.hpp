@@ -52,8 +52,9 @@ class PrimalFriction {
   void take(Next&& next);
   /// Barzilai–Borwein's step for c (c_i γ): from the last two iterates with the same sets,
   /// γ = Σ |δλ_τ|²/c_i / (−Σ δλ_τ·δΔ) over the slip rows (1/the Rayleigh quotient of their
-  /// compliance), at most 1. Collective.
-  void secant(const ContactConstraints& c, const Vector& w, const la::Comm& comm);
+  /// compliance), at most 1; kept where `update` is false (Anderson's map must hold still).
+  /// Collective.
+  void secant(const ContactConstraints& c, const Vector& w, const la::Comm& comm, bool update);
   /// The slip forces along their directions with new bounds (a zero force stays zero).
   void rescale(const Vector& bound);
 
