@@ -111,7 +111,10 @@ class PrimalActiveSetSolver final : public ContactSolver {
  public:
   PrimalActiveSetSolver(std::shared_ptr<const la::SpdOperator> K, std::shared_ptr<const la::SpdOperator> K_rot,
                         std::shared_ptr<la::LinearSolver> factor, ContactConstraints c, int max_iterations)
-      : max_iterations_(max_iterations), K_(std::move(K)), K_rot_(K_rot ? std::move(K_rot) : K_), factor_(std::move(factor)), c_(std::move(c)),
+      : max_iterations_(max_iterations > 0 ? max_iterations
+                        : c.frictional()  ? kPrimalFrictionMaxIterations
+                                          : kPrimalMaxIterations),
+        K_(std::move(K)), K_rot_(K_rot ? std::move(K_rot) : K_), factor_(std::move(factor)), c_(std::move(c)),
         Q_(contact_reflections(c_.N)), rows_(rotated_rows(c_.N)) {
     for (Eigen::Index i = 0; i < static_cast<Eigen::Index>(rows_.size()) && !c_.laws.empty(); ++i) {
       const ContactLaw& law = c_.law_of(i);
