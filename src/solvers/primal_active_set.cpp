@@ -151,15 +151,7 @@ class PrimalActiveSetSolver final : public ContactSolver {
     // method); a direct one is exact every time.
     bool tight = !factor_->iterative();
     for (int it = 0; it < max_iterations_ && !converged; ++it) {
-      rep.factorizations += factorize_for(active);
-      solve_constrained(active, b, w, tight);
-      Vector r;
-      K_rot_->residual(b, w, r);
-      std::vector<char> next;
-      double most_negative = 0;
-      Eigen::Index worst = -1;
-      normal_update(active, w, r, lambda_local, next, most_negative, worst);
-      ++rep.iterations;
+      auto [r, next, most_negative, worst] = iterate(active, b, w, tight, lambda_local, rep);
       if (comm.all(next == active)) {
         converged = tight;
         tight = true;
@@ -234,15 +226,7 @@ class PrimalActiveSetSolver final : public ContactSolver {
       return yes;
     };
     for (int it = 0; it < max_iterations_ && !converged; ++it) {
-      rep.factorizations += factorize_for(active);
-      solve_constrained(active, b, w, tight);
-      Vector r;
-      K_rot_->residual(b, w, r);
-      std::vector<char> next;
-      double most_negative = 0;
-      Eigen::Index worst = -1;
-      normal_update(active, w, r, lambda_local, next, most_negative, worst);
-      ++rep.iterations;
+      auto [r, next, most_negative, worst] = iterate(active, b, w, tight, lambda_local, rep);
       if (monotone) release_one(active, next, most_negative, worst);
       tangential = friction_->forces(r);
       if (!bound_known) {  // HSW: λ_ν + c_ν (N u − g), ≥ 0, on the next set
@@ -431,6 +415,24 @@ class PrimalActiveSetSolver final : public ContactSolver {
     w_last_ = w;
     u = unrotate(w);
     u_last_ = u;
+  }
+
+  /// One iteration's solve with the `active` set (factorized for it if needed) and its normal update.
+  struct Iterate {
+    Vector r;                // b − K_rot w: the reactions
+    std::vector<char> next;  // the next normal set
+    double most_negative = 0;
+    Eigen::Index worst = -1;
+  };
+  Iterate iterate(const std::vector<char>& active, const Vector& b, Vector& w, bool tight, Vector& lambda_local,
+                  ContactReport& rep) {
+    Iterate x;
+    rep.factorizations += factorize_for(active);
+    solve_constrained(active, b, w, tight);
+    K_rot_->residual(b, w, x.r);
+    normal_update(active, w, x.r, lambda_local, x.next, x.most_negative, x.worst);
+    ++rep.iterations;
+    return x;
   }
 
   /// λ_ν of the iterate (reaction r = b − K_rot w at an active Signorini row, the spring's force
