@@ -28,7 +28,8 @@ SchemeSolvers set_up_solvers(DiscreteSystem& sys, const SolverChoice& choice, Se
   auto t1 = Clock::now();
   ContactConstraints constraints = contact_constraints(sys);
   const bool nonlinear_law = nonlinear_in_dual(part.comm, constraints);  // only the dual solves it
-  s.contact_pick = pick_contact_solver(choice.contact, part.n_contact, sys.backend->linear_solver(), nonlinear_law);
+  s.contact_pick =
+      pick_contact_solver(choice.contact, part.n_contact, sys.backend->linear_solver(), nonlinear_law, constraints.block);
   const bool primal = s.contact_pick.name == "primal-active-set";
   s.K_factor = sys.make_stiffness_factor();
   cost = check_before_factorizing(sys, *s.K_factor, choice, primal);

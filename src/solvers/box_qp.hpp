@@ -42,6 +42,7 @@ class DenseBoxQpOperator final : public BoxQpOperator {
   Vector multiply(const Vector& x) const override { return H_ * x; }
   const Vector& diagonal() const override { return diag_; }
   void solve_free(const std::vector<char>& fixed, const Vector& b, Vector& x) override;
+  const Eigen::MatrixXd& matrix() const { return H_; }
 
  private:
   Eigen::MatrixXd H_;

@@ -4,6 +4,7 @@
 #include "la/backend.hpp"
 #include "solvers/box_qp.hpp"
 #include "solvers/compliance_dual.hpp"
+#include "solvers/friction_dual.hpp"
 #include "solvers/penalty_duality.hpp"
 #include "solvers/primal_active_set.hpp"
 #include "solvers/solver_failure.hpp"
@@ -213,13 +214,14 @@ ContactReport make_report(const la::SpdOperator& K, const ContactConstraints& c,
   return rep;
 }
 
-/// The columns j0 .. j0+nb−1 of Nᵀ, owned rows: each rank fills the columns of its
-/// own constraint rows (zero elsewhere), so a block solve with it is collective.
-Eigen::MatrixXd transposed_rows(const ContactConstraints& c, int j0, int nb) {
-  Eigen::MatrixXd B = Eigen::MatrixXd::Zero(c.N.cols(), nb);
-  const SparseMatrix Nt = c.N.transpose();
+/// The columns j0 .. j0+nb−1 of Nᵀ (or of [N; T]ᵀ with friction: `rows` places each local row
+/// in λ), owned rows: each rank fills the columns of its own constraint rows (zero elsewhere),
+/// so a block solve with it is collective.
+Eigen::MatrixXd transposed_rows(const SparseMatrix& N, const std::vector<int>& rows, int j0, int nb) {
+  Eigen::MatrixXd B = Eigen::MatrixXd::Zero(N.cols(), nb);
+  const SparseMatrix Nt = N.transpose();
   for (int k = 0; k < Nt.outerSize(); ++k) {
-    const int j = c.rows[k] - j0;
+    const int j = rows[k] - j0;
     if (j < 0 || j >= nb) continue;
     for (SparseMatrix::InnerIterator it(Nt, k); it; ++it) B(it.row(), j) = it.value();
   }
@@ -236,6 +238,7 @@ class ActiveSetContactSolver final : public ContactSolver {
   ActiveSetContactSolver(std::shared_ptr<const la::SpdOperator> K, std::shared_ptr<const la::LinearSolver> factor,
                          ContactConstraints c, double max_cached_share)
       : K_(std::move(K)), c_(std::move(c)), factor_(std::move(factor)) {
+    if (c_.frictional()) set_up_blocks();
     Eigen::MatrixXd S = factor_->has_halves() ? dual_matrix_from_halves(max_cached_share)
                                               : dual_matrix_from_solves(max_cached_share);
     S = 0.5 * (S + S.transpose()).eval();
@@ -246,28 +249,35 @@ class ActiveSetContactSolver final : public ContactSolver {
       compliance_ = replicate(comm(), c_, c_.compliance);
       nonlinear_ = std::ranges::any_of(row_laws_, [](const ContactLaw* l) { return !l->linear(); });
     }
+    require(!nonlinear_ || !c_.frictional(),
+            "contact solver 'active-set': friction with a normal law that is not linear is not solved; use Signorini "
+            "or a linear normal compliance with friction");
     if (nonlinear_) S_plain_ = S;  // the nonlinear law's dual (solve_compliance_dual) on S itself
-    // A linear law's λ_i = k_i d₊ adds its spring's compliance 1/k_i to S_ii (the box QP of S + diag(1/k)).
+    // A linear law's λ_i = k_i d₊ adds its spring's compliance 1/k_i to S_ii (the box QP of S + diag(1/k)),
+    // on the normal rows (j × block).
+    const Eigen::Index b = c_.block;
     for (Eigen::Index j = 0; j < compliance_.size(); ++j)
       if (const ContactLaw* law = row_laws_[static_cast<std::size_t>(j)]; !law->rigid())
-        S(j, j) += law->spring_compliance(compliance_[j]);
+        S(j * b, j * b) += law->spring_compliance(compliance_[j]);
+    if (c_.frictional()) set_up_friction(S);
     S_ = std::make_unique<DenseBoxQpOperator>(std::move(S));
   }
 
+  // With friction N below is B = [N; T] and g is [g; h] (set_up_blocks), m is m × block.
   ContactReport solve(const Vector& F, Vector& u, Vector& lambda) override {
-    const int m = c_.m;
+    const int m = unknowns();
     if (lambda.size() != m) lambda = Vector::Zero(m);
     BoxQpResult r;
     if (Y_.cols() == m) {
       // One solve in two halves: y = L⁻¹PF; the dual QP min ½λᵀSλ − (N K⁻¹F − g)ᵀλ,
       // λ ≥ 0, with N K⁻¹F = Yᵀy; then u = PᵀL⁻ᵀ(y − Yλ) = K⁻¹(F − Nᵀλ).
       const Vector y = factor_->forward(F);
-      r = dual(Vector(Y_.transpose() * y - replicate(comm(), c_, c_.gap)), lambda);
+      r = dual(Vector(Y_.transpose() * y - replicated(offsets())), lambda);
       u = factor_->backward(Vector(y - Y_ * lambda));
     } else {
       Vector u_free = u;  // the solution without contact (u: an iterative solver's initial guess)
       factor_->solve(F, u_free);
-      r = dual(replicate(comm(), c_, Vector(c_.N * u_free - c_.gap)), lambda);
+      r = dual(replicated(Vector(B() * u_free - offsets())), lambda);
       if (W_.cols() == m) {
         // u = u_free − Wλ over the active rows only (λ_j = 0 elsewhere): the
         // active set is usually a part of Γ3, and each column is n_owned long.
@@ -276,7 +286,7 @@ class ActiveSetContactSolver final : public ContactSolver {
           if (lambda[j] != 0) u.noalias() -= lambda[j] * W_.col(j);
       } else {
         u = u_free;
-        factor_->solve(Vector(F - c_.N.transpose() * local_rows(c_, lambda)), u);
+        factor_->solve(Vector(F - B().transpose() * local_of(lambda)), u);
       }
     }
     return make_report(*K_, c_, F, u, lambda, r);
@@ -286,6 +296,11 @@ class ActiveSetContactSolver final : public ContactSolver {
   std::string name() const override { return "active-set"; }
   std::string describe() const override {
     if (nonlinear_) return describe_solves() + "; semismooth Newton for the nonlinear compliance law";
+    if (c_.frictional()) {
+      if (sets_.coulomb()) return describe_solves() + "; Coulomb friction by semismooth Newton (Alart-Curnier) on the dual";
+      if (c_.block == 2) return describe_solves() + "; Tresca friction as a box QP";
+      return describe_solves() + "; Tresca friction by semismooth Newton (Alart-Curnier) on the dual";
+    }
     return describe_solves();
   }
 
@@ -293,6 +308,10 @@ class ActiveSetContactSolver final : public ContactSolver {
   /// The dual problem for b = N K⁻¹F − g (replicated): the box QP with S (+ diag(1/k)) over
   /// each row's dual set (λ ≥ 0), or, for a law that is not linear on some row, solve_compliance_dual.
   BoxQpResult dual(const Vector& b, Vector& lambda) {
+    if (c_.frictional()) {  // friction_dual.hpp; the bounds of this step
+      sets_.tresca = replicate(comm(), c_, c_.tresca);
+      return solve_friction_dual(*S_, b, sets_, lambda);
+    }
     if (nonlinear_) return solve_compliance_dual(S_plain_, b, row_laws_, compliance_, lambda);
     const int m = c_.m;
     Vector lo = Vector::Zero(m), hi = Vector::Constant(m, std::numeric_limits<double>::infinity());
@@ -310,19 +329,100 @@ class ActiveSetContactSolver final : public ContactSolver {
 
   const la::Comm& comm() const { return K_->comm(); }
 
+  // The constraint rows: N, or B = [N; T] with friction, node by node in λ's order (λ_ν, λ_τ).
+  int unknowns() const { return c_.m * c_.block; }
+  const SparseMatrix& B() const { return c_.frictional() ? B_ : c_.N; }
+  const std::vector<int>& rows() const { return c_.frictional() ? B_rows_ : c_.rows; }
+  /// g (or [g; h]) of this rank's rows of B.
+  Vector offsets() const {
+    if (!c_.frictional()) return c_.gap;
+    const int b = c_.block, t = b - 1;
+    Vector o(B_.rows());
+    for (Eigen::Index k = 0; k < c_.gap.size(); ++k) {
+      o[k * b] = c_.gap[k];
+      for (int j = 0; j < t; ++j) o[k * b + 1 + j] = c_.shift[k * t + j];
+    }
+    return o;
+  }
+  /// The unknowns of λ (all of them, the same on every rank) from this rank's rows' values, and back.
+  Vector replicated(const Vector& local) const {
+    if (!c_.frictional()) return replicate(comm(), c_, local);
+    Vector all = Vector::Zero(unknowns());  // one owner per row: the sum is exact
+    for (std::size_t k = 0; k < B_rows_.size(); ++k) all[B_rows_[k]] = local[static_cast<Eigen::Index>(k)];
+    comm().sum(all.data(), all.size());
+    return all;
+  }
+  Vector local_of(const Vector& lambda) const {
+    if (!c_.frictional()) return local_rows(c_, lambda);
+    Vector l(static_cast<Eigen::Index>(B_rows_.size()));
+    for (std::size_t k = 0; k < B_rows_.size(); ++k) l[static_cast<Eigen::Index>(k)] = lambda[B_rows_[k]];
+    return l;
+  }
+
+  /// B = [N; T] row by row in λ's order, and each row's place in λ (rows[k] × block + j).
+  void set_up_blocks() {
+    const int b = c_.block, t = b - 1;
+    const auto n_rows = static_cast<Eigen::Index>(c_.rows.size());
+    require(c_.T.rows() == n_rows * t && c_.T.cols() == c_.N.cols() && c_.mu.size() == n_rows &&
+                c_.tresca.size() == n_rows && c_.shift.size() == n_rows * t &&
+                c_.tangent_dof.size() == static_cast<std::size_t>(n_rows * t),
+            "internal: friction's tangents ({} x {}), {} mu, {} bounds, {} shifts, {} tangent dofs for {} contact "
+            "rows of {} tangents (set_tangents)",
+            c_.T.rows(), c_.T.cols(), c_.mu.size(), c_.tresca.size(), c_.shift.size(), c_.tangent_dof.size(), n_rows, t);
+    std::vector<Eigen::Triplet<double>> e;
+    for (int k = 0; k < c_.N.outerSize(); ++k)
+      for (SparseMatrix::InnerIterator it(c_.N, k); it; ++it)
+        e.emplace_back(static_cast<int>(it.row()) * b, static_cast<int>(it.col()), it.value());
+    for (int k = 0; k < c_.T.outerSize(); ++k)
+      for (SparseMatrix::InnerIterator it(c_.T, k); it; ++it) {
+        const auto r = static_cast<int>(it.row());
+        e.emplace_back(r / t * b + 1 + r % t, static_cast<int>(it.col()), it.value());
+      }
+    B_.resize(n_rows * b, c_.N.cols());
+    B_.setFromTriplets(e.begin(), e.end());
+    for (const int row : c_.rows)
+      for (int j = 0; j < b; ++j) B_rows_.push_back(row * b + j);
+  }
+
+  /// Each node's sets (friction_dual.hpp), replicated; a missing tangent's row and column of S
+  /// are zero (a zero row of T): 1 on its diagonal keeps S definite, its λ_τ is held at 0.
+  void set_up_friction(Eigen::MatrixXd& S) {
+    const int m = c_.m, b = c_.block, t = b - 1;
+    sets_.block = b;
+    sets_.lo = Vector::Zero(m);
+    sets_.hi = Vector::Constant(m, std::numeric_limits<double>::infinity());
+    for (std::size_t j = 0; j < row_laws_.size(); ++j) {
+      sets_.lo[static_cast<Eigen::Index>(j)] = row_laws_[j]->dual_lower();
+      sets_.hi[static_cast<Eigen::Index>(j)] = row_laws_[j]->dual_upper();
+    }
+    Vector has(c_.T.rows());
+    for (Eigen::Index k = 0; k < has.size(); ++k) has[k] = c_.tangent_dof[static_cast<std::size_t>(k)] >= 0;
+    const Vector all = replicate_blocks(comm(), c_, c_.mu, has);
+    sets_.mu.resize(m);
+    sets_.tangent.assign(static_cast<std::size_t>(m * t), 0);
+    for (int i = 0; i < m; ++i) {
+      sets_.mu[i] = all[i * b];
+      for (int j = 0; j < t; ++j) {
+        const int k = i * b + 1 + j;
+        sets_.tangent[static_cast<std::size_t>(i * t + j)] = all[k] != 0;
+        if (all[k] == 0) S(k, k) = 1;
+      }
+    }
+  }
+
   /// With K = PᵀLLᵀP: Y = L⁻¹PNᵀ (the forward half of K⁻¹Nᵀ) and S = N K⁻¹Nᵀ = YᵀY,
   /// formed once (K and N never change). A column of Y is nonzero only on the
   /// elimination-tree path of its contact dof, so Y is small and kept sparse.
   /// A factor with halves is one process's (CHOLMOD): N is whole here.
   Eigen::MatrixXd dual_matrix_from_halves(double max_cached_share) {
-    const int m = c_.m;
+    const int m = unknowns();
     const double max_bytes = std::min(kMaxCachedBytes, max_cached_share * factor_->factor_bytes());
     std::vector<Eigen::Triplet<double>> t;
     bool keep_y = max_cached_share > 0;
     const int block = rhs_block_columns(c_.N.cols());  // dense blocks of right-hand sides
     for (int j0 = 0; j0 < m && keep_y; j0 += block) {
       const int nb = std::min(block, m - j0);
-      const Eigen::MatrixXd Yb = factor_->forward(transposed_rows(c_, j0, nb));
+      const Eigen::MatrixXd Yb = factor_->forward(transposed_rows(B(), rows(), j0, nb));
       for (int j = 0; j < nb; ++j)
         for (Eigen::Index i = 0; i < Yb.rows(); ++i)
           if (Yb(i, j) != 0) t.emplace_back(static_cast<int>(i), j0 + j, Yb(i, j));
@@ -339,7 +439,7 @@ class ActiveSetContactSolver final : public ContactSolver {
   /// (one owner per row: exact, the same S everywhere). X is kept as W when it fits
   /// on every rank (a step is then one solve: u = u_free − Wλ).
   Eigen::MatrixXd dual_matrix_from_solves(double max_cached_share) {
-    const int m = c_.m;
+    const int m = unknowns();
     const auto n_owned = c_.N.cols();
     double max_bytes = max_cached_share > 0 ? kMaxCachedBytes : 0;
     if (factor_->factor_bytes() > 0) max_bytes = std::min(max_bytes, max_cached_share * factor_->factor_bytes());
@@ -350,10 +450,10 @@ class ActiveSetContactSolver final : public ContactSolver {
     const int block = factor_->has_halves() ? rhs_block_columns(n_owned) : common_block_columns(comm(), n_owned, 64);
     for (int j0 = 0; j0 < m; j0 += block) {
       const int nb = std::min(block, m - j0);
-      const Eigen::MatrixXd X = factor_->solve(transposed_rows(c_, j0, nb));
+      const Eigen::MatrixXd X = factor_->solve(transposed_rows(B(), rows(), j0, nb));
       if (keep_w) W_.middleCols(j0, nb) = X;
-      const Eigen::MatrixXd NX = c_.N * X;
-      for (size_t k = 0; k < c_.rows.size(); ++k) S.block(c_.rows[k], j0, 1, nb) = NX.row(static_cast<Eigen::Index>(k));
+      const Eigen::MatrixXd NX = B() * X;
+      for (size_t k = 0; k < rows().size(); ++k) S.block(rows()[k], j0, 1, nb) = NX.row(static_cast<Eigen::Index>(k));
     }
     comm().sum(S.data(), m * m);
     return S;
@@ -367,6 +467,9 @@ class ActiveSetContactSolver final : public ContactSolver {
   std::vector<const ContactLaw*> row_laws_;  // every row's law (replicated); empty: Signorini
   Vector compliance_;                        // every row's 1/k_i (replicated), with row_laws_
   bool nonlinear_ = false;                   // some row's law is not linear
+  SparseMatrix B_;              // with friction: [N; T] in λ's order (set_up_blocks)
+  std::vector<int> B_rows_;     // its rows' places in λ
+  FrictionDualSets sets_;       // with friction: each node's sets, replicated
   SparseMatrix Y_;     // L⁻¹PNᵀ (factors with halves), or empty
   Eigen::MatrixXd W_;  // K⁻¹Nᵀ on the owned rows (factors without halves), or empty
   static constexpr double kMaxCachedBytes = 256.0 * 1024 * 1024;
@@ -378,7 +481,7 @@ double default_omega(const la::Comm& comm, const la::LinearSolver& factor, const
   double sum = 0;
   for (int j0 = 0; j0 < c.m; j0 += 64) {
     const int nb = std::min(64, c.m - j0);
-    const Eigen::MatrixXd B = transposed_rows(c, j0, nb);
+    const Eigen::MatrixXd B = transposed_rows(c.N, c.rows, j0, nb);
     sum += (B.transpose() * factor.solve(B)).trace();
   }
   return c.m / comm.sum(sum);
@@ -425,15 +528,19 @@ class PenaltyDualityContactSolver final : public ContactSolver {
 }  // namespace
 
 ContactSolverPick pick_contact_solver(const std::string& requested, int m, const std::string& linear_solver,
-                                      bool power_law) {
+                                      bool nonlinear_law, int block) {
   if (requested != "auto") return {requested, "as asked"};
-  if (power_law) return {"active-set", "auto: a nonlinear compliance law is solved on the dual"};
+  if (nonlinear_law) return {"active-set", "auto: a nonlinear compliance law is solved on the dual"};
+  // With friction the dual's unknowns are m × block (λ_ν and the tangential forces of each node).
+  const int n = m * block;
+  const std::string unknowns =
+      block == 1 ? fmt::format("{} contact nodes", m) : fmt::format("{} contact unknowns ({} nodes x {})", n, m, block);
   if (!la::Backend::is_direct(linear_solver))
-    return {"primal-active-set", fmt::format("auto: {} is iterative (the dual's S would take {} solves)", linear_solver, m)};
-  if (m > kDualContactRows)
-    return {"primal-active-set", fmt::format("auto: {} contact nodes > {} (the dual's S would be dense {} x {})", m,
-                                             kDualContactRows, m, m)};
-  return {"active-set", fmt::format("auto: {} contact nodes <= {} and a direct solver", m, kDualContactRows)};
+    return {"primal-active-set", fmt::format("auto: {} is iterative (the dual's S would take {} solves)", linear_solver, n)};
+  if (n > kDualContactRows)
+    return {"primal-active-set", fmt::format("auto: {} > {} (the dual's S would be dense {} x {})", unknowns,
+                                             kDualContactRows, n, n)};
+  return {"active-set", fmt::format("auto: {} <= {} and a direct solver", unknowns, kDualContactRows)};
 }
 
 std::unique_ptr<ContactSolver> make_contact_solver(const std::string& name, std::shared_ptr<const la::SpdOperator> K,
@@ -443,6 +550,9 @@ std::unique_ptr<ContactSolver> make_contact_solver(const std::string& name, std:
   require(K != nullptr, "contact solver: no stiffness matrix");
   require(constraints.m > 0, "contact solver: there are no contact unknowns (is the contact part empty?)");
   require(K_factor != nullptr, "contact solver: needs the factor of K");
+  require(name != "penalty-duality" || !constraints.frictional(),
+          "contact solver 'penalty-duality' solves frictionless contact only; friction needs 'active-set' (the dual) "
+          "or 'primal-active-set'");
   const auto rows = static_cast<Eigen::Index>(constraints.rows.size());
   require(constraints.N.rows() == rows && constraints.gap.size() == rows && constraints.N.cols() == K->n_owned(),
           "internal: contact constraints of {} rows x {} columns for {} rows, {} gaps and {} owned dofs",
@@ -451,8 +561,6 @@ std::unique_ptr<ContactSolver> make_contact_solver(const std::string& name, std:
               (constraints.compliance.size() == rows && constraints.law.size() == constraints.rows.size()),
           "internal: {} compliances and {} laws for {} contact rows", constraints.compliance.size(),
           constraints.law.size(), rows);
-  require(constraints.block == 1 || name == "primal-active-set",
-          "internal: contact blocks of {} unknowns per node; the solvers take 1 (a normal law)", constraints.block);
   const bool compliant = std::ranges::any_of(constraints.law, [&](int k) {
     return !constraints.laws[static_cast<std::size_t>(k)]->rigid();
   });

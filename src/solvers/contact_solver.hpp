@@ -183,9 +183,9 @@ struct ContactSolverOptions {
 
 /// The contact solver for a problem (issue 14): `requested` unless it is "auto". "auto" takes
 /// the dual "active-set" while S = N K⁻¹Nᵀ is cheap (a direct solver and at most
-/// kDualContactRows contact nodes, or a law that is not linear (`power_law`: nonlinear_in_dual),
-/// which only the dual solves), else
-/// "primal-active-set". `why` says which rule decided, for the run's header.
+/// kDualContactRows contact unknowns, m × `block`: with friction S is [N; T] K⁻¹ [N; T]ᵀ), or
+/// for a law that is not linear (`nonlinear_law`: nonlinear_in_dual), which only the dual
+/// solves; else "primal-active-set". `why` says which rule decided, for the run's header.
 struct ContactSolverPick {
   std::string name;
   std::string why;
@@ -195,7 +195,7 @@ constexpr int kDualContactRows = 2000;
 inline const std::vector<std::string> kContactSolverNames = {"auto", "active-set", "primal-active-set",
                                                              "penalty-duality"};
 ContactSolverPick pick_contact_solver(const std::string& requested, int m, const std::string& linear_solver,
-                                      bool power_law);
+                                      bool nonlinear_law, int block = 1);
 
 /// K (assembled, owned rows) and its factor; `make_factor` makes penalty–duality's factor of K + ωNᵀN.
 /// "active-set": primal–dual active set on the contact unknowns, the dual QP with

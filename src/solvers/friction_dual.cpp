@@ -1,0 +1,221 @@
+#include "solvers/friction_dual.hpp"
+
+#include "core/error.hpp"
+
+#include <Eigen/LU>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace vpc {
+
+namespace {
+
+constexpr double kTolerance = 1e-13;  // ‖Φ‖∞ relative: converged
+constexpr double kStallFloor = 1e-10;  // a stall (no decrease) this close is round-off of S, not a failure
+constexpr int kFullSteps = 10;         // full steps taken where the line search finds no decrease
+
+double max_abs(const Vector& v) { return v.size() ? v.cwiseAbs().maxCoeff() : 0.0; }
+
+bool has_tangent(const FrictionDualSets& f, int node, int j) {
+  return f.tangent[static_cast<std::size_t>(node * (f.block - 1) + j)] != 0;
+}
+
+/// ρ: 1/S_kk on a normal row; one ρ for a node's tangents (1/the largest of their S_kk): the
+/// projection onto a disc keeps the friction law only under a scalar multiple of Δ.
+Vector step_lengths(const Eigen::MatrixXd& S, const FrictionDualSets& f) {
+  const int d = f.block;
+  Vector rho(S.rows());
+  for (int i = 0; i < f.nodes(); ++i) {
+    rho[i * d] = 1 / S(i * d, i * d);
+    double most = 0;
+    for (int j = 0; j < d - 1; ++j)
+      if (has_tangent(f, i, j)) most = std::max(most, S(i * d + 1 + j, i * d + 1 + j));
+    for (int j = 0; j < d - 1; ++j) rho[i * d + 1 + j] = most > 0 ? 1 / most : 1.0;
+  }
+  return rho;
+}
+
+/// p = P(z), node by node, and where dP is given its derivative: row k holds ∂p_k/∂z over the
+/// d unknowns of k's node (the branch of λ's own value at a tie, as solve_compliance_dual).
+void project(const FrictionDualSets& f, const Vector& z, Vector& p, Eigen::MatrixXd* dP) {
+  const int d = f.block, t = d - 1;
+  p.setZero(z.size());
+  if (dP) dP->setZero(z.size(), d);
+  for (int i = 0; i < f.nodes(); ++i) {
+    const Eigen::Index k = static_cast<Eigen::Index>(i) * d;
+    p[k] = std::clamp(z[k], f.lo[i], f.hi[i]);
+    const bool normal_free = z[k] > f.lo[i] && z[k] < f.hi[i];
+    if (dP && normal_free) (*dP)(k, 0) = 1;
+    const double s = f.tresca[i] + f.mu[i] * std::max(p[k], 0.0);
+    const double ds = normal_free && p[k] > 0 ? f.mu[i] : 0.0;  // ∂s/∂z_ν
+    double norm2 = 0;
+    for (int j = 0; j < t; ++j)
+      if (has_tangent(f, i, j)) norm2 += z[k + 1 + j] * z[k + 1 + j];
+    const double norm = std::sqrt(norm2);
+    for (int j = 0; j < t; ++j) {
+      if (!has_tangent(f, i, j)) continue;
+      if (norm <= s) {  // stick: inside the disc
+        p[k + 1 + j] = z[k + 1 + j];
+        if (dP) (*dP)(k + 1 + j, 1 + j) = 1;
+        continue;
+      }
+      const double n_j = z[k + 1 + j] / norm;  // slip: on the circle of radius s, along z_τ
+      p[k + 1 + j] = s * n_j;
+      if (!dP) continue;
+      (*dP)(k + 1 + j, 0) = ds * n_j;
+      for (int l = 0; l < t; ++l)
+        if (has_tangent(f, i, l)) (*dP)(k + 1 + j, 1 + l) = s / norm * ((j == l ? 1.0 : 0.0) - n_j * z[k + 1 + l] / norm);
+    }
+  }
+}
+
+/// Alart–Curnier's Φ(λ) = λ − P(λ + ρ(b − Sλ)); p = P(·).
+Vector alart_curnier(const Eigen::MatrixXd& S, const Vector& b, const FrictionDualSets& f, const Vector& rho,
+                     const Vector& lambda, Vector& p, Eigen::MatrixXd* dP) {
+  project(f, Vector(lambda + rho.cwiseProduct(b - S * lambda)), p, dP);
+  return lambda - p;
+}
+
+/// The Newton step J δ = −Φ with J = I − P'(I − ρS). A row where P' vanishes (a normal force
+/// at its bound, a slip bound that does not move) reads δ_k = −Φ_k; the other rows, the
+/// contact zone's, form the reduced system, dense and (with Coulomb) not symmetric.
+Vector newton_step(const Eigen::MatrixXd& S, const FrictionDualSets& f, const Vector& rho, const Eigen::MatrixXd& dP,
+                   const Vector& phi) {
+  const int d = f.block;
+  const Eigen::Index n = phi.size();
+  std::vector<Eigen::Index> free;
+  for (Eigen::Index k = 0; k < n; ++k)
+    if (dP.row(k).squaredNorm() > 0) free.push_back(k);
+  Vector step = -phi;
+  if (free.empty()) return step;
+  const auto nf = static_cast<Eigen::Index>(free.size());
+  for (const Eigen::Index k : free) step[k] = 0;
+  Eigen::MatrixXd J_FF(nf, nf);
+  Vector rhs(nf);
+  Vector row(n);
+  for (Eigen::Index a = 0; a < nf; ++a) {
+    const Eigen::Index k = free[static_cast<std::size_t>(a)], base = k / d * d;
+    row.setZero();
+    for (int l = 0; l < d; ++l)
+      if (const double v = dP(k, l); v != 0) {
+        row.noalias() += (v * rho[base + l]) * S.row(base + l).transpose();
+        row[base + l] -= v;
+      }
+    row[k] += 1;
+    rhs[a] = -phi[k] - row.dot(step);  // the fixed rows' δ moved to the right
+    for (Eigen::Index c = 0; c < nf; ++c) J_FF(a, c) = row[free[static_cast<std::size_t>(c)]];
+  }
+  const Vector x = J_FF.partialPivLu().solve(rhs);
+  for (Eigen::Index a = 0; a < nf; ++a) step[free[static_cast<std::size_t>(a)]] = x[a];
+  return step;
+}
+
+/// The force scale of the tolerance besides ‖λ‖∞: the normal forces b_ν / S_νν would take
+/// alone, and the Tresca bounds. Not b_τ / S_ττ: a far slide (h large) makes it any size, and
+/// the forces it gives are bounded by s.
+double b_scale(const Eigen::MatrixXd& S, const Vector& b, const FrictionDualSets& f) {
+  double scale = max_abs(f.tresca);
+  for (int i = 0; i < f.nodes(); ++i) {
+    const Eigen::Index k = static_cast<Eigen::Index>(i) * f.block;
+    scale = std::max(scale, std::abs(b[k] / S(k, k)));
+  }
+  return scale;
+}
+
+/// Semismooth Newton on Φ (the header's second path).
+BoxQpResult newton(const Eigen::MatrixXd& S, const Vector& b, const FrictionDualSets& f, Vector& lambda,
+                   int max_iterations) {
+  BoxQpResult r;
+  const Vector rho = step_lengths(S, f);
+  const double bs = b_scale(S, b, f);
+  auto scale = [&] { return std::max({max_abs(lambda), bs, 1e-300}); };
+  Eigen::MatrixXd dP;
+  Vector p, trial_p, trial;
+  Vector phi = alart_curnier(S, b, f, rho, lambda, p, &dP);
+  int full_steps = 0;
+  for (r.iterations = 0;; ++r.iterations) {
+    if (!phi.allFinite()) break;
+    if (max_abs(phi) <= kTolerance * scale()) {
+      r.converged = true;
+      break;
+    }
+    if (r.iterations == max_iterations) break;
+    const Vector step = newton_step(S, f, rho, dP, phi);
+    // Backtracking on ½‖Φ‖² (Armijo along the Newton direction, where its slope is −‖Φ‖²).
+    const double merit = phi.squaredNorm();
+    double alpha = 1;
+    bool decreased = false;
+    for (int halving = 0; halving < 30 && !decreased; ++halving, alpha *= 0.5) {
+      trial = lambda + alpha * step;
+      decreased = alart_curnier(S, b, f, rho, trial, trial_p, nullptr).squaredNorm() <= (1 - 1e-4 * alpha) * merit;
+    }
+    if (!decreased) {
+      if (max_abs(phi) <= kStallFloor * scale()) {  // round-off of an ill-conditioned S
+        r.converged = true;
+        break;
+      }
+      // No decrease along the direction (Coulomb's problem is not a minimization): the full
+      // step leaves the region, a few times at most; then the step control retries.
+      if (full_steps++ == kFullSteps) break;
+      ++r.cycles;
+      trial = lambda + step;
+    }
+    lambda = trial;
+    phi = alart_curnier(S, b, f, rho, lambda, p, &dP);
+  }
+  r.kkt_residual = phi.allFinite() ? max_abs(phi) / scale() : std::numeric_limits<double>::infinity();
+  if (r.converged) lambda = p;  // exactly in its set: λ_ν ≥ lo, |λ_τ| ≤ s
+  return r;
+}
+
+}  // namespace
+
+bool FrictionDualSets::coulomb() const { return mu.size() > 0 && mu.maxCoeff() > 0; }
+
+void tresca_box(const FrictionDualSets& f, Vector& lo, Vector& hi) {
+  const int d = f.block;
+  lo.resize(static_cast<Eigen::Index>(f.nodes()) * d);
+  hi.resizeLike(lo);
+  for (int i = 0; i < f.nodes(); ++i) {
+    lo[i * d] = f.lo[i];
+    hi[i * d] = f.hi[i];
+    for (int j = 0; j < d - 1; ++j) {
+      const double s = has_tangent(f, i, j) ? f.tresca[i] : 0.0;
+      lo[i * d + 1 + j] = -s;
+      hi[i * d + 1 + j] = s;
+    }
+  }
+}
+
+BoxQpResult solve_friction_dual(DenseBoxQpOperator& S, const Vector& b, const FrictionDualSets& f, Vector& lambda,
+                                int max_iterations) {
+  const Eigen::Index n = b.size();
+  const int d = f.block;
+  require(d >= 2 && S.size() == n && n == static_cast<Eigen::Index>(f.nodes()) * d &&
+              f.hi.size() == f.nodes() && f.tresca.size() == f.nodes() && f.mu.size() == f.nodes() &&
+              f.tangent.size() == static_cast<std::size_t>(f.nodes() * (d - 1)),
+          "internal: friction dual of {} unknowns for {} nodes of block {}", n, f.nodes(), d);
+  if (lambda.size() != n) lambda = Vector::Zero(n);
+  if (!b.allFinite()) {  // NaN or Inf data: report, never "solve"
+    BoxQpResult r;
+    r.kkt_residual = std::numeric_limits<double>::infinity();
+    return r;
+  }
+  if (d == 2 && !f.coulomb()) {
+    Vector lo, hi;
+    tresca_box(f, lo, hi);
+    return solve_box_qp(S, b, lo, hi, lambda, max_iterations);
+  }
+  return newton(S.matrix(), b, f, lambda, max_iterations);
+}
+
+double friction_dual_residual(const Eigen::MatrixXd& S, const Vector& b, const FrictionDualSets& f,
+                              const Vector& lambda) {
+  Vector p;
+  const Vector phi = alart_curnier(S, b, f, step_lengths(S, f), lambda, p, nullptr);
+  return max_abs(phi) / std::max({max_abs(lambda), b_scale(S, b, f), 1e-300});
+}
+
+}  // namespace vpc

@@ -1,0 +1,55 @@
+#pragma once
+// The dual of one frictional contact step (SPEC §7) on the contact unknowns alone. With
+// B = [N; T] (per node its normal row, then its d − 1 tangent rows, in λ's order: λ_ν, λ_τ),
+// S = B K⁻¹ Bᵀ and b = B K⁻¹F − [g; h], the step's conditions are the optimality system of
+//     min ½λᵀSλ − bᵀλ   over  λ_ν,i ∈ [lo_i, hi_i] (λ_ν,i ≥ 0 for Signorini),  |λ_τ,i| ≤ s_i,
+// since r = b − Sλ is (N u − g, T u − h) = (the penetration, the slip increment Δ) at
+// u = K⁻¹(F − Bᵀλ): r_ν ≤ 0 ⟂ λ_ν, and Δ_i lies in the normal cone of the disc at λ_τ,i
+// (no slip below the bound, slip along λ_τ at it). s_i = tresca_i + μ_i λ_ν,i: Tresca is
+// a convex QP (in 2D a box QP), Coulomb a quasi-variational one, solved exactly as well.
+// A linear compliance law's λ_ν = k d₊ adds 1/k to S's normal diagonal (the caller does).
+#include "solvers/box_qp.hpp"
+
+#include <vector>
+
+namespace vpc {
+
+/// Each node's sets, replicated (i < m; λ has m × block entries).
+struct FrictionDualSets {
+  int block = 2;          // d: λ_ν and d − 1 tangential forces per node
+  Vector lo, hi;          // the normal force's bounds (ContactLaw::dual_lower, dual_upper)
+  Vector tresca, mu;      // the bound s_i = tresca_i + μ_i max(λ_ν,i, 0)
+  /// Per node × (block − 1): the tangent exists (else its row of T is zero, a symmetry plane:
+  /// λ_τ,ij = 0, and S has 1 on that diagonal so that the problem stays definite).
+  std::vector<char> tangent;
+  int nodes() const { return static_cast<int>(lo.size()); }
+  bool coulomb() const;  // some μ_i > 0 (then the bound moves with λ_ν)
+};
+
+/// The exact dual solution, warm-started from `lambda`:
+/// - 2D Tresca (no μ): the box QP λ_ν ∈ [lo, hi], λ_τ ∈ [−s, s] (solve_box_qp; finite, with
+///   its monotone guard against cycling);
+/// - otherwise (Coulomb, or 3D where the set is a disc): semismooth Newton on Alart–Curnier's
+///   Φ(λ) = λ − P(λ + ρ(b − Sλ)), P the projection of each node onto its set with the bound
+///   s = tresca + μ P_ν (the normal force the same projection gives), ρ = 1/diag(S) (one ρ per
+///   node for the tangents: the disc's normal cone is invariant only under a scalar). In 2D Φ
+///   is piecewise linear and the Newton step is the primal–dual active set's (the slip rows
+///   λ_τ = ±μ λ_ν are linear): exact once the sets repeat. A backtracking line search on ½‖Φ‖²
+///   globalizes; where it finds no decrease the full step is taken (counted in `cycles`,
+///   at most kFullSteps times), and converged = false after max_iterations lets the step
+///   control retry a smaller step. Converged when ‖Φ‖∞ ≤ 1e-13 max(‖λ‖∞, max_i |b_ν,i / S_νν,i|,
+///   max tresca) (or, where no step decreases ½‖Φ‖², ≤ 1e-10: the round-off of an ill-conditioned
+///   S); λ is then P(z), exactly in its set.
+/// `iterations` counts Newton steps (reduced solves for the box QP).
+BoxQpResult solve_friction_dual(DenseBoxQpOperator& S, const Vector& b, const FrictionDualSets& sets, Vector& lambda,
+                                int max_iterations = 100);
+
+/// The box of 2D Tresca's QP (exposed for tests).
+void tresca_box(const FrictionDualSets& sets, Vector& lo, Vector& hi);
+
+/// The Alart–Curnier residual ‖λ − P(λ + ρ(b − Sλ))‖∞ relative to the scale above: 0 exactly
+/// at the solution, for either path (tests, reports).
+double friction_dual_residual(const Eigen::MatrixXd& S, const Vector& b, const FrictionDualSets& sets,
+                              const Vector& lambda);
+
+}  // namespace vpc
