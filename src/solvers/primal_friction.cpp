@@ -139,10 +139,10 @@ void PrimalFriction::secant(const ContactConstraints& c, const Vector& w, const 
   Vector slip = Vector::Zero(force_.size());
   for (Eigen::Index k = 0; k < slip.size(); ++k)
     if (const int dof = dof_[static_cast<std::size_t>(k)]; dof >= 0) slip[k] = w[dof] - c.shift[k];
-  if (update && last_force_.size() == force_.size() && comm.all(last_stick_ == stick_)) {
+  if (update && last_force_.size() == force_.size()) {
     double sums[2] = {0, 0};
     for (std::size_t i = 0; i < stick_.size(); ++i) {
-      if (stick_[i] || !(scale_[i] > 0)) continue;
+      if (stick_[i] || last_stick_[i] || !(scale_[i] > 0)) continue;  // rows that slip in both
       const auto e = static_cast<Eigen::Index>(i);
       const Vector df = force_.segment(e * t_, t_) - last_force_.segment(e * t_, t_);
       sums[0] += df.squaredNorm() / scale_[i];
