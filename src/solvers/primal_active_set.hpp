@@ -22,16 +22,19 @@ namespace vpc {
 /// every other dof. Empty (0 × 0) when every row has one entry: no rotation.
 SparseMatrix contact_reflections(const SparseMatrix& N);
 
-constexpr int kPrimalMaxIterations = 200;
+/// Solves before the primal solver gives up: without friction, and with it (most of those are
+/// new right-hand sides on one factor: Coulomb's bound and 3D slip directions are iterated).
+constexpr int kPrimalMaxIterations = 200, kPrimalFrictionMaxIterations = 500;
 
 /// "primal-active-set" (make_contact_solver): K and, where some row is not along an axis,
 /// K_rot = Q K Q assembled over the same layout (nullptr: K_rot = K); `factor` is
 /// unfactorized (its coordinates set for AMG) and refactorized whenever the active set changes.
-/// `max_iterations`: solves before it gives up (converged = false); tests lower it.
+/// `max_iterations`: solves before it gives up (converged = false; 0: kPrimalMaxIterations, or
+/// kPrimalFrictionMaxIterations with friction); tests lower it.
 std::unique_ptr<ContactSolver> make_primal_active_set_solver(std::shared_ptr<const la::SpdOperator> K,
                                                              std::shared_ptr<const la::SpdOperator> K_rot,
                                                              std::shared_ptr<la::LinearSolver> factor,
                                                              ContactConstraints constraints,
-                                                             int max_iterations = kPrimalMaxIterations);
+                                                             int max_iterations = 0);
 
 }  // namespace vpc

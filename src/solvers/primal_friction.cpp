@@ -29,6 +29,8 @@ PrimalFriction::PrimalFriction(const ContactConstraints& c, const Vector& diagon
 void PrimalFriction::start(const ContactConstraints& c, const std::vector<char>& active, const Vector& normal,
                            const Vector& tangential) {
   force_.setZero();
+  gamma_ = 1;
+  last_force_ = Vector();
   for (std::size_t i = 0; i < stick_.size(); ++i) {
     const auto e = static_cast<Eigen::Index>(i);
     stick_[i] = 0;
@@ -91,16 +93,18 @@ PrimalFriction::Next PrimalFriction::next(const ContactConstraints& c, const Vec
     for (int j = 0; j < t_; ++j) {
       const auto k = static_cast<Eigen::Index>(i * t_ + j);
       if (const int dof = dof_[static_cast<std::size_t>(k)]; dof >= 0)
-        q[j] = tangential[k] + scale_[i] * (w[dof] - c.shift[k]);
+        q[j] = tangential[k] + gamma_ * scale_[i] * (w[dof] - c.shift[k]);
     }
     const double bound = bound_of[e], norm = q.norm();
-    // A zero bound (no friction law, or no normal force yet) is slip with no force. A slip row
-    // that slid against its force (Δ·λ_τ < 0: no slip state has that) sticks rather than turn
-    // round: with c_i = K_ii, q flips with the overshoot of a force that the body's stiffness
-    // cannot take, and the row would swing from one direction to the other (measured on a block
-    // dragged by its obstacle: never converged); from stick, its reaction decides.
+    // A zero bound (no friction law, or no normal force yet) is slip with no force. In 2D a slip
+    // row that slid against its force (Δ·λ_τ < 0: no slip state has that) sticks rather than turn
+    // round: q flips with the overshoot of a force that the body's stiffness cannot take, and the
+    // row would swing from one direction to the other (a block dragged by its obstacle never
+    // converged); from stick, its reaction decides. In 3D a direction turns continuously, and
+    // that rule makes rows near the stick zone chatter between stick and slip (a 3D block pressed
+    // with Poisson's spread never converged): there the secant step (secant()) damps q's turn.
     const auto used = force_.segment(e * t_, t_);
-    const bool reversed = !stick_[i] && (q - used).dot(used) < 0;
+    const bool reversed = t_ == 1 && !stick_[i] && (q - used).dot(used) < 0;
     n.stick[i] = bound > 0 && (norm <= bound || reversed);
     if (n.stick[i]) continue;
     if (norm > 0) n.force.segment(e * t_, t_) = bound / norm * q;
@@ -129,6 +133,27 @@ void PrimalFriction::slip_one(Next& next, const la::Comm& comm) const {
 void PrimalFriction::take(Next&& next) {
   stick_ = std::move(next.stick);
   force_ = std::move(next.force);
+}
+
+void PrimalFriction::secant(const ContactConstraints& c, const Vector& w, const la::Comm& comm, bool update) {
+  Vector slip = Vector::Zero(force_.size());
+  for (Eigen::Index k = 0; k < slip.size(); ++k)
+    if (const int dof = dof_[static_cast<std::size_t>(k)]; dof >= 0) slip[k] = w[dof] - c.shift[k];
+  if (update && last_force_.size() == force_.size()) {
+    double sums[2] = {0, 0};
+    for (std::size_t i = 0; i < stick_.size(); ++i) {
+      if (stick_[i] || last_stick_[i] || !(scale_[i] > 0)) continue;  // rows that slip in both
+      const auto e = static_cast<Eigen::Index>(i);
+      const Vector df = force_.segment(e * t_, t_) - last_force_.segment(e * t_, t_);
+      sums[0] += df.squaredNorm() / scale_[i];
+      sums[1] -= df.dot(slip.segment(e * t_, t_) - last_slip_.segment(e * t_, t_));
+    }
+    comm.sum(sums, 2);
+    if (sums[0] > 0 && sums[1] > 0) gamma_ = std::clamp(sums[0] / sums[1], 1e-3, 1.0);
+  }
+  last_force_ = force_;
+  last_slip_ = slip;
+  last_stick_ = stick_;
 }
 
 void PrimalFriction::rescale(const Vector& bound) {

@@ -346,6 +346,40 @@ TEST(PrimalFriction, FrictionlessRowsAndMissingTangents) {
   EXPECT_EQ(s2.lambda[1], 0.0);
 }
 
+// The primal and the dual ("active-set", solvers/friction_dual) solve the same frictional problem:
+// the same u and λ to 1e-9 on the 2D block (Tresca with a bound growing along the base, and
+// Coulomb) and the 3D one (Coulomb, μ = 0.3), each with partial slip.
+TEST(PrimalFriction, AgreesWithTheDualSolver) {
+  struct Case {
+    int dim;
+    double mu, tresca;
+  };
+  for (const Case& k : {Case{2, 0.0, 0.02}, Case{2, 0.5, 0.0}, Case{3, 0.3, 0.0}}) {
+    SCOPED_TRACE(::testing::Message() << k.dim << "D, mu " << k.mu << ", tresca " << k.tresca);
+    const Block b = make_block(k.dim);
+    ContactConstraints c = frictional(b.N, Vector::Zero(b.N.rows()), k.dim, b.node_dofs, k.mu);
+    Vector shift(c.T.rows()), tresca(c.m);
+    const double most = k.dim == 2 ? 1.0 : 0.1;
+    for (Eigen::Index j = 0; j < shift.size(); ++j) shift[j] = most * static_cast<double>(j) / static_cast<double>(shift.size());
+    for (Eigen::Index i = 0; i < c.m; ++i) tresca[i] = k.tresca * (1 + static_cast<double>(i) / c.m);
+    const Solved primal_answer = solve(b.K, c, b.F, shift, tresca);
+    EXPECT_GT(primal_answer.rep.n_slip, 0);
+    EXPECT_GT(primal_answer.rep.n_stick, 0);
+    auto K = std::make_shared<const la::SparseOperator>(b.K);
+    std::shared_ptr<la::LinearSolver> f = la::make_cholmod_factor("K");
+    f->factorize(*K, "K");
+    auto dual = make_contact_solver("active-set", K, f, c, la::make_cholmod_factor);
+    dual->set_friction(tresca, shift);
+    Vector u, lambda;
+    const ContactReport rep = dual->solve(b.F, u, lambda);
+    ASSERT_TRUE(rep.converged);
+    EXPECT_LE(max_abs(primal_answer.u - u), 1e-9 * max_abs(u));
+    EXPECT_LE(max_abs(primal_answer.lambda - lambda), 1e-9 * max_abs(lambda));
+    std::printf("[ measure ] vs dual, %dD mu %.1f: primal %d iterations %d factorizations; dual %d iterations\n", k.dim,
+                k.mu, primal_answer.rep.iterations, primal_answer.rep.factorizations, rep.iterations);
+  }
+}
+
 // Short of solves (a test's limit of 3; the production limit is kPrimalMaxIterations): the
 // solver says it did not converge and contact_failure names the iteration limit (the step
 // control then retries a smaller step).
