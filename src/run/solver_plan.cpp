@@ -108,6 +108,7 @@ ProblemSize problem_size(const Problem& p) {
   s.unknowns = static_cast<double>(std::ranges::count(dirichlet.condition, -1));
   const std::vector<ContactRow> rows = contact_rows(p, dirichlet.condition);
   s.contact_nodes = static_cast<double>(rows.size());
+  s.contact_unknowns = s.contact_nodes * p.contact.block_size(d);
   const auto laws = p.contact.laws();
   s.power_law = std::ranges::any_of(rows, [&](const ContactRow& r) { return !laws[static_cast<std::size_t>(r.law)]->linear(); });
   const SparseMatrix G = node_graph(mesh);
@@ -121,9 +122,9 @@ ProblemSize problem_size(const Problem& p) {
 
 MemoryEstimate cholmod_memory(const Problem& p, const ProblemSize& s, const SolverChoice& solvers) {
   const bool dual = solvers.contact == "active-set" ||
-                    (solvers.contact == "auto" && (s.power_law || s.contact_nodes <= kDualContactRows));
+                    (solvers.contact == "auto" && (s.power_law || s.contact_unknowns <= kDualContactRows));
   return estimate_run_memory(mesh_bytes(s, p.mesh.dim()), matrix_bytes(s), s.K, s.H, solvers.damage == "active-set",
-                             dual ? s.contact_nodes : 0);
+                             dual ? s.contact_unknowns : 0);
 }
 
 MemoryEstimate mumps_memory(const Problem& p, const ProblemSize& s, int ranks, int ranks_on_machine) {
@@ -132,8 +133,8 @@ MemoryEstimate mumps_memory(const Problem& p, const ProblemSize& s, int ranks, i
   e.add("matrices", matrix_bytes(s));
   e.add(fmt::format("MUMPS factors of K and H on {} rank{}", ranks_on_machine, ranks_on_machine > 1 ? "s" : ""),
         mumps_factor_bytes(s.K, ranks, ranks_on_machine) + mumps_factor_bytes(s.H, ranks, ranks_on_machine));
-  // The dual contact solver's W = K⁻¹Nᵀ (dense, m columns) where it takes the dual.
-  if (s.contact_nodes <= kDualContactRows) e.add("contact solver", 8.0 * s.unknowns * s.contact_nodes);
+  // The dual contact solver's W = K⁻¹Bᵀ (dense, one column per contact unknown) where it takes the dual.
+  if (s.contact_unknowns <= kDualContactRows) e.add("contact solver", 8.0 * s.unknowns * s.contact_unknowns);
   return e;
 }
 
@@ -191,8 +192,8 @@ SolverPlan plan_solver(const Problem& p, const ProblemSize& s, const SolverChoic
                                     format_bytes(direct.total()), direct.describe(), format_bytes(limit.bytes),
                                     limit.source));
   }
-  const bool dual = s.power_law || s.contact_nodes <= kDualContactRows;
-  const SolverCost cost = estimate_solver_cost(s.K, s.K_nonzeros, s.contact_nodes, p.expected_steps(), dual);
+  const bool dual = s.power_law || s.contact_unknowns <= kDualContactRows;
+  const SolverCost cost = estimate_solver_cost(s.K, s.K_nonzeros, s.contact_unknowns, p.expected_steps(), dual);
   if (can_switch && solvers.contact == "auto" && !s.power_law && iterative_is_faster(cost))
     return go_iterative(fmt::format("CG + GAMG on one process (the PETSc engine), estimated faster: {}; --engine "
                                     "serial keeps CHOLMOD",

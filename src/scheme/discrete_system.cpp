@@ -212,9 +212,11 @@ std::optional<SolverCost> check_before_factorizing(const DiscreteSystem& sys, la
   const double matrix_bytes = 12.0 * (sys.K_local_nonzeros + sys.M_local.nonZeros() + sys.A_local.nonZeros() +
                                       2.0 * sys.H_first_local_nonzeros);
   check_memory(estimate_run_memory(mesh_bytes, matrix_bytes, *K_size, H_size.value_or(FactorEstimate{}),
-                                   choice.damage == "active-set", primal ? 0 : sys.part.n_contact),
+                                   choice.damage == "active-set",
+                                   primal ? 0 : sys.part.n_contact * p.contact.block_size(mesh.dim())),
                memory_limit(choice.memory_limit), p.name);
-  SolverCost cost = estimate_solver_cost(*K_size, static_cast<double>(sys.K->nonzeros()), sys.part.n_contact,
+  SolverCost cost = estimate_solver_cost(*K_size, static_cast<double>(sys.K->nonzeros()),
+                                         sys.part.n_contact * p.contact.block_size(mesh.dim()),
                                          p.expected_steps(), !primal);
   return cost;
 }

@@ -1,0 +1,160 @@
+#!/usr/bin/python3
+"""Figures of issue 28's frictional cases (docs/verification.md), from a run's output directory:
+
+  scripts/friction_figures.py cattaneo-mindlin OUTDIR FIGDIR   # vpcontact run cattaneo-mindlin-2d -o OUTDIR
+  scripts/friction_figures.py ironing OUTDIR FIGDIR            # vpcontact run ironing-3d -o OUTDIR
+
+cattaneo-mindlin: traction.png, the tangential traction q(x) = |lambda_tau|/|Gamma3|_i at every
+tangential step against Cattaneo-Mindlin's mu p0 [sqrt(1 - x^2/a^2) - (c/a) sqrt(1 - x^2/c^2)], with
+a, p0 from Hertz with the computed P and c/a = sqrt(1 - Q/(mu P)); stick_zone.png, c/a against
+Q/(mu P). ironing: tangential_force.png, the drag and normal forces (the bottom's reactions, which
+balance the contact forces, and history.csv's tangential force) against t; beta_track.png, beta along the track's centre line at the
+surface and below it at the end of the run.
+"""
+import os
+import sys
+
+import numpy as np
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import vpcontact_plot as vp  # noqa: E402  (the figures script's VTU and CSV readers)
+
+
+def _pyplot():
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    return plt
+
+
+def _solutions(outdir):
+    return vp.list_solutions(outdir, vp.read_csv(os.path.join(outdir, "probes.csv")))
+
+
+def contact_nodes(vtu):
+    """x, lambda_nu, lambda_tau (first tangent), tributary measure of the nodes of y = 0."""
+    lam = vtu.point_data["contact_lambda"].reshape(len(vtu.points), -1)
+    p = vtu.point_data["contact_pressure"]
+    on = np.abs(vtu.points[:, 1]) < 1e-12
+    x, ln, lt, pr = vtu.points[on, 0], lam[on, 0], lam[on, 1], p[on]
+    order = np.argsort(x)
+    x, ln, lt, pr = x[order], ln[order], lt[order], pr[order]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        q = np.where(ln > 0, np.abs(lt) * pr / np.where(ln > 0, ln, 1), 0.0)
+    return x, ln, lt, q
+
+
+def cattaneo_mindlin(outdir, figdir, R=1.0, mu=0.5, E=1000.0, nu=0.49):
+    plt = _pyplot()
+    E_star = E / (1 - nu * nu)
+    sols = _solutions(outdir)
+    a = p0 = P = None
+    curves, zone = [], []
+    for t, path in sols:
+        vtu = vp.read_vtu(path)
+        if "contact_lambda" not in vtu.point_data:
+            continue
+        x, ln, lt, q = contact_nodes(vtu)
+        if t <= 1 + 1e-9:
+            if ln.sum() <= 0:
+                continue
+            P = ln.sum()
+            a = np.sqrt(4 * P * R / (np.pi * E_star))
+            p0 = 2 * P / (np.pi * a)
+            continue
+        Q = abs(lt.sum())
+        ratio = Q / (mu * ln.sum())
+        c = a * np.sqrt(max(0.0, 1 - ratio))
+        status = vtu.point_data.get("contact_status")
+        if status is not None:  # the run's own stick/slip/free status (1: stick)
+            stick = np.abs(status[np.abs(vtu.points[:, 1]) < 1e-12][np.argsort(vtu.points[np.abs(vtu.points[:, 1]) < 1e-12, 0])] - 1) < 0.5
+        else:
+            stick = (ln > 0) & (np.abs(lt) < mu * ln * (1 - 1e-9))
+        c_num = 0.0
+        if stick.any():  # the edges midway between the outermost sticking nodes and the next nodes out
+            lo, hi = x[stick].min(), x[stick].max()
+            left = 0.5 * (lo + (x[x < lo].max() if (x < lo).any() else lo))
+            right = 0.5 * (hi + (x[x > hi].min() if (x > hi).any() else hi))
+            c_num = 0.5 * (right - left) / a
+        curves.append((t, ratio, c, x, q))
+        zone.append((ratio, c / a, c_num))
+    if a is None or not curves:
+        raise SystemExit("%s: no frictional output at t <= 1 and after (run with every = 1)" % outdir)
+    fig, ax = plt.subplots(figsize=(7, 4.5))
+    xs = np.linspace(-a, a, 400)
+    for i, (t, ratio, c, x, q) in enumerate(curves):
+        colour = plt.cm.viridis(i / max(1, len(curves) - 1))
+        exact = np.sqrt(1 - xs**2 / a**2)
+        if c > 0:
+            exact -= np.where(np.abs(xs) < c, (c / a) * np.sqrt(np.clip(1 - xs**2 / c**2, 0, None)), 0)
+        ax.plot(xs / a, exact, "-", color=colour, lw=1)
+        inside = np.abs(x) <= 1.3 * a
+        ax.plot(x[inside] / a, q[inside] / (mu * p0), "o", ms=3, color=colour, label="Q/(mu P) = %.2f" % ratio)
+    ax.set_xlabel("x / a")
+    ax.set_ylabel("q / (mu p0)")
+    ax.set_title("Cattaneo-Mindlin: tangential traction (dots: vpcontact, lines: theory)")
+    ax.legend(fontsize=7, ncol=2)
+    fig.tight_layout()
+    os.makedirs(figdir, exist_ok=True)
+    fig.savefig(os.path.join(figdir, "traction.png"), dpi=120)
+    fig, ax = plt.subplots(figsize=(5, 4))
+    r = np.linspace(0, 1, 200)
+    ax.plot(r, np.sqrt(1 - r), "-", label="sqrt(1 - Q/(mu P))")
+    z = np.array(zone)
+    ax.plot(z[:, 0], z[:, 2], "o", label="vpcontact (stick nodes)")
+    ax.set_xlabel("Q / (mu P)")
+    ax.set_ylabel("c / a")
+    ax.legend()
+    fig.tight_layout()
+    fig.savefig(os.path.join(figdir, "stick_zone.png"), dpi=120)
+    for ratio, theory, num in zone:
+        print("Q/(mu P) = %.4f: c/a theory %.4f, computed %.4f" % (ratio, theory, num))
+
+
+def ironing(outdir, figdir):
+    plt = _pyplot()
+    h = vp.read_csv(os.path.join(outdir, "history.csv"))
+    t = h["t"]
+    drag, normal = np.abs(h["reaction_bottom_x"]), np.abs(h["reaction_bottom_z"])
+    fig, ax = plt.subplots(figsize=(6, 4))
+    if "tangential_force_x" in h:  # history.csv's total tangential force (Σ λ_τ along the tangents)
+        ax.plot(t, np.abs(h["tangential_force_x"]), "s", ms=5, mfc="none", label="|tangential force x|")
+    ax.plot(t, drag, "-o", ms=3, label="drag |R_x|")
+    ax.plot(t, normal, "-", label="normal |R_z|")
+    ax.plot(t, 0.3 * normal, "--", label="mu |R_z|")
+    ax.set_xlabel("t")
+    ax.set_ylabel("force")
+    ax.set_title("ironing-3d: the sphere's drag and normal force")
+    ax.legend()
+    fig.tight_layout()
+    os.makedirs(figdir, exist_ok=True)
+    fig.savefig(os.path.join(figdir, "tangential_force.png"), dpi=120)
+    _, path = _solutions(outdir)[-1]
+    vtu = vp.read_vtu(path)
+    beta = vtu.point_data["beta"]
+    pts = vtu.points
+    fig, ax = plt.subplots(figsize=(6, 4))
+    ztop = pts[:, 2].max()
+    for depth in sorted(set(np.round(ztop - pts[:, 2], 9)))[:3]:
+        line = (np.abs(pts[:, 1]) < 1e-9) & (np.abs(ztop - pts[:, 2] - depth) < 1e-9)
+        order = np.argsort(pts[line, 0])
+        ax.plot(pts[line, 0][order], beta[line][order], "-o", ms=3, label="depth %.3g" % depth)
+    ax.set_xlabel("x (track: -0.5 to 0.5)")
+    ax.set_ylabel("beta")
+    ax.set_title("ironing-3d: beta along the track (y = 0) at T")
+    ax.legend()
+    fig.tight_layout()
+    fig.savefig(os.path.join(figdir, "beta_track.png"), dpi=120)
+    print("drag / normal at the end: %.4f; min beta %.4f" % (drag[-1] / normal[-1], beta.min()))
+
+
+def main(argv):
+    if len(argv) != 4 or argv[1] not in ("cattaneo-mindlin", "ironing"):
+        raise SystemExit(__doc__)
+    (cattaneo_mindlin if argv[1] == "cattaneo-mindlin" else ironing)(argv[2], argv[3])
+
+
+if __name__ == "__main__":
+    main(sys.argv)
