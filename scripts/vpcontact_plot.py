@@ -27,8 +27,8 @@ the neutral name:
   2,3  probes                      probes               u, von Mises, beta versus time at the probes   (probes.csv)
   all  history                     history              total contact force, active nodes, min/max beta (history.csv)
   all  friction                    friction             with friction: the tangential force (total, per obstacle)
-                                                        and the normal force against the displacement of the
-                                                        first probe along the push (else t); stick/slip nodes
+                                                        and the normal force against the displacement along the
+                                                        push of the probe that moves most (else t); stick/slip nodes
                                                         and the dissipation per step  (history.csv, probes.csv)
   all  time_steps                  time_steps           the step size k(t), the error estimate per step and the
                                                         rejected steps, when the steps are not uniform, and the
@@ -1212,20 +1212,26 @@ class Plotter:
         self.save(fig, key)
 
     def friction_abscissa(self, comp):
-        """The displacement a force-displacement curve is drawn against: the first probe's
-        component `comp` at each step of history.csv (probes.csv has the same steps, and
-        step 0), where it moves; else the time."""
+        """The displacement a force-displacement curve is drawn against: at each step of
+        history.csv (probes.csv has the same steps, and step 0) the component `comp` of the
+        probe that moves most along it; the time where none moves."""
         h, pr = self.run.history, self.run.probes
-        col = "p0_u" + comp
-        if col in pr and "step" in pr and "step" in h:
-            at = {int(s): i for i, s in enumerate(pr["step"])}
-            if all(int(s) in at for s in h["step"]):
-                u = pr[col][[at[int(s)] for s in h["step"]]]
-                if len(u) and float(abs(u).max()) > 0:
-                    p = self.run.probe_points[0] if self.run.probe_points else ()
-                    where = " at %s" % probe_label(p, self.run.dim) if p else ""
-                    return u, "displacement $u_%s$%s" % (comp, where) + UNITS.br("length")
-        return h["t"], r"time $t$" + UNITS.br("time")
+        if "step" not in pr or "step" not in h:
+            return h["t"], r"time $t$" + UNITS.br("time")
+        at = {int(s): i for i, s in enumerate(pr["step"])}
+        best, best_range = None, 0.0
+        if all(int(s) in at for s in h["step"]):
+            rows = [at[int(s)] for s in h["step"]]
+            for i, p in enumerate(self.run.probe_points):
+                col = "p%d_u%s" % (i, comp)
+                if col in pr and len(rows):
+                    u = pr[col][rows]
+                    if float(u.max() - u.min()) > best_range:
+                        best, best_range = (u, p), float(u.max() - u.min())
+        if best is None:
+            return h["t"], r"time $t$" + UNITS.br("time")
+        u, p = best
+        return u, "displacement $u_%s$ at %s" % (comp, probe_label(p, self.run.dim)) + UNITS.br("length")
 
     def friction_figure(self):
         """A frictional run's (history.csv has tangential_force_<x|y|z>): the tangential

@@ -28,8 +28,10 @@ class Fields:
     z (n_cells, 6 in the order 11, 22, 33, 23, 13, 12), von_mises (n_cells,),
     contact_force_vector (the point field -lambda nu, (n_nodes, 3)), contact_pressure
     (n_nodes,), contact_force (lambda's block at each node, written where it has more than
-    one number); active (the nodes with a contact pressure > 0). Fields the run did not write
-    ([output] fields) are None; `arrays` holds every VTU array by its VTU name."""
+    one number); with friction tangential_force, tangential_traction, slip_increment
+    (n_nodes, 3) and slip, contact_status (n_nodes,; zero off the contact boundary); active
+    (the nodes with a contact pressure > 0). Fields the run did not write ([output] fields,
+    friction's without friction) are None; `arrays` holds every VTU array by its VTU name."""
 
     def __init__(self, t, n, vtu, dim):
         from . import state_fields

@@ -1,6 +1,9 @@
 #include "io/history_columns.hpp"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include <algorithm>
 
 namespace vpc {
 
@@ -83,6 +86,24 @@ std::vector<std::string> history_column_names(const Problem& p, const MeshPart& 
   for (int i = 0; i < d; ++i) names.push_back(fmt::format("tangential_force_{}", "xyz"[i]));
   for (const Obstacle& o : p.contact.obstacles)
     for (int i = 0; i < d; ++i) names.push_back(fmt::format("tangential_force_{}_{}", o.name, "xyz"[i]));
+  if (p.contact.part_laws.empty()) return names;
+  for (const std::string& entry : contact_law_entry_names(p.contact)) {
+    names.push_back(fmt::format("force_part_{}", entry));
+    for (int i = 0; i < d; ++i) names.push_back(fmt::format("tangential_force_part_{}_{}", entry, "xyz"[i]));
+  }
+  return names;
+}
+
+std::vector<std::string> contact_law_entry_names(const ContactSpec& c) {
+  std::vector<std::string> names;
+  std::vector<std::string> rest;  // [contact]'s law: the parts no [[contact.part]] names
+  for (const std::string& part : c.parts)
+    if (std::none_of(c.part_laws.begin(), c.part_laws.end(), [&](const PartContactLaw& l) {
+          return std::find(l.parts.begin(), l.parts.end(), part) != l.parts.end();
+        }))
+      rest.push_back(part);
+  names.push_back(rest.empty() ? "none" : fmt::format("{}", fmt::join(rest, "+")));
+  for (const PartContactLaw& l : c.part_laws) names.push_back(fmt::format("{}", fmt::join(l.parts, "+")));
   return names;
 }
 
@@ -95,6 +116,11 @@ std::vector<HistoryValue> history_values(const StepReport& r) {
   for (const HistoryColumn& c : kFrictionColumns) row.push_back({c.value(r), c.format});
   for (double f : r.tangential_force) row.push_back({f, F::exact});
   for (double f : r.obstacle_tangential_force) row.push_back({f, F::exact});
+  const std::size_t d = r.tangential_force.size();
+  for (std::size_t j = 0; j < r.part_force.size(); ++j) {
+    row.push_back({r.part_force[j], F::exact});
+    for (std::size_t i = 0; i < d; ++i) row.push_back({r.part_tangential_force[j * d + i], F::exact});
+  }
   return row;
 }
 

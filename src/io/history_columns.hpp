@@ -34,9 +34,15 @@ std::span<const HistoryColumn> friction_columns();
 /// reaction of each Dirichlet part (dirichlet_parts) in each component it prescribes
 /// (reaction_<part>_<x|y|z>; MeshPart::dirichlet_components: every process has them).
 /// With friction (only: a frictionless run's file is that of before) then
-/// friction_columns, the total tangential force (tangential_force_<x|y|z>, d components)
-/// and that on each obstacle (tangential_force_<name>_<x|y|z>).
+/// friction_columns, the total tangential force (tangential_force_<x|y|z>, d components),
+/// that on each obstacle (tangential_force_<name>_<x|y|z>) and, with [[contact.part]]
+/// sections, the normal and tangential force of each law entry (force_part_<entry>,
+/// tangential_force_part_<entry>_<x|y|z>; contact_law_entry_names).
 std::vector<std::string> history_column_names(const Problem& p, const MeshPart& part);
+
+/// The names of ContactSpec::laws()' entries in history.csv: their parts joined by '+'
+/// ([contact]'s: the contact parts no [[contact.part]] names; "none" where there are none).
+std::vector<std::string> contact_law_entry_names(const ContactSpec& c);
 
 /// One number of a row and how it is written.
 struct HistoryValue {

@@ -9,26 +9,28 @@ std::vector<Point> contact_tangents(const MeshPart& part, int block) {
   const DofMap& dofs = part.dofs;
   const int d = dofs.dim();
   const auto rows = part.contact.size();
-  // N over the part's local free dofs, one row per contact node (as DiscreteSystem::contact_matrix
-  // makes it, ghosts included), and each node's free dofs in component order: set_tangents
-  // then gives each row the solver's tangents (its frame uses only the row's own entries).
+  // N over the contact nodes' free dofs alone (numbered compactly, node after node, in
+  // component order: the order of the part's free dofs within a node), one row per contact
+  // node, ghosts included, and each node's free dofs: set_tangents then gives each row the
+  // solver's tangents (the frame of a row uses only its own entries and dofs), at a cost of
+  // the contact nodes only.
   ContactConstraints c;
   c.block = block;
   c.rows.assign(rows, 0);
   std::vector<Eigen::Triplet<double>> entries;
   std::vector<std::vector<int>> node_dofs(rows);
-  std::vector<int> component(static_cast<std::size_t>(dofs.n_free()), -1);  // per free dof
+  std::vector<int> component;  // per compact dof
   for (std::size_t k = 0; k < rows; ++k) {
     const PartContactNode& node = part.contact[k];
     for (int i = 0; i < d; ++i) {
-      const int dof = dofs.free_index(dofs.full_index(node.local_node, i));
-      if (dof < 0) continue;
+      if (dofs.free_index(dofs.full_index(node.local_node, i)) < 0) continue;
+      const auto dof = static_cast<int>(component.size());
+      component.push_back(i);
       node_dofs[k].push_back(dof);
-      component[static_cast<std::size_t>(dof)] = i;
       if (node.direction[i] != 0) entries.emplace_back(static_cast<int>(k), dof, node.direction[i]);
     }
   }
-  c.N.resize(static_cast<Eigen::Index>(rows), dofs.n_free());
+  c.N.resize(static_cast<Eigen::Index>(rows), static_cast<Eigen::Index>(component.size()));
   c.N.setFromTriplets(entries.begin(), entries.end());
   set_tangents(c, node_dofs);
   // Row k(b − 1) + j of T is tangent j of entry k: its entries by component.

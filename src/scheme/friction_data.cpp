@@ -69,7 +69,7 @@ void record_slip(const DiscreteSystem& sys, const Vector& tresca, const Vector& 
     s.slip_step.segment(i * t, t) = blocks.segment(i * c.block + 1, t);
   }
   c.block = 1;
-  s.contact_status = replicate(sys.part.comm, c, status);
+  s.contact_status.noalias() = replicate(sys.part.comm, c, status);  // in place: Python's views of it stay valid
 }
 
 }  // namespace vpc

@@ -35,11 +35,13 @@ MinimumAt global_minimum_at(const la::Comm& comm, std::span<const double> values
 void contact_totals(const DiscreteSystem& sys, const State& s, StepReport& rep) {
   const auto& obstacles = sys.problem->contact.obstacles;
   const int b = s.contact_block, d = sys.part.mesh().dim();
-  const std::size_t n_obstacles = obstacles.size();
-  // area, the obstacles' forces, then with friction the tangential force (d) and its share
-  // on each obstacle (obstacles × d)
-  const std::size_t friction = b > 1 ? static_cast<std::size_t>(d) * (n_obstacles + 1) : 0;
-  std::vector<double> sums(n_obstacles + 1 + friction, 0.0);
+  const std::size_t n_obstacles = obstacles.size(), du = static_cast<std::size_t>(d);
+  // With friction and several laws: each law entry's normal and tangential forces.
+  const std::size_t n_parts = b > 1 && !sys.problem->contact.part_laws.empty() ? sys.problem->contact.laws().size() : 0;
+  // area, the obstacles' forces, then with friction the tangential force (d), its share on
+  // each obstacle (obstacles × d) and the law entries' forces (parts × (1 + d))
+  const std::size_t on_total = n_obstacles + 1, on_obstacles = on_total + du, on_parts = on_obstacles + du * n_obstacles;
+  std::vector<double> sums(b > 1 ? on_parts + n_parts * (1 + du) : n_obstacles + 1, 0.0);
   const std::vector<Point> tangents = contact_tangents(sys.part, b);
   for (std::size_t k = 0; k < sys.part.contact.size(); ++k) {
     const PartContactNode& node = sys.part.contact[k];
@@ -49,26 +51,35 @@ void contact_totals(const DiscreteSystem& sys, const State& s, StepReport& rep) 
     Point tangential{0, 0, 0};
     if (b > 1) {
       tangential = along_tangents(tangents, k, b, s.lambda.data() + node.row * b + 1);
-      for (int i = 0; i < d; ++i) sums[n_obstacles + 1 + static_cast<std::size_t>(i)] += tangential[i];
+      for (std::size_t i = 0; i < du; ++i) sums[on_total + i] += tangential[i];
+      if (n_parts > 0) {
+        const std::size_t at = on_parts + static_cast<std::size_t>(node.law) * (1 + du);
+        sums[at] += lambda;
+        for (std::size_t i = 0; i < du; ++i) sums[at + 1 + i] += tangential[i];
+      }
     }
     if (obstacles.empty() || (lambda == 0 && tangential == Point{0, 0, 0})) continue;
     const int nearest = nearest_obstacle(obstacles, sys.part.mesh().node(node.local_node), node.direction, rep.t,
                                          node.obstacles);
     if (nearest < 0) continue;
     sums[static_cast<std::size_t>(nearest) + 1] += lambda;
-    for (int i = 0; i < d && b > 1; ++i)
-      sums[n_obstacles + 1 + static_cast<std::size_t>(d) * (static_cast<std::size_t>(nearest) + 1) +
-           static_cast<std::size_t>(i)] += tangential[i];
+    for (std::size_t i = 0; i < du && b > 1; ++i) sums[on_obstacles + du * static_cast<std::size_t>(nearest) + i] += tangential[i];
   }
   sys.part.comm.sum(sums.data(), static_cast<int>(sums.size()));
   rep.contact_area = sums[0];
-  const auto obstacles_end = sums.begin() + static_cast<std::ptrdiff_t>(n_obstacles + 1);
-  rep.obstacle_force.assign(sums.begin() + 1, obstacles_end);
+  auto at = [&](std::size_t i) { return sums.begin() + static_cast<std::ptrdiff_t>(i); };
+  rep.obstacle_force.assign(at(1), at(n_obstacles + 1));
   rep.tangential_force.clear();
   rep.obstacle_tangential_force.clear();
-  if (b > 1) {
-    rep.tangential_force.assign(obstacles_end, obstacles_end + d);
-    rep.obstacle_tangential_force.assign(obstacles_end + d, sums.end());
+  rep.part_force.clear();
+  rep.part_tangential_force.clear();
+  if (b == 1) return;
+  rep.tangential_force.assign(at(on_total), at(on_obstacles));
+  rep.obstacle_tangential_force.assign(at(on_obstacles), at(on_parts));
+  for (std::size_t j = 0; j < n_parts; ++j) {
+    rep.part_force.push_back(sums[on_parts + j * (1 + du)]);
+    rep.part_tangential_force.insert(rep.part_tangential_force.end(), at(on_parts + j * (1 + du) + 1),
+                                     at(on_parts + (j + 1) * (1 + du)));
   }
 }
 

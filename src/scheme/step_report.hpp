@@ -46,6 +46,9 @@ struct StepReport {
   /// components (the force on the obstacles; the body gets its opposite), and with
   /// obstacles the same per obstacle (d after d, as obstacle_force counts the nodes).
   std::vector<double> tangential_force, obstacle_tangential_force;
+  /// With friction and [[contact.part]] sections: per law entry (ContactSpec::laws() order,
+  /// each node counted for its law), the normal force and the tangential force (d after d).
+  std::vector<double> part_force, part_tangential_force;
   /// The reaction force on each Dirichlet part (dirichlet_parts order): the force its
   /// supports exert on the body, Σ over the part's nodes of (σ_n, ε(φ)) − F_n, in each
   /// component the part prescribes (DirichletDofs::components), in increasing order. A

@@ -6,7 +6,7 @@
 // over 1.5 × total / W plus what piece 0 adds (λ, the contact warm state, the run's data).
 // Then for each R (the first R ranks on the PETSc backend; 0: the serial engine on rank 0)
 // a fresh stepper resumes from the checkpoint: its state, gathered on rank 0, must be the
-// written state bit for bit (u, β, λ, σ, ε, z, u on the free dofs, both warm states); run
+// written state bit for bit (u, β, λ, σ, ε, z, friction's slip fields, u on the free dofs, both warm states); run
 // to the end, it must agree with the uninterrupted run to the tolerance (u, β, λ, σ, ε, z): not bit
 // for bit, as sums are taken in another order on another rank count, and the PETSc engine on
 // several ranks does not repeat its last bits from run to run even on the same count. Last, with a piece of step S/2 damaged and then missing, a resume
@@ -85,6 +85,9 @@ double difference(const vpc::Snapshot& a, const vpc::Snapshot& b, bool warm) {
   vec(a.state.u, b.state.u);
   vec(a.state.beta, b.state.beta);
   vec(a.state.lambda, b.state.lambda);
+  vec(a.state.slip_step, b.state.slip_step);  // friction's (empty without)
+  vec(a.state.slip, b.state.slip);
+  vec(a.state.contact_status, b.state.contact_status);
   if (warm) {
     vec(a.u_free, b.u_free);
     vec(a.contact_warm, b.contact_warm);

@@ -2,15 +2,13 @@
 # Issue 28: `vpcontact plot` of a frictional run draws friction.png: the tangential force
 # (the force on the obstacle) against the displacement of the first probe along the push,
 # with the normal force, and the stick/slip counts and dissipation per step; a frictionless
-# run has no such figure (nothing skipped either).
-#   - FRICTION_CASE given: that frictional case file is run (a block pressed, then pushed);
-#   - else a frictionless paper-2d run's history.csv is given friction's columns as a
-#     frictional run writes them (docs/cases.md "What a run writes"): a ramp of the
-#     tangential force up to μ times the normal force, then sliding.
+# run has no such figure (nothing skipped either). The frictional run: tests/data/friction-2d.toml
+# (a block pressed onto a plane, then pushed sideways until it slides at μ times the normal force).
 #
-# Usage: tests/plot/test_friction_plot.sh PATH/TO/vpcontact TMPDIR SOURCE_DIR [FRICTION_CASE]
+# Usage: tests/plot/test_friction_plot.sh PATH/TO/vpcontact TMPDIR SOURCE_DIR
 set -uo pipefail
-vpcontact=$1 tmp=$2 src=$3 friction_case=${4:-}
+vpcontact=$1 tmp=$2 src=$3
+friction_case="$src/tests/data/friction-2d.toml"
 python=${PYTHON:-/usr/bin/python3}
 script="$src/scripts/vpcontact_plot.py"
 fail() { echo "test_friction_plot: FAIL: $*" >&2; exit 1; }
@@ -19,28 +17,9 @@ rm -rf "$tmp" && mkdir -p "$tmp" || exit 1
 "$vpcontact" run paper-2d -q --n 10 --steps 10 -o "$tmp/plain" || fail "run paper-2d"
 "$python" "$script" "$tmp/plain" > "$tmp/plain.log" 2>&1 || fail "plot paper-2d: $(tail -1 "$tmp/plain.log")"
 [ ! -e "$tmp/plain/figures/friction.png" ] || fail "a frictionless run got friction.png"
-grep -q "friction" "$tmp/plain.log" && fail "a frictionless run mentions friction: $(grep friction "$tmp/plain.log")"
+grep -q "friction\.png" "$tmp/plain.log" && fail "a frictionless run mentions friction.png: $(grep friction "$tmp/plain.log")"
 
-if [ -n "$friction_case" ]; then
-  "$vpcontact" run "$friction_case" -q -o "$tmp/fric" || fail "run $friction_case"
-else
-  cp -r "$tmp/plain" "$tmp/fric" && rm -rf "$tmp/fric/figures"
-  "$python" - "$tmp/fric/history.csv" <<'PY' || fail "could not add friction's columns"
-import csv, sys
-rows = list(csv.reader(open(sys.argv[1])))
-head, body = rows[0], rows[1:]
-normal = head.index("total_contact_force")
-head += ["n_stick", "n_slip", "dissipation", "friction_bound", "friction_stick_slip", "friction_slip_direction",
-         "tangential_force_x", "tangential_force_y"]
-for k, r in enumerate(body):
-    mu_p = 0.3 * float(r[normal])
-    t = min(mu_p, 0.05 * mu_p * (k + 1) * 4)  # sticks, then slides at mu P
-    slip = t >= mu_p
-    r += ["0" if slip else "5", "5" if slip else "0", repr(0.01 * k if slip else 0.0), "0.000e+00", "1.000e-12",
-          "0.000e+00", repr(t), "0"]
-csv.writer(open(sys.argv[1], "w", newline=""), lineterminator="\n").writerows([head] + body)
-PY
-fi
+"$vpcontact" run "$friction_case" -q -o "$tmp/fric" || fail "run $friction_case"
 "$python" "$script" "$tmp/fric" > "$tmp/fric.log" 2>&1 || fail "plot the frictional run: $(tail -1 "$tmp/fric.log")"
 grep -q "skipped" "$tmp/fric.log" && fail "a figure was skipped: $(grep skipped "$tmp/fric.log")"
 "$python" - "$tmp/fric/figures/friction.png" <<'PY' || exit 1

@@ -5,36 +5,26 @@
 // bit for bit (a frictionless checkpoint as before), history.csv's friction columns
 // (none without friction) and the step's tangential totals per obstacle.
 #include "cases/builtin_cases.hpp"
+#include "io/case_file.hpp"
 #include "io/checkpoint.hpp"
 #include "io/checkpoint_file.hpp"
 #include "io/history_columns.hpp"
 #include "io/state_fields.hpp"
 #include "scheme/contact_tangents.hpp"
 #include "scheme/step_checks.hpp"
+#include "test_files.hpp"
 
 #include <gtest/gtest.h>
 
-#include <fstream>
-#include <sstream>
+#include <map>
 
 namespace vpc {
 namespace {
 
 namespace fs = std::filesystem;
 
-fs::path fresh_dir(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("vpc_friction_out_" + name + "_" + std::to_string(::getpid()));
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
-
-std::string read_bytes(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+fs::path fresh_dir(const std::string& name) { return test::fresh_dir("vpc_friction_out_", name); }
+using test::read_bytes;
 
 double dot(const Point& a, const Point& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 
@@ -91,6 +81,32 @@ TEST(ContactTangents, UnitAndOrthogonalToTheNormalInBothFrames) {
   EXPECT_TRUE(contact_tangents(part, 1).empty());
 }
 
+// The outputs' tangents are the contact solver's: DiscreteSystem::T's rows (owned free dofs) by
+// component, here for tilted contact directions (the Householder frame).
+TEST(ContactTangents, AreTheRowsOfTheSystemsT) {
+  const Case c = load_case((fs::path(VPC_TEST_DATA_DIR) / "friction-2d.toml").string());
+  auto p = std::make_shared<Problem>(*c.problem);
+  const double n = std::hypot(0.3, 1.0);
+  p->contact.direction = Point{0.3 / n, -1.0 / n, 0.0};
+  const DiscreteSystem sys(p, whole_mesh_part(p), la::serial_backend(), SolverChoice{});
+  const MeshPart& part = sys.part;
+  ASSERT_EQ(sys.T.rows(), static_cast<Eigen::Index>(part.contact.size()));
+  const std::vector<Point> t = contact_tangents(part, 2);
+  const SparseMatrix Tt = sys.T.transpose();
+  Eigen::Index row = 0;
+  for (std::size_t k = 0; k < part.contact.size(); ++k) {
+    const PartContactNode& node = part.contact[k];
+    ASSERT_TRUE(node.owned);
+    EXPECT_NE(t[k][0], 0.0);  // tilted: not an axis
+    Point from_T{0, 0, 0};
+    for (SparseMatrix::InnerIterator it(Tt, row); it; ++it)
+      for (int i = 0; i < 2; ++i)
+        if (part.dofs.free_index(part.dofs.full_index(node.local_node, i)) == it.row()) from_T[i] = it.value();
+    EXPECT_EQ(t[k], from_T) << "contact node " << k;
+    ++row;
+  }
+}
+
 TEST(FrictionOutputs, VtuFieldsAreTheTangentialVectorsSlipAndStatus) {
   TimeStepper s(load_case("paper-2d", {.steps = 4}, {.cells = 10}).problem);
   s.step();
@@ -137,17 +153,13 @@ TEST(FrictionOutputs, VtuFieldsAreTheTangentialVectorsSlipAndStatus) {
 TEST(FrictionOutputs, CheckpointKeepsTheFrictionStateBitForBit) {
   TimeStepper s(load_case("paper-2d", {.steps = 4}, {.cells = 10}).problem);
   s.step();
-  Checkpoint c;
-  c.case_name = s.problem().name;
-  c.fingerprint = problem_fingerprint(s);
-  c.problem_key = problem_key(s);
-  c.snapshot = s.snapshot();
-  c.times = s.times();
-  c.step_control = s.step_control_state().values();
-  c.totals.max_friction_bound = 1.5e-12;
-  c.totals.max_stick_slip = 2.5e-11;
-  c.totals.max_slip_direction = 3.0e-13;
-  c.totals.dissipation = 0.1 / 3;
+  Checkpoint c = test::checkpoint_of(s);
+  RunTotals friction_totals;
+  friction_totals.max_friction_bound = 1.5e-12;
+  friction_totals.max_stick_slip = 2.5e-11;
+  friction_totals.max_slip_direction = 3.0e-13;
+  friction_totals.dissipation = 0.1 / 3;
+  c.totals = friction_totals;
   // Without friction the file is that of before: its friction totals are not written.
   const fs::path plain = write_checkpoint(fresh_dir("plain"), c);
   const Checkpoint plain_back = read_checkpoint(plain);
@@ -158,10 +170,7 @@ TEST(FrictionOutputs, CheckpointKeepsTheFrictionStateBitForBit) {
   EXPECT_EQ(read_bytes(plain), before);
   // With friction: the fields and totals back bit for bit.
   c.snapshot.state = frictional(s.state(), 2);
-  c.totals.max_friction_bound = 1.5e-12;
-  c.totals.max_stick_slip = 2.5e-11;
-  c.totals.max_slip_direction = 3.0e-13;
-  c.totals.dissipation = 0.1 / 3;
+  c.totals = friction_totals;
   const fs::path file = write_checkpoint(fresh_dir("friction"), c);
   const Checkpoint back = read_checkpoint(file);
   const State& a = c.snapshot.state;
@@ -190,6 +199,27 @@ TEST(FrictionOutputs, CheckpointKeepsTheFrictionStateBitForBit) {
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find(bad_file.string()), std::string::npos) << e.what();
   }
+}
+
+// A rejected step is redone from the snapshot before it (step control, halving, resume): the
+// slip it accumulated must go with it, so the redone step ends bit for bit where it did.
+TEST(FrictionOutputs, RestoringASnapshotUndoesTheSlipOfTheStep) {
+  const Case c = load_case((fs::path(VPC_TEST_DATA_DIR) / "friction-2d.toml").string());
+  TimeStepper s(c.problem, c.solvers);
+  for (int n = 0; n < 7; ++n) s.step();  // sliding from step 6 on
+  const Snapshot before = s.snapshot();
+  s.step();
+  const State once = s.state();
+  ASSERT_GT((once.slip - before.state.slip).maxCoeff(), 0.0);
+  s.restore(before);
+  EXPECT_EQ(s.state().slip, before.state.slip);
+  EXPECT_EQ(s.state().slip_step, before.state.slip_step);
+  EXPECT_EQ(s.state().contact_status, before.state.contact_status);
+  s.step();
+  EXPECT_EQ(s.state().slip, once.slip);
+  EXPECT_EQ(s.state().slip_step, once.slip_step);
+  EXPECT_EQ(s.state().contact_status, once.contact_status);
+  EXPECT_EQ(s.state().lambda, once.lambda);
 }
 
 TEST(FrictionOutputs, HistoryHasFrictionColumnsOnlyWithFriction) {
@@ -261,6 +291,71 @@ TEST(FrictionOutputs, StepTotalsSumTheTangentialForcesPerObstacle) {
   EXPECT_NEAR(plain.tangential_force[1], y, 1e-12 * (1 + std::abs(y)));
   EXPECT_NE(plain.tangential_force[0], 0.0);
   EXPECT_EQ(plain.obstacle_tangential_force, plain.tangential_force);
+}
+
+// Two contact parts with their own friction: history.csv's columns per law entry, whose
+// forces add up to the totals.
+TEST(FrictionOutputs, ForcesPerContactPartAddUpToTheTotals) {
+  const std::string text = R"(
+[mesh]
+generator = "rectangle"
+lower = [0.0, 0.0]
+upper = [1.0, 0.5]
+cells = [8, 4]
+[[mesh.part]]
+name = "lhalf"
+where = "abs(y) < 1e-12 && x < 0.45"
+[[mesh.part]]
+name = "rhalf"
+where = "abs(y) < 1e-12 && x > 0.55"
+[boundary]
+clamped = ["top"]
+contact = ["lhalf", "rhalf"]
+[elasticity]
+kind = "plane-strain"
+E = 1000.0
+nu = 0.3
+[viscoplasticity]
+law = "elastic"
+[damage]
+source = "zero"
+[contact]
+friction = "coulomb"
+mu = 0.3
+gap = "y"
+direction = [0, -1]
+[[contact.part]]
+parts = ["rhalf"]
+friction = "coulomb"
+mu = 0.5
+[time]
+T = 1.0
+steps = 2
+)";
+  const Case c = parse_case(text, "parts.toml", ".", {});
+  const DiscreteSystem sys(c.problem, whole_mesh_part(c.problem), la::serial_backend(), SolverChoice{});
+  const std::vector<std::string> names = history_column_names(*c.problem, sys.part);
+  const std::vector<std::string> tail(names.end() - 6, names.end());
+  EXPECT_EQ(tail, (std::vector<std::string>{"force_part_lhalf", "tangential_force_part_lhalf_x",
+                                            "tangential_force_part_lhalf_y", "force_part_rhalf",
+                                            "tangential_force_part_rhalf_x", "tangential_force_part_rhalf_y"}));
+  State s;
+  s.contact_block = 1;
+  s.lambda = Vector::Zero(sys.part.n_contact);
+  const State st = frictional(s, 2);
+  StepReport r;
+  r.t = 1;
+  contact_totals(sys, st, r);
+  ASSERT_EQ(r.part_force.size(), 2u);
+  ASSERT_EQ(r.part_tangential_force.size(), 4u);
+  EXPECT_GT(r.part_force[0], 0.0);
+  EXPECT_GT(r.part_force[1], 0.0);
+  EXPECT_NEAR(r.part_force[0] + r.part_force[1], normal_forces(st).sum(), 1e-12 * normal_forces(st).sum());
+  for (std::size_t i = 0; i < 2; ++i)
+    EXPECT_NEAR(r.part_tangential_force[i] + r.part_tangential_force[2 + i], r.tangential_force[i], 1e-12);
+  const std::vector<HistoryValue> row = history_values(r);
+  EXPECT_EQ(row.back().value, r.part_tangential_force[3]);
+  EXPECT_EQ(row[row.size() - 3].value, r.part_force[1]);
 }
 
 }  // namespace

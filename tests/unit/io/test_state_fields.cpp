@@ -6,6 +6,7 @@
 #include "io/checkpoint.hpp"
 #include "io/checkpoint_file.hpp"
 #include "io/state_fields.hpp"
+#include "test_files.hpp"
 
 #include <gtest/gtest.h>
 
@@ -20,19 +21,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-fs::path fresh_dir(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("vpc_fields_" + name + "_" + std::to_string(::getpid()));
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
-
-std::string read_text(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+fs::path fresh_dir(const std::string& name) { return test::fresh_dir("vpc_fields_", name); }
+std::string read_text(const fs::path& p) { return test::read_bytes(p); }
 
 /// The state of a small run with λ made a block of b numbers per contact node (the
 /// normal force first, then b − 1 numbers of its own), as a law with friction would.
@@ -101,14 +91,8 @@ TEST(StateFields, LambdaBlockIsAPointFieldOfBComponents) {
 TEST(StateFields, CheckpointStoresTheBlockAndRefusesAnother) {
   TimeStepper s(load_case("paper-2d", {.steps = 4}, {.cells = 10}).problem);
   s.step();
-  Checkpoint c;
-  c.case_name = s.problem().name;
-  c.fingerprint = problem_fingerprint(s);
-  c.problem_key = problem_key(s);
-  c.snapshot = s.snapshot();
+  Checkpoint c = test::checkpoint_of(s);
   c.snapshot.state = with_block(s, 2);
-  c.times = s.times();
-  c.step_control = s.step_control_state().values();
   const fs::path dir = fresh_dir("ckpt_block");
   const fs::path file = write_checkpoint(dir, c);
   const Checkpoint back = read_checkpoint(file);
