@@ -238,7 +238,7 @@ class ActiveSetContactSolver final : public ContactSolver {
   ActiveSetContactSolver(std::shared_ptr<const la::SpdOperator> K, std::shared_ptr<const la::LinearSolver> factor,
                          ContactConstraints c, double max_cached_share)
       : K_(std::move(K)), c_(std::move(c)), factor_(std::move(factor)) {
-    if (c_.frictional()) set_up_blocks();
+    if (c_.frictional()) B_ = friction_rows(c_, B_rows_);
     Eigen::MatrixXd S = factor_->has_halves() ? dual_matrix_from_halves(max_cached_share)
                                               : dual_matrix_from_solves(max_cached_share);
     S = 0.5 * (S + S.transpose()).eval();
@@ -259,11 +259,11 @@ class ActiveSetContactSolver final : public ContactSolver {
     for (Eigen::Index j = 0; j < compliance_.size(); ++j)
       if (const ContactLaw* law = row_laws_[static_cast<std::size_t>(j)]; !law->rigid())
         S(j * b, j * b) += law->spring_compliance(compliance_[j]);
-    if (c_.frictional()) set_up_friction(S);
+    if (c_.frictional()) sets_ = friction_sets(comm(), c_, row_laws_, S);
     S_ = std::make_unique<DenseBoxQpOperator>(std::move(S));
   }
 
-  // With friction N below is B = [N; T] and g is [g; h] (set_up_blocks), m is m × block.
+  // With friction N below is B = [N; T] and g is [g; h] (friction_rows), m is m × block.
   ContactReport solve(const Vector& F, Vector& u, Vector& lambda) override {
     const int m = unknowns();
     if (lambda.size() != m) lambda = Vector::Zero(m);
@@ -334,16 +334,7 @@ class ActiveSetContactSolver final : public ContactSolver {
   const SparseMatrix& B() const { return c_.frictional() ? B_ : c_.N; }
   const std::vector<int>& rows() const { return c_.frictional() ? B_rows_ : c_.rows; }
   /// g (or [g; h]) of this rank's rows of B.
-  Vector offsets() const {
-    if (!c_.frictional()) return c_.gap;
-    const int b = c_.block, t = b - 1;
-    Vector o(B_.rows());
-    for (Eigen::Index k = 0; k < c_.gap.size(); ++k) {
-      o[k * b] = c_.gap[k];
-      for (int j = 0; j < t; ++j) o[k * b + 1 + j] = c_.shift[k * t + j];
-    }
-    return o;
-  }
+  Vector offsets() const { return c_.frictional() ? friction_offsets(c_) : c_.gap; }
   /// The unknowns of λ (all of them, the same on every rank) from this rank's rows' values, and back.
   Vector replicated(const Vector& local) const {
     if (!c_.frictional()) return replicate(comm(), c_, local);
@@ -357,57 +348,6 @@ class ActiveSetContactSolver final : public ContactSolver {
     Vector l(static_cast<Eigen::Index>(B_rows_.size()));
     for (std::size_t k = 0; k < B_rows_.size(); ++k) l[static_cast<Eigen::Index>(k)] = lambda[B_rows_[k]];
     return l;
-  }
-
-  /// B = [N; T] row by row in λ's order, and each row's place in λ (rows[k] × block + j).
-  void set_up_blocks() {
-    const int b = c_.block, t = b - 1;
-    const auto n_rows = static_cast<Eigen::Index>(c_.rows.size());
-    require(c_.T.rows() == n_rows * t && c_.T.cols() == c_.N.cols() && c_.mu.size() == n_rows &&
-                c_.tresca.size() == n_rows && c_.shift.size() == n_rows * t &&
-                c_.tangent_dof.size() == static_cast<std::size_t>(n_rows * t),
-            "internal: friction's tangents ({} x {}), {} mu, {} bounds, {} shifts, {} tangent dofs for {} contact "
-            "rows of {} tangents (set_tangents)",
-            c_.T.rows(), c_.T.cols(), c_.mu.size(), c_.tresca.size(), c_.shift.size(), c_.tangent_dof.size(), n_rows, t);
-    std::vector<Eigen::Triplet<double>> e;
-    for (int k = 0; k < c_.N.outerSize(); ++k)
-      for (SparseMatrix::InnerIterator it(c_.N, k); it; ++it)
-        e.emplace_back(static_cast<int>(it.row()) * b, static_cast<int>(it.col()), it.value());
-    for (int k = 0; k < c_.T.outerSize(); ++k)
-      for (SparseMatrix::InnerIterator it(c_.T, k); it; ++it) {
-        const auto r = static_cast<int>(it.row());
-        e.emplace_back(r / t * b + 1 + r % t, static_cast<int>(it.col()), it.value());
-      }
-    B_.resize(n_rows * b, c_.N.cols());
-    B_.setFromTriplets(e.begin(), e.end());
-    for (const int row : c_.rows)
-      for (int j = 0; j < b; ++j) B_rows_.push_back(row * b + j);
-  }
-
-  /// Each node's sets (friction_dual.hpp), replicated; a missing tangent's row and column of S
-  /// are zero (a zero row of T): 1 on its diagonal keeps S definite, its λ_τ is held at 0.
-  void set_up_friction(Eigen::MatrixXd& S) {
-    const int m = c_.m, b = c_.block, t = b - 1;
-    sets_.block = b;
-    sets_.lo = Vector::Zero(m);
-    sets_.hi = Vector::Constant(m, std::numeric_limits<double>::infinity());
-    for (std::size_t j = 0; j < row_laws_.size(); ++j) {
-      sets_.lo[static_cast<Eigen::Index>(j)] = row_laws_[j]->dual_lower();
-      sets_.hi[static_cast<Eigen::Index>(j)] = row_laws_[j]->dual_upper();
-    }
-    Vector has(c_.T.rows());
-    for (Eigen::Index k = 0; k < has.size(); ++k) has[k] = c_.tangent_dof[static_cast<std::size_t>(k)] >= 0;
-    const Vector all = replicate_blocks(comm(), c_, c_.mu, has);
-    sets_.mu.resize(m);
-    sets_.tangent.assign(static_cast<std::size_t>(m * t), 0);
-    for (int i = 0; i < m; ++i) {
-      sets_.mu[i] = all[i * b];
-      for (int j = 0; j < t; ++j) {
-        const int k = i * b + 1 + j;
-        sets_.tangent[static_cast<std::size_t>(i * t + j)] = all[k] != 0;
-        if (all[k] == 0) S(k, k) = 1;
-      }
-    }
   }
 
   /// With K = PᵀLLᵀP: Y = L⁻¹PNᵀ (the forward half of K⁻¹Nᵀ) and S = N K⁻¹Nᵀ = YᵀY,
@@ -467,7 +407,7 @@ class ActiveSetContactSolver final : public ContactSolver {
   std::vector<const ContactLaw*> row_laws_;  // every row's law (replicated); empty: Signorini
   Vector compliance_;                        // every row's 1/k_i (replicated), with row_laws_
   bool nonlinear_ = false;                   // some row's law is not linear
-  SparseMatrix B_;              // with friction: [N; T] in λ's order (set_up_blocks)
+  SparseMatrix B_;              // with friction: [N; T] in λ's order (friction_rows)
   std::vector<int> B_rows_;     // its rows' places in λ
   FrictionDualSets sets_;       // with friction: each node's sets, replicated
   SparseMatrix Y_;     // L⁻¹PNᵀ (factors with halves), or empty

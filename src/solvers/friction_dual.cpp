@@ -172,6 +172,69 @@ BoxQpResult newton(const Eigen::MatrixXd& S, const Vector& b, const FrictionDual
 
 }  // namespace
 
+SparseMatrix friction_rows(const ContactConstraints& c, std::vector<int>& places) {
+  const int b = c.block, t = b - 1;
+  const auto n_rows = static_cast<Eigen::Index>(c.rows.size());
+  require(c.T.rows() == n_rows * t && c.T.cols() == c.N.cols() && c.mu.size() == n_rows && c.tresca.size() == n_rows &&
+              c.shift.size() == n_rows * t && c.tangent_dof.size() == static_cast<std::size_t>(n_rows * t),
+          "internal: friction's tangents ({} x {}), {} mu, {} bounds, {} shifts, {} tangent dofs for {} contact rows "
+          "of {} tangents (set_tangents)",
+          c.T.rows(), c.T.cols(), c.mu.size(), c.tresca.size(), c.shift.size(), c.tangent_dof.size(), n_rows, t);
+  std::vector<Eigen::Triplet<double>> e;
+  for (int k = 0; k < c.N.outerSize(); ++k)
+    for (SparseMatrix::InnerIterator it(c.N, k); it; ++it)
+      e.emplace_back(static_cast<int>(it.row()) * b, static_cast<int>(it.col()), it.value());
+  for (int k = 0; k < c.T.outerSize(); ++k)
+    for (SparseMatrix::InnerIterator it(c.T, k); it; ++it) {
+      const auto r = static_cast<int>(it.row());
+      e.emplace_back(r / t * b + 1 + r % t, static_cast<int>(it.col()), it.value());
+    }
+  SparseMatrix B(n_rows * b, c.N.cols());
+  B.setFromTriplets(e.begin(), e.end());
+  places.clear();
+  for (const int row : c.rows)
+    for (int j = 0; j < b; ++j) places.push_back(row * b + j);
+  return B;
+}
+
+Vector friction_offsets(const ContactConstraints& c) {
+  const int b = c.block, t = b - 1;
+  Vector o(c.gap.size() * b);
+  for (Eigen::Index k = 0; k < c.gap.size(); ++k) {
+    o[k * b] = c.gap[k];
+    for (int j = 0; j < t; ++j) o[k * b + 1 + j] = c.shift[k * t + j];
+  }
+  return o;
+}
+
+FrictionDualSets friction_sets(const la::Comm& comm, const ContactConstraints& c,
+                               const std::vector<const ContactLaw*>& laws, Eigen::MatrixXd& S) {
+  const int m = c.m, b = c.block, t = b - 1;
+  FrictionDualSets f;
+  f.block = b;
+  f.lo = Vector::Zero(m);
+  f.hi = Vector::Constant(m, std::numeric_limits<double>::infinity());
+  for (std::size_t j = 0; j < laws.size(); ++j) {
+    f.lo[static_cast<Eigen::Index>(j)] = laws[j]->dual_lower();
+    f.hi[static_cast<Eigen::Index>(j)] = laws[j]->dual_upper();
+  }
+  Vector has(c.T.rows());
+  for (Eigen::Index k = 0; k < has.size(); ++k) has[k] = c.tangent_dof[static_cast<std::size_t>(k)] >= 0;
+  const Vector all = replicate_blocks(comm, c, c.mu, has);
+  f.mu.resize(m);
+  f.tresca = Vector::Zero(m);
+  f.tangent.assign(static_cast<std::size_t>(m * t), 0);
+  for (int i = 0; i < m; ++i) {
+    f.mu[i] = all[i * b];
+    for (int j = 0; j < t; ++j) {
+      const int k = i * b + 1 + j;
+      f.tangent[static_cast<std::size_t>(i * t + j)] = all[k] != 0;
+      if (all[k] == 0) S(k, k) = 1;
+    }
+  }
+  return f;
+}
+
 bool FrictionDualSets::coulomb() const { return mu.size() > 0 && mu.maxCoeff() > 0; }
 
 void tresca_box(const FrictionDualSets& f, Vector& lo, Vector& hi) {

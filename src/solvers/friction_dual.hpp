@@ -9,6 +9,7 @@
 // a convex QP (in 2D a box QP), Coulomb a quasi-variational one, solved exactly as well.
 // A linear compliance law's λ_ν = k d₊ adds 1/k to S's normal diagonal (the caller does).
 #include "solvers/box_qp.hpp"
+#include "solvers/contact_solver.hpp"
 
 #include <vector>
 
@@ -43,6 +44,17 @@ struct FrictionDualSets {
 /// `iterations` counts Newton steps (reduced solves for the box QP).
 BoxQpResult solve_friction_dual(DenseBoxQpOperator& S, const Vector& b, const FrictionDualSets& sets, Vector& lambda,
                                 int max_iterations = 100);
+
+/// B = [N; T] of this rank's rows, node by node in λ's order (the normal, then the tangents), and
+/// each row's place in λ (`places`: rows[k] × block + j). Checks friction's data of `c`.
+SparseMatrix friction_rows(const ContactConstraints& c, std::vector<int>& places);
+/// [g; h] of those rows.
+Vector friction_offsets(const ContactConstraints& c);
+/// Each node's sets, replicated (collective); `laws`: every row's normal law (empty: Signorini).
+/// A missing tangent's row and column of S are zero (a zero row of T): 1 on its diagonal keeps
+/// S definite, and its λ_τ is held at 0.
+FrictionDualSets friction_sets(const la::Comm& comm, const ContactConstraints& c,
+                               const std::vector<const ContactLaw*>& laws, Eigen::MatrixXd& S);
 
 /// The box of 2D Tresca's QP (exposed for tests).
 void tresca_box(const FrictionDualSets& sets, Vector& lo, Vector& hi);

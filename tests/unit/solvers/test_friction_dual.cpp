@@ -19,6 +19,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -88,12 +89,35 @@ Vector slide_shift(const FrictionBlock& b, const std::vector<double>& along) {
   return h;
 }
 
+/// K and its factor, as the stepper holds them.
+struct Factored {
+  std::shared_ptr<const la::SpdOperator> K;
+  std::shared_ptr<la::LinearSolver> factor;
+  explicit Factored(const SparseMatrix& A)
+      : K(std::make_shared<const la::SparseOperator>(A)), factor(la::serial_backend()->factor("K")) {
+    factor->factorize(*K, "block stiffness");
+  }
+  std::unique_ptr<ContactSolver> solver(const std::string& name, const ContactConstraints& c,
+                                        const ContactSolverOptions& opt = {}) const {
+    return make_contact_solver(name, K, factor, c, la::factor_factory(la::serial_backend()), opt);
+  }
+};
+
 std::unique_ptr<ContactSolver> dual_solver(const ContactConstraints& c, const SparseMatrix& K,
                                            const ContactSolverOptions& opt = {}) {
-  auto op = std::make_shared<const la::SparseOperator>(K);
-  std::shared_ptr<la::LinearSolver> factor = la::serial_backend()->factor("K");
-  factor->factorize(*op, "block stiffness");
-  return make_contact_solver("active-set", op, factor, c, la::factor_factory(la::serial_backend()), opt);
+  return Factored(K).solver("active-set", c, opt);
+}
+
+/// One 3D node (both tangents) with Coulomb's μ, Signorini's λ_ν ≥ 0.
+FrictionDualSets one_node_sets(double mu) {
+  FrictionDualSets sets;
+  sets.block = 3;
+  sets.lo = Vector::Zero(1);
+  sets.hi = Vector::Constant(1, std::numeric_limits<double>::infinity());
+  sets.tresca = Vector::Zero(1);
+  sets.mu = Vector::Constant(1, mu);
+  sets.tangent = {1, 1};
+  return sets;
 }
 
 struct Solved {
@@ -307,12 +331,7 @@ TEST(FrictionDual, CachedAndUncachedSolvesAgreeAndWarmStartsStop) {
 
 TEST(FrictionDual, PenaltyDualityRefusesFrictionNamingTheSolversThatCan) {
   const FrictionBlock b = make_friction_block(2, 0.3);
-  auto op = std::make_shared<const la::SparseOperator>(b.K);
-  std::shared_ptr<la::LinearSolver> factor = la::serial_backend()->factor("K");
-  factor->factorize(*op, "block stiffness");
-  const std::string e = error_of([&] {
-    make_contact_solver("penalty-duality", op, factor, b.c, la::factor_factory(la::serial_backend()));
-  });
+  const std::string e = error_of([&] { Factored(b.K).solver("penalty-duality", b.c); });
   EXPECT_NE(e.find("frictionless contact only"), std::string::npos) << e;
   EXPECT_NE(e.find("'active-set'"), std::string::npos) << e;
   EXPECT_NE(e.find("'primal-active-set'"), std::string::npos) << e;
@@ -332,13 +351,7 @@ TEST(FrictionDual, AutomaticChoiceCountsTheTangentialUnknowns) {
 // detects each violated condition (so the solver's convergence test is not vacuous).
 TEST(FrictionDual, AlartCurnierResidualOfOneNode) {
   // One 3D node, S = I: λ = P(b) with bound μ b_ν.
-  FrictionDualSets sets;
-  sets.block = 3;
-  sets.lo = Vector::Zero(1);
-  sets.hi = Vector::Constant(1, std::numeric_limits<double>::infinity());
-  sets.tresca = Vector::Zero(1);
-  sets.mu = Vector::Constant(1, 0.5);
-  sets.tangent = {1, 1};
+  const FrictionDualSets sets = one_node_sets(0.5);
   const Eigen::MatrixXd S = Eigen::MatrixXd::Identity(3, 3);
   const Vector b = (Vector(3) << 2, 3, 4).finished();  // |b_τ| = 5 > μ b_ν = 1: slip
   DenseBoxQpOperator op(S);
@@ -356,6 +369,82 @@ TEST(FrictionDual, AlartCurnierResidualOfOneNode) {
   }
 }
 
+// Coulomb over a range of μ (up to 2, where the normal–tangential coupling of S is strongest
+// against the bound) and slides, 2D and 3D: converged, every residual ≤ 1e-10, few iterations.
+TEST(FrictionDual, CoulombConvergesOverMuAndSlides) {
+  for (const int dim : {2, 3})
+    for (const double mu : {0.05, 0.3, 1.0, 2.0})
+      for (const double slide : {0.001, 0.005, 0.02}) {
+        SCOPED_TRACE(fmt::format("{}D mu {} slide {}", dim, mu, slide));
+        FrictionBlock b = make_friction_block(dim, mu);
+        std::vector<double> along(static_cast<std::size_t>(dim - 1), slide);
+        const Solved s = solve(b, Vector::Zero(b.m()), slide_shift(b, along));
+        EXPECT_LE(s.rep.iterations, 20);
+      }
+}
+
+// (6) The primal solver (Hüeber–Stadler–Wohlmuth's active set on u, solvers/primal_friction)
+// gives the same u and λ to 1e-9. Variants: 0 Coulomb μ = 0.3, 1 μ = 1, 2 Tresca, 3 μ = 0.3
+// with a symmetry plane.
+void expect_primal_agrees(int dim, int variant) {
+  SCOPED_TRACE(fmt::format("{}D variant {}", dim, variant));
+  FrictionBlock b = make_friction_block(dim, variant == 1 ? 1.0 : 0.3, 4, variant == 3);
+  std::vector<double> along(static_cast<std::size_t>(dim - 1), 0.003);
+  along[0] = 0.005;
+  const Vector h = slide_shift(b, along);
+  Vector tresca = Vector::Zero(b.m());
+  if (variant == 2) {  // Tresca: a bound of the size of the Coulomb forces
+    b.c.mu.setZero();
+    tresca.setConstant(0.3 * 0.01);
+  }
+  const Solved dual = solve(b, tresca, h);
+  auto primal = Factored(b.K).solver("primal-active-set", b.c);
+  primal->set_friction(tresca, h);
+  Vector u, lambda;
+  const ContactReport rep = primal->solve(b.F, u, lambda);
+  ASSERT_TRUE(rep.converged) << contact_failure(rep, 1e-10);
+  EXPECT_EQ(rep.n_slip, dual.rep.n_slip);
+  EXPECT_LE((u - dual.u).cwiseAbs().maxCoeff(), 1e-9 * dual.u.cwiseAbs().maxCoeff());
+  EXPECT_LE((lambda - dual.lambda).cwiseAbs().maxCoeff(), 1e-9 * dual.lambda.cwiseAbs().maxCoeff());
+}
+
+TEST(FrictionDual, AgreesWithThePrimalSolver) {
+  for (const int variant : {0, 1, 2, 3}) expect_primal_agrees(2, variant);
+  for (const int variant : {1, 2}) expect_primal_agrees(3, variant);
+}
+
+// Disabled: on this 3D block at μ = 0.3 with partial slip the primal solver stops at its
+// 200-iteration limit (friction-bound residual ~0.1), where the dual converges in ~7 Newton
+// steps with every residual ≤ 1e-10 (issue 28, reported to the primal's side). Enable it once
+// the primal converges there (--gtest_also_run_disabled_tests).
+TEST(FrictionDual, DISABLED_AgreesWithThePrimalSolverIn3DAtMu03) {
+  for (const int variant : {0, 3}) expect_primal_agrees(3, variant);
+}
+
+// Stopped before it converges, the Newton iteration says so (the step control then retries).
+TEST(FrictionDual, UnconvergedNewtonSaysSo) {
+  FrictionBlock b = make_friction_block(3, 0.3);
+  auto solver = dual_solver(b.c, b.K);
+  solver->set_friction(Vector::Zero(b.m()), slide_shift(b, {0.004, 0.0}));
+  Vector u, lambda;
+  const ContactReport rep = solver->solve(b.F, u, lambda);
+  ASSERT_TRUE(rep.converged);
+  ASSERT_GE(rep.iterations, 2);
+  // The same dual, one Newton step from 0: not converged, its residual above the tolerance.
+  const Eigen::MatrixXd S = Eigen::MatrixXd::Identity(3, 3) + Eigen::MatrixXd::Constant(3, 3, 0.4);
+  const FrictionDualSets sets = one_node_sets(0.5);
+  DenseBoxQpOperator op(S);
+  const Vector rhs = (Vector(3) << 2, 3, 4).finished();
+  Vector l;
+  const BoxQpResult one = solve_friction_dual(op, rhs, sets, l, 1);
+  EXPECT_FALSE(one.converged);
+  EXPECT_GT(one.kkt_residual, 1e-13);
+  Vector l2;
+  const BoxQpResult all = solve_friction_dual(op, rhs, sets, l2);
+  EXPECT_TRUE(all.converged);
+  EXPECT_LE(friction_dual_residual(S, rhs, sets, l2), 1e-13);
+}
+
 // A measurement, not a timed test (--gtest_also_run_disabled_tests): the set-up of the dual
 // (S from Y = L⁻¹PBᵀ) with the m normal rows against the m × d rows of friction, on the same
 // factor, and the Newton iterations of a block pressed and then slid in 5 steps (warm starts).
@@ -364,19 +453,17 @@ TEST(FrictionDual, DISABLED_MeasureSetUpAndIterations) {
   auto seconds = [](Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); };
   for (const auto& [dim, n] : {std::pair{2, 64}, std::pair{2, 256}, std::pair{3, 8}, std::pair{3, 16}, std::pair{3, 24}}) {
     FrictionBlock b = make_friction_block(dim, 0.3, n);
-    auto op = std::make_shared<const la::SparseOperator>(b.K);
-    std::shared_ptr<la::LinearSolver> factor = la::serial_backend()->factor("K");
-    factor->factorize(*op, "block stiffness");
+    const Factored K(b.K);
     ContactConstraints normal_only;
     normal_only.m = b.c.m;
     normal_only.rows = b.c.rows;
     normal_only.N = b.c.N;
     normal_only.gap = b.c.gap;
     auto t0 = Clock::now();
-    auto plain = make_contact_solver("active-set", op, factor, normal_only, la::factor_factory(la::serial_backend()));
+    auto plain = K.solver("active-set", normal_only);
     const double t_plain = seconds(t0);
     t0 = Clock::now();
-    auto friction = make_contact_solver("active-set", op, factor, b.c, la::factor_factory(la::serial_backend()));
+    auto friction = K.solver("active-set", b.c);
     const double t_friction = seconds(t0);
     Vector u, lambda;
     std::string iterations;
