@@ -271,7 +271,12 @@ INPUTS = [
     ("a 1 MB formula", {"c.toml": case('gap = "0.001*x"', 'gap = "0.001*x' + " + x" * 200_000 + ' + q"')},
      ["c.toml"]),
     ("control characters (ESC, BEL) in a string", {"c.toml": case('contact = "patch"', 'contact = "\\u001b[31mpatch\\u0007"')},
+     ["c.toml"]),    ("Coulomb friction coefficient below 0", {}, ["shear-2d", "--set", "contact.mu=-0.3"]),
+    ("friction coefficient without friction = \"coulomb\"", {"c.toml": case('gap = "0.001*x"', 'gap = "0.001*x"\nmu = 0.3')},
      ["c.toml"]),
+    ("Tresca bound that is NaN for t > 0.5",
+     {"c.toml": case('gap = "0.001*x"', 'gap = "0.001*x"\nfriction = "tresca"\nfriction_bound = "t > 0.5 ? sqrt(-1) : 1"')},
+     ["run", "c.toml", "--no-vtu", "-o", "out"]),
 ]
 
 
