@@ -90,6 +90,12 @@ std::vector<std::string> friction_law_names() {
 
 std::vector<std::string> friction_keys() { return {"mu", "friction_bound"}; }
 
+std::vector<std::string> friction_law_keys(const std::string& name) {
+  if (name == "coulomb") return {"mu"};
+  if (name == "tresca") return {"friction_bound"};
+  return {};
+}
+
 std::shared_ptr<const FrictionLaw> make_friction_law(const std::string& name, FrictionKeys& keys) {
   for (const auto& [n, make] : table())
     if (n == name) return make(keys);

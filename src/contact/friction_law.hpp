@@ -86,5 +86,8 @@ std::shared_ptr<const FrictionLaw> make_friction_law(const std::string& name, Fr
 /// The keys each friction law reads ("mu", "friction_bound"), for the messages of a key given to
 /// the wrong law.
 std::vector<std::string> friction_keys();
+/// The keys the law `name` reads ({"mu"} for Coulomb; none for "none" or an unknown name): what
+/// `--set contact.friction=...` drops of the old law.
+std::vector<std::string> friction_law_keys(const std::string& name);
 
 }  // namespace vpc

@@ -353,9 +353,10 @@ std::vector<std::string> replaced_keys(const std::string& section, const std::st
   return out;
 }
 
-/// The parameters that a change of law or damage source drops: those of the old
+/// The parameters that a change of law, damage source or friction law drops: those of the old
 /// one that the new one does not take (`--set viscoplasticity.law=elastic` on a
-/// Perzyna case drops lambda and sigma_y); also in [[material]] sections.
+/// Perzyna case drops lambda and sigma_y; `--set contact.friction=tresca` drops mu); also in
+/// [[material]] and [[contact.part]] sections.
 std::vector<std::string> replaced_parameters(const std::string& section, const std::string& key, const toml::table& t,
                                              const toml::node& value) {
   const std::string last = section.substr(section.rfind('.') + 1);  // "material[0].viscoplasticity": viscoplasticity
@@ -367,6 +368,9 @@ std::vector<std::string> replaced_parameters(const std::string& section, const s
   } else if (last == "damage" && key == "source") {
     parameters = damage_source_parameters;
     old_name = t["source"].value_or(std::string("zero"));
+  } else if ((last == "contact" || last.starts_with("part[")) && key == "friction") {  // [contact], [[contact.part]]
+    parameters = friction_law_keys;
+    old_name = t["friction"].value_or(std::string("none"));
   }
   const auto new_name = value.value<std::string>();
   if (!parameters || !new_name || *new_name == old_name) return {};

@@ -69,6 +69,10 @@ TEST(FrictionLaw, CoulombAndTrescaFromTheCaseFile) {
   text.replace(text.find("friction = \"coulomb\"\nmu = 0.3"), std::string("friction = \"coulomb\"\nmu = 0.3").size(),
                "friction = \"tresca\"\nfriction_bound = \"2*x + t\"");
   c = parse_case(text, "f.toml", ".");
+  // --set of another friction law drops the old law's keys (as a change of material law does).
+  const Case switched = parse_case(kCase, "f.toml", ".", {.sets = {"contact.friction=\"tresca\"", "contact.friction_bound=2"}});
+  EXPECT_EQ(switched.problem->contact.friction->name(), "tresca");
+  EXPECT_EQ(parse_case(kCase, "f.toml", ".", {.sets = {"contact.friction=\"none\""}}).problem->contact.friction, nullptr);
   const FrictionLaw& tresca = *c.problem->contact.friction;
   EXPECT_EQ(tresca.name(), "tresca");
   EXPECT_TRUE(tresca.bound_moves());
@@ -110,7 +114,10 @@ TEST(FrictionLaw, BadInputsAreLocatedErrors) {
   };
   has(error_of(kCase, {"contact.mu=-0.1"}), "expected a friction coefficient mu >= 0, got -0.1");
   has(error_of(kCase, {"contact.friction=\"colomb\""}), "unknown value 'colomb'; expected one of: none, coulomb, tresca");
-  has(error_of(kCase, {"contact.friction=\"tresca\""}), "f.toml:29:6: contact.mu: mu does not belong to friction = \"tresca\"");
+  has(error_of(kCase, {"contact.friction=\"tresca\""}), "missing key friction_bound (a friction bound (a traction)");
+  std::string tresca_with_mu = kCase;
+  tresca_with_mu.replace(tresca_with_mu.find("\"coulomb\""), 9, "\"tresca\"");
+  has(error_of(tresca_with_mu), "f.toml:29:6: contact.mu: mu does not belong to friction = \"tresca\"");
   has(error_of(kCase, {"contact.mu=\"0.3*t\""}), "Available variables: x, y, z");  // μ is a function of x only
   std::string no_friction = kCase;
   no_friction.replace(no_friction.find("friction = \"coulomb\"\n"), std::string("friction = \"coulomb\"\n").size(), "");
