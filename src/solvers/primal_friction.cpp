@@ -23,6 +23,7 @@ PrimalFriction::PrimalFriction(const ContactConstraints& c, const Vector& diagon
     scale_.push_back(n ? sum / n : 0.0);
   }
   stick_.assign(rows, 0);
+  spring_.assign(rows, 0.0);
   force_ = Vector::Zero(static_cast<Eigen::Index>(dof_.size()));
 }
 
@@ -33,17 +34,19 @@ void PrimalFriction::start(const ContactConstraints& c, const std::vector<char>&
   last_force_ = Vector();
   for (std::size_t i = 0; i < stick_.size(); ++i) {
     const auto e = static_cast<Eigen::Index>(i);
+    const bool slipped = !stick_[i] && spring_[i] > 0;
     stick_[i] = 0;
-    if (!active[i]) continue;
-    if (tangential.size() == force_.size() && normal[e] > 0) {
+    if (active[i] && tangential.size() == force_.size() && normal[e] > 0) {
       const auto l = tangential.segment(e * t_, t_);
       const double bound = c.bound(e, normal[e]), norm = l.norm();
       if (contact_status(normal[e], norm, bound) == ContactStatus::Slip) {
         if (norm > 0) force_.segment(e * t_, t_) = bound / norm * l;
+        if (!slipped) spring_[i] = 0;  // else the last solve's spring: Newton's from the first iterate
         continue;
       }
     }
-    stick_[i] = c.tresca[e] > 0 || c.mu[e] > 0;
+    spring_[i] = 0;
+    stick_[i] = active[i] && (c.tresca[e] > 0 || c.mu[e] > 0);
   }
 }
 
@@ -54,27 +57,56 @@ void PrimalFriction::fix(std::vector<char>& fixed) const {
         if (const int dof = dof_[i * t_ + j]; dof >= 0) fixed[dof] = 1;
 }
 
+Eigen::MatrixXd PrimalFriction::across(std::size_t i) const {
+  // k (I − nnᵀ) over the row's tangents that have a dof (n = the slip force's direction).
+  Eigen::MatrixXd P = Eigen::MatrixXd::Zero(t_, t_);
+  const auto f = force_.segment(static_cast<Eigen::Index>(i) * t_, t_);
+  if (stick_[i] || !(spring_[i] > 0) || !(f.norm() > 0)) return P;
+  const Vector n = f / f.norm();
+  P = spring_[i] * (Eigen::MatrixXd::Identity(t_, t_) - n * n.transpose());
+  for (int j = 0; j < t_; ++j)
+    if (dof_[i * t_ + j] < 0) P.row(j).setZero(), P.col(j).setZero();
+  return P;
+}
+
+void PrimalFriction::springs(std::vector<Eigen::Triplet<double>>& out) const {
+  for (std::size_t i = 0; i < stick_.size(); ++i) {
+    if (stick_[i] || !(spring_[i] > 0)) continue;
+    const Eigen::MatrixXd P = across(i);
+    for (int a = 0; a < t_; ++a)
+      for (int b = 0; b < t_; ++b)
+        if (P(a, b) != 0) out.emplace_back(dof_[i * t_ + a], dof_[i * t_ + b], P(a, b));
+  }
+}
+
 void PrimalFriction::load(const ContactConstraints& c, Vector& rhs, Vector& fixed_values) const {
   for (std::size_t i = 0; i < stick_.size(); ++i) {
+    const auto e = static_cast<Eigen::Index>(i);
+    // The body gets −λ_τ = −s n − k(I − nnᵀ)(w − h): the spring is in the matrix, the rest here.
+    const Vector pull = stick_[i] ? Vector() : Vector(across(i) * c.shift.segment(e * t_, t_));
     for (int j = 0; j < t_; ++j) {
-      const auto k = static_cast<Eigen::Index>(i * t_ + j);
+      const auto k = e * t_ + j;
       const int dof = dof_[static_cast<std::size_t>(k)];
       if (dof < 0) continue;
       if (stick_[i])
         fixed_values[dof] = c.shift[k];
       else
-        rhs[dof] -= force_[k];
+        rhs[dof] += pull[j] - force_[k];
     }
   }
 }
 
-Vector PrimalFriction::forces(const Vector& r) const {
+Vector PrimalFriction::forces(const ContactConstraints& c, const Vector& w, const Vector& r) const {
   Vector l = Vector::Zero(force_.size());
   for (std::size_t i = 0; i < stick_.size(); ++i) {
+    const auto e = static_cast<Eigen::Index>(i);
+    Vector slip = Vector::Zero(t_);
+    for (int j = 0; j < t_; ++j)
+      if (const int dof = dof_[i * t_ + j]; dof >= 0) slip[j] = w[dof] - c.shift[e * t_ + j];
+    const Vector spring = stick_[i] ? Vector() : Vector(across(i) * slip);
     for (int j = 0; j < t_; ++j) {
-      const auto k = static_cast<Eigen::Index>(i * t_ + j);
-      const int dof = dof_[static_cast<std::size_t>(k)];
-      if (dof >= 0) l[k] = stick_[i] ? r[dof] : force_[k];
+      const auto k = e * t_ + j;
+      if (const int dof = dof_[static_cast<std::size_t>(k)]; dof >= 0) l[k] = stick_[i] ? r[dof] : force_[k] + spring[j];
     }
   }
   return l;
@@ -85,6 +117,7 @@ PrimalFriction::Next PrimalFriction::next(const ContactConstraints& c, const Vec
   Next n;
   n.stick.assign(stick_.size(), 0);
   n.force = Vector::Zero(force_.size());
+  n.spring.assign(stick_.size(), 0.0);
   n.excess.assign(stick_.size(), -1.0);
   Vector q(t_);
   for (std::size_t i = 0; i < stick_.size(); ++i) {
@@ -101,15 +134,17 @@ PrimalFriction::Next PrimalFriction::next(const ContactConstraints& c, const Vec
     // round: q flips with the overshoot of a force that the body's stiffness cannot take, and the
     // row would swing from one direction to the other (a block dragged by its obstacle never
     // converged); from stick, its reaction decides. In 3D a direction turns continuously, and
-    // that rule makes rows near the stick zone chatter between stick and slip (a 3D block pressed
-    // with Poisson's spread never converged): there the secant step (secant()) damps q's turn.
+    // Newton's spring across it holds the turn.
     const auto used = force_.segment(e * t_, t_);
     const bool reversed = t_ == 1 && !stick_[i] && (q - used).dot(used) < 0;
     n.stick[i] = bound > 0 && (norm <= bound || reversed);
     if (n.stick[i]) continue;
     if (norm > 0) n.force.segment(e * t_, t_) = bound / norm * q;
+    // k = s c/(|q| − s), at most kMostSpring c: a row that only just slips is nearly stuck across
+    // its direction; beyond that bound the spring only slows the operator's conditioning.
+    if (t_ > 1 && bound > 0) n.spring[i] = std::min(bound * gamma_ * scale_[i] / (norm - bound), kMostSpring * scale_[i]);
     if (stick_[i]) n.excess[i] = norm - bound;
-    else n.change = std::max(n.change, (n.force.segment(e * t_, t_) - force_.segment(e * t_, t_)).cwiseAbs().maxCoeff());
+    else n.change = std::max(n.change, (n.force.segment(e * t_, t_) - tangential.segment(e * t_, t_)).cwiseAbs().maxCoeff());
   }
   return n;
 }
@@ -127,31 +162,28 @@ void PrimalFriction::slip_one(Next& next, const la::Comm& comm) const {
     if (next.excess[i] >= 0 && !(i == worst && most == global)) {
       next.stick[i] = 1;  // stays stick: its dofs stay fixed, no slip force
       next.force.segment(static_cast<Eigen::Index>(i) * t_, t_).setZero();
+      next.spring[i] = 0;
     }
 }
 
-void PrimalFriction::take(Next&& next) {
-  stick_ = std::move(next.stick);
-  force_ = std::move(next.force);
-}
-
-void PrimalFriction::secant(const ContactConstraints& c, const Vector& w, const la::Comm& comm, bool update) {
+void PrimalFriction::secant(const ContactConstraints& c, const Vector& w, const Vector& tangential, const la::Comm& comm,
+                            bool update) {
   Vector slip = Vector::Zero(force_.size());
   for (Eigen::Index k = 0; k < slip.size(); ++k)
     if (const int dof = dof_[static_cast<std::size_t>(k)]; dof >= 0) slip[k] = w[dof] - c.shift[k];
-  if (update && last_force_.size() == force_.size()) {
+  if (update && last_force_.size() == tangential.size()) {
     double sums[2] = {0, 0};
     for (std::size_t i = 0; i < stick_.size(); ++i) {
       if (stick_[i] || last_stick_[i] || !(scale_[i] > 0)) continue;  // rows that slip in both
       const auto e = static_cast<Eigen::Index>(i);
-      const Vector df = force_.segment(e * t_, t_) - last_force_.segment(e * t_, t_);
+      const Vector df = tangential.segment(e * t_, t_) - last_force_.segment(e * t_, t_);
       sums[0] += df.squaredNorm() / scale_[i];
       sums[1] -= df.dot(slip.segment(e * t_, t_) - last_slip_.segment(e * t_, t_));
     }
     comm.sum(sums, 2);
     if (sums[0] > 0 && sums[1] > 0) gamma_ = std::clamp(sums[0] / sums[1], 1e-3, 1.0);
   }
-  last_force_ = force_;
+  last_force_ = tangential;
   last_slip_ = slip;
   last_stick_ = stick_;
 }
@@ -163,37 +195,10 @@ void PrimalFriction::rescale(const Vector& bound) {
   }
 }
 
-Vector AndersonMixing::next(const la::Comm& comm, const Vector& x, const Vector& g) {
-  const Vector f = g - x;
-  if (x_last_.size() == x.size()) {
-    dx_.push_back(x - x_last_);
-    df_.push_back(f - f_last_);
-    if (static_cast<int>(df_.size()) > depth_) {
-      dx_.erase(dx_.begin());
-      df_.erase(df_.begin());
-    }
-  }
-  x_last_ = x;
-  f_last_ = f;
-  const auto m = static_cast<Eigen::Index>(df_.size());
-  if (m == 0) return g;
-  // γ = argmin ‖f − ΔF γ‖ by its normal equations (m ≤ depth numbers, the same on every rank).
-  std::vector<double> sums(static_cast<std::size_t>(m * (m + 1)));
-  for (Eigen::Index a = 0; a < m; ++a) {
-    for (Eigen::Index b = 0; b < m; ++b) sums[static_cast<std::size_t>(a * m + b)] = df_[a].dot(df_[b]);
-    sums[static_cast<std::size_t>(m * m + a)] = df_[a].dot(f);
-  }
-  comm.sum(sums.data(), static_cast<int>(sums.size()));
-  Eigen::MatrixXd A(m, m);
-  Vector rhs(m);
-  for (Eigen::Index a = 0; a < m; ++a) {
-    for (Eigen::Index b = 0; b < m; ++b) A(a, b) = sums[static_cast<std::size_t>(a * m + b)];
-    rhs[a] = sums[static_cast<std::size_t>(m * m + a)];
-  }
-  const Vector gamma = A.completeOrthogonalDecomposition().solve(rhs);
-  Vector out = g;
-  for (Eigen::Index a = 0; a < m; ++a) out -= gamma[a] * (dx_[a] + df_[a]);
-  return comm.all(out.allFinite()) ? out : g;
+void PrimalFriction::take(Next&& next) {
+  stick_ = std::move(next.stick);
+  force_ = std::move(next.force);
+  spring_ = std::move(next.spring);
 }
 
 std::vector<char> contact_sets(const std::vector<char>& active, const std::vector<char>& stick) {

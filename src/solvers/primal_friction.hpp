@@ -1,18 +1,22 @@
 #pragma once
-// Friction in the primal active-set solver (issue 28, SPEC §7): the tangential half of
-// Hüeber, Stadler & Wohlmuth's primal–dual active set ("A primal-dual active set algorithm for
+// Friction in the primal active-set solver (issue 28, SPEC §7): the tangential half of the
+// semismooth Newton method of Hüeber, Stadler & Wohlmuth ("A primal-dual active set algorithm for
 // three-dimensional contact problems with Coulomb friction", SIAM J. Sci. Comput. 30, 2008).
 //
-// In w = Qu each tangent j of a contact row i is one dof (ContactConstraints::tangent_dof) and
-// the slip increment is Δ_ij = w_j − h_ij. Each iteration keeps the system SPD, so that CG + AMG
-// still solve it: a STICK row fixes its tangential dofs at w_j = h_ij (Δ = 0; λ_τ is the reaction
-// there), a SLIP row gets a known force λ_τ,i = s_i d_i (the body gets −λ_τ: a right-hand side), a
-// row out of contact is free (λ_τ = 0). After a solve, with q_i = λ_τ,i + c_i Δ_i (c_i = K_rot's
-// diagonal at the row's tangent dofs, their mean) and HSW's bound s_i = tresca_i + μ_i max(0, λ_ν,i + c_ν,i (N_i u − g_i)):
-// stick where s_i > 0 and |q_i| ≤ s_i, else slip with the force s_i q_i / |q_i| (the Euclidean
-// norm: a disc in 3D). Only the stick set changes the matrix; new slip forces are a new
-// right-hand side on the same factor. Coulomb's bound takes this iteration's λ_ν: the slip forces
-// are iterated to their fixed point within the step (not lagged from the last step).
+// In w = Qu each tangent j of a contact row i is one dof (ContactConstraints::tangent_dof) and the
+// slip increment is Δ_ij = w_j − h_ij. With q_i = λ_τ,i + c_i Δ_i (c_i = K_rot's diagonal at the
+// row's tangent dofs, their mean) and the bound s_i, the friction law is λ_τ,i = P_{s_i}(q_i), the
+// projection onto the disc |λ| ≤ s_i. Newton's step linearizes P at the last iterate:
+//   STICK (|q_i| ≤ s_i): Δ_i = 0, the tangent dofs fixed at h_i (λ_τ their reaction);
+//   SLIP (|q_i| > s_i, n_i = q_i/|q_i|): λ_τ,i = s_i n_i + k_i (I − n_i n_iᵀ) Δ_i with
+//     k_i = s_i c_i / (|q_i| − s_i) (P's derivative (s/|q|)(I − nnᵀ) solved for the new λ_τ,i):
+//     a constant force along n_i and a spring across it, symmetric positive semidefinite, so the
+//     system stays SPD and CG + AMG still solve it. In 2D (one tangent) the spring vanishes.
+// Any k_i ≥ 0 has the same fixed points (there k_i (I − nnᵀ)Δ_i = 0: Δ_i ∥ n_i); Newton's k_i
+// makes the directions converge quadratically where the fixed point with k = 0 crawled (foundation-3d
+// sliding: 49 solves a step, and none at n = 20 past step 71). Coulomb's bound s_i = tresca_i +
+// μ_i λ_ν,i is taken from the last iterate (its λ_ν enters nonsymmetrically: lagged within the
+// step, iterated to the step's tolerance: Coulomb is exact per step, not lagged from the last step).
 #include "solvers/contact_solver.hpp"
 
 #include <vector>
@@ -21,7 +25,7 @@ namespace vpc {
 
 class PrimalFriction {
  public:
-  /// `diagonal`: K_rot's, for the c_i of the tangential update rule.
+  /// `diagonal`: K_rot's, for the c_i of the update rule.
   PrimalFriction(const ContactConstraints& c, const Vector& diagonal);
 
   /// The first sets of a solve: rows in contact (`active`) slip with the warm start's λ_τ where it
@@ -32,64 +36,59 @@ class PrimalFriction {
 
   /// Fixes the tangent dofs of the stick rows.
   void fix(std::vector<char>& fixed) const;
-  /// Stick rows: w_j = h_ij into `fixed_values`; slip rows: −λ_τ into `rhs`.
+  /// The slip rows' springs k_i (I − n_i n_iᵀ) on their tangent dofs (owned numbering).
+  void springs(std::vector<Eigen::Triplet<double>>& out) const;
+  /// Stick rows: w_j = h_ij into `fixed_values`; slip rows: −s_i n_i + k_i (I − n_i n_iᵀ) h_i into `rhs`.
   void load(const ContactConstraints& c, Vector& rhs, Vector& fixed_values) const;
-  /// λ_τ of this iterate (rows × (b − 1)): the reaction r = b − K_rot w at stick dofs, the force
-  /// used at slip ones, 0 where a tangent has no dof.
-  Vector forces(const Vector& r) const;
+  /// λ_τ of the iterate w (rows × (b − 1)): the reaction r = b − K_rot w at stick dofs, the
+  /// linearized law s n + k (I − nnᵀ) Δ at slip ones, 0 where a tangent has no dof.
+  Vector forces(const ContactConstraints& c, const Vector& w, const Vector& r) const;
 
   struct Next {
     std::vector<char> stick;  // per row
-    Vector force;             // the slip forces s_i d_i (0 at stick and free rows)
-    double change = 0;        // max |new − used slip force| over rows that slip before and after
+    Vector force;             // s_i n_i per slip row (0 at stick and free rows)
+    std::vector<double> spring;
+    double change = 0;           // max over rows that slip before and after of |new s n − this iterate's λ_τ|
     std::vector<double> excess;  // per row: |q_i| − s_i for stick rows the rule would let slip, else −1
   };
-  /// HSW's update from the iterate (w, λ_τ) with the bound s_i of each row (`bound`; 0 off contact).
+  /// Newton's next linearization from the iterate (w, λ_τ) with the bound s_i of each row (`bound`; 0 off contact).
   Next next(const ContactConstraints& c, const Vector& w, const Vector& tangential, const Vector& bound) const;
   /// Monotone (against cycling): of the stick rows that would slip, only the one with the largest
   /// excess over its bound (over every rank) does. Collective.
   void slip_one(Next& next, const la::Comm& comm) const;
+  /// The next linearization. (The springs change the matrix: a direct solver refactorizes at every
+  /// step of Newton's iteration. Kept from an earlier iterate, k (I − aaᵀ) with a ≠ n_i moves the
+  /// fixed point off the law's solution: the 3D test block then never converged.)
   void take(Next&& next);
-  /// Barzilai–Borwein's step for c (c_i γ): from the last two iterates, γ = Σ |δλ_τ|²/c_i /
+  /// Barzilai–Borwein's step for c (c_i γ): from the last two iterates (w, λ_τ `tangential`), γ = Σ |δλ_τ|²/c_i /
   /// (−Σ δλ_τ·δΔ) over the rows that slip in both (1/the Rayleigh quotient of their compliance),
-  /// at most 1, also across a change of the sets (only over the same sets, γ went stale while
-  /// the monotone rule changed one row an iteration: shipped shear-3d failed at t = 0.7; now its
-  /// 20 steps take 55 factorizations); kept where `update` is false (Anderson's map must hold still).
-  /// Collective.
-  void secant(const ContactConstraints& c, const Vector& w, const la::Comm& comm, bool update);
+  /// at most 1, also across a change of the sets; kept where `update` is false. Any c > 0 has the
+  /// same solution; Newton's iteration converges from farther with this one (the 3D test block
+  /// sheared non-uniformly: with c = K's diagonal the slip forces swung by half their size for
+  /// ever). Collective.
+  void secant(const ContactConstraints& c, const Vector& w, const Vector& tangential, const la::Comm& comm, bool update);
+
   /// The slip forces along their directions with new bounds (a zero force stays zero).
   void rescale(const Vector& bound);
 
   const std::vector<char>& stick() const { return stick_; }
-  const Vector& force() const { return force_; }
+  const std::vector<double>& spring() const { return spring_; }
 
  private:
-  int t_ = 0;                  // tangents per row
-  std::vector<int> dof_;       // per row × t_: the tangent dof, −1 where none
-  std::vector<double> scale_;  // per row: c of the update rule
-  std::vector<char> stick_;    // per row
-  Vector force_;               // per row × t_: the slip forces used
-  double gamma_ = 1;           // c_i γ in the update rule (secant)
+  /// Newton's spring at most this many times c: a row that only just slips is nearly stuck across its direction.
+  static constexpr double kMostSpring = 1e4;
+  /// Row i's spring k_i (I − n_i n_iᵀ) over its tangents (zero rows and columns where a tangent has no dof).
+  Eigen::MatrixXd across(std::size_t i) const;
+
+  int t_ = 0;                   // tangents per row
+  std::vector<int> dof_;        // per row × t_: the tangent dof, −1 where none
+  std::vector<double> scale_;   // per row: c of the update rule
+  std::vector<char> stick_;     // per row
+  Vector force_;                // per row × t_: s n of the slip rows
+  std::vector<double> spring_;  // per row: k of the slip rows (0 in 2D, at stick and free rows)
+  double gamma_ = 1;            // c_i γ in the update rule (secant)
   Vector last_force_, last_slip_;
   std::vector<char> last_stick_;
-};
-
-/// Anderson acceleration (type II; Walker & Ni, SIAM J. Numer. Anal. 49, 2011) of a fixed point
-/// x = G(x) over vectors distributed like the contact rows: from the last `depth` iterates, the
-/// combination of the G(x_k) whose residuals G(x_k) − x_k combine to the least norm. Coulomb's bound
-/// s = tresca + μ λ_ν(s) over Tresca problems: a plain iteration contracts only by μ times the
-/// coupling of tangential to normal forces, and not at all where that exceeds 1 (a sheared block
-/// whose tangential forces tilt it: measured ratio ≈ −0.95 at μ = 1); a linear map's fixed point it
-/// finds as GMRES would (in at most as many steps as unknowns). Collective.
-class AndersonMixing {
- public:
-  explicit AndersonMixing(int depth) : depth_(depth) {}
-  Vector next(const la::Comm& comm, const Vector& x, const Vector& g);
-
- private:
-  int depth_;
-  std::vector<Vector> dx_, df_;  // differences of the iterates and of their residuals
-  Vector x_last_, f_last_;
 };
 
 /// The rows' states packed for ActiveSetHistory: normal set and stick set together.
