@@ -56,8 +56,6 @@ std::string cholmod_failure(const cholmod_common& c) {
 /// CHOLMOD's rcond is (min diag L / max diag L)²: a singular matrix whose last
 /// pivot is a round-off residue passes the positivity check but not this one.
 constexpr double kMinRcond = 1e-14;
-/// Factorizations of at most this many flops (CHOLMOD's count) use one BLAS thread: ~0.02 s on one core.
-constexpr double kThreadedFlops = 1e8;
 
 using Long = SuiteSparse_long;
 
@@ -133,11 +131,8 @@ class CholmodFactor final : public LinearSolver {
     factored_ = false;
     if (n_ == 0) return;
     cholmod_sparse view = view_lower();
-    // Factorize with every core's BLAS, solve with one (see la/blas.hpp); a small factor with one:
-    // waking the threads costs more than its dense blocks save (the primal frictional solver
-    // refactorizes at every Newton step: foundation-3d n = 10, 845 factorizations of 8.6e4
-    // entries took 66 s with 2 threads on a busy machine, ... s with one).
-    set_blas_threads(estimate_.flops > kThreadedFlops ? static_cast<int>(std::max(1u, std::thread::hardware_concurrency())) : 1);
+    // Factorize with every core's BLAS, solve with one (see la/blas.hpp).
+    set_blas_threads(static_cast<int>(std::max(1u, std::thread::hardware_concurrency())));
     last_cholmod_error.clear();
     const int ok = cholmod_l_factorize(&view, L_, &c_);
     set_blas_threads(1);
