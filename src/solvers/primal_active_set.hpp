@@ -13,14 +13,10 @@
 // w_k; the system is K_rot = Q K Q with those rows and columns replaced by the
 // identity (the layout and the pattern kept: a factor reuses its analysis, AMG its
 // block size), and λ_i = (QF − K_rot w)_k /(ρs) the reaction there.
+#include "solvers/contact_frame.hpp"
 #include "solvers/contact_solver.hpp"
 
 namespace vpc {
-
-/// Q (n × n over the dofs N's columns number, symmetric and orthogonal): the
-/// reflection of each row's dofs that maps e_k to ±ν (see above); the identity on
-/// every other dof. Empty (0 × 0) when every row has one entry: no rotation.
-SparseMatrix contact_reflections(const SparseMatrix& N);
 
 /// Solves before the primal solver gives up: without friction, and with it (most of those are
 /// new right-hand sides on one factor: Coulomb's bound and 3D slip directions are iterated).
