@@ -145,6 +145,10 @@ void set_friction_data(ContactConstraints& c, const Vector& tresca, const Vector
 const Vector& checked_gap(const ContactConstraints& c, const Vector& gap);
 ContactReport contact_report(const la::SpdOperator& K, const ContactConstraints& c, const Vector& F, const Vector& u,
                              const Vector& lambda, bool converged, int iterations, double active_threshold = 0);
+/// The columns j0 .. j0+nb−1 of Nᵀ (or of [N; T]ᵀ with friction: `rows` places each local row
+/// in λ), owned rows: each rank fills the columns of its own constraint rows (zero elsewhere),
+/// so a block solve with it is collective.
+Eigen::MatrixXd transposed_rows(const SparseMatrix& N, const std::vector<int>& rows, int j0, int nb);
 
 class ContactSolver {
  public:

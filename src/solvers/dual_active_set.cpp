@@ -1,0 +1,218 @@
+#include "solvers/dual_active_set.hpp"
+
+#include "core/error.hpp"
+#include "solvers/box_qp.hpp"
+#include "solvers/compliance_dual.hpp"
+#include "solvers/friction_dual.hpp"
+
+#include <algorithm>
+#include <limits>
+
+namespace vpc {
+
+namespace {
+
+ContactReport make_report(const la::SpdOperator& K, const ContactConstraints& c, const Vector& F, const Vector& u,
+                          const Vector& lambda, const BoxQpResult& qp, double active_threshold = 0) {
+  ContactReport rep = contact_report(K, c, F, u, lambda, qp.converged, qp.iterations, active_threshold);
+  rep.cycles = qp.cycles;
+  return rep;
+}
+
+/// The same block size on every rank (block solves are collective).
+int common_block_columns(const la::Comm& comm, Eigen::Index n_owned, int most) {
+  return static_cast<int>(comm.min(rhs_block_columns(n_owned, most)));
+}
+
+class ActiveSetContactSolver final : public ContactSolver {
+ public:
+  ActiveSetContactSolver(std::shared_ptr<const la::SpdOperator> K, std::shared_ptr<const la::LinearSolver> factor,
+                         ContactConstraints c, double max_cached_share)
+      : K_(std::move(K)), c_(std::move(c)), factor_(std::move(factor)) {
+    if (c_.frictional()) B_ = friction_rows(c_, B_rows_);
+    Eigen::MatrixXd S = factor_->has_halves() ? dual_matrix_from_halves(max_cached_share)
+                                              : dual_matrix_from_solves(max_cached_share);
+    S = 0.5 * (S + S.transpose()).eval();
+    if (!c_.laws.empty()) {  // every row's law and compliance, the same on every rank
+      const auto n = static_cast<Eigen::Index>(c_.law.size());
+      const Vector all = replicate(comm(), c_, Eigen::Map<const Eigen::VectorXi>(c_.law.data(), n).cast<double>());
+      for (Eigen::Index j = 0; j < all.size(); ++j) row_laws_.push_back(c_.laws[static_cast<std::size_t>(all[j])].get());
+      compliance_ = replicate(comm(), c_, c_.compliance);
+      nonlinear_ = std::ranges::any_of(row_laws_, [](const ContactLaw* l) { return !l->linear(); });
+    }
+    require(!nonlinear_ || !c_.frictional(),
+            "contact solver 'active-set': friction with a normal law that is not linear is not solved; use Signorini "
+            "or a linear normal compliance with friction");
+    if (nonlinear_) S_plain_ = S;  // the nonlinear law's dual (solve_compliance_dual) on S itself
+    // A linear law's λ_i = k_i d₊ adds its spring's compliance 1/k_i to S_ii (the box QP of S + diag(1/k)),
+    // on the normal rows (j × block).
+    const Eigen::Index b = c_.block;
+    for (Eigen::Index j = 0; j < compliance_.size(); ++j)
+      if (const ContactLaw* law = row_laws_[static_cast<std::size_t>(j)]; !law->rigid())
+        S(j * b, j * b) += law->spring_compliance(compliance_[j]);
+    if (c_.frictional()) sets_ = friction_sets(comm(), c_, row_laws_, S);
+    S_ = std::make_unique<DenseBoxQpOperator>(std::move(S));
+  }
+
+  // With friction N below is B = [N; T] and g is [g; h] (friction_rows), m is m × block.
+  ContactReport solve(const Vector& F, Vector& u, Vector& lambda) override {
+    const int m = unknowns();
+    if (lambda.size() != m) lambda = Vector::Zero(m);
+    BoxQpResult r;
+    if (Y_.cols() == m) {
+      // One solve in two halves: y = L⁻¹PF; the dual QP min ½λᵀSλ − (N K⁻¹F − g)ᵀλ,
+      // λ ≥ 0, with N K⁻¹F = Yᵀy; then u = PᵀL⁻ᵀ(y − Yλ) = K⁻¹(F − Nᵀλ).
+      const Vector y = factor_->forward(F);
+      r = dual(Vector(Y_.transpose() * y - replicated(offsets())), lambda);
+      u = factor_->backward(Vector(y - Y_ * lambda));
+    } else {
+      Vector u_free = u;  // the solution without contact (u: an iterative solver's initial guess)
+      factor_->solve(F, u_free);
+      r = dual(replicated(Vector(B() * u_free - offsets())), lambda);
+      if (W_.cols() == m) {
+        // u = u_free − Wλ over the active rows only (λ_j = 0 elsewhere): the
+        // active set is usually a part of Γ3, and each column is n_owned long.
+        u = u_free;
+        for (int j = 0; j < m; ++j)
+          if (lambda[j] != 0) u.noalias() -= lambda[j] * W_.col(j);
+      } else {
+        u = u_free;
+        factor_->solve(Vector(F - B().transpose() * local_of(lambda)), u);
+      }
+    }
+    return make_report(*K_, c_, F, u, lambda, r);
+  }
+  void set_gap(const Vector& gap) override { c_.gap = checked_gap(c_, gap); }
+  void set_friction(const Vector& tresca, const Vector& shift) override { set_friction_data(c_, tresca, shift); }
+  std::string name() const override { return "active-set"; }
+  std::string describe() const override {
+    if (nonlinear_) return describe_solves() + "; semismooth Newton for the nonlinear compliance law";
+    if (c_.frictional()) {
+      if (sets_.coulomb()) return describe_solves() + "; Coulomb friction by semismooth Newton (Alart-Curnier) on the dual";
+      if (c_.block == 2) return describe_solves() + "; Tresca friction as a box QP";
+      return describe_solves() + "; Tresca friction by semismooth Newton (Alart-Curnier) on the dual";
+    }
+    return describe_solves();
+  }
+
+ private:
+  /// The dual problem for b = N K⁻¹F − g (replicated): the box QP with S (+ diag(1/k)) over
+  /// each row's dual set (λ ≥ 0), or, for a law that is not linear on some row, solve_compliance_dual.
+  BoxQpResult dual(const Vector& b, Vector& lambda) {
+    if (c_.frictional()) {  // friction_dual.hpp; the bounds of this step
+      sets_.tresca = replicate(comm(), c_, c_.tresca);
+      return solve_friction_dual(*S_, b, sets_, lambda);
+    }
+    if (nonlinear_) return solve_compliance_dual(S_plain_, b, row_laws_, compliance_, lambda);
+    const int m = c_.m;
+    Vector lo = Vector::Zero(m), hi = Vector::Constant(m, std::numeric_limits<double>::infinity());
+    for (std::size_t j = 0; j < row_laws_.size(); ++j) {
+      lo[static_cast<Eigen::Index>(j)] = row_laws_[j]->dual_lower();
+      hi[static_cast<Eigen::Index>(j)] = row_laws_[j]->dual_upper();
+    }
+    return solve_box_qp(*S_, b, lo, hi, lambda);
+  }
+  std::string describe_solves() const {
+    if (Y_.cols() > 0) return "one solve per step (K's halves)";
+    if (W_.cols() > 0) return "one solve per step (K⁻¹Nᵀ kept)";
+    return "two solves per step";
+  }
+
+  const la::Comm& comm() const { return K_->comm(); }
+
+  // The constraint rows: N, or B = [N; T] with friction, node by node in λ's order (λ_ν, λ_τ).
+  int unknowns() const { return c_.m * c_.block; }
+  const SparseMatrix& B() const { return c_.frictional() ? B_ : c_.N; }
+  const std::vector<int>& rows() const { return c_.frictional() ? B_rows_ : c_.rows; }
+  /// g (or [g; h]) of this rank's rows of B.
+  Vector offsets() const { return c_.frictional() ? friction_offsets(c_) : c_.gap; }
+  /// The unknowns of λ (all of them, the same on every rank) from this rank's rows' values, and back.
+  Vector replicated(const Vector& local) const {
+    if (!c_.frictional()) return replicate(comm(), c_, local);
+    Vector all = Vector::Zero(unknowns());  // one owner per row: the sum is exact
+    for (std::size_t k = 0; k < B_rows_.size(); ++k) all[B_rows_[k]] = local[static_cast<Eigen::Index>(k)];
+    comm().sum(all.data(), all.size());
+    return all;
+  }
+  Vector local_of(const Vector& lambda) const {
+    if (!c_.frictional()) return local_rows(c_, lambda);
+    Vector l(static_cast<Eigen::Index>(B_rows_.size()));
+    for (std::size_t k = 0; k < B_rows_.size(); ++k) l[static_cast<Eigen::Index>(k)] = lambda[B_rows_[k]];
+    return l;
+  }
+
+  /// With K = PᵀLLᵀP: Y = L⁻¹PNᵀ (the forward half of K⁻¹Nᵀ) and S = N K⁻¹Nᵀ = YᵀY,
+  /// formed once (K and N never change). A column of Y is nonzero only on the
+  /// elimination-tree path of its contact dof, so Y is small and kept sparse.
+  /// A factor with halves is one process's (CHOLMOD): N is whole here.
+  Eigen::MatrixXd dual_matrix_from_halves(double max_cached_share) {
+    const int m = unknowns();
+    const double max_bytes = std::min(kMaxCachedBytes, max_cached_share * factor_->factor_bytes());
+    std::vector<Eigen::Triplet<double>> t;
+    bool keep_y = max_cached_share > 0;
+    const int block = rhs_block_columns(c_.N.cols());  // dense blocks of right-hand sides
+    for (int j0 = 0; j0 < m && keep_y; j0 += block) {
+      const int nb = std::min(block, m - j0);
+      const Eigen::MatrixXd Yb = factor_->forward(transposed_rows(B(), rows(), j0, nb));
+      for (int j = 0; j < nb; ++j)
+        for (Eigen::Index i = 0; i < Yb.rows(); ++i)
+          if (Yb(i, j) != 0) t.emplace_back(static_cast<int>(i), j0 + j, Yb(i, j));
+      keep_y = 12.0 * static_cast<double>(t.size()) <= max_bytes;  // value + row index per entry
+    }
+    if (!keep_y) return dual_matrix_from_solves(0);  // Y too large: a step then costs two solves
+    Y_.resize(c_.N.cols(), m);
+    Y_.setFromTriplets(t.begin(), t.end());
+    return Eigen::MatrixXd(SparseMatrix(Y_.transpose() * Y_));
+  }
+
+  /// S = N K⁻¹Nᵀ by block solves X = K⁻¹Nᵀ (collective: every rank solves the same
+  /// blocks); S's rows are computed where N's rows live, then summed over the ranks
+  /// (one owner per row: exact, the same S everywhere). X is kept as W when it fits
+  /// on every rank (a step is then one solve: u = u_free − Wλ).
+  Eigen::MatrixXd dual_matrix_from_solves(double max_cached_share) {
+    const int m = unknowns();
+    const auto n_owned = c_.N.cols();
+    double max_bytes = max_cached_share > 0 ? kMaxCachedBytes : 0;
+    if (factor_->factor_bytes() > 0) max_bytes = std::min(max_bytes, max_cached_share * factor_->factor_bytes());
+    const bool keep_w = !factor_->has_halves() &&
+                        comm().max(static_cast<double>(n_owned) * m * sizeof(double)) <= max_bytes;
+    if (keep_w) W_.resize(n_owned, m);
+    Eigen::MatrixXd S = Eigen::MatrixXd::Zero(m, m);
+    const int block = factor_->has_halves() ? rhs_block_columns(n_owned) : common_block_columns(comm(), n_owned, 64);
+    for (int j0 = 0; j0 < m; j0 += block) {
+      const int nb = std::min(block, m - j0);
+      const Eigen::MatrixXd X = factor_->solve(transposed_rows(B(), rows(), j0, nb));
+      if (keep_w) W_.middleCols(j0, nb) = X;
+      const Eigen::MatrixXd NX = B() * X;
+      for (size_t k = 0; k < rows().size(); ++k) S.block(rows()[k], j0, 1, nb) = NX.row(static_cast<Eigen::Index>(k));
+    }
+    comm().sum(S.data(), m * m);
+    return S;
+  }
+
+  std::shared_ptr<const la::SpdOperator> K_;  // for the reported residuals
+  ContactConstraints c_;
+  std::shared_ptr<const la::LinearSolver> factor_;
+  std::unique_ptr<DenseBoxQpOperator> S_;
+  Eigen::MatrixXd S_plain_;                  // S without diag(1/k), for a nonlinear law only
+  std::vector<const ContactLaw*> row_laws_;  // every row's law (replicated); empty: Signorini
+  Vector compliance_;                        // every row's 1/k_i (replicated), with row_laws_
+  bool nonlinear_ = false;                   // some row's law is not linear
+  SparseMatrix B_;              // with friction: [N; T] in λ's order (friction_rows)
+  std::vector<int> B_rows_;     // its rows' places in λ
+  FrictionDualSets sets_;       // with friction: each node's sets, replicated
+  SparseMatrix Y_;     // L⁻¹PNᵀ (factors with halves), or empty
+  Eigen::MatrixXd W_;  // K⁻¹Nᵀ on the owned rows (factors without halves), or empty
+  static constexpr double kMaxCachedBytes = 256.0 * 1024 * 1024;
+};
+
+}  // namespace
+
+std::unique_ptr<ContactSolver> make_dual_active_set_solver(std::shared_ptr<const la::SpdOperator> K,
+                                                           std::shared_ptr<const la::LinearSolver> factor,
+                                                           ContactConstraints constraints, double max_cached_share) {
+  return std::make_unique<ActiveSetContactSolver>(std::move(K), std::move(factor), std::move(constraints),
+                                                  max_cached_share);
+}
+
+}  // namespace vpc
