@@ -3,12 +3,14 @@
 #include "core/error.hpp"
 #include "fem/assembly.hpp"
 #include "la/memory_estimate.hpp"
+#include "scheme/contact_matrix.hpp"
 #include "scheme/stability.hpp"
 #include "scheme/step_data.hpp"
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <utility>
 
 namespace vpc {
 
@@ -77,8 +79,9 @@ DiscreteSystem::DiscreteSystem(std::shared_ptr<const Problem> problem_in, MeshPa
         dirichlet_cells.push_back(c);
         break;
       }
-  N = contact_matrix(true);
-  if (p.contact.frictional()) set_friction_frame();
+  ContactMatrix rows = contact_matrix(part, ContactColumns::owned);
+  N = std::move(rows.N);
+  if (p.contact.frictional()) set_friction_frame(rows.node_dofs);
 
   // Constant matrices: K of (3.9), factorized once; H = M + kκA of (3.8). Each
   // process assembles its cells; the backend sums the parts.
@@ -105,23 +108,7 @@ DiscreteSystem::DiscreteSystem(std::shared_ptr<const Problem> problem_in, MeshPa
   build_seconds = seconds_since(t0);
 }
 
-SparseMatrix DiscreteSystem::contact_matrix(bool owned_only) const {
-  const int d = part.mesh().dim();
-  std::vector<Eigen::Triplet<double>> t;
-  int row = 0;
-  for (const PartContactNode& node : part.contact) {
-    if (owned_only && !node.owned) continue;
-    for (int i = 0; i < d; ++i)
-      if (const int k = part.dofs.free_index(part.dofs.full_index(node.local_node, i)); node.direction[i] != 0 && k >= 0)
-        t.emplace_back(row, k, node.direction[i]);
-    ++row;
-  }
-  SparseMatrix out(row, owned_only ? part.n_owned_dofs : part.dofs.n_free());
-  out.setFromTriplets(t.begin(), t.end());
-  return out;
-}
-
-void DiscreteSystem::set_friction_frame() {
+void DiscreteSystem::set_friction_frame(const std::vector<std::vector<int>>& node_dofs) {
   const Problem& p = *problem;
   const Mesh& mesh = part.mesh();
   const int d = mesh.dim();
@@ -130,15 +117,10 @@ void DiscreteSystem::set_friction_frame() {
   c.block = p.contact.block_size(d);
   for (const PartContactNode& node : part.contact)
     if (node.owned) c.rows.push_back(node.row);
-  std::vector<std::vector<int>> node_dofs;
   const auto frictions = p.contact.frictions();
   std::vector<double> mus;
   for (const PartContactNode& node : part.contact) {
     if (!node.owned) continue;
-    std::vector<int> dofs;
-    for (int i = 0; i < d; ++i)
-      if (const int k = part.dofs.free_index(part.dofs.full_index(node.local_node, i)); k >= 0) dofs.push_back(k);
-    node_dofs.push_back(std::move(dofs));
     const FrictionLaw* law = frictions[static_cast<std::size_t>(node.law)].get();
     row_friction.push_back(law);
     const Point& x = mesh.node(node.local_node);

@@ -67,12 +67,9 @@ struct DiscreteSystem {
   std::vector<const FrictionLaw*> row_friction;
   double assembly_seconds = 0, build_seconds = 0;
 
-  /// N over the owned free dofs (owned_only), or one row per contact node the part knows,
-  /// ghosts included, over its local free dofs (owned, then ghosts: the reflections of K_rot's
-  /// local matrix).
-  SparseMatrix contact_matrix(bool owned_only) const;
-  /// T, tangent_dof, mu and row_friction from N and the problem's friction laws (constructor).
-  void set_friction_frame();
+  /// T, tangent_dof, mu and row_friction from N, its rows' free dofs (ContactMatrix::node_dofs)
+  /// and the problem's friction laws (constructor).
+  void set_friction_frame(const std::vector<std::vector<int>>& node_dofs);
   /// A factor of K's kind (name "K"), its coordinates set for multigrid's rigid-body modes.
   std::shared_ptr<la::LinearSolver> make_stiffness_factor() const;
 };

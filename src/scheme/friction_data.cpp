@@ -1,6 +1,7 @@
 #include "scheme/friction_data.hpp"
 
 #include "fem/assembly.hpp"
+#include "solvers/stick_slip.hpp"
 
 #include <cmath>
 
@@ -45,7 +46,7 @@ Vector slip_shift(const DiscreteSystem& sys, const State& s, double t) {
 }
 
 void record_slip(const DiscreteSystem& sys, const Vector& tresca, const Vector& shift, const Vector& u_free, State& s) {
-  // Only what replicate and the bounds read: the rows, the block, μ and the step's data.
+  // Only what stick_slip (the bounds) and replicate read: the rows, the block, μ and the step's data.
   ContactConstraints c;
   c.m = sys.part.n_contact;
   for (const PartContactNode& node : sys.part.contact)
@@ -55,11 +56,11 @@ void record_slip(const DiscreteSystem& sys, const Vector& tresca, const Vector& 
   c.tresca = tresca;
   const int t = c.block - 1;
   const Vector slip = sys.T * u_free - shift;
-  const Vector normal = local_normal(c, s.lambda), tangential = local_tangential(c, s.lambda);
-  Vector status(normal.size()), length(normal.size());
-  for (Eigen::Index i = 0; i < normal.size(); ++i) {
-    const double ln = tangential.segment(i * t, t).norm();
-    status[i] = static_cast<double>(contact_status(normal[i], ln, c.bound(i, normal[i])));
+  const std::vector<ContactStatus> stick_or_slip = stick_slip(c, s.lambda);
+  const auto rows = static_cast<Eigen::Index>(c.rows.size());
+  Vector status(rows), length(rows);
+  for (Eigen::Index i = 0; i < rows; ++i) {
+    status[i] = static_cast<double>(stick_or_slip[static_cast<std::size_t>(i)]);
     length[i] = slip.segment(i * t, t).norm();
   }
   // Replicated like λ (one owner per row: the sums are exact): per node |Δ| then Δ.

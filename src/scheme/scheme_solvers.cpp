@@ -1,5 +1,6 @@
 #include "scheme/scheme_solvers.hpp"
 
+#include "scheme/contact_matrix.hpp"
 #include "solvers/primal_active_set.hpp"
 
 #include <algorithm>
@@ -52,7 +53,7 @@ SchemeSolvers set_up_solvers(DiscreteSystem& sys, const SolverChoice& choice, Se
     // assembled from the cells' matrices like K (Q acts within each node's dofs).
     std::shared_ptr<const la::SpdOperator> K_rot;
     if (part.comm.any(contact_reflections(constraints.N).size() > 0)) {
-      const SparseMatrix Q = contact_reflections(sys.contact_matrix(false));
+      const SparseMatrix Q = contact_reflections(contact_matrix(part, ContactColumns::local).N);
       K_rot = sys.backend->assemble(SparseMatrix(Q * sys.K_local * Q), *part.dof_layout, sys.K_block);
     }
     s.contact = make_primal_active_set_solver(sys.K, std::move(K_rot), std::exchange(s.K_factor, nullptr),

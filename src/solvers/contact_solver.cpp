@@ -6,6 +6,7 @@
 #include "solvers/penalty_duality_contact.hpp"
 #include "solvers/primal_active_set.hpp"
 #include "solvers/solver_failure.hpp"
+#include "solvers/stick_slip.hpp"
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
@@ -171,16 +172,14 @@ ContactReport contact_report(const la::SpdOperator& K, const ContactConstraints&
     rep.total_force += lambda[i * b];
   }
   // Stick and slip counts and the dissipation from this rank's rows.
-  const Vector normal = local_normal(c, lambda), tangential = local_tangential(c, lambda);
-  const Vector slip = slip_increment(c, u);
+  const std::vector<ContactStatus> status = stick_slip(c, lambda, active_threshold);
+  const Vector tangential = local_tangential(c, lambda), slip = slip_increment(c, u);
   double sums[3] = {0, 0, 0};
-  for (Eigen::Index i = 0; i < normal.size(); ++i) {
-    const auto l = tangential.segment(i * t, t);
-    const ContactStatus st = normal[i] > active_threshold ? contact_status(normal[i], l.norm(), c.bound(i, normal[i]))
-                                                         : ContactStatus::Free;
-    sums[0] += st == ContactStatus::Stick;
-    sums[1] += st == ContactStatus::Slip;
-    sums[2] += l.dot(slip.segment(i * t, t));
+  for (std::size_t i = 0; i < status.size(); ++i) {
+    const auto k = static_cast<Eigen::Index>(i);
+    sums[0] += status[i] == ContactStatus::Stick;
+    sums[1] += status[i] == ContactStatus::Slip;
+    sums[2] += tangential.segment(k * t, t).dot(slip.segment(k * t, t));
   }
   K.comm().sum(sums, 3);
   rep.n_stick = static_cast<int>(sums[0]);

@@ -1,7 +1,9 @@
 #pragma once
-// Issue 28: what the frictional regression tests share: a shipped case's text (to vary), a run
+// Issue 28: what the frictional regression tests share: a shipped case's text (to vary with
+// test::replaced), a run
 // to its end with a look at every step, and a contact node's forces (λ holds contact_block
 // numbers per node, λ_ν first, then λ_τ along the node's tangents).
+#include "../case_text.hpp"
 #include "cases/builtin_cases.hpp"
 #include "cases/shipped_cases.hpp"
 #include "io/case_file.hpp"
@@ -20,13 +22,7 @@ namespace vpc::friction_test {
 /// The compiled-in text of cases/NAME.toml.
 inline std::string shipped_text(const std::string& name) { return case_source(name).text; }
 
-/// `text` with its one occurrence of `from` replaced by `to` (a failure if it is missing).
-inline std::string replaced(std::string text, const std::string& from, const std::string& to) {
-  const auto at = text.find(from);
-  EXPECT_NE(at, std::string::npos) << "'" << from << "' not in the case";
-  if (at != std::string::npos) text.replace(at, from.size(), to);
-  return text;
-}
+using test::replaced;
 
 /// The case `text` (a variant of the shipped case `name`, whose meshes it finds) with `sets`.
 inline Case case_of(const std::string& name, const std::string& text, const std::vector<std::string>& sets = {}) {

@@ -1,6 +1,7 @@
 // Issue 28: friction laws (SPEC §7) read from [contact] and [[contact.part]]: Coulomb's μ and
 // Tresca's bound as numbers or formulas, the block of unknowns they make, inheritance by the
 // part tables, and the located errors of the ways users get them wrong.
+#include "../../case_text.hpp"
 #include "contact/friction_law.hpp"
 #include "core/error.hpp"
 #include "io/case_file.hpp"
@@ -45,12 +46,7 @@ steps = 2
 )";
 
 std::string error_of(const std::string& text, const std::vector<std::string>& sets = {}) {
-  try {
-    parse_case(text, "f.toml", ".", {.sets = sets});
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "(no error)";
+  return test::case_error(text, "f.toml", sets);
 }
 
 TEST(FrictionLaw, CoulombAndTrescaFromTheCaseFile) {
@@ -65,10 +61,9 @@ TEST(FrictionLaw, CoulombAndTrescaFromTheCaseFile) {
   EXPECT_EQ(contact.block_size(2), 2);
   EXPECT_EQ(contact.block_size(3), 3);
 
-  std::string text = kCase;
-  text.replace(text.find("friction = \"coulomb\"\nmu = 0.3"), std::string("friction = \"coulomb\"\nmu = 0.3").size(),
-               "friction = \"tresca\"\nfriction_bound = \"2*x + t\"");
-  c = parse_case(text, "f.toml", ".");
+  const std::string tresca_text =
+      test::replaced(kCase, "friction = \"coulomb\"\nmu = 0.3", "friction = \"tresca\"\nfriction_bound = \"2*x + t\"");
+  c = parse_case(tresca_text, "f.toml", ".");
   // --set of another friction law drops the old law's keys (as a change of material law does).
   const Case switched = parse_case(kCase, "f.toml", ".", {.sets = {"contact.friction=\"tresca\"", "contact.friction_bound=2"}});
   EXPECT_EQ(switched.problem->contact.friction->name(), "tresca");
@@ -81,28 +76,24 @@ TEST(FrictionLaw, CoulombAndTrescaFromTheCaseFile) {
 }
 
 TEST(FrictionLaw, PartTablesInheritOrOverride) {
-  std::string text = std::string(kCase) + R"(
+  // left-half is not a contact part of its own: make it one.
+  const std::string text =
+      test::replaced(kCase, "contact = [\"bottom\"]", "contact = [\"bottom\", \"left-half\"]") + R"(
 [[contact.part]]
 parts = ["left-half"]
 mu = 0.5
 friction = "coulomb"
 )";
-  // left-half is not a contact part of its own: make it one.
-  text.replace(text.find("contact = [\"bottom\"]"), std::string("contact = [\"bottom\"]").size(),
-               "contact = [\"bottom\", \"left-half\"]");
   const Case c = parse_case(text, "f.toml", ".");
   const auto frictions = c.problem->contact.frictions();
   ASSERT_EQ(frictions.size(), 2u);
   EXPECT_DOUBLE_EQ(frictions[0]->coefficient({}), 0.3);
   EXPECT_DOUBLE_EQ(frictions[1]->coefficient({}), 0.5);
 
-  std::string inherit = text;
-  inherit.replace(inherit.find("mu = 0.5\nfriction = \"coulomb\"\n"), std::string("mu = 0.5\nfriction = \"coulomb\"\n").size(), "");
+  const std::string inherit = test::replaced(text, "mu = 0.5\nfriction = \"coulomb\"\n", "");
   EXPECT_DOUBLE_EQ(parse_case(inherit, "f.toml", ".").problem->contact.frictions()[1]->coefficient({}), 0.3);
 
-  std::string none = text;
-  none.replace(none.find("mu = 0.5\nfriction = \"coulomb\"\n"), std::string("mu = 0.5\nfriction = \"coulomb\"\n").size(),
-               "friction = \"none\"\n");
+  const std::string none = test::replaced(text, "mu = 0.5\nfriction = \"coulomb\"\n", "friction = \"none\"\n");
   const Case n = parse_case(none, "f.toml", ".");
   EXPECT_EQ(n.problem->contact.frictions()[1], nullptr);
   EXPECT_TRUE(n.problem->contact.frictional());  // [contact]'s Coulomb on the other parts
@@ -115,16 +106,12 @@ TEST(FrictionLaw, BadInputsAreLocatedErrors) {
   has(error_of(kCase, {"contact.mu=-0.1"}), "expected a friction coefficient mu >= 0, got -0.1");
   has(error_of(kCase, {"contact.friction=\"colomb\""}), "unknown value 'colomb'; expected one of: none, coulomb, tresca");
   has(error_of(kCase, {"contact.friction=\"tresca\""}), "missing key friction_bound (a friction bound (a traction)");
-  std::string tresca_with_mu = kCase;
-  tresca_with_mu.replace(tresca_with_mu.find("\"coulomb\""), 9, "\"tresca\"");
-  has(error_of(tresca_with_mu), "f.toml:29:6: contact.mu: mu does not belong to friction = \"tresca\"");
+  has(error_of(test::replaced(kCase, "\"coulomb\"", "\"tresca\"")),
+      "f.toml:29:6: contact.mu: mu does not belong to friction = \"tresca\"");
   has(error_of(kCase, {"contact.mu=\"0.3*t\""}), "Available variables: x, y, z");  // μ is a function of x only
-  std::string no_friction = kCase;
-  no_friction.replace(no_friction.find("friction = \"coulomb\"\n"), std::string("friction = \"coulomb\"\n").size(), "");
-  has(error_of(no_friction), "f.toml:28:6: contact.mu: mu needs friction = \"coulomb\" in the same table");
-  std::string no_mu = kCase;
-  no_mu.replace(no_mu.find("mu = 0.3\n"), std::string("mu = 0.3\n").size(), "");
-  has(error_of(no_mu), "missing key mu (a friction coefficient mu: a number or a formula)");
+  has(error_of(test::replaced(kCase, "friction = \"coulomb\"\n", "")),
+      "f.toml:28:6: contact.mu: mu needs friction = \"coulomb\" in the same table");
+  has(error_of(test::replaced(kCase, "mu = 0.3\n", "")), "missing key mu (a friction coefficient mu: a number or a formula)");
 }
 
 TEST(FrictionLaw, RegistryNamesAndDirectConstruction) {

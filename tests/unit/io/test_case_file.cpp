@@ -1,5 +1,6 @@
 // Case files: a valid case, its built-in twins, expressions, overrides, and a
 // table of bad case files with the message each must give.
+#include "../../case_text.hpp"
 #include "cases/builtin_cases.hpp"
 #include "core/error.hpp"
 #include "core/expression.hpp"
@@ -63,21 +64,11 @@ fields = ["displacement", "damage"]
 )";
 
 std::string error_of(const std::string& text, const std::vector<std::string>& sets = {}) {
-  try {
-    parse_case(text, "bad.toml", ".", {.sets = sets});
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "(no error)";
+  return test::case_error(text, "bad.toml", sets);
 }
 
 /// Replaces the first occurrence of `from` in the valid case by `to`.
-std::string variant(const std::string& from, const std::string& to) {
-  std::string s = kValid;
-  const auto pos = s.find(from);
-  EXPECT_NE(pos, std::string::npos) << from;
-  return s.replace(pos, from.size(), to);
-}
+std::string variant(const std::string& from, const std::string& to) { return test::replaced(kValid, from, to); }
 
 TEST(CaseFile, ValidCaseIsReadCompletely) {
   const Case c = parse_case(kValid, "ok.toml", ".");

@@ -7,6 +7,7 @@
 #include "core/error.hpp"
 #include "io/checkpoint.hpp"
 #include "io/output_files.hpp"
+#include "test_files.hpp"
 
 #include <gtest/gtest.h>
 
@@ -17,33 +18,22 @@
 #include <fstream>
 #include <functional>
 #include <set>
-#include <sstream>
 
 namespace vpc {
 namespace {
 
 namespace fs = std::filesystem;
 
-fs::path fresh_dir(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("vpc_ckpt_" + name + "_" + std::to_string(::getpid()));
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
+fs::path fresh_dir(const std::string& name) { return test::fresh_dir("vpc_ckpt_", name); }
 
 std::shared_ptr<Problem> small_2d() { return load_case("paper-2d", {.steps = 10}, {.cells = 10}).problem; }
 
+/// test::checkpoint_of with PVD entries and totals to carry.
 Checkpoint checkpoint_of(const TimeStepper& s) {
   RunTotals totals;
   totals.max_contact_iterations = 3;
   totals.seconds_output = 0.25;
-  Checkpoint c;
-  c.case_name = s.problem().name;
-  c.fingerprint = problem_fingerprint(s);
-  c.problem_key = problem_key(s);
-  c.snapshot = s.snapshot();
-  c.times = s.times();
-  c.step_control = s.step_control_state().values();
+  Checkpoint c = test::checkpoint_of(s);
   c.pvd = {{0.0, "solution_00000.vtu"}, {0.5, "x.vtu"}};
   c.totals = totals;
   return c;
@@ -197,13 +187,6 @@ TEST(Checkpoint, ANewTimelineReplacesTheOldOnes) {
   EXPECT_FALSE(find_checkpoint(dir, problem_fingerprint(s), &skipped).has_value());
 }
 
-std::string bytes_of(const fs::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
 /// Both solvers by penalty–duality: their warm states are part of the checkpoint.
 SolverChoice penalty_duality() {
   SolverChoice c;
@@ -220,9 +203,9 @@ TEST(StepperCheckpoint, OneProcessWritesItsSnapshotInTheSameFormat) {
   const fs::path a = fresh_dir("stepper_a"), b = fresh_dir("stepper_b");
   write_checkpoint(s, a, c.case_name, c.pvd, c.totals);
   write_checkpoint(b, c);
-  const std::string written = bytes_of(a / "checkpoint_00003.bin");
+  const std::string written = test::read_bytes(a / "checkpoint_00003.bin");
   EXPECT_FALSE(written.empty());
-  EXPECT_EQ(written, bytes_of(b / "checkpoint_00003.bin"));
+  EXPECT_EQ(written, test::read_bytes(b / "checkpoint_00003.bin"));
 }
 
 TEST(StepperCheckpoint, TheFingerprintIsTheKeysHashWithoutTheTimes) {
@@ -341,7 +324,7 @@ TEST(StepperCheckpoint, TheVersionFourBytesAreAsDocumented) {
   expected.append(reinterpret_cast<const char*>(&h), 8);
   expected += payload;
   const fs::path file = write_checkpoint(fresh_dir("bytes"), c);
-  EXPECT_EQ(bytes_of(file), expected);
+  EXPECT_EQ(test::read_bytes(file), expected);
 }
 
 fs::path piece(const fs::path& dir, int n, int r, int p) {

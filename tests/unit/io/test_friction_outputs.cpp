@@ -4,6 +4,7 @@
 // vectors, accumulated slip and status), the checkpoint of the friction fields and totals
 // bit for bit (a frictionless checkpoint as before), history.csv's friction columns
 // (none without friction) and the step's tangential totals per obstacle.
+#include "../../case_text.hpp"
 #include "cases/builtin_cases.hpp"
 #include "io/case_file.hpp"
 #include "io/checkpoint.hpp"
@@ -296,42 +297,23 @@ TEST(FrictionOutputs, StepTotalsSumTheTangentialForcesPerObstacle) {
 // Two contact parts with their own friction: history.csv's columns per law entry, whose
 // forces add up to the totals.
 TEST(FrictionOutputs, ForcesPerContactPartAddUpToTheTotals) {
-  const std::string text = R"(
-[mesh]
-generator = "rectangle"
-lower = [0.0, 0.0]
-upper = [1.0, 0.5]
-cells = [8, 4]
+  // tests/data/friction-2d.toml's block with its bottom in two contact parts, the right one's mu its own.
+  std::string text = read_bytes(fs::path(VPC_TEST_DATA_DIR) / "friction-2d.toml");
+  text = test::replaced(text, "cells = [8, 4]\n", R"(cells = [8, 4]
 [[mesh.part]]
 name = "lhalf"
 where = "abs(y) < 1e-12 && x < 0.45"
 [[mesh.part]]
 name = "rhalf"
 where = "abs(y) < 1e-12 && x > 0.55"
-[boundary]
-clamped = ["top"]
-contact = ["lhalf", "rhalf"]
-[elasticity]
-kind = "plane-strain"
-E = 1000.0
-nu = 0.3
-[viscoplasticity]
-law = "elastic"
-[damage]
-source = "zero"
-[contact]
-friction = "coulomb"
-mu = 0.3
-gap = "y"
-direction = [0, -1]
+)");
+  text = test::replaced(text, "contact = [\"bottom\"]", "contact = [\"lhalf\", \"rhalf\"]");
+  text = test::replaced(text, "mu = 0.3\n", R"(mu = 0.3
 [[contact.part]]
 parts = ["rhalf"]
 friction = "coulomb"
 mu = 0.5
-[time]
-T = 1.0
-steps = 2
-)";
+)");
   const Case c = parse_case(text, "parts.toml", ".", {});
   const DiscreteSystem sys(c.problem, whole_mesh_part(c.problem), la::serial_backend(), SolverChoice{});
   const std::vector<std::string> names = history_column_names(*c.problem, sys.part);

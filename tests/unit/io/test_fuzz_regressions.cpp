@@ -1,6 +1,7 @@
 // Regressions from fuzzing (fuzz/, docs/reliability.md). Each input crashed the
 // program, read undefined memory or exhausted it before its fix; it must now
 // give a clear vpc::Error (or be read correctly).
+#include "../../case_text.hpp"
 #include "core/error.hpp"
 #include "io/case_file.hpp"
 #include "mesh/gmsh_reader.hpp"
@@ -47,20 +48,10 @@ probes = [[1.0, 0.5]]
 )";
 
 /// The case with the first occurrence of `from` replaced by `to`.
-std::string variant(const std::string& from, const std::string& to) {
-  std::string s = kCase;
-  const auto pos = s.find(from);
-  EXPECT_NE(pos, std::string::npos) << from;
-  return pos == std::string::npos ? s : s.replace(pos, from.size(), to);
-}
+std::string variant(const std::string& from, const std::string& to) { return test::replaced(kCase, from, to); }
 
 std::string error_of(const std::string& text, const std::vector<std::string>& sets = {}) {
-  try {
-    parse_case(text, "fuzz.toml", ".", {.sets = sets});
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "(no error)";
+  return test::case_error(text, "fuzz.toml", sets);
 }
 
 fs::path temp_file(const std::string& name, const std::string& text) {

@@ -1,0 +1,34 @@
+#include "scheme/contact_matrix.hpp"
+
+namespace vpc {
+
+ContactMatrix contact_matrix(const MeshPart& part, ContactColumns columns) {
+  const DofMap& dofs = part.dofs;
+  const int d = dofs.dim();
+  ContactMatrix out;
+  std::vector<Eigen::Triplet<double>> entries;
+  int row = 0;
+  for (const PartContactNode& node : part.contact) {
+    if (columns == ContactColumns::owned && !node.owned) continue;
+    std::vector<int>& node_dofs = out.node_dofs.emplace_back();
+    for (int i = 0; i < d; ++i) {
+      int k = dofs.free_index(dofs.full_index(node.local_node, i));
+      if (k < 0) continue;
+      if (columns == ContactColumns::compact) {
+        k = static_cast<int>(out.component.size());
+        out.component.push_back(i);
+      }
+      node_dofs.push_back(k);
+      if (node.direction[i] != 0) entries.emplace_back(row, k, node.direction[i]);
+    }
+    ++row;
+  }
+  const int n_columns = columns == ContactColumns::owned   ? part.n_owned_dofs
+                        : columns == ContactColumns::local ? dofs.n_free()
+                                                           : static_cast<int>(out.component.size());
+  out.N.resize(row, n_columns);
+  out.N.setFromTriplets(entries.begin(), entries.end());
+  return out;
+}
+
+}  // namespace vpc

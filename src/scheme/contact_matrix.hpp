@@ -1,0 +1,28 @@
+#pragma once
+// N of (3.9) on a part: each contact node's free dofs and its row's entries ν_i on them. The
+// discrete system's N, the reflections of K_rot's local matrix and the outputs' tangents are
+// these rows over three numberings of the columns; set_tangents takes the nodes' dofs.
+#include "la/linear_solver.hpp"
+#include "scheme/mesh_part.hpp"
+
+#include <vector>
+
+namespace vpc {
+
+/// Which contact nodes of a part are rows, and which numbering the columns have.
+enum class ContactColumns {
+  owned,    // the owned nodes over the owned free dofs (DiscreteSystem::N, ContactConstraints::N)
+  local,    // every node the part touches, ghosts included, over its local free dofs (owned, then ghosts)
+  compact,  // every node the part touches over those nodes' free dofs alone, numbered node after
+            // node in component order: O(contact nodes) however large the part (the outputs' tangents)
+};
+
+struct ContactMatrix {
+  SparseMatrix N;                           // a row per node, in part.contact order
+  std::vector<std::vector<int>> node_dofs;  // per row, its node's free dofs (columns of N) in component order
+  std::vector<int> component;               // compact: per column, the component of its dof (else empty)
+};
+
+ContactMatrix contact_matrix(const MeshPart& part, ContactColumns columns);
+
+}  // namespace vpc

@@ -1,0 +1,16 @@
+#include "solvers/stick_slip.hpp"
+
+namespace vpc {
+
+std::vector<ContactStatus> stick_slip(const ContactConstraints& c, const Vector& lambda, double active_threshold) {
+  const int t = c.block - 1;
+  const Vector normal = local_normal(c, lambda), tangential = local_tangential(c, lambda);
+  std::vector<ContactStatus> status;
+  for (Eigen::Index i = 0; i < normal.size(); ++i)
+    status.push_back(normal[i] > active_threshold
+                         ? contact_status(normal[i], tangential.segment(i * t, t).norm(), c.bound(i, normal[i]))
+                         : ContactStatus::Free);
+  return status;
+}
+
+}  // namespace vpc

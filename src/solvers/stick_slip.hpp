@@ -1,0 +1,15 @@
+#pragma once
+// Which contact rows stick and which slip after a frictional solve: the solver's report counts
+// them (ContactReport::n_stick, n_slip) and the state keeps them per node (State::contact_status,
+// scheme/friction_data), from this one classification.
+#include "solvers/contact_solver.hpp"
+
+#include <vector>
+
+namespace vpc {
+
+/// contact_status of this rank's rows at λ (m × c.block numbers, replicated), with c's bounds:
+/// Free where λ_ν ≤ active_threshold (as ContactReport::n_active counts a row).
+std::vector<ContactStatus> stick_slip(const ContactConstraints& c, const Vector& lambda, double active_threshold = 0);
+
+}  // namespace vpc
