@@ -87,9 +87,10 @@ class PrimalActiveSetSolver final : public ContactSolver {
   }
 
   /// With friction (primal_friction.hpp): Coulomb as a fixed point of the bound s = tresca +
-  /// μ λ_ν(s) over Tresca problems (SPEC §7), each solved exactly by the active set. Within a
+  /// μ λ_ν(s) over Tresca problems (SPEC §7), each solved exactly by Newton's iteration. Within a
   /// Tresca problem (s frozen) the normal set is updated as without friction and the stick set
-  /// and slip directions by HSW's rule; it is solved when both sets hold and the slip forces used
+  /// and the slip rows' linearizations by HSW's rule (primal_friction.hpp); once the directions
+  /// moved less than kInnerShare of the bound's last change, each iterate also updates the bound; it is solved when both sets hold and the slip forces used
   /// equal the updated ones to kForceTolerance of the force scale (max(‖QF‖∞, ‖λ_ν‖∞)). Then s is
   /// recomputed from its λ_ν: Coulomb holds when it changed by less than kForceTolerance, else the
   /// next bound is its Anderson-accelerated update. On an iterative solver the forces count as
@@ -104,8 +105,6 @@ class PrimalActiveSetSolver final : public ContactSolver {
   /// a new problem (the history restarts). No convergence in max_iterations solves (Coulomb's
   /// fixed point has no solution, or too large a μ): converged = false, the step fails
   /// (contact_failure) and the step control retries a smaller step.
-  /// With friction: Newton's iteration (primal_friction.hpp) on the normal set, the stick set and
-  /// the slip rows' linearizations of a Tresca problem, its bound Coulomb's by Anderson-mixed fixed point.
   ContactReport solve_frictional(const Vector& F, Vector& u, Vector& lambda) {
     const auto rows = static_cast<Eigen::Index>(rows_.size());
     const la::Comm& comm = K_->comm();
