@@ -57,16 +57,33 @@ void PrimalFriction::fix(std::vector<char>& fixed) const {
         if (const int dof = dof_[i * t_ + j]; dof >= 0) fixed[dof] = 1;
 }
 
-Eigen::MatrixXd PrimalFriction::across(std::size_t i) const {
+Eigen::MatrixXd PrimalFriction::across(std::size_t i) const { return across(i, spring_[i], force_); }
+
+Eigen::MatrixXd PrimalFriction::across(std::size_t i, double k, const Vector& force) const {
   // k (I − nnᵀ) over the row's tangents that have a dof (n = the slip force's direction).
   Eigen::MatrixXd P = Eigen::MatrixXd::Zero(t_, t_);
-  const auto f = force_.segment(static_cast<Eigen::Index>(i) * t_, t_);
-  if (stick_[i] || !(spring_[i] > 0) || !(f.norm() > 0)) return P;
+  const auto f = force.segment(static_cast<Eigen::Index>(i) * t_, t_);
+  if (stick_[i] || !(k > 0) || !(f.norm() > 0)) return P;
   const Vector n = f / f.norm();
-  P = spring_[i] * (Eigen::MatrixXd::Identity(t_, t_) - n * n.transpose());
+  P = k * (Eigen::MatrixXd::Identity(t_, t_) - n * n.transpose());
   for (int j = 0; j < t_; ++j)
     if (dof_[i * t_ + j] < 0) P.row(j).setZero(), P.col(j).setZero();
   return P;
+}
+
+void PrimalFriction::mark_factored() {
+  factored_spring_ = spring_;
+  factored_force_ = force_;
+}
+
+bool PrimalFriction::factored_serves(double share) const {
+  if (factored_spring_.size() != spring_.size()) return false;
+  for (std::size_t i = 0; i < stick_.size(); ++i) {
+    if (stick_[i]) continue;
+    const double change = (across(i) - across(i, factored_spring_[i], factored_force_)).norm();
+    if (change > share * (scale_[i] + factored_spring_[i])) return false;
+  }
+  return true;
 }
 
 void PrimalFriction::springs(std::vector<Eigen::Triplet<double>>& out) const {
@@ -96,18 +113,18 @@ void PrimalFriction::load(const ContactConstraints& c, Vector& rhs, Vector& fixe
   }
 }
 
-Vector PrimalFriction::forces(const ContactConstraints& c, const Vector& w, const Vector& r) const {
+Vector PrimalFriction::forces(const Vector& r) const {
+  // The reaction r = b − K_rot w at every row's tangent dofs: at a slip row that is s n + k (I − nnᵀ)Δ
+  // up to the solver's error (and a direct solver's lagged spring change, factored_serves): the force
+  // the body's equilibrium holds, whatever the iteration did.
+  // A row with no force (no friction law, or out of contact) carries exactly none: its free dofs'
+  // reaction is round-off.
   Vector l = Vector::Zero(force_.size());
   for (std::size_t i = 0; i < stick_.size(); ++i) {
     const auto e = static_cast<Eigen::Index>(i);
-    Vector slip = Vector::Zero(t_);
+    if (!stick_[i] && !(spring_[i] > 0) && force_.segment(e * t_, t_).isZero(0.0)) continue;
     for (int j = 0; j < t_; ++j)
-      if (const int dof = dof_[i * t_ + j]; dof >= 0) slip[j] = w[dof] - c.shift[e * t_ + j];
-    const Vector spring = stick_[i] ? Vector() : Vector(across(i) * slip);
-    for (int j = 0; j < t_; ++j) {
-      const auto k = e * t_ + j;
-      if (const int dof = dof_[static_cast<std::size_t>(k)]; dof >= 0) l[k] = stick_[i] ? r[dof] : force_[k] + spring[j];
-    }
+      if (const int dof = dof_[i * t_ + j]; dof >= 0) l[e * t_ + j] = r[dof];
   }
   return l;
 }

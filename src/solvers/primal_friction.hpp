@@ -40,9 +40,9 @@ class PrimalFriction {
   void springs(std::vector<Eigen::Triplet<double>>& out) const;
   /// Stick rows: w_j = h_ij into `fixed_values`; slip rows: −s_i n_i + k_i (I − n_i n_iᵀ) h_i into `rhs`.
   void load(const ContactConstraints& c, Vector& rhs, Vector& fixed_values) const;
-  /// λ_τ of the iterate w (rows × (b − 1)): the reaction r = b − K_rot w at stick dofs, the
-  /// linearized law s n + k (I − nnᵀ) Δ at slip ones, 0 where a tangent has no dof.
-  Vector forces(const ContactConstraints& c, const Vector& w, const Vector& r) const;
+  /// λ_τ of the iterate (rows × (b − 1)): the reaction r = b − K_rot w at the tangent dofs, 0
+  /// where a tangent has no dof.
+  Vector forces(const Vector& r) const;
 
   struct Next {
     std::vector<char> stick;  // per row
@@ -60,6 +60,11 @@ class PrimalFriction {
   /// step of Newton's iteration. Kept from an earlier iterate, k (I − aaᵀ) with a ≠ n_i moves the
   /// fixed point off the law's solution: the 3D test block then never converged.)
   void take(Next&& next);
+  /// The springs now are those of the factor (a direct solver's: solve_constrained puts their later
+  /// change on the right-hand side, lagged one iterate, while each row's change stays within
+  /// `share` of its stiffness c_i + k_i there, so that the lagged iteration contracts).
+  void mark_factored();
+  bool factored_serves(double share) const;
   /// Barzilai–Borwein's step for c (c_i γ): from the last two iterates (w, λ_τ `tangential`), γ = Σ |δλ_τ|²/c_i /
   /// (−Σ δλ_τ·δΔ) over the rows that slip in both (1/the Rayleigh quotient of their compliance),
   /// at most 1, also across a change of the sets; kept where `update` is false. Any c > 0 has the
@@ -79,6 +84,7 @@ class PrimalFriction {
   static constexpr double kMostSpring = 1e4;
   /// Row i's spring k_i (I − n_i n_iᵀ) over its tangents (zero rows and columns where a tangent has no dof).
   Eigen::MatrixXd across(std::size_t i) const;
+  Eigen::MatrixXd across(std::size_t i, double k, const Vector& force) const;
 
   int t_ = 0;                   // tangents per row
   std::vector<int> dof_;        // per row × t_: the tangent dof, −1 where none
@@ -87,6 +93,8 @@ class PrimalFriction {
   Vector force_;                // per row × t_: s n of the slip rows
   std::vector<double> spring_;  // per row: k of the slip rows (0 in 2D, at stick and free rows)
   double gamma_ = 1;            // c_i γ in the update rule (secant)
+  std::vector<double> factored_spring_;  // spring_ and force_ when the factor was made (mark_factored)
+  Vector factored_force_;
   Vector last_force_, last_slip_;
   std::vector<char> last_stick_;
 };
