@@ -4,19 +4,20 @@
 // three-dimensional contact problems with Coulomb friction", SIAM J. Sci. Comput. 30, 2008).
 //
 // In w = Qu each tangent j of a contact row i is one dof (ContactConstraints::tangent_dof) and the
-// slip increment is Δ_ij = w_j − h_ij. With q_i = λ_τ,i + c_i Δ_i (c_i = K_rot's diagonal at the
-// row's tangent dofs, their mean) and the bound s_i, the friction law is λ_τ,i = P_{s_i}(q_i), the
+// slip increment is Δ_ij = w_j − h_ij. With q_i = λ_τ,i + γ c_i Δ_i (c_i = K_rot's diagonal at the
+// row's tangent dofs, their mean; γ ≤ 1 by secant()) and the bound s_i, the friction law is λ_τ,i = P_{s_i}(q_i), the
 // projection onto the disc |λ| ≤ s_i. Newton's step linearizes P at the last iterate:
 //   STICK (|q_i| ≤ s_i): Δ_i = 0, the tangent dofs fixed at h_i (λ_τ their reaction);
 //   SLIP (|q_i| > s_i, n_i = q_i/|q_i|): λ_τ,i = s_i n_i + k_i (I − n_i n_iᵀ) Δ_i with
-//     k_i = s_i c_i / (|q_i| − s_i) (P's derivative (s/|q|)(I − nnᵀ) solved for the new λ_τ,i):
+//     k_i = s_i γ c_i / (|q_i| − s_i) (P's derivative (s/|q|)(I − nnᵀ) solved for the new λ_τ,i):
 //     a constant force along n_i and a spring across it, symmetric positive semidefinite, so the
 //     system stays SPD and CG + AMG still solve it. In 2D (one tangent) the spring vanishes.
 // Any k_i ≥ 0 has the same fixed points (there k_i (I − nnᵀ)Δ_i = 0: Δ_i ∥ n_i); Newton's k_i
 // makes the directions converge quadratically where the fixed point with k = 0 crawled (foundation-3d
 // sliding: 49 solves a step, and none at n = 20 past step 71). Coulomb's bound s_i = tresca_i +
-// μ_i λ_ν,i is taken from the last iterate (its λ_ν enters nonsymmetrically: lagged within the
-// step, iterated to the step's tolerance: Coulomb is exact per step, not lagged from the last step).
+// μ_i λ_ν,i (its λ_ν, a reaction, would enter nonsymmetrically) is iterated by the caller
+// (PrimalActiveSetSolver::solve_frictional) to the step's tolerance: exact per step, not lagged
+// from the last step.
 #include "solvers/contact_solver.hpp"
 
 #include <vector>
