@@ -6,7 +6,9 @@ namespace vpc {
 
 Vector AndersonMixing::next(const la::Comm& comm, const Vector& x, const Vector& g) {
   const Vector f = g - x;
-  if (x_last_.size() == x.size()) {
+  // A flag, not x_last_'s size: a rank without contact rows has empty vectors from the start, and
+  // every rank must keep the same number of differences (the sums below are collective).
+  if (have_last_) {
     dx_.push_back(x - x_last_);
     df_.push_back(f - f_last_);
     if (static_cast<int>(df_.size()) > depth_) {
@@ -16,6 +18,7 @@ Vector AndersonMixing::next(const la::Comm& comm, const Vector& x, const Vector&
   }
   x_last_ = x;
   f_last_ = f;
+  have_last_ = true;
   const auto m = static_cast<Eigen::Index>(df_.size());
   if (m == 0) return g;
   // γ = argmin ‖f − ΔF γ‖ by its normal equations (m ≤ depth numbers, the same on every rank).

@@ -23,6 +23,7 @@ class AndersonMixing {
   int depth_;
   std::vector<Vector> dx_, df_;  // differences of the iterates and of their residuals
   Vector x_last_, f_last_;
+  bool have_last_ = false;
 };
 
 }  // namespace vpc

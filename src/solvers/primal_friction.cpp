@@ -31,7 +31,7 @@ void PrimalFriction::start(const ContactConstraints& c, const std::vector<char>&
                            const Vector& tangential) {
   force_.setZero();
   gamma_ = 1;
-  last_force_ = Vector();
+  have_last_ = false;
   for (std::size_t i = 0; i < stick_.size(); ++i) {
     const auto e = static_cast<Eigen::Index>(i);
     const bool slipped = !stick_[i] && spring_[i] > 0;
@@ -188,7 +188,9 @@ void PrimalFriction::secant(const ContactConstraints& c, const Vector& w, const 
   Vector slip = Vector::Zero(force_.size());
   for (Eigen::Index k = 0; k < slip.size(); ++k)
     if (const int dof = dof_[static_cast<std::size_t>(k)]; dof >= 0) slip[k] = w[dof] - c.shift[k];
-  if (update && last_force_.size() == tangential.size()) {
+  // have_last_, not a size test: a rank without contact rows has empty vectors from the start, and a
+  // collective sum on some ranks only hung foundation-3d on 2 ranks (its face on one of them).
+  if (update && have_last_) {
     double sums[2] = {0, 0};
     for (std::size_t i = 0; i < stick_.size(); ++i) {
       if (stick_[i] || last_stick_[i] || !(scale_[i] > 0)) continue;  // rows that slip in both
@@ -201,6 +203,7 @@ void PrimalFriction::secant(const ContactConstraints& c, const Vector& w, const 
     if (sums[0] > 0 && sums[1] > 0) gamma_ = std::clamp(sums[0] / sums[1], 1e-3, 1.0);
   }
   last_force_ = tangential;
+  have_last_ = true;
   last_slip_ = slip;
   last_stick_ = stick_;
 }

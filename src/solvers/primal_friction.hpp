@@ -97,6 +97,7 @@ class PrimalFriction {
   std::vector<double> factored_spring_;  // spring_ and force_ when the factor was made (mark_factored)
   Vector factored_force_;
   Vector last_force_, last_slip_;
+  bool have_last_ = false;
   std::vector<char> last_stick_;
 };
 
