@@ -229,7 +229,8 @@ def compare_csv(rep, name, serial_path, other_path):
                     break
             continue
         sf, pf = [float(v) for v in sv], [float(v) for v in pv]
-        residual = "residual" in col or col.startswith("contact_") and col not in ("contact_iterations", "contact_area")
+        residual = ("residual" in col or col in FRICTION_RESIDUALS
+                    or col.startswith("contact_") and col not in ("contact_iterations", "contact_area"))
         scale = scale_of(sf)
         if col.startswith("reaction_"):
             # A reaction that vanishes (a roller's in a symmetric case) is round-off of the
@@ -239,6 +240,12 @@ def compare_csv(rep, name, serial_path, other_path):
         floor = RESIDUAL_ABS if residual else 1e-13 * (1 + scale)
         compare_values(rep, f"{name} {col}", sf, pf, 0 if residual else scale, floor,
                        lambda i: f"row {i + 1} (step {srows[i][0]})")
+
+
+# Friction's residuals (history.csv columns and summary.json's friction block): round-off-sized
+# numbers, compared as residuals (to RESIDUAL_ABS), not as values.
+FRICTION_RESIDUALS = ("friction_bound", "friction_stick_slip", "friction_slip_direction", "max_friction_bound",
+                      "max_stick_slip", "max_slip_direction")
 
 
 NOISE = 1e-11  # below this a norm of a difference of runs is round-off of the solution itself
@@ -325,7 +332,7 @@ def compare_json(rep, path, a, b, beta=None):
         if a != b:
             rep.fail(f"summary.json {path.rstrip('.')}: serial {a!r}, PETSc {b!r}")
     elif isinstance(a, (int, float)) and isinstance(b, (int, float)):
-        if "residual" in path:
+        if "residual" in path or path.rstrip(".").split(".")[-1] in FRICTION_RESIDUALS:
             compare_values(rep, "summary.json residuals", [a], [b], 0, RESIDUAL_ABS, lambda i: path.rstrip("."))
         else:
             scale = abs(a)
