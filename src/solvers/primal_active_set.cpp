@@ -9,8 +9,6 @@
 #include <cmath>
 #include <limits>
 #include <optional>
-#include <cstdio>
-#include <cstdlib>
 
 namespace vpc {
 
@@ -169,7 +167,6 @@ class PrimalActiveSetSolver final : public ContactSolver {
       const double scale = std::max({b_scale, comm.max(lambda_local.size() ? lambda_local.cwiseAbs().maxCoeff() : 0.0),
                                      std::numeric_limits<double>::min()});
       if (!comm.all(next == active) || !comm.all(up.stick == friction_->stick())) {
-        if (std::getenv("VPC_DEBUG")) fprintf(stderr, "it %d SETS active %d stick %d monotone %d fact %d\n", it, (int)std::count(next.begin(), next.end(), 1), (int)std::count(up.stick.begin(), up.stick.end(), 1), (int)monotone, rep.factorizations);
         if (history->came_back(contact_sets(next, up.stick), comm) && !monotone) {
           monotone = true;
           ++rep.cycles;
@@ -183,7 +180,6 @@ class PrimalActiveSetSolver final : public ContactSolver {
       // change (an inexact inner solve; 3D partial slip on the test block: 93 → 38 solves, 3D full slip 47 → 19), to
       // kForceTolerance at the end.
       const double direction_change = comm.max(up.change) / scale;
-      if (std::getenv("VPC_DEBUG")) fprintf(stderr, "it %d dir %.3e bound %.3e\n", it, direction_change, bound_change);
       const bool was_tight = tight, directions_held = settled(direction_change, last_direction);
       tight = true;  // sets found: tight solves from here on (an iterative solver's forces need them)
       if (!directions_held && direction_change > kInnerShare * bound_change) {
