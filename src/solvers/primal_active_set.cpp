@@ -90,10 +90,11 @@ class PrimalActiveSetSolver final : public ContactSolver {
   /// μ λ_ν(s) over Tresca problems (SPEC §7), each solved exactly by Newton's iteration. Within a
   /// Tresca problem (s frozen) the normal set is updated as without friction and the stick set
   /// and the slip rows' linearizations by HSW's rule (primal_friction.hpp); once the directions
-  /// moved less than kInnerShare of the bound's last change, each iterate also updates the bound; it is solved when both sets hold and the slip forces used
-  /// equal the updated ones to kForceTolerance of the force scale (max(‖QF‖∞, ‖λ_ν‖∞)). Then s is
-  /// recomputed from its λ_ν: Coulomb holds when it changed by less than kForceTolerance, else the
-  /// next bound is its Anderson-accelerated update. On an iterative solver the forces count as
+  /// moved less than kInnerShare of the bound's last change, each iterate also updates the bound.
+  /// It is solved when both sets hold and the slip forces used equal the updated ones to
+  /// kForceTolerance of the force scale (max(‖QF‖∞, ‖λ_ν‖∞)). Then s is recomputed from its λ_ν:
+  /// Coulomb holds when it changed by less than kForceTolerance, else the next bound is its
+  /// Anderson-accelerated update. On an iterative solver the forces count as
   /// settled also when they stop contracting at its accuracy (below kNoiseCeiling and less than
   /// halved by a tight solve). The first bound: tresca + μ (λ_ν + c (N u − g))₊ (HSW's) after
   /// the first solve, also with a warm start (the last step's λ_ν is the last load's: a 2D block
@@ -255,13 +256,15 @@ class PrimalActiveSetSolver final : public ContactSolver {
     if (friction_) friction_->springs(springs);  // Newton's springs across the slip directions
     spring_change_ = SparseMatrix();
     if (A_ && comm.all(active == factored_) && (!friction_ || comm.all(friction_->stick() == factored_stick_))) {
-      if (!friction_ || comm.all(same(springs, factored_springs_))) return 0;
+      std::vector<Eigen::Triplet<double>> factored;
+      if (friction_) friction_->factored_springs(factored);
+      if (!friction_ || comm.all(same(springs, factored))) return 0;
       if (!factor_->iterative() && comm.all(friction_->factored_serves(kLaggedSpringShare))) {
         // A direct solver keeps its factor while the sets hold (a numeric factorization costs some
         // twenty solves): the springs' change since it goes to the right-hand side, lagged one
         // iterate (solve_constrained). Foundation-3d n = 20 on CHOLMOD, 100 steps: 720
         // factorizations and 1,494 s with a factorization at every iterate.
-        spring_change_ = owned_matrix(springs) - owned_matrix(factored_springs_);
+        spring_change_ = owned_matrix(springs) - owned_matrix(factored);
         return 0;
       }
     }
@@ -270,7 +273,6 @@ class PrimalActiveSetSolver final : public ContactSolver {
       friction_->fix(fixed);
       friction_->mark_factored();
       factored_stick_ = friction_->stick();
-      factored_springs_ = springs;
     }
     for (size_t i = 0; i < rows_.size(); ++i) {
       if (!active[i]) continue;
@@ -440,7 +442,6 @@ class PrimalActiveSetSolver final : public ContactSolver {
   std::vector<char> factored_, fixed_;
   std::optional<PrimalFriction> friction_;  // with friction (block > 1)
   std::vector<char> factored_stick_;        // the stick set the factor holds
-  std::vector<Eigen::Triplet<double>> factored_springs_;  // and the slip rows' springs
   SparseMatrix spring_change_;  // a direct solver's: the springs now less those in its factor
   Vector w_last_, w_before_;  // the last two answers (rotated): the extrapolated warm start
   Vector u_last_;             // the last answer as returned (is the caller continuing from it?)

@@ -18,8 +18,8 @@
 
 namespace vpc {
 
-/// Solves before the primal solver gives up: without friction, and with it (most of those are
-/// new right-hand sides on one factor: Coulomb's bound and 3D slip directions are iterated).
+/// Solves before the primal solver gives up: without friction, and with it (Coulomb's bound is
+/// iterated over Newton's steps of the slip directions: frictional foundation-3d: 7–20 solves a step, docs/performance.md).
 constexpr int kPrimalMaxIterations = 200, kPrimalFrictionMaxIterations = 500;
 
 /// "primal-active-set" (make_contact_solver): K and, where some row is not along an axis,

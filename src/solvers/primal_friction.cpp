@@ -86,10 +86,17 @@ bool PrimalFriction::factored_serves(double share) const {
   return true;
 }
 
-void PrimalFriction::springs(std::vector<Eigen::Triplet<double>>& out) const {
+void PrimalFriction::springs(std::vector<Eigen::Triplet<double>>& out) const { add_springs(spring_, force_, out); }
+
+void PrimalFriction::factored_springs(std::vector<Eigen::Triplet<double>>& out) const {
+  if (factored_spring_.size() == spring_.size()) add_springs(factored_spring_, factored_force_, out);
+}
+
+void PrimalFriction::add_springs(const std::vector<double>& spring, const Vector& force,
+                                 std::vector<Eigen::Triplet<double>>& out) const {
   for (std::size_t i = 0; i < stick_.size(); ++i) {
-    if (stick_[i] || !(spring_[i] > 0)) continue;
-    const Eigen::MatrixXd P = across(i);
+    if (stick_[i] || !(spring[i] > 0)) continue;
+    const Eigen::MatrixXd P = across(i, spring[i], force);
     for (int a = 0; a < t_; ++a)
       for (int b = 0; b < t_; ++b)
         if (P(a, b) != 0) out.emplace_back(dof_[i * t_ + a], dof_[i * t_ + b], P(a, b));

@@ -5,8 +5,8 @@
 //
 // In w = Qu each tangent j of a contact row i is one dof (ContactConstraints::tangent_dof) and the
 // slip increment is Δ_ij = w_j − h_ij. With q_i = λ_τ,i + γ c_i Δ_i (c_i = K_rot's diagonal at the
-// row's tangent dofs, their mean; γ ≤ 1 by secant()) and the bound s_i, the friction law is λ_τ,i = P_{s_i}(q_i), the
-// projection onto the disc |λ| ≤ s_i. Newton's step linearizes P at the last iterate:
+// row's tangent dofs, their mean; γ ≤ 1 by secant()) and the bound s_i, the friction law is
+// λ_τ,i = P_{s_i}(q_i), the projection onto the disc |λ| ≤ s_i. Newton's step linearizes P at the last iterate:
 //   STICK (|q_i| ≤ s_i): Δ_i = 0, the tangent dofs fixed at h_i (λ_τ their reaction);
 //   SLIP (|q_i| > s_i, n_i = q_i/|q_i|): λ_τ,i = s_i n_i + k_i (I − n_i n_iᵀ) Δ_i with
 //     k_i = s_i γ c_i / (|q_i| − s_i) (P's derivative (s/|q|)(I − nnᵀ) solved for the new λ_τ,i):
@@ -37,8 +37,10 @@ class PrimalFriction {
 
   /// Fixes the tangent dofs of the stick rows.
   void fix(std::vector<char>& fixed) const;
-  /// The slip rows' springs k_i (I − n_i n_iᵀ) on their tangent dofs (owned numbering).
+  /// The slip rows' springs k_i (I − n_i n_iᵀ) on their tangent dofs (owned numbering), appended
+  /// to `out`: those of this linearization, and those the factor holds (mark_factored; none before).
   void springs(std::vector<Eigen::Triplet<double>>& out) const;
+  void factored_springs(std::vector<Eigen::Triplet<double>>& out) const;
   /// Stick rows: w_j = h_ij into `fixed_values`; slip rows: −s_i n_i + k_i (I − n_i n_iᵀ) h_i into `rhs`.
   void load(const ContactConstraints& c, Vector& rhs, Vector& fixed_values) const;
   /// λ_τ of the iterate (rows × (b − 1)): the reaction r = b − K_rot w at the tangent dofs, 0
@@ -57,9 +59,9 @@ class PrimalFriction {
   /// Monotone (against cycling): of the stick rows that would slip, only the one with the largest
   /// excess over its bound (over every rank) does. Collective.
   void slip_one(Next& next, const la::Comm& comm) const;
-  /// The next linearization. (The springs change the matrix: a direct solver refactorizes at every
-  /// step of Newton's iteration. Kept from an earlier iterate, k (I − aaᵀ) with a ≠ n_i moves the
-  /// fixed point off the law's solution: the 3D test block then never converged.)
+  /// The next linearization. (Its springs change the matrix. They cannot simply be kept from an
+  /// earlier iterate: k (I − aaᵀ) with a ≠ n_i moves the fixed point off the law's solution, and the
+  /// 3D test block then never converged; a direct solver lags only their change, mark_factored.)
   void take(Next&& next);
   /// The springs now are those of the factor (a direct solver's: solve_constrained puts their later
   /// change on the right-hand side, lagged one iterate, while each row's change stays within
@@ -78,7 +80,6 @@ class PrimalFriction {
   void rescale(const Vector& bound);
 
   const std::vector<char>& stick() const { return stick_; }
-  const std::vector<double>& spring() const { return spring_; }
 
  private:
   /// Newton's spring at most this many times c: a row that only just slips is nearly stuck across its direction.
@@ -86,6 +87,7 @@ class PrimalFriction {
   /// Row i's spring k_i (I − n_i n_iᵀ) over its tangents (zero rows and columns where a tangent has no dof).
   Eigen::MatrixXd across(std::size_t i) const;
   Eigen::MatrixXd across(std::size_t i, double k, const Vector& force) const;
+  void add_springs(const std::vector<double>& spring, const Vector& force, std::vector<Eigen::Triplet<double>>& out) const;
 
   int t_ = 0;                   // tangents per row
   std::vector<int> dof_;        // per row × t_: the tangent dof, −1 where none
