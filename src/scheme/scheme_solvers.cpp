@@ -57,10 +57,13 @@ SchemeSolvers set_up_solvers(DiscreteSystem& sys, const SolverChoice& choice, Se
       K_rot = sys.backend->assemble(SparseMatrix(Q * sys.K_local * Q), *part.dof_layout, sys.K_block);
     }
     s.contact = make_primal_active_set_solver(sys.K, std::move(K_rot), std::exchange(s.K_factor, nullptr),
-                                              std::move(constraints));
+                                              std::move(constraints), 0,
+                                              friction_force_tolerance(choice.residual_tolerance));
   } else {
+    ContactSolverOptions options = choice.contact_options;
+    options.friction_tolerance = friction_force_tolerance(choice.residual_tolerance);
     s.contact = make_contact_solver(s.contact_pick.name, sys.K, s.K_factor, std::move(constraints),
-                                    la::factor_factory(sys.backend), choice.contact_options);
+                                    la::factor_factory(sys.backend), options);
   }
   sys.K_local = SparseMatrix();
   timing.contact = seconds_since(t1);

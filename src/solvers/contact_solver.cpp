@@ -229,6 +229,8 @@ ContactSolverPick pick_contact_solver(const std::string& requested, int m, const
   return {"active-set", fmt::format("auto: {} <= {} and a direct solver", unknowns, kDualContactRows)};
 }
 
+double friction_force_tolerance(double residual_tolerance) { return std::max(1e-2 * residual_tolerance, 1e-12); }
+
 std::unique_ptr<ContactSolver> make_contact_solver(const std::string& name, std::shared_ptr<const la::SpdOperator> K,
                                                    std::shared_ptr<const la::LinearSolver> K_factor,
                                                    ContactConstraints constraints, const la::LinearSolverFactory& make_factor,
@@ -260,7 +262,7 @@ std::unique_ptr<ContactSolver> make_contact_solver(const std::string& name, std:
     require(contact_reflections(constraints.N).size() == 0,
             "internal: the primal contact solver with rows off the axes needs Q K Q (make_primal_active_set_solver)");
     return make_primal_active_set_solver(K, nullptr, std::shared_ptr<la::LinearSolver>(make_factor("K_active")),
-                                         std::move(constraints));
+                                         std::move(constraints), 0, opt.friction_tolerance);
   }
   fail("unknown contact solver '{}'; expected active-set, primal-active-set or penalty-duality", name);
 }
@@ -278,7 +280,8 @@ std::unique_ptr<ContactSolver> make_contact_solver(const std::string& name, cons
   if (name == "primal-active-set") {
     const SparseMatrix Q = contact_reflections(N);
     auto K_rot = Q.size() ? std::make_shared<const la::SparseOperator>(SparseMatrix(Q * K * Q)) : nullptr;
-    return make_primal_active_set_solver(std::move(op), std::move(K_rot), std::move(factor), std::move(c));
+    return make_primal_active_set_solver(std::move(op), std::move(K_rot), std::move(factor), std::move(c), 0,
+                                         opt.friction_tolerance);
   }
   factor->factorize(*op, "elastic stiffness K");
   return make_contact_solver(name, std::move(op), std::move(factor), std::move(c), la::factor_factory(la::serial_backend()), opt);

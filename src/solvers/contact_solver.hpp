@@ -181,9 +181,17 @@ struct ContactSolverOptions {
   /// one solve) while it takes at most this share of the memory of K's factor (where
   /// the backend says it) and 256 MiB (on every rank); else two solves a step.
   double max_cached_share = 0.5;
+  /// Primal friction: the slip forces and Coulomb's bound count as settled when an iterate changes
+  /// them by at most this share of the force scale (friction_force_tolerance: from the step's).
+  double friction_tolerance = 1e-12;
 
   bool operator==(const ContactSolverOptions&) const = default;
 };
+
+/// The primal solver's friction_tolerance for a step's residual tolerance: 1e-2 of it (friction's
+/// residuals stay within a hundredth of what the step accepts), at least 1e-12. Frictional
+/// foundation-3d n = 10 on CG + GAMG, 100 steps: 643 solves with 1e-12, 557 with 1e-10.
+double friction_force_tolerance(double residual_tolerance);
 
 /// The contact solver for a problem (issue 14): `requested` unless it is "auto". "auto" takes
 /// the dual "active-set" while S = N K⁻¹Nᵀ is cheap (a direct solver and at most

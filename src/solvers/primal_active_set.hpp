@@ -26,11 +26,13 @@ constexpr int kPrimalMaxIterations = 200, kPrimalFrictionMaxIterations = 500;
 /// K_rot = Q K Q assembled over the same layout (nullptr: K_rot = K); `factor` is
 /// unfactorized (its coordinates set for AMG) and refactorized whenever the active set changes.
 /// `max_iterations`: solves before it gives up (converged = false; 0: kPrimalMaxIterations, or
-/// kPrimalFrictionMaxIterations with friction); tests lower it.
+/// kPrimalFrictionMaxIterations with friction); tests lower it. `friction_tolerance`:
+/// ContactSolverOptions::friction_tolerance.
 std::unique_ptr<ContactSolver> make_primal_active_set_solver(std::shared_ptr<const la::SpdOperator> K,
                                                              std::shared_ptr<const la::SpdOperator> K_rot,
                                                              std::shared_ptr<la::LinearSolver> factor,
                                                              ContactConstraints constraints,
-                                                             int max_iterations = 0);
+                                                             int max_iterations = 0,
+                                                             double friction_tolerance = 1e-12);
 
 }  // namespace vpc

@@ -2,7 +2,7 @@
 //   mpirun -np P vpcontact_mpi_compare CASE [--n N] [--steps S] [--kappa K] [--linear mumps|cg-gamg|cg-hypre]
 //                                           [--tolerance 1e-10] [--elasticity KIND] [--contact-solver NAME]
 //                                           [--damage-solver NAME] [--halvings H] [--reduced reduced-factor]
-//                                           [--max-cached-share S]
+//                                           [--max-cached-share S] [--residual-tolerance R]
 // Every rank checks that its step reports are ok (contact and damage KKT residuals
 // within the tolerance of SolverChoice) and equal on all ranks; rank 0 runs the
 // serial stepper beside the distributed one and compares u, β, λ (contact forces)
@@ -46,7 +46,7 @@ int run(int argc, char** argv) {
   // Solver choices beyond the case's (every one the serial backend takes, the PETSc backend takes too).
   std::optional<std::string> contact, damage, reduced;
   std::optional<int> halvings;
-  std::optional<double> max_cached_share;
+  std::optional<double> max_cached_share, residual_tolerance;
   for (int i = 2; i + 1 < argc; i += 2) {
     const std::string key = argv[i], value = argv[i + 1];
     if (key == "--n") mesh.cells = std::stoi(value);
@@ -60,6 +60,7 @@ int run(int argc, char** argv) {
     else if (key == "--halvings") halvings = std::stoi(value);
     else if (key == "--reduced") reduced = value;
     else if (key == "--max-cached-share") max_cached_share = std::stod(value);
+    else if (key == "--residual-tolerance") residual_tolerance = std::stod(value);
     else vpc::fail("unknown option '{}'", key);
   }
   vpc::Case c = vpc::load_case(name, ov, mesh);
@@ -67,6 +68,7 @@ int run(int argc, char** argv) {
   if (damage) c.solvers.damage = *damage;
   if (halvings) c.solvers.max_halvings = *halvings;
   if (max_cached_share) c.solvers.contact_options.max_cached_share = *max_cached_share;
+  if (residual_tolerance) c.solvers.residual_tolerance = *residual_tolerance;
   if (reduced) {
     vpc::require(*reduced == "reduced-factor", "--reduced: expected reduced-factor, got '{}'", *reduced);
     c.solvers.damage_reduced = vpc::ReducedSolve::reduced_factor;
