@@ -112,9 +112,9 @@ class PetscFactor final : public LinearSolver {
     const auto* op = dynamic_cast<const PetscOperator*>(&A);
     require(op != nullptr, "internal: PETSc factors PETSc operators only ({})", what);
     what_ = what;
-    const double start = MPI_Wtime();
+    const double start = flops();
     set_up_ksp(op->mat(), direct() ? nullptr : rigid_body_modes(*op).get());
-    setup_seconds_ = MPI_Wtime() - start;
+    setup_flops_ = flops() - start;
     rebuild_cost_ = extra_iterations_ = reference_rate_[0] = reference_rate_[1] = 0;
     rebuild_ = false;
     loose_ = false;  // the new KSP stops at options_.rtol
@@ -159,10 +159,10 @@ class PetscFactor final : public LinearSolver {
   void solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) const override {
     if (x.size() != n_) x = Eigen::VectorXd::Zero(n_);
     Placed pb(b_, b.data()), px(x_, x.data());
-    const double start = MPI_Wtime();
+    const double start = flops();
     VPC_PETSC(KSPSolve(ksp_, b_, x_));
     check_converged(true);
-    if (!direct()) note_iterations(MPI_Wtime() - start);
+    if (!direct()) note_iterations(flops() - start);
   }
   Eigen::MatrixXd solve(const Eigen::MatrixXd& B) const override {
     // MUMPS solves the block together, an iterative solver column by column.
@@ -261,14 +261,17 @@ class PetscFactor final : public LinearSolver {
   /// A preconditioner kept by refactorize is rebuilt once what it has cost since it was
   /// built, in iterations beyond the rate of its first solve (iterations per decade of
   /// residual reduction, so that solves from different guesses compare; loose and tight
-  /// solves each against their own first), exceeds what building it costs (its set-up time
-  /// over the time of an iteration: ~30 iterations on foundation-3d n = 70). The decision is
-  /// the same on every rank (iteration counts, and the cost taken as the ranks' largest).
-  void note_iterations(double seconds) const {
+  /// solves each against their own first), exceeds what building it costs (its set-up's
+  /// floating-point operations over an iteration's, as PETSc counts them). The decision is the
+  /// same on every rank (iteration counts, and the cost taken as the ranks' largest) and from
+  /// run to run: with the set-up's time over an iteration's (~30 iterations on foundation-3d
+  /// n = 70) the preconditioner was rebuilt at other solves in each run, and ironing-3d's results
+  /// differed between runs of the same binary at round-off.
+  void note_iterations(double solve_flops) const {
     PetscInt its = 0;
     VPC_PETSC(KSPGetIterationNumber(ksp_, &its));
-    if (rebuild_cost_ == 0 && its > 0) {
-      rebuild_cost_ = setup_seconds_ / (seconds / static_cast<double>(its));
+    if (rebuild_cost_ == 0 && its > 0 && solve_flops > 0) {
+      rebuild_cost_ = kSetupWork * setup_flops_ / (solve_flops / static_cast<double>(its));
       VPC_PETSC(MPI_Allreduce(MPI_IN_PLACE, &rebuild_cost_, 1, MPI_DOUBLE, MPI_MAX, comm_));
     }
     const PetscReal* history = nullptr;
@@ -305,9 +308,18 @@ class PetscFactor final : public LinearSolver {
   int n_ = 0;
   Eigen::VectorXd coordinates_;
   int dim_ = 0;
-  // See note_iterations: the set-up's cost (seconds, then iterations), the reference rate
+  // See note_iterations: the set-up's cost (operations, then iterations), the reference rate
   // (iterations per decade, tight and loose solves) and the iterations spent beyond it.
-  double setup_seconds_ = 0;
+  // GAMG's set-up does much work that PETSc counts no operations for (the graph, its coarsening,
+  // symbolic products): its time over an iteration's was 4.5–5.3 times its counted operations over
+  // an iteration's on foundation-3d n = 20 and 40 (82–113 iterations against 18–21).
+  static constexpr double kSetupWork = 5;
+  static double flops() {
+    PetscLogDouble f = 0;
+    VPC_PETSC(PetscGetFlops(&f));
+    return f;
+  }
+  double setup_flops_ = 0;
   mutable double rebuild_cost_ = 0, extra_iterations_ = 0, reference_rate_[2] = {0, 0};  // [tight, loose]
   bool loose_ = false;                 // the next solves stop above the solver's own tolerance
   mutable bool rebuild_ = false;
