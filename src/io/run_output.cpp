@@ -447,6 +447,7 @@ std::string summary_json(const Problem& p, const RunSummary& r, const OutputOpti
                         {"factor_H", r.setup.factor_H},
                         {"contact", r.setup.contact}};
   j["factorizations"] = r.factorizations;
+  j["linear_iterations"] = r.linear_iterations;
   j["vpcontact"] = {{"version", version()},
                     {"git_commit", git_commit()},
                     {"command_line", options.command_line},
@@ -507,6 +508,7 @@ RunSummary RunOutput::summary(double wall_seconds) const {
   r.wall_seconds = wall_seconds;
   r.setup = stepper_.setup_timing();
   r.factorizations = stepper_.n_factorizations();
+  r.linear_iterations = stepper_.n_linear_iterations();
   r.contact_solver = stepper_.contact_solver();
   // Each symmetry part's plane x_i = c: the axis along which its nodes (over the
   // processes) do not spread. Its nodes from the part's Dirichlet nodes (a process's

@@ -111,6 +111,7 @@ struct RunSummary {
   double wall_seconds = 0;
   SetupTiming setup;
   int factorizations = 0;
+  long long linear_iterations = 0;  // TimeStepper::n_linear_iterations
   int ranks = 0;  // > 0: a run over MPI ("engine": "petsc", "ranks", "linear_solver")
   std::string linear_solver;
   std::string contact_solver;  // the one in use ("auto" resolved)

@@ -77,6 +77,9 @@ class LinearSolver {
   virtual Eigen::MatrixXd forward(const Eigen::MatrixXd& B) const;
   virtual Eigen::MatrixXd backward(const Eigen::MatrixXd& Y) const;
   virtual int n_factorizations() const = 0;
+  /// An iterative solver's Krylov iterations over all its solves so far (0 for a direct one): the
+  /// run's linear work, the same from run to run where wall times are not.
+  virtual long long iterations() const { return 0; }
   /// Memory held by the factor (bytes; 0 where the backend does not say).
   virtual double factor_bytes() const { return 0; }
 };

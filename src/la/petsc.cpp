@@ -151,6 +151,7 @@ class PetscFactor final : public LinearSolver {
     }
   }
   bool iterative() const override { return !direct(); }
+  long long iterations() const override { return iterations_; }
   void set_relative_tolerance(double rtol) override {
     loose_ = rtol > 0;
     if (!direct() && ksp_)
@@ -270,6 +271,7 @@ class PetscFactor final : public LinearSolver {
   void note_iterations(double solve_flops) const {
     PetscInt its = 0;
     VPC_PETSC(KSPGetIterationNumber(ksp_, &its));
+    iterations_ += its;
     if (rebuild_cost_ == 0 && its > 0 && solve_flops > 0) {
       rebuild_cost_ = kSetupWork * setup_flops_ / (solve_flops / static_cast<double>(its));
       VPC_PETSC(MPI_Allreduce(MPI_IN_PLACE, &rebuild_cost_, 1, MPI_DOUBLE, MPI_MAX, comm_));
@@ -323,6 +325,7 @@ class PetscFactor final : public LinearSolver {
   mutable double rebuild_cost_ = 0, extra_iterations_ = 0, reference_rate_[2] = {0, 0};  // [tight, loose]
   bool loose_ = false;                 // the next solves stop above the solver's own tolerance
   mutable bool rebuild_ = false;
+  mutable long long iterations_ = 0;  // over single solves (iterations())
 };
 
 }  // namespace

@@ -124,6 +124,11 @@ int TimeStepper::n_factorizations() const {
          (contact ? contact->n_factorizations() : 0) + solvers_.damage.n_factorizations();
 }
 
+long long TimeStepper::n_linear_iterations() const {
+  const la::LinearSolver* contact = solvers_.contact->own_factor();
+  return (solvers_.K_factor ? solvers_.K_factor->iterations() : 0) + (contact ? contact->iterations() : 0);
+}
+
 Snapshot TimeStepper::snapshot() const {
   return {state_, u_free_, solvers_.contact->warm_state(), solvers_.damage.current().warm_state()};
 }

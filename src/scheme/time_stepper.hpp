@@ -90,6 +90,8 @@ class TimeStepper {
   const SparseMatrix& laplacian_matrix() const { return sys_.A_local; }
   SparseMatrix contact_rows() const { return sys_.N; }
   int n_factorizations() const;
+  /// Krylov iterations of K's and the contact solver's iterative solves so far (0 on direct solvers).
+  long long n_linear_iterations() const;
   /// The damage matrices H = M + kκA made so far: one per step size, while at most
   /// four sizes are in use (the least recently used is dropped beyond that).
   int n_damage_matrices() const { return solvers_.damage.n_matrices(); }
