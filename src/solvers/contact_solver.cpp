@@ -229,7 +229,7 @@ ContactSolverPick pick_contact_solver(const std::string& requested, int m, const
   return {"active-set", fmt::format("auto: {} <= {} and a direct solver", unknowns, kDualContactRows)};
 }
 
-double friction_force_tolerance(double residual_tolerance) { return std::max(1e-2 * residual_tolerance, 1e-12); }
+double friction_force_tolerance(double residual_tolerance) { return std::max(1e-3 * residual_tolerance, 1e-12); }
 
 std::unique_ptr<ContactSolver> make_contact_solver(const std::string& name, std::shared_ptr<const la::SpdOperator> K,
                                                    std::shared_ptr<const la::LinearSolver> K_factor,

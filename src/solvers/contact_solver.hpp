@@ -188,9 +188,11 @@ struct ContactSolverOptions {
   bool operator==(const ContactSolverOptions&) const = default;
 };
 
-/// The primal solver's friction_tolerance for a step's residual tolerance: 1e-2 of it (friction's
-/// residuals stay within a hundredth of what the step accepts), at least 1e-12. Frictional
-/// foundation-3d n = 10 on CG + GAMG, 100 steps: 643 solves with 1e-12, 557 with 1e-10.
+/// The primal solver's friction_tolerance for a step's residual tolerance: 1e-3 of it, at least
+/// 1e-12. Frictional foundation-3d n = 10 on CG + GAMG, 100 steps: 643 solves with 1e-12, 557
+/// with 1e-10; but with 1e-10 shear-3d's stick/slip status (a node slips where |λ_τ| is within
+/// 1e-9 of its bound, kSlipShare) counted 2 more stick nodes than the dual's exact answer at the
+/// turn to sliding; with 1e-11 the same.
 double friction_force_tolerance(double residual_tolerance);
 
 /// The contact solver for a problem (issue 14): `requested` unless it is "auto". "auto" takes
