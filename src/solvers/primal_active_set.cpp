@@ -126,7 +126,6 @@ class PrimalActiveSetSolver final : public ContactSolver {
     friction_->start(c_, active, normal_in, tangential_in);
     Vector bound = Vector::Zero(rows);  // s of the Tresca problem being solved, from the first solve
     bool bound_known = false;
-
     AndersonMixing coulomb(kAndersonDepth);
     Vector lambda_local = Vector::Zero(rows), tangential;
     auto history = std::make_unique<ActiveSetHistory>();
@@ -197,7 +196,7 @@ class PrimalActiveSetSolver final : public ContactSolver {
       const bool bound_held = settled(bound_change, last_bound);
       if (bound_held && directions_held) {
         // ... and the last correction's equilibrium residual (an inexact solve's, bounded by its
-        // forcing) within the same tolerance: from a loose iterate, one correction leaves 1e-3 of
+        // forcing) within the same tolerance: from a loose iterate, one correction leaves kForcing of
         // the loose residual (a pressed block that sticks: equilibrium 9.8e-9 against the step's 1e-8).
         converged = was_tight && residual_left_ <= force_tolerance_ * scale;
         continue;
@@ -375,7 +374,7 @@ class PrimalActiveSetSolver final : public ContactSolver {
       residual_left_ = forcing_ * std::sqrt(K_->comm().sum(r.squaredNorm()));  // ‖r − Aδ‖₂ ≤ forcing ‖r‖₂
       return;
     }
-    residual_left_ = 0;  // a direct solve, or an iterative one to its own tolerance
+    residual_left_ = 0;  // a direct solve (a loose one never ends the iteration: was_tight)
     factor_->solve(rhs, w);
   }
 
