@@ -48,6 +48,8 @@ SchemeSolvers set_up_solvers(DiscreteSystem& sys, const SolverChoice& choice, Se
 
   choice.stage("contact set-up");
   t1 = Clock::now();
+  ContactSolverOptions options = choice.contact_options;
+  options.friction_tolerance = friction_force_tolerance(choice.residual_tolerance);
   if (primal) {
     // Rows off the axes are turned into one dof each by node-local reflections Q: K_rot = Q K Q,
     // assembled from the cells' matrices like K (Q acts within each node's dofs).
@@ -57,11 +59,8 @@ SchemeSolvers set_up_solvers(DiscreteSystem& sys, const SolverChoice& choice, Se
       K_rot = sys.backend->assemble(SparseMatrix(Q * sys.K_local * Q), *part.dof_layout, sys.K_block);
     }
     s.contact = make_primal_active_set_solver(sys.K, std::move(K_rot), std::exchange(s.K_factor, nullptr),
-                                              std::move(constraints), 0,
-                                              friction_force_tolerance(choice.residual_tolerance));
+                                              std::move(constraints), 0, options.friction_tolerance);
   } else {
-    ContactSolverOptions options = choice.contact_options;
-    options.friction_tolerance = friction_force_tolerance(choice.residual_tolerance);
     s.contact = make_contact_solver(s.contact_pick.name, sys.K, s.K_factor, std::move(constraints),
                                     la::factor_factory(sys.backend), options);
   }
