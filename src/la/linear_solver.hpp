@@ -46,6 +46,10 @@ FactorEstimate estimate_cholmod_factor(const SparseMatrix& A, const char* what);
 
 namespace vpc::la {
 
+/// y = C x on the owned entries: a change C of the factored matrix A, possibly nonsymmetric,
+/// that solve_perturbed takes on top of A (the primal friction solver's Coulomb coupling).
+using Perturbation = std::function<void(const Eigen::VectorXd& x, Eigen::VectorXd& y)>;
+
 class LinearSolver {
  public:
   virtual ~LinearSolver() = default;
@@ -72,6 +76,13 @@ class LinearSolver {
   virtual void solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) const = 0;
   /// X = A⁻¹ B for a block of right-hand sides (owned rows).
   virtual Eigen::MatrixXd solve(const Eigen::MatrixXd& B) const = 0;
+  /// x = (A + C)⁻¹ b by restarted GMRES from x = 0, preconditioned by this solver's factor (or
+  /// preconditioner) of A, the operator of its last factorize/refactorize. Stops when its residual
+  /// is within `rtol` of b's (preconditioned on one process, Eigen's; true on PETSc's, right
+  /// preconditioned): the caller measures the true residual. Throws vpc::Error naming `what` when
+  /// GMRES does not get there. The default is Eigen's GMRES, one process only.
+  virtual void solve_perturbed(const SpdOperator& A, const Perturbation& C, const Eigen::VectorXd& b,
+                               Eigen::VectorXd& x, double rtol, const char* what) const;
   virtual bool has_halves() const { return false; }
   /// Only when has_halves().
   virtual Eigen::MatrixXd forward(const Eigen::MatrixXd& B) const;

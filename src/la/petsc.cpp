@@ -179,7 +179,76 @@ class PetscFactor final : public LinearSolver {
   }
   int n_factorizations() const override { return n_factorizations_; }
 
+  /// PETSc's GMRES, right preconditioned (its stopping residual is the true one), over a shell
+  /// matrix A + C, preconditioned by this solver's PC of A (MUMPS' factor, or the kept multigrid
+  /// hierarchy: its iterations count in the rebuild decision as a CG solve's do).
+  void solve_perturbed(const SpdOperator& A, const Perturbation& C, const Eigen::VectorXd& b, Eigen::VectorXd& x,
+                       double rtol, const char* what) const override {
+    const auto* op = dynamic_cast<const PetscOperator*>(&A);
+    require(op != nullptr && ksp_ && op->n_owned() == n_, "internal: GMRES needs the factorized PETSc operator ({})", what);
+    Shell shell{op->mat(), &C, n_};
+    PMat J;
+    VPC_PETSC(MatCreateShell(comm_, n_, n_, PETSC_DETERMINE, PETSC_DETERMINE, &shell, J.out()));
+    VPC_PETSC(MatShellSetOperation(J, MATOP_MULT, reinterpret_cast<void (*)(void)>(&Shell::mult)));
+    PKsp gmres;
+    VPC_PETSC(KSPCreate(comm_, gmres.out()));
+    VPC_PETSC(KSPSetOperators(gmres, J, J));
+    VPC_PETSC(KSPSetType(gmres, KSPGMRES));
+    VPC_PETSC(KSPGMRESSetRestart(gmres, kRestart));
+    VPC_PETSC(KSPSetPCSide(gmres, PC_RIGHT));
+    VPC_PETSC(KSPSetTolerances(gmres, rtol, 1e-300, PETSC_DEFAULT, options_.max_iterations));
+    VPC_PETSC(KSPSetResidualHistory(gmres, nullptr, PETSC_DECIDE, PETSC_TRUE));
+    PC pc = nullptr, inner = nullptr;
+    VPC_PETSC(KSPGetPC(gmres, &pc));
+    VPC_PETSC(KSPGetPC(ksp_, &inner));
+    VPC_PETSC(PCSetType(pc, PCSHELL));
+    VPC_PETSC(PCShellSetContext(pc, inner));
+    VPC_PETSC(PCShellSetApply(pc, &Shell::precondition));
+    if (x.size() != n_) x = Eigen::VectorXd::Zero(n_);
+    x.setZero();
+    Placed pb(b_, b.data()), px(x_, x.data());
+    const double start = flops();
+    VPC_PETSC(KSPSolve(gmres, b_, x_));
+    KSPConvergedReason reason;
+    VPC_PETSC(KSPGetConvergedReason(gmres, &reason));
+    PetscInt its = 0;
+    VPC_PETSC(KSPGetIterationNumber(gmres, &its));
+    require(reason > 0, "solving with the {} failed (GMRES: {}, after {} iterations)", what, KSPConvergedReasons[reason], its);
+    if (!direct()) note_iterations(gmres, flops() - start);
+  }
+
  private:
+  static constexpr int kRestart = 50;
+  /// solve_perturbed's operator and preconditioner.
+  struct Shell {
+    Mat A;
+    const Perturbation* C;
+    int n;
+    static PetscErrorCode mult(Mat J, Vec x, Vec y) {
+      Shell* s = nullptr;
+      PetscCall(MatShellGetContext(J, &s));
+      PetscCall(MatMult(s->A, x, y));
+      const double* xa = nullptr;
+      double* ya = nullptr;
+      PetscCall(VecGetArrayRead(x, &xa));
+      Eigen::VectorXd xv = Eigen::Map<const Eigen::VectorXd>(xa, s->n), c;
+      PetscCall(VecRestoreArrayRead(x, &xa));
+      try {
+        (*s->C)(xv, c);
+      } catch (...) {
+        return PETSC_ERR_LIB;
+      }
+      PetscCall(VecGetArray(y, &ya));
+      Eigen::Map<Eigen::VectorXd>(ya, s->n) += c;
+      PetscCall(VecRestoreArray(y, &ya));
+      return 0;
+    }
+    static PetscErrorCode precondition(PC pc, Vec x, Vec y) {
+      void* inner = nullptr;
+      PetscCall(PCShellGetContext(pc, &inner));
+      return PCApply(static_cast<PC>(inner), x, y);
+    }
+  };
   bool direct() const { return options_.kind == "mumps"; }
 
   /// Rigid-body modes (the near-null space of elasticity) for algebraic multigrid, from the coordinates.
@@ -268,9 +337,10 @@ class PetscFactor final : public LinearSolver {
   /// run to run: with the set-up's time over an iteration's (~30 iterations on foundation-3d
   /// n = 70) the preconditioner was rebuilt at other solves in each run, and ironing-3d's results
   /// differed between runs of the same binary at round-off.
-  void note_iterations(double solve_flops) const {
+  void note_iterations(double solve_flops) const { note_iterations(ksp_, solve_flops); }
+  void note_iterations(KSP ksp, double solve_flops) const {
     PetscInt its = 0;
-    VPC_PETSC(KSPGetIterationNumber(ksp_, &its));
+    VPC_PETSC(KSPGetIterationNumber(ksp, &its));
     iterations_ += its;
     if (rebuild_cost_ == 0 && its > 0 && solve_flops > 0) {
       rebuild_cost_ = kSetupWork * setup_flops_ / (solve_flops / static_cast<double>(its));
@@ -278,7 +348,7 @@ class PetscFactor final : public LinearSolver {
     }
     const PetscReal* history = nullptr;
     PetscInt n = 0;
-    VPC_PETSC(KSPGetResidualHistory(ksp_, &history, &n));
+    VPC_PETSC(KSPGetResidualHistory(ksp, &history, &n));
     if (its < 3 || n < 2 || !(history[n - 1] > 0) || !(history[0] > history[n - 1])) return;  // too few to judge
     const double decades = std::log10(history[0] / history[n - 1]);
     double& reference = reference_rate_[loose_ ? 1 : 0];

@@ -87,26 +87,23 @@ class PrimalActiveSetSolver final : public ContactSolver {
     return out;
   }
 
-  /// With friction (primal_friction.hpp): Coulomb as a fixed point of the bound s = tresca +
-  /// μ λ_ν(s) over Tresca problems (SPEC §7), each solved exactly by Newton's iteration. Within a
-  /// Tresca problem (s frozen) the normal set is updated as without friction and the stick set
-  /// and the slip rows' linearizations by HSW's rule (primal_friction.hpp); once the directions
-  /// moved less than kInnerShare of the bound's last change, each iterate also updates the bound.
-  /// It is solved when both sets hold and the slip forces used equal the updated ones to
-  /// the friction tolerance of the force scale (max(‖QF‖∞, ‖λ_ν‖∞)). Then s is recomputed from its λ_ν:
-  /// Coulomb holds when it changed by less than the friction tolerance, else the next bound is its
-  /// Anderson-accelerated update. On an iterative solver the forces count as
+  /// With friction (primal_friction.hpp): HSW's semismooth Newton method on Coulomb's law (SPEC
+  /// §7) as one iteration. Each iterate solves with the normal set, the stick set and the slip rows'
+  /// linearizations, Coulomb's bound μ λ_ν(w) coupled into the matrix at the slip rows in contact
+  /// (coupling()); from its answer the normal set is updated as without friction, and the stick
+  /// set and the slip directions by HSW's rule with the iterate's own bound tresca + μ (λ_ν + c (N u − g))₊.
+  /// It is solved when both sets hold, the slip forces s n of the update equal the iterate's λ_τ to
+  /// the friction tolerance of the force scale (max(‖QF‖∞, ‖λ_ν‖∞)), and the last solve's
+  /// equilibrium residual is within the same tolerance. On an iterative solver the forces count as
   /// settled also when they stop contracting at its accuracy (below kNoiseCeiling and less than
-  /// halved by a tight solve). The first bound: tresca + μ (λ_ν + c (N u − g))₊ (HSW's) after
-  /// the first solve, also with a warm start (the last step's λ_ν is the last load's: a 2D block
-  /// pressed down, 40 x 20 cells, 20 steps: 18–26 → 12 solves a step, 131 → 62 factorizations).
-  /// Cycling within a Tresca problem: once a pair of sets comes back (ActiveSetHistory), updates
-  /// turn monotone: every violated normal row is added and only the most negative force released
-  /// (as without friction); every slip row that would stick sticks, but only the stick row
-  /// furthest beyond its bound starts to slip; slip directions keep being updated. A new bound is
-  /// a new problem (the history restarts). No convergence in max_iterations solves (Coulomb's
-  /// fixed point has no solution, or too large a μ): converged = false, the step fails
-  /// (contact_failure) and the step control retries a smaller step.
+  /// halved by a tight solve). (Until issue 28's fourth part the bound was an outer fixed point over
+  /// Tresca problems: 4–5 tight solves a step for it alone, frictional foundation-3d on CG + GAMG.)
+  /// Cycling: once a pair of sets comes back (ActiveSetHistory), updates turn monotone: every
+  /// violated normal row is added and only the most negative force released (as without
+  /// friction); every slip row that would stick sticks, but only the stick row furthest beyond its
+  /// bound starts to slip; slip directions keep being updated. No convergence in max_iterations
+  /// solves, or a coupled solve that fails (Coulomb's problem has no solution, or too large a μ):
+  /// converged = false, the step fails (contact_failure) and the step control retries a smaller step.
   ContactReport solve_frictional(const Vector& F, Vector& u, Vector& lambda) {
     const auto rows = static_cast<Eigen::Index>(rows_.size());
     const la::Comm& comm = K_->comm();
@@ -124,69 +121,86 @@ class PrimalActiveSetSolver final : public ContactSolver {
     std::vector<char> active(static_cast<size_t>(rows));
     for (Eigen::Index i = 0; i < rows; ++i) active[i] = normal_in[i] > 0 || gap_left(w, i) < 0;
     friction_->start(c_, active, normal_in, tangential_in);
-    Vector bound = Vector::Zero(rows);  // s of the Tresca problem being solved, from the first solve
-    bool bound_known = false;
-    AndersonMixing coulomb(kAndersonDepth);
+    Vector bound = Vector::Zero(rows);  // Coulomb's bound: the iterate's own, or the lagged Tresca problem's
     Vector lambda_local = Vector::Zero(rows), tangential;
     auto history = std::make_unique<ActiveSetHistory>();
+    AndersonMixing coulomb(kAndersonDepth);
     ContactReport rep;
     bool monotone = false, converged = false, tight = !factor_->iterative();
     const double inf = std::numeric_limits<double>::infinity();
     double last_direction = inf, last_bound = inf;  // the last changes after tight solves
-    double bound_change = inf;                       // of the last Tresca problem's bound
+    double bound_change = inf;                       // of the last Tresca problem's bound (lagged)
     const double b_scale = comm.max(b.size() ? b.cwiseAbs().maxCoeff() : 0.0);
+    force_scale_ = std::max(b_scale, std::numeric_limits<double>::min());
     auto settled = [&](double change, double& last) {
       const bool yes = change <= force_tolerance_ ||
                        (tight && factor_->iterative() && change <= kNoiseCeiling && change > 0.5 * last);
       if (tight) last = change;
       return yes;
     };
+    couple_ = true;
+    newton_target_ = 0;
     for (int it = 0; it < max_iterations_ && !converged; ++it) {
-      // An iterative solver reduces each correction's residual by a fixed share (inexact Newton:
-      // each solve starts from the true residual of the last iterate, so the errors do not add up;
-      // the answer's equilibrium residual must be within the friction tolerance: residual_left_).
-      // To its own 1e-12 every time, foundation-3d n = 10 took 29 CG iterations a solve.
-      // (Frictional foundation-3d on CG + GAMG, 100 steps, CG iterations over the run: n = 10
-      // 6,760 with a share of 1e-3, 5,840 with 1e-2, 5,437 with 3e-2; n = 20 9,935, 8,262, 8,067,
-      // but 3e-2 took 10% more solves. The first session's 22,314 at n = 10 were to 1e-12.)
-      forcing_ = factor_->iterative() && tight ? kForcing : 0.0;
-      auto [r, next, most_negative, worst] = iterate(active, b, w, tight, lambda_local, rep);
+      if (couple_ && it == kCoupledIterations) couple_ = false;  // no convergence yet: lag the bound
+      Iterate x;
+      try {
+        x = iterate(active, b, w, tight, lambda_local, rep);
+      } catch (const Error&) {  // a coupled solve that failed: Coulomb's linearization is singular
+        break;
+      }
+      auto& [r, next, most_negative, worst] = x;
       if (monotone) release_one(active, next, most_negative, worst);
       tangential = friction_->forces(r);
-      if (!bound_known) {  // HSW: λ_ν + c_ν (N u − g), ≥ 0, on the next set
+      if (couple_) {
+        // HSW: Coulomb's bound tresca + μ (λ_ν + c_ν (N u − g))₊ on the next set (λ_ν at the rows
+        // in contact; a row that enters gets its penetration's force).
         for (Eigen::Index i = 0; i < rows; ++i) {
           const double gap = gap_left(w, i);
           bound[i] = c_.bound(i, !next[i]         ? 0.0
                                  : compliant(i) ? -gap / spring_[static_cast<std::size_t>(i)]
                                                 : lambda_local[i] - scale_[i] * gap);
         }
-        bound_known = true;
       }
-      // c's secant step while the slip forces still move much; then fixed, for Anderson's mixing
-      // (a 3D block pressed, ν = 0.3: with it updated to the end, a step stalled near 1e-9).
+      const double scale = std::max({b_scale, comm.max(lambda_local.size() ? lambda_local.cwiseAbs().maxCoeff() : 0.0),
+                                     std::numeric_limits<double>::min()});
+      force_scale_ = scale;
+      // c's secant step while the slip forces still move much; then fixed (a 3D block pressed,
+      // ν = 0.3: with it updated to the end, a step stalled near 1e-9).
       friction_->secant(c_, w, tangential, comm, last_direction > kSecantUntil);
       PrimalFriction::Next up = friction_->next(c_, w, tangential, bound);
       if (monotone) friction_->slip_one(up, comm);
-      const double scale = std::max({b_scale, comm.max(lambda_local.size() ? lambda_local.cwiseAbs().maxCoeff() : 0.0),
-                                     std::numeric_limits<double>::min()});
       if (!comm.all(next == active) || !comm.all(up.stick == friction_->stick())) {
         if (history->came_back(contact_sets(next, up.stick), comm) && !monotone) {
           monotone = true;
           ++rep.cycles;
+          // The sets cycle: Coulomb's bound is lagged from here on, each Tresca problem (the
+          // bound frozen) solved before the next bound, where the monotone updates cannot cycle.
+          // The coupling's nonsymmetric step can swing a row in and out of contact (2D block,
+          // μ = 1, full slip; a tilted one, μ = 0.3, partial slip).
+          couple_ = false;
         }
         active = std::move(next);
         friction_->take(std::move(up));
         last_direction = inf;
         continue;
       }
-      // Within a Tresca problem the slip directions are iterated only to a share of the bound's last
-      // change (an inexact inner solve; 3D partial slip on the test block: 93 → 38 solves, 3D full slip 47 → 19), to
-      // the friction tolerance at the end.
       const double direction_change = comm.max(up.change) / scale;
       const bool was_tight = tight, directions_held = settled(direction_change, last_direction);
       tight = true;  // sets found: tight solves from here on (an iterative solver's forces need them)
+      if (couple_) {
+        // ... and the last correction's equilibrium residual within the same tolerance: from a
+        // loose iterate, one correction leaves kForcing of the loose residual (a pressed block
+        // that sticks: equilibrium 9.8e-9 against the step's 1e-8).
+        converged = directions_held && was_tight && residual_left_ <= force_tolerance_ * scale;
+        if (!converged) friction_->take(std::move(up));  // Newton's next linearization
+        newton_target_ = direction_change * direction_change;
+        continue;
+      }
+      // Lagged: within a Tresca problem the slip directions are iterated only to a share of the
+      // bound's last change (an inexact inner solve; 3D partial slip on the test block: 93 → 38
+      // solves, 3D full slip 47 → 19), to the friction tolerance at the end.
       if (!directions_held && direction_change > kInnerShare * bound_change) {
-        friction_->take(std::move(up));  // Newton's next linearization
+        friction_->take(std::move(up));
         continue;
       }
       // This Tresca problem is solved: Coulomb's bound from its λ_ν.
@@ -195,9 +209,6 @@ class PrimalActiveSetSolver final : public ContactSolver {
       bound_change = comm.max(bound_moved(coulomb_bound, bound, tangential)) / scale;
       const bool bound_held = settled(bound_change, last_bound);
       if (bound_held && directions_held) {
-        // ... and the last correction's equilibrium residual (an inexact solve's, bounded by its
-        // forcing) within the same tolerance: from a loose iterate, one correction leaves kForcing of
-        // the loose residual (a pressed block that sticks: equilibrium 9.8e-9 against the step's 1e-8).
         converged = was_tight && residual_left_ <= force_tolerance_ * scale;
         continue;
       }
@@ -206,9 +217,7 @@ class PrimalActiveSetSolver final : public ContactSolver {
         continue;
       }
       // A loose solve's λ_ν (an iterative solver's first, finding the sets) is a guess, not G(s):
-      // in Anderson's history it would be the one small residual and hold the bound near itself
-      // (foundation-3d sliding: 1.6e-7 three times over); the first tight solve updates the bound
-      // at once. Frictional foundation-3d n = 10 on CG + GAMG, 100 steps: 788 → 643 solves.
+      // in Anderson's history it would be the one small residual and hold the bound near itself.
       bound = was_tight ? coulomb.next(comm, bound, coulomb_bound) : coulomb_bound;
       if (!was_tight) bound_change = inf;
       for (Eigen::Index i = 0; i < rows; ++i) bound[i] = std::max(bound[i], c_.tresca[i]);  // μ λ_ν ≥ 0
@@ -245,9 +254,9 @@ class PrimalActiveSetSolver final : public ContactSolver {
   // (1e-8 let a run's friction-bound residual reach 5.2e-9 against the step's tolerance 1e-8:
   // foundation-3d n = 20 on CG + GAMG; the inexact corrections improve the accuracy each iterate.)
   static constexpr double kNoiseCeiling = 1e-10;
-  static constexpr int kAndersonDepth = 8;
+  static constexpr int kAndersonDepth = 8, kCoupledIterations = 40;
   static constexpr double kInnerShare = 0.1, kSecantUntil = 1e-6;
-  static constexpr double kForcing = 1e-2, kLaggedSpringShare = 0.5;
+  static constexpr double kForcing = 1e-2, kLeastForcing = 1e-6, kLaggedSpringShare = 0.5;
   // Loose enough that finding a set costs a few iterations, tight enough that the signs
   // rarely mislead (foundation-3d n = 40, 5 steps on CG + GAMG: 1e-6 → 3.2 s a step,
   // 1e-4 → 3.0 s, 1e-3 → up to 25 set iterations in a step).
@@ -257,9 +266,8 @@ class PrimalActiveSetSolver final : public ContactSolver {
   /// How far Coulomb's bound moved (|G(s) − s|, largest) over the rows where it acts: the slip
   /// rows (their force is s n), and the stick rows that it could turn to slip (their |λ_τ| closer
   /// to s than the move). A stick row further inside its disc sticks under either bound, and the
-  /// Tresca problem's answer is then Coulomb's there whatever its s; a pressed block whose contact
-  /// sticks then stops once its sets hold (frictional foundation-3d n = 10 on CG + GAMG, 100 steps:
-  /// 5.1 → 4.8 solves a step while pressed).
+  /// Tresca problem's answer is then Coulomb's there whatever its s (frictional foundation-3d
+  /// n = 10 on CG + GAMG, 100 steps, lagged bound: 5.1 → 4.8 solves a step while pressed).
   double bound_moved(const Vector& coulomb_bound, const Vector& bound, const Vector& tangential) const {
     const auto t = static_cast<Eigen::Index>(c_.block - 1);
     double moved = 0;
@@ -288,8 +296,8 @@ class PrimalActiveSetSolver final : public ContactSolver {
       if (!friction_ || comm.all(same(springs, factored))) return 0;
       if (!factor_->iterative() && comm.all(friction_->factored_serves(kLaggedSpringShare))) {
         // A direct solver keeps its factor while the sets hold (a numeric factorization costs some
-        // twenty solves): the springs' change since it goes to the right-hand side, lagged one
-        // iterate (solve_constrained). Foundation-3d n = 20 on CHOLMOD, 100 steps: 720
+        // twenty solves): the springs' change since it joins GMRES's operator, the factor its
+        // preconditioner (coupling()). Foundation-3d n = 20 on CHOLMOD, 100 steps: 720
         // factorizations and 1,494 s with a factorization at every iterate.
         spring_change_ = owned_matrix(springs) - owned_matrix(factored);
         return 0;
@@ -338,7 +346,8 @@ class PrimalActiveSetSolver final : public ContactSolver {
   }
 
   /// w = the solution of K_rot w = b with the active rows: w_k = g/α on Signorini rows
-  /// (the others moved to the right-hand side), springs on the compliance rows.
+  /// (the others moved to the right-hand side), springs on the compliance rows; with friction the
+  /// stick and slip rows' conditions (PrimalFriction::load) and Coulomb's coupling (coupling()).
   void solve_constrained(const std::vector<char>& active, const Vector& b, Vector& w, bool tight) const {
     Vector fixed_values = Vector::Zero(b.size());
     Vector rhs = b;
@@ -350,8 +359,8 @@ class PrimalActiveSetSolver final : public ContactSolver {
       else
         fixed_values[rows_[i].dof] = c_.gap[e] / rows_[i].alpha;
     }
-    if (friction_) friction_->load(c_, rhs, fixed_values);
-    if (spring_change_.nonZeros() > 0) rhs -= spring_change_ * w;  // (K + M_factored) w = … − (M − M_factored) w_last
+    const la::Perturbation C = friction_ ? coupling(active, b, rhs) : la::Perturbation();
+    if (friction_) friction_->load(c_, coupled_, rhs, fixed_values);
     Vector coupling;
     K_rot_->mult(fixed_values, coupling);
     rhs -= coupling;
@@ -360,22 +369,94 @@ class PrimalActiveSetSolver final : public ContactSolver {
         w[j] = fixed_values[j];
         rhs[j] = diagonal_[j] * fixed_values[j];
       }
-    factor_->set_relative_tolerance(tight ? 0.0 : loose_tolerance(rhs, w));
-    if (friction_ && tight && factor_->iterative()) {
-      // With friction the fixed rows (stick dofs at h, which grows with the slip) can dominate
-      // ‖rhs‖, against which an iterative solver's tolerance is relative: solve for the
-      // correction, whose right-hand side is the residual (0 on the fixed rows). (Cattaneo–Mindlin
-      // on CG + GAMG: equilibrium residual 2.9e-8 above the tolerance 1e-8 without.)
-      Vector r, delta = Vector::Zero(w.size());
+    if (C || (friction_ && tight && factor_->iterative())) {
+      // Solved for the correction, whose right-hand side is the residual (0 on the fixed rows):
+      // with friction the fixed rows (stick dofs at h, which grows with the slip) can dominate
+      // ‖rhs‖, against which an iterative solver's tolerance is relative (Cattaneo–Mindlin on
+      // CG + GAMG: equilibrium residual 2.9e-8 above the tolerance 1e-8 without).
+      Vector r, delta = Vector::Zero(w.size()), Cw;
       A_->residual(rhs, w, r);
-      if (forcing_ > 0) factor_->set_relative_tolerance(forcing_);
-      factor_->solve(r, delta);
+      if (C) C(w, Cw), r -= Cw;
+      const double norm = std::sqrt(K_->comm().sum(r.squaredNorm()));
+      // A direct solver's GMRES goes to the end at once (its iterations are solves with the factor).
+      // An iterative one reduces each correction's residual by a fixed share (inexact Newton), or,
+      // finding the sets, stops where a loose solve would (loose_tolerance, of ‖rhs‖).
+      double rtol = kForcing;
+      if (couple_) {
+        // Newton's step with Coulomb coupled: to the friction tolerance, or to the square of the
+        // slip directions' last change where that is larger (Newton's quadratic rate: the next
+        // change is about that), between kLeastForcing and kForcing of the residual. Frictional
+        // foundation-3d n = 10 (20) on CG + GAMG, 100 steps: 3,815 (n = 20 not run) iterations with
+        // kForcing every time, 3,457 (5,047) to the tolerance, 3,370 (4,966) to the square.
+        const double target = std::max(0.5 * force_tolerance_, newton_target_) * force_scale_;
+        rtol = std::clamp(target / std::max(norm, std::numeric_limits<double>::min()), kLeastForcing, kForcing);
+      }
+      if (!factor_->iterative()) {
+        rtol = std::clamp(0.1 * force_tolerance_ * force_scale_ / std::max(norm, 1e-300), 1e-14, 1e-6);
+      } else if (!tight) {
+        const double loose = loose_tolerance(rhs, w), rhs_norm = std::sqrt(K_->comm().sum(rhs.squaredNorm()));
+        rtol = loose > 0 && norm > 0 ? std::min(kLooseReduction, loose * rhs_norm / norm) : kForcing;
+      }
+      if (!C) {
+        factor_->set_relative_tolerance(rtol);
+        factor_->solve(r, delta);
+        w += delta;
+        residual_left_ = rtol * norm;  // ‖r − Aδ‖₂ ≤ rtol ‖r‖₂
+        return;
+      }
+      factor_->solve_perturbed(*A_, C, r, delta, rtol > 0 ? rtol : 1e-12, "elastic stiffness K with Coulomb's coupling");
       w += delta;
-      residual_left_ = forcing_ * std::sqrt(K_->comm().sum(r.squaredNorm()));  // ‖r − Aδ‖₂ ≤ forcing ‖r‖₂
+      A_->residual(rhs, w, r);  // the true residual (Eigen's GMRES stops on the preconditioned one)
+      C(w, Cw);
+      residual_left_ = std::sqrt(K_->comm().sum((r - Cw).squaredNorm()));
       return;
     }
+    factor_->set_relative_tolerance(tight ? 0.0 : loose_tolerance(rhs, w));
     residual_left_ = 0;  // a direct solve (a loose one never ends the iteration: was_tight)
     factor_->solve(rhs, w);
+  }
+
+  /// Coulomb's bound in Newton's step (HSW's full linearization): at a slip row i in contact with
+  /// μ_i > 0 and a direction n_i, the force on tangent dof j is tresca n_ij (PrimalFriction::load)
+  /// plus μ_i n_ij λ_ν,i(w), λ_ν a reaction of w: on a Signorini row (b − K_rot w)_ν/α, on a compliant
+  /// one (α w_ν − g)/k⁻¹. The w-part is the returned perturbation C of the matrix (nonsymmetric:
+  /// row j takes −μ n_j/α times K_rot's row ν), the rest goes to `rhs`. A direct solver's spring
+  /// change since its factor (factorize_for) joins C, solved with it by GMRES. Empty: nothing
+  /// to add on any rank (a plain solve). Sets coupled_.
+  la::Perturbation coupling(const std::vector<char>& active, const Vector& b, Vector& rhs) const {
+    const int t = friction_->tangents();
+    coupled_.assign(rows_.size(), 0);
+    couplings_.clear();
+    bool signorini = false;
+    for (size_t i = 0; i < rows_.size(); ++i) {
+      const auto e = static_cast<Eigen::Index>(i);
+      if (!couple_ || !active[i] || friction_->stick()[i] || !(c_.mu[e] > 0) || friction_->direction(i).isZero(0.0)) continue;
+      coupled_[i] = 1;
+      const RotatedRow& row = rows_[i];
+      for (int j = 0; j < t; ++j) {
+        const int dof = friction_->tangent_dof(i, j);
+        const double mu_n = c_.mu[e] * friction_->direction(i)[j];
+        if (dof < 0 || mu_n == 0) continue;
+        if (compliant(e)) {
+          couplings_.push_back({dof, row.dof, mu_n * row.alpha / spring_[i], false});
+          rhs[dof] += mu_n * c_.gap[e] / spring_[i];
+        } else {
+          couplings_.push_back({dof, row.dof, -mu_n / row.alpha, true});
+          rhs[dof] -= mu_n / row.alpha * b[row.dof];
+          signorini = true;
+        }
+      }
+    }
+    const la::Comm& comm = K_->comm();
+    const bool any_signorini = comm.any(signorini);  // K_rot's product is collective
+    if (!comm.any(!couplings_.empty() || spring_change_.nonZeros() > 0)) return {};
+    return [this, any_signorini](const Vector& x, Vector& y) {
+      y = Vector::Zero(x.size());
+      Vector Kx;
+      if (any_signorini) K_rot_->mult(x, Kx);
+      for (const Coupling& c : couplings_) y[c.tangent] += c.coefficient * (c.reaction ? Kx[c.normal] : x[c.normal]);
+      if (spring_change_.nonZeros() > 0) y += spring_change_ * x;
+    };
   }
 
   /// A loose solve stops at kLooseTolerance ‖rhs‖ or at kLooseReduction of its initial
@@ -474,9 +555,19 @@ class PrimalActiveSetSolver final : public ContactSolver {
   SparseMatrix spring_change_;  // a direct solver's: the springs now less those in its factor
   Vector w_last_, w_before_;  // the last two answers (rotated): the extrapolated warm start
   Vector u_last_;             // the last answer as returned (is the caller continuing from it?)
-  double forcing_ = 0;  // with friction and an iterative solver: the relative tolerance of the next correction
   mutable double residual_left_ = 0;  // the last solve's equilibrium residual, at most (‖·‖₂; 0: solved exactly)
   Vector forces_last_, forces_before_;  // with friction: this rank's λ_ν then λ_τ of the last two answers
+  /// coupling(): one entry of C, y[tangent] += coefficient × ((K_rot x)[normal] if reaction, else x[normal]).
+  struct Coupling {
+    int tangent, normal;
+    double coefficient;
+    bool reaction;
+  };
+  mutable std::vector<Coupling> couplings_;
+  mutable std::vector<char> coupled_;  // per local row: its μ λ_ν in the matrix (coupling())
+  double force_scale_ = 0;             // the iteration's force scale (the direct solver's GMRES target)
+  double newton_target_ = 0;           // the next coupled correction's residual (of the force scale), at least
+  bool couple_ = true;                 // Coulomb's bound in Newton's step (else lagged one iterate)
 };
 
 }  // namespace

@@ -25,11 +25,13 @@ PrimalFriction::PrimalFriction(const ContactConstraints& c, const Vector& diagon
   stick_.assign(rows, 0);
   spring_.assign(rows, 0.0);
   force_ = Vector::Zero(static_cast<Eigen::Index>(dof_.size()));
+  direction_ = force_;
 }
 
 void PrimalFriction::start(const ContactConstraints& c, const std::vector<char>& active, const Vector& normal,
                            const Vector& tangential) {
   force_.setZero();
+  direction_.setZero();
   gamma_ = 1;
   have_last_ = false;
   for (std::size_t i = 0; i < stick_.size(); ++i) {
@@ -40,7 +42,7 @@ void PrimalFriction::start(const ContactConstraints& c, const std::vector<char>&
       const auto l = tangential.segment(e * t_, t_);
       const double bound = c.bound(e, normal[e]), norm = l.norm();
       if (contact_status(normal[e], norm, bound) == ContactStatus::Slip) {
-        if (norm > 0) force_.segment(e * t_, t_) = bound / norm * l;
+        if (norm > 0) force_.segment(e * t_, t_) = bound / norm * l, direction_.segment(e * t_, t_) = l / norm;
         if (!slipped) spring_[i] = 0;  // else the last solve's spring: Newton's from the first iterate
         continue;
       }
@@ -103,9 +105,11 @@ void PrimalFriction::add_springs(const std::vector<double>& spring, const Vector
   }
 }
 
-void PrimalFriction::load(const ContactConstraints& c, Vector& rhs, Vector& fixed_values) const {
+void PrimalFriction::load(const ContactConstraints& c, const std::vector<char>& coupled, Vector& rhs,
+                          Vector& fixed_values) const {
   for (std::size_t i = 0; i < stick_.size(); ++i) {
     const auto e = static_cast<Eigen::Index>(i);
+    const Vector force = coupled[i] ? Vector(c.tresca[e] * direction(i)) : Vector(force_.segment(e * t_, t_));
     // The body gets −λ_τ = −s n − k(I − nnᵀ)(w − h): the spring is in the matrix, the rest here.
     const Vector pull = stick_[i] ? Vector() : Vector(across(i) * c.shift.segment(e * t_, t_));
     for (int j = 0; j < t_; ++j) {
@@ -115,7 +119,7 @@ void PrimalFriction::load(const ContactConstraints& c, Vector& rhs, Vector& fixe
       if (stick_[i])
         fixed_values[dof] = c.shift[k];
       else
-        rhs[dof] += pull[j] - force_[k];
+        rhs[dof] += pull[j] - force[j];
     }
   }
 }
@@ -129,7 +133,7 @@ Vector PrimalFriction::forces(const Vector& r) const {
   Vector l = Vector::Zero(force_.size());
   for (std::size_t i = 0; i < stick_.size(); ++i) {
     const auto e = static_cast<Eigen::Index>(i);
-    if (!stick_[i] && !(spring_[i] > 0) && force_.segment(e * t_, t_).isZero(0.0)) continue;
+    if (!stick_[i] && !(spring_[i] > 0) && direction(i).isZero(0.0)) continue;
     for (int j = 0; j < t_; ++j)
       if (const int dof = dof_[i * t_ + j]; dof >= 0) l[e * t_ + j] = r[dof];
   }
@@ -141,6 +145,7 @@ PrimalFriction::Next PrimalFriction::next(const ContactConstraints& c, const Vec
   Next n;
   n.stick.assign(stick_.size(), 0);
   n.force = Vector::Zero(force_.size());
+  n.direction = n.force;
   n.spring.assign(stick_.size(), 0.0);
   n.excess.assign(stick_.size(), -1.0);
   Vector q(t_);
@@ -163,7 +168,8 @@ PrimalFriction::Next PrimalFriction::next(const ContactConstraints& c, const Vec
     const bool reversed = t_ == 1 && !stick_[i] && (q - used).dot(used) < 0;
     n.stick[i] = bound > 0 && (norm <= bound || reversed);
     if (n.stick[i]) continue;
-    if (norm > 0) n.force.segment(e * t_, t_) = bound / norm * q;
+    // (A direction only where the bound acts: a frictionless row, or one out of contact, has none.)
+    if (norm > 0 && bound > 0) n.force.segment(e * t_, t_) = bound / norm * q, n.direction.segment(e * t_, t_) = q / norm;
     // k = s c/(|q| − s), at most kMostSpring c: a row that only just slips is nearly stuck across
     // its direction; beyond that bound the spring only slows the operator's conditioning.
     if (t_ > 1 && bound > 0) n.spring[i] = std::min(bound * gamma_ * scale_[i] / (norm - bound), kMostSpring * scale_[i]);
@@ -186,6 +192,7 @@ void PrimalFriction::slip_one(Next& next, const la::Comm& comm) const {
     if (next.excess[i] >= 0 && !(i == worst && most == global)) {
       next.stick[i] = 1;  // stays stick: its dofs stay fixed, no slip force
       next.force.segment(static_cast<Eigen::Index>(i) * t_, t_).setZero();
+      next.direction.segment(static_cast<Eigen::Index>(i) * t_, t_).setZero();
       next.spring[i] = 0;
     }
 }
@@ -225,6 +232,7 @@ void PrimalFriction::rescale(const Vector& bound) {
 void PrimalFriction::take(Next&& next) {
   stick_ = std::move(next.stick);
   force_ = std::move(next.force);
+  direction_ = std::move(next.direction);
   spring_ = std::move(next.spring);
 }
 

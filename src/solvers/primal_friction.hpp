@@ -15,9 +15,11 @@
 // Any k_i ≥ 0 has the same fixed points (there k_i (I − nnᵀ)Δ_i = 0: Δ_i ∥ n_i); Newton's k_i
 // makes the directions converge quadratically where the fixed point with k = 0 crawled (foundation-3d
 // sliding: 49 solves a step, and none at n = 20 past step 71). Coulomb's bound s_i = tresca_i +
-// μ_i λ_ν,i (its λ_ν, a reaction, would enter nonsymmetrically) is iterated by the caller
-// (PrimalActiveSetSolver::solve_frictional) to the step's tolerance: exact per step, not lagged
-// from the last step.
+// μ_i λ_ν,i(w) enters Newton's step too (HSW's full linearization): at a slip row in contact
+// the force s_i n_i is tresca_i n_i (load) plus μ_i n_i λ_ν,i(w), λ_ν a reaction of w, which the
+// caller (PrimalActiveSetSolver) puts in the matrix as a nonsymmetric coupling solved by GMRES
+// with K's factor or preconditioner (la::LinearSolver::solve_perturbed). Coulomb holds exactly
+// per step, not lagged from the last step, and no outer fixed point on s is needed.
 #include "solvers/contact_solver.hpp"
 
 #include <vector>
@@ -41,8 +43,15 @@ class PrimalFriction {
   /// to `out`: those of this linearization, and those the factor holds (mark_factored; none before).
   void springs(std::vector<Eigen::Triplet<double>>& out) const;
   void factored_springs(std::vector<Eigen::Triplet<double>>& out) const;
-  /// Stick rows: w_j = h_ij into `fixed_values`; slip rows: −s_i n_i + k_i (I − n_i n_iᵀ) h_i into `rhs`.
-  void load(const ContactConstraints& c, Vector& rhs, Vector& fixed_values) const;
+  /// Stick rows: w_j = h_ij into `fixed_values`; slip rows: −s_i n_i + k_i (I − n_i n_iᵀ) h_i into
+  /// `rhs`, with s_i = tresca_i at the `coupled` rows (their μ λ_ν part is the caller's).
+  void load(const ContactConstraints& c, const std::vector<char>& coupled, Vector& rhs, Vector& fixed_values) const;
+  /// n_i of a slip row (unit; zero where it has no direction yet, and at stick rows).
+  Eigen::Ref<const Vector> direction(std::size_t i) const {
+    return direction_.segment(static_cast<Eigen::Index>(i) * t_, t_);
+  }
+  int tangents() const { return t_; }
+  int tangent_dof(std::size_t i, int j) const { return dof_[i * t_ + j]; }
   /// λ_τ of the iterate (rows × (b − 1)): the reaction r = b − K_rot w at the tangent dofs, 0
   /// where a tangent has no dof.
   Vector forces(const Vector& r) const;
@@ -50,6 +59,7 @@ class PrimalFriction {
   struct Next {
     std::vector<char> stick;  // per row
     Vector force;             // s_i n_i per slip row (0 at stick and free rows)
+    Vector direction;         // n_i per slip row (0 where q_i = 0 and at stick rows)
     std::vector<double> spring;
     double change = 0;           // max over rows that slip before and after of |new s n − this iterate's λ_τ|
     std::vector<double> excess;  // per row: |q_i| − s_i for stick rows the rule would let slip, else −1
@@ -94,6 +104,7 @@ class PrimalFriction {
   std::vector<double> scale_;   // per row: c of the update rule
   std::vector<char> stick_;     // per row
   Vector force_;                // per row × t_: s n of the slip rows
+  Vector direction_;            // per row × t_: n of the slip rows
   std::vector<double> spring_;  // per row: k of the slip rows (0 in 2D, at stick and free rows)
   double gamma_ = 1;            // c_i γ in the update rule (secant)
   std::vector<double> factored_spring_;  // spring_ and force_ when the factor was made (mark_factored)

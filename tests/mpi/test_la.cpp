@@ -274,6 +274,30 @@ void run() {
             Hfix->diagonal() == Hs.diagonal().segment(c.begin, c.n_owned) && Hfix->nonzeros() == H.nonzeros(),
         "fixed rows (same pattern, A's diagonal kept)", comm);
 
+  // GMRES on H + C, preconditioned by MUMPS' factor and by CG + GAMG's multigrid of H
+  // (solve_perturbed): C scales H's rows j ≡ 2 (mod 5) by 0.3 (nonsymmetric, as Coulomb's coupling
+  // adds a multiple of K's normal row to a tangent row), so (H + C) x = b is H x = b with those
+  // b_j divided by 1.3: the serial solve's answer.
+  for (const char* kind : {"mumps", "cg-gamg"}) {
+    PetscSolverOptions o;
+    o.kind = kind;
+    const auto f = la::factor_factory(la::make_petsc_backend(comm, o))("H");
+    f->factorize(H, "chain matrix");
+    const la::Perturbation C = [&](const Eigen::VectorXd& x, Eigen::VectorXd& out) {
+      H.mult(x, out);
+      for (int i = 0; i < c.n_owned; ++i) out[i] *= (c.begin + i) % 5 == 2 ? 0.3 : 0.0;
+    };
+    Eigen::VectorXd rhs = Eigen::VectorXd::LinSpaced(c.N, -1.0, 2.0), scaled = rhs;
+    for (long long j = 0; j < c.N; ++j) scaled[j] /= j % 5 == 2 ? 1.3 : 1.0;
+    Eigen::VectorXd expected;
+    auto fs = la::make_cholmod_factor();
+    fs->factorize(Hs, "chain matrix");
+    fs->solve(scaled, expected);
+    Eigen::VectorXd x;
+    f->solve_perturbed(H, C, rhs.segment(c.begin, c.n_owned), x, 1e-12, "chain matrix");
+    check(close(comm, x, expected.segment(c.begin, c.n_owned), 1e-9), fmt::format("GMRES on H + C ({})", kind), comm);
+  }
+
   // The box QP with bounds active on different ranks (MUMPS: no halves, reduced factors).
   Eigen::VectorXd b(c.N);
   for (long long j = 0; j < c.N; ++j) b[j] = 40.0 * std::sin(6.0 * j * h) * h;

@@ -152,6 +152,32 @@ TEST(LaFactor, CholmodSolvesAndItsHalvesComposeToTheSolve) {
   EXPECT_EQ(f->n_factorizations(), 1);
 }
 
+// GMRES on A + C with A's factor as preconditioner (solve_perturbed): C a nonsymmetric change
+// of some rows (row i takes 0.3 × row i + 1 of A, as Coulomb's coupling takes a multiple of K's
+// normal row), against a dense LU of A + C. A GMRES that cannot reach its tolerance is an error.
+TEST(LaFactor, GmresSolvesTheFactoredMatrixWithANonsymmetricChange) {
+  const Eigen::SparseMatrix<double> M = tridiagonal(12, 3.0, -1.0);
+  const SparseOperator A(M);
+  auto f = make_cholmod_factor();
+  f->factorize(A, "test matrix");
+  const std::vector<int> rows = {2, 5, 9};
+  const Perturbation C = [&](const Eigen::VectorXd& x, Eigen::VectorXd& y) {
+    y = Eigen::VectorXd::Zero(x.size());
+    const Eigen::VectorXd Ax = M * x;
+    for (const int i : rows) y[i] = 0.3 * Ax[i + 1];
+  };
+  Eigen::MatrixXd J = Eigen::MatrixXd(M);
+  for (const int i : rows) J.row(i) += 0.3 * Eigen::MatrixXd(M).row(i + 1);
+  const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(12, -1.0, 2.0);
+  Eigen::VectorXd x;
+  f->solve_perturbed(A, C, b, x, 1e-12, "test matrix");
+  EXPECT_LE((x - J.partialPivLu().solve(b)).norm(), 1e-10 * b.norm());
+  EXPECT_LE((J * x - b).norm(), 1e-10 * b.norm());
+  // A C that GMRES cannot follow in its iterations: x ↦ −A x makes A + C zero.
+  const Perturbation annihilate = [&](const Eigen::VectorXd& v, Eigen::VectorXd& y) { y = -(M * v); };
+  EXPECT_THROW(f->solve_perturbed(A, annihilate, b, x, 1e-12, "test matrix"), Error);
+}
+
 /// CHOLMOD without its halves: stands for MUMPS or CG in a serial test.
 class NoHalves final : public LinearSolver {
  public:
