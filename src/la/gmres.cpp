@@ -101,17 +101,14 @@ void LinearSolver::solve_perturbed(const SpdOperator& A, const Perturbation& C, 
   gmres.preconditioner().factor = this;
   gmres.compute(J);
   x = gmres.solve(b);
-  // Eigen's GMRES can report success at a breakdown (A + C singular): its residual checked here,
-  // preconditioned as its own test is.
-  Eigen::VectorXd r, Pr = Eigen::VectorXd::Zero(b.size()), Pb = Pr;
+  // Eigen's GMRES can report success at a breakdown (A + C singular, x = 0): the answer must at
+  // least reduce the true residual (the caller measures it against its own tolerance).
+  Eigen::VectorXd r;
   J.apply(x, r);
-  r = b - r;
-  solve(r, Pr);
-  solve(b, Pb);
-  const double error = Pb.norm() > 0 ? Pr.norm() / Pb.norm() : Pr.norm();
-  require(gmres.info() == Eigen::Success && error <= 10 * rtol,
-          "solving with the {} failed (GMRES: relative residual {:.3e} after {} iterations)", what, error,
-          gmres.iterations());
+  const double error = (b - r).norm(), start = b.norm();
+  require(gmres.info() == Eigen::Success && (error < start || start == 0),
+          "solving with the {} failed (GMRES: residual {:.3e} of the right-hand side's after {} iterations)", what,
+          start > 0 ? error / start : error, gmres.iterations());
 }
 
 }  // namespace vpc::la

@@ -4,7 +4,9 @@
 // factor A = PᵀLLᵀP (forward(B) = L⁻¹PB, backward(Y) = PᵀL⁻ᵀY) are an optional
 // capability: CHOLMOD has them, MUMPS and CG do not (has_halves()).
 // Backends: make_cholmod_factor (one process, la/cholmod_factor.cpp) and the
-// PETSc backend's factors (la/petsc.hpp: MUMPS, CG + GAMG, CG + hypre).
+// PETSc backend's factors (la/petsc.hpp: MUMPS, CG + GAMG, CG + hypre). Any of them also
+// solves A + C for a small nonsymmetric C by GMRES with itself as preconditioner
+// (solve_perturbed: la/gmres.cpp on one process, PETSc's GMRES in la/petsc.cpp).
 #include "la/operator.hpp"
 
 #include <Eigen/Dense>

@@ -392,7 +392,8 @@ class PrimalActiveSetSolver final : public ContactSolver {
         rtol = std::clamp(target / std::max(norm, std::numeric_limits<double>::min()), kLeastForcing, kForcing);
       }
       if (!factor_->iterative()) {
-        rtol = std::clamp(0.1 * force_tolerance_ * force_scale_ / std::max(norm, 1e-300), 1e-14, 1e-6);
+        const double target = std::max(0.5 * force_tolerance_, couple_ ? newton_target_ : 0.0) * force_scale_;
+        rtol = std::clamp(target / std::max(norm, std::numeric_limits<double>::min()), 1e-14, kForcing);
       } else if (!tight) {
         const double loose = loose_tolerance(rhs, w), rhs_norm = std::sqrt(K_->comm().sum(rhs.squaredNorm()));
         rtol = loose > 0 && norm > 0 ? std::min(kLooseReduction, loose * rhs_norm / norm) : kForcing;

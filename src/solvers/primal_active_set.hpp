@@ -12,14 +12,17 @@
 // Dirichlet condition w_k = g_i/α_i, an active compliance row a spring k_i α_i² on
 // w_k; the system is K_rot = Q K Q with those rows and columns replaced by the
 // identity (the layout and the pattern kept: a factor reuses its analysis, AMG its
-// block size), and λ_i = (QF − K_rot w)_k /(ρs) the reaction there.
+// block size), and λ_i = (QF − K_rot w)_k /(ρs) the reaction there. With friction
+// (primal_friction.hpp) Coulomb's coupling makes the system K_rot + C, C nonsymmetric: GMRES
+// with K_rot's own factor or multigrid hierarchy as preconditioner.
 #include "solvers/contact_frame.hpp"
 #include "solvers/contact_solver.hpp"
 
 namespace vpc {
 
-/// Solves before the primal solver gives up: without friction, and with it (Coulomb's bound is
-/// iterated over Newton's steps of the slip directions: frictional foundation-3d: 7–20 solves a step, docs/performance.md).
+/// Solves before the primal solver gives up: without friction, and with it (Coulomb's bound in
+/// Newton's step: frictional foundation-3d 3–5 solves a step, docs/performance.md; more where the
+/// sets cycle and the bound is lagged).
 constexpr int kPrimalMaxIterations = 200, kPrimalFrictionMaxIterations = 500;
 
 /// "primal-active-set" (make_contact_solver): K and, where some row is not along an axis,
