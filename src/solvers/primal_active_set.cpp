@@ -122,7 +122,8 @@ class PrimalActiveSetSolver final : public ContactSolver {
     for (Eigen::Index i = 0; i < rows; ++i) active[i] = normal_in[i] > 0 || gap_left(w, i) < 0;
     friction_->start(c_, active, normal_in, tangential_in);
     Vector bound = Vector::Zero(rows);  // Coulomb's bound: the iterate's own, or the lagged Tresca problem's
-    Vector lambda_local = Vector::Zero(rows), tangential;
+    // (λ_τ sized from the start: a first coupled solve that fails leaves it as it is.)
+    Vector lambda_local = Vector::Zero(rows), tangential = Vector::Zero(rows * (c_.block - 1));
     auto history = std::make_unique<ActiveSetHistory>();
     AndersonMixing coulomb(kAndersonDepth);
     ContactReport rep;

@@ -4,6 +4,7 @@
 // independent answers: full slip carries μ × the normal force, a huge μ gives the bonded solution,
 // Coulomb equals the Tresca problem with its bound, slip in 3D follows a disc; and a case whose
 // solver short of iterations reports converged = false.
+#include "core/error.hpp"
 #include "solvers/contact_solver.hpp"
 #include "solvers/primal_active_set.hpp"
 
@@ -383,6 +384,41 @@ TEST(PrimalFriction, AgreesWithTheDualSolver) {
 // Short of solves (a test's limit of 3; the production limit is kPrimalMaxIterations): the
 // solver says it did not converge and contact_failure names the iteration limit (the step
 // control then retries a smaller step).
+/// CHOLMOD whose GMRES always fails: stands for a coupled matrix that GMRES cannot solve.
+class FailingGmres final : public la::LinearSolver {
+ public:
+  void factorize(const la::SpdOperator& A, const char* what) override { f_->factorize(A, what); }
+  void solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) const override { f_->solve(b, x); }
+  Eigen::MatrixXd solve(const Eigen::MatrixXd& B) const override { return f_->solve(B); }
+  void solve_perturbed(const la::SpdOperator&, const la::Perturbation&, const Eigen::VectorXd&, Eigen::VectorXd&,
+                       double, const char* what) const override {
+    fail("solving with the {} failed (GMRES: a test's failure)", what);
+  }
+  int n_factorizations() const override { return f_->n_factorizations(); }
+
+ private:
+  std::unique_ptr<la::LinearSolver> f_ = la::make_cholmod_factor("K");
+};
+
+// A coupled solve that fails (from the first iterate on: the block slides at once) is a step
+// that did not converge, with the answer's sizes intact, not a crash or an escaped error.
+TEST(PrimalFriction, AFailedCoupledSolveIsNotConverged) {
+  const Block b = make_block(3);
+  const ContactConstraints c = frictional(b.N, Vector::Zero(b.N.rows()), 3, b.node_dofs, 0.4);
+  auto op = std::make_shared<const la::SparseOperator>(b.K);
+  const SparseMatrix Q = contact_reflections(c.N);
+  auto K_rot = Q.size() ? std::make_shared<const la::SparseOperator>(SparseMatrix(Q * b.K * Q)) : nullptr;
+  auto s = make_primal_active_set_solver(op, K_rot, std::make_shared<FailingGmres>(), c);
+  s->set_friction(Vector::Zero(c.m), Vector::Constant(c.T.rows(), 5.0));
+  // A warm start in full slip: its first iterate couples the slip rows.
+  Vector u, lambda = Vector::Zero(c.m * 3);
+  for (int i = 0; i < c.m; ++i) lambda[3 * i] = 1.0, lambda[3 * i + 1] = 0.4;
+  const ContactReport rep = s->solve(b.F, u, lambda);
+  EXPECT_FALSE(rep.converged);
+  EXPECT_EQ(lambda.size(), c.m * 3);
+  EXPECT_EQ(u.size(), b.F.size());
+}
+
 TEST(PrimalFriction, ShortOfIterationsIsNotConverged) {
   const Block b = make_block(2);
   const ContactConstraints c = frictional(b.N, Vector::Zero(b.N.rows()), 2, b.node_dofs, 0.5);
