@@ -140,16 +140,12 @@ class PrimalActiveSetSolver final : public ContactSolver {
       return yes;
     };
     couple_ = true;
+    coupled_failed_ = false;
     newton_target_ = 0;
     for (int it = 0; it < max_iterations_ && !converged; ++it) {
       if (couple_ && it == kCoupledIterations) couple_ = false;  // no convergence yet: lag the bound
-      Iterate x;
-      try {
-        x = iterate(active, b, w, tight, lambda_local, rep);
-      } catch (const Error&) {  // a coupled solve that failed: Coulomb's linearization is singular
-        break;
-      }
-      auto& [r, next, most_negative, worst] = x;
+      auto [r, next, most_negative, worst] = iterate(active, b, w, tight, lambda_local, rep);
+      if (coupled_failed_) break;  // Coulomb's linearization singular: not converged
       if (monotone) release_one(active, next, most_negative, worst);
       tangential = friction_->forces(r);
       if (couple_) {
@@ -379,25 +375,24 @@ class PrimalActiveSetSolver final : public ContactSolver {
       A_->residual(rhs, w, r);
       if (C) C(w, Cw), r -= Cw;
       const double norm = std::sqrt(K_->comm().sum(r.squaredNorm()));
-      // A direct solver's GMRES goes to the end at once (its iterations are solves with the factor).
-      // An iterative one reduces each correction's residual by a fixed share (inexact Newton), or,
-      // finding the sets, stops where a loose solve would (loose_tolerance, of ‖rhs‖).
+      // Newton's step with Coulomb coupled goes to the friction tolerance, or to the square of the
+      // slip directions' last change where that is larger (Newton's quadratic rate: the next change
+      // is about that). Frictional foundation-3d n = 10 (20) on CG + GAMG, 100 steps: 3,815 (n = 20
+      // not run) iterations with kForcing every time, 3,457 (5,047) to the tolerance, 3,370 (4,966)
+      // to the square. A direct solver's GMRES (its iterations are solves with the factor) takes the
+      // same target, uncoupled the tolerance; an iterative one reduces each correction's residual
+      // by kLeastForcing to kForcing (inexact Newton; lagged: kForcing), or, finding the sets, stops
+      // where a loose solve would (loose_tolerance, of ‖rhs‖).
+      const double target = std::max(0.5 * force_tolerance_, couple_ ? newton_target_ : 0.0) * force_scale_;
+      const double to_target = target / std::max(norm, std::numeric_limits<double>::min());
       double rtol = kForcing;
-      if (couple_) {
-        // Newton's step with Coulomb coupled: to the friction tolerance, or to the square of the
-        // slip directions' last change where that is larger (Newton's quadratic rate: the next
-        // change is about that), between kLeastForcing and kForcing of the residual. Frictional
-        // foundation-3d n = 10 (20) on CG + GAMG, 100 steps: 3,815 (n = 20 not run) iterations with
-        // kForcing every time, 3,457 (5,047) to the tolerance, 3,370 (4,966) to the square.
-        const double target = std::max(0.5 * force_tolerance_, newton_target_) * force_scale_;
-        rtol = std::clamp(target / std::max(norm, std::numeric_limits<double>::min()), kLeastForcing, kForcing);
-      }
       if (!factor_->iterative()) {
-        const double target = std::max(0.5 * force_tolerance_, couple_ ? newton_target_ : 0.0) * force_scale_;
-        rtol = std::clamp(target / std::max(norm, std::numeric_limits<double>::min()), 1e-14, kForcing);
+        rtol = std::clamp(to_target, 1e-14, kForcing);
       } else if (!tight) {
         const double loose = loose_tolerance(rhs, w), rhs_norm = std::sqrt(K_->comm().sum(rhs.squaredNorm()));
         rtol = loose > 0 && norm > 0 ? std::min(kLooseReduction, loose * rhs_norm / norm) : kForcing;
+      } else if (couple_) {
+        rtol = std::clamp(to_target, kLeastForcing, kForcing);
       }
       if (!C) {
         factor_->set_relative_tolerance(rtol);
@@ -406,7 +401,12 @@ class PrimalActiveSetSolver final : public ContactSolver {
         residual_left_ = rtol * norm;  // ‖r − Aδ‖₂ ≤ rtol ‖r‖₂
         return;
       }
-      factor_->solve_perturbed(*A_, C, r, delta, rtol > 0 ? rtol : 1e-12, "elastic stiffness K with Coulomb's coupling");
+      try {
+        factor_->solve_perturbed(*A_, C, r, delta, rtol > 0 ? rtol : 1e-12, "elastic stiffness K with Coulomb's coupling");
+      } catch (const Error&) {  // GMRES short of its tolerance: w stays, the caller stops
+        coupled_failed_ = true;
+        return;
+      }
       w += delta;
       A_->residual(rhs, w, r);  // the true residual (Eigen's GMRES stops on the preconditioned one)
       C(w, Cw);
@@ -570,6 +570,7 @@ class PrimalActiveSetSolver final : public ContactSolver {
   double force_scale_ = 0;             // the iteration's force scale (the direct solver's GMRES target)
   double newton_target_ = 0;           // the next coupled correction's residual (of the force scale), at least
   bool couple_ = true;                 // Coulomb's bound in Newton's step (else lagged one iterate)
+  mutable bool coupled_failed_ = false;  // the last coupled solve's GMRES failed (the iteration stops)
 };
 
 }  // namespace
