@@ -25,4 +25,15 @@ std::unique_ptr<SpdOperator> SparseOperator::with_fixed(const std::vector<char>&
   return std::make_unique<SparseOperator>(std::move(B));
 }
 
+RowProduct SparseOperator::rows(const std::vector<int>& rows) const {
+  // A is symmetric and stored whole: row i is column i, contiguous in Eigen's column-major storage.
+  std::vector<Eigen::Triplet<double>> entries;
+  for (size_t k = 0; k < rows.size(); ++k)
+    for (Eigen::SparseMatrix<double>::InnerIterator it(A_, rows[k]); it; ++it)
+      entries.emplace_back(static_cast<int>(k), static_cast<int>(it.row()), it.value());
+  Eigen::SparseMatrix<double, Eigen::RowMajor> R(static_cast<Eigen::Index>(rows.size()), A_.cols());
+  R.setFromTriplets(entries.begin(), entries.end());
+  return [R = std::move(R)](const Eigen::VectorXd& x, Eigen::VectorXd& y) { y = R * x; };
+}
+
 }  // namespace vpc::la

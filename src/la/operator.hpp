@@ -7,10 +7,15 @@
 
 #include <Eigen/Dense>
 #include <Eigen/Sparse>
+#include <functional>
 #include <memory>
 #include <vector>
 
 namespace vpc::la {
+
+/// x ↦ (A x)_R for a set R of one rank's owned rows (SpdOperator::rows): y gets |R| entries,
+/// in R's order. Collective where the operator is (every rank calls it, R empty or not).
+using RowProduct = std::function<void(const Eigen::VectorXd& x, Eigen::VectorXd& y)>;
 
 class SpdOperator {
  public:
@@ -43,6 +48,10 @@ class SpdOperator {
   /// A + B, B given on the owned rows and columns (n_owned × n_owned, owned
   /// numbering): penalty–duality's H + ωEᵀE (collective).
   virtual std::unique_ptr<SpdOperator> plus(const Eigen::SparseMatrix<double>& owned_block) const = 0;
+  /// The product with the owned rows `rows` (ascending) only: a few rows' worth of work where
+  /// mult would do the whole matrix's (the primal friction solver's Coulomb coupling needs K's
+  /// normal rows at the slip nodes at each GMRES iteration). Collective.
+  virtual RowProduct rows(const std::vector<int>& rows) const = 0;
 };
 
 /// One process: the whole matrix.
@@ -64,6 +73,7 @@ class SparseOperator final : public SpdOperator {
   std::unique_ptr<SpdOperator> plus(const Eigen::SparseMatrix<double>& B) const override {
     return std::make_unique<SparseOperator>(A_ + B);
   }
+  RowProduct rows(const std::vector<int>& rows) const override;
   const Eigen::SparseMatrix<double>& matrix() const { return A_; }
 
  private:

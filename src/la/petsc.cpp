@@ -521,6 +521,29 @@ std::unique_ptr<SpdOperator> PetscOperator::plus(const Eigen::SparseMatrix<doubl
   return std::make_unique<PetscOperator>(comm_, std::move(C));
 }
 
+RowProduct PetscOperator::rows(const std::vector<int>& rows) const {
+  // MatCreateSubMatrix with all of this rank's columns: S's column layout is A's, so its
+  // product scatters only the ghost values those rows read.
+  PetscInt begin = 0;
+  VPC_PETSC(MatGetOwnershipRange(A_, &begin, nullptr));
+  std::vector<PetscInt> global(rows.begin(), rows.end());
+  for (PetscInt& g : global) g += begin;
+  const MPI_Comm comm = PetscObjectComm(reinterpret_cast<PetscObject>(A_.get()));
+  PIs is_rows, is_cols;
+  VPC_PETSC(ISCreateGeneral(comm, static_cast<PetscInt>(global.size()), global.data(), PETSC_COPY_VALUES, is_rows.out()));
+  VPC_PETSC(ISCreateStride(comm, n_owned_, begin, 1, is_cols.out()));
+  auto S = std::make_shared<PMat>();
+  VPC_PETSC(MatCreateSubMatrix(A_, is_rows, is_cols, MAT_INITIAL_MATRIX, S->out()));
+  auto vx = std::make_shared<PVec>(), vy = std::make_shared<PVec>();
+  VPC_PETSC(MatCreateVecs(*S, vx->out(), vy->out()));
+  const auto m = static_cast<Eigen::Index>(rows.size());
+  return [S, vx, vy, m](const Eigen::VectorXd& x, Eigen::VectorXd& y) {
+    y.resize(m);
+    Placed px(*vx, x.data()), py(*vy, y.data());
+    VPC_PETSC(MatMult(*S, *vx, *vy));
+  };
+}
+
 namespace {
 
 class PetscBackend final : public Backend {

@@ -54,6 +54,7 @@ class PetscOperator final : public SpdOperator {
   std::unique_ptr<SpdOperator> restrict_to_free(const std::vector<char>& fixed) const override;
   std::unique_ptr<SpdOperator> with_fixed(const std::vector<char>& fixed) const override;
   std::unique_ptr<SpdOperator> plus(const Eigen::SparseMatrix<double>& owned_block) const override;
+  RowProduct rows(const std::vector<int>& rows) const override;
   Mat mat() const { return A_; }
 
  private:

@@ -450,12 +450,24 @@ class PrimalActiveSetSolver final : public ContactSolver {
       }
     }
     const la::Comm& comm = K_->comm();
-    const bool any_signorini = comm.any(signorini);  // K_rot's product is collective
     if (!comm.any(!couplings_.empty() || spring_change_.nonZeros() > 0)) return {};
-    return [this, any_signorini](const Vector& x, Vector& y) {
+    // K_rot's normal rows at the coupled Signorini rows only (collective): with the whole product
+    // a GMRES iteration cost 1.8 CG iterations (frictional foundation-3d n = 40, 2 ranks).
+    la::RowProduct normal_rows;
+    if (comm.any(signorini)) {
+      std::vector<int> dofs;
+      for (const Coupling& c : couplings_)
+        if (c.reaction) dofs.push_back(c.normal);
+      std::sort(dofs.begin(), dofs.end());
+      dofs.erase(std::unique(dofs.begin(), dofs.end()), dofs.end());
+      for (Coupling& c : couplings_)
+        if (c.reaction) c.normal = static_cast<int>(std::lower_bound(dofs.begin(), dofs.end(), c.normal) - dofs.begin());
+      normal_rows = K_rot_->rows(dofs);
+    }
+    return [this, normal_rows](const Vector& x, Vector& y) {
       y = Vector::Zero(x.size());
       Vector Kx;
-      if (any_signorini) K_rot_->mult(x, Kx);
+      if (normal_rows) normal_rows(x, Kx);
       for (const Coupling& c : couplings_) y[c.tangent] += c.coefficient * (c.reaction ? Kx[c.normal] : x[c.normal]);
       if (spring_change_.nonZeros() > 0) y += spring_change_ * x;
     };
@@ -559,7 +571,8 @@ class PrimalActiveSetSolver final : public ContactSolver {
   Vector u_last_;             // the last answer as returned (is the caller continuing from it?)
   mutable double residual_left_ = 0;  // the last solve's equilibrium residual, at most (‖·‖₂; 0: solved exactly)
   Vector forces_last_, forces_before_;  // with friction: this rank's λ_ν then λ_τ of the last two answers
-  /// coupling(): one entry of C, y[tangent] += coefficient × ((K_rot x)[normal] if reaction, else x[normal]).
+  /// coupling(): one entry of C, y[tangent] += coefficient × (K_rot x at the reaction row numbered `normal`
+  /// among the coupled rows, if reaction; else x[normal]).
   struct Coupling {
     int tangent, normal;
     double coefficient;

@@ -273,6 +273,19 @@ void run() {
   check((y - ys.segment(c.begin, c.n_owned)).lpNorm<Eigen::Infinity>() <= 1e-12 &&
             Hfix->diagonal() == Hs.diagonal().segment(c.begin, c.n_owned) && Hfix->nonzeros() == H.nonzeros(),
         "fixed rows (same pattern, A's diagonal kept)", comm);
+  // A few rows' product (the primal friction solver's coupling): every rank's rows j ≡ 1 (mod 4),
+  // then rank 0's first row only (the other ranks ask for none and still take part).
+  Hs.mult(xs, ys);
+  for (const bool everywhere : {true, false}) {
+    std::vector<int> rows;
+    for (int i = 0; i < c.n_owned; ++i)
+      if (everywhere ? (c.begin + i) % 4 == 1 : me == 0 && i == 0) rows.push_back(i);
+    Eigen::VectorXd yr;
+    H.rows(rows)(xs.segment(c.begin, c.n_owned), yr);
+    ok = yr.size() == static_cast<Eigen::Index>(rows.size());
+    for (size_t k = 0; ok && k < rows.size(); ++k) ok = std::abs(yr[k] - ys[c.begin + rows[k]]) <= 1e-12;
+    check(ok, everywhere ? "row product (rows on every rank)" : "row product (rows on rank 0 only)", comm);
+  }
 
   // GMRES on H + C, preconditioned by MUMPS' factor and by CG + GAMG's multigrid of H
   // (solve_perturbed): C scales H's rows j ≡ 2 (mod 5) by 0.3 (nonsymmetric, as Coulomb's coupling

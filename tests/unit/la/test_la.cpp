@@ -135,6 +135,22 @@ TEST(LaOperator, FixedRowsKeepTheirDiagonalAndThePattern) {
   EXPECT_EQ(B->nonzeros(), A.nonzeros());  // explicit zeros: a factor reuses its analysis
 }
 
+TEST(LaOperator, RowProductIsThoseRowsOfTheProduct) {
+  // Symmetric with three bands, so a row reads several columns on both sides.
+  Eigen::SparseMatrix<double> M = tridiagonal(9, 5.0, -1.0);
+  for (int i = 0; i + 3 < 9; ++i) M.coeffRef(i, i + 3) = M.coeffRef(i + 3, i) = -0.5 - 0.1 * i;
+  const SparseOperator A(M);
+  const Eigen::VectorXd x = Eigen::VectorXd::LinSpaced(9, -2.0, 3.0);
+  Eigen::VectorXd Ax, y;
+  A.mult(x, Ax);
+  const std::vector<int> rows = {0, 3, 4, 8};
+  A.rows(rows)(x, y);
+  ASSERT_EQ(y.size(), 4);
+  for (size_t k = 0; k < rows.size(); ++k) EXPECT_NEAR(y[k], Ax[rows[k]], 1e-14) << rows[k];
+  A.rows({})(x, y);
+  EXPECT_EQ(y.size(), 0);
+}
+
 TEST(LaFactor, CholmodSolvesAndItsHalvesComposeToTheSolve) {
   const SparseOperator A(tridiagonal(8, 3.0, -1.0));
   auto f = make_cholmod_factor();
