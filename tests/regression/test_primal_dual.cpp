@@ -18,8 +18,8 @@ double largest(const Vector& v) { return v.size() ? v.cwiseAbs().maxCoeff() : 0.
 
 State run_steps(const std::string& name, const std::string& solver, int steps, int* active, int* cycles) {
   // cattaneo-mindlin-2d on a quarter of its cells: its own 400 × 200 took 44 of this test's 97 s
-  // (the dual's set-up over its ~400 contact nodes, the primal's factorizations at each set
-  // change); FrictionBenchmarks compares its stick zone at the shipped resolution.
+  // (the dual's set-up 16 s, the primal's 5 steps 20 s); FrictionBenchmarks compares its stick
+  // zone at the shipped resolution.
   CaseOverrides coarser;
   if (name == "cattaneo-mindlin-2d") coarser.sets = {"mesh.cells=[200, 100]"};
   Case c = load_case(name, coarser);
