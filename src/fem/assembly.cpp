@@ -177,7 +177,7 @@ SparseMatrix assemble_mass(const Mesh& mesh, const std::vector<CellGeometry>& ge
   return M;
 }
 
-SparseMatrix assemble_laplacian(const Mesh& mesh, const std::vector<CellGeometry>& geo) {
+SparseMatrix assemble_laplacian(const Mesh& mesh, const std::vector<CellGeometry>& geo, std::span<const double> weight) {
   const int d = mesh.dim(), n = d + 1;
   SparseMatrix A = scalar_pattern(mesh);
   double Ae[16];
@@ -187,7 +187,7 @@ SparseMatrix assemble_laplacian(const Mesh& mesh, const std::vector<CellGeometry
       for (int b = 0; b < n; ++b) {
         double s = 0;
         for (int i = 0; i < d; ++i) s += g.grad[a][i] * g.grad[b][i];
-        Ae[a + b * n] = g.volume * s;
+        Ae[a + b * n] = (weight.empty() ? g.volume : weight[static_cast<std::size_t>(c)] * g.volume) * s;
       }
     add_element(A, mesh.cell(c), n, Ae);
   }

@@ -32,8 +32,9 @@ SparseMatrix assemble_stiffness(const Mesh& mesh, const std::vector<CellGeometry
 /// P1 scalar mass matrix M_ij = (ψ_j, ψ_i).
 SparseMatrix assemble_mass(const Mesh& mesh, const std::vector<CellGeometry>& geo);
 
-/// P1 scalar stiffness (Laplacian) A_ij = (∇ψ_j, ∇ψ_i).
-SparseMatrix assemble_laplacian(const Mesh& mesh, const std::vector<CellGeometry>& geo);
+/// P1 scalar stiffness (Laplacian) A_ij = (∇ψ_j, ∇ψ_i); with `weight` (one per cell) Σ_c weight_c A_c.
+SparseMatrix assemble_laplacian(const Mesh& mesh, const std::vector<CellGeometry>& geo,
+                                std::span<const double> weight = {});
 
 /// Full-space load vector (f(t), φ_i)_V = ∫Ω f0·φ_i + ∫Γ2 f2·φ_i  (2.25).
 Vector assemble_load(const Mesh& mesh, const std::vector<CellGeometry>& geo,

@@ -633,6 +633,48 @@ Mesh read_mesh(Section m, const fs::path& base_dir, const Origins& origins, cons
   return mesh;
 }
 
+// ---------------------------------------------------------------- [[body]]
+
+/// [[body]] (SPEC §8): each further body's name and [body.mesh] (as [mesh]), appended to
+/// p.mesh: its parts become "<name>.<part>" and its regions "<name>.<region>" for the rest
+/// of the case. Returns the bodies' sections, whose other tables read_body_data reads once
+/// the case's own material is known.
+std::vector<Section> read_body_meshes(Section& top, Problem& p, const fs::path& base_dir, const Origins& origins,
+                                      const MeshRequest& request, const std::string& memory_limit_option) {
+  std::vector<Section> bodies;
+  if (!top.has("body")) return bodies;
+  const toml::node* list = top.get("body");
+  if (!list->is_array_of_tables()) top.expected("body", "an array of tables [[body]] with name and [body.mesh]");
+  std::set<std::string> names{"body"};
+  for (const auto& node : *list->as_array()) {
+    Section s(node.as_table(), fmt::format("body[{}]", bodies.size()), origins);
+    const std::string name = s.string("name");
+    const bool plain = !name.empty() && name.size() <= 100 && std::all_of(name.begin(), name.end(), [](char c) {
+      return std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_';
+    });
+    if (!plain || names.count(name))
+      fail("{}: expected a new body name of letters, digits, '-' and '_' (at most 100; \"body\" is the case's own "
+           "[mesh]){}; its parts are then named \"<name>.<part>\"",
+           s.where("name"), names.count(name) ? fmt::format("; {} is taken", quote(name)) : "");
+    names.insert(name);
+    if (request.build) {
+      const std::string prefix = name + ".";
+      for (const auto& list_of : {p.mesh.part_names(), p.mesh.region_names()})
+        for (const auto& taken : list_of)
+          if (taken.starts_with(prefix))
+            fail("{}: the mesh already has a part or region {}, which the body's own parts would be confused with; "
+                 "name the body otherwise",
+                 s.where("name"), quote(taken));
+    }
+    Section m = s.table("mesh");
+    if (!m.exists()) fail("{}: missing section [body.mesh] of body {} (a generator or a file, as [mesh])", s.where_section(), quote(name));
+    const Mesh mesh = read_mesh(m, base_dir, origins, {request.build, request.dim, std::nullopt}, memory_limit_option);
+    if (request.build) p.mesh.append(mesh, name);
+    bodies.push_back(std::move(s));
+  }
+  return bodies;
+}
+
 // ---------------------------------------------------------------- [boundary], [elasticity], laws
 
 /// `check`: whether the parts must exist in `mesh` (not on a rank that did not build it).
@@ -769,7 +811,7 @@ void read_damage(Section dm, Problem& p) {
   const auto b0 = dm.has("beta0") ? dm.expression("beta0", Expression::Kind::Space) : nullptr;
   if (b0) {
     p.beta0 = [b0](const Point& x, double) { return (*b0)(x); };
-    located(dm.where("beta0"), [&] { check_beta0(p.mesh, p.beta0); });
+    located(dm.where("beta0"), [&] { check_beta0(p.mesh, p.beta0, p.mesh.n_bodies() > 1 ? 0 : -1); });
   } else {
     p.beta0 = [](const Point&, double) { return 1.0; };
   }
@@ -835,6 +877,36 @@ void read_materials(Section& top, Problem& p, const Origins& origins, bool build
     }
     s.finish();
     p.materials.push_back(std::move(m));
+  }
+}
+
+/// The [[body]] tables' [body.elasticity] (E, nu; the case's kind), [body.viscoplasticity]
+/// and [body.damage] (kappa, beta0, the source): each left out, or each key of
+/// [body.elasticity] and [body.damage] left out, is the case's.
+void read_body_data(std::vector<Section>& sections, Problem& p) {
+  for (Section& s : sections) {
+    Body b;
+    b.name = s.string("name");
+    Section e = s.table("elasticity");
+    b.material.name = b.name;
+    b.material.elasticity = e.exists() ? read_material_elasticity(e, p.elasticity) : p.elasticity;
+    Section v = s.table("viscoplasticity");
+    b.material.law = v.exists() ? read_viscoplasticity(v, b.material.elasticity.young()) : p.law;
+    Section dm = s.table("damage");
+    b.kappa = dm.number("kappa", p.kappa);
+    located(dm.where("kappa"), [&] { check_kappa(b.kappa); });
+    if (dm.has("beta0")) {
+      const auto b0 = dm.expression("beta0", Expression::Kind::Space);
+      b.beta0 = [b0](const Point& x, double) { return (*b0)(x); };
+      const int index = static_cast<int>(p.bodies.size()) + 1;
+      located(dm.where("beta0"), [&] { check_beta0(p.mesh, b.beta0, index); });
+    } else {
+      b.beta0 = p.beta0;
+    }
+    b.material.source = dm.has("source") || dm.has("phi") ? read_damage_source(dm) : p.source;
+    dm.finish();
+    s.finish();
+    p.bodies.push_back(std::move(b));
   }
 }
 
@@ -1324,10 +1396,12 @@ Case parse_case(std::string_view text, const std::string& name, const fs::path& 
   auto p = std::make_shared<Problem>();
   p->name = c.name;
   p->mesh = read_mesh(top.table("mesh"), base_dir, origins, mesh_request, overrides.memory_limit);
+  std::vector<Section> bodies = read_body_meshes(top, *p, base_dir, origins, mesh_request, overrides.memory_limit);
   read_boundary(top.table("boundary"), *p, origins, mesh_request.build);
   p->elasticity = read_elasticity(top.table("elasticity"), p->mesh.dim(), name);
   p->law = read_viscoplasticity(top.table("viscoplasticity"), p->elasticity.young());
   read_damage(top.table("damage"), *p);
+  read_body_data(bodies, *p);
   read_materials(top, *p, origins, mesh_request.build);
   read_loads(top.table("loads"), *p, origins, mesh_request.build);
   read_obstacles(top, *p, origins, read_contact(top.table("contact"), *p, origins));

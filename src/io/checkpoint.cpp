@@ -201,6 +201,11 @@ std::string problem_key(const TimeStepper& s) {
   for (const Material& m : p.materials)
     key += fmt::format("|material {}=E {:.17g}, nu {:.17g}; G: {}; phi: {}", m.name, m.elasticity.young(),
                        m.elasticity.poisson(), m.law->describe(), m.source->describe());
+  for (const Body& b : p.bodies) {
+    const Material& m = b.material;
+    key += fmt::format("|body {}=kappa {:.17g}; E {:.17g}, nu {:.17g}; G: {}; phi: {}", b.name, b.kappa,
+                       m.elasticity.young(), m.elasticity.poisson(), m.law->describe(), m.source->describe());
+  }
   return key;
 }
 

@@ -293,9 +293,14 @@ void RunOutput::write_fields() {
   const la::Comm& comm = stepper_.comm();
   std::vector<VtuField> point_data, cell_data;
   make_vtu_fields({s, stepper_.part()}, options_.fields, point_data, cell_data);
-  if (!stepper_.problem().materials.empty()) {  // which material each cell has (Problem::material_list order)
+  const Problem& problem = stepper_.problem();
+  if (!problem.materials.empty() || !problem.bodies.empty()) {  // each cell's material (Problem::material_list order)
     const std::vector<int>& m = stepper_.part().cell_material;
     cell_data.push_back({"material", 1, std::vector<double>(m.begin(), m.end()), true});
+  }
+  if (!problem.bodies.empty()) {  // each cell's body: 0 the case's [mesh], k the k-th [[body]] (ParaView: Threshold)
+    const std::vector<int>& b = stepper_.part().cell_body;
+    cell_data.push_back({"body", 1, std::vector<double>(b.begin(), b.end()), true});
   }
   const std::string stem = fmt::format("solution_{:05d}", s.n);
   std::string file = stem + ".vtu";
@@ -374,7 +379,7 @@ std::string summary_json(const Problem& p, const RunSummary& r, const OutputOpti
   j["elasticity"] = p.elasticity.name();
   j["viscoplastic_law"] = p.law->describe();
   j["damage_source"] = p.source->describe();
-  if (!p.materials.empty()) {  // the body's material, then the others (the VTU cell field `material` indexes them)
+  if (!p.materials.empty() || !p.bodies.empty()) {  // the body's material, the others, the bodies' (VTU `material`)
     j["materials"] = nlohmann::json::array();
     for (const Material& m : p.material_list())
       j["materials"].push_back({{"name", m.name},
@@ -408,6 +413,10 @@ std::string summary_json(const Problem& p, const RunSummary& r, const OutputOpti
     }
   }
   j["kappa"] = p.kappa;
+  if (!p.bodies.empty()) {  // the VTU cell field `body` indexes them
+    j["bodies"] = Json::array({{{"name", "body"}, {"kappa", p.kappa}}});
+    for (const Body& b : p.bodies) j["bodies"].push_back({{"name", b.name}, {"kappa", b.kappa}});
+  }
   j["final_time"] = p.final_time;
   j["steps"] = r.steps;
   if (p.uniform_steps()) {

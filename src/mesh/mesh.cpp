@@ -20,6 +20,27 @@ int Mesh::add_node(const Point& p) {
 void Mesh::add_cell(const int* nodes) {
   cells_.insert(cells_.end(), nodes, nodes + nodes_per_cell());
   if (!cell_region_.empty()) cell_region_.push_back(-1);
+  if (!cell_body_.empty()) cell_body_.push_back(n_bodies_ - 1);
+}
+
+int Mesh::append(const Mesh& other, const std::string& name) {
+  require(other.dim() == dim_, "mesh of body '{}': dimension {} where the other bodies' is {}", name, other.dim(), dim_);
+  const int offset = n_nodes(), first_cell = n_cells();
+  if (cell_body_.empty()) cell_body_.assign(static_cast<std::size_t>(n_cells()), 0);
+  ++n_bodies_;
+  x_.insert(x_.end(), other.x_.begin(), other.x_.end());
+  std::vector<int> shifted(static_cast<std::size_t>(nodes_per_cell()));
+  for (int c = 0; c < other.n_cells(); ++c) {
+    for (int a = 0; a < nodes_per_cell(); ++a) shifted[a] = other.cell(c)[a] + offset;
+    add_cell(shifted.data());
+    if (const int r = other.cell_region(c); r >= 0) set_cell_region(first_cell + c, name + "." + other.region_names_[r]);
+  }
+  for (int f = 0; f < other.n_facets(); ++f) {
+    for (int a = 0; a < nodes_per_facet(); ++a) shifted[a] = other.facet(f)[a] + offset;
+    const int part = other.facet_part(f);
+    add_facet(shifted.data(), part < 0 ? std::string() : name + "." + other.part_names_[part]);
+  }
+  return n_bodies_ - 1;
 }
 
 int Mesh::find_region(const std::string& name) const {

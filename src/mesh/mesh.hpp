@@ -67,6 +67,16 @@ class Mesh {
   /// Re-tags every cell whose centroid satisfies `pred` as region `name`.
   void tag_cells(const std::string& name, const std::function<bool(const Point&)>& pred);
 
+  /// The body of cell c (SPEC §8): 0 for the case's [mesh], k for the k-th mesh appended (append).
+  int cell_body(int c) const { return cell_body_.empty() ? 0 : cell_body_[c]; }
+  /// Bodies: 1 + the meshes appended.
+  int n_bodies() const { return n_bodies_; }
+  /// Appends `other` (of the same dimension) as a further body: its nodes, cells and boundary
+  /// facets, none shared with the bodies already here (bodies meet through contact pairs, not
+  /// nodes); its parts named "<name>.<part>" (untagged facets stay untagged) and its cells in
+  /// region "<name>.<region>" where they have one. Returns the new body's index.
+  int append(const Mesh& other, const std::string& name);
+
   /// The cell that boundary facet f bounds (found once for every facet, then kept).
   int facet_cell(int f) const;
   /// Outward unit normal of boundary facet f (needs the owning cell for orientation).
@@ -101,6 +111,8 @@ class Mesh {
   std::vector<int> cell_region_;  // per cell once a region exists; empty: every cell untagged
   std::vector<std::string> region_names_;
   mutable std::vector<int> facet_cell_;  // owning cell per facet, computed lazily
+  std::vector<int> cell_body_;  // per cell once a body is appended; empty: every cell in body 0
+  int n_bodies_ = 1;
 };
 
 /// Measure (length, area, volume) of the simplex with vertices x[0..dim]:

@@ -160,7 +160,7 @@ std::vector<Message> pack_parts(const Problem& p, int n_parts) {
               static_cast<long long>(piece.dirichlet_components.size()),
               static_cast<long long>(whole.pressure_facets.size())};
     m.ints.insert(m.ints.end(), piece.dirichlet_components.begin(), piece.dirichlet_components.end());
-    m.ints.reserve(m.ints.size() + (4 + d) * nodes.size() + (npc + 2) * cells_of[r].size() +
+    m.ints.reserve(m.ints.size() + (4 + d) * nodes.size() + (npc + 3) * cells_of[r].size() +
                    (d + 1) * facets_of[r].size() + 5 * piece.contact.size());
     m.reals.reserve(3 * nodes.size() + 6 * piece.contact.size());
     for (size_t k = 0; k < nodes.size(); ++k) {
@@ -172,7 +172,7 @@ std::vector<Message> pack_parts(const Problem& p, int n_parts) {
     }
     for (size_t k = 0; k < cells_of[r].size(); ++k) {
       for (int a = 0; a < npc; ++a) m.ints.push_back(local[mesh.cell(cells_of[r][k])[a]]);
-      m.ints.insert(m.ints.end(), {piece.original_cell[k], piece.cell_material[k]});
+      m.ints.insert(m.ints.end(), {piece.original_cell[k], piece.cell_material[k], piece.cell_body[k]});
     }
     for (auto [f, load] : facets_of[r]) {
       for (int a = 0; a < d; ++a) m.ints.push_back(local[mesh.facet(f)[a]]);
@@ -220,11 +220,13 @@ PartPieces unpack_part(MPI_Comm comm, const Message& m) {
   int nodes[4];
   dm.original_cell.resize(n_cells);
   dm.cell_material.resize(n_cells);
+  dm.cell_body.resize(n_cells);
   for (int c = 0; c < n_cells; ++c) {
     for (int a = 0; a <= d; ++a) nodes[a] = static_cast<int>(*in++);
     mesh->add_cell(nodes);
     dm.original_cell[c] = static_cast<int>(*in++);
     dm.cell_material[c] = static_cast<int>(*in++);
+    dm.cell_body[c] = static_cast<int>(*in++);
   }
   for (int f = 0; f < n_facets; ++f) {
     for (int a = 0; a < d; ++a) nodes[a] = static_cast<int>(*in++);

@@ -32,6 +32,19 @@ int stiffness_block(const MeshPart& part) {
   return part.comm.any(partial) ? 1 : d;
 }
 
+/// A of (3.8) and its factor κ: with one body A and Problem::kappa (as before bodies); with
+/// several, Σ_c κ_c A_c (κ_c of the cell's body: no damage flux crosses a contact, SPEC §8) and 1.
+SparseMatrix damage_laplacian(const Problem& p, const MeshPart& part, const std::vector<CellGeometry>& geo, double& kappa) {
+  if (p.bodies.empty()) {
+    kappa = p.kappa;
+    return assemble_laplacian(part.mesh(), geo);
+  }
+  std::vector<double> weight(part.cell_body.size());
+  for (std::size_t c = 0; c < weight.size(); ++c) weight[c] = p.kappa_of(part.cell_body[c]);
+  kappa = 1;
+  return assemble_laplacian(part.mesh(), geo, weight);
+}
+
 }  // namespace
 
 DiscreteSystem::DiscreteSystem(std::shared_ptr<const Problem> problem_in, MeshPart part_in,
@@ -94,13 +107,13 @@ DiscreteSystem::DiscreteSystem(std::shared_ptr<const Problem> problem_in, MeshPa
   K = backend->assemble(K_local, *part.dof_layout, K_block);
   K_local_nonzeros = static_cast<double>(K_local.nonZeros());
   M_local = assemble_mass(mesh, geo);
-  A_local = assemble_laplacian(mesh, geo);
+  A_local = damage_laplacian(p, part, geo, kappa);
   M = backend->assemble(M_local, *part.node_layout, 1);
   la::Vector lumped(part.node_layout);
   lumped.local() = M_local * Vector::Ones(M_local.cols());
   lumped.add_ghosts_to_owners();
   lumped_mass = lumped.owned();
-  const SparseMatrix H_local = M_local + (first_step * p.kappa) * A_local;
+  const SparseMatrix H_local = M_local + (first_step * kappa) * A_local;
   H_first = backend->assemble(H_local, *part.node_layout, 1);
   H_first_local_nonzeros = static_cast<double>(H_local.nonZeros());
   assembly_seconds = seconds_since(t1);

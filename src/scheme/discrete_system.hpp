@@ -49,6 +49,9 @@ struct DiscreteSystem {
   SparseMatrix K_local;
   std::unique_ptr<la::SpdOperator> M;
   SparseMatrix M_local, A_local;  // the part's mass and Laplacian (H for other step sizes)
+  /// κ of (3.8), the factor of A_local: Problem::kappa with one body; with several, A_local holds
+  /// each cell's body's κ (damage_laplacian) and this is 1.
+  double kappa = 1;
   /// H = M + k_1 κA of the first step, assembled with K: handed to its damage solver at set-up.
   std::unique_ptr<la::SpdOperator> H_first;
   double H_first_local_nonzeros = 0;

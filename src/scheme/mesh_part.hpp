@@ -49,6 +49,7 @@ struct PartPieces {
   std::vector<long long> first_dof;
   std::vector<int> original_cell;      // number in the mesh as read, per cell
   std::vector<int> cell_material;      // per cell: its index in Problem::material_list()
+  std::vector<int> cell_body;          // per cell: its body (Mesh::cell_body; SPEC §8)
   std::vector<int> traction_facets;    // Γ2 facets of the part's mesh
   std::vector<std::vector<int>> pressure_facets;  // per Problem::pressure load, facets of the part's mesh
   /// Per local full dof (node · d + component): the condition prescribing it

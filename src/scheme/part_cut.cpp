@@ -8,6 +8,7 @@ namespace vpc {
 // The order of the calls is the order of their checks (the first error is the one reported).
 WholeMeshData::WholeMeshData(const Problem& p)
     : cell_material(cell_materials(p)),
+      cell_body(cell_bodies(p)),
       traction_facets(vpc::traction_facets(p)),
       pressure_facets(vpc::pressure_facets(p)),
       dirichlet(dirichlet_dofs(p)),
@@ -56,7 +57,10 @@ PartPieces cut_part(const Problem& p, const WholeMeshData& whole, const WholeNum
                                                whole.measure[v]));
   }
   part.original_cell = cells;
-  for (int c : cells) part.cell_material.push_back(whole.cell_material[c]);
+  for (int c : cells) {
+    part.cell_material.push_back(whole.cell_material[c]);
+    part.cell_body.push_back(whole.cell_body[c]);
+  }
   part.dirichlet_components = dirichlet.components;
   part.n_contact = static_cast<int>(whole.rows.size());
   part.n_global_nodes = p.mesh.n_nodes();

@@ -15,6 +15,7 @@ namespace vpc {
 /// The problem's data on the whole mesh, computed once, from which parts are cut.
 struct WholeMeshData {
   std::vector<int> cell_material;  // cell_materials
+  std::vector<int> cell_body;      // cell_bodies
   std::vector<int> traction_facets;
   std::vector<std::vector<int>> pressure_facets;
   DirichletDofs dirichlet;

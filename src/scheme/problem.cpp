@@ -9,6 +9,7 @@
 #include <fmt/ranges.h>
 
 #include <algorithm>
+#include <numeric>
 #include <cmath>
 #include <set>
 
@@ -93,9 +94,14 @@ void check_formulas(const Problem& p) {
   for (const auto& f : p.formulas) f->check_finite();
 }
 
-void check_beta0(const Mesh& mesh, const ScalarField& beta0) {
+void check_beta0(const Mesh& mesh, const ScalarField& beta0, int body) {
   if (!beta0) return;  // β0 = 1
+  std::vector<char> in(static_cast<std::size_t>(mesh.n_nodes()), body < 0);
+  for (int c = 0; c < mesh.n_cells() && body >= 0; ++c)
+    if (mesh.cell_body(c) == body)
+      for (int a = 0; a < mesh.nodes_per_cell(); ++a) in[static_cast<std::size_t>(mesh.cell(c)[a])] = 1;
   for (int i = 0; i < mesh.n_nodes(); ++i) {
+    if (!in[static_cast<std::size_t>(i)]) continue;
     const Point& x = mesh.node(i);
     const double b = beta0(x, 0.0);
     require(std::isfinite(b) && b >= 0 && b <= 1, "initial damage beta0 must lie in [0, 1]; it is {} at node {} ({}, {}, {})",
@@ -155,11 +161,19 @@ namespace {
 /// rigid motion of the body free, the elastic stiffness K is singular and contact cannot
 /// hold the body (every contact solver factors or inverts K without it): refused before
 /// K's factorization fails, located at [boundary] and naming the free motion.
-void check_held(const Problem& p, const std::vector<int>& condition) {
+/// Throws unless the prescribed dofs among `nodes` (one body's) stop every rigid motion of them.
+/// `body`: how the message names the body.
+void check_body_held(const Problem& p, const std::vector<int>& condition, const std::vector<int>& nodes,
+                     const std::string& body) {
   const Mesh& mesh = p.mesh;
   const int d = mesh.dim(), m = d == 1 ? 1 : d == 2 ? 3 : 6;  // rigid motions: translations, then rotations
-  if (mesh.n_nodes() == 0) return;
-  const auto [lo, hi] = mesh.bounding_box();
+  if (nodes.empty()) return;
+  Point lo = mesh.node(nodes[0]), hi = lo;
+  for (int node : nodes)
+    for (int j = 0; j < 3; ++j) {
+      lo[j] = std::min(lo[j], mesh.node(node)[j]);
+      hi[j] = std::max(hi[j], mesh.node(node)[j]);
+    }
   Point centre{0, 0, 0};
   for (int j = 0; j < 3; ++j) centre[j] = (lo[j] + hi[j]) / 2;
   double scale = 1e-300;
@@ -168,7 +182,7 @@ void check_held(const Problem& p, const std::vector<int>& condition) {
   // centred and scaled to the body): a motion in G's kernel moves no prescribed dof.
   Eigen::MatrixXd G = Eigen::MatrixXd::Zero(m, m);
   Eigen::VectorXd r(m);
-  for (int node = 0; node < mesh.n_nodes(); ++node)
+  for (int node : nodes)
     for (int c = 0; c < d; ++c) {
       if (condition[static_cast<std::size_t>(node) * d + c] < 0) continue;
       Point y;
@@ -206,10 +220,31 @@ void check_held(const Problem& p, const std::vector<int>& condition) {
     motion = fmt::format("a rotation about the axis along ({:.3g}, {:.3g}, {:.3g}) through ({:.6g}, {:.6g}, {:.6g})", u[0],
                          u[1], u[2], centre[0] + scale * y[0], centre[1] + scale * y[1], centre[2] + scale * y[2]);
   }
-  fail("{}: the body is not held: the prescribed displacements (clamped, displacement and symmetry parts) leave {} "
+  fail("{}: {} is not held: the prescribed displacements (clamped, displacement and symmetry parts) leave {} "
        "free, so the elastic stiffness K is singular; contact cannot hold the body (K must be positive definite "
        "without it): clamp a part, or prescribe components that stop this motion",
-       p.where("boundary"), motion);
+       p.where("boundary"), body, motion);
+}
+
+/// Each body held by its prescribed displacements (a contact pair does not hold one either).
+void check_held(const Problem& p, const std::vector<int>& condition) {
+  const Mesh& mesh = p.mesh;
+  if (mesh.n_bodies() == 1) {
+    std::vector<int> all(static_cast<std::size_t>(mesh.n_nodes()));
+    std::iota(all.begin(), all.end(), 0);
+    check_body_held(p, condition, all, "the body");
+    return;
+  }
+  std::vector<int> body_of(static_cast<std::size_t>(mesh.n_nodes()), 0);
+  for (int c = 0; c < mesh.n_cells(); ++c)
+    for (int a = 0; a < mesh.nodes_per_cell(); ++a) body_of[static_cast<std::size_t>(mesh.cell(c)[a])] = mesh.cell_body(c);
+  for (int b = 0; b < mesh.n_bodies(); ++b) {
+    std::vector<int> nodes;
+    for (int i = 0; i < mesh.n_nodes(); ++i)
+      if (body_of[static_cast<std::size_t>(i)] == b) nodes.push_back(i);
+    check_body_held(p, condition, nodes,
+                    b == 0 ? std::string("the body of [mesh]") : fmt::format("body '{}'", p.bodies[static_cast<std::size_t>(b) - 1].name));
+  }
 }
 
 }  // namespace
@@ -285,7 +320,12 @@ void Problem::validate() const {
   }
   located(where, [&] { check_gap(mesh, contact); });
   contact_rows(*this, dirichlet.condition);  // directions against prescribed components; obstacles' gaps
-  located(where, [&] { check_beta0(mesh, beta0); });
+  located(where, [&] { check_beta0(mesh, beta0, bodies.empty() ? -1 : 0); });
+  for (std::size_t b = 0; b < bodies.size(); ++b) {
+    const std::string at = fmt::format("{}: body '{}'", where, bodies[b].name);
+    located(at, [&] { check_kappa(bodies[b].kappa); });
+    located(at, [&] { check_beta0(mesh, bodies[b].beta0, static_cast<int>(b) + 1); });
+  }
   if (contact.direction) {
     const Point& v = *contact.direction;
     require(std::hypot(v[0], v[1], v[2]) > 0, "{}: the contact direction must be a non-zero vector", where);

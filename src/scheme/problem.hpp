@@ -80,6 +80,17 @@ struct Material {
   std::shared_ptr<const DamageSource> source;
 };
 
+/// A further body (SPEC §8, `[[body]]`): the cells whose Mesh::cell_body is k ≥ 1 are body k's
+/// (body 0 is the case's [mesh], whose data are Problem's own). Bodies share no node, so no
+/// damage flux crosses from one to another; each has its own κ and β0.
+struct Body {
+  std::string name;
+  double kappa = 1;
+  ScalarField beta0;  // empty: β0 = 1
+  /// ℰ, G, φ of its cells that no [[material]] region takes (named as the body).
+  Material material;
+};
+
 struct Problem {
   std::string name;
   Mesh mesh;
@@ -95,7 +106,9 @@ struct Problem {
   /// Further materials on the cells of their regions; every other cell has ℰ, G, φ
   /// above (the body's material). One damage field β over the whole body, one κ.
   std::vector<Material> materials;
-  double kappa = 1;  // damage diffusion κ in (2.2)
+  double kappa = 1;  // damage diffusion κ in (2.2) (of body 0)
+  /// Further bodies (`[[body]]`): bodies[k − 1] is body k of Mesh::cell_body.
+  std::vector<Body> bodies;
   VectorField f0, f2;
   /// f0 (f2) does not depend on x: its load vector is f(t) times the integrals of
   /// the basis functions, computed once, instead of a quadrature at every step.
@@ -140,9 +153,16 @@ struct Problem {
   double largest_step() const;
   /// "k = 0.01, N = 100", "k in [0.001, 0.05], N = 57", or the step control's description.
   std::string describe_steps() const;
-  /// The body's material (ℰ, G, φ above) named "body", then `materials`: the list
-  /// that cell_materials indexes.
+  /// The body's material (ℰ, G, φ above) named "body", then `materials`, then each further
+  /// body's (Body::material): the list that cell_materials indexes.
   std::vector<Material> material_list() const;
+  /// κ of body b (0: `kappa`, k: bodies[k − 1]'s).
+  double kappa_of(int b) const { return b == 0 ? kappa : bodies[static_cast<std::size_t>(b) - 1].kappa; }
+  /// β0 of body b (empty: 1).
+  const ScalarField& beta0_of(int b) const { return b == 0 ? beta0 : bodies[static_cast<std::size_t>(b) - 1].beta0; }
+  /// β0 at each node of `mesh`, whose cell c is in body cell_body[c] (empty: every cell in body 0):
+  /// each node takes its body's β0 (a node lies in one body).
+  Vector initial_damage(const Mesh& mesh, const std::vector<int>& cell_body) const;
   /// Throws vpc::Error describing the first invalid datum (the checks below and
   /// the parts, the law, the source). The one place each datum is checked.
   void validate() const;
@@ -157,7 +177,8 @@ void check_n_steps(int n_steps);
 /// N = T / k; throws unless k > 0 divides T into whole steps (to a relative 1e-9).
 int steps_of_time_step(double final_time, double k);
 /// β0 in [0, 1] at every node.
-void check_beta0(const Mesh& mesh, const ScalarField& beta0);
+/// (`body` ≥ 0: at the nodes of that body's cells only.)
+void check_beta0(const Mesh& mesh, const ScalarField& beta0, int body = -1);
 /// Throws vpc::Error, naming the key, the value, the time and the point, if a formula
 /// of p.formulas has given a value that is not finite (Expression::check_finite): the
 /// time stepper calls it after each step's data (F_n, u_D, g) and sources (φ_n).
@@ -194,8 +215,11 @@ int symmetry_axis(const Mesh& mesh, const std::string& part);
 /// different values of one component at a node (compared at t = 0 and t = T).
 DirichletDofs dirichlet_dofs(const Problem& p);
 
-/// The material of each cell of p.mesh, an index into Problem::material_list(): 0
-/// where no material's region holds the cell. Throws vpc::Error for a region the mesh
+/// The body of each cell of p.mesh (Mesh::cell_body).
+std::vector<int> cell_bodies(const Problem& p);
+
+/// The material of each cell of p.mesh, an index into Problem::material_list(): its body's
+/// (0, or a Body::material) where no material's region holds the cell. Throws vpc::Error for a region the mesh
 /// lacks (or that holds no cell), a region in two materials, an elasticity of
 /// another kind than the body's (plane stress beside plane strain) and a missing law.
 std::vector<int> cell_materials(const Problem& p);

@@ -80,7 +80,7 @@ DamageSolver& DamageSolvers::for_step(const DiscreteSystem& sys, const SolverCho
       kept_.erase(kept_.begin());
     }
     if (!H)
-      H = sys.backend->assemble(SparseMatrix(sys.M_local + (k * sys.problem->kappa) * sys.A_local),
+      H = sys.backend->assemble(SparseMatrix(sys.M_local + (k * sys.kappa) * sys.A_local),
                                 *sys.part.node_layout, 1);
     ++matrices_made_;
     kept_.push_back({k, make_damage_solver(choice.damage, std::move(H), la::factor_factory(sys.backend),

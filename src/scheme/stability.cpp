@@ -75,10 +75,9 @@ void check_step_stability(const Problem& p, const std::vector<int>& cell_materia
   }
   // The least initial β at a cell centroid, per material (the β a law sees: SPEC §2 step 1).
   std::vector<double> beta(materials.size(), 1.0);
-  if (p.beta0) {
+  if (p.beta0 || !p.bodies.empty()) {
     const Mesh& mesh = p.mesh;
-    Vector nodal(mesh.n_nodes());
-    for (int i = 0; i < mesh.n_nodes(); ++i) nodal[i] = p.beta0(mesh.node(i), 0.0);
+    const Vector nodal = p.initial_damage(mesh, cell_bodies(p));
     for (int c = 0; c < mesh.n_cells(); ++c) {
       double& b = beta[static_cast<std::size_t>(cell_material[c])];
       b = std::min(b, cell_mean(mesh, nodal, c));

@@ -87,7 +87,7 @@ ErrorEstimate estimate_error(const DiscreteSystem& sys, const State& s, const St
     dphi[c] = now.phi[c] - taken.lagged.phi[c];
   }
   la::Vector dF(part.node_layout);
-  dF.local() = assemble_p0_source(mesh, sys.geo, dphi) - sys.problem->kappa * (sys.A_local * (s.beta - taken.beta_before));
+  dF.local() = assemble_p0_source(mesh, sys.geo, dphi) - sys.kappa * (sys.A_local * (s.beta - taken.beta_before));
   dF.add_ghosts_to_owners();
   for (int i = 0; i < part.n_owned_nodes; ++i)
     if (s.beta[i] > 0 && s.beta[i] < 1) sums[1] += dF.owned()[i] * dF.owned()[i] / sys.lumped_mass[i];

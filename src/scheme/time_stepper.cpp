@@ -34,8 +34,7 @@ TimeStepper::TimeStepper(std::shared_ptr<const Problem> problem_in, MeshPart par
   // Initial state (3.4): u0 = 0, σ0 = 0 (so z0 = σ0 − ℰε(u0) = 0), β0 = P1 interpolant
   // (in [0, 1]: Problem::validate).
   state_.u = Vector::Zero(part.dofs.n_full());
-  state_.beta.resize(mesh.n_nodes());
-  for (int i = 0; i < mesh.n_nodes(); ++i) state_.beta[i] = p.beta0 ? p.beta0(mesh.node(i), 0.0) : 1.0;
+  state_.beta = p.initial_damage(mesh, part.cell_body);
   state_.sigma.assign(mesh.n_cells(), SymTensor{});
   state_.eps.assign(mesh.n_cells(), SymTensor{});
   state_.z.assign(mesh.n_cells(), SymTensor{});

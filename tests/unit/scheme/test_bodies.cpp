@@ -1,0 +1,166 @@
+// Issue 29, first part: several bodies in one case (SPEC §8, `[[body]]`): each its own mesh,
+// materials, κ and β0, its parts named "<body>.<part>". Without a contact pair between them
+// the bodies are independent problems, and a run of two must give each one's run alone.
+#include "io/case_file.hpp"
+#include "mesh/generators.hpp"
+#include "scheme/time_stepper.hpp"
+
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "../error_of.hpp"
+
+namespace vpc {
+namespace {
+
+TEST(Bodies, AppendKeepsTheMeshesApartAndNamesTheirParts) {
+  Mesh a = make_rectangle({0, 0, 0}, {1, 1, 0}, 2, 2);
+  a.tag_facets("bottom", [](const Point& x) { return x[1] < 1e-12; });
+  Mesh b = make_rectangle({2, 0, 0}, {3, 1, 0}, 1, 3);
+  b.tag_facets("bottom", [](const Point& x) { return x[1] < 1e-12; });
+  b.tag_cells("core", [](const Point& x) { return x[1] < 0.5; });
+  const int na = a.n_nodes(), ca = a.n_cells(), fa = a.n_facets();
+  EXPECT_EQ(a.append(b, "punch"), 1);
+  EXPECT_EQ(a.n_bodies(), 2);
+  EXPECT_EQ(a.n_nodes(), na + b.n_nodes());
+  EXPECT_EQ(a.n_cells(), ca + b.n_cells());
+  EXPECT_EQ(a.n_facets(), fa + b.n_facets());
+  for (int c = 0; c < a.n_cells(); ++c) EXPECT_EQ(a.cell_body(c), c < ca ? 0 : 1);
+  EXPECT_EQ(a.part_size("bottom"), 2);
+  EXPECT_EQ(a.part_size("punch.bottom"), 1);
+  EXPECT_EQ(a.region_size("punch.core"), b.region_size("core"));
+  for (int f = fa; f < a.n_facets(); ++f) {  // the appended facets keep their outward normals
+    const Point n = a.facet_normal(f), m = b.facet_normal(f - fa);
+    for (int j = 0; j < 3; ++j) EXPECT_DOUBLE_EQ(n[j], m[j]);
+    EXPECT_GE(a.facet(f)[0], na);  // no node shared with the first body
+  }
+  EXPECT_NE(error_of([&] { a.append(Mesh(3), "bad"); }).find("dimension 3"), std::string::npos);
+}
+
+/// paper-2d's block on [x0, x0 + 2] × [0, 2] (n × n cells, 4 steps), pressed by its weight onto
+/// the foundation along [x0 + 0.8, x0 + 1.2]; `extra` follows.
+std::string block(double x0, int n, const std::string& data) {
+  return fmt::format(R"toml(
+[mesh]
+generator = "rectangle"
+lower = [{0}, 0.0]
+upper = [{1}, 2.0]
+cells = [{2}, {2}]
+[[mesh.part]]
+name = "contact"
+where = "abs(y) < 1e-12 && x > {3} && x < {4}"
+[boundary]
+clamped = ["top"]
+contact = ["contact"]
+[elasticity]
+kind = "plane-stress"
+E = 1000.0
+nu = 0.3
+[viscoplasticity]
+law = "maxwell-damage"
+[loads]
+f0 = ["0", "-200*t"]
+[contact]
+gap = 0.0
+[time]
+T = 1.0
+steps = 4
+{5}
+)toml",
+                     x0, x0 + 2, n, x0 + 0.8, x0 + 1.2, data);
+}
+
+const char* const kSecondBody = R"toml(
+[viscoplasticity]
+law = "perzyna"
+lambda = 2000.0
+sigma_y = 1.0
+[damage]
+kappa = 0.1
+beta0 = "0.9 - 0.01*x"
+source = "strain"
+)toml";
+
+std::unique_ptr<TimeStepper> run(const Case& c) {
+  auto s = std::make_unique<TimeStepper>(c.problem, c.solvers);
+  while (!s->done()) EXPECT_TRUE(s->step().ok);
+  return s;
+}
+
+TEST(Bodies, TwoBodiesWithoutAPairRunAsEachAlone) {
+  const std::string first_damage = "[damage]\nkappa = 1.0\nsource = \"von-mises\"\nc = 0.01\n";
+  // The second body: another E, G, κ, β0 and φ; its parts named "b.<part>".
+  const std::string two = block(0.0, 6, first_damage + R"toml(
+[[body]]
+name = "b"
+[body.mesh]
+generator = "rectangle"
+lower = [3.0, 0.0]
+upper = [5.0, 2.0]
+cells = [5, 5]
+[[body.mesh.part]]
+name = "contact"
+where = "abs(y) < 1e-12 && x > 3.8 && x < 4.2"
+[body.elasticity]
+E = 2000.0
+[body.viscoplasticity]
+law = "perzyna"
+lambda = 2000.0
+sigma_y = 1.0
+[body.damage]
+kappa = 0.1
+beta0 = "0.9 - 0.01*x"
+source = "strain"
+)toml");
+  std::string both = two;
+  auto replace = [](std::string& text, const std::string& from, const std::string& to) {
+    text.replace(text.find(from), from.size(), to);
+  };
+  replace(both, "clamped = [\"top\"]", "clamped = [\"top\", \"b.top\"]");
+  replace(both, "contact = [\"contact\"]", "contact = [\"contact\", \"b.contact\"]");
+  std::string second = block(3.0, 5, kSecondBody);
+  replace(second, "E = 1000.0", "E = 2000.0");
+  const std::string maxwell = "[viscoplasticity]\nlaw = \"maxwell-damage\"\n";
+  second.erase(second.find(maxwell), maxwell.size());
+  const auto together = run(parse_case(both, "two.toml", ".", {}));
+  const auto a = run(parse_case(block(0.0, 6, first_damage), "a.toml", ".", {}));
+  const auto b = run(parse_case(second, "b.toml", ".", {}));
+  const State &s = together->state(), &sa = a->state(), &sb = b->state();
+  const auto na = sa.beta.size(), nb = sb.beta.size();
+  ASSERT_EQ(s.beta.size(), na + nb);
+  ASSERT_EQ(s.u.size(), sa.u.size() + sb.u.size());
+  EXPECT_LT((s.u.head(sa.u.size()) - sa.u).cwiseAbs().maxCoeff(), 1e-12 * sa.u.cwiseAbs().maxCoeff());
+  EXPECT_LT((s.u.tail(sb.u.size()) - sb.u).cwiseAbs().maxCoeff(), 1e-12 * sb.u.cwiseAbs().maxCoeff());
+  EXPECT_LT((s.beta.head(na) - sa.beta).cwiseAbs().maxCoeff(), 1e-12);
+  EXPECT_LT((s.beta.tail(nb) - sb.beta).cwiseAbs().maxCoeff(), 1e-12);
+  // The bodies differ, so the comparison can fail: damage and displacement are not alike.
+  EXPECT_GT((sa.beta.head(nb) - sb.beta).cwiseAbs().maxCoeff(), 1e-3);
+  EXPECT_LT(sb.beta.minCoeff(), 0.9);  // its β0, not [damage]'s 1
+  EXPECT_GT(sa.u.cwiseAbs().maxCoeff(), 1e-4);
+}
+
+TEST(Bodies, BadBodiesAreRefusedNamingTheKey) {
+  const std::string base = block(0.0, 5, "");
+  auto with = [&](const std::string& body) { return error_of([&] { parse_case(base + body, "c.toml", ".", {}); }); };
+  const std::string mesh = "[body.mesh]\ngenerator = \"rectangle\"\nlower = [3.0, 0.0]\nupper = [4.0, 1.0]\ncells = 2\n";
+  EXPECT_NE(with("[[body]]\nname = \"body\"\n" + mesh).find("expected a new body name"), std::string::npos);
+  EXPECT_NE(with("[[body]]\nname = \"a.b\"\n" + mesh).find("letters, digits"), std::string::npos);
+  EXPECT_NE(with("[[body]]\nname = \"p\"\n" + mesh + "[[body]]\nname = \"p\"\n" + mesh).find("'p' is taken"),
+            std::string::npos);
+  EXPECT_NE(with("[[body]]\nname = \"p\"\n").find("missing section [body.mesh]"), std::string::npos);
+  EXPECT_NE(with("[[body]]\nname = \"p\"\ncolour = 1\n" + mesh).find("unknown key 'colour' in [body[0]]"),
+            std::string::npos);
+  EXPECT_NE(with("[[body]]\nname = \"p\"\n" + mesh + "[body.elasticity]\nkind = \"plane-strain\"\n").find("kind"),
+            std::string::npos);
+  EXPECT_NE(with("[[body]]\nname = \"p\"\n" + mesh + "[body.damage]\nkappa = -1\n").find("kappa must be >= 0"),
+            std::string::npos);
+  EXPECT_NE(with("[[body]]\nname = \"p\"\n" + mesh + "[body.damage]\nbeta0 = 2\n").find("beta0 must lie in [0, 1]"),
+            std::string::npos);
+  // A body that nothing holds: K would be singular.
+  const std::string loose = with("[[body]]\nname = \"p\"\n" + mesh);
+  EXPECT_NE(loose.find("body 'p' is not held"), std::string::npos) << loose;
+}
+
+}  // namespace
+}  // namespace vpc
