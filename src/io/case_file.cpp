@@ -716,7 +716,8 @@ void read_displacements(Section& b, Problem& p, const Origins& origins, bool che
   }
 }
 
-void read_boundary(Section b, Problem& p, const Origins& origins, bool check) {
+/// `pairs`: the case has [[contact.pair]]s, and Γ3 (`contact`) may then be left out.
+void read_boundary(Section b, Problem& p, const Origins& origins, bool check, bool pairs) {
   if (!b.exists()) fail("{}: missing section [boundary] (clamped and contact parts)", origins.file);
   read_displacements(b, p, origins, check);
   p.symmetry = read_parts(b, "symmetry", p.mesh, false, check);
@@ -724,7 +725,7 @@ void read_boundary(Section b, Problem& p, const Origins& origins, bool check) {
     for (const auto& part : p.symmetry) located(b.where("symmetry"), [&] { symmetry_axis(p.mesh, part); });
   // Γ1 may be left out when prescribed displacements or symmetry planes hold the body.
   p.clamped = read_parts(b, "clamped", p.mesh, p.displacement.empty() && p.symmetry.empty(), check);
-  p.contact.parts = read_parts(b, "contact", p.mesh, true, check);
+  p.contact.parts = read_parts(b, "contact", p.mesh, !pairs, check);
   p.traction = read_parts(b, "traction", p.mesh, false, check);
   b.finish();
 }
@@ -1134,6 +1135,30 @@ std::vector<std::string> locking_warnings(Section& top, const Problem& p) {
 }
 
 /// Returns whether a gap was given.
+/// [[contact.pair]] (SPEC §8): slave and master, boundary parts of two bodies; `search`.
+void read_contact_pairs(Section& ct, Problem& p, const Origins& origins) {
+  if (!ct.has("pair")) return;
+  const toml::node* list = ct.get("pair");
+  if (!list->is_array_of_tables()) ct.expected("pair", "an array of tables [[contact.pair]] with slave and master");
+  const bool check = p.mesh.n_cells() > 0;  // the rank that built the mesh
+  int k = 0;
+  for (const auto& node : *list->as_array()) {
+    Section s(node.as_table(), fmt::format("contact.pair[{}]", k++), origins);
+    ContactPair pair;
+    for (auto [key, part] : {std::pair{"slave", &pair.slave}, std::pair{"master", &pair.master}}) {
+      *part = s.string(key);
+      if (check && p.mesh.part_size(*part) == 0)
+        fail("{}: boundary part {} does not exist in the mesh (or has no facets); the mesh has: {}", s.where(key),
+             quote(*part), printable(fmt::format("{}", fmt::join(p.mesh.part_names(), ", ")), 300));
+    }
+    pair.search = s.number("search", 0.0);
+    if (!(pair.search >= 0) || !std::isfinite(pair.search))
+      fail("{}: expected a distance >= 0 (0: the slave part's longest facet edge)", s.where("search"));
+    s.finish();
+    p.contact.pairs.push_back(std::move(pair));
+  }
+}
+
 bool read_contact(Section ct, Problem& p, const Origins& origins) {
   const auto gap = ct.has("gap") ? ct.state_expression("gap", Expression::Kind::SpaceTime) : nullptr;
   p.contact.gap = [gap](const Point& x, double t) { return gap ? (*gap)(x, t) : 0.0; };
@@ -1162,6 +1187,7 @@ bool read_contact(Section ct, Problem& p, const Origins& origins) {
       p.contact.part_laws.push_back(std::move(pl));
     }
   }
+  read_contact_pairs(ct, p, origins);
   ct.finish();
   return gap != nullptr;
 }
@@ -1397,7 +1423,9 @@ Case parse_case(std::string_view text, const std::string& name, const fs::path& 
   p->name = c.name;
   p->mesh = read_mesh(top.table("mesh"), base_dir, origins, mesh_request, overrides.memory_limit);
   std::vector<Section> bodies = read_body_meshes(top, *p, base_dir, origins, mesh_request, overrides.memory_limit);
-  read_boundary(top.table("boundary"), *p, origins, mesh_request.build);
+  const toml::node* contact = root.get("contact");
+  const bool pairs = contact && contact->is_table() && contact->as_table()->contains("pair");
+  read_boundary(top.table("boundary"), *p, origins, mesh_request.build, pairs);
   p->elasticity = read_elasticity(top.table("elasticity"), p->mesh.dim(), name);
   p->law = read_viscoplasticity(top.table("viscoplasticity"), p->elasticity.young());
   read_damage(top.table("damage"), *p);

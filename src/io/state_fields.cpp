@@ -98,13 +98,18 @@ constexpr StateField kFields[] = {
      "when the block has more than one number)"},
     {"contact_force", "contact_force_vector", "contact_force", L::node, three, nullptr, nullptr,
      [](const FieldContext& c) {
-       // The nodal force the foundation exerts at each contact node: −λ ν.
+       // The nodal force the foundation exerts at each contact node: −λ ν; on a contact pair's master
+       // nodes the slave's reaction, Σ_j w_jk λ_j ν_j (scheme/contact_pairs.hpp).
        return node_field(c, "contact_force", 3, [&](double* out) {
          for (const PartContactNode& n : c.part.contact)
            for (int j = 0; j < 3; ++j) out[n.local_node * 3 + j] = -normal_force(c.state, n) * n.direction[j];
+         for (const PartContactNode& n : c.part.contact)
+           for (const auto& [k, w] : n.masters)
+             for (int j = 0; j < 3; ++j) out[k * 3 + j] += w * normal_force(c.state, n) * n.direction[j];
        });
      },
-     nullptr, "the nodal force −λ ν the foundation exerts on each node of Γ3"},
+     nullptr, "the nodal force −λ ν the foundation exerts on each node of Γ3; with contact pairs, the force each "
+     "body exerts on the other's nodes"},
     {"contact_pressure", "contact_pressure", "contact_pressure", L::node, one, nullptr, nullptr,
      [](const FieldContext& c) {
        // λ over the node's tributary measure on Γ3.

@@ -3,10 +3,12 @@
 #include "scheme/contact_rows.hpp"
 
 #include "core/error.hpp"
+#include "scheme/contact_pairs.hpp"
 
 #include <fmt/ranges.h>
 
 #include <algorithm>
+#include <iterator>
 #include <cmath>
 #include <set>
 
@@ -159,7 +161,7 @@ std::vector<ContactRow> contact_rows(const Problem& p, const std::vector<int>& c
     rows.push_back({node, v, g, rigid ? rigid_law[node] : compliant_law[node], rigid ? 0.0 : stiffness[node],
                     obstacles[node]});
   }
-  if (rows.empty()) {  // every contact node has every component prescribed: by which keys
+  if (rows.empty() && !p.contact.parts.empty()) {  // every contact node has every component prescribed: by which keys
     std::set<std::string> by;
     const std::vector<int> clamped = mesh.nodes_of_parts(p.clamped);
     for (int node : mesh.nodes_of_parts(p.contact.parts))
@@ -169,7 +171,27 @@ std::vector<ContactRow> contact_rows(const Problem& p, const std::vector<int>& c
          "contact part)",
          p.where("boundary.contact"), fmt::join(by, " and "));
   }
-  return rows;
+  if (p.contact.pairs.empty()) return rows;
+  // Pairs between bodies (SPEC §8): their slave nodes' rows, among Γ3's in node order.
+  std::vector<ContactRow> pairs = pair_rows(p, condition);
+  for (std::size_t a = 0, b = 0; a < rows.size() && b < pairs.size();) {
+    if (rows[a].node == pairs[b].node) {
+      const Point& x = mesh.node(rows[a].node);
+      fail("{}: node {} ({}, {}, {}) is on Γ3 and a slave of a contact pair; a node has one contact constraint",
+           p.where("contact.pair"), rows[a].node, x[0], x[1], x[2]);
+    }
+    rows[a].node < pairs[b].node ? ++a : ++b;
+  }
+  for (std::size_t a = 1; a < pairs.size(); ++a)
+    require(pairs[a - 1].node != pairs[a].node, "{}: node {} is a slave of two contact pairs", p.where("contact.pair"),
+            pairs[a].node);
+  std::vector<ContactRow> merged;
+  std::merge(std::make_move_iterator(rows.begin()), std::make_move_iterator(rows.end()),
+             std::make_move_iterator(pairs.begin()), std::make_move_iterator(pairs.end()), std::back_inserter(merged),
+             [](const ContactRow& a, const ContactRow& b) { return a.node < b.node; });
+  require(!merged.empty(), "{}: no contact row: every node of the contact pairs' slave parts is prescribed",
+          p.where("contact.pair"));
+  return merged;
 }
 
 

@@ -18,6 +18,10 @@ struct ContactRow {
   int law = 0;
   double stiffness = 0;
   ObstacleMask obstacles = kAllObstacles;  // the obstacles acting on the node's parts
+  /// A contact pair's row (SPEC §8): its master nodes k and weights w_k = M_jk / D_jj, the row
+  /// ν·u_j − Σ_k w_k ν·u_k ≤ g (g = g̃_j / D_jj: a gap, λ a nodal force as on Γ3). Empty on Γ3.
+  std::vector<std::pair<int, double>> masters;
+  double measure = 0;  // a pair's row: D_jj, its tributary measure on the covered slave (Γ3's: tributary_measures)
 };
 
 /// The contact rows in increasing node order, for the nodes of Γ3 with a free

@@ -33,6 +33,8 @@ struct PartContactNode {
   int law = 0;           // ContactRow::law: its index in ContactSpec::laws()
   double stiffness = 0;  // ContactRow::stiffness: k_i, the law's parameter lumped at the node (0: a rigid law)
   ObstacleMask obstacles = kAllObstacles;
+  /// A contact pair's row (ContactRow::masters): its master nodes, local to the part, and weights.
+  std::vector<std::pair<int, double>> masters;
 };
 
 /// What a part takes from the whole mesh and problem, which it cannot compute from

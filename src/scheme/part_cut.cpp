@@ -1,6 +1,9 @@
 #include "scheme/part_cut.hpp"
 
+#include "core/error.hpp"
+
 #include <algorithm>
+#include <unordered_map>
 #include <cstddef>
 
 namespace vpc {
@@ -15,7 +18,10 @@ WholeMeshData::WholeMeshData(const Problem& p)
       rows(contact_rows(p, dirichlet.condition)),
       row_of(p.mesh.n_nodes(), -1),
       measure(tributary_measures(p.mesh, p.contact.parts)) {
-  for (std::size_t k = 0; k < rows.size(); ++k) row_of[rows[k].node] = static_cast<int>(k);
+  for (std::size_t k = 0; k < rows.size(); ++k) {
+    row_of[rows[k].node] = static_cast<int>(k);
+    if (!rows[k].masters.empty()) measure[rows[k].node] = rows[k].measure;  // a pair's slave node: D_jj
+  }
 }
 
 WholeNumbering::WholeNumbering(const std::vector<std::vector<int>>& owned, const DirichletDofs& dirichlet, int dim) {
@@ -35,7 +41,7 @@ WholeNumbering::WholeNumbering(const std::vector<std::vector<int>>& owned, const
 }
 
 PartContactNode part_contact_node(int k, const ContactRow& row, int local_node, bool owned, double measure) {
-  return {k, local_node, owned, row.direction, row.gap, measure, row.law, row.stiffness, row.obstacles};
+  return {k, local_node, owned, row.direction, row.gap, measure, row.law, row.stiffness, row.obstacles, {}};
 }
 
 PartPieces cut_part(const Problem& p, const WholeMeshData& whole, const WholeNumbering& numbering,
@@ -55,6 +61,17 @@ PartPieces cut_part(const Problem& p, const WholeMeshData& whole, const WholeNum
     if (const int k = whole.row_of[v]; k >= 0)
       part.contact.push_back(part_contact_node(k, whole.rows[k], static_cast<int>(a), a < static_cast<std::size_t>(n_owned),
                                                whole.measure[v]));
+  }
+  // A pair's master nodes in the part's numbering (on one process every node is the part's).
+  if (std::any_of(whole.rows.begin(), whole.rows.end(), [](const ContactRow& r) { return !r.masters.empty(); })) {
+    std::unordered_map<int, int> local;
+    for (std::size_t a = 0; a < nodes.size(); ++a) local.emplace(nodes[a], static_cast<int>(a));
+    for (PartContactNode& c : part.contact)
+      for (const auto& [k, w] : whole.rows[static_cast<std::size_t>(c.row)].masters) {
+        const auto it = local.find(k);
+        require(it != local.end(), "contact pairs: master node {} is not in the process's part (pairs run on one process)", k);
+        c.masters.emplace_back(it->second, w);
+      }
   }
   part.original_cell = cells;
   for (int c : cells) {

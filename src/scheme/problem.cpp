@@ -226,6 +226,42 @@ void check_body_held(const Problem& p, const std::vector<int>& condition, const 
        p.where("boundary"), body, motion);
 }
 
+/// The body whose facets form `part` (-1: the part spans several bodies).
+int body_of_part(const Mesh& mesh, const std::string& part) {
+  int body = -2;
+  for (int f : mesh.facets_of_parts({part})) {
+    const int b = mesh.cell_body(mesh.facet_cell(f));
+    body = body == -2 || body == b ? b : -1;
+  }
+  return body;
+}
+
+/// Contact pairs (SPEC §8): a slave and a master part, each of one body, of two bodies, off Γ3;
+/// Signorini without friction (normal compliance and friction on pairs: issue 29's next parts).
+void check_pairs(const Problem& p) {
+  for (std::size_t q = 0; q < p.contact.pairs.size(); ++q) {
+    const ContactPair& pair = p.contact.pairs[q];
+    const std::string at = p.where(fmt::format("contact.pair[{}]", q));
+    int bodies[2];
+    for (int s = 0; s < 2; ++s) {
+      const std::string& part = s == 0 ? pair.slave : pair.master;
+      require(p.mesh.part_size(part) > 0, "{}: part '{}' has no boundary facets in the mesh", at, part);
+      bodies[s] = body_of_part(p.mesh, part);
+      require(bodies[s] >= 0, "{}: part '{}' has facets of several bodies; a pair's part lies on one body", at, part);
+      require(std::find(p.contact.parts.begin(), p.contact.parts.end(), part) == p.contact.parts.end(),
+              "{}: part '{}' is on Γ3 ([boundary] contact) too; a pair's parts meet each other, not the foundation",
+              at, part);
+    }
+    require(bodies[0] != bodies[1], "{}: slave '{}' and master '{}' are parts of one body; a pair joins two bodies "
+            "([[body]])", at, pair.slave, pair.master);
+  }
+  if (p.contact.pairs.empty()) return;
+  require(p.contact.law->rigid(), "{}: contact pairs take the Signorini law for now ([contact] law is {})",
+          p.where("contact.pair"), p.contact.law->describe());
+  require(!p.contact.frictional(), "{}: contact pairs are frictionless for now; friction on a case with pairs "
+          "(issue 29's next part) is not built", p.where("contact.pair"));
+}
+
 /// Each body held by its prescribed displacements (a contact pair does not hold one either).
 void check_held(const Problem& p, const std::vector<int>& condition) {
   const Mesh& mesh = p.mesh;
@@ -288,7 +324,8 @@ void Problem::validate() const {
   const std::vector<int> cell_material = cell_materials(*this);  // checks the materials' regions and kinds
   const DirichletDofs dirichlet = dirichlet_dofs(*this);  // checks the symmetry parts, values and conflicts
   check_held(*this, dirichlet.condition);
-  require(!contact.parts.empty(), "{}: no contact part Γ3 given", where);
+  require(!contact.parts.empty() || !contact.pairs.empty(), "{}: no contact part Γ3 and no contact pair given", where);
+  check_pairs(*this);
   for (const auto& p : contact.parts)
     require(mesh.part_size(p) > 0, "{}: contact part '{}' has no boundary facets in the mesh", where, p);
   for (const auto& p : traction)

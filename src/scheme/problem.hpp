@@ -33,8 +33,17 @@ struct PartContactLaw {
   std::shared_ptr<const FrictionLaw> friction;
 };
 
+/// Contact between two bodies (SPEC §8, `[[contact.pair]]`): Signorini for the jump of u across
+/// a slave and a master part, by dual mortar (mortar/, scheme/contact_pairs.hpp), the gap measured
+/// from the slave side along its nodal normals in the reference configuration.
+struct ContactPair {
+  std::string slave, master;  // boundary parts of two different bodies
+  double search = 0;          // facets this far apart still couple (0: the slave part's longest facet)
+};
+
 struct ContactSpec {
   std::vector<std::string> parts;    // Γ3
+  std::vector<ContactPair> pairs;    // between bodies
   ScalarField gap;                   // g(x, t), measured along the contact direction; g(x, 0) ≥ 0
   bool gap_moves = false;            // g depends on t (a moving obstacle): evaluated at every step
   /// The normal law (contact/contact_law.hpp) on the parts of Γ3 that no part_laws entry names.

@@ -31,6 +31,14 @@ SchemeSolvers set_up_solvers(DiscreteSystem& sys, const SolverChoice& choice, Se
   const bool nonlinear_law = nonlinear_in_dual(part.comm, constraints);  // only the dual solves it
   s.contact_pick =
       pick_contact_solver(choice.contact, part.n_contact, sys.backend->linear_solver(), nonlinear_law, constraints.block);
+  if (!sys.problem->contact.pairs.empty()) {
+    // A pair's row has master entries: the primal's rows are one dof each (not built for pairs yet).
+    require(s.contact_pick.name != "primal-active-set" || choice.contact == "auto",
+            "contact pairs ([[contact.pair]]) are solved by the dual contact solvers for now (--contact-solver "
+            "active-set or penalty-duality); primal-active-set on pairs is issue 29's next part");
+    if (s.contact_pick.name == "primal-active-set")
+      s.contact_pick = {"active-set", "auto: contact pairs are solved on the dual for now"};
+  }
   const bool primal = s.contact_pick.name == "primal-active-set";
   s.K_factor = sys.make_stiffness_factor();
   cost = check_before_factorizing(sys, *s.K_factor, choice, primal);

@@ -1,0 +1,110 @@
+// Contact pairs between bodies (SPEC §8): the rows of N by dual mortar.
+#include "scheme/contact_pairs.hpp"
+
+#include "core/error.hpp"
+#include "mortar/mortar_coupling.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+namespace vpc {
+
+mortar::Surface part_surface(const Mesh& mesh, const std::string& part) {
+  const int d = mesh.dim();
+  require(d == 2 || d == 3, "contact pairs need a mesh of dimension 2 or 3 (part '{}')", part);
+  std::map<int, int> local;  // mesh node -> surface node
+  std::vector<Point> x, inside;
+  std::vector<int> ids, facets;
+  for (int f : mesh.facets_of_parts({part})) {
+    for (int a = 0; a < d; ++a) {
+      const int node = mesh.facet(f)[a];
+      const auto [it, fresh] = local.emplace(node, static_cast<int>(x.size()));
+      if (fresh) {
+        x.push_back(mesh.node(node));
+        ids.push_back(node);
+      }
+      facets.push_back(it->second);
+    }
+    inside.push_back(mesh.cell_centroid(mesh.facet_cell(f)));
+  }
+  mortar::orient_away_from(d, x, facets, inside);
+  return mortar::Surface(d, std::move(x), std::move(ids), std::move(facets), mortar::FacetOrder::Outward);
+}
+
+namespace {
+
+/// The longest facet edge of a surface: the default search distance of a pair.
+double longest_edge(const mortar::Surface& s) {
+  double h = 0;
+  for (int f = 0; f < s.n_facets(); ++f)
+    for (int a = 0; a < s.nodes_per_facet(); ++a) {
+      const Point& p = s.node(s.facet(f)[a]);
+      const Point& q = s.node(s.facet(f)[(a + 1) % s.nodes_per_facet()]);
+      h = std::max(h, std::hypot(p[0] - q[0], p[1] - q[1], p[2] - q[2]));
+    }
+  return h;
+}
+
+}  // namespace
+
+std::vector<ContactRow> pair_rows(const Problem& p, const std::vector<int>& condition) {
+  const Mesh& mesh = p.mesh;
+  const int d = mesh.dim();
+  std::vector<ContactRow> rows;
+  for (std::size_t q = 0; q < p.contact.pairs.size(); ++q) {
+    const ContactPair& pair = p.contact.pairs[q];
+    const std::string where = p.where(fmt::format("contact.pair[{}]", q));
+    const mortar::Surface slave = located(where, [&] { return part_surface(mesh, pair.slave); });
+    const mortar::Surface master = located(where, [&] { return part_surface(mesh, pair.master); });
+    mortar::MortarOptions options;
+    options.search_margin = pair.search > 0 ? pair.search : longest_edge(slave);
+    const mortar::MortarCoupling c = located(where, [&] { return mortar::mortar_coupling(slave, master, options); });
+    std::map<int, std::vector<std::pair<int, double>>> masters;  // slave node -> (master node, M_jk)
+    for (const auto& t : c.m) masters[t.row()].emplace_back(t.col(), t.value());
+    std::size_t covered = 0;
+    for (const mortar::SlaveNodeCoupling& s : c.nodes) {
+      if (!(s.d > 0)) continue;  // no master facet covers it: no constraint
+      ++covered;
+      const int* fixed = condition.data() + static_cast<std::size_t>(s.id) * d;
+      if (std::all_of(fixed, fixed + d, [](int k) { return k >= 0; })) continue;  // u prescribed there
+      ContactRow row;
+      row.node = s.id;
+      row.direction = s.normal;
+      // A component prescribed zero at the slave node (a symmetry plane) leaves the normal, as on Γ3.
+      for (int i = 0; i < d; ++i) {
+        if (fixed[i] < 0 || row.direction[i] == 0) continue;
+        const Point& x = mesh.node(s.id);
+        require(fixed[i] == 0, "{}: slave node {} ({}, {}, {}) has u{} prescribed by a displacement that moves; a "
+                "contact pair's nodes may be clamped or on a symmetry plane, not moved", where, s.id, x[0], x[1], x[2],
+                "xyz"[i]);
+        row.direction[i] = 0;
+      }
+      const double l = std::hypot(row.direction[0], row.direction[1], row.direction[2]);
+      require(l > 0, "{}: slave node {} has every component of its normal prescribed", where, s.id);
+      for (double& v : row.direction) v /= l;
+      row.gap = s.gap / s.d;
+      row.measure = s.d;
+      row.law = 0;  // [contact]'s law (Problem::validate: Signorini on pairs)
+      row.obstacles = 0;
+      for (const auto& [k, m] : masters[s.id]) {
+        for (int i = 0; i < d; ++i) {
+          const int by = condition[static_cast<std::size_t>(k) * d + i];
+          const Point& x = mesh.node(k);
+          require(by <= 0 || row.direction[i] == 0,
+                  "{}: master node {} ({}, {}, {}) has u{} prescribed by a displacement that moves; a contact pair's "
+                  "nodes may be clamped or on a symmetry plane, not moved", where, k, x[0], x[1], x[2], "xyz"[i]);
+        }
+        row.masters.emplace_back(k, m / s.d);
+      }
+      rows.push_back(std::move(row));
+    }
+    require(covered > 0, "{}: master part '{}' covers no node of slave part '{}' (their facets must face each other "
+            "within the search distance {:.6g}: [[contact.pair]] search)", where, pair.master, pair.slave,
+            options.search_margin);
+  }
+  std::sort(rows.begin(), rows.end(), [](const ContactRow& a, const ContactRow& b) { return a.node < b.node; });
+  return rows;
+}
+
+}  // namespace vpc
