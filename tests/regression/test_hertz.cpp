@@ -20,21 +20,23 @@ namespace {
 /// midpoint), the RMS of p/p0 − √(1 − x²/a²) over the nodes with |x| < a, and h, the
 /// longest contact facet with |x| < a (the element size in the contact zone).
 struct LineContact {
-  double P = 0, a = 0, p0 = 0, p_max = 0, x_active = 0, x_free = 0, rms = 0, h = 0;
+  double P = 0, a = 0, p0 = 0, p_max = 0, p_axis = 0, x_active = 0, x_free = 0, rms = 0, h = 0;
   double half_width() const { return 0.5 * (x_active + x_free); }
 };
 
-LineContact line_contact(const Case& c) {
+/// `E_star`: 0 for the rigid cylinder's E/(1 − ν²); `part`: where the nodal pressures are.
+LineContact line_contact(const Case& c, double E_star = 0, const char* label = "hertz-2d", const char* part = "bottom") {
   TimeStepper s(c.problem, c.solvers);
   const StepReport r = s.step();
   EXPECT_TRUE(r.ok);
   LineContact l;
   l.P = r.contact.total_force;
-  const double R = 1.0, E_star = c.problem->elasticity.young() / (1 - 0.3 * 0.3);
+  const double R = 1.0;
+  if (E_star == 0) E_star = c.problem->elasticity.young() / (1 - 0.3 * 0.3);
   l.a = std::sqrt(4 * l.P * R / (M_PI * E_star));
   l.p0 = 2 * l.P / (M_PI * l.a);
   const Mesh& m = s.mesh();
-  for (int f : m.facets_of_parts({"bottom"}))
+  for (int f : m.facets_of_parts({part}))
     if (std::abs(m.facet_centroid(f)[0]) < l.a) l.h = std::max(l.h, m.facet_measure(f));
   double sum_sq = 0;
   int n_inside = 0;
@@ -43,6 +45,7 @@ LineContact line_contact(const Case& c) {
     const double lambda = s.state().lambda[node.row], x = m.node(node.local_node)[0];
     const double p = lambda / node.measure;  // the nodal contact pressure (VTU contact_pressure)
     l.p_max = std::max(l.p_max, p);
+    if (std::abs(x) < 1e-12) l.p_axis = p;  // the node on the axis
     if (lambda > 0) l.x_active = std::max(l.x_active, std::abs(x));
     if (std::abs(x) < l.a) {
       const double e = p / l.p0 - std::sqrt(1 - x * x / (l.a * l.a));
@@ -53,10 +56,10 @@ LineContact line_contact(const Case& c) {
   for (const PartContactNode& node : s.part().contact)
     if (const double x = std::abs(m.node(node.local_node)[0]); x > l.x_active) l.x_free = std::min(l.x_free, x);
   l.rms = std::sqrt(sum_sq / n_inside);
-  std::printf("  hertz-2d: P = %.6g, a = %.5f (computed %.5f: active to %.5f, free from %.5f; h = %.5f, a/h = %.1f), "
-              "p0 = %.6g (computed %.6g, %+.2f %%), RMS %.2f %%\n",
-              l.P, l.a, l.half_width(), l.x_active, l.x_free, l.h, l.a / l.h, l.p0, l.p_max,
-              100 * (l.p_max / l.p0 - 1), 100 * l.rms);
+  std::printf("  %s: P = %.6g, a = %.5f (computed %.5f: active to %.5f, free from %.5f; h = %.5f, a/h = %.1f), "
+              "p0 = %.6g (computed %.6g, %+.2f %%; on the axis %+.2f %%), RMS %.2f %%\n",
+              label, l.P, l.a, l.half_width(), l.x_active, l.x_free, l.h, l.a / l.h, l.p0, l.p_max,
+              100 * (l.p_max / l.p0 - 1), 100 * (l.p_axis / l.p0 - 1), 100 * l.rms);
   return l;
 }
 
@@ -81,6 +84,54 @@ TEST(Hertz, LineContactOnAGradedMeshUpToAOverH50) {
     const LineContact l = line_contact(load_case("hertz-2d", o));
     expect_hertz(l, factor[0] == '1' ? 45.0 : 22.0);
   }
+}
+
+// Issue 29: the line contact between two elastic bodies, by a contact pair (dual mortar, on
+// non-matching meshes): hertz-2d's block on its graded mesh, pressed onto an elastic half-disc
+// of radius 1 (cases/meshes/half-disc.geo, its flat side moved up by 0.03: a/R ≈ 0.13), both
+// E = 1000, ν = 0.3: 1/E* = 2 (1 − ν²)/E, and R the disc's (the block is flat). The block's
+// bottom is the slave: λ_i / D_ii is its nodal pressure (docs/verification.md §8g: a master
+// twice as coarse as the slave put p0 2.3 % high, and larger motions leave Hertz's a ≪ R).
+TEST(Hertz, LineContactBetweenTwoElasticBodies) {
+  const std::string text = R"toml(
+[mesh]
+file = "meshes/hertz-2d-graded.geo"
+size_factor = 2.0
+[[body]]
+name = "disc"
+[body.mesh]
+file = "meshes/half-disc.geo"
+size_factor = 2.0
+[boundary]
+clamped = ["top"]
+[[boundary.displacement]]
+parts = ["disc.flat"]
+ux = "0"
+uy = "0.03*t"
+[elasticity]
+kind = "plane-strain"
+E = 1000.0
+nu = 0.3
+[viscoplasticity]
+law = "elastic"
+[damage]
+source = "zero"
+[contact]
+gap = 0.0
+[[contact.pair]]
+slave = "bottom"
+master = "disc.arc"
+[time]
+T = 1.0
+steps = 1
+)toml";
+  CaseOverrides o;
+  o.sets = {"mesh.size_factor=1", "body[0].mesh.size_factor=1"};
+  const Case c = parse_case(text, "hertz-bodies.toml", case_source("hertz-2d").base_dir, o);
+  const LineContact l = line_contact(c, 1000.0 / (2 * (1 - 0.3 * 0.3)), "two bodies");
+  expect_hertz(l, 25.0);
+  EXPECT_NEAR(l.p_axis / l.p0, 1.0, 0.02);
+  EXPECT_NEAR(2 * l.P / (M_PI * l.p_axis) / l.a, 1.0, 0.02);  // a from P and the computed p0
 }
 
 // Hertz's sphere contact, quarter model (hertz-3d): with P the force on the whole sphere
