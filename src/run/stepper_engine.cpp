@@ -99,7 +99,10 @@ void describe_data(const Problem& p, const SolverChoice& solvers, double setup_s
   for (const PartContactLaw& pl : p.contact.part_laws)
     laws += fmt::format("; on {}: {}{}", fmt::join(pl.parts, ", "), pl.law->describe(),
                         pl.friction ? ", " + pl.friction->describe() : "");
-  fmt::print("  {}Γ3 (contact): {} ({})\n", held, fmt::join(p.contact.parts, ", "), laws);
+  std::string contact = p.contact.parts.empty() ? std::string() : fmt::format("Γ3 (contact): {} ", fmt::join(p.contact.parts, ", "));
+  for (const ContactPair& pair : p.contact.pairs)
+    contact += fmt::format("{}pair: slave {}, master {} ", contact.empty() ? "" : "; ", pair.slave, pair.master);
+  fmt::print("  {}{}({})\n", held, contact, laws);
   fmt::print("  elasticity: {} (E = {}, nu = {}); G: {}; phi: {}\n", p.elasticity.name(), p.elasticity.young(),
              p.elasticity.poisson(), p.law->describe(), printable(p.source->describe(), 200));
   for (const Material& m : p.materials)
