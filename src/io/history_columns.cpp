@@ -76,6 +76,7 @@ std::vector<std::string> history_column_names(const Problem& p, const MeshPart& 
   std::vector<std::string> names;
   for (const HistoryColumn& c : kColumns) names.emplace_back(c.name);
   for (const Obstacle& o : p.contact.obstacles) names.push_back("force_" + o.name);
+  for (const ContactPair& pair : p.contact.pairs) names.push_back("force_pair_" + pair.slave);
   const std::vector<std::string> parts = dirichlet_parts(p);
   for (std::size_t j = 0; j < parts.size(); ++j)
     for (int i = 0; i < part.dofs.dim(); ++i)
@@ -111,6 +112,7 @@ std::vector<HistoryValue> history_values(const StepReport& r) {
   std::vector<HistoryValue> row;
   for (const HistoryColumn& c : kColumns) row.push_back({c.value(r), c.format});
   for (double f : r.obstacle_force) row.push_back({f, F::exact});
+  for (double f : r.pair_force) row.push_back({f, F::exact});
   for (double f : r.reaction) row.push_back({f, F::exact});
   if (r.tangential_force.empty()) return row;  // no friction
   for (const HistoryColumn& c : kFrictionColumns) row.push_back({c.value(r), c.format});

@@ -85,6 +85,7 @@ std::vector<ContactRow> pair_rows(const Problem& p, const std::vector<int>& cond
       for (double& v : row.direction) v /= l;
       row.gap = s.gap / s.d;
       row.measure = s.d;
+      row.pair = static_cast<int>(q);
       row.law = 0;  // [contact]'s law (Problem::validate: Signorini on pairs)
       row.obstacles = 0;
       for (const auto& [k, m] : masters[s.id]) {

@@ -21,6 +21,7 @@ struct ContactRow {
   /// A contact pair's row (SPEC §8): its master nodes k and weights w_k = M_jk / D_jj, the row
   /// ν·u_j − Σ_k w_k ν·u_k ≤ g (g = g̃_j / D_jj: a gap, λ a nodal force as on Γ3). Empty on Γ3.
   std::vector<std::pair<int, double>> masters;
+  int pair = -1;       // its index in ContactSpec::pairs (−1: Γ3)
   double measure = 0;  // a pair's row: D_jj, its tributary measure on the covered slave (Γ3's: tributary_measures)
 };
 

@@ -35,6 +35,7 @@ struct PartContactNode {
   ObstacleMask obstacles = kAllObstacles;
   /// A contact pair's row (ContactRow::masters): its master nodes, local to the part, and weights.
   std::vector<std::pair<int, double>> masters;
+  int pair = -1;  // ContactRow::pair
 };
 
 /// What a part takes from the whole mesh and problem, which it cannot compute from

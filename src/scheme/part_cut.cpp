@@ -41,7 +41,7 @@ WholeNumbering::WholeNumbering(const std::vector<std::vector<int>>& owned, const
 }
 
 PartContactNode part_contact_node(int k, const ContactRow& row, int local_node, bool owned, double measure) {
-  return {k, local_node, owned, row.direction, row.gap, measure, row.law, row.stiffness, row.obstacles, {}};
+  return {k, local_node, owned, row.direction, row.gap, measure, row.law, row.stiffness, row.obstacles, {}, row.pair};
 }
 
 PartPieces cut_part(const Problem& p, const WholeMeshData& whole, const WholeNumbering& numbering,

@@ -42,12 +42,15 @@ void contact_totals(const DiscreteSystem& sys, const State& s, StepReport& rep) 
   // each obstacle (obstacles × d) and the law entries' forces (parts × (1 + d))
   const std::size_t on_total = n_obstacles + 1, on_obstacles = on_total + du, on_parts = on_obstacles + du * n_obstacles;
   std::vector<double> sums(b > 1 ? on_parts + n_parts * (1 + du) : n_obstacles + 1, 0.0);
+  const std::size_t on_pairs = sums.size();  // then each contact pair's normal force
+  sums.resize(on_pairs + sys.problem->contact.pairs.size(), 0.0);
   const std::vector<Point> tangents = contact_tangents(sys.part, b);
   for (std::size_t k = 0; k < sys.part.contact.size(); ++k) {
     const PartContactNode& node = sys.part.contact[k];
     if (!node.owned) continue;
     const double lambda = s.lambda[node.row * b];
     if (lambda > rep.contact.active_threshold) sums[0] += node.measure;
+    if (node.pair >= 0) sums[on_pairs + static_cast<std::size_t>(node.pair)] += lambda;
     Point tangential{0, 0, 0};
     if (b > 1) {
       tangential = along_tangents(tangents, k, b, s.lambda.data() + node.row * b + 1);
@@ -69,6 +72,7 @@ void contact_totals(const DiscreteSystem& sys, const State& s, StepReport& rep) 
   rep.contact_area = sums[0];
   auto at = [&](std::size_t i) { return sums.begin() + static_cast<std::ptrdiff_t>(i); };
   rep.obstacle_force.assign(at(1), at(n_obstacles + 1));
+  rep.pair_force.assign(at(on_pairs), sums.end());
   rep.tangential_force.clear();
   rep.obstacle_tangential_force.clear();
   rep.part_force.clear();

@@ -41,6 +41,8 @@ struct StepReport {
   /// With obstacles: the total contact force on each (Problem::contact.obstacles order),
   /// each node's force counted for the obstacle nearest to it at this step.
   std::vector<double> obstacle_force;
+  /// Per contact pair (ContactSpec::pairs): Σ λ over its slave nodes, the normal force between the bodies.
+  std::vector<double> pair_force;
   /// Friction (SPEC §7; both empty without, and history.csv has no friction columns): the
   /// tangential forces Σ_j λ_τ,j t_j summed over the contact nodes as a vector of d
   /// components (the force on the obstacles; the body gets its opposite), and with

@@ -65,11 +65,13 @@ steps = 4
                      mesh, upper, symmetry, axis, d == 2 ? "plane-strain" : "isotropic", extra);
 }
 
-std::unique_ptr<TimeStepper> run(const Case& c) {
+/// A finished run; `last`: its last step's report.
+std::unique_ptr<TimeStepper> run(const Case& c, StepReport* last = nullptr) {
   auto s = std::make_unique<TimeStepper>(c.problem, c.solvers);
   while (!s->done()) {
     const StepReport r = s->step();
     EXPECT_TRUE(r.ok) << "step " << r.n << ": contact residual " << r.contact.residuals.max();
+    if (last) *last = r;
   }
   return s;
 }
@@ -88,13 +90,18 @@ double patch_error(const State& s, int d, double sigma) {
 
 TEST(ContactPairs, PatchTestIsPassedOnNonMatchingMeshesIn2dAnd3d) {
   for (int d : {2, 3}) {
-    const auto s = run(parse_case(blocks(d, 0.0), "patch.toml", ".", {}));
+    StepReport r;
+    const auto s = run(parse_case(blocks(d, 0.0), "patch.toml", ".", {}), &r);
     // Springs in series, 0.5 tall each: σ (0.5/E₁ + 0.5/E₂) = 0.01 with E' = E/(1 − ν²) in plane strain.
     const double soften = d == 2 ? 1 - 0.3 * 0.3 : 1.0;
     const double sigma = -0.01 / (0.5 * soften / 1000 + 0.5 * soften / 3000);
     EXPECT_LT(patch_error(s->state(), d, sigma), 1e-11) << "d = " << d;
     EXPECT_GT(s->state().lambda.size(), 0);
     EXPECT_EQ(s->contact_solver(), "active-set") << "d = " << d;  // the dual, as auto picks for pairs
+    // The pair's force (history.csv force_pair_upper.bottom) is σ times the interface's area, 1.
+    ASSERT_EQ(r.pair_force.size(), 1u);
+    EXPECT_NEAR(r.pair_force[0], -sigma, 1e-11 * std::abs(sigma)) << "d = " << d;
+    EXPECT_NEAR(r.contact.total_force, r.pair_force[0], 1e-11 * std::abs(sigma));
   }
 }
 
