@@ -1095,6 +1095,8 @@ void record_key_locations(Section& top, Problem& p, const Origins& origins) {
   record_tables(b, "displacement");
   Section ct = top.table("contact");
   for (const char* key : {"gap", "direction", "friction", "mu", "friction_bound"}) record(ct, key);
+  record_tables(ct, "pair");
+  if (p.key_locations.count("contact.pair[0]")) p.key_locations["contact.pair"] = p.key_locations["contact.pair[0]"];
   record_tables(top, "obstacle");
   Section tm = top.table("time");
   if (tm.exists()) p.key_locations["time"] = fmt::format("{}: [time]", tm.where_section());
@@ -1131,10 +1133,17 @@ std::vector<std::string> locking_warnings(Section& top, const Problem& p) {
         check(m.table("elasticity"), p.materials[k].elasticity, fmt::format("of material '{}' ", p.materials[k].name));
     }
   }
+  if (top.has("body") && top.get("body")->is_array_of_tables()) {
+    const auto& list = *top.get("body")->as_array();
+    for (std::size_t k = 0; k < p.bodies.size() && k < list.size(); ++k) {
+      Section b(list[k].as_table(), fmt::format("body[{}]", k), top.origins());
+      if (b.table("elasticity").has("nu"))
+        check(b.table("elasticity"), p.bodies[k].material.elasticity, fmt::format("of body '{}' ", p.bodies[k].name));
+    }
+  }
   return warnings;
 }
 
-/// Returns whether a gap was given.
 /// [[contact.pair]] (SPEC §8): slave and master, boundary parts of two bodies; `search`.
 void read_contact_pairs(Section& ct, Problem& p, const Origins& origins) {
   if (!ct.has("pair")) return;
@@ -1159,6 +1168,7 @@ void read_contact_pairs(Section& ct, Problem& p, const Origins& origins) {
   }
 }
 
+/// Returns whether a gap was given.
 bool read_contact(Section ct, Problem& p, const Origins& origins) {
   const auto gap = ct.has("gap") ? ct.state_expression("gap", Expression::Kind::SpaceTime) : nullptr;
   p.contact.gap = [gap](const Point& x, double t) { return gap ? (*gap)(x, t) : 0.0; };
