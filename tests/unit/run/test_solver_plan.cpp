@@ -115,5 +115,23 @@ TEST(SolverPlan, OneProcessRefusesOrMoves) {
   EXPECT_EQ(direct_plan.linear_solver, "cholmod");
 }
 
+// Contact pairs (issue 29) run on the serial engine for now: auto keeps CHOLMOD where it would
+// have moved, and where CHOLMOD does not fit it refuses without proposing the PETSc engine.
+TEST(SolverPlan, AutoKeepsTheSerialEngineForContactPairs) {
+  auto f = load_case("foundation-3d", {}, {.cells = 12});
+  Problem& p = *f.problem;
+  const ProblemSize s = problem_size(p);
+  SolverChoice choice;
+  const double direct = cholmod_memory(p, s, choice).total(), cg = iterative_memory(p, s).total();
+  const MemoryLimit between{0.5 * (direct + cg), "test"};
+  p.contact.pairs.push_back({"top", "bottom", 0.0});  // the plan reads only that there are pairs
+  const std::string msg = error_of([&] { plan_solver(p, s, choice, {.engine = "auto", .petsc_built = true}, between); });
+  EXPECT_NE(msg.find("would need about"), std::string::npos) << msg;
+  EXPECT_EQ(msg.find("--engine auto would take"), std::string::npos) << msg;
+  const SolverPlan kept = plan_solver(p, s, choice, {.engine = "auto", .petsc_built = true}, {1e15, "test"});
+  EXPECT_FALSE(kept.petsc);
+  EXPECT_EQ(kept.linear_solver, "cholmod");
+}
+
 }  // namespace
 }  // namespace vpc
