@@ -33,11 +33,12 @@ class Fields:
     (the nodes with a contact pressure > 0). Fields the run did not write ([output] fields,
     friction's without friction) are None; `arrays` holds every VTU array by its VTU name."""
 
-    def __init__(self, t, n, vtu, dim):
+    def __init__(self, t, n, vtu, dim, bodies=("body",)):
         from . import state_fields
 
         self.t = t
         self.n = n
+        self.bodies = list(bodies)
         self.points = vtu.points
         self.cells = vtu.cells
         self.arrays = dict(vtu.point_data)
@@ -55,6 +56,43 @@ class Fields:
             setattr(self, f["python"], v)
         self.active = None if self.contact_pressure is None else self.contact_pressure > 0
 
+    def body(self, which):
+        """The fields of one body (SPEC §8, [[body]]): `which` its name ("body" for the case's
+        [mesh]) or its index. Its points and cells (renumbered from 0), and every node and cell
+        field restricted to them; `nodes` and `cell_ids` are their numbers in the whole."""
+        import copy
+
+        k = which if isinstance(which, (int, np.integer)) else None
+        if k is None:
+            if which not in self.bodies:
+                raise ValueError("no body %r: the run's bodies are %s" % (which, ", ".join(self.bodies)))
+            k = self.bodies.index(which)
+        if not 0 <= k < len(self.bodies):
+            raise ValueError("no body %d: the run has %d" % (k, len(self.bodies)))
+        of_cell = self.arrays.get("body")
+        in_body = np.ones(len(self.cells), bool) if of_cell is None else np.asarray(of_cell).reshape(-1) == k
+        nodes = np.unique(self.cells[in_body])
+        renumber = np.full(len(self.points), -1, dtype=np.int64)
+        renumber[nodes] = np.arange(len(nodes))
+        view = copy.copy(self)
+        n_nodes, n_cells = len(self.points), len(self.cells)
+        for name, value in vars(self).items():
+            if isinstance(value, np.ndarray) and value.ndim >= 1 and name not in ("points", "cells"):
+                if value.shape[0] == n_nodes:
+                    setattr(view, name, value[nodes])
+                elif value.shape[0] == n_cells:
+                    setattr(view, name, value[in_body])
+        view.arrays = {}
+        for name, value in self.arrays.items():
+            value = np.asarray(value)
+            view.arrays[name] = value[nodes] if value.shape[0] == n_nodes else value[in_body] if value.shape[0] == n_cells else value
+        view.points = self.points[nodes]
+        view.cells = renumber[self.cells[in_body]]
+        view.nodes = nodes
+        view.cell_ids = np.flatnonzero(in_body)
+        view.bodies = [self.bodies[k]]
+        return view
+
     def __repr__(self):
         return "<vpcontact.Fields t=%g n=%s: %d nodes, %d cells>" % (self.t, self.n, len(self.points), len(self.cells))
 
@@ -62,7 +100,8 @@ class Fields:
 class Results:
     """A run's output directory (vpcontact run, vpcontact.run or a Simulation with output=).
 
-    summary: summary.json as a dict; history(), probes(): the CSV files as tables
+    summary: summary.json as a dict; bodies: the bodies' names ("body", then each [[body]]'s;
+    Fields.body(name) restricts an output time's fields to one); history(), probes(): the CSV files as tables
     (structured arrays, or DataFrames: see tables.table); times, steps: the output
     times and their steps; fields(t=None, index=None): the state at the output time
     nearest t, or the index-th output (default: the last)."""
@@ -78,6 +117,8 @@ class Results:
         except ValueError as e:
             raise RunError("%s: not valid JSON: %s" % (summary, e), file=summary)
         self.dim = int(self.summary.get("dimension", 0))
+        # The bodies (SPEC §8): "body" (the case's [mesh]), then each [[body]]'s name.
+        self.bodies = [b["name"] for b in self.summary.get("bodies", [])] or ["body"]
         try:
             probes = _plot.read_csv(os.path.join(self.directory, "probes.csv"))
             self._solutions = _plot.list_solutions(self.directory, probes)
@@ -104,7 +145,7 @@ class Results:
             vtu = _plot.read_vtu(path)
         except _plot.PlotError as e:
             raise RunError(str(e), file=path)
-        return Fields(time, self.steps[index], vtu, self.dim)
+        return Fields(time, self.steps[index], vtu, self.dim, self.bodies)
 
     def __repr__(self):
         return "<vpcontact.Results %s: %s, %d outputs>" % (self.directory, self.summary.get("case"), len(self.times))
