@@ -3,8 +3,8 @@
 #include "core/error.hpp"
 
 #include <algorithm>
-#include <unordered_map>
 #include <cstddef>
+#include <unordered_map>
 
 namespace vpc {
 
