@@ -159,7 +159,7 @@ std::vector<ContactRow> contact_rows(const Problem& p, const std::vector<int>& c
     }
     const bool rigid = rigid_law[node] >= 0;
     rows.push_back({node, v, g, rigid ? rigid_law[node] : compliant_law[node], rigid ? 0.0 : stiffness[node],
-                    obstacles[node]});
+                    obstacles[node], {}, -1, 0.0});  // Γ3's row: no masters, no pair
   }
   if (rows.empty() && !p.contact.parts.empty()) {  // every contact node has every component prescribed: by which keys
     std::set<std::string> by;

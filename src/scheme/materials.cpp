@@ -14,16 +14,22 @@ std::vector<Material> Problem::material_list() const {
   return list;
 }
 
-std::vector<int> cell_bodies(const Problem& p) {
-  std::vector<int> out(static_cast<std::size_t>(p.mesh.n_cells()));
-  for (int c = 0; c < p.mesh.n_cells(); ++c) out[static_cast<std::size_t>(c)] = p.mesh.cell_body(c);
+std::vector<int> cell_bodies(const Mesh& mesh) {
+  std::vector<int> out(static_cast<std::size_t>(mesh.n_cells()));
+  for (int c = 0; c < mesh.n_cells(); ++c) out[static_cast<std::size_t>(c)] = mesh.cell_body(c);
   return out;
 }
 
-Vector Problem::initial_damage(const Mesh& m, const std::vector<int>& cell_body) const {
-  std::vector<int> body(static_cast<std::size_t>(m.n_nodes()), 0);
+std::vector<int> node_bodies(const Mesh& mesh, const std::vector<int>& cell_body) {
+  std::vector<int> body(static_cast<std::size_t>(mesh.n_nodes()), 0);
   for (std::size_t c = 0; c < cell_body.size(); ++c)
-    for (int a = 0; a < m.nodes_per_cell(); ++a) body[static_cast<std::size_t>(m.cell(static_cast<int>(c))[a])] = cell_body[c];
+    for (int a = 0; a < mesh.nodes_per_cell(); ++a)
+      body[static_cast<std::size_t>(mesh.cell(static_cast<int>(c))[a])] = cell_body[c];
+  return body;
+}
+
+Vector Problem::initial_damage(const Mesh& m, const std::vector<int>& cell_body) const {
+  const std::vector<int> body = node_bodies(m, cell_body);
   Vector beta(m.n_nodes());
   for (int i = 0; i < m.n_nodes(); ++i) {
     const ScalarField& b0 = beta0_of(body[static_cast<std::size_t>(i)]);

@@ -11,7 +11,7 @@ namespace vpc {
 // The order of the calls is the order of their checks (the first error is the one reported).
 WholeMeshData::WholeMeshData(const Problem& p)
     : cell_material(cell_materials(p)),
-      cell_body(cell_bodies(p)),
+      cell_body(cell_bodies(p.mesh)),
       traction_facets(vpc::traction_facets(p)),
       pressure_facets(vpc::pressure_facets(p)),
       dirichlet(dirichlet_dofs(p)),

@@ -96,12 +96,9 @@ void check_formulas(const Problem& p) {
 
 void check_beta0(const Mesh& mesh, const ScalarField& beta0, int body) {
   if (!beta0) return;  // β0 = 1
-  std::vector<char> in(static_cast<std::size_t>(mesh.n_nodes()), body < 0);
-  for (int c = 0; c < mesh.n_cells() && body >= 0; ++c)
-    if (mesh.cell_body(c) == body)
-      for (int a = 0; a < mesh.nodes_per_cell(); ++a) in[static_cast<std::size_t>(mesh.cell(c)[a])] = 1;
+  const std::vector<int> of_node = body < 0 ? std::vector<int>() : node_bodies(mesh, cell_bodies(mesh));
   for (int i = 0; i < mesh.n_nodes(); ++i) {
-    if (!in[static_cast<std::size_t>(i)]) continue;
+    if (body >= 0 && of_node[static_cast<std::size_t>(i)] != body) continue;
     const Point& x = mesh.node(i);
     const double b = beta0(x, 0.0);
     require(std::isfinite(b) && b >= 0 && b <= 1, "initial damage beta0 must lie in [0, 1]; it is {} at node {} ({}, {}, {})",
@@ -271,9 +268,7 @@ void check_held(const Problem& p, const std::vector<int>& condition) {
     check_body_held(p, condition, all, "the body");
     return;
   }
-  std::vector<int> body_of(static_cast<std::size_t>(mesh.n_nodes()), 0);
-  for (int c = 0; c < mesh.n_cells(); ++c)
-    for (int a = 0; a < mesh.nodes_per_cell(); ++a) body_of[static_cast<std::size_t>(mesh.cell(c)[a])] = mesh.cell_body(c);
+  const std::vector<int> body_of = node_bodies(mesh, cell_bodies(mesh));
   for (int b = 0; b < mesh.n_bodies(); ++b) {
     std::vector<int> nodes;
     for (int i = 0; i < mesh.n_nodes(); ++i)

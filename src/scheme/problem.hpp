@@ -224,8 +224,11 @@ int symmetry_axis(const Mesh& mesh, const std::string& part);
 /// different values of one component at a node (compared at t = 0 and t = T).
 DirichletDofs dirichlet_dofs(const Problem& p);
 
-/// The body of each cell of p.mesh (Mesh::cell_body).
-std::vector<int> cell_bodies(const Problem& p);
+/// The body of each cell of `mesh` (Mesh::cell_body).
+std::vector<int> cell_bodies(const Mesh& mesh);
+/// The body of each node of `mesh`, whose cell c is in body cell_body[c] (a node lies in one body:
+/// bodies share no node); 0 where no cell touches the node.
+std::vector<int> node_bodies(const Mesh& mesh, const std::vector<int>& cell_body);
 
 /// The material of each cell of p.mesh, an index into Problem::material_list(): its body's
 /// (0, or a Body::material) where no material's region holds the cell. Throws vpc::Error for a region the mesh

@@ -77,7 +77,7 @@ void check_step_stability(const Problem& p, const std::vector<int>& cell_materia
   std::vector<double> beta(materials.size(), 1.0);
   if (p.beta0 || !p.bodies.empty()) {
     const Mesh& mesh = p.mesh;
-    const Vector nodal = p.initial_damage(mesh, cell_bodies(p));
+    const Vector nodal = p.initial_damage(mesh, cell_bodies(mesh));
     for (int c = 0; c < mesh.n_cells(); ++c) {
       double& b = beta[static_cast<std::size_t>(cell_material[c])];
       b = std::min(b, cell_mean(mesh, nodal, c));
