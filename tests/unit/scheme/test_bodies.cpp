@@ -10,6 +10,7 @@
 #include <string>
 
 #include "../error_of.hpp"
+#include "../run_to_end.hpp"
 
 namespace vpc {
 namespace {
@@ -82,11 +83,6 @@ beta0 = "0.9 - 0.01*x"
 source = "strain"
 )toml";
 
-std::unique_ptr<TimeStepper> run(const Case& c) {
-  auto s = std::make_unique<TimeStepper>(c.problem, c.solvers);
-  while (!s->done()) EXPECT_TRUE(s->step().ok);
-  return s;
-}
 
 TEST(Bodies, TwoBodiesWithoutAPairRunAsEachAlone) {
   const std::string first_damage = "[damage]\nkappa = 1.0\nsource = \"von-mises\"\nc = 0.01\n";
@@ -123,9 +119,9 @@ source = "strain"
   replace(second, "E = 1000.0", "E = 2000.0");
   const std::string maxwell = "[viscoplasticity]\nlaw = \"maxwell-damage\"\n";
   second.erase(second.find(maxwell), maxwell.size());
-  const auto together = run(parse_case(both, "two.toml", ".", {}));
-  const auto a = run(parse_case(block(0.0, 6, first_damage), "a.toml", ".", {}));
-  const auto b = run(parse_case(second, "b.toml", ".", {}));
+  const auto together = run_to_end(parse_case(both, "two.toml", ".", {}));
+  const auto a = run_to_end(parse_case(block(0.0, 6, first_damage), "a.toml", ".", {}));
+  const auto b = run_to_end(parse_case(second, "b.toml", ".", {}));
   const State &s = together->state(), &sa = a->state(), &sb = b->state();
   const auto na = sa.beta.size(), nb = sb.beta.size();
   ASSERT_EQ(s.beta.size(), na + nb);

@@ -10,6 +10,7 @@
 #include <string>
 
 #include "../error_of.hpp"
+#include "../run_to_end.hpp"
 
 namespace vpc {
 namespace {
@@ -48,15 +49,6 @@ steps = 2
                     "pads.toml", ".", {});
 }
 
-/// A finished run of the case.
-std::unique_ptr<TimeStepper> run(const Case& c) {
-  auto s = std::make_unique<TimeStepper>(c.problem, c.solvers);
-  while (!s->done()) {
-    const StepReport r = s->step();
-    EXPECT_TRUE(r.ok) << "step " << r.n << ": contact residual " << r.contact.residuals.max();
-  }
-  return s;
-}
 
 /// The penetration u_ν − g of each contact row (ν = (0, −1), g = 0 here).
 std::vector<double> penetration(const TimeStepper& s) {
@@ -68,7 +60,7 @@ std::vector<double> penetration(const TimeStepper& s) {
 // λ_i = c |Γ3|_i (u_ν − g)₊^e at every contact node for a power law, after the
 // semismooth Newton of solve_compliance_dual.
 TEST(ContactLaws, PowerLawHoldsAtEveryNode) {
-  const auto s = run(pads("law = \"normal-compliance\"\nstiffness = 1e5\nexponent = 2.0\n"));
+  const auto s = run_to_end(pads("law = \"normal-compliance\"\nstiffness = 1e5\nexponent = 2.0\n"));
   const std::vector<double> d = penetration(*s);
   int pressed = 0;
   for (const PartContactNode& c : s->part().contact) {
@@ -82,9 +74,9 @@ TEST(ContactLaws, PowerLawHoldsAtEveryNode) {
 
 // c → ∞ recovers the Signorini answer, at the rate of the penetration (λ/c)^{1/e}.
 TEST(ContactLaws, StiffPowerLawTendsToSignorini) {
-  const auto signorini = run(pads(""));
+  const auto signorini = run_to_end(pads(""));
   auto force_error = [&](double c) {
-    const auto s = run(pads(fmt::format("law = \"normal-compliance\"\nstiffness = {}\nexponent = 2.0\n", c)));
+    const auto s = run_to_end(pads(fmt::format("law = \"normal-compliance\"\nstiffness = {}\nexponent = 2.0\n", c)));
     return std::abs(s->state().lambda.sum() - signorini->state().lambda.sum()) / signorini->state().lambda.sum();
   };
   const double e4 = force_error(1e4), e8 = force_error(1e8), e12 = force_error(1e12);
@@ -98,7 +90,7 @@ TEST(ContactLaws, StiffPowerLawTendsToSignorini) {
 // A Signorini part beside a compliant one: no penetration on the left and at the shared
 // node (a Signorini facet there), λ = c |Γ3|_i (u_ν − g)₊ on the right.
 TEST(ContactLaws, EachPartHasItsLaw) {
-  const auto s = run(pads(R"toml(
+  const auto s = run_to_end(pads(R"toml(
 [[contact.part]]
 parts = ["pad_right"]
 law = "normal-compliance"
@@ -119,8 +111,8 @@ stiffness = 1e3
   }
   EXPECT_GT(right_penetration, 1e-4);
   // Signorini named on every part is the default law, bit for bit.
-  const auto named = run(pads("[[contact.part]]\nparts = [\"pad_left\", \"pad_right\"]\nlaw = \"signorini\"\n"));
-  const auto plain = run(pads(""));
+  const auto named = run_to_end(pads("[[contact.part]]\nparts = [\"pad_left\", \"pad_right\"]\nlaw = \"signorini\"\n"));
+  const auto plain = run_to_end(pads(""));
   EXPECT_EQ(named->state().u, plain->state().u);
   EXPECT_EQ(named->state().lambda, plain->state().lambda);
 }

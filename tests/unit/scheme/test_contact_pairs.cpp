@@ -11,6 +11,7 @@
 #include <string>
 
 #include "../error_of.hpp"
+#include "../run_to_end.hpp"
 
 namespace vpc {
 namespace {
@@ -66,16 +67,6 @@ steps = 4
                      mesh, upper, symmetry, axis, d == 2 ? "plane-strain" : "isotropic", extra);
 }
 
-/// A finished run; `last`: its last step's report.
-std::unique_ptr<TimeStepper> run(const Case& c, StepReport* last = nullptr) {
-  auto s = std::make_unique<TimeStepper>(c.problem, c.solvers);
-  while (!s->done()) {
-    const StepReport r = s->step();
-    EXPECT_TRUE(r.ok) << "step " << r.n << ": contact residual " << r.contact.residuals.max();
-    if (last) *last = r;
-  }
-  return s;
-}
 
 /// The largest deviation of any stress component from the uniform uniaxial σ_zz = σ (σ_yy in 2D).
 double patch_error(const State& s, int d, double sigma) {
@@ -92,7 +83,7 @@ double patch_error(const State& s, int d, double sigma) {
 TEST(ContactPairs, PatchTestIsPassedOnNonMatchingMeshesIn2dAnd3d) {
   for (int d : {2, 3}) {
     StepReport r;
-    const auto s = run(parse_case(blocks(d, 0.0), "patch.toml", ".", {}), &r);
+    const auto s = run_to_end(parse_case(blocks(d, 0.0), "patch.toml", ".", {}), &r);
     // Springs in series, 0.5 tall each: σ (0.5/E₁ + 0.5/E₂) = 0.01 with E' = E/(1 − ν²) in plane strain.
     const double soften = d == 2 ? 1 - 0.3 * 0.3 : 1.0;
     const double sigma = -0.01 / (0.5 * soften / 1000 + 0.5 * soften / 3000);
@@ -109,7 +100,7 @@ TEST(ContactPairs, PatchTestIsPassedOnNonMatchingMeshesIn2dAnd3d) {
 TEST(ContactPairs, AnOpenGapClosesWhereTheMotionReachesIt) {
   // The upper block starts 0.004 above: free until the top has moved 0.004 (t = 0.4), then the
   // blocks are pressed by the rest of the motion, uniformly.
-  const auto s = run(parse_case(blocks(2, 0.004), "gap.toml", ".", {}));
+  const auto s = run_to_end(parse_case(blocks(2, 0.004), "gap.toml", ".", {}));
   const double sigma = -0.006 / (0.5 * 0.91 / 1000 + 0.5 * 0.91 / 3000);
   EXPECT_LT(patch_error(s->state(), 2, sigma), 1e-10);
   const Case open = parse_case(blocks(2, 0.004), "gap.toml", ".", {});

@@ -9,21 +9,13 @@
 #include <string>
 
 #include "../error_of.hpp"
+#include "../run_to_end.hpp"
 
 namespace vpc {
 namespace {
 
 Case parse(const std::string& text) { return parse_case(text, "materials.toml", ".", {}); }
 
-/// Runs a case to its end; every step must pass its checks.
-std::unique_ptr<TimeStepper> run(const Case& c) {
-  auto s = std::make_unique<TimeStepper>(c.problem, c.solvers);
-  while (!s->done()) {
-    const StepReport r = s->step();
-    EXPECT_TRUE(r.ok) << "step " << r.n;
-  }
-  return s;
-}
 
 // An elastic bar −(E u')' = 1 on [0, 1], u(0) = 0, free at x = 1 (the gap never
 // closes), E = 1 on [0, 1/2] and 4 on [1/2, 1]: P1 is exact at the nodes in 1D when E
@@ -53,7 +45,7 @@ where = "x > 0.5"
 [material.elasticity]
 E = 4.0
 )");
-  const auto s = run(c);
+  const auto s = run_to_end(c);
   const Mesh& m = s->mesh();
   auto exact = [](double x) {
     const double w = x - x * x / 2;  // ∫₀ˣ (1 − s) ds
@@ -96,8 +88,8 @@ steps = 5
 
 // A material that repeats the body's data changes no bit of the result.
 TEST(Materials, ACopyOfTheBodysMaterialChangesNothing) {
-  const auto one = run(parse(block("maxwell-damage", "source = \"von-mises\"\nc = 0.01", "")));
-  const auto two = run(parse(block("maxwell-damage", "source = \"von-mises\"\nc = 0.01", R"(
+  const auto one = run_to_end(parse(block("maxwell-damage", "source = \"von-mises\"\nc = 0.01", "")));
+  const auto two = run_to_end(parse(block("maxwell-damage", "source = \"von-mises\"\nc = 0.01", R"(
 [[material]]
 name = "copy"
 where = "x > 1"
@@ -117,7 +109,7 @@ c = 0.01
 // viscoplastic lower half keeps z = 0 on its own cells; β decreases (one field, diffusing)
 // and is lowest in the lower half.
 TEST(Materials, LawAndSourceActOnTheirCells) {
-  const auto s = run(parse(block("elastic", "source = \"zero\"", R"(
+  const auto s = run_to_end(parse(block("elastic", "source = \"zero\"", R"(
 [[material]]
 name = "soft"
 where = "y < 0.5"
@@ -187,12 +179,12 @@ TEST(Materials, GmshRegionsAndWherePredicatesAgree) {
   const std::vector<int> cells = cell_materials(*by_region.problem);
   EXPECT_EQ(cells, cell_materials(*by_where.problem));
   EXPECT_EQ(std::count(cells.begin(), cells.end(), 1), by_region.problem->mesh.region_size("upper"));
-  const auto a = run(by_region), b = run(by_where);
+  const auto a = run_to_end(by_region), b = run_to_end(by_where);
   EXPECT_EQ(a->state().u, b->state().u);
   EXPECT_EQ(a->state().beta, b->state().beta);
   // The stiffer upper layer deforms less than the same body in one material.
   const std::string text = layers(R"(regions = ["upper"])");
-  const auto soft = run(parse(text.substr(0, text.find("[[material]]"))));
+  const auto soft = run_to_end(parse(text.substr(0, text.find("[[material]]"))));
   EXPECT_LT(a->state().u.norm(), soft->state().u.norm());
 }
 
