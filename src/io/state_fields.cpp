@@ -1,6 +1,7 @@
 #include "io/state_fields.hpp"
 
 #include "core/error.hpp"
+#include "la/vector.hpp"
 #include "scheme/contact_tangents.hpp"
 
 #include <algorithm>
@@ -42,6 +43,23 @@ VtuField node_field(const FieldContext& c, std::string_view name, int width, Fil
 
 // λ's normal force at contact node c (the first of its block).
 double normal_force(const State& s, const PartContactNode& c) { return s.lambda[c.row * s.contact_block]; }
+
+/// Per local node, 3 numbers: the reaction Σ_j w_jk λ_j ν_j of contact pairs' slave rows j on their
+/// master nodes k. A row's rank owns its masters (cut_part) and sums there; the ranks that show a
+/// master node as a ghost get the owner's sum. Empty without pairs. Collective on the part's communicator.
+std::vector<double> master_reactions(const FieldContext& c) {
+  const bool pairs = std::ranges::any_of(c.part.contact, [](const PartContactNode& n) { return n.pair >= 0; });
+  if (!c.part.comm.any(pairs)) return {};
+  std::vector<double> out(3 * n_nodes(c), 0.0);
+  for (int j = 0; j < 3; ++j) {
+    la::Vector r(c.part.node_layout);
+    for (const PartContactNode& n : c.part.contact)
+      for (const auto& [k, w] : n.masters) r.local()[k] += w * normal_force(c.state, n) * n.direction[j];
+    r.update_ghosts();
+    for (std::size_t i = 0; i < n_nodes(c); ++i) out[3 * i + j] = r.local()[static_cast<Eigen::Index>(i)];
+  }
+  return out;
+}
 
 /// Friction's vectors Σ_j x_j t_j at the contact nodes (zero elsewhere), x_j the numbers of
 /// `values` (per contact row: the block − 1 numbers after `offset` of every `stride`) along
@@ -100,12 +118,11 @@ constexpr StateField kFields[] = {
      [](const FieldContext& c) {
        // The nodal force the foundation exerts at each contact node: −λ ν; on a contact pair's master
        // nodes the slave's reaction, Σ_j w_jk λ_j ν_j (scheme/contact_pairs.hpp).
+       const std::vector<double> masters = master_reactions(c);
        return node_field(c, "contact_force", 3, [&](double* out) {
          for (const PartContactNode& n : c.part.contact)
            for (int j = 0; j < 3; ++j) out[n.local_node * 3 + j] = -normal_force(c.state, n) * n.direction[j];
-         for (const PartContactNode& n : c.part.contact)
-           for (const auto& [k, w] : n.masters)
-             for (int j = 0; j < 3; ++j) out[k * 3 + j] += w * normal_force(c.state, n) * n.direction[j];
+         for (std::size_t i = 0; i < masters.size(); ++i) out[i] += masters[i];
        });
      },
      nullptr, "the nodal force −λ ν the foundation exerts on each node of Γ3; with contact pairs, the force each "

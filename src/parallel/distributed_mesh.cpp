@@ -74,15 +74,55 @@ std::vector<int> partition_cells(const Mesh& mesh, const NodeCells& nc, int n_pa
   return part;
 }
 
+/// A contact pair's row (scheme/contact_pairs.hpp) is ν·u_j − Σ_k w_k ν·u_k on its slave node j
+/// and master nodes k. The solvers take each rank's rows of N over that rank's own dofs (so that
+/// Nᵀλ and S = N K⁻¹Nᵀ sum over the ranks exactly, with no ghost columns): every node of a row
+/// must have the row's owner. Rows sharing a master node chain along the interface, so each
+/// connected set of pair nodes goes to one rank, the one that owns most of it already (ties:
+/// the lowest). The ranks whose cells touch those nodes keep them as ghosts, as any other; the
+/// owner holds a node none of its cells may touch (its K and M rows come from the others').
+void own_pairs_together(const std::vector<ContactRow>& rows, int n_parts, std::vector<int>& owner) {
+  std::vector<int> root(owner.size(), -1);  // union–find over the pair rows' nodes
+  auto find = [&](int i) {
+    while (root[i] != i) i = root[i] = root[root[i]];
+    return i;
+  };
+  auto join = [&](int a, int b) {
+    if (root[a] < 0) root[a] = a;
+    if (root[b] < 0) root[b] = b;
+    a = find(a), b = find(b);
+    if (a != b) root[std::max(a, b)] = std::min(a, b);
+  };
+  for (const ContactRow& r : rows)
+    for (const auto& [k, w] : r.masters) join(r.node, k);
+  std::vector<std::vector<int>> count(owner.size());  // per set's root: its nodes per rank
+  for (std::size_t i = 0; i < owner.size(); ++i)
+    if (root[i] >= 0) {
+      std::vector<int>& c = count[find(static_cast<int>(i))];
+      c.resize(n_parts, 0);
+      ++c[owner[i]];
+    }
+  for (std::size_t i = 0; i < owner.size(); ++i)
+    if (root[i] >= 0) {
+      const std::vector<int>& c = count[find(static_cast<int>(i))];
+      owner[i] = static_cast<int>(std::max_element(c.begin(), c.end()) - c.begin());
+    }
+}
+
 struct Message {
   std::vector<long long> ints;
   std::vector<double> reals;
 };
 
-// A contact node travels as 5 integers and 6 reals.
+// A contact node travels as 7 integers and 6 reals, then a pair row's masters: a local node and a weight each.
 void pack_contact_node(const PartContactNode& c, Message& m) {
-  m.ints.insert(m.ints.end(), {c.row, c.local_node, c.owned ? 1 : 0, static_cast<long long>(c.obstacles), c.law});
+  m.ints.insert(m.ints.end(), {c.row, c.local_node, c.owned ? 1 : 0, static_cast<long long>(c.obstacles), c.law, c.pair,
+                               static_cast<long long>(c.masters.size())});
   m.reals.insert(m.reals.end(), {c.direction[0], c.direction[1], c.direction[2], c.gap, c.measure, c.stiffness});
+  for (const auto& [k, w] : c.masters) {
+    m.ints.push_back(k);
+    m.reals.push_back(w);
+  }
 }
 
 PartContactNode unpack_contact_node(const long long*& in, const double*& x) {
@@ -92,11 +132,14 @@ PartContactNode unpack_contact_node(const long long*& in, const double*& x) {
   c.owned = *in++ != 0;
   c.obstacles = static_cast<ObstacleMask>(*in++);
   c.law = static_cast<int>(*in++);
+  c.pair = static_cast<int>(*in++);
+  const long long n_masters = *in++;
   c.direction = {x[0], x[1], x[2]};
   c.gap = x[3];
   c.measure = x[4];
   c.stiffness = x[5];
   x += 6;
+  for (long long a = 0; a < n_masters; ++a) c.masters.emplace_back(static_cast<int>(*in++), *x++);
   return c;
 }
 
@@ -110,16 +153,17 @@ std::vector<Message> pack_parts(const Problem& p, int n_parts) {
   const NodeCells nc(mesh);
   const std::vector<int> part = partition_cells(mesh, nc, n_parts);
 
-  // A node belongs to the lowest rank among its cells.
+  const WholeMeshData whole(p);
+  // A node belongs to the lowest rank among its cells, except on contact pairs (own_pairs_together).
   std::vector<int> owner(n_nodes, 0);
-  std::vector<std::vector<int>> owned(n_parts);
   for (int i = 0; i < n_nodes; ++i) {
     int o = n_parts;
     for (int k = nc.start[i]; k < nc.start[i + 1]; ++k) o = std::min(o, part[nc.list[k]]);
     owner[i] = o == n_parts ? 0 : o;
-    owned[owner[i]].push_back(i);
   }
-  const WholeMeshData whole(p);
+  own_pairs_together(whole.rows, n_parts, owner);
+  std::vector<std::vector<int>> owned(n_parts);
+  for (int i = 0; i < n_nodes; ++i) owned[owner[i]].push_back(i);
   // Global numbers: the nodes of rank 0, then of rank 1, ...; each in its original order.
   const WholeNumbering numbering(owned, whole.dirichlet, d);
 
@@ -161,7 +205,7 @@ std::vector<Message> pack_parts(const Problem& p, int n_parts) {
               static_cast<long long>(whole.pressure_facets.size())};
     m.ints.insert(m.ints.end(), piece.dirichlet_components.begin(), piece.dirichlet_components.end());
     m.ints.reserve(m.ints.size() + (4 + d) * nodes.size() + (npc + 3) * cells_of[r].size() +
-                   (d + 1) * facets_of[r].size() + 5 * piece.contact.size());
+                   (d + 1) * facets_of[r].size() + 7 * piece.contact.size());
     m.reals.reserve(3 * nodes.size() + 6 * piece.contact.size());
     for (size_t k = 0; k < nodes.size(); ++k) {
       m.ints.insert(m.ints.end(), {piece.global_node[k], piece.original_node[k], piece.first_dof[k],
@@ -248,9 +292,6 @@ MeshPart distribute_mesh(MPI_Comm comm, const Problem& problem) {
   std::vector<Message> parts;
   la::on_root(la::make_mpi_comm(comm), [&] {
     problem.validate();
-    // A pair's row reads master dofs that another rank may own: not built yet (issue 29).
-    require(problem.contact.pairs.empty(), "{}: contact pairs ([[contact.pair]]) run on the serial engine for now "
-            "(--engine serial); the PETSc engine's are issue 29's next part", problem.where("contact.pair"));
     parts = pack_parts(problem, size);
   });
   if (rank == 0) {

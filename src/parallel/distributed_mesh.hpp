@@ -4,7 +4,8 @@
 // Rank 0 holds the mesh as read (or generated), partitions its cells with PTScotch
 // (PETSc's MatPartitioning on the dual graph: cells sharing a facet), numbers the
 // nodes so that each rank owns a contiguous range (a node belongs to the lowest
-// rank among its cells), and sends each rank its cells and every node they touch.
+// rank among its cells; the nodes of contact pairs' rows are owned together:
+// own_pairs_together), and sends each rank its cells and every node they touch.
 // The nodes a rank does not own form its ghost layer. The free displacement dofs
 // (V^h: clamped nodes dropped, (2.4)) are numbered node by node in that order, so
 // each rank's owned dofs are contiguous too.

@@ -183,19 +183,17 @@ SolverPlan plan_solver(const Problem& p, const ProblemSize& s, const SolverChoic
   }
   // One process: CHOLMOD, or (auto) CG + GAMG where CHOLMOD does not fit or is clearly slower.
   const MemoryEstimate direct = cholmod_memory(p, s, solvers);
-  // Contact pairs run on the serial engine for now (issue 29): auto keeps it.
-  const bool can_switch = r.engine == "auto" && r.petsc_built && p.contact.pairs.empty();
+  const bool can_switch = r.engine == "auto" && r.petsc_built;
   if (direct.total() > limit.bytes) {
-    if (!can_switch)
-      refuse(p, direct, limit, "the run", r.petsc_built && p.contact.pairs.empty()
-                                              ? "--engine auto would take CG + GAMG (about " + format_bytes(iterative.total()) + ")"
-                                              : "");
+    if (!can_switch) refuse(p, direct, limit, "the run", r.petsc_built ? "--engine auto would take CG + GAMG (about " +
+                                                          format_bytes(iterative.total()) + ")" : "");
     return go_iterative(fmt::format("CG + GAMG on one process (the PETSc engine): CHOLMOD's factors would need about "
                                     "{} ({}), more than the limit of {} set by {}; --engine serial refuses instead",
                                     format_bytes(direct.total()), direct.describe(), format_bytes(limit.bytes),
                                     limit.source));
   }
-  const bool dual = s.power_law || s.contact_unknowns <= kDualContactRows;
+  // Contact pairs take the dual solver (scheme_solvers.cpp), whatever their number of rows.
+  const bool dual = s.power_law || s.contact_unknowns <= kDualContactRows || !p.contact.pairs.empty();
   const SolverCost cost = estimate_solver_cost(s.K, s.K_nonzeros, s.contact_unknowns, p.expected_steps(), dual);
   if (can_switch && solvers.contact == "auto" && !s.power_law && iterative_is_faster(cost))
     return go_iterative(fmt::format("CG + GAMG on one process (the PETSc engine), estimated faster: {}; --engine "

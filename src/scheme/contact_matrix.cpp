@@ -1,5 +1,7 @@
 #include "scheme/contact_matrix.hpp"
 
+#include "core/error.hpp"
+
 namespace vpc {
 
 ContactMatrix contact_matrix(const MeshPart& part, ContactColumns columns) {
@@ -21,12 +23,14 @@ ContactMatrix contact_matrix(const MeshPart& part, ContactColumns columns) {
       node_dofs.push_back(k);
       if (node.direction[i] != 0) entries.emplace_back(row, k, node.direction[i]);
     }
-    // A pair's row: −w_k ν on each master node's free dofs (scheme/contact_pairs.hpp).
+    // A pair's row: −w_k ν on each master node's free dofs (scheme/contact_pairs.hpp), which the
+    // row's rank owns (cut_part).
     for (const auto& [master, w] : node.masters)
       for (int i = 0; i < d && columns != ContactColumns::compact; ++i) {
         const int k = dofs.free_index(dofs.full_index(master, i));
-        if (k >= 0 && node.direction[i] != 0 && (columns != ContactColumns::owned || k < part.n_owned_dofs))
-          entries.emplace_back(row, k, -w * node.direction[i]);
+        if (k < 0 || node.direction[i] == 0) continue;
+        require(k < part.n_owned_dofs, "contact row {}: master dof {} is not owned with the row (a bug)", node.row, k);
+        entries.emplace_back(row, k, -w * node.direction[i]);
       }
     ++row;
   }

@@ -33,7 +33,8 @@ struct PartContactNode {
   int law = 0;           // ContactRow::law: its index in ContactSpec::laws()
   double stiffness = 0;  // ContactRow::stiffness: k_i, the law's parameter lumped at the node (0: a rigid law)
   ObstacleMask obstacles = kAllObstacles;
-  /// A contact pair's row (ContactRow::masters): its master nodes, local to the part, and weights.
+  /// A contact pair's row (ContactRow::masters): its master nodes, local to the part, and weights;
+  /// on an owned row, whose rank owns its master nodes too (cut_part), else empty.
   std::vector<std::pair<int, double>> masters;
   int pair = -1;  // ContactRow::pair
 };

@@ -62,14 +62,18 @@ PartPieces cut_part(const Problem& p, const WholeMeshData& whole, const WholeNum
       part.contact.push_back(part_contact_node(k, whole.rows[k], static_cast<int>(a), a < static_cast<std::size_t>(n_owned),
                                                whole.measure[v]));
   }
-  // A pair's master nodes in the part's numbering (on one process every node is the part's).
+  // An owned pair row's master nodes in the part's numbering: they are owned with the row
+  // (own_pairs_together in parallel/distributed_mesh.cpp; on one process every node is). A ghost
+  // row, another rank's, needs none: its master nodes may lie outside the part.
   if (std::any_of(whole.rows.begin(), whole.rows.end(), [](const ContactRow& r) { return !r.masters.empty(); })) {
     std::unordered_map<int, int> local;
-    for (std::size_t a = 0; a < nodes.size(); ++a) local.emplace(nodes[a], static_cast<int>(a));
+    for (int a = 0; a < n_owned; ++a) local.emplace(nodes[static_cast<std::size_t>(a)], a);
     for (PartContactNode& c : part.contact)
       for (const auto& [k, w] : whole.rows[static_cast<std::size_t>(c.row)].masters) {
+        if (!c.owned) break;
         const auto it = local.find(k);
-        require(it != local.end(), "contact pairs: master node {} is not in the process's part (pairs run on one process)", k);
+        require(it != local.end(), "contact pair row {}: master node {} is not owned with its slave node {} (a bug: "
+                "parts must own a pair row's nodes together)", c.row, k, nodes[static_cast<std::size_t>(c.local_node)]);
         c.masters.emplace_back(it->second, w);
       }
   }

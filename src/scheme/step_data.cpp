@@ -68,7 +68,7 @@ Vector contact_gap(const DiscreteSystem& sys, double t, std::string& bad) {
   std::vector<double> gaps;
   for (const PartContactNode& node : part.contact) {
     if (!node.owned) continue;
-    if ((!spec.gap_moves && spec.obstacles.empty()) || !node.masters.empty()) {  // a pair's gap is the reference's
+    if ((!spec.gap_moves && spec.obstacles.empty()) || node.pair >= 0) {  // a pair's gap is the reference's
       gaps.push_back(node.gap);
       continue;
     }

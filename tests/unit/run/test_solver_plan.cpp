@@ -15,7 +15,6 @@
 namespace vpc {
 namespace {
 
-ProblemSize size_of(const char* name, int n) { return problem_size(*load_case(name, {}, {.cells = n}).problem); }
 
 // K's factor scaled from the node graph's analysis is close to CHOLMOD's analysis of K itself.
 TEST(SolverPlan, NodeGraphEstimateMatchesTheAnalysisOfK) {
@@ -115,9 +114,10 @@ TEST(SolverPlan, OneProcessRefusesOrMoves) {
   EXPECT_EQ(direct_plan.linear_solver, "cholmod");
 }
 
-// Contact pairs (issue 29) run on the serial engine for now: auto keeps CHOLMOD where it would
-// have moved, and where CHOLMOD does not fit it refuses without proposing the PETSc engine.
-TEST(SolverPlan, AutoKeepsTheSerialEngineForContactPairs) {
+// Contact pairs (issue 29) run on either engine: where CHOLMOD does not fit, auto takes CG + GAMG
+// on the PETSc engine as for one body, and its cost estimate is the dual solver's (the one pairs
+// take), whatever the number of rows.
+TEST(SolverPlan, ContactPairsMoveToThePetscEngineAsOneBodyDoes) {
   auto f = load_case("foundation-3d", {}, {.cells = 12});
   Problem& p = *f.problem;
   const ProblemSize s = problem_size(p);
@@ -125,12 +125,14 @@ TEST(SolverPlan, AutoKeepsTheSerialEngineForContactPairs) {
   const double direct = cholmod_memory(p, s, choice).total(), cg = iterative_memory(p, s).total();
   const MemoryLimit between{0.5 * (direct + cg), "test"};
   p.contact.pairs.push_back({"top", "bottom", 0.0});  // the plan reads only that there are pairs
-  const std::string msg = error_of([&] { plan_solver(p, s, choice, {.engine = "auto", .petsc_built = true}, between); });
-  EXPECT_NE(msg.find("would need about"), std::string::npos) << msg;
-  EXPECT_EQ(msg.find("--engine auto would take"), std::string::npos) << msg;
+  const SolverPlan moved = plan_solver(p, s, choice, {.engine = "auto", .petsc_built = true}, between);
+  EXPECT_TRUE(moved.petsc);
+  EXPECT_EQ(moved.linear_solver, "cg-gamg");
+  const std::string msg = error_of([&] { plan_solver(p, s, choice, {.engine = "serial", .petsc_built = true}, between); });
+  EXPECT_NE(msg.find("--engine auto would take"), std::string::npos) << msg;
   const SolverPlan kept = plan_solver(p, s, choice, {.engine = "auto", .petsc_built = true}, {1e15, "test"});
-  EXPECT_FALSE(kept.petsc);
-  EXPECT_EQ(kept.linear_solver, "cholmod");
+  const SolverCost dual = estimate_solver_cost(s.K, s.K_nonzeros, s.contact_unknowns, p.expected_steps(), true);
+  EXPECT_NE(kept.why.find(dual.detail), std::string::npos) << kept.why << "\n" << dual.detail;
 }
 
 }  // namespace
