@@ -1,6 +1,6 @@
 // An elastic half-disc of radius 1, centre (0, -1), its arc up (touching y = 0 at x = 0) and
 // its flat side on y = -1: the lower cylinder of a two-body Hertz line contact
-// (tests/regression/test_hertz.cpp, Hertz.LineContactBetweenTwoElasticBodies). Graded towards the top: h = 0.0042 within 0.4 of
+// (cases/hertz-cylinders-2d.toml). Graded towards the top: h = 0.0042 within 0.4 of
 // (0, 0), growing to 0.2 (mesh.size_factor scales every size).
 Point(1) = {0, -1, 0};
 Point(2) = {-1, -1, 0};

@@ -1,6 +1,6 @@
 // A quarter of the lower half of an elastic ball of radius 1, centre (0, 0, 1): x >= 0, y >= 0,
 // 0 <= z <= 1, touching z = 0 at the origin; the upper body of a two-body Hertz sphere contact
-// (tests/regression/test_hertz.cpp, Hertz.SphereOnSphereQuarterModel) above
+// (cases/hertz-spheres-3d.toml) above
 // hertz-quarter.geo's block. Graded as that block: h = 0.005 within 0.13 of the origin, 0.2
 // beyond 0.63 (mesh.size_factor scales every size).
 SetFactory("OpenCASCADE");

@@ -195,7 +195,10 @@ SolverPlan plan_solver(const Problem& p, const ProblemSize& s, const SolverChoic
   // Contact pairs take the dual solver (scheme_solvers.cpp), whatever their number of rows.
   const bool dual = s.power_law || s.contact_unknowns <= kDualContactRows || !p.contact.pairs.empty();
   const SolverCost cost = estimate_solver_cost(s.K, s.K_nonzeros, s.contact_unknowns, p.expected_steps(), dual);
-  if (can_switch && solvers.contact == "auto" && !s.power_law && iterative_is_faster(cost))
+  // The estimate's CG run is the primal solver's, which needs no S; a power law or contact pairs take
+  // the dual, whose S on CG is m solves of K (hertz-spheres-3d: 766 of them, minutes against
+  // CHOLMOD's 20 s), so they move only when CHOLMOD does not fit.
+  if (can_switch && solvers.contact == "auto" && !s.power_law && p.contact.pairs.empty() && iterative_is_faster(cost))
     return go_iterative(fmt::format("CG + GAMG on one process (the PETSc engine), estimated faster: {}; --engine "
                                     "serial keeps CHOLMOD",
                                     cost.detail));

@@ -94,7 +94,9 @@ std::vector<ContactRow> pair_rows(const Problem& p, const std::vector<int>& cond
           const Point& x = mesh.node(k);
           require(by <= 0 || row.direction[i] == 0,
                   "{}: master node {} ({}, {}, {}) has u{} prescribed by a displacement that moves; a contact pair's "
-                  "nodes may be clamped or on a symmetry plane, not moved", where, k, x[0], x[1], x[2], "xyz"[i]);
+                  "nodes may be clamped or on a symmetry plane, not moved (the pair couples the master nodes within "
+                  "its search distance {:.6g} of the slave: a smaller [[contact.pair]] search may leave it out)",
+                  where, k, x[0], x[1], x[2], "xyz"[i], options.search_margin);
         }
         row.masters.emplace_back(k, m / s.d);
       }

@@ -93,41 +93,7 @@ TEST(Hertz, LineContactOnAGradedMeshUpToAOverH50) {
 // bottom is the slave: λ_i / D_ii is its nodal pressure (docs/verification.md §8g: a master
 // twice as coarse as the slave put p0 2.3 % high, and larger motions leave Hertz's a ≪ R).
 TEST(Hertz, LineContactBetweenTwoElasticBodies) {
-  const std::string text = R"toml(
-[mesh]
-file = "meshes/hertz-2d-graded.geo"
-size_factor = 2.0
-[[body]]
-name = "disc"
-[body.mesh]
-file = "meshes/half-disc.geo"
-size_factor = 2.0
-[boundary]
-clamped = ["top"]
-[[boundary.displacement]]
-parts = ["disc.flat"]
-ux = "0"
-uy = "0.03*t"
-[elasticity]
-kind = "plane-strain"
-E = 1000.0
-nu = 0.3
-[viscoplasticity]
-law = "elastic"
-[damage]
-source = "zero"
-[contact]
-gap = 0.0
-[[contact.pair]]
-slave = "bottom"
-master = "disc.arc"
-[time]
-T = 1.0
-steps = 1
-)toml";
-  CaseOverrides o;
-  o.sets = {"mesh.size_factor=1", "body[0].mesh.size_factor=1"};
-  const Case c = parse_case(text, "hertz-bodies.toml", case_source("hertz-2d").base_dir, o);
+  const Case c = load_case("hertz-cylinders-2d");
   const LineContact l = line_contact(c, 1000.0 / (2 * (1 - 0.3 * 0.3)), "two bodies");
   expect_hertz(l, 25.0);
   EXPECT_NEAR(l.p_axis / l.p0, 1.0, 0.02);
@@ -183,43 +149,9 @@ TEST(Hertz, SphereIntoAHalfSpaceQuarterModel) {
 // pair (the block's top near the axis the slave, the ball's surface the master; dual mortar on
 // non-matching meshes), both E = 1000, ν = 0.3: 1/E* = 2 (1 − ν²)/E, 1/R = 1/R_ball.
 TEST(Hertz, SphereOnSphereQuarterModel) {
-  const std::string text = R"toml(
-[mesh]
-file = "meshes/hertz-quarter.geo"
-[[mesh.part]]
-name = "contact"
-where = "z > -1e-9 && x*x + y*y < 0.0144"  # r < 0.12: the contact radius is about 0.104
-[[body]]
-name = "ball"
-[body.mesh]
-file = "meshes/quarter-ball.geo"
-[boundary]
-symmetry = ["symmetry_x", "symmetry_y", "base", "ball.symmetry_x", "ball.symmetry_y"]
-[[boundary.displacement]]
-parts = ["ball.top"]
-ux = "0"
-uy = "0"
-uz = "-0.01*t"
-[elasticity]
-kind = "isotropic"
-E = 1000.0
-nu = 0.3
-[viscoplasticity]
-law = "elastic"
-[damage]
-source = "zero"
-[contact]
-gap = 0.0
-[[contact.pair]]
-slave = "contact"
-master = "ball.surface"
-[time]
-T = 1.0
-steps = 1
-)toml";
-  // size_factor 1: a/h ≈ 21 as hertz-3d's (docs/verification.md §8g: coarser meshes, the same
-  // trend as the rigid sphere's RMS: 5.1 % at a/h ≈ 11).
-  const Case c = parse_case(text, "hertz-bodies-3d.toml", case_source("hertz-3d").base_dir, {});
+  // a/h ≈ 21 as hertz-3d's (docs/verification.md §8g: coarser meshes, the same trend as the rigid
+  // sphere's RMS: 5.1 % at a/h ≈ 11).
+  const Case c = load_case("hertz-spheres-3d");
   expect_sphere_hertz(c, 1000.0 / (2 * (1 - 0.3 * 0.3)), 0.005, 20.0, "two balls");
 }
 

@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <string>
+#include <vector>
 
 namespace vpc {
 namespace {
@@ -36,26 +37,43 @@ State run_steps(const std::string& name, const std::string& solver, int steps, i
   return s.state();
 }
 
-TEST(PrimalDual, EveryShippedCaseAgrees) {
-  for (const std::string& name : builtin_case_names()) {
-    SCOPED_TRACE(name);
-    int active_dual = 0, active_primal = 0, cycles = 0;
-    const State dual = run_steps(name, "active-set", 5, &active_dual, &cycles);
-    const State primal = run_steps(name, "primal-active-set", 5, &active_primal, &cycles);
-    EXPECT_EQ(active_primal, active_dual);
-    EXPECT_EQ(cycles, 0);  // no active set came back (ContactReport::cycles)
-    EXPECT_LE(largest(primal.u - dual.u), 1e-8 * largest(dual.u));
-    EXPECT_LE(largest(primal.lambda - dual.lambda), 1e-8 * std::max(largest(dual.lambda), 1e-300));
-    EXPECT_LE(largest(primal.beta - dual.beta), 1e-8);
-    double sigma = 0, scale = 0;
-    for (std::size_t c = 0; c < dual.sigma.size(); ++c)
-      for (int i = 0; i < 6; ++i) {
-        sigma = std::max(sigma, std::abs(primal.sigma[c][i] - dual.sigma[c][i]));
-        scale = std::max(scale, std::abs(dual.sigma[c][i]));
-      }
-    EXPECT_LE(sigma, 1e-8 * scale);
-  }
+/// The shipped cases the primal solver takes: those without contact pairs (the dual alone until the
+/// primal eliminates a pair's rows, issue 29). One test each, so that ctest runs them side by side.
+std::vector<std::string> primal_cases() {
+  std::vector<std::string> out;
+  for (const std::string& name : builtin_case_names())
+    if (case_source(name).text.find("[[contact.pair]]") == std::string::npos) out.push_back(name);
+  return out;
 }
+
+class EveryShippedCase : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(EveryShippedCase, PrimalAndDualAgree) {
+  const std::string name = GetParam();
+  int active_dual = 0, active_primal = 0, cycles = 0;
+  const State dual = run_steps(name, "active-set", 5, &active_dual, &cycles);
+  const State primal = run_steps(name, "primal-active-set", 5, &active_primal, &cycles);
+  EXPECT_EQ(active_primal, active_dual);
+  EXPECT_EQ(cycles, 0);  // no active set came back (ContactReport::cycles)
+  EXPECT_LE(largest(primal.u - dual.u), 1e-8 * largest(dual.u));
+  EXPECT_LE(largest(primal.lambda - dual.lambda), 1e-8 * std::max(largest(dual.lambda), 1e-300));
+  EXPECT_LE(largest(primal.beta - dual.beta), 1e-8);
+  double sigma = 0, scale = 0;
+  for (std::size_t c = 0; c < dual.sigma.size(); ++c)
+    for (int i = 0; i < 6; ++i) {
+      sigma = std::max(sigma, std::abs(primal.sigma[c][i] - dual.sigma[c][i]));
+      scale = std::max(scale, std::abs(dual.sigma[c][i]));
+    }
+  EXPECT_LE(sigma, 1e-8 * scale);
+}
+
+INSTANTIATE_TEST_SUITE_P(PrimalDual, EveryShippedCase, ::testing::ValuesIn(primal_cases()),
+                         [](const ::testing::TestParamInfo<std::string>& i) {
+                           std::string n = i.param;
+                           for (char& c : n)
+                             if (c == '-') c = '_';
+                           return n;
+                         });
 
 // The whole-face case over its 100 steps (the set grows from the centre to all (n + 1)² nodes):
 // how many iterations and factorizations a step of the primal solver costs on CHOLMOD, and

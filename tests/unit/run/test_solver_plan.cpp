@@ -115,8 +115,8 @@ TEST(SolverPlan, OneProcessRefusesOrMoves) {
 }
 
 // Contact pairs (issue 29) run on either engine: where CHOLMOD does not fit, auto takes CG + GAMG
-// on the PETSc engine as for one body, and its cost estimate is the dual solver's (the one pairs
-// take), whatever the number of rows.
+// on the PETSc engine as for one body; where it fits, auto keeps it (the dual, which pairs take,
+// would form S by m solves on CG), and the cost it reports is the dual's, whatever the number of rows.
 TEST(SolverPlan, ContactPairsMoveToThePetscEngineAsOneBodyDoes) {
   auto f = load_case("foundation-3d", {}, {.cells = 12});
   Problem& p = *f.problem;
@@ -131,6 +131,8 @@ TEST(SolverPlan, ContactPairsMoveToThePetscEngineAsOneBodyDoes) {
   const std::string msg = error_of([&] { plan_solver(p, s, choice, {.engine = "serial", .petsc_built = true}, between); });
   EXPECT_NE(msg.find("--engine auto would take"), std::string::npos) << msg;
   const SolverPlan kept = plan_solver(p, s, choice, {.engine = "auto", .petsc_built = true}, {1e15, "test"});
+  EXPECT_FALSE(kept.petsc);
+  EXPECT_EQ(kept.linear_solver, "cholmod");
   const SolverCost dual = estimate_solver_cost(s.K, s.K_nonzeros, s.contact_unknowns, p.expected_steps(), true);
   EXPECT_NE(kept.why.find(dual.detail), std::string::npos) << kept.why << "\n" << dual.detail;
 }

@@ -2,6 +2,7 @@
 // `[[contact.pair]]`, scheme/contact_pairs.hpp), on the serial engine and the dual solver.
 // The contact patch test: two blocks of different stiffness, meshed without matching nodes,
 // pressed together: the stress is uniform in both to round-off (node-to-segment fails it).
+#include "cases/builtin_cases.hpp"
 #include "io/case_file.hpp"
 #include "scheme/time_stepper.hpp"
 #include "../io/test_files.hpp"
@@ -16,57 +17,19 @@
 namespace vpc {
 namespace {
 
-/// Two blocks on [0, 1]^(d−1): the case's [mesh] below z (y) = 0.5, body "upper" above it
-/// (E = 3000 against 1000, other cells and diagonals), its top moved down by 0.01 t; rollers on
-/// the lower block's bottom and on both blocks' left (and front) sides. `gap`: the upper block
-/// starts that far above the lower one. `extra` is added at the end.
-std::string blocks(int d, double gap, const std::string& extra = "") {
-  const std::string axis = d == 2 ? "uy" : "uz";
-  const std::string mesh =
-      d == 2 ? fmt::format("generator = \"rectangle\"\nlower = [0.0, 0.0]\nupper = [1.0, 0.5]\ncells = [5, 3]\n")
-             : fmt::format("generator = \"box\"\nlower = [0.0, 0.0, 0.0]\nupper = [1.0, 1.0, 0.5]\ncells = [3, 4, 2]\n");
-  const std::string upper =
-      d == 2 ? fmt::format("generator = \"rectangle\"\nlower = [0.0, {0}]\nupper = [1.0, {1}]\ncells = [7, 4]\n"
-                           "diagonal = \"left\"\n", 0.5 + gap, 1.0 + gap)
-             : fmt::format("generator = \"box\"\nlower = [0.0, 0.0, {0}]\nupper = [1.0, 1.0, {1}]\ncells = [5, 4, 3]\n"
-                           "diagonal = \"alternate\"\n", 0.5 + gap, 1.0 + gap);
-  const std::string symmetry = d == 2 ? R"(["left", "bottom", "upper.left"])"
-                                      : R"(["left", "front", "bottom", "upper.left", "upper.front"])";
-  return fmt::format(R"toml(
-[mesh]
-{0}
-[[body]]
-name = "upper"
-[body.mesh]
-{1}
-[body.elasticity]
-E = 3000.0
-[boundary]
-symmetry = {2}
-[[boundary.displacement]]
-parts = ["upper.top"]
-{3} = "-0.01*t"
-[elasticity]
-kind = "{4}"
-E = 1000.0
-nu = 0.3
-[viscoplasticity]
-law = "elastic"
-[damage]
-source = "zero"
-[contact]
-gap = 0.0
-[[contact.pair]]
-slave = "upper.bottom"
-master = "top"
-[time]
-T = 1.0
-steps = 4
-{5}
-)toml",
-                     mesh, upper, symmetry, axis, d == 2 ? "plane-strain" : "isotropic", extra);
+/// The shipped contact patch test, cases/contact-patch-{2,3}d.toml: two blocks on [0, 1]^(d−1),
+/// the case's [mesh] below z (y) = 0.5, body "upper" above it (E = 3000 against 1000, other cells
+/// and diagonals), its top moved down by 0.01 t, on rollers; `extra` is added at the end.
+std::string blocks(int d, const std::string& extra = "") {
+  return case_source(fmt::format("contact-patch-{}d", d)).text + "\n" + extra;
 }
 
+/// The 2D blocks with the upper one `gap` above the lower one.
+Case blocks_apart(double gap, const std::string& extra = "") {
+  CaseOverrides o;
+  o.sets = {fmt::format("body[0].mesh.lower=[0.0, {}]", 0.5 + gap), fmt::format("body[0].mesh.upper=[1.0, {}]", 1.0 + gap)};
+  return parse_case(blocks(2, extra), "gap.toml", ".", o);
+}
 
 /// The largest deviation of any stress component from the uniform uniaxial σ_zz = σ (σ_yy in 2D).
 double patch_error(const State& s, int d, double sigma) {
@@ -83,7 +46,7 @@ double patch_error(const State& s, int d, double sigma) {
 TEST(ContactPairs, PatchTestIsPassedOnNonMatchingMeshesIn2dAnd3d) {
   for (int d : {2, 3}) {
     StepReport r;
-    const auto s = run_to_end(parse_case(blocks(d, 0.0), "patch.toml", ".", {}), &r);
+    const auto s = run_to_end(load_case(fmt::format("contact-patch-{}d", d)), &r);
     // Springs in series, 0.5 tall each: σ (0.5/E₁ + 0.5/E₂) = 0.01 with E' = E/(1 − ν²) in plane strain.
     const double soften = d == 2 ? 1 - 0.3 * 0.3 : 1.0;
     const double sigma = -0.01 / (0.5 * soften / 1000 + 0.5 * soften / 3000);
@@ -100,10 +63,10 @@ TEST(ContactPairs, PatchTestIsPassedOnNonMatchingMeshesIn2dAnd3d) {
 TEST(ContactPairs, AnOpenGapClosesWhereTheMotionReachesIt) {
   // The upper block starts 0.004 above: free until the top has moved 0.004 (t = 0.4), then the
   // blocks are pressed by the rest of the motion, uniformly.
-  const auto s = run_to_end(parse_case(blocks(2, 0.004), "gap.toml", ".", {}));
+  const auto s = run_to_end(blocks_apart(0.004));
   const double sigma = -0.006 / (0.5 * 0.91 / 1000 + 0.5 * 0.91 / 3000);
   EXPECT_LT(patch_error(s->state(), 2, sigma), 1e-10);
-  const Case open = parse_case(blocks(2, 0.004), "gap.toml", ".", {});
+  const Case open = blocks_apart(0.004);
   auto early = std::make_unique<TimeStepper>(open.problem, open.solvers);
   early->step();  // t = 0.25: still open
   EXPECT_EQ(early->state().lambda.cwiseAbs().maxCoeff(), 0.0);
@@ -204,25 +167,24 @@ TEST(ContactPairs, RestoredRunIsBitIdentical) {
 
 TEST(ContactPairs, BadPairsAreRefusedNamingTheKey) {
   auto error = [](const std::string& text) { return error_of([&] { parse_case(text, "c.toml", ".", {}); }); };
-  std::string one_body = blocks(2, 0.0);
+  std::string one_body = blocks(2);
   one_body.replace(one_body.find("master = \"top\""), 14, "master = \"upper.top\"");
   EXPECT_NE(error(one_body).find("are parts of one body"), std::string::npos) << error(one_body);
-  std::string missing = blocks(2, 0.0);
+  std::string missing = blocks(2);
   missing.replace(missing.find("master = \"top\""), 14, "master = \"tpo\"");
   EXPECT_NE(error(missing).find("part 'tpo' does not exist"), std::string::npos) << error(missing);
-  std::string both = blocks(2, 0.0);
+  std::string both = blocks(2);
   both.replace(both.find("[[boundary.displacement]]"), 25, "contact = [\"top\"]\n[[boundary.displacement]]");
   EXPECT_NE(error(both).find("is on Γ3"), std::string::npos) << error(both);
-  std::string coulomb = blocks(2, 0.0);
-  coulomb.replace(coulomb.find("gap = 0.0"), 9, "gap = 0.0\nfriction = \"coulomb\"\nmu = 0.3");
+  const std::string coulomb = blocks(2, "[contact]\nfriction = \"coulomb\"\nmu = 0.3\n");
   EXPECT_NE(error(coulomb).find("frictionless for now"), std::string::npos) << error(coulomb);
-  std::string far = blocks(2, 0.3, "");
-  EXPECT_NE(error(far).find("covers no node"), std::string::npos) << error(far);
-  std::string negative = blocks(2, 0.0);
+  const std::string far = error_of([] { blocks_apart(0.3); });
+  EXPECT_NE(far.find("covers no node"), std::string::npos) << far;
+  std::string negative = blocks(2);
   negative.replace(negative.find("master = \"top\""), 14, "master = \"top\"\nsearch = -1");
   EXPECT_NE(error(negative).find("expected a distance >= 0"), std::string::npos) << error(negative);
   // The primal solver has one dof per row: asked for on pairs, a clear error.
-  const Case c = parse_case(blocks(2, 0.0, "[solver]\ncontact = \"primal-active-set\"\n"), "p.toml", ".", {});
+  const Case c = parse_case(blocks(2, "[solver]\ncontact = \"primal-active-set\"\n"), "p.toml", ".", {});
   EXPECT_NE(error_of([&] { TimeStepper s(c.problem, c.solvers); }).find("dual contact solvers for now"),
             std::string::npos);
 }
