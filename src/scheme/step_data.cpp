@@ -10,7 +10,7 @@
 namespace vpc {
 
 StepData step_data(const DiscreteSystem& sys, double t) {
-  StepData data{t, load(sys, t), prescribed_displacement(sys, t), {}};
+  StepData data{t, load(sys, t), prescribed_displacement(sys, t), {}, {}};
   std::string bad;
   data.gap = contact_gap(sys, t, bad);
   if (sys.problem->contact.frictional()) data.tresca = friction_bounds(sys, t, bad);

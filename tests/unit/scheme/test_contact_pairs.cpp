@@ -180,6 +180,9 @@ TEST(ContactPairs, BadPairsAreRefusedNamingTheKey) {
   EXPECT_NE(error(coulomb).find("frictionless for now"), std::string::npos) << error(coulomb);
   const std::string far = error_of([] { blocks_apart(0.3); });
   EXPECT_NE(far.find("covers no node"), std::string::npos) << far;
+  // Overlapping at t = 0 by 0.01 (a fifth of a cell): refused, as a body inside an obstacle is.
+  const std::string overlap = error_of([] { blocks_apart(-0.01); });
+  EXPECT_NE(overlap.find("lies 0.01 inside the master part 'top' at t = 0"), std::string::npos) << overlap;
   std::string negative = blocks(2);
   negative.replace(negative.find("master = \"top\""), 14, "master = \"top\"\nsearch = -1");
   EXPECT_NE(error(negative).find("expected a distance >= 0"), std::string::npos) << error(negative);
