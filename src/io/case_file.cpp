@@ -1161,6 +1161,7 @@ void read_contact_pairs(Section& ct, Problem& p, const Origins& origins) {
              quote(*part), printable(fmt::format("{}", fmt::join(p.mesh.part_names(), ", ")), 300));
     }
     pair.search = s.number("search", 0.0);
+    if (s.has("law")) pair.law = read_contact_law(s);  // else [contact]'s
     if (!(pair.search >= 0) || !std::isfinite(pair.search))
       fail("{}: expected a distance >= 0 (0: the slave part's longest facet edge)", s.where("search"));
     s.finish();

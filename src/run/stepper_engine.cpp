@@ -101,7 +101,8 @@ void describe_data(const Problem& p, const SolverChoice& solvers, double setup_s
                         pl.friction ? ", " + pl.friction->describe() : "");
   std::string contact = p.contact.parts.empty() ? std::string() : fmt::format("Γ3 (contact): {} ", fmt::join(p.contact.parts, ", "));
   for (const ContactPair& pair : p.contact.pairs)
-    contact += fmt::format("{}pair: slave {}, master {} ", contact.empty() ? "" : "; ", pair.slave, pair.master);
+    contact += fmt::format("{}pair: slave {}, master {}{} ", contact.empty() ? "" : "; ", pair.slave, pair.master,
+                           pair.law ? ", " + pair.law->describe() : "");
   fmt::print("  {}{}({})\n", held, contact, laws);
   fmt::print("  elasticity: {} (E = {}, nu = {}); G: {}; phi: {}\n", p.elasticity.name(), p.elasticity.young(),
              p.elasticity.poisson(), p.law->describe(), printable(p.source->describe(), 200));

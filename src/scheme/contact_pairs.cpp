@@ -60,6 +60,7 @@ std::vector<ContactRow> pair_rows(const Problem& p, const std::vector<int>& cond
     mortar::MortarOptions options;
     options.search_margin = pair.search > 0 ? pair.search : longest_edge(slave);
     const mortar::MortarCoupling c = located(where, [&] { return mortar::mortar_coupling(slave, master, options); });
+    const ContactLaw& law = *p.contact.laws()[static_cast<std::size_t>(p.contact.pair_law_index(q))];
     std::map<int, std::vector<std::pair<int, double>>> masters;  // slave node -> (master node, M_jk)
     for (const auto& t : c.m) masters[t.row()].emplace_back(t.col(), t.value());
     std::size_t covered = 0;
@@ -95,7 +96,9 @@ std::vector<ContactRow> pair_rows(const Problem& p, const std::vector<int>& cond
              where, s.id, x[0], x[1], x[2], pair.slave, -row.gap, pair.master);
       }
       row.pair = static_cast<int>(q);
-      row.law = 0;  // [contact]'s law (Problem::validate: Signorini on pairs)
+      // The pair's law, lumped at the node over its covered measure D_jj (k_j = c D_jj for a compliance).
+      row.law = p.contact.pair_law_index(q);
+      row.stiffness = law.lumped(s.d, 1);
       row.obstacles = 0;
       for (const auto& [k, m] : masters[s.id]) {
         for (int i = 0; i < d; ++i) {

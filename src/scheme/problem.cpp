@@ -114,6 +114,7 @@ double contact_gap_at(const ContactSpec& contact, const Point& x, const Point& n
 std::vector<std::shared_ptr<const ContactLaw>> ContactSpec::laws() const {
   std::vector<std::shared_ptr<const ContactLaw>> all = {law};
   for (const PartContactLaw& p : part_laws) all.push_back(p.law);
+  for (const ContactPair& p : pairs) all.push_back(p.law ? p.law : law);
   return all;
 }
 
@@ -126,6 +127,7 @@ int ContactSpec::law_index(const std::string& part) const {
 std::vector<std::shared_ptr<const FrictionLaw>> ContactSpec::frictions() const {
   std::vector<std::shared_ptr<const FrictionLaw>> all = {friction};
   for (const PartContactLaw& p : part_laws) all.push_back(p.friction);
+  all.resize(all.size() + pairs.size(), nullptr);  // pairs are frictionless (check_pairs)
   return all;
 }
 
@@ -234,7 +236,7 @@ int body_of_part(const Mesh& mesh, const std::string& part) {
 }
 
 /// Contact pairs (SPEC §8): a slave and a master part, each of one body, of two bodies, off Γ3;
-/// Signorini without friction (normal compliance and friction on pairs: issue 29's next parts).
+/// any normal law, without friction (friction on pairs: issue 29's next part).
 void check_pairs(const Problem& p) {
   for (std::size_t q = 0; q < p.contact.pairs.size(); ++q) {
     const ContactPair& pair = p.contact.pairs[q];
@@ -253,8 +255,6 @@ void check_pairs(const Problem& p) {
             "([[body]])", at, pair.slave, pair.master);
   }
   if (p.contact.pairs.empty()) return;
-  require(p.contact.law->rigid(), "{}: contact pairs take the Signorini law for now ([contact] law is {})",
-          p.where("contact.pair"), p.contact.law->describe());
   require(!p.contact.frictional(), "{}: contact pairs are frictionless for now; friction on a case with pairs "
           "(issue 29's next part) is not built", p.where("contact.pair"));
 }

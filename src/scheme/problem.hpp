@@ -33,12 +33,13 @@ struct PartContactLaw {
   std::shared_ptr<const FrictionLaw> friction;
 };
 
-/// Contact between two bodies (SPEC §8, `[[contact.pair]]`): Signorini for the jump of u across
+/// Contact between two bodies (SPEC §8, `[[contact.pair]]`): a normal law for the jump of u across
 /// a slave and a master part, by dual mortar (mortar/, scheme/contact_pairs.hpp), the gap measured
 /// from the slave side along its nodal normals in the reference configuration.
 struct ContactPair {
   std::string slave, master;  // boundary parts of two different bodies
   double search = 0;          // facets this far apart still couple (0: the slave part's longest facet)
+  std::shared_ptr<const ContactLaw> law;  // its normal law (the pair's `law`; nullptr: [contact]'s)
 };
 
 struct ContactSpec {
@@ -51,13 +52,16 @@ struct ContactSpec {
   std::vector<PartContactLaw> part_laws;
   /// The friction law on the parts of Γ3 that no part_laws entry names (nullptr: frictionless, the paper's (2.6)).
   std::shared_ptr<const FrictionLaw> friction;
-  /// Every law: `law`, then part_laws' in order (ContactRow::law and PartContactNode::law index it).
+  /// Every law: `law`, then part_laws' in order, then each pair's (ContactRow::law and
+  /// PartContactNode::law index it).
   std::vector<std::shared_ptr<const ContactLaw>> laws() const;
   /// Every friction law, in the order of laws() (nullptr: that entry is frictionless).
   std::vector<std::shared_ptr<const FrictionLaw>> frictions() const;
   bool frictional() const;
   /// The index in laws() of the law on one part of Γ3.
   int law_index(const std::string& part) const;
+  /// The index in laws() of pair q's law.
+  int pair_law_index(std::size_t q) const { return static_cast<int>(1 + part_laws.size() + q); }
   /// Contact unknowns per node (State::contact_block): the largest ContactLaw::block_size, or
   /// `dim` (λ_ν and d − 1 tangential forces) with friction on some part.
   int block_size(int dim) const;

@@ -124,7 +124,7 @@ TEST(SolverPlan, ContactPairsMoveToThePetscEngineAsOneBodyDoes) {
   SolverChoice choice;
   const double direct = cholmod_memory(p, s, choice).total(), cg = iterative_memory(p, s).total();
   const MemoryLimit between{0.5 * (direct + cg), "test"};
-  p.contact.pairs.push_back({"top", "bottom", 0.0});  // the plan reads only that there are pairs
+  p.contact.pairs.push_back({"top", "bottom", 0.0, nullptr});  // the plan reads only that there are pairs
   const SolverPlan moved = plan_solver(p, s, choice, {.engine = "auto", .petsc_built = true}, between);
   EXPECT_TRUE(moved.petsc);
   EXPECT_EQ(moved.linear_solver, "cg-gamg");

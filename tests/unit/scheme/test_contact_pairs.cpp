@@ -60,6 +60,34 @@ TEST(ContactPairs, PatchTestIsPassedOnNonMatchingMeshesIn2dAnd3d) {
   }
 }
 
+// A pair's own normal law (`law` in [[contact.pair]]): linear normal compliance c between the
+// blocks adds the interface as a third spring in series, σ (0.5/E₁' + 0.5/E₂' + 1/c) = −0.01 with
+// the pressure c × the closure; the stress stays uniform to round-off on non-matching meshes, in
+// 2D and 3D, and the pair's force is σ × the area. A power law (e = 2) on the same pair: the closure
+// δ solves σ = c δ², still uniform.
+TEST(ContactPairs, NormalComplianceOnAPairIsAThirdSpringInSeries) {
+  for (int d : {2, 3}) {
+    std::string text = blocks(d);
+    text.replace(text.find("master = \"top\""), 14, "master = \"top\"\nlaw = \"normal-compliance\"\nstiffness = 5000.0");
+    StepReport r;
+    const auto s = run_to_end(parse_case(text, "compliance.toml", ".", {}), &r);
+    const double soften = d == 2 ? 1 - 0.3 * 0.3 : 1.0;
+    const double sigma = -0.01 / (0.5 * soften / 1000 + 0.5 * soften / 3000 + 1.0 / 5000);
+    EXPECT_LT(patch_error(s->state(), d, sigma), 1e-11) << "d = " << d;
+    ASSERT_EQ(r.pair_force.size(), 1u);
+    EXPECT_NEAR(r.pair_force[0], -sigma, 1e-11 * std::abs(sigma)) << "d = " << d;
+  }
+  std::string power = blocks(2);
+  power.replace(power.find("master = \"top\""), 14,
+                "master = \"top\"\nlaw = \"normal-compliance\"\nstiffness = 1e6\nexponent = 2");
+  const auto s = run_to_end(parse_case(power, "power.toml", ".", {}));
+  // −σ = c δ² and the blocks take 0.01 − δ: σ (0.5/E₁' + 0.5/E₂') = −(0.01 − δ).
+  const double flex = 0.5 * 0.91 / 1000 + 0.5 * 0.91 / 3000;
+  double delta = 0.001;
+  for (int i = 0; i < 100; ++i) delta -= (1e6 * delta * delta * flex - (0.01 - delta)) / (2e6 * delta * flex + 1);
+  EXPECT_LT(patch_error(s->state(), 2, -1e6 * delta * delta), 1e-10);
+}
+
 TEST(ContactPairs, AnOpenGapClosesWhereTheMotionReachesIt) {
   // The upper block starts 0.004 above: free until the top has moved 0.004 (t = 0.4), then the
   // blocks are pressed by the rest of the motion, uniformly.
