@@ -120,8 +120,18 @@ ProblemSize problem_size(const Problem& p) {
   return s;
 }
 
+namespace {
+
+/// Contact pairs take the dual solver on every engine (scheme_solvers.cpp), whatever m: its dense
+/// S = N K⁻¹Nᵀ and the box QP's reduced copy, replicated on every rank (0 without pairs).
+double pair_dual_bytes(const Problem& p, const ProblemSize& s) {
+  return p.contact.pairs.empty() ? 0.0 : 2 * 8.0 * s.contact_unknowns * s.contact_unknowns;
+}
+
+}  // namespace
+
 MemoryEstimate cholmod_memory(const Problem& p, const ProblemSize& s, const SolverChoice& solvers) {
-  const bool dual = solvers.contact == "active-set" ||
+  const bool dual = solvers.contact == "active-set" || !p.contact.pairs.empty() ||
                     (solvers.contact == "auto" && (s.power_law || s.contact_unknowns <= kDualContactRows));
   return estimate_run_memory(mesh_bytes(s, p.mesh.dim()), matrix_bytes(s), s.K, s.H, solvers.damage == "active-set",
                              dual ? s.contact_unknowns : 0);
@@ -135,6 +145,7 @@ MemoryEstimate mumps_memory(const Problem& p, const ProblemSize& s, int ranks, i
         mumps_factor_bytes(s.K, ranks, ranks_on_machine) + mumps_factor_bytes(s.H, ranks, ranks_on_machine));
   // The dual contact solver's W = K⁻¹Bᵀ (dense, one column per contact unknown) where it takes the dual.
   if (s.contact_unknowns <= kDualContactRows) e.add("contact solver", 8.0 * s.unknowns * s.contact_unknowns);
+  if (const double S = pair_dual_bytes(p, s); S > 0) e.add("the dual's S for the contact pairs", S);
   return e;
 }
 
@@ -143,6 +154,7 @@ MemoryEstimate iterative_memory(const Problem& p, const ProblemSize& s) {
   e.add("mesh and state", mesh_bytes(s, p.mesh.dim()));
   e.add("matrices", matrix_bytes(s));
   e.add("multigrid and Krylov vectors", kIterativeBytesPerKNonzero * s.K_nonzeros);
+  if (const double S = pair_dual_bytes(p, s); S > 0) e.add("the dual's S for the contact pairs", S);
   return e;
 }
 

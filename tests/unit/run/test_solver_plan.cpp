@@ -137,5 +137,24 @@ TEST(SolverPlan, ContactPairsMoveToThePetscEngineAsOneBodyDoes) {
   EXPECT_NE(kept.why.find(dual.detail), std::string::npos) << kept.why << "\n" << dual.detail;
 }
 
+// Pairs take the dual whatever m, so every engine's estimate counts its dense S (m² twice): a pair
+// of 20,000 slave nodes needs 6.4 GB there, and a limit below that refuses the run before set-up.
+TEST(SolverPlan, ContactPairsCountTheDualsDenseS) {
+  auto f = load_case("foundation-3d", {}, {.cells = 12});
+  Problem& p = *f.problem;
+  ProblemSize s = problem_size(p);
+  s.contact_unknowns = 20000;
+  const SolverChoice choice;
+  const double S = 2 * 8.0 * 20000 * 20000;
+  const double without = cholmod_memory(p, s, choice).total();
+  const double iterative_without = iterative_memory(p, s).total(), mumps_without = mumps_memory(p, s, 2, 2).total();
+  p.contact.pairs.push_back({"top", "bottom", 0.0, nullptr});
+  EXPECT_GE(cholmod_memory(p, s, choice).total() - without, S);
+  EXPECT_DOUBLE_EQ(iterative_memory(p, s).total() - iterative_without, S);
+  EXPECT_DOUBLE_EQ(mumps_memory(p, s, 2, 2).total() - mumps_without, S);
+  const std::string msg = error_of([&] { plan_solver(p, s, choice, {.engine = "auto", .petsc_built = true}, {1e9, "test"}); });
+  EXPECT_NE(msg.find("S for the contact pairs"), std::string::npos) << msg;
+}
+
 }  // namespace
 }  // namespace vpc
