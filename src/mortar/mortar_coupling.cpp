@@ -72,8 +72,9 @@ MortarCoupling mortar_coupling(const Surface& slave, const Surface& master, cons
     }
   require(n_facing > 0 || n_backward == 0,
           "mortar: none of the {} candidate pairs of slave and master facets face each other (every slave normal "
-          "points the same way as the master normals near it): one surface's facets are ordered with their normals "
-          "pointing into its body (see FacetOrder)",
+          "points the same way as the master normals near it): the master part is on the far side of its body from "
+          "the slave (name the face that meets the slave), or one surface's facets are ordered with their normals "
+          "pointing into its body (FacetOrder)",
           pairs.n_pairs());
 
   // Per slave node: D_jj and the row of M as (master node, value), accumulated facet by facet.

@@ -77,8 +77,8 @@ std::vector<ContactRow> pair_rows(const Problem& p, const std::vector<int>& cond
         if (fixed[i] < 0 || row.direction[i] == 0) continue;
         const Point& x = mesh.node(s.id);
         require(fixed[i] == 0, "{}: slave node {} ({}, {}, {}) has u{} prescribed by a displacement that moves; a "
-                "contact pair's nodes may be clamped or on a symmetry plane, not moved", where, s.id, x[0], x[1], x[2],
-                "xyz"[i]);
+                "contact pair's slave nodes may be clamped or on a symmetry plane, not moved (a moved part can be the "
+                "master)", where, s.id, x[0], x[1], x[2], "xyz"[i]);
         row.direction[i] = 0;
       }
       const double l = std::hypot(row.direction[0], row.direction[1], row.direction[2]);
@@ -100,18 +100,9 @@ std::vector<ContactRow> pair_rows(const Problem& p, const std::vector<int>& cond
       row.law = p.contact.pair_law_index(q);
       row.stiffness = law.lumped(s.d, 1);
       row.obstacles = 0;
-      for (const auto& [k, m] : masters[s.id]) {
-        for (int i = 0; i < d; ++i) {
-          const int by = condition[static_cast<std::size_t>(k) * d + i];
-          const Point& x = mesh.node(k);
-          require(by <= 0 || row.direction[i] == 0,
-                  "{}: master node {} ({}, {}, {}) has u{} prescribed by a displacement that moves; a contact pair's "
-                  "nodes may be clamped or on a symmetry plane, not moved (the pair couples the master nodes within "
-                  "its search distance {:.6g} of the slave: a smaller [[contact.pair]] search may leave it out)",
-                  where, k, x[0], x[1], x[2], "xyz"[i], options.search_margin);
-        }
-        row.masters.emplace_back(k, m / s.d);
-      }
+      // A master node's prescribed components leave N (its free dofs alone) and, where they move,
+      // move the bound instead (step_data.cpp: add_master_motion).
+      for (const auto& [k, m] : masters[s.id]) row.masters.emplace_back(k, m / s.d);
       rows.push_back(std::move(row));
     }
     require(covered > 0, "{}: master part '{}' covers no node of slave part '{}' (their facets must face each other "

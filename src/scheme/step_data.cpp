@@ -9,10 +9,31 @@
 
 namespace vpc {
 
+namespace {
+
+/// A pair's master node may be moved by a prescribed displacement (a part driven as a rigid
+/// punch): N holds the free dofs only, so its motion moves the bound instead. The row
+/// ν·u_j − Σ_k w_k ν·u_k ≤ g with u_k = u_k,free + u_D,k is N u_free ≤ g + Σ_k w_k ν·u_D,k
+/// (the slave's own prescribed components are zero: contact_pairs.cpp refuses moving ones).
+void add_master_motion(const DiscreteSystem& sys, const Vector& u_D, Vector& gap) {
+  if (u_D.size() == 0) return;
+  const int d = sys.part.mesh().dim();
+  Eigen::Index k = 0;
+  for (const PartContactNode& node : sys.part.contact) {
+    if (!node.owned) continue;
+    for (const auto& [master, w] : node.masters)
+      for (int i = 0; i < d; ++i) gap[k] += w * node.direction[i] * u_D[static_cast<Eigen::Index>(master) * d + i];
+    ++k;
+  }
+}
+
+}  // namespace
+
 StepData step_data(const DiscreteSystem& sys, double t) {
   StepData data{t, load(sys, t), prescribed_displacement(sys, t), {}, {}};
   std::string bad;
   data.gap = contact_gap(sys, t, bad);
+  add_master_motion(sys, data.u_D, data.gap);
   if (sys.problem->contact.frictional()) data.tresca = friction_bounds(sys, t, bad);
   check_step_data(sys, bad);
   return data;
@@ -28,6 +49,7 @@ void check_step_data(const DiscreteSystem& sys, const std::string& bad) {
 Vector checked_contact_gap(const DiscreteSystem& sys, double t) {
   std::string bad;
   Vector gap = contact_gap(sys, t, bad);
+  if (!sys.problem->contact.pairs.empty()) add_master_motion(sys, prescribed_displacement(sys, t), gap);
   check_step_data(sys, bad);
   return gap;
 }

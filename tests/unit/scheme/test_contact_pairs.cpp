@@ -88,6 +88,25 @@ TEST(ContactPairs, NormalComplianceOnAPairIsAThirdSpringInSeries) {
   EXPECT_LT(patch_error(s->state(), 2, -1e6 * delta * delta), 1e-10);
 }
 
+// A master part moved by a prescribed displacement (a face driven as a rigid punch): its nodes
+// leave N and their motion moves the bound. The lower block's top rises by 0.005 t against the
+// upper block, whose top is held: the upper block is compressed uniformly, σ = −0.005 E₂'/0.5, to
+// round-off, and the pair carries −σ.
+TEST(ContactPairs, AMovedMasterPartMovesTheBound) {
+  std::string text = blocks(2);
+  text.replace(text.find("uy = \"-0.01*t\""), 14, "uy = \"0\"\n[[boundary.displacement]]\nparts = [\"top\"]\nuy = \"0.005*t\"");
+  StepReport r;
+  const auto s = run_to_end(parse_case(text, "moved.toml", ".", {}), &r);
+  const double sigma = -0.005 * 3000 / (0.5 * (1 - 0.3 * 0.3));
+  double worst = 0;
+  const Mesh& m = s->mesh();
+  for (int c = 0; c < m.n_cells(); ++c)
+    if (m.cell_body(c) == 1) worst = std::max(worst, std::abs(s->state().sigma[static_cast<std::size_t>(c)][1] - sigma));
+  EXPECT_LT(worst, 1e-11 * std::abs(sigma));
+  ASSERT_EQ(r.pair_force.size(), 1u);
+  EXPECT_NEAR(r.pair_force[0], -sigma, 1e-11 * std::abs(sigma));
+}
+
 TEST(ContactPairs, AnOpenGapClosesWhereTheMotionReachesIt) {
   // The upper block starts 0.004 above: free until the top has moved 0.004 (t = 0.4), then the
   // blocks are pressed by the rest of the motion, uniformly.
