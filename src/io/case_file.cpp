@@ -1161,7 +1161,12 @@ void read_contact_pairs(Section& ct, Problem& p, const Origins& origins) {
              quote(*part), printable(fmt::format("{}", fmt::join(p.mesh.part_names(), ", ")), 300));
     }
     pair.search = s.number("search", 0.0);
-    if (s.has("law")) pair.law = read_contact_law(s);  // else [contact]'s
+    if (s.has("law")) {
+      pair.law = read_contact_law(s);
+    } else {  // [contact]'s law; a compliance parameter alone is a forgotten law
+      for (const char* k : {"stiffness", "exponent"})
+        if (s.has(k)) fail("{}: {} needs law = \"normal-compliance\" in the same table", s.where(k), k);
+    }
     if (!(pair.search >= 0) || !std::isfinite(pair.search))
       fail("{}: expected a distance >= 0 (0: the slave part's longest facet edge)", s.where("search"));
     s.finish();

@@ -16,11 +16,12 @@ namespace vpc {
 /// of the body, from the cells they bound) and their nodes, whose ids are the mesh's node numbers.
 mortar::Surface part_surface(const Mesh& mesh, const std::string& part);
 
-/// The rows of every pair of p.contact.pairs, in increasing slave node order within a pair.
-/// A slave node with every component prescribed has no row; a component prescribed at a slave
-/// or master node drops out of the row where it is zero (a clamped part, a symmetry plane), and
-/// is refused where it moves (a prescribed displacement: its value would enter the gap). Throws
-/// vpc::Error naming the pair for a master part that covers no slave node.
+/// The rows of every pair of p.contact.pairs, in increasing slave node order within a pair, each
+/// with its pair's law lumped over D_jj. A slave node with every component prescribed has no row;
+/// a component prescribed at a slave node drops out of the row where it is zero (a clamped part, a
+/// symmetry plane) and is refused where it moves; a master node's prescribed components leave N
+/// and, where they move, move the row's bound (step_data.cpp). Throws vpc::Error naming the pair
+/// for a master part that covers no slave node, or a slave node inside the master at t = 0.
 std::vector<ContactRow> pair_rows(const Problem& p, const std::vector<int>& condition);
 
 }  // namespace vpc

@@ -230,6 +230,10 @@ TEST(ContactPairs, BadPairsAreRefusedNamingTheKey) {
   // Overlapping at t = 0 by 0.01 (a fifth of a cell): refused, as a body inside an obstacle is.
   const std::string overlap = error_of([] { blocks_apart(-0.01); });
   EXPECT_NE(overlap.find("lies 0.01 inside the master part 'top' at t = 0"), std::string::npos) << overlap;
+  std::string no_law = blocks(2);
+  no_law.replace(no_law.find("master = \"top\""), 14, "master = \"top\"\nstiffness = 5000.0");
+  EXPECT_NE(error(no_law).find("stiffness needs law = \"normal-compliance\" in the same table"), std::string::npos)
+      << error(no_law);
   std::string negative = blocks(2);
   negative.replace(negative.find("master = \"top\""), 14, "master = \"top\"\nsearch = -1");
   EXPECT_NE(error(negative).find("expected a distance >= 0"), std::string::npos) << error(negative);
