@@ -30,8 +30,10 @@ std::vector<std::pair<std::string, ContactLawFactory>>& table() {
 
 }  // namespace
 
+std::vector<std::string> compliance_keys() { return {"stiffness", "exponent"}; }
+
 SignoriniLaw::SignoriniLaw(LawKeys& keys) {
-  for (const char* key : {"stiffness", "exponent"})
+  for (const std::string& key : compliance_keys())
     if (keys.has(key)) fail("{}: {} belongs to law = \"normal-compliance\" (the law here is Signorini)", keys.where(key), key);
 }
 

@@ -16,6 +16,9 @@ using ContactLawFactory = std::function<std::shared_ptr<const ContactLaw>(LawKey
 bool register_contact_law(const std::string& name, ContactLawFactory make);
 /// The registered names: "signorini", "normal-compliance", then the added ones.
 std::vector<std::string> contact_law_names();
+/// The keys of the built-in compliance law ("stiffness", "exponent"): a table whose law is
+/// Signorini, or that names no law, may not have them.
+std::vector<std::string> compliance_keys();
 /// The law `name` with its keys; throws vpc::Error listing the names for an unknown one.
 std::shared_ptr<const ContactLaw> make_contact_law(const std::string& name, LawKeys& keys);
 

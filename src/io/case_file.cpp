@@ -1164,7 +1164,7 @@ void read_contact_pairs(Section& ct, Problem& p, const Origins& origins) {
     if (s.has("law")) {
       pair.law = read_contact_law(s);
     } else {  // [contact]'s law; a compliance parameter alone is a forgotten law
-      for (const char* k : {"stiffness", "exponent"})
+      for (const std::string& k : compliance_keys())
         if (s.has(k)) fail("{}: {} needs law = \"normal-compliance\" in the same table", s.where(k), k);
     }
     if (!(pair.search >= 0) || !std::isfinite(pair.search))

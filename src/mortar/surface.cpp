@@ -22,7 +22,7 @@ Eigen::Vector3d raw_normal(int dim, const std::vector<Point>& x, const int* f) {
   return (b - a).cross(vec(x[f[2]]) - a);
 }
 
-double longest_edge(int dim, const std::vector<Point>& x, const int* f) {
+double facet_longest_edge(int dim, const std::vector<Point>& x, const int* f) {
   double h = 0;
   for (int a = 0; a < dim; ++a)
     for (int b = a + 1; b < dim; ++b) h = std::max(h, (vec(x[f[a]]) - vec(x[f[b]])).norm());
@@ -63,7 +63,7 @@ Surface::Surface(int dim, std::vector<Point> x, std::vector<int> ids, std::vecto
       for (int b = 0; b < a; ++b) require(v[a] != v[b], "mortar surface: facet {} names node {} twice", f, v[a]);
     }
     const Eigen::Vector3d n = raw_normal(dim_, x_, v);
-    const double len = n.norm(), h = longest_edge(dim_, x_, v);
+    const double len = n.norm(), h = facet_longest_edge(dim_, x_, v);
     // Degenerate: a zero-length segment, or a triangle whose area is below 1e-12 of its
     // longest edge squared (a sliver whose normal is roundoff).
     require(len > 0 && (dim_ == 2 || len > 2e-12 * h * h), "mortar surface: facet {} (node ids {}, {}{}) is degenerate",
@@ -115,12 +115,18 @@ void orient_away_from(int dim, const std::vector<Point>& x, std::vector<int>& fa
     int* v = &facets[f * dim];
     const Eigen::Vector3d n = raw_normal(dim, x, v);
     const double side = n.dot(vec(inside[f]) - vec(x[v[0]]));
-    const double h = longest_edge(dim, x, v);
+    const double h = facet_longest_edge(dim, x, v);
     require(std::abs(side) > 1e-12 * n.norm() * h,
             "orient_away_from: the inside point of facet {} lies in the facet's {} (or the facet is degenerate)", f,
             dim == 2 ? "line" : "plane");
     if (side > 0) std::swap(v[0], v[1]);
   }
+}
+
+double Surface::longest_edge() const {
+  double h = 0;
+  for (int f = 0; f < n_facets(); ++f) h = std::max(h, facet_longest_edge(dim_, x_, facet(f)));
+  return h;
 }
 
 }  // namespace vpc::mortar

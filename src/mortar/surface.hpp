@@ -45,6 +45,8 @@ class Surface {
   const Point& normal(int f) const { return normal_[f]; }
   /// Length (2D) or area (3D) of facet f.
   double measure(int f) const { return measure_[f]; }
+  /// The longest edge of any facet (a contact pair's default search distance).
+  double longest_edge() const;
 
  private:
   void check_orientation() const;

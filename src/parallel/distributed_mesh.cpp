@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <unordered_map>
 
 namespace vpc {
 
@@ -82,6 +83,7 @@ std::vector<int> partition_cells(const Mesh& mesh, const NodeCells& nc, int n_pa
 /// the lowest). The ranks whose cells touch those nodes keep them as ghosts, as any other; the
 /// owner holds a node none of its cells may touch (its K and M rows come from the others').
 void own_pairs_together(const std::vector<ContactRow>& rows, int n_parts, std::vector<int>& owner) {
+  if (std::ranges::none_of(rows, [](const ContactRow& r) { return r.pair >= 0; })) return;
   std::vector<int> root(owner.size(), -1);  // union–find over the pair rows' nodes
   auto find = [&](int i) {
     while (root[i] != i) i = root[i] = root[root[i]];
@@ -95,7 +97,7 @@ void own_pairs_together(const std::vector<ContactRow>& rows, int n_parts, std::v
   };
   for (const ContactRow& r : rows)
     for (const auto& [k, w] : r.masters) join(r.node, k);
-  std::vector<std::vector<int>> count(owner.size());  // per set's root: its nodes per rank
+  std::unordered_map<int, std::vector<int>> count;  // per set's root: its nodes per rank
   for (std::size_t i = 0; i < owner.size(); ++i)
     if (root[i] >= 0) {
       std::vector<int>& c = count[find(static_cast<int>(i))];
@@ -104,7 +106,7 @@ void own_pairs_together(const std::vector<ContactRow>& rows, int n_parts, std::v
     }
   for (std::size_t i = 0; i < owner.size(); ++i)
     if (root[i] >= 0) {
-      const std::vector<int>& c = count[find(static_cast<int>(i))];
+      const std::vector<int>& c = count.at(find(static_cast<int>(i)));
       owner[i] = static_cast<int>(std::max_element(c.begin(), c.end()) - c.begin());
     }
 }

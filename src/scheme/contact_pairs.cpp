@@ -32,22 +32,6 @@ mortar::Surface part_surface(const Mesh& mesh, const std::string& part) {
   return mortar::Surface(d, std::move(x), std::move(ids), std::move(facets), mortar::FacetOrder::Outward);
 }
 
-namespace {
-
-/// The longest facet edge of a surface: the default search distance of a pair.
-double longest_edge(const mortar::Surface& s) {
-  double h = 0;
-  for (int f = 0; f < s.n_facets(); ++f)
-    for (int a = 0; a < s.nodes_per_facet(); ++a) {
-      const Point& p = s.node(s.facet(f)[a]);
-      const Point& q = s.node(s.facet(f)[(a + 1) % s.nodes_per_facet()]);
-      h = std::max(h, std::hypot(p[0] - q[0], p[1] - q[1], p[2] - q[2]));
-    }
-  return h;
-}
-
-}  // namespace
-
 std::vector<ContactRow> pair_rows(const Problem& p, const std::vector<int>& condition) {
   const Mesh& mesh = p.mesh;
   const int d = mesh.dim();
@@ -58,7 +42,7 @@ std::vector<ContactRow> pair_rows(const Problem& p, const std::vector<int>& cond
     const mortar::Surface slave = located(where, [&] { return part_surface(mesh, pair.slave); });
     const mortar::Surface master = located(where, [&] { return part_surface(mesh, pair.master); });
     mortar::MortarOptions options;
-    options.search_margin = pair.search > 0 ? pair.search : longest_edge(slave);
+    options.search_margin = pair.search > 0 ? pair.search : slave.longest_edge();
     const mortar::MortarCoupling c = located(where, [&] { return mortar::mortar_coupling(slave, master, options); });
     const ContactLaw& law = *p.contact.laws()[static_cast<std::size_t>(p.contact.pair_law_index(q))];
     std::map<int, std::vector<std::pair<int, double>>> masters;  // slave node -> (master node, M_jk)

@@ -6,49 +6,13 @@ import pytest
 
 import vpcontact
 
-TWO_BLOCKS = """
-[mesh]
-generator = "rectangle"
-lower = [0.0, 0.0]
-upper = [1.0, 0.5]
-cells = [5, 3]
-[[body]]
-name = "upper"
-[body.mesh]
-generator = "rectangle"
-lower = [0.0, 0.5]
-upper = [1.0, 1.0]
-cells = [7, 4]
-[body.elasticity]
-E = 3000.0
-[boundary]
-symmetry = ["left", "bottom", "upper.left"]
-[[boundary.displacement]]
-parts = ["upper.top"]
-uy = "-0.01*t"
-[elasticity]
-kind = "plane-strain"
-E = 1000.0
-nu = 0.3
-[viscoplasticity]
-law = "elastic"
-[damage]
-source = "zero"
-[contact]
-gap = 0.0
-[[contact.pair]]
-slave = "upper.bottom"
-master = "top"
-[time]
-T = 1.0
-steps = 2
-"""
 
 
 @pytest.fixture(scope="module")
 def results(tmp_path_factory):
     out = tmp_path_factory.mktemp("bodies")
-    vpcontact.Simulation(vpcontact.Case("two-blocks.toml", text=TWO_BLOCKS), output=out).run()
+    # The shipped contact patch test (cases/contact-patch-2d.toml): two blocks, the upper one "upper".
+    vpcontact.Simulation(vpcontact.Case("contact-patch-2d", steps=2), output=out).run()
     return vpcontact.read(out)
 
 
