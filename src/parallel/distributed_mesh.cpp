@@ -80,9 +80,15 @@ std::vector<int> partition_cells(const Mesh& mesh, const NodeCells& nc, int n_pa
 /// Nᵀλ and S = N K⁻¹Nᵀ sum over the ranks exactly, with no ghost columns): every node of a row
 /// must have the row's owner. Rows sharing a master node chain along the interface, so each
 /// connected set of pair nodes goes to one rank, the one that owns most of it already (ties:
-/// the lowest). The ranks whose cells touch those nodes keep them as ghosts, as any other; the
-/// owner holds a node none of its cells may touch (its K and M rows come from the others').
-void own_pairs_together(const std::vector<ContactRow>& rows, int n_parts, std::vector<int>& owner) {
+/// the lowest). The primal solver writes a slave node's dofs in its masters' (K_rot = Pᵀ K P,
+/// solvers/contact_frame.hpp), which a rank can form from its cells only if it holds the masters of
+/// every slave node its cells touch: so the cells at a slave node go to its owner too (slave nodes
+/// sharing a cell join one set), and no other rank holds a slave node. The other nodes of a moved
+/// cell are owned as before (the lowest rank among their cells, now); the ranks whose cells touch
+/// master nodes keep them as ghosts, as any other, and an owner may hold a node none of its cells
+/// touch (its K and M rows come from the others').
+void own_pairs_together(const std::vector<ContactRow>& rows, const Mesh& mesh, const NodeCells& nc, int n_parts,
+                        std::vector<int>& part, std::vector<int>& owner) {
   if (std::ranges::none_of(rows, [](const ContactRow& r) { return r.pair >= 0; })) return;
   std::vector<int> root(owner.size(), -1);  // union–find over the pair rows' nodes
   auto find = [&](int i) {
@@ -95,8 +101,17 @@ void own_pairs_together(const std::vector<ContactRow>& rows, int n_parts, std::v
     a = find(a), b = find(b);
     if (a != b) root[std::max(a, b)] = std::min(a, b);
   };
-  for (const ContactRow& r : rows)
+  std::vector<char> slave(owner.size(), 0);
+  for (const ContactRow& r : rows) {
+    if (r.pair < 0) continue;
+    slave[r.node] = 1;
     for (const auto& [k, w] : r.masters) join(r.node, k);
+  }
+  for (int i = 0; i < static_cast<int>(owner.size()); ++i)
+    if (slave[i])
+      for (int k = nc.start[i]; k < nc.start[i + 1]; ++k)
+        for (int a = 0; a < mesh.nodes_per_cell(); ++a)
+          if (const int v = mesh.cell(nc.list[k])[a]; slave[v]) join(i, v);
   std::unordered_map<int, std::vector<int>> count;  // per set's root: its nodes per rank
   for (std::size_t i = 0; i < owner.size(); ++i)
     if (root[i] >= 0) {
@@ -109,6 +124,15 @@ void own_pairs_together(const std::vector<ContactRow>& rows, int n_parts, std::v
       const std::vector<int>& c = count.at(find(static_cast<int>(i)));
       owner[i] = static_cast<int>(std::max_element(c.begin(), c.end()) - c.begin());
     }
+  for (int i = 0; i < static_cast<int>(owner.size()); ++i)
+    if (slave[i])
+      for (int k = nc.start[i]; k < nc.start[i + 1]; ++k) part[nc.list[k]] = owner[i];
+  for (int i = 0; i < static_cast<int>(owner.size()); ++i) {
+    if (root[i] >= 0) continue;
+    int o = n_parts;
+    for (int k = nc.start[i]; k < nc.start[i + 1]; ++k) o = std::min(o, part[nc.list[k]]);
+    owner[i] = o == n_parts ? 0 : o;
+  }
 }
 
 struct Message {
@@ -153,7 +177,7 @@ std::vector<Message> pack_parts(const Problem& p, int n_parts) {
   const Mesh& mesh = p.mesh;
   const int d = mesh.dim(), npc = mesh.nodes_per_cell(), n_nodes = mesh.n_nodes();
   const NodeCells nc(mesh);
-  const std::vector<int> part = partition_cells(mesh, nc, n_parts);
+  std::vector<int> part = partition_cells(mesh, nc, n_parts);
 
   const WholeMeshData whole(p);
   // A node belongs to the lowest rank among its cells, except on contact pairs (own_pairs_together).
@@ -163,7 +187,7 @@ std::vector<Message> pack_parts(const Problem& p, int n_parts) {
     for (int k = nc.start[i]; k < nc.start[i + 1]; ++k) o = std::min(o, part[nc.list[k]]);
     owner[i] = o == n_parts ? 0 : o;
   }
-  own_pairs_together(whole.rows, n_parts, owner);
+  own_pairs_together(whole.rows, mesh, nc, n_parts, part, owner);
   std::vector<std::vector<int>> owned(n_parts);
   for (int i = 0; i < n_nodes; ++i) owned[owner[i]].push_back(i);
   // Global numbers: the nodes of rank 0, then of rank 1, ...; each in its original order.

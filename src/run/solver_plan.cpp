@@ -120,18 +120,8 @@ ProblemSize problem_size(const Problem& p) {
   return s;
 }
 
-namespace {
-
-/// Contact pairs take the dual solver on every engine (scheme_solvers.cpp), whatever m: its dense
-/// S = N K⁻¹Nᵀ and the box QP's reduced copy, replicated on every rank (0 without pairs).
-double pair_dual_bytes(const Problem& p, const ProblemSize& s) {
-  return p.contact.pairs.empty() ? 0.0 : 2 * 8.0 * s.contact_unknowns * s.contact_unknowns;
-}
-
-}  // namespace
-
 MemoryEstimate cholmod_memory(const Problem& p, const ProblemSize& s, const SolverChoice& solvers) {
-  const bool dual = solvers.contact == "active-set" || !p.contact.pairs.empty() ||
+  const bool dual = solvers.contact == "active-set" ||
                     (solvers.contact == "auto" && (s.power_law || s.contact_unknowns <= kDualContactRows));
   return estimate_run_memory(mesh_bytes(s, p.mesh.dim()), matrix_bytes(s), s.K, s.H, solvers.damage == "active-set",
                              dual ? s.contact_unknowns : 0);
@@ -145,7 +135,6 @@ MemoryEstimate mumps_memory(const Problem& p, const ProblemSize& s, int ranks, i
         mumps_factor_bytes(s.K, ranks, ranks_on_machine) + mumps_factor_bytes(s.H, ranks, ranks_on_machine));
   // The dual contact solver's W = K⁻¹Bᵀ (dense, one column per contact unknown) where it takes the dual.
   if (s.contact_unknowns <= kDualContactRows) e.add("contact solver", 8.0 * s.unknowns * s.contact_unknowns);
-  if (const double S = pair_dual_bytes(p, s); S > 0) e.add("the dual's S for the contact pairs", S);
   return e;
 }
 
@@ -154,7 +143,6 @@ MemoryEstimate iterative_memory(const Problem& p, const ProblemSize& s) {
   e.add("mesh and state", mesh_bytes(s, p.mesh.dim()));
   e.add("matrices", matrix_bytes(s));
   e.add("multigrid and Krylov vectors", kIterativeBytesPerKNonzero * s.K_nonzeros);
-  if (const double S = pair_dual_bytes(p, s); S > 0) e.add("the dual's S for the contact pairs", S);
   return e;
 }
 
@@ -204,13 +192,12 @@ SolverPlan plan_solver(const Problem& p, const ProblemSize& s, const SolverChoic
                                     format_bytes(direct.total()), direct.describe(), format_bytes(limit.bytes),
                                     limit.source));
   }
-  // Contact pairs take the dual solver (scheme_solvers.cpp), whatever their number of rows.
-  const bool dual = s.power_law || s.contact_unknowns <= kDualContactRows || !p.contact.pairs.empty();
+  const bool dual = s.power_law || s.contact_unknowns <= kDualContactRows;
   const SolverCost cost = estimate_solver_cost(s.K, s.K_nonzeros, s.contact_unknowns, p.expected_steps(), dual);
-  // The estimate's CG run is the primal solver's, which needs no S; a power law or contact pairs take
-  // the dual, whose S on CG is m solves of K (hertz-spheres-3d: 766 of them, minutes against
-  // CHOLMOD's 20 s), so they move only when CHOLMOD does not fit.
-  if (can_switch && solvers.contact == "auto" && !s.power_law && p.contact.pairs.empty() && iterative_is_faster(cost))
+  // The estimate's CG run is the primal solver's, which needs no S; a power law takes the dual,
+  // whose S on CG is m solves of K (hertz-spheres-3d on the dual: 766 of them, minutes against
+  // CHOLMOD's 20 s), so it moves only when CHOLMOD does not fit.
+  if (can_switch && solvers.contact == "auto" && !s.power_law && iterative_is_faster(cost))
     return go_iterative(fmt::format("CG + GAMG on one process (the PETSc engine), estimated faster: {}; --engine "
                                     "serial keeps CHOLMOD",
                                     cost.detail));

@@ -181,6 +181,7 @@ ContactConstraints contact_constraints(const DiscreteSystem& sys) {
       compliance.push_back(node.stiffness > 0 ? 1 / node.stiffness : 0.0);
     }
   c.compliance = Eigen::Map<Vector>(compliance.data(), static_cast<Eigen::Index>(compliance.size()));
+  if (!sys.problem->contact.pairs.empty()) c.node_dofs = contact_matrix(part, ContactColumns::owned).node_dofs;
   if (c.frictional()) {
     c.T = sys.T;
     c.tangent_dof = sys.tangent_dof;

@@ -1,6 +1,7 @@
 #include "scheme/scheme_solvers.hpp"
 
 #include "scheme/contact_matrix.hpp"
+#include "solvers/contact_frame.hpp"
 #include "solvers/primal_active_set.hpp"
 
 #include <algorithm>
@@ -31,13 +32,12 @@ SchemeSolvers set_up_solvers(DiscreteSystem& sys, const SolverChoice& choice, Se
   const bool nonlinear_law = nonlinear_in_dual(part.comm, constraints);  // only the dual solves it
   s.contact_pick =
       pick_contact_solver(choice.contact, part.n_contact, sys.backend->linear_solver(), nonlinear_law, constraints.block);
-  if (!sys.problem->contact.pairs.empty()) {
-    // A pair's row has master entries: the primal's rows are one dof each (not built for pairs yet).
-    require(s.contact_pick.name != "primal-active-set" || choice.contact == "auto",
-            "contact pairs ([[contact.pair]]) are solved by the dual contact solvers for now (--contact-solver "
-            "active-set or penalty-duality); primal-active-set on pairs is issue 29's next part");
-    if (s.contact_pick.name == "primal-active-set")
-      s.contact_pick = {"active-set", "auto: contact pairs are solved on the dual for now"};
+  if (s.contact_pick.name == "primal-active-set" && !part.comm.all(masters_apart_from_slaves(constraints.N, constraints.node_dofs))) {
+    // A node on both sides of contact pairs: its dofs cannot be both a row's gap variable and a
+    // master of another (contact_basis).
+    require(choice.contact == "auto", "contact solver 'primal-active-set': a node is on the slave side of one contact "
+                                      "pair row and the master side of another; --contact-solver active-set solves it");
+    s.contact_pick = {"active-set", "auto: a node is on both sides of contact pairs (the primal needs them apart)"};
   }
   const bool primal = s.contact_pick.name == "primal-active-set";
   s.K_factor = sys.make_stiffness_factor();
@@ -60,11 +60,22 @@ SchemeSolvers set_up_solvers(DiscreteSystem& sys, const SolverChoice& choice, Se
   options.friction_tolerance = friction_force_tolerance(choice.residual_tolerance);
   if (primal) {
     // Rows off the axes are turned into one dof each by node-local reflections Q: K_rot = Q K Q,
-    // assembled from the cells' matrices like K (Q acts within each node's dofs).
+    // assembled from the cells' matrices like K (Q acts within each node's dofs). A pair's row also
+    // writes its slave node in its masters' dofs: K_rot = Pᵀ K P (contact_basis), which every rank
+    // forms from its own cells because the cells at a slave node are on the rank that owns it and
+    // its masters (own_pairs_together).
     std::shared_ptr<const la::SpdOperator> K_rot;
-    if (part.comm.any(contact_reflections(constraints.N).size() > 0)) {
-      const SparseMatrix Q = contact_reflections(contact_matrix(part, ContactColumns::local).N);
-      K_rot = sys.backend->assemble(SparseMatrix(Q * sys.K_local * Q), *part.dof_layout, sys.K_block);
+    const bool pairs = !constraints.node_dofs.empty();
+    if (part.comm.any(pairs || contact_reflections(constraints.N).size() > 0)) {
+      const ContactMatrix local = contact_matrix(part, ContactColumns::local);
+      for (const PartContactNode& node : part.contact)
+        require(node.owned || node.pair < 0, "internal: contact pair row {} is a ghost on this rank", node.row);
+      const ContactBasis basis = contact_basis(local.N, pairs ? local.node_dofs : std::vector<std::vector<int>>());
+      const SparseMatrix& P = basis.P;
+      K_rot = sys.backend->assemble(basis.pairs()     ? SparseMatrix(P.transpose() * sys.K_local * P)
+                                    : P.size() > 0 ? SparseMatrix(P * sys.K_local * P)
+                                                   : sys.K_local,  // no row of this rank's cells needs it
+                                    *part.dof_layout, sys.K_block);
     }
     s.contact = make_primal_active_set_solver(sys.K, std::move(K_rot), std::exchange(s.K_factor, nullptr),
                                               std::move(constraints), 0, options.friction_tolerance);

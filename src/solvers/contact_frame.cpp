@@ -2,6 +2,7 @@
 
 #include "core/error.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace vpc {
@@ -55,6 +56,79 @@ SparseMatrix contact_reflections(const SparseMatrix& N) {
   SparseMatrix Q(N.cols(), N.cols());
   Q.setFromTriplets(t.begin(), t.end());
   return Q;
+}
+
+namespace {
+
+/// N split into each row's own node's entries and the rest (a pair row's masters').
+std::pair<SparseMatrix, SparseMatrix> split_rows(const SparseMatrix& N, const std::vector<std::vector<int>>& node_dofs) {
+  require(static_cast<Eigen::Index>(node_dofs.size()) == N.rows(), "internal: node dofs of {} rows for {} contact rows",
+          node_dofs.size(), N.rows());
+  std::vector<Eigen::Triplet<double>> own, masters;
+  for (int k = 0; k < N.outerSize(); ++k)
+    for (SparseMatrix::InnerIterator it(N, k); it; ++it) {
+      const std::vector<int>& mine = node_dofs[static_cast<std::size_t>(it.row())];
+      (std::find(mine.begin(), mine.end(), k) != mine.end() ? own : masters)
+          .emplace_back(static_cast<int>(it.row()), k, it.value());
+    }
+  SparseMatrix A(N.rows(), N.cols()), B(N.rows(), N.cols());
+  A.setFromTriplets(own.begin(), own.end());
+  B.setFromTriplets(masters.begin(), masters.end());
+  return {std::move(A), std::move(B)};
+}
+
+/// The first master column of `masters` that is some row's own dof (−1: none).
+int slave_among_masters(const SparseMatrix& masters, const std::vector<std::vector<int>>& node_dofs) {
+  std::vector<char> own(static_cast<std::size_t>(masters.cols()), 0);
+  for (const std::vector<int>& dofs : node_dofs)
+    for (const int k : dofs) own[static_cast<std::size_t>(k)] = 1;
+  for (int k = 0; k < masters.outerSize(); ++k)
+    if (masters.col(k).nonZeros() > 0 && own[static_cast<std::size_t>(k)]) return k;
+  return -1;
+}
+
+}  // namespace
+
+bool masters_apart_from_slaves(const SparseMatrix& N, const std::vector<std::vector<int>>& node_dofs) {
+  return node_dofs.empty() || slave_among_masters(split_rows(N, node_dofs).second, node_dofs) < 0;
+}
+
+ContactBasis contact_basis(const SparseMatrix& N, const std::vector<std::vector<int>>& node_dofs) {
+  ContactBasis b;
+  if (node_dofs.empty()) {
+    b.P = contact_reflections(N);
+    b.rows = rotated_rows(N);
+    return b;
+  }
+  const auto [own, masters] = split_rows(N, node_dofs);
+  b.rows = rotated_rows(own);
+  SparseMatrix H = contact_reflections(own);
+  if (masters.nonZeros() == 0) {
+    b.P = std::move(H);
+    return b;
+  }
+  const int slave = slave_among_masters(masters, node_dofs);
+  require(slave < 0,
+          "free dof {} is a contact pair's slave dof and a master dof of another row (a node on the slave and the "
+          "master side): the primal contact solver needs them apart; --contact-solver active-set solves it",
+          slave);
+  const Eigen::Index n = N.cols();
+  if (H.size() == 0) {
+    H.resize(n, n);
+    H.setIdentity();
+  }
+  // E = −Σ_i (H e_{k_i}/α_i)(m_i H), m_i row i's master part: N_i E = −m_i H cancels N_i H's master part.
+  std::vector<Eigen::Triplet<double>> t;
+  for (std::size_t i = 0; i < b.rows.size(); ++i)
+    for (SparseMatrix::InnerIterator it(H, b.rows[i].dof); it; ++it)
+      t.emplace_back(static_cast<int>(it.row()), static_cast<int>(i), it.value() / b.rows[i].alpha);
+  SparseMatrix C(n, N.rows());
+  C.setFromTriplets(t.begin(), t.end());
+  const SparseMatrix E = -(C * SparseMatrix(masters * H));
+  // E's rows are slave dofs, its columns master dofs, so (EH)² = 0 and P⁻¹ = (I − EH)H = H − HEH.
+  b.P = H + E;
+  b.P_inverse = H - SparseMatrix(H * E * H);
+  return b;
 }
 
 void set_tangents(ContactConstraints& c, const std::vector<std::vector<int>>& node_dofs) {

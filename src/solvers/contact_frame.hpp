@@ -23,4 +23,26 @@ struct RotatedRow {
 /// Each row's dof k and α (the dof of its largest entry).
 std::vector<RotatedRow> rotated_rows(const SparseMatrix& N);
 
+/// The primal solver's basis on contact pairs (SPEC §8): u = P w with N_i P = α_i e_{k_i}ᵀ for every
+/// row, a pair's too, whose entries off its own node's dofs (`node_dofs[i]`) are its masters'
+/// (−w_m ν, scheme/contact_pairs.hpp). P = H + E: H the reflections of the rows' own parts
+/// (contact_reflections), E the slave node's shift along H e_k by its row's master part over α, so
+/// that w_k is the row's weighted gap variable itself: N_i P w = α_i w_k, and an active row is one
+/// fixed dof as on a rigid obstacle (the "relative displacement" basis in which dual mortar's
+/// condensation of the slave side is a change of variables, Wohlmuth 2000; Popp et al. 2010).
+/// P is fixed for the run, so K_rot = Pᵀ K P keeps one pattern: a factor keeps its analysis.
+struct ContactBasis {
+  SparseMatrix P, P_inverse;      // empty: the identity; without master entries P = P⁻¹ = Pᵀ = H
+  std::vector<RotatedRow> rows;   // each row's dof k and α in w
+  bool pairs() const { return P_inverse.size() > 0; }
+};
+
+/// `node_dofs` empty: every entry of a row is its node's (P = contact_reflections(N)). A master
+/// dof that is also some row's own dof (a node both slave and master) cannot be written so: an
+/// error (masters_apart_from_slaves tells beforehand).
+ContactBasis contact_basis(const SparseMatrix& N, const std::vector<std::vector<int>>& node_dofs);
+
+/// Whether no master entry of a row is on any row's own dofs (contact_basis can be built).
+bool masters_apart_from_slaves(const SparseMatrix& N, const std::vector<std::vector<int>>& node_dofs);
+
 }  // namespace vpc

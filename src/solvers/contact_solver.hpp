@@ -68,6 +68,10 @@ struct ContactConstraints {
   std::vector<std::shared_ptr<const ContactLaw>> laws;
   std::vector<int> law;  // per local row
   Vector compliance;     // per local row
+  /// Contact pairs (SPEC §8): per local row, its own node's free dofs (owned numbering); a pair
+  /// row's other entries are its master nodes'. Empty where no row has masters (a row's entries are
+  /// all its node's). The primal solver's basis needs them (contact_basis, solvers/contact_frame.hpp).
+  std::vector<std::vector<int>> node_dofs;
   /// Contact unknowns per row (State::contact_block): λ holds m × block numbers, row after row,
   /// the normal force first. 1 for a normal law; d with friction (SPEC §7): λ_ν then the
   /// d − 1 tangential forces λ_τ along the node's tangents.

@@ -23,7 +23,8 @@ class PrimalActiveSetSolver final : public ContactSolver {
                         : c.frictional()  ? kPrimalFrictionMaxIterations
                                           : kPrimalMaxIterations),
         K_(std::move(K)), K_rot_(K_rot ? std::move(K_rot) : K_), factor_(std::move(factor)), c_(std::move(c)),
-        Q_(contact_reflections(c_.N)), rows_(rotated_rows(c_.N)) {
+        basis_(contact_basis(c_.N, c_.node_dofs)), rows_(basis_.rows) {
+    require(!basis_.pairs() || !c_.frictional(), "internal: the primal contact solver has no friction on pairs");
     for (Eigen::Index i = 0; i < static_cast<Eigen::Index>(rows_.size()) && !c_.laws.empty(); ++i) {
       const ContactLaw& law = c_.law_of(i);
       require(law.rigid() || law.linear(),
@@ -33,7 +34,7 @@ class PrimalActiveSetSolver final : public ContactSolver {
       // An active compliant row is the spring of the law's linearization (exact for a linear law).
       spring_.push_back(law.rigid() ? 0.0 : law.spring_compliance(c_.compliance[i]));
     }
-    require(Q_.size() == 0 || K_rot_ != K_, "internal: the primal contact solver needs Q K Q for rotated rows");
+    require(basis_.P.size() == 0 || K_rot_ != K_, "internal: the primal contact solver needs Pᵀ K P for rotated rows");
     // c_i of the update rule λ_i + c_i (N_i u − g_i) > 0: K's stiffness at the row's dof, per unit of N_i u.
     diagonal_ = K_rot_->diagonal();
     const Vector& d = diagonal_;
@@ -278,8 +279,14 @@ class PrimalActiveSetSolver final : public ContactSolver {
   bool compliant(Eigen::Index i) const { return !spring_.empty() && spring_[static_cast<std::size_t>(i)] > 0; }
   /// g_i − N_i u, in the rotated dofs.
   double gap_left(const Vector& w, Eigen::Index i) const { return c_.gap[i] - rows_[i].alpha * w[rows_[i].dof]; }
-  Vector rotate(const Vector& x) const { return Q_.size() ? Vector(Q_ * x) : x; }
-  Vector unrotate(const Vector& w) const { return rotate(w); }  // Q = Q⁻¹
+  /// Pᵀx (a force into w's dofs), P⁻¹u and Pw; without pairs P is the reflections Q = Qᵀ = Q⁻¹.
+  Vector rotate(const Vector& x) const {
+    return basis_.pairs() ? Vector(basis_.P.transpose() * x) : basis_.P.size() ? Vector(basis_.P * x) : x;
+  }
+  Vector to_basis(const Vector& u) const {
+    return basis_.pairs() ? Vector(basis_.P_inverse * u) : basis_.P.size() ? Vector(basis_.P * u) : u;
+  }
+  Vector unrotate(const Vector& w) const { return basis_.P.size() ? Vector(basis_.P * w) : w; }
 
   /// Factorizes K_rot with `active`'s constraints unless the factor already holds them. Returns 1 if it did.
   int factorize_for(const std::vector<char>& active) {
@@ -491,8 +498,11 @@ class PrimalActiveSetSolver final : public ContactSolver {
   /// foundation-3d n = 8, 100 steps on CHOLMOD, 127 → 105 solves; n = 20, 20 steps on CG + GAMG,
   /// 68 → 60 (loose ones included).
   Vector start_point(const Vector& F, const Vector& u) const {
-    Vector w = rotate(u.size() == F.size() ? u : Vector(Vector::Zero(F.size())));
-    if (w_before_.size() == w.size() && continuing(u)) w = 2 * w_last_ - w_before_;
+    Vector w = to_basis(u.size() == F.size() ? u : Vector(Vector::Zero(F.size())));
+    // (continuing is collective: called on every rank, also one that owns no dofs, where the
+    // sizes would agree trivially.)
+    const bool extrapolate = continuing(u) && w_before_.size() == w.size();
+    if (extrapolate) w = 2 * w_last_ - w_before_;
     return w;
   }
   /// Whether the caller continues from this solver's last answer (collective).
@@ -557,7 +567,7 @@ class PrimalActiveSetSolver final : public ContactSolver {
   std::shared_ptr<const la::SpdOperator> K_, K_rot_;
   std::shared_ptr<la::LinearSolver> factor_;
   ContactConstraints c_;
-  SparseMatrix Q_;                 // empty: no row needs a rotation
+  ContactBasis basis_;             // u = P w (P empty: no row needs a rotation)
   std::vector<RotatedRow> rows_;   // per local row
   std::vector<double> scale_;      // c_i of the update rule
   std::vector<double> spring_;     // per local row: 1/k of an active compliant row's spring, 0 for a rigid row

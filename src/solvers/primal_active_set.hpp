@@ -12,7 +12,10 @@
 // Dirichlet condition w_k = g_i/α_i, an active compliance row a spring k_i α_i² on
 // w_k; the system is K_rot = Q K Q with those rows and columns replaced by the
 // identity (the layout and the pattern kept: a factor reuses its analysis, AMG its
-// block size), and λ_i = (QF − K_rot w)_k /(ρs) the reaction there. With friction
+// block size), and λ_i = (QF − K_rot w)_k /(ρs) the reaction there. A contact pair's row
+// (issue 29) reads its master nodes too: the basis u = P w also writes the slave node in its
+// masters' dofs (contact_basis), so that the row is again one dof of w, K_rot = Pᵀ K P, b = PᵀF:
+// dual mortar's condensation of the active slave side, as a fixed change of variables. With friction
 // (primal_friction.hpp) Coulomb's coupling makes the system K_rot + C, C nonsymmetric: GMRES
 // with K_rot's own factor or multigrid hierarchy as preconditioner.
 #include "solvers/contact_frame.hpp"
@@ -25,8 +28,9 @@ namespace vpc {
 /// sets cycle and the bound is lagged).
 constexpr int kPrimalMaxIterations = 200, kPrimalFrictionMaxIterations = 500;
 
-/// "primal-active-set" (make_contact_solver): K and, where some row is not along an axis,
-/// K_rot = Q K Q assembled over the same layout (nullptr: K_rot = K); `factor` is
+/// "primal-active-set" (make_contact_solver): K and, where some row is not along an axis or has
+/// masters, K_rot = Pᵀ K P (contact_basis of the constraints' N and node_dofs; Q K Q without
+/// masters) assembled over the same layout (nullptr: K_rot = K); `factor` is
 /// unfactorized (its coordinates set for AMG) and refactorized whenever the active set changes.
 /// `max_iterations`: solves before it gives up (converged = false; 0: kPrimalMaxIterations, or
 /// kPrimalFrictionMaxIterations with friction); tests lower it. `friction_tolerance`:

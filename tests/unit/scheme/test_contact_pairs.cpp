@@ -237,10 +237,6 @@ TEST(ContactPairs, BadPairsAreRefusedNamingTheKey) {
   std::string negative = blocks(2);
   negative.replace(negative.find("master = \"top\""), 14, "master = \"top\"\nsearch = -1");
   EXPECT_NE(error(negative).find("expected a distance >= 0"), std::string::npos) << error(negative);
-  // The primal solver has one dof per row: asked for on pairs, a clear error.
-  const Case c = parse_case(blocks(2, "[solver]\ncontact = \"primal-active-set\"\n"), "p.toml", ".", {});
-  EXPECT_NE(error_of([&] { TimeStepper s(c.problem, c.solvers); }).find("dual contact solvers for now"),
-            std::string::npos);
 }
 
 }  // namespace

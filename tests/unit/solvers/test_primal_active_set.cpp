@@ -4,6 +4,7 @@
 // choice, and its refusals.
 #include "../error_of.hpp"
 #include "contact/normal_compliance.hpp"
+#include "solvers/contact_frame.hpp"
 #include "solvers/contact_solver.hpp"
 #include "solvers/primal_active_set.hpp"
 
@@ -135,6 +136,95 @@ TEST(PrimalActiveSet, AgreesWithTheDualSolverOnSlantedRows) {
     EXPECT_EQ(rep[1].cycles, 0);
     EXPECT_EQ(rep[1].factorizations, rep[1].iterations);  // a new set each iteration but the last
   }
+}
+
+/// The slanted block's rows as contact pair rows (issue 29): each bottom node's row also reads the
+/// two nodes above it, −w ν on their dofs (w = 0.3, 0.7), as a pair's row reads its masters; the
+/// rows' own dofs as node_dofs. Offset by `shift` rows of nodes (1: the row just above).
+SparseMatrix with_masters(const SlantedBlock& b, std::vector<std::vector<int>>& node_dofs, int shift = 1) {
+  std::vector<Eigen::Triplet<double>> t;
+  node_dofs.assign(static_cast<std::size_t>(b.N.rows()), {});
+  const std::vector<int> bottom = b.mesh.nodes_of_parts({"bottom"});
+  for (int k = 0; k < b.N.outerSize(); ++k)
+    for (SparseMatrix::InnerIterator it(b.N, k); it; ++it) t.emplace_back(static_cast<int>(it.row()), k, it.value());
+  const Eigen::MatrixXd dense(b.N);
+  for (int r = 0; r < static_cast<int>(bottom.size()); ++r) {
+    const int node = bottom[static_cast<std::size_t>(r)];
+    for (int c = 0; c < 2; ++c) node_dofs[static_cast<std::size_t>(r)].push_back(b.dofs.free_index(b.dofs.full_index(node, c)));
+    const double nu[2] = {dense(r, node_dofs[static_cast<std::size_t>(r)][0]), dense(r, node_dofs[static_cast<std::size_t>(r)][1])};
+    // The 17 nodes of a row of the 16 × 8 mesh are numbered along x: the node above is + 17 shift.
+    const int above[2] = {node + 17 * shift, node + 17 * shift + (r + 1 < 17 ? 1 : -1)};
+    const double w[2] = {0.3, 0.7};
+    for (int a = 0; a < 2; ++a)
+      for (int c = 0; c < 2; ++c)
+        if (nu[c] != 0) t.emplace_back(r, b.dofs.free_index(b.dofs.full_index(above[a], c)), -w[a] * nu[c]);
+  }
+  SparseMatrix N(b.N.rows(), b.N.cols());
+  N.setFromTriplets(t.begin(), t.end());
+  return N;
+}
+
+// The pair basis u = P w (contact_basis): every row, masters and all, is one dof of w with |α| = ρ,
+// P P⁻¹ = I; then the primal solver on it solves the inequality as the dual does (u, λ to 1e-10).
+// A master on another row's own dofs (a node on both sides) is refused, naming the dof.
+TEST(PrimalActiveSet, ThePairBasisTurnsEachPairRowIntoOneDof) {
+  const SlantedBlock b = make_slanted_block();
+  std::vector<std::vector<int>> node_dofs;
+  const SparseMatrix N = with_masters(b, node_dofs);
+  ASSERT_TRUE(masters_apart_from_slaves(N, node_dofs));
+  const ContactBasis basis = contact_basis(N, node_dofs);
+  ASSERT_TRUE(basis.pairs());
+  const Eigen::MatrixXd P(basis.P), P_inv(basis.P_inverse);
+  EXPECT_LE((P * P_inv - Eigen::MatrixXd::Identity(P.rows(), P.cols())).cwiseAbs().maxCoeff(), 1e-14);
+  const Eigen::MatrixXd NP = Eigen::MatrixXd(N) * P;
+  for (Eigen::Index i = 0; i < NP.rows(); ++i) {
+    const auto& row = basis.rows[static_cast<std::size_t>(i)];
+    EXPECT_NEAR(NP(i, row.dof), row.alpha, 1e-14) << "row " << i;
+    EXPECT_NEAR(std::abs(row.alpha), 1.0, 1e-15);
+    EXPECT_LE((NP.row(i).cwiseAbs().sum() - std::abs(NP(i, row.dof))), 1e-14) << "row " << i;
+  }
+  const int m = static_cast<int>(N.rows());
+  Vector u[2], lambda[2];
+  ContactReport rep[2];
+  auto K = std::make_shared<const la::SparseOperator>(b.K);
+  // Gaps from each row's free value: 0.2 of it at x = 0 to 1.2 at x = 2 (violated for x < 1.6).
+  Vector gap(m), u_free;
+  auto free_factor = la::make_cholmod_factor();
+  free_factor->factorize(*K, "block stiffness");
+  free_factor->solve(b.F, u_free);
+  const Vector free_rows = N * u_free;
+  const std::vector<int> bottom = b.mesh.nodes_of_parts({"bottom"});
+  for (int r = 0; r < m; ++r) gap[r] = free_rows[r] * (0.2 + 0.5 * b.mesh.node(bottom[static_cast<std::size_t>(r)])[0]);
+  for (int s = 0; s < 2; ++s) {
+    ContactConstraints c;
+    c.m = m;
+    c.N = N;
+    c.gap = gap;
+    c.node_dofs = node_dofs;
+    for (int i = 0; i < m; ++i) c.rows.push_back(i);
+    std::unique_ptr<ContactSolver> solver;
+    if (s == 0) {
+      std::shared_ptr<la::LinearSolver> f = la::make_cholmod_factor("K");
+      f->factorize(*K, "K");
+      solver = make_contact_solver("active-set", K, f, c, la::make_cholmod_factor);
+    } else {
+      auto K_rot = std::make_shared<const la::SparseOperator>(SparseMatrix(basis.P.transpose() * b.K * basis.P));
+      solver = make_primal_active_set_solver(K, K_rot, la::make_cholmod_factor("K"), c);
+    }
+    rep[s] = solver->solve(b.F, u[s], lambda[s]);
+    ASSERT_TRUE(rep[s].converged);
+    EXPECT_LE(rep[s].residuals.max(), 1e-10);
+  }
+  EXPECT_GT(rep[1].n_active, 1);
+  EXPECT_LT(rep[1].n_active, m - 1);
+  EXPECT_EQ(rep[1].n_active, rep[0].n_active);
+  EXPECT_LE((u[1] - u[0]).cwiseAbs().maxCoeff(), 1e-10 * u[0].cwiseAbs().maxCoeff());
+  EXPECT_LE((lambda[1] - lambda[0]).cwiseAbs().maxCoeff(), 1e-10 * lambda[0].cwiseAbs().maxCoeff());
+  // Masters on the bottom row itself (shift 0 reads the row's own and its neighbour's node).
+  const SparseMatrix both = with_masters(b, node_dofs, 0);
+  EXPECT_FALSE(masters_apart_from_slaves(both, node_dofs));
+  const std::string msg = error_of([&] { contact_basis(both, node_dofs); });
+  EXPECT_NE(msg.find("a node on the slave and the master side"), std::string::npos) << msg;
 }
 
 // Solved again from its own answer, the primal solver stops after one solve with the factor
