@@ -342,8 +342,9 @@ class PetscFactor final : public LinearSolver {
     PetscInt its = 0;
     VPC_PETSC(KSPGetIterationNumber(ksp, &its));
     iterations_ += its;
-    if (rebuild_cost_ == 0 && its > 0 && solve_flops > 0) {
-      rebuild_cost_ = kSetupWork * setup_flops_ / (solve_flops / static_cast<double>(its));
+    if (rebuild_cost_ == 0 && its > 0) {  // its is the same on every rank; the flops are this rank's (0 on
+                                          // a rank that owns no rows): the reduction is on every rank
+      rebuild_cost_ = solve_flops > 0 ? kSetupWork * setup_flops_ / (solve_flops / static_cast<double>(its)) : 0.0;
       VPC_PETSC(MPI_Allreduce(MPI_IN_PLACE, &rebuild_cost_, 1, MPI_DOUBLE, MPI_MAX, comm_));
     }
     const PetscReal* history = nullptr;
