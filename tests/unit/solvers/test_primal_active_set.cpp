@@ -87,54 +87,65 @@ TEST(PrimalActiveSet, ReflectionsTurnEachRowIntoOneDof) {
   EXPECT_EQ(contact_reflections(axis).size(), 0);
 }
 
+/// The dual ("active-set", [0]) and the primal solver ([1], on K_rot) on the same constraints,
+/// each converged with residuals ≤ 1e-10, and their answers alike: u and λ to 1e-10 (relative)
+/// and the same strict, non-empty active set.
+struct BothSolvers {
+  Vector u[2], lambda[2];
+  ContactReport rep[2];
+};
+BothSolvers solve_both(const SparseMatrix& K_matrix, const Vector& F, const ContactConstraints& c,
+                       const SparseMatrix& K_rot_matrix) {
+  BothSolvers out;
+  auto K = std::make_shared<const la::SparseOperator>(K_matrix);
+  for (int s = 0; s < 2; ++s) {
+    SCOPED_TRACE(s == 0 ? "active-set" : "primal-active-set");
+    std::unique_ptr<ContactSolver> solver;
+    if (s == 0) {
+      std::shared_ptr<la::LinearSolver> f = la::make_cholmod_factor("K");
+      f->factorize(*K, "K");
+      solver = make_contact_solver("active-set", K, f, c, la::make_cholmod_factor);
+    } else {
+      solver = make_primal_active_set_solver(K, std::make_shared<const la::SparseOperator>(K_rot_matrix),
+                                             la::make_cholmod_factor("K"), c);
+    }
+    out.rep[s] = solver->solve(F, out.u[s], out.lambda[s]);
+    EXPECT_TRUE(out.rep[s].converged) << out.rep[s].iterations << " iterations";
+    EXPECT_LE(out.rep[s].residuals.max(), 1e-10);
+  }
+  EXPECT_GT(out.rep[1].n_active, 1);
+  EXPECT_LT(out.rep[1].n_active, c.m - 1);
+  EXPECT_EQ(out.rep[1].n_active, out.rep[0].n_active);
+  EXPECT_LE((out.u[1] - out.u[0]).cwiseAbs().maxCoeff(), 1e-10 * out.u[0].cwiseAbs().maxCoeff());
+  EXPECT_LE((out.lambda[1] - out.lambda[0]).cwiseAbs().maxCoeff(), 1e-10 * out.lambda[0].cwiseAbs().maxCoeff());
+  return out;
+}
+
 // Both methods solve the same inequality: u and λ to 1e-10 (relative), residuals ≤ 1e-10,
 // a strict non-empty active set; then the same with every third row a linear compliance.
 TEST(PrimalActiveSet, AgreesWithTheDualSolverOnSlantedRows) {
   const SlantedBlock b = make_slanted_block();
   const int m = static_cast<int>(b.N.rows());
+  const SparseMatrix Q = contact_reflections(b.N);
   for (const bool compliance : {false, true}) {
     SCOPED_TRACE(compliance ? "Signorini and compliance rows" : "Signorini rows");
-    Vector u[2], lambda[2];
-    ContactReport rep[2];
-    const char* names[] = {"active-set", "primal-active-set"};
-    for (int s = 0; s < 2; ++s) {
-      SCOPED_TRACE(names[s]);
-      ContactConstraints c;
-      c.m = m;
-      c.N = b.N;
-      c.gap = b.g;
-      for (int i = 0; i < m; ++i) c.rows.push_back(i);
-      if (compliance) {
-        c.laws = {signorini_law(), std::make_shared<const NormalComplianceLaw>(1 / 0.05, 1.0)};
-        c.law.assign(static_cast<std::size_t>(m), 0);
-        c.compliance = Vector::Zero(m);
-        for (int i = 0; i < m; i += 3) {
-          c.law[static_cast<std::size_t>(i)] = 1;
-          c.compliance[i] = 0.05;
-        }
+    ContactConstraints c;
+    c.m = m;
+    c.N = b.N;
+    c.gap = b.g;
+    for (int i = 0; i < m; ++i) c.rows.push_back(i);
+    if (compliance) {
+      c.laws = {signorini_law(), std::make_shared<const NormalComplianceLaw>(1 / 0.05, 1.0)};
+      c.law.assign(static_cast<std::size_t>(m), 0);
+      c.compliance = Vector::Zero(m);
+      for (int i = 0; i < m; i += 3) {
+        c.law[static_cast<std::size_t>(i)] = 1;
+        c.compliance[i] = 0.05;
       }
-      auto K = std::make_shared<const la::SparseOperator>(b.K);
-      std::unique_ptr<ContactSolver> solver;
-      if (s == 0) {
-        std::shared_ptr<la::LinearSolver> f = la::make_cholmod_factor("K");
-        f->factorize(*K, "K");
-        solver = make_contact_solver(names[s], K, f, c, la::make_cholmod_factor);
-      } else {
-        const SparseMatrix Q = contact_reflections(b.N);
-        auto K_rot = std::make_shared<const la::SparseOperator>(SparseMatrix(Q * b.K * Q));
-        solver = make_primal_active_set_solver(K, K_rot, la::make_cholmod_factor("K"), c);
-      }
-      rep[s] = solver->solve(b.F, u[s], lambda[s]);
-      ASSERT_TRUE(rep[s].converged) << rep[s].iterations << " iterations";
-      EXPECT_LE(rep[s].residuals.max(), 1e-10);
     }
-    EXPECT_GT(rep[1].n_active, 1);
-    EXPECT_LT(rep[1].n_active, m - 1);
-    EXPECT_EQ(rep[1].n_active, rep[0].n_active);
-    EXPECT_LE((u[1] - u[0]).cwiseAbs().maxCoeff(), 1e-10 * u[0].cwiseAbs().maxCoeff());
-    EXPECT_LE((lambda[1] - lambda[0]).cwiseAbs().maxCoeff(), 1e-10 * lambda[0].cwiseAbs().maxCoeff());
-    EXPECT_EQ(rep[1].cycles, 0);
-    EXPECT_EQ(rep[1].factorizations, rep[1].iterations);  // a new set each iteration but the last
+    const BothSolvers r = solve_both(b.K, b.F, c, SparseMatrix(Q * b.K * Q));
+    EXPECT_EQ(r.rep[1].cycles, 0);
+    EXPECT_EQ(r.rep[1].factorizations, r.rep[1].iterations);  // a new set each iteration but the last
   }
 }
 
@@ -184,42 +195,21 @@ TEST(PrimalActiveSet, ThePairBasisTurnsEachPairRowIntoOneDof) {
     EXPECT_LE((NP.row(i).cwiseAbs().sum() - std::abs(NP(i, row.dof))), 1e-14) << "row " << i;
   }
   const int m = static_cast<int>(N.rows());
-  Vector u[2], lambda[2];
-  ContactReport rep[2];
-  auto K = std::make_shared<const la::SparseOperator>(b.K);
   // Gaps from each row's free value: 0.2 of it at x = 0 to 1.2 at x = 2 (violated for x < 1.6).
-  Vector gap(m), u_free;
+  Vector u_free;
   auto free_factor = la::make_cholmod_factor();
-  free_factor->factorize(*K, "block stiffness");
+  free_factor->factorize(la::SparseOperator(b.K), "block stiffness");
   free_factor->solve(b.F, u_free);
   const Vector free_rows = N * u_free;
   const std::vector<int> bottom = b.mesh.nodes_of_parts({"bottom"});
-  for (int r = 0; r < m; ++r) gap[r] = free_rows[r] * (0.2 + 0.5 * b.mesh.node(bottom[static_cast<std::size_t>(r)])[0]);
-  for (int s = 0; s < 2; ++s) {
-    ContactConstraints c;
-    c.m = m;
-    c.N = N;
-    c.gap = gap;
-    c.node_dofs = node_dofs;
-    for (int i = 0; i < m; ++i) c.rows.push_back(i);
-    std::unique_ptr<ContactSolver> solver;
-    if (s == 0) {
-      std::shared_ptr<la::LinearSolver> f = la::make_cholmod_factor("K");
-      f->factorize(*K, "K");
-      solver = make_contact_solver("active-set", K, f, c, la::make_cholmod_factor);
-    } else {
-      auto K_rot = std::make_shared<const la::SparseOperator>(SparseMatrix(basis.P.transpose() * b.K * basis.P));
-      solver = make_primal_active_set_solver(K, K_rot, la::make_cholmod_factor("K"), c);
-    }
-    rep[s] = solver->solve(b.F, u[s], lambda[s]);
-    ASSERT_TRUE(rep[s].converged);
-    EXPECT_LE(rep[s].residuals.max(), 1e-10);
-  }
-  EXPECT_GT(rep[1].n_active, 1);
-  EXPECT_LT(rep[1].n_active, m - 1);
-  EXPECT_EQ(rep[1].n_active, rep[0].n_active);
-  EXPECT_LE((u[1] - u[0]).cwiseAbs().maxCoeff(), 1e-10 * u[0].cwiseAbs().maxCoeff());
-  EXPECT_LE((lambda[1] - lambda[0]).cwiseAbs().maxCoeff(), 1e-10 * lambda[0].cwiseAbs().maxCoeff());
+  ContactConstraints c;
+  c.m = m;
+  c.N = N;
+  c.gap.resize(m);
+  for (int r = 0; r < m; ++r) c.gap[r] = free_rows[r] * (0.2 + 0.5 * b.mesh.node(bottom[static_cast<std::size_t>(r)])[0]);
+  c.node_dofs = node_dofs;
+  for (int i = 0; i < m; ++i) c.rows.push_back(i);
+  solve_both(b.K, b.F, c, SparseMatrix(basis.P.transpose() * b.K * basis.P));
   // Masters on the bottom row itself (shift 0 reads the row's own and its neighbour's node).
   const SparseMatrix both = with_masters(b, node_dofs, 0);
   EXPECT_FALSE(masters_apart_from_slaves(both, node_dofs));
