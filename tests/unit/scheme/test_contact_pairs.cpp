@@ -52,12 +52,59 @@ TEST(ContactPairs, PatchTestIsPassedOnNonMatchingMeshesIn2dAnd3d) {
     const double sigma = -0.01 / (0.5 * soften / 1000 + 0.5 * soften / 3000);
     EXPECT_LT(patch_error(s->state(), d, sigma), 1e-11) << "d = " << d;
     EXPECT_GT(s->state().lambda.size(), 0);
-    EXPECT_EQ(s->contact_solver(), "active-set") << "d = " << d;  // the dual, as auto picks for pairs
+    EXPECT_EQ(s->contact_solver(), "active-set") << "d = " << d;  // auto: few rows on CHOLMOD
     // The pair's force (history.csv force_pair_upper.bottom) is σ times the interface's area, 1.
     ASSERT_EQ(r.pair_force.size(), 1u);
     EXPECT_NEAR(r.pair_force[0], -sigma, 1e-11 * std::abs(sigma)) << "d = " << d;
     EXPECT_NEAR(r.contact.total_force, r.pair_force[0], 1e-11 * std::abs(sigma));
+    // The primal solver on the pair basis (P = H + E, solvers/contact_frame.hpp) passes it too.
+    Case primal = load_case(fmt::format("contact-patch-{}d", d));
+    primal.solvers.contact = "primal-active-set";
+    const auto p = run_to_end(primal, &r);
+    EXPECT_EQ(p->contact_solver(), "primal-active-set");
+    EXPECT_LT(patch_error(p->state(), d, sigma), 1e-11) << "d = " << d << ", primal";
+    EXPECT_NEAR(r.pair_force[0], -sigma, 1e-11 * std::abs(sigma)) << "d = " << d << ", primal";
   }
+}
+
+// A node on the slave side of one pair and the master side of another: the upper block's corner
+// (0, 0.5) is on its bottom (the slave of the patch test's pair) and on its left side, the master
+// of a second pair whose slave is a third body's right side. The primal's basis cannot write that
+// node both ways: asked for, it is refused, naming the way out; the dual (auto here) solves it.
+TEST(ContactPairs, ANodeOnBothSidesIsLeftToTheDual) {
+  std::string text = blocks(2);
+  text.replace(text.find("symmetry = [\"left\", \"bottom\", \"upper.left\"]"), 43, "symmetry = [\"left\", \"bottom\"]");
+  text.replace(text.find("uy = \"-0.01*t\""), 15, "ux = \"0\"\nuy = \"-0.01*t\"");
+  text += R"(
+[[body]]
+name = "side"
+[body.mesh]
+generator = "rectangle"
+lower = [-0.5, 0.5]
+upper = [0.0, 1.0]
+cells = [3, 5]
+
+[[boundary.displacement]]
+parts = ["side.left"]
+ux = "0.002*t"
+uy = "0"
+
+[[contact.pair]]
+slave = "side.right"
+master = "upper.left"
+)";
+  Case dual = parse_case(text, "three.toml", ".", {});
+  StepReport r;
+  const auto s = run_to_end(dual, &r);
+  EXPECT_EQ(s->contact_solver(), "active-set");
+  ASSERT_EQ(r.pair_force.size(), 2u);
+  EXPECT_GT(r.pair_force[1], 0);  // the side presses on the upper block
+  Case primal = parse_case(text, "three.toml", ".", {});
+  primal.solvers.contact = "primal-active-set";
+  const std::string msg = error_of([&] { TimeStepper t(primal.problem, primal.solvers); });
+  EXPECT_NE(msg.find("a node is on the slave side of one contact pair row and the master side of another"),
+            std::string::npos)
+      << msg;
 }
 
 // A pair's own normal law (`law` in [[contact.pair]]): linear normal compliance c between the
