@@ -29,7 +29,7 @@ std::vector<RotatedRow> rotated_rows(const SparseMatrix& N);
 /// (contact_reflections), E the slave node's shift along H e_k by its row's master part over α, so
 /// that w_k is the row's weighted gap variable itself: N_i P w = α_i w_k, and an active row is one
 /// fixed dof as on a rigid obstacle (the "relative displacement" basis in which dual mortar's
-/// condensation of the slave side is a change of variables, Wohlmuth 2000; Popp et al. 2010).
+/// condensation of the slave side is a change of variables: Wohlmuth 2000; Hüeber & Wohlmuth 2005).
 /// P is fixed for the run, so K_rot = Pᵀ K P keeps one pattern: a factor keeps its analysis.
 struct ContactBasis {
   SparseMatrix P, P_inverse;      // empty: the identity; without master entries P = P⁻¹ = Pᵀ = H
