@@ -74,11 +74,6 @@ class LinearSolver {
   /// per node: algebraic multigrid builds the rigid-body modes of elasticity from
   /// them. Before factorize; ignored by direct solvers.
   virtual void set_coordinates(const Eigen::VectorXd& /*coordinates*/, int /*dim*/) {}
-  /// The operators it will take are in the basis w = B u of the displacements u the
-  /// coordinates stand for (owned rows and columns; the primal contact solver's P⁻¹ on contact
-  /// pairs, whose slave dofs are then gaps to their masters): the rigid-body modes are mapped by
-  /// B. Empty: w = u. Before factorize; ignored by direct solvers.
-  virtual void set_basis(const Eigen::SparseMatrix<double>& /*B*/) {}
   /// x = A⁻¹ b on the owned entries; x on entry is an iterative solver's initial guess.
   virtual void solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) const = 0;
   /// X = A⁻¹ B for a block of right-hand sides (owned rows).

@@ -104,7 +104,6 @@ class PetscFactor final : public LinearSolver {
       : comm_(comm), prefix_("vpc_" + name + "_"), options_(options) {
     check_linear_solver(options_.kind);
   }
-  void set_basis(const Eigen::SparseMatrix<double>& B) override { basis_ = B; }
   void set_coordinates(const Eigen::VectorXd& coordinates, int dim) override {
     coordinates_ = coordinates;
     dim_ = dim;
@@ -261,39 +260,7 @@ class PetscFactor final : public LinearSolver {
     VPC_PETSC(VecSetBlockSize(xyz, dim_));
     Placed p(xyz, coordinates_.data());
     VPC_PETSC(MatNullSpaceCreateRigidBody(xyz, rigid.out()));
-    if (basis_.size() == 0) return rigid;
-    // In the basis w = B u the modes are B z, orthonormalized again (Gram–Schmidt, twice): on a
-    // contact pair's slave node (its dofs the gaps to its masters) a rigid motion is about 0,
-    // where the coordinates' mode would be its motion (bench/cases/foundation-pair-3d.toml, n = 40,
-    // 2 ranks, 100 steps: the contact solves' CG iterations 6,271 → 5,587, the run 179 → 164 s).
-    PetscBool has_constant = PETSC_FALSE;
-    PetscInt n_vecs = 0;
-    const Vec* modes = nullptr;
-    VPC_PETSC(MatNullSpaceGetVecs(rigid, &has_constant, &n_vecs, &modes));
-    std::vector<PVec> mapped(static_cast<std::size_t>(n_vecs));
-    std::vector<Vec> raw;
-    for (PetscInt k = 0; k < n_vecs; ++k) {
-      PVec& v = mapped[static_cast<std::size_t>(k)];
-      VPC_PETSC(VecDuplicate(modes[k], v.out()));
-      const PetscScalar* z = nullptr;
-      PetscScalar* y = nullptr;
-      VPC_PETSC(VecGetArrayRead(modes[k], &z));
-      VPC_PETSC(VecGetArray(v, &y));
-      Eigen::Map<Eigen::VectorXd>(y, op.n_owned()) = basis_ * Eigen::Map<const Eigen::VectorXd>(z, op.n_owned());
-      VPC_PETSC(VecRestoreArray(v, &y));
-      VPC_PETSC(VecRestoreArrayRead(modes[k], &z));
-      for (int pass = 0; pass < 2; ++pass)
-        for (PetscInt j = 0; j < k; ++j) {
-          PetscScalar dot = 0;
-          VPC_PETSC(VecDot(v, raw[static_cast<std::size_t>(j)], &dot));
-          VPC_PETSC(VecAXPY(v, -dot, raw[static_cast<std::size_t>(j)]));
-        }
-      VPC_PETSC(VecNormalize(v, nullptr));
-      raw.push_back(v);
-    }
-    PetscHandle<MatNullSpace, MatNullSpaceDestroy> in_basis;
-    VPC_PETSC(MatNullSpaceCreate(comm_, PETSC_FALSE, n_vecs, raw.data(), in_basis.out()));
-    return in_basis;
+    return rigid;
   }
 
   /// The KSP takes a PETSc reference to A. Throws naming `what_` if the factorization fails.
@@ -414,7 +381,6 @@ class PetscFactor final : public LinearSolver {
   int n_ = 0;
   Eigen::VectorXd coordinates_;
   int dim_ = 0;
-  Eigen::SparseMatrix<double> basis_;  // set_basis (empty: none)
   // See note_iterations: the set-up's cost (operations, then iterations), the reference rate
   // (iterations per decade, tight and loose solves) and the iterations spent beyond it.
   // GAMG's set-up does much work that PETSc counts no operations for (the graph, its coarsening,

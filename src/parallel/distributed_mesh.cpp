@@ -75,6 +75,13 @@ std::vector<int> partition_cells(const Mesh& mesh, const NodeCells& nc, int n_pa
   return part;
 }
 
+/// A node's owner: the lowest rank among its cells (0 for a node no cell has).
+int lowest_rank(const NodeCells& nc, const std::vector<int>& part, int n_parts, int node) {
+  int o = n_parts;
+  for (int k = nc.start[node]; k < nc.start[node + 1]; ++k) o = std::min(o, part[nc.list[k]]);
+  return o == n_parts ? 0 : o;
+}
+
 /// A contact pair's row (scheme/contact_pairs.hpp) is ν·u_j − Σ_k w_k ν·u_k on its slave node j
 /// and master nodes k. The solvers take each rank's rows of N over that rank's own dofs (so that
 /// Nᵀλ and S = N K⁻¹Nᵀ sum over the ranks exactly, with no ghost columns): every node of a row
@@ -127,12 +134,8 @@ void own_pairs_together(const std::vector<ContactRow>& rows, const Mesh& mesh, c
   for (int i = 0; i < static_cast<int>(owner.size()); ++i)
     if (slave[i])
       for (int k = nc.start[i]; k < nc.start[i + 1]; ++k) part[nc.list[k]] = owner[i];
-  for (int i = 0; i < static_cast<int>(owner.size()); ++i) {
-    if (root[i] >= 0) continue;
-    int o = n_parts;
-    for (int k = nc.start[i]; k < nc.start[i + 1]; ++k) o = std::min(o, part[nc.list[k]]);
-    owner[i] = o == n_parts ? 0 : o;
-  }
+  for (int i = 0; i < static_cast<int>(owner.size()); ++i)
+    if (root[i] < 0) owner[i] = lowest_rank(nc, part, n_parts, i);
 }
 
 struct Message {
@@ -182,11 +185,7 @@ std::vector<Message> pack_parts(const Problem& p, int n_parts) {
   const WholeMeshData whole(p);
   // A node belongs to the lowest rank among its cells, except on contact pairs (own_pairs_together).
   std::vector<int> owner(n_nodes, 0);
-  for (int i = 0; i < n_nodes; ++i) {
-    int o = n_parts;
-    for (int k = nc.start[i]; k < nc.start[i + 1]; ++k) o = std::min(o, part[nc.list[k]]);
-    owner[i] = o == n_parts ? 0 : o;
-  }
+  for (int i = 0; i < n_nodes; ++i) owner[i] = lowest_rank(nc, part, n_parts, i);
   own_pairs_together(whole.rows, mesh, nc, n_parts, part, owner);
   std::vector<std::vector<int>> owned(n_parts);
   for (int i = 0; i < n_nodes; ++i) owned[owner[i]].push_back(i);

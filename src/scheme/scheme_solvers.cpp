@@ -77,14 +77,6 @@ SchemeSolvers set_up_solvers(DiscreteSystem& sys, const SolverChoice& choice, Se
                                                    : sys.K_local,  // no row of this rank's cells needs it
                                     *part.dof_layout, sys.K_block);
     }
-    if (part.comm.any(pairs)) {  // multigrid's rigid-body modes in the pair basis (on every rank: collective)
-      SparseMatrix B = contact_basis(constraints.N, constraints.node_dofs).P_inverse;
-      if (B.size() == 0) {
-        B.resize(part.n_owned_dofs, part.n_owned_dofs);
-        B.setIdentity();
-      }
-      s.K_factor->set_basis(B);
-    }
     s.contact = make_primal_active_set_solver(sys.K, std::move(K_rot), std::exchange(s.K_factor, nullptr),
                                               std::move(constraints), 0, options.friction_tolerance);
   } else {
