@@ -14,6 +14,9 @@ class DamageSource {
   virtual ~DamageSource() = default;
   virtual double rate(const PointState& s) const = 0;
   virtual std::string describe() const = 0;
+  /// φ ≡ 0 whatever the state: a body of such cells with a uniform β0 keeps β = β0 exactly
+  /// (constant_damage_nodes, scheme/discrete_system.hpp).
+  virtual bool vanishes() const { return false; }
 };
 
 /// Builds a source by name ("zero", "strain", "von-mises"); throws vpc::Error for

@@ -113,12 +113,33 @@ DiscreteSystem::DiscreteSystem(std::shared_ptr<const Problem> problem_in, MeshPa
   lumped.local() = M_local * Vector::Ones(M_local.cols());
   lumped.add_ghosts_to_owners();
   lumped_mass = lumped.owned();
+  constant_damage = constant_damage_nodes(p, part, materials);
   const SparseMatrix H_local = M_local + (first_step * kappa) * A_local;
   H_first = backend->assemble(H_local, *part.node_layout, 1);
   H_first_local_nonzeros = static_cast<double>(H_local.nonZeros());
   assembly_seconds = seconds_since(t1);
   choice.stage("assembly", assembly_seconds);
   build_seconds = seconds_since(t0);
+}
+
+std::vector<char> constant_damage_nodes(const Problem& p, const MeshPart& part, const std::vector<Material>& materials) {
+  const Mesh& mesh = part.mesh();
+  const Vector beta0 = p.initial_damage(mesh, part.cell_body);
+  const std::vector<int> node_body = node_bodies(mesh, part.cell_body);
+  const int n_bodies = 1 + static_cast<int>(p.bodies.size());
+  std::vector<char> constant(static_cast<std::size_t>(n_bodies), 1);
+  for (int c = 0; c < mesh.n_cells(); ++c)
+    if (!materials[part.cell_material[c]].source->vanishes()) constant[part.cell_body[c]] = 0;
+  std::vector<double> lo(n_bodies, INFINITY), hi(n_bodies, -INFINITY);
+  for (int i = 0; i < mesh.n_nodes(); ++i) {
+    lo[node_body[i]] = std::min(lo[node_body[i]], beta0[i]);
+    hi[node_body[i]] = std::max(hi[node_body[i]], beta0[i]);
+  }
+  for (int b = 0; b < n_bodies; ++b)  // the same reductions, in the same order, on every rank
+    constant[b] = part.comm.all(constant[b] != 0) && part.comm.min(lo[b]) == part.comm.max(hi[b]);
+  std::vector<char> held(static_cast<std::size_t>(part.n_owned_nodes));
+  for (int i = 0; i < part.n_owned_nodes; ++i) held[i] = constant[node_body[i]];
+  return held;
 }
 
 void DiscreteSystem::set_friction_frame(const std::vector<std::vector<int>>& node_dofs) {

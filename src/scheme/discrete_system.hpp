@@ -55,6 +55,8 @@ struct DiscreteSystem {
   /// H = M + k_1 κA of the first step, assembled with K: handed to its damage solver at set-up.
   std::unique_ptr<la::SpdOperator> H_first;
   double H_first_local_nonzeros = 0;
+  /// The owned nodes whose β stays β0 (constant_damage_nodes): held by the damage solvers.
+  std::vector<char> constant_damage;
   Vector lumped_mass;  // the row sums of M (owned nodes): the error estimate's M_L
   Vector basis_integral_cells, basis_integral_traction;  // ∫ψ_a over Ω and Γ2 (for uniform f0, f2; else empty)
   std::vector<int> dirichlet_cells;  // the part's cells with a prescribed dof: u_D's lifting, the reactions
@@ -76,6 +78,14 @@ struct DiscreteSystem {
   /// A factor of K's kind (name "K"), its coordinates set for multigrid's rigid-body modes.
   std::shared_ptr<la::LinearSolver> make_stiffness_factor() const;
 };
+
+/// Per owned node of `part`: whether its β stays β0 whatever the state: its body's cells all have
+/// φ ≡ 0 (DamageSource::vanishes) and its β0 is uniform over the body. (3.8) then gives β_n = β_{n−1}
+/// exactly, since A·1 = 0 and no damage flux crosses to another body (SPEC §8); left to the box
+/// QP, the degenerate bound of such a body's β = 1 (multiplier 0) flips in and out of the active
+/// set on round-off (an undamaged deformable foundation: 3 damage solves a step instead of 1).
+/// Collective.
+std::vector<char> constant_damage_nodes(const Problem& p, const MeshPart& part, const std::vector<Material>& materials);
 
 /// The contact solver's data: N, g(0) and the compliance law of each owned contact row. Collective.
 ContactConstraints contact_constraints(const DiscreteSystem& sys);

@@ -104,6 +104,7 @@ DamageSolver& DamageSolvers::for_step(const DiscreteSystem& sys, const SolverCho
     ++matrices_made_;
     kept_.push_back({k, make_damage_solver(choice.damage, std::move(H), la::factor_factory(sys.backend),
                                            choice.damage_reduced)});
+    kept_.back().solver->hold(sys.constant_damage);
     if (current_) kept_.back().solver->set_warm_state(warm);
     current_ = kept_.back().solver.get();
     return *current_;

@@ -15,14 +15,15 @@ constexpr double kRoundoff = 1e-14;
 
 /// The monotone update that replaces the plain one once an active set has come back: every
 /// bound the trial point crosses is taken, but of the bounds whose multiplier has the wrong
-/// sign only the one with the largest violation (over every rank) is released.
-void monotone_update(const std::vector<signed char>& state, const Vector& r, const la::Comm& comm,
-                     std::vector<signed char>& next) {
+/// sign only the one with the largest violation (over every rank) is released (never one with
+/// lo = hi, whose multiplier has either sign).
+void monotone_update(const std::vector<signed char>& state, const Vector& r, const Vector& lo, const Vector& hi,
+                     const la::Comm& comm, std::vector<signed char>& next) {
   double worst = 0;
   int at = -1;
   for (int i = 0; i < static_cast<int>(state.size()); ++i) {
     // The multiplier of a lower bound is −r_i, of an upper bound r_i: both ≥ 0 at a solution.
-    const double violation = state[i] == 1 ? r[i] : (state[i] == 2 ? -r[i] : 0.0);
+    const double violation = lo[i] == hi[i] ? 0.0 : state[i] == 1 ? r[i] : (state[i] == 2 ? -r[i] : 0.0);
     if (violation > worst) {
       worst = violation;
       at = i;
@@ -230,7 +231,7 @@ BoxQpResult solve_box_qp(BoxQpOperator& H, const Vector& b, const Vector& lo, co
     const Vector r = b - H.multiply(x);  // −∇: the multiplier of a bound is −r_i
     for (int i = 0; i < n; ++i) {
       const double trial = x[i] + r[i] / d[i];
-      next[i] = trial < lo[i] ? 1 : (trial > hi[i] ? 2 : 0);
+      next[i] = trial < lo[i] || lo[i] == hi[i] ? 1 : (trial > hi[i] ? 2 : 0);
     }
     // Converged when the active sets repeat, or when x already satisfies KKT to
     // round-off: at a degenerate bound (multiplier exactly 0) round-off could
@@ -240,7 +241,7 @@ BoxQpResult solve_box_qp(BoxQpOperator& H, const Vector& b, const Vector& lo, co
       break;
     }
     if (monotone) {
-      monotone_update(state, r, comm, next);
+      monotone_update(state, r, lo, hi, comm, next);
       if (comm.all(next == state)) {  // no bound to take and no multiplier of the wrong sign: KKT holds
         res.converged = true;
         break;
@@ -248,7 +249,7 @@ BoxQpResult solve_box_qp(BoxQpOperator& H, const Vector& b, const Vector& lo, co
     } else if (history.came_back(next, comm)) {
       monotone = true;
       ++res.cycles;
-      monotone_update(state, r, comm, next);
+      monotone_update(state, r, lo, hi, comm, next);
     }
     state = next;
     for (int i = 0; i < n; ++i) {

@@ -134,8 +134,9 @@ struct BoxQpResult {
 /// Primal–dual active-set method, warm-started from x (projected onto the box).
 /// Converges when the active sets repeat, or when x satisfies KKT to round-off
 /// (box_qp_kkt_residual ≤ 1e-14; this also ends round-off cycling at degenerate
-/// bounds); x then lies exactly in the box. Returns converged = false after
-/// max_iterations.
+/// bounds); x then lies exactly in the box. An index with lo = hi is held there from the
+/// first iteration: it is no unknown, and round-off would flip it between its two bounds.
+/// Returns converged = false after max_iterations.
 BoxQpResult solve_box_qp(BoxQpOperator& H, const Vector& b, const Vector& lo, const Vector& hi,
                          Vector& x, int max_iterations = 200);
 

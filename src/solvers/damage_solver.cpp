@@ -54,9 +54,12 @@ class ActiveSetDamageSolver final : public DamageSolver {
   ActiveSetDamageSolver(std::unique_ptr<la::SpdOperator> H, const la::LinearSolverFactory& make_factor, ReducedSolve reduced)
       : op_(std::move(H), make_factor, reduced, kDamageMatrix) {}
   DamageReport solve(const Vector& rhs, Vector& beta) override {
-    const int n = op_.size();
-    const BoxQpResult r = solve_box_qp(op_, rhs, Vector::Zero(n), Vector::Ones(n), beta);
-    return {r.converged, r.iterations, r.n_lower, r.n_upper, r.kkt_residual};
+    Vector lo, hi;
+    bounds(beta, lo, hi);
+    const BoxQpResult r = solve_box_qp(op_, rhs, lo, hi, beta);
+    DamageReport rep{r.converged, r.iterations, 0, 0, r.kkt_residual};
+    count_bounds(beta, op_.comm(), rep);
+    return rep;
   }
   std::string name() const override { return "active-set"; }
   int n_factorizations() const override { return op_.n_factorizations(); }
@@ -119,7 +122,8 @@ class PenaltyDualityDamageSolver final : public DamageSolver {
     // to the tolerance (the measure reported for both damage solvers): at a
     // degenerate bound (β = 1 with a zero multiplier, e.g. β0 = 1) the
     // multiplier test alone converges only linearly.
-    const Vector lo = Vector::Zero(n), hi = Vector::Ones(n);
+    Vector lo, hi;
+    bounds(beta, lo, hi);
     auto accept = [&](const Vector& x) {
       const Vector p = x.cwiseMax(0.0).cwiseMin(1.0);
       return box_qp_kkt_residual(product(p), diag_, rhs, lo, hi, p, comm) <= tol_;
@@ -128,18 +132,13 @@ class PenaltyDualityDamageSolver final : public DamageSolver {
     DamageReport rep{r.converged, r.iterations, 0, 0, 0};
     // The iterate meets the box only to O(tolerance), from either side: project,
     // as the scheme requires β ∈ K^h exactly, snapping values within the
-    // tolerance of a bound onto it, and report the KKT residual after that.
-    long long at_bounds[2] = {0, 0};
+    // tolerance of a bound onto it (a held node onto its value), and report the KKT residual after that.
     for (int i = 0; i < n; ++i) {
-      beta[i] = std::clamp(beta[i], 0.0, 1.0);
+      beta[i] = std::clamp(beta[i], lo[i], hi[i]);
       if (beta[i] < tol_) beta[i] = 0.0;
       if (beta[i] > 1.0 - tol_) beta[i] = 1.0;
-      at_bounds[0] += beta[i] == 0.0;
-      at_bounds[1] += beta[i] == 1.0;
     }
-    comm.sum(at_bounds, 2);
-    rep.n_lower = static_cast<int>(at_bounds[0]);
-    rep.n_upper = static_cast<int>(at_bounds[1]);
+    count_bounds(beta, comm, rep);
     rep.kkt_residual = box_qp_kkt_residual(product(beta), diag_, rhs, lo, hi, beta, comm);
     return rep;
   }
@@ -163,6 +162,23 @@ class PenaltyDualityDamageSolver final : public DamageSolver {
 };
 
 }  // namespace
+
+void DamageSolver::bounds(const Vector& beta, Vector& lo, Vector& hi) const {
+  lo = Vector::Zero(beta.size());
+  hi = Vector::Ones(beta.size());
+  if (held_.empty()) return;
+  require(static_cast<Eigen::Index>(held_.size()) == beta.size(), "internal: {} held flags for {} damage nodes",
+          held_.size(), beta.size());
+  for (Eigen::Index i = 0; i < beta.size(); ++i)
+    if (held_[i]) lo[i] = hi[i] = beta[i];
+}
+
+void DamageSolver::count_bounds(const Vector& beta, const la::Comm& comm, DamageReport& r) {
+  long long at_bounds[2] = {(beta.array() == 0.0).count(), (beta.array() == 1.0).count()};
+  comm.sum(at_bounds, 2);
+  r.n_lower = static_cast<int>(at_bounds[0]);
+  r.n_upper = static_cast<int>(at_bounds[1]);
+}
 
 std::string damage_failure(const DamageReport& r, double tolerance) {
   if (std::isinf(r.kkt_residual) || std::isnan(r.kkt_residual)) return kSolverMetNonFinite;

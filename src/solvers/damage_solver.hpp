@@ -7,6 +7,7 @@
 
 #include <memory>
 #include <string>
+#include <vector>
 
 namespace vpc {
 
@@ -29,6 +30,9 @@ class DamageSolver {
   /// in [0, 1], on exit. Collective.
   virtual DamageReport solve(const Vector& rhs, Vector& beta) = 0;
   virtual std::string name() const = 0;
+  /// The owned nodes whose β stays as it is (lo = hi = β in the box; constant_damage_nodes in
+  /// scheme/discrete_system.hpp): their β is no unknown. Empty (the default): none.
+  void hold(std::vector<char> held) { held_ = std::move(held); }
   /// Internal warm-start state carried from step to step (penalty–duality's
   /// multiplier, this rank's owned entries: a node field; empty for the active-set
   /// method, whose warm start is the solution itself): saved in checkpoints so that
@@ -39,6 +43,15 @@ class DamageSolver {
   virtual int n_factorizations() const = 0;
   /// Memory held by its factors (bytes).
   virtual double factor_bytes() const = 0;
+
+ protected:
+  /// The box of (3.8), [0, 1] at each node, the point {β_i} at a held node.
+  void bounds(const Vector& beta, Vector& lo, Vector& hi) const;
+  /// The report's n_lower and n_upper: the nodes with β = 0 and β = 1 exactly, over every rank.
+  static void count_bounds(const Vector& beta, const la::Comm& comm, DamageReport& r);
+
+ private:
+  std::vector<char> held_;
 };
 
 /// H: the assembled operator (owned rows of this rank), `make_factor` a backend's

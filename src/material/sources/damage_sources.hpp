@@ -11,6 +11,7 @@ class ZeroSource final : public DamageSource {
   explicit ZeroSource(const Parameters&) {}
   double rate(const PointState&) const override { return 0; }
   std::string describe() const override { return "zero"; }
+  bool vanishes() const override { return true; }
 };
 
 /// φ = −c tr ε(u); in 1D the paper's −2ε (4.4) with c = 2.

@@ -136,6 +136,50 @@ source = "strain"
   EXPECT_GT(sa.u.cwiseAbs().maxCoeff(), 1e-4);
 }
 
+// A body with φ ≡ 0 and a uniform β0 keeps β = β0 exactly (constant_damage_nodes: its nodes are
+// held, not solved for, where round-off would flip β = 1's degenerate bound); with a β0 that
+// varies, β diffuses and is solved for. Either way the other body is as if alone.
+TEST(Bodies, ABodyWhoseDamageCannotChangeKeepsItExactly) {
+  const std::string first_damage = "[damage]\nkappa = 1.0\nsource = \"von-mises\"\nc = 0.01\n";
+  auto with_second = [&](const std::string& beta0) {
+    std::string text = block(0.0, 6, first_damage + fmt::format(R"toml(
+[[body]]
+name = "b"
+[body.mesh]
+generator = "rectangle"
+lower = [3.0, 0.0]
+upper = [5.0, 2.0]
+cells = [5, 5]
+[[body.mesh.part]]
+name = "contact"
+where = "abs(y) < 1e-12 && x > 3.8 && x < 4.2"
+[body.damage]
+kappa = 0.1
+beta0 = "{}"
+source = "zero"
+)toml", beta0));
+    text.replace(text.find("clamped = [\"top\"]"), 17, "clamped = [\"top\", \"b.top\"]");
+    text.replace(text.find("contact = [\"contact\"]"), 21, "contact = [\"contact\", \"b.contact\"]");
+    return run_to_end(parse_case(text, "two.toml", ".", {}));
+  };
+  const auto alone = run_to_end(parse_case(block(0.0, 6, first_damage), "a.toml", ".", {}));
+  const Vector& beta_a = alone->state().beta;
+  const auto na = beta_a.size();
+  ASSERT_LT(beta_a.minCoeff(), 0.999);  // the first body damages: its β is solved for
+  const auto held = with_second("0.8");
+  const Vector& beta = held->state().beta;
+  for (Eigen::Index i = na; i < beta.size(); ++i) ASSERT_EQ(beta[i], 0.8) << i;  // exactly, not to round-off
+  EXPECT_LT((beta.head(na) - beta_a).cwiseAbs().maxCoeff(), 1e-12);
+  const auto varying = with_second("0.9 - 0.01*x");
+  const Vector& beta_v = varying->state().beta;
+  double moved = 0;  // κ spreads β0's slope: β differs from β0 = 0.9 − 0.01x inside
+  const Mesh& mesh = varying->problem().mesh;
+  for (Eigen::Index i = na; i < beta_v.size(); ++i)
+    moved = std::max(moved, std::abs(beta_v[i] - (0.9 - 0.01 * mesh.node(static_cast<int>(i))[0])));
+  EXPECT_GT(moved, 1e-6);
+  EXPECT_LT((beta_v.head(na) - beta_a).cwiseAbs().maxCoeff(), 1e-12);
+}
+
 TEST(Bodies, BadBodiesAreRefusedNamingTheKey) {
   const std::string base = block(0.0, 5, "");
   auto with = [&](const std::string& body) { return error_of([&] { parse_case(base + body, "c.toml", ".", {}); }); };

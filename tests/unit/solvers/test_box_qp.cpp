@@ -437,6 +437,40 @@ SparseMatrix damage_matrix_2d() {
   return assemble_mass(mesh, geo) + 0.01 * assemble_laplacian(mesh, geo);
 }
 
+// An index with lo = hi is no unknown: it is held from the first iteration, whatever the sign
+// of its multiplier, never released by the monotone updates, and x there is its value exactly;
+// the rest is the reduced solve's. Where its value also solves the unconstrained problem (a
+// degenerate bound, the undamaged foundation's β = 1) round-off must not make it flip.
+TEST(BoxQp, EqualBoundsAreHeldFromTheFirstIteration) {
+  const SparseMatrix H = damage_matrix_2d();
+  const int n = static_cast<int>(H.rows());
+  Vector lo = Vector::Constant(n, -kInf), hi = Vector::Constant(n, kInf), xs(n);
+  for (int i = 0; i < n; ++i) xs[i] = 0.5 + 0.3 * std::sin(0.37 * i);
+  const Vector b = H * xs;
+  std::vector<char> fixed(n, 0);
+  for (int i = 0; i < n; i += 5) {  // held above, below and at x*
+    fixed[i] = 1;
+    lo[i] = hi[i] = xs[i] + (i % 15 == 0 ? 0.2 : i % 15 == 5 ? -0.2 : 0.0);
+  }
+  Vector ref = xs;
+  for (int i = 0; i < n; ++i)
+    if (fixed[i]) ref[i] = lo[i];
+  SparseBoxQpOperator direct(H);
+  direct.solve_free(fixed, b, ref);
+  for (const Vector& start : {Vector(Vector::Zero(n)), xs}) {
+    SparseBoxQpOperator op(H);
+    Vector x = start;
+    const BoxQpResult r = solve_box_qp(op, b, lo, hi, x, 50);
+    EXPECT_TRUE(r.converged);
+    EXPECT_EQ(r.iterations, 1);  // one reduced solve; then the sets repeat
+    EXPECT_EQ(r.cycles, 0);
+    EXPECT_LE(r.kkt_residual, 1e-14);
+    for (int i = 0; i < n; ++i)
+      if (fixed[i]) ASSERT_EQ(x[i], lo[i]) << i;
+    EXPECT_LE((x - ref).cwiseAbs().maxCoeff(), 1e-13);
+  }
+}
+
 // Reduced systems H_FF x_F = b_F − H_FA x_A by the capacitance method (the factor
 // of the whole H only) and by a factor of H_FF agree, for growing, shrinking and
 // repeated active sets; x_A keeps its given values exactly.
