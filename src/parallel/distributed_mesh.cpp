@@ -89,11 +89,12 @@ int lowest_rank(const NodeCells& nc, const std::vector<int>& part, int n_parts, 
 /// connected set of pair nodes goes to one rank, the one that owns most of it already (ties:
 /// the lowest). The primal solver writes a slave node's dofs in its masters' (K_rot = Pᵀ K P,
 /// solvers/contact_frame.hpp), which a rank can form from its cells only if it holds the masters of
-/// every slave node its cells touch: so the cells at a slave node go to its owner too (slave nodes
-/// sharing a cell join one set), and no other rank holds a slave node. The other nodes of a moved
-/// cell are owned as before (the lowest rank among their cells, now); the ranks whose cells touch
-/// master nodes keep them as ghosts, as any other, and an owner may hold a node none of its cells
-/// touch (its K and M rows come from the others').
+/// every slave node its cells touch: so the cells at a slave node go to its owner too, and no other
+/// rank holds a slave node. The cells at a master node go there as well, so that every rank holds a
+/// cell at each node it owns, as off the pairs: what a rank knows of a node from its cells (its body,
+/// and so its β0 and whether its β can change) would be missing otherwise. Pair nodes sharing a cell
+/// join one set, so no cell has two owners. The other nodes of a moved cell are owned as before
+/// (the lowest rank among their cells, now).
 void own_pairs_together(const std::vector<ContactRow>& rows, const Mesh& mesh, const NodeCells& nc, int n_parts,
                         std::vector<int>& part, std::vector<int>& owner) {
   if (std::ranges::none_of(rows, [](const ContactRow& r) { return r.pair >= 0; })) return;
@@ -108,17 +109,19 @@ void own_pairs_together(const std::vector<ContactRow>& rows, const Mesh& mesh, c
     a = find(a), b = find(b);
     if (a != b) root[std::max(a, b)] = std::min(a, b);
   };
-  std::vector<char> slave(owner.size(), 0);
-  for (const ContactRow& r : rows) {
-    if (r.pair < 0) continue;
-    slave[r.node] = 1;
-    for (const auto& [k, w] : r.masters) join(r.node, k);
-  }
-  for (int i = 0; i < static_cast<int>(owner.size()); ++i)
-    if (slave[i])
+  for (const ContactRow& r : rows)
+    if (r.pair >= 0) {
+      join(r.node, r.node);  // a slave node with no master (off the master side) too
+      for (const auto& [k, w] : r.masters) join(r.node, k);
+    }
+  const auto n = static_cast<int>(owner.size());
+  std::vector<char> in_pair(owner.size(), 0);  // slave or master: the nodes with a set, before the joins below
+  for (int i = 0; i < n; ++i) in_pair[i] = root[i] >= 0;
+  for (int i = 0; i < n; ++i)
+    if (in_pair[i])
       for (int k = nc.start[i]; k < nc.start[i + 1]; ++k)
         for (int a = 0; a < mesh.nodes_per_cell(); ++a)
-          if (const int v = mesh.cell(nc.list[k])[a]; slave[v]) join(i, v);
+          if (const int v = mesh.cell(nc.list[k])[a]; in_pair[v]) join(i, v);
   std::unordered_map<int, std::vector<int>> count;  // per set's root: its nodes per rank
   for (std::size_t i = 0; i < owner.size(); ++i)
     if (root[i] >= 0) {
@@ -131,11 +134,11 @@ void own_pairs_together(const std::vector<ContactRow>& rows, const Mesh& mesh, c
       const std::vector<int>& c = count.at(find(static_cast<int>(i)));
       owner[i] = static_cast<int>(std::max_element(c.begin(), c.end()) - c.begin());
     }
-  for (int i = 0; i < static_cast<int>(owner.size()); ++i)
-    if (slave[i])
+  for (int i = 0; i < n; ++i)
+    if (in_pair[i])
       for (int k = nc.start[i]; k < nc.start[i + 1]; ++k) part[nc.list[k]] = owner[i];
-  for (int i = 0; i < static_cast<int>(owner.size()); ++i)
-    if (root[i] < 0) owner[i] = lowest_rank(nc, part, n_parts, i);
+  for (int i = 0; i < n; ++i)
+    if (!in_pair[i]) owner[i] = lowest_rank(nc, part, n_parts, i);
 }
 
 struct Message {
