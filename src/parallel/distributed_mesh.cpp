@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <unordered_map>
 
 namespace vpc {
@@ -65,6 +66,11 @@ std::vector<int> partition_cells(const Mesh& mesh, const NodeCells& nc, int n_pa
   VPC_PETSC(MatPartitioningSetNParts(mp, n_parts));
   VPC_PETSC(MatPartitioningSetType(mp, MATPARTITIONINGPTSCOTCH));
   VPC_PETSC(MatPartitioningSetFromOptions(mp));  // -mat_partitioning_type ...
+  // Scotch 7 partitions with threads (as Debian builds it), and their races changed the partition
+  // from run to run, and with it the last bits of a run's results and its Krylov iteration counts
+  // (foundation-pair-3d n = 40: rank 0 owned 36,982 to 37,101 nodes in three runs). One thread makes
+  // it the same every run; this graph is partitioned once, on rank 0, while the other ranks wait.
+  setenv("SCOTCH_PTHREAD_NUMBER", "1", 1);
   PIs is;
   VPC_PETSC(MatPartitioningApply(mp, is.out()));
   const PetscInt* idx = nullptr;
