@@ -84,10 +84,10 @@ source = "strain"
 )toml";
 
 
-TEST(Bodies, TwoBodiesWithoutAPairRunAsEachAlone) {
-  const std::string first_damage = "[damage]\nkappa = 1.0\nsource = \"von-mises\"\nc = 0.01\n";
-  // The second body: another E, G, κ, β0 and φ; its parts named "b.<part>".
-  const std::string two = block(0.0, 6, first_damage + R"toml(
+/// A second body "b" (block's mesh on [3, 5] × [0, 2], 5 × 5 cells, its part "contact"), then
+/// `material`: its [body.*] tables.
+std::string second_body(const std::string& material) {
+  return R"toml(
 [[body]]
 name = "b"
 [body.mesh]
@@ -98,6 +98,13 @@ cells = [5, 5]
 [[body.mesh.part]]
 name = "contact"
 where = "abs(y) < 1e-12 && x > 3.8 && x < 4.2"
+)toml" + material;
+}
+
+TEST(Bodies, TwoBodiesWithoutAPairRunAsEachAlone) {
+  const std::string first_damage = "[damage]\nkappa = 1.0\nsource = \"von-mises\"\nc = 0.01\n";
+  // The second body: another E, G, κ, β0 and φ; its parts named "b.<part>".
+  const std::string two = block(0.0, 6, first_damage + second_body(R"toml(
 [body.elasticity]
 E = 2000.0
 [body.viscoplasticity]
@@ -108,7 +115,7 @@ sigma_y = 1.0
 kappa = 0.1
 beta0 = "0.9 - 0.01*x"
 source = "strain"
-)toml");
+)toml"));
   std::string both = two;
   auto replace = [](std::string& text, const std::string& from, const std::string& to) {
     text.replace(text.find(from), from.size(), to);
@@ -142,22 +149,12 @@ source = "strain"
 TEST(Bodies, ABodyWhoseDamageCannotChangeKeepsItExactly) {
   const std::string first_damage = "[damage]\nkappa = 1.0\nsource = \"von-mises\"\nc = 0.01\n";
   auto with_second = [&](const std::string& beta0) {
-    std::string text = block(0.0, 6, first_damage + fmt::format(R"toml(
-[[body]]
-name = "b"
-[body.mesh]
-generator = "rectangle"
-lower = [3.0, 0.0]
-upper = [5.0, 2.0]
-cells = [5, 5]
-[[body.mesh.part]]
-name = "contact"
-where = "abs(y) < 1e-12 && x > 3.8 && x < 4.2"
+    std::string text = block(0.0, 6, first_damage + second_body(fmt::format(R"toml(
 [body.damage]
 kappa = 0.1
 beta0 = "{}"
 source = "zero"
-)toml", beta0));
+)toml", beta0)));
     text.replace(text.find("clamped = [\"top\"]"), 17, "clamped = [\"top\", \"b.top\"]");
     text.replace(text.find("contact = [\"contact\"]"), 21, "contact = [\"contact\", \"b.contact\"]");
     return run_to_end(parse_case(text, "two.toml", ".", {}));
