@@ -125,7 +125,7 @@ class PenaltyDualityDamageSolver final : public DamageSolver {
     Vector lo, hi;
     bounds(beta, lo, hi);
     auto accept = [&](const Vector& x) {
-      const Vector p = x.cwiseMax(0.0).cwiseMin(1.0);
+      const Vector p = x.cwiseMax(lo).cwiseMin(hi);
       return box_qp_kkt_residual(product(p), diag_, rhs, lo, hi, p, comm) <= tol_;
     };
     const PenaltyDualityResult r = pd_.solve(rhs, lo, hi, beta, theta, tol_, maxit_, accept);
@@ -135,6 +135,7 @@ class PenaltyDualityDamageSolver final : public DamageSolver {
     // tolerance of a bound onto it (a held node onto its value), and report the KKT residual after that.
     for (int i = 0; i < n; ++i) {
       beta[i] = std::clamp(beta[i], lo[i], hi[i]);
+      if (lo[i] == hi[i]) continue;
       if (beta[i] < tol_) beta[i] = 0.0;
       if (beta[i] > 1.0 - tol_) beta[i] = 1.0;
     }

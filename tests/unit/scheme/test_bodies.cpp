@@ -148,7 +148,7 @@ source = "strain"
 // varies, β diffuses and is solved for. Either way the other body is as if alone.
 TEST(Bodies, ABodyWhoseDamageCannotChangeKeepsItExactly) {
   const std::string first_damage = "[damage]\nkappa = 1.0\nsource = \"von-mises\"\nc = 0.01\n";
-  auto with_second = [&](const std::string& beta0) {
+  auto with_second = [&](const std::string& beta0, const std::string& damage_solver = "active-set") {
     std::string text = block(0.0, 6, first_damage + second_body(fmt::format(R"toml(
 [body.damage]
 kappa = 0.1
@@ -157,6 +157,7 @@ source = "zero"
 )toml", beta0)));
     text.replace(text.find("clamped = [\"top\"]"), 17, "clamped = [\"top\", \"b.top\"]");
     text.replace(text.find("contact = [\"contact\"]"), 21, "contact = [\"contact\", \"b.contact\"]");
+    text += fmt::format("[solver]\ndamage = \"{}\"\n", damage_solver);
     return run_to_end(parse_case(text, "two.toml", ".", {}));
   };
   const auto alone = run_to_end(parse_case(block(0.0, 6, first_damage), "a.toml", ".", {}));
@@ -167,6 +168,10 @@ source = "zero"
   const Vector& beta = held->state().beta;
   for (Eigen::Index i = na; i < beta.size(); ++i) ASSERT_EQ(beta[i], 0.8) << i;  // exactly, not to round-off
   EXPECT_LT((beta.head(na) - beta_a).cwiseAbs().maxCoeff(), 1e-12);
+  const auto held_pd = with_second("0.8", "penalty-duality");  // the other damage solver holds them too
+  const Vector& beta_pd = held_pd->state().beta;
+  for (Eigen::Index i = na; i < beta_pd.size(); ++i) ASSERT_EQ(beta_pd[i], 0.8) << i;
+  EXPECT_LT((beta_pd.head(na) - beta_a).cwiseAbs().maxCoeff(), 1e-9);  // to its tolerance
   const auto varying = with_second("0.9 - 0.01*x");
   const Vector& beta_v = varying->state().beta;
   double moved = 0;  // κ spreads β0's slope: β differs from β0 = 0.9 − 0.01x inside
