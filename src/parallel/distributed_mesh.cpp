@@ -120,14 +120,14 @@ void own_pairs_together(const std::vector<ContactRow>& rows, const Mesh& mesh, c
       join(r.node, r.node);  // a slave node with no master (off the master side) too
       for (const auto& [k, w] : r.masters) join(r.node, k);
     }
+  // A node is a pair node (slave or master) where it has a set (root ≥ 0); the joins below only
+  // merge such sets.
   const auto n = static_cast<int>(owner.size());
-  std::vector<char> in_pair(owner.size(), 0);  // slave or master: the nodes with a set, before the joins below
-  for (int i = 0; i < n; ++i) in_pair[i] = root[i] >= 0;
   for (int i = 0; i < n; ++i)
-    if (in_pair[i])
+    if (root[i] >= 0)
       for (int k = nc.start[i]; k < nc.start[i + 1]; ++k)
         for (int a = 0; a < mesh.nodes_per_cell(); ++a)
-          if (const int v = mesh.cell(nc.list[k])[a]; in_pair[v]) join(i, v);
+          if (const int v = mesh.cell(nc.list[k])[a]; root[v] >= 0) join(i, v);
   std::unordered_map<int, std::vector<int>> count;  // per set's root: its nodes per rank
   for (std::size_t i = 0; i < owner.size(); ++i)
     if (root[i] >= 0) {
@@ -141,10 +141,10 @@ void own_pairs_together(const std::vector<ContactRow>& rows, const Mesh& mesh, c
       owner[i] = static_cast<int>(std::max_element(c.begin(), c.end()) - c.begin());
     }
   for (int i = 0; i < n; ++i)
-    if (in_pair[i])
+    if (root[i] >= 0)
       for (int k = nc.start[i]; k < nc.start[i + 1]; ++k) part[nc.list[k]] = owner[i];
   for (int i = 0; i < n; ++i)
-    if (!in_pair[i]) owner[i] = lowest_rank(nc, part, n_parts, i);
+    if (root[i] < 0) owner[i] = lowest_rank(nc, part, n_parts, i);
 }
 
 struct Message {

@@ -84,6 +84,11 @@ source = "strain"
 )toml";
 
 
+/// `text` with its first `from` replaced by `to`.
+void replace(std::string& text, const std::string& from, const std::string& to) {
+  text.replace(text.find(from), from.size(), to);
+}
+
 /// A second body "b" (block's mesh on [3, 5] × [0, 2], 5 × 5 cells, its part "contact"), then
 /// `material`: its [body.*] tables.
 std::string second_body(const std::string& material) {
@@ -117,9 +122,6 @@ beta0 = "0.9 - 0.01*x"
 source = "strain"
 )toml"));
   std::string both = two;
-  auto replace = [](std::string& text, const std::string& from, const std::string& to) {
-    text.replace(text.find(from), from.size(), to);
-  };
   replace(both, "clamped = [\"top\"]", "clamped = [\"top\", \"b.top\"]");
   replace(both, "contact = [\"contact\"]", "contact = [\"contact\", \"b.contact\"]");
   std::string second = block(3.0, 5, kSecondBody);
@@ -155,8 +157,8 @@ kappa = 0.1
 beta0 = "{}"
 source = "zero"
 )toml", beta0)));
-    text.replace(text.find("clamped = [\"top\"]"), 17, "clamped = [\"top\", \"b.top\"]");
-    text.replace(text.find("contact = [\"contact\"]"), 21, "contact = [\"contact\", \"b.contact\"]");
+    replace(text, "clamped = [\"top\"]", "clamped = [\"top\", \"b.top\"]");
+    replace(text, "contact = [\"contact\"]", "contact = [\"contact\", \"b.contact\"]");
     text += fmt::format("[solver]\ndamage = \"{}\"\n", damage_solver);
     return run_to_end(parse_case(text, "two.toml", ".", {}));
   };
