@@ -16,6 +16,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace vpc {
 
@@ -74,6 +75,9 @@ class LinearSolver {
   /// per node: algebraic multigrid builds the rigid-body modes of elasticity from
   /// them. Before factorize; ignored by direct solvers.
   virtual void set_coordinates(const Eigen::VectorXd& /*coordinates*/, int /*dim*/) {}
+  /// The field (a body) each owned row belongs to: algebraic multigrid keeps its aggregates
+  /// within one field. Before factorize; ignored by direct solvers.
+  virtual void set_fields(const std::vector<int>& /*field*/) {}
   /// x = A⁻¹ b on the owned entries; x on entry is an iterative solver's initial guess.
   virtual void solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) const = 0;
   /// X = A⁻¹ B for a block of right-hand sides (owned rows).

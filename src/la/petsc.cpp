@@ -1,5 +1,7 @@
 #include "la/petsc.hpp"
 
+#include "la/petsc_segregated.hpp"
+
 #include <cmath>
 #include <numeric>
 
@@ -108,12 +110,31 @@ class PetscFactor final : public LinearSolver {
     coordinates_ = coordinates;
     dim_ = dim;
   }
+  void set_fields(const std::vector<int>& field) override { field_ = field; }
   void factorize(const SpdOperator& A, const char* what) override {
     const auto* op = dynamic_cast<const PetscOperator*>(&A);
     require(op != nullptr, "internal: PETSc factors PETSc operators only ({})", what);
     what_ = what;
     const double start = flops();
-    set_up_ksp(op->mat(), direct() ? nullptr : rigid_body_modes(*op).get());
+    // GAMG's transfers from the matrix without the couplings between fields, where there are
+    // several (petsc_segregated.hpp); the levels' operators from the matrix itself.
+    PMat within;
+    // -vpc_<name>_within_fields false: aggregates across fields (as before; for comparisons).
+    PetscBool segregate = PETSC_TRUE;
+    VPC_PETSC(PetscOptionsGetBool(nullptr, prefix_.c_str(), "-within_fields", &segregate, nullptr));
+    // Collective: every rank decides alike (a restricted operator has fewer rows than the fields
+    // on some ranks only).
+    if (segregate && options_.kind == "cg-gamg" &&
+        allreduce_and(comm_, field_.size() == static_cast<std::size_t>(op->n_owned())) && several_fields(comm_, field_))
+      within = within_fields(op->mat(), field_);
+    set_up_ksp(op->mat(), within ? within.get() : op->mat(), direct() ? nullptr : rigid_body_modes(*op).get());
+    if (within) {
+      PC pc = nullptr;
+      VPC_PETSC(KSPGetPC(ksp_, &pc));
+      galerkin_levels(pc, op->mat());
+      VPC_PETSC(KSPSetOperators(ksp_, op->mat(), op->mat()));
+      VPC_PETSC(KSPSetReusePreconditioner(ksp_, PETSC_TRUE));
+    }
     setup_flops_ = flops() - start;
     rebuild_cost_ = extra_iterations_ = reference_rate_[0] = reference_rate_[1] = 0;
     rebuild_ = false;
@@ -268,9 +289,9 @@ class PetscFactor final : public LinearSolver {
   /// its dynamic scheduling can need more (INFOG(1) = −9, seen as MAT_FACTOR_OUTMEMORY,
   /// now and then on block-3d at 2 ranks), so the factorization is redone with twice the
   /// margin, up to 800 % (-vpc_<name>_mat_mumps_icntl_14 overrides every try).
-  void set_up_ksp(Mat A, MatNullSpace near_null_space) {
+  void set_up_ksp(Mat A, Mat P, MatNullSpace near_null_space) {
     for (int margin = 50;; margin *= 2) {
-      const MatFactorError err = try_set_up_ksp(A, near_null_space, margin);
+      const MatFactorError err = try_set_up_ksp(A, P, near_null_space, margin);
       if (err == MAT_FACTOR_NOERROR) return;
       if (err == MAT_FACTOR_OUTMEMORY && margin < 800) continue;
       require(err != MAT_FACTOR_OUTMEMORY, "the {}: MUMPS ran out of workspace (last try with ICNTL(14) = {} %)", what_, margin);
@@ -282,10 +303,10 @@ class PetscFactor final : public LinearSolver {
   }
 
   /// One try of set_up_ksp, with `margin` % extra MUMPS workspace; the factorization's error.
-  MatFactorError try_set_up_ksp(Mat A, MatNullSpace near_null_space, int margin) {
+  MatFactorError try_set_up_ksp(Mat A, Mat P, MatNullSpace near_null_space, int margin) {
     VPC_PETSC(KSPCreate(comm_, ksp_.out()));
     VPC_PETSC(KSPSetOptionsPrefix(ksp_, prefix_.c_str()));
-    VPC_PETSC(KSPSetOperators(ksp_, A, A));
+    VPC_PETSC(KSPSetOperators(ksp_, A, P));
     PC pc = nullptr;
     VPC_PETSC(KSPGetPC(ksp_, &pc));
     if (direct()) {
@@ -311,7 +332,7 @@ class PetscFactor final : public LinearSolver {
         PetscBool given = PETSC_FALSE;
         VPC_PETSC(PetscOptionsHasName(nullptr, nullptr, sweeps.c_str(), &given));
         if (!given) VPC_PETSC(PetscOptionsSetValue(nullptr, sweeps.c_str(), "1"));
-        if (near_null_space) VPC_PETSC(MatSetNearNullSpace(A, near_null_space));
+        if (near_null_space) VPC_PETSC(MatSetNearNullSpace(P, near_null_space));
       } else {
         VPC_PETSC(PCSetType(pc, PCHYPRE));
         VPC_PETSC(PCHYPRESetType(pc, "boomeramg"));
@@ -381,6 +402,7 @@ class PetscFactor final : public LinearSolver {
   int n_ = 0;
   Eigen::VectorXd coordinates_;
   int dim_ = 0;
+  std::vector<int> field_;  // of each owned row (set_fields)
   // See note_iterations: the set-up's cost (operations, then iterations), the reference rate
   // (iterations per decade, tight and loose solves) and the iterations spent beyond it.
   // GAMG's set-up does much work that PETSc counts no operations for (the graph, its coarsening,

@@ -176,10 +176,16 @@ std::shared_ptr<la::LinearSolver> DiscreteSystem::make_stiffness_factor() const 
   const int d = mesh.dim();
   std::shared_ptr<la::LinearSolver> factor = backend->factor("K");
   Vector coordinates(part.n_owned_dofs);  // GAMG's rigid-body modes
+  std::vector<int> body(static_cast<std::size_t>(part.n_owned_dofs));  // its aggregates stay in one body
+  const std::vector<int> node_body = node_bodies(mesh, part.cell_body);
   for (int i = 0; i < part.n_owned_nodes; ++i)
     for (int c = 0; c < d; ++c)
-      if (const int k = part.dofs.free_index(part.dofs.full_index(i, c)); k >= 0) coordinates[k] = mesh.node(i)[c];
+      if (const int k = part.dofs.free_index(part.dofs.full_index(i, c)); k >= 0) {
+        coordinates[k] = mesh.node(i)[c];
+        body[static_cast<std::size_t>(k)] = node_body[static_cast<std::size_t>(i)];
+      }
   factor->set_coordinates(coordinates, K_block == d ? d : 0);
+  factor->set_fields(body);
   return factor;
 }
 

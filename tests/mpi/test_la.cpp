@@ -5,9 +5,11 @@
 // against the serial solve, and the solvers written once over la/ (contact: active
 // set with W = K⁻¹Nᵀ kept or two solves, penalty–duality; damage: active set and
 // penalty–duality) on a problem whose rows and bounds are split over the ranks,
-// against the one-process solve (CHOLMOD) of the same global problem.
+// against the one-process solve (CHOLMOD) of the same global problem; multigrid within fields
+// (the couplings between fields dropped for GAMG's transfers).
 // Prints PASSED or FAILED (on rank 0).
 #include "la/petsc.hpp"
+#include "la/petsc_segregated.hpp"
 #include "la/vector.hpp"
 #include "solvers/box_qp.hpp"
 #include "solvers/contact_solver.hpp"
@@ -309,6 +311,37 @@ void run() {
     Eigen::VectorXd x;
     f->solve_perturbed(H, C, rhs.segment(c.begin, c.n_owned), x, 1e-12, "chain matrix");
     check(close(comm, x, expected.segment(c.begin, c.n_owned), 1e-9), fmt::format("GMRES on H + C ({})", kind), comm);
+  }
+
+  // Multigrid within fields (la/petsc_segregated.hpp): the chain cut in two fields at its middle
+  // node. within_fields drops exactly the couplings across the cut (against the serial matrix
+  // without them), and CG + GAMG given those fields solves H x = b itself.
+  {
+    const long long cut = c.N / 2;
+    std::vector<int> field(static_cast<std::size_t>(c.n_owned));
+    for (int i = 0; i < c.n_owned; ++i) field[static_cast<std::size_t>(i)] = c.begin + i >= cut ? 1 : 0;
+    check(la::several_fields(PETSC_COMM_WORLD, field), "several fields", comm);
+    check(!la::several_fields(PETSC_COMM_WORLD, std::vector<int>(static_cast<std::size_t>(c.n_owned), 3)),
+          "one field", comm);
+    const la::PetscOperator W(comm, la::within_fields(H.mat(), field));
+    Eigen::SparseMatrix<double> Ws = element_matrix_sum(0, c.N, h);
+    Ws.prune([&](Eigen::Index i, Eigen::Index j, double) { return (i >= cut) == (j >= cut); });
+    Eigen::VectorXd yw, yws = Ws * xs;
+    W.mult(xs.segment(c.begin, c.n_owned), yw);
+    check((yw - yws.segment(c.begin, c.n_owned)).lpNorm<Eigen::Infinity>() <= 1e-12 && W.nonzeros() == Ws.nonZeros() &&
+              W.nonzeros() == H.nonzeros() - 2,
+          "within_fields: the couplings across fields dropped, no other", comm);
+    PetscSolverOptions o;
+    o.kind = "cg-gamg";
+    const auto f = la::factor_factory(la::make_petsc_backend(comm, o))("H");
+    f->set_fields(field);
+    f->factorize(H, "chain matrix");
+    Eigen::VectorXd x, expected;
+    auto fs = la::make_cholmod_factor();
+    fs->factorize(Hs, "chain matrix");
+    fs->solve(xs, expected);
+    f->solve(xs.segment(c.begin, c.n_owned), x);
+    check(close(comm, x, expected.segment(c.begin, c.n_owned), 1e-9), "CG + GAMG within fields", comm);
   }
 
   // The box QP with bounds active on different ranks (MUMPS: no halves, reduced factors).

@@ -1,0 +1,77 @@
+#!/usr/bin/env python3
+"""Multigrid within bodies (la/petsc_segregated.hpp): a two-body case on CG + GAMG, run with GAMG's
+aggregates kept within each body (the default) and across them (-vpc_K_within_fields false, in
+PETSC_OPTIONS), must give the same answer to the solvers' tolerance, and the first must take
+clearly fewer Krylov iterations (at most `--at-most` times the second's: across a frictionless
+interface an aggregate on both sides moves them together, and the coarse space misses the sliding).
+
+  within_bodies.py --vpcontact BIN --mpiexec MPIEXEC --work DIR --ranks P [--at-most 0.75] -- CASE [options...]
+
+Iteration counts are the same from run to run (the partition is deterministic), so the bound is
+not a timing. Prints "within bodies: PASSED" or what failed and "within bodies: FAILED".
+Python standard library only.
+"""
+import argparse
+import csv
+import json
+import os
+import subprocess
+import sys
+
+COMPARED = ("total_contact_force", "max_von_mises", "beta_min")  # history.csv columns, to 1e-7 relative
+
+
+def run(args, out, across):
+    env = dict(os.environ)
+    if across:
+        env["PETSC_OPTIONS"] = (env.get("PETSC_OPTIONS", "") + " -vpc_K_within_fields false").strip()
+    cmd = [args.mpiexec, "-n", str(args.ranks), args.vpcontact, "run", *args.case, "--engine", "petsc",
+           "--linear-solver", "cg-gamg", "--output", out, "-q", "--no-vtu"]
+    r = subprocess.run(cmd, capture_output=True, text=True, env=env)
+    if r.returncode != 0:
+        print(f"run failed ({r.returncode}): {' '.join(cmd)}\n{r.stdout}\n{r.stderr}")
+        print("within bodies: FAILED")
+        sys.exit(1)
+    with open(os.path.join(out, "summary.json")) as f:
+        summary = json.load(f)
+    with open(os.path.join(out, "history.csv")) as f:
+        history = list(csv.DictReader(f))
+    return summary, history
+
+
+def main():
+    p = argparse.ArgumentParser()
+    p.add_argument("--vpcontact", required=True)
+    p.add_argument("--mpiexec", required=True)
+    p.add_argument("--work", required=True)
+    p.add_argument("--ranks", type=int, default=2)
+    p.add_argument("--at-most", type=float, default=0.75)
+    p.add_argument("case", nargs=argparse.REMAINDER)
+    args = p.parse_args()
+    if args.case and args.case[0] == "--":
+        args.case = args.case[1:]
+    within, h_within = run(args, os.path.join(args.work, "within"), across=False)
+    across, h_across = run(args, os.path.join(args.work, "across"), across=True)
+    problems = []
+    n_within, n_across = within["linear_iterations"], across["linear_iterations"]
+    print(f"Krylov iterations: {n_within} within bodies, {n_across} across them")
+    if not n_within <= args.at_most * n_across:
+        problems.append(f"{n_within} iterations within bodies, not at most {args.at_most} x {n_across}")
+    for run_summary in (within, across):
+        if not run_summary["checks"]["all_steps_ok"]:
+            problems.append("a step's checks failed")
+    if len(h_within) != len(h_across):
+        problems.append(f"{len(h_within)} steps against {len(h_across)}")
+    for a, b in zip(h_within, h_across):
+        for col in COMPARED:
+            x, y = float(a[col]), float(b[col])
+            if abs(x - y) > 1e-7 * max(abs(x), abs(y), 1e-300):
+                problems.append(f"step {a['step']}: {col} {x!r} against {y!r}")
+    for line in problems:
+        print("  " + line)
+    print("within bodies: " + ("FAILED" if problems else "PASSED"))
+    sys.exit(1 if problems else 0)
+
+
+if __name__ == "__main__":
+    main()
