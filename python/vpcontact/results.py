@@ -29,7 +29,9 @@ class Fields:
     contact_force_vector (the point field -lambda nu, (n_nodes, 3)), contact_pressure
     (n_nodes,), contact_force (lambda's block at each node, written where it has more than
     one number); with friction tangential_force, tangential_traction, slip_increment
-    (n_nodes, 3) and slip, contact_status (n_nodes,; zero off the contact boundary); active
+    (n_nodes, 3) and slip, contact_status (n_nodes,; zero off the contact boundary); with
+    contact pairs gap (n_nodes,: g - N u on both sides of each pair; contact_pressure is then on
+    both sides too); active
     (the nodes with a contact pressure > 0). Fields the run did not write ([output] fields,
     friction's without friction) are None; `arrays` holds every VTU array by its VTU name."""
 

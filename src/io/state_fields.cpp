@@ -44,21 +44,41 @@ VtuField node_field(const FieldContext& c, std::string_view name, int width, Fil
 // λ's normal force at contact node c (the first of its block).
 double normal_force(const State& s, const PartContactNode& c) { return s.lambda[c.row * s.contact_block]; }
 
-/// Per local node, 3 numbers: the reaction Σ_j w_jk λ_j ν_j of contact pairs' slave rows j on their
-/// master nodes k. A row's rank owns its masters (cut_part) and sums there; the ranks that show a
-/// master node as a ghost get the owner's sum. Empty without pairs. Collective on the part's communicator.
-std::vector<double> master_reactions(const FieldContext& c) {
+/// Per local node, `width` numbers: Σ_j w_jk x_j over the contact pairs' slave rows j with master
+/// node k (x_j: `of(row, component)`). A row's rank owns its masters (cut_part) and sums there; the
+/// ranks that show a master node as a ghost get the owner's sum. Empty without pairs. Collective on
+/// the part's communicator.
+template <typename Of>
+std::vector<double> master_sums(const FieldContext& c, int width, Of of) {
   const bool pairs = std::ranges::any_of(c.part.contact, [](const PartContactNode& n) { return n.pair >= 0; });
   if (!c.part.comm.any(pairs)) return {};
-  std::vector<double> out(3 * n_nodes(c), 0.0);
-  for (int j = 0; j < 3; ++j) {
+  std::vector<double> out(static_cast<std::size_t>(width) * n_nodes(c), 0.0);
+  for (int j = 0; j < width; ++j) {
     la::Vector r(c.part.node_layout);
     for (const PartContactNode& n : c.part.contact)
-      for (const auto& [k, w] : n.masters) r.local()[k] += w * normal_force(c.state, n) * n.direction[j];
+      for (const auto& [k, w] : n.masters) r.local()[k] += w * of(n, j);
     r.update_ghosts();
-    for (std::size_t i = 0; i < n_nodes(c); ++i) out[3 * i + j] = r.local()[static_cast<Eigen::Index>(i)];
+    for (std::size_t i = 0; i < n_nodes(c); ++i) out[width * i + j] = r.local()[static_cast<Eigen::Index>(i)];
   }
   return out;
+}
+
+/// The reaction Σ_j w_jk λ_j ν_j of the pairs' slave rows on their master nodes (3 numbers a node).
+std::vector<double> master_reactions(const FieldContext& c) {
+  return master_sums(c, 3, [&](const PartContactNode& n, int j) { return normal_force(c.state, n) * n.direction[j]; });
+}
+
+/// On the master nodes of contact pairs, the slave rows' x_j / D_jj averaged with the weights
+/// w_jk D_jj: Σ_j w_jk x_j / Σ_j w_jk D_jj (D_jj: the slave node's covered measure). For x = λ
+/// it is the master's pressure: Σ_j w_jk D_jj = Σ_j M_jk = ∫ N_k over the covered master
+/// surface (the dual basis sums to 1), so the reaction over the node's measure in contact.
+/// Written into `out` (one number a node) where a master node has weight; empty without pairs.
+template <typename Of>
+void add_master_averages(const FieldContext& c, Of of, double* out) {
+  const std::vector<double> num = master_sums(c, 1, [&](const PartContactNode& n, int) { return of(n); });
+  const std::vector<double> den = master_sums(c, 1, [](const PartContactNode& n, int) { return n.measure; });
+  for (std::size_t i = 0; i < num.size(); ++i)
+    if (den[i] > 0) out[i] += num[i] / den[i];
 }
 
 /// Friction's vectors Σ_j x_j t_j at the contact nodes (zero elsewhere), x_j the numbers of
@@ -129,12 +149,28 @@ constexpr StateField kFields[] = {
      "body exerts on the other's nodes"},
     {"contact_pressure", "contact_pressure", "contact_pressure", L::node, one, nullptr, nullptr,
      [](const FieldContext& c) {
-       // λ over the node's tributary measure on Γ3.
+       // λ over the node's tributary measure on Γ3; on a pair's master nodes, the reaction over
+       // the node's measure in contact (add_master_averages).
        return node_field(c, "contact_pressure", 1, [&](double* out) {
          for (const PartContactNode& n : c.part.contact) out[n.local_node] = normal_force(c.state, n) / n.measure;
+         add_master_averages(c, [&](const PartContactNode& n) { return normal_force(c.state, n); }, out);
        });
      },
-     nullptr, "λ over the node's tributary measure on Γ3 (a pressure)"},
+     nullptr, "λ over the node's tributary measure on Γ3 (a pressure); on a contact pair's master nodes, the "
+     "slave's reaction over the node's measure in contact"},
+    {"gap", "gap", "gap", L::node, one, nullptr, nullptr,
+     [](const FieldContext& c) {
+       require(c.state.gap.size() == static_cast<Eigen::Index>(c.part.n_contact),
+               "the gap is recorded only for cases with contact pairs");
+       return node_field(c, "gap", 1, [&](double* out) {
+         for (const PartContactNode& n : c.part.contact) out[n.local_node] = c.state.gap[n.row];
+         add_master_averages(c, [&](const PartContactNode& n) { return c.state.gap[n.row] * n.measure; }, out);
+       });
+     },
+     [](const State& s) { return s.gap.size() > 0; },
+     "the gap left g − N u at each node of Γ3 and each slave node (negative: a compliant law's penetration), and on "
+     "a pair's master nodes the slave gaps averaged with the mortar weights (cases with contact pairs only; zero "
+     "elsewhere)"},
     // Friction (SPEC §7): written when the contact block has more than one number.
     {"tangential_force", "tangential_force", "tangential_force", L::node, three, nullptr, nullptr,
      [](const FieldContext& c) {

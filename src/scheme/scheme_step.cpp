@@ -1,6 +1,7 @@
 #include "scheme/scheme_step.hpp"
 
 #include "fem/assembly.hpp"
+#include "scheme/contact_gap.hpp"
 #include "scheme/friction_data.hpp"
 
 #include <chrono>
@@ -117,6 +118,7 @@ ContactReport SchemeStep::solve_contact(const DiscreteSystem& sys, ContactSolver
   }
   const ContactReport rep = contact.solve(f_.owned(), u_free, s.lambda);
   if (s.contact_block > 1) record_slip(sys, data.tresca, shift, u_free, s);
+  record_gap(sys, data.gap, u_free, s);
   u_.owned() = u_free;
   u_.update_ghosts();
   // Into u's own storage (a moved temporary would replace it): the Python module's views

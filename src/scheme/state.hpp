@@ -28,6 +28,9 @@ struct State {
   Eigen::VectorXd slip_step;
   Eigen::VectorXd slip;
   Eigen::VectorXd contact_status;
+  /// With contact pairs (empty without), per contact node (replicated, like λ): the gap left,
+  /// g(t_n) − N u_n (scheme/contact_gap.hpp); recomputed from u on a restore, not checkpointed.
+  Eigen::VectorXd gap;
 };
 
 }  // namespace vpc

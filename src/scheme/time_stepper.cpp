@@ -1,6 +1,8 @@
 #include "scheme/time_stepper.hpp"
 
 #include "core/error.hpp"
+#include "scheme/contact_gap.hpp"
+#include "scheme/step_data.hpp"
 
 #include <chrono>
 #include <utility>
@@ -46,6 +48,7 @@ TimeStepper::TimeStepper(std::shared_ptr<const Problem> problem_in, MeshPart par
     state_.contact_status = Vector::Zero(part.n_contact);
   }
   u_free_ = Vector::Zero(part.n_owned_dofs);
+  if (records_gap(sys_)) record_gap(sys_, checked_contact_gap(sys_, 0.0), u_free_, state_);
   const auto owned_beta = state_.beta.head(part.n_owned_nodes).array();
   control_state_.n_beta_zero = part.comm.sum(static_cast<double>((owned_beta <= 0).count()));
   control_state_.n_beta_one = part.comm.sum(static_cast<double>((owned_beta >= 1).count()));
@@ -140,6 +143,7 @@ void TimeStepper::restore(const Snapshot& s) {
           "{}: the saved state does not fit this problem (a different mesh, case or step count?)", problem().name);
   state_ = s.state;
   u_free_ = s.u_free;
+  if (records_gap(sys_)) record_gap(sys_, checked_contact_gap(sys_, state_.t), u_free_, state_);
   solvers_.contact->set_warm_state(s.contact_warm);
   solvers_.damage.current().set_warm_state(s.damage_warm);
   step_.forget_rates();  // recomputed from the restored state: the same values

@@ -35,6 +35,18 @@ def test_each_body_is_its_own_mesh_and_fields(results):
         assert np.allclose(b.sigma[:, 1], sigma_yy, rtol=1e-11, atol=0)
 
 
+def test_both_sides_of_the_pair_show_the_pressure_and_the_gap(results):
+    f = results.fields()
+    sigma_yy = -0.01 / (0.5 * 0.91 / 1000 + 0.5 * 0.91 / 3000)
+    for name in ("body", "upper"):  # the master's top and the slave's bottom, at y = 0.5
+        b = f.body(name)
+        on = np.isclose(b.points[:, 1], 0.5)
+        assert on.sum() in (6, 8)
+        assert np.allclose(b.contact_pressure[on], -sigma_yy, rtol=1e-11, atol=0)
+        assert np.all(b.contact_pressure[~on] == 0)
+        assert np.allclose(b.gap, 0, atol=1e-14)
+
+
 def test_the_pair_force_is_in_the_history(results):
     h = results.history()
     assert np.allclose(h["force_pair_upper.bottom"], h["total_contact_force"], rtol=1e-12)

@@ -4,6 +4,7 @@
 // pressed together: the stress is uniform in both to round-off (node-to-segment fails it).
 #include "cases/builtin_cases.hpp"
 #include "io/case_file.hpp"
+#include "io/state_fields.hpp"
 #include "scheme/time_stepper.hpp"
 #include "../io/test_files.hpp"
 
@@ -166,6 +167,50 @@ TEST(ContactPairs, AnOpenGapClosesWhereTheMotionReachesIt) {
   EXPECT_EQ(early->state().lambda.cwiseAbs().maxCoeff(), 0.0);
 }
 
+/// A VTU point field of the stepper's state, one number a node.
+std::vector<double> point_field(const TimeStepper& s, const char* name) {
+  return state_field(name).vtu_field({s.state(), s.part()}).values;
+}
+
+// The outputs on both sides of a pair: in the patch test the pressure is −σ on the slave nodes
+// (λ_j / D_jj) and on the master nodes (their reaction over their measure in contact), zero
+// elsewhere, and the gap is 0 on both sides; apart, the gap is the distance left on both sides.
+TEST(ContactPairs, BothSidesOfAPairCarryThePressureAndTheGap) {
+  for (int d : {2, 3}) {
+    const auto s = run_to_end(load_case(fmt::format("contact-patch-{}d", d)));
+    const double soften = d == 2 ? 1 - 0.3 * 0.3 : 1.0;
+    const double sigma = -0.01 / (0.5 * soften / 1000 + 0.5 * soften / 3000);
+    const std::vector<double> p = point_field(*s, "contact_pressure"), gap = point_field(*s, "gap");
+    const Mesh& m = s->mesh();
+    int on_interface = 0;
+    for (int i = 0; i < m.n_nodes(); ++i) {
+      const bool interface = std::abs(m.node(i)[d - 1] - 0.5) < 1e-12;
+      on_interface += interface;
+      EXPECT_NEAR(p[static_cast<std::size_t>(i)], interface ? -sigma : 0.0, 1e-11 * std::abs(sigma))
+          << "d = " << d << ", node " << i;
+      EXPECT_NEAR(gap[static_cast<std::size_t>(i)], 0.0, 1e-14) << "d = " << d << ", node " << i;
+    }
+    EXPECT_GE(on_interface, 2 * (d == 2 ? 3 : 9));  // both sides' nodes
+  }
+  const Case open = blocks_apart(0.004);
+  TimeStepper early(open.problem, open.solvers);
+  const Mesh& m = early.mesh();
+  for (int n = 0; n < 2; ++n) {  // t = 0 and t = 0.25: the top moved down by 0.0025, all of it rigidly
+    const std::vector<double> gap = point_field(early, "gap");
+    for (int i = 0; i < m.n_nodes(); ++i) {
+      const double y = m.node(i)[1];
+      const bool interface = std::abs(y - 0.5) < 1e-12 || std::abs(y - 0.504) < 1e-12;
+      EXPECT_NEAR(gap[static_cast<std::size_t>(i)], interface ? 0.004 - 0.01 * early.state().t : 0.0, 1e-14)
+          << "t = " << early.state().t << ", node " << i;
+    }
+    early.step();
+  }
+  // Without pairs the gap is not recorded, and asking for it says so.
+  const auto one = run_to_end(load_case("paper-1d"));
+  EXPECT_EQ(one->state().gap.size(), 0);
+  EXPECT_NE(error_of([&] { point_field(*one, "gap"); }).find("only for cases with contact pairs"), std::string::npos);
+}
+
 /// The paper's damageable viscoplastic material on the block [0, 2] × [0, 1] (clamped bottom),
 /// pressed by an elastic punch [0.8, 1.2] × [1, 1.3] (body "punch", its own mesh; its top moved
 /// down) through a pair: the punch's bottom the slave, the block's top the master.
@@ -249,6 +294,8 @@ TEST(ContactPairs, RestoredRunIsBitIdentical) {
   TimeStepper a(ca.problem, ca.solvers), b(cb.problem, cb.solvers);
   for (int i = 0; i < 3; ++i) a.step();
   b.restore(read_checkpoint(write_checkpoint(test::fresh_dir("pairs", "restore"), test::checkpoint_of(a))).snapshot);
+  EXPECT_EQ(b.state().gap, a.state().gap);  // not in the checkpoint: recomputed from u
+  EXPECT_GT(a.state().gap.size(), 0);
   while (!a.done()) {
     a.step();
     b.step();
