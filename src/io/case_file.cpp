@@ -1373,6 +1373,9 @@ OutputOptions read_output(Section out, Problem& p) {
   if (controlled) p.step_control->landings.insert(p.step_control->landings.end(), o.times.begin(), o.times.end());
   o.vtu = out.boolean("vtu", true);
   if (out.has("fields")) o.fields = read_fields(out);
+  if (std::ranges::find(o.fields, "gap") != o.fields.end() && p.contact.pairs.empty())
+    fail("{}: the field \"gap\" is written only for cases with contact pairs ([[contact.pair]]); this case has none",
+         out.where("fields"));
   o.encoding.compression = vtu_compression(out.choice("compression", {"zlib", "none"}, "zlib"));
   if (out.has("probes")) o.probes = read_probes(out, p.mesh.dim());
   // A probe must lie in the body (on a rank without the mesh: rank 0 checks it).

@@ -209,6 +209,12 @@ TEST(ContactPairs, BothSidesOfAPairCarryThePressureAndTheGap) {
   const auto one = run_to_end(load_case("paper-1d"));
   EXPECT_EQ(one->state().gap.size(), 0);
   EXPECT_NE(error_of([&] { point_field(*one, "gap"); }).find("only for cases with contact pairs"), std::string::npos);
+  CaseOverrides ask;
+  ask.sets = {"output.fields=[\"gap\", \"beta\"]"};
+  const std::string asked = error_of([&] { parse_case(case_source("paper-1d").text, "p.toml", ".", ask); });
+  EXPECT_NE(asked.find("output.fields=[\"gap\", \"beta\"]: the field \"gap\" is written only for cases with contact pairs"),
+            std::string::npos)
+      << asked;
 }
 
 /// The paper's damageable viscoplastic material on the block [0, 2] × [0, 1] (clamped bottom),
