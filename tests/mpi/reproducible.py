@@ -10,12 +10,13 @@ it the last bits of every result and the Krylov iteration counts) and anything e
 make two identical runs disagree. Prints "reproducible: PASSED" or the differences and
 "reproducible: FAILED". Python standard library only.
 """
-import argparse
 import filecmp
 import json
 import os
 import subprocess
 import sys
+
+import case_runs
 
 VOLATILE = {"timing_seconds", "setup_seconds", "vpcontact"}  # the timings; the version, command line and date
 
@@ -37,15 +38,7 @@ def stable(summary_path):
 
 
 def main():
-    p = argparse.ArgumentParser()
-    p.add_argument("--vpcontact", required=True)
-    p.add_argument("--mpiexec", required=True)
-    p.add_argument("--work", required=True)
-    p.add_argument("--ranks", type=int, default=2)
-    p.add_argument("case", nargs=argparse.REMAINDER)
-    args = p.parse_args()
-    if args.case and args.case[0] == "--":
-        args.case = args.case[1:]
+    args = case_runs.parse(case_runs.parser(__doc__.splitlines()[0]))
     outs = [os.path.join(args.work, f"run{i}") for i in (1, 2)]
     for out in outs:
         run(args, out)

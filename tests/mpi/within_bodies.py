@@ -11,12 +11,13 @@ Iteration counts are the same from run to run (the partition is deterministic), 
 not a timing. Prints "within bodies: PASSED" or what failed and "within bodies: FAILED".
 Python standard library only.
 """
-import argparse
 import csv
 import json
 import os
 import subprocess
 import sys
+
+import case_runs
 
 COMPARED = ("total_contact_force", "max_von_mises", "beta_min")  # history.csv columns, to 1e-7 relative
 
@@ -40,16 +41,9 @@ def run(args, out, across):
 
 
 def main():
-    p = argparse.ArgumentParser()
-    p.add_argument("--vpcontact", required=True)
-    p.add_argument("--mpiexec", required=True)
-    p.add_argument("--work", required=True)
-    p.add_argument("--ranks", type=int, default=2)
+    p = case_runs.parser(__doc__.splitlines()[0])
     p.add_argument("--at-most", type=float, default=0.75)
-    p.add_argument("case", nargs=argparse.REMAINDER)
-    args = p.parse_args()
-    if args.case and args.case[0] == "--":
-        args.case = args.case[1:]
+    args = case_runs.parse(p)
     within, h_within = run(args, os.path.join(args.work, "within"), across=False)
     across, h_across = run(args, os.path.join(args.work, "across"), across=True)
     problems = []
