@@ -1,6 +1,7 @@
 #include "io/run_output.hpp"
 
 #include "core/error.hpp"
+#include "core/process_memory.hpp"
 #include "io/atomic_file.hpp"
 #include "io/build_info.hpp"
 #include "io/history_columns.hpp"
@@ -455,6 +456,12 @@ std::string summary_json(const Problem& p, const RunSummary& r, const OutputOpti
                         {"factor_K", r.setup.factor_K},
                         {"factor_H", r.setup.factor_H},
                         {"contact", r.setup.contact}};
+  // Where the memory goes: each stage's largest rank (resident and peak so far, bytes) and each
+  // rank's peak (Linux's VmRSS and VmHWM; zeros where the system does not say).
+  Json memory = Json::object();
+  for (const auto& [stage, m] : r.memory) memory[stage] = {{"resident", m.resident}, {"peak", m.peak}};
+  memory["peak_per_rank"] = r.peak_per_rank;
+  j["memory_bytes"] = memory;
   j["factorizations"] = r.factorizations;
   j["linear_iterations"] = r.linear_iterations;
   j["vpcontact"] = {{"version", version()},
@@ -516,6 +523,12 @@ RunSummary RunOutput::summary(double wall_seconds) const {
   r.totals = totals_;
   r.wall_seconds = wall_seconds;
   r.setup = stepper_.setup_timing();
+  const ProcessMemory now = process_memory();
+  for (const auto& [stage, m] : {std::pair{"mesh", r.setup.mesh}, {"assembly", r.setup.assembled},
+                                 {"factor_K", r.setup.factored_K}, {"factor_H", r.setup.factored_H},
+                                 {"contact", r.setup.contact_ready}, {"end", now}})
+    r.memory.push_back({stage, {comm.max(m.resident), comm.max(m.peak)}});
+  r.peak_per_rank = comm.all_gather(static_cast<long long>(now.peak));
   r.factorizations = stepper_.n_factorizations();
   r.linear_iterations = stepper_.n_linear_iterations();
   r.contact_solver = stepper_.contact_solver();

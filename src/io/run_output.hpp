@@ -110,6 +110,10 @@ struct RunSummary {
   RunTotals totals;
   double wall_seconds = 0;
   SetupTiming setup;
+  /// Memory (summary.json "memory_bytes"): as each set-up stage ended (SetupTiming) and at the
+  /// summary, the largest rank's resident and peak sizes; and each rank's peak at the summary.
+  std::vector<std::pair<std::string, ProcessMemory>> memory;
+  std::vector<long long> peak_per_rank;
   int factorizations = 0;
   long long linear_iterations = 0;  // TimeStepper::n_linear_iterations
   int ranks = 0;  // > 0: a run over MPI ("engine": "petsc", "ranks", "linear_solver")

@@ -51,6 +51,7 @@ DiscreteSystem::DiscreteSystem(std::shared_ptr<const Problem> problem_in, MeshPa
                                std::shared_ptr<const la::Backend> backend_in, const SolverChoice& choice)
     : problem(std::move(problem_in)), part(std::move(part_in)), backend(std::move(backend_in)) {
   const auto t0 = Clock::now();
+  mesh_memory = process_memory();
   const Problem& p = *problem;
   const Mesh& mesh = part.mesh();
   const int d = mesh.dim();
@@ -118,6 +119,7 @@ DiscreteSystem::DiscreteSystem(std::shared_ptr<const Problem> problem_in, MeshPa
   H_first = backend->assemble(H_local, *part.node_layout, 1);
   H_first_local_nonzeros = static_cast<double>(H_local.nonZeros());
   assembly_seconds = seconds_since(t1);
+  assembly_memory = process_memory();
   choice.stage("assembly", assembly_seconds);
   build_seconds = seconds_since(t0);
 }

@@ -71,6 +71,7 @@ struct DiscreteSystem {
   Vector mu;
   std::vector<const FrictionLaw*> row_friction;
   double assembly_seconds = 0, build_seconds = 0;
+  ProcessMemory mesh_memory, assembly_memory;  // this process's as the construction starts and ends
 
   /// T, tangent_dof, mu and row_friction from N, its rows' free dofs (ContactMatrix::node_dofs)
   /// and the problem's friction laws (constructor).

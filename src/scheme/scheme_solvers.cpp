@@ -45,6 +45,7 @@ SchemeSolvers set_up_solvers(DiscreteSystem& sys, const SolverChoice& choice, Se
   // The primal contact solver factors K with its active rows when it first solves.
   if (!primal) s.K_factor->factorize(*sys.K, "elastic stiffness K");
   timing.factor_K = seconds_since(t1);
+  timing.factored_K = process_memory();
   choice.stage("factorization of K", timing.factor_K);
 
   choice.stage(fmt::format("factorization of H ({} x {}, {} nonzeros)", part.n_global_nodes, part.n_global_nodes,
@@ -52,6 +53,7 @@ SchemeSolvers set_up_solvers(DiscreteSystem& sys, const SolverChoice& choice, Se
   t1 = Clock::now();
   s.damage.for_step(sys, choice, sys.first_step, std::move(sys.H_first));
   timing.factor_H = seconds_since(t1);
+  timing.factored_H = process_memory();
   choice.stage("factorization of H", timing.factor_H);
 
   choice.stage("contact set-up");
@@ -85,6 +87,7 @@ SchemeSolvers set_up_solvers(DiscreteSystem& sys, const SolverChoice& choice, Se
   }
   sys.K_local = SparseMatrix();
   timing.contact = seconds_since(t1);
+  timing.contact_ready = process_memory();
   choice.stage("contact set-up", timing.contact);
   return s;
 }

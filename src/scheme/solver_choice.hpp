@@ -1,6 +1,7 @@
 #pragma once
 // How a run solves (the contact and damage solvers, tolerances, halving, memory) and where
-// its set-up time goes: the choices TimeStepper's set-up (scheme/scheme_solvers.hpp) acts on.
+// its set-up time and memory go: the choices TimeStepper's set-up (scheme/scheme_solvers.hpp) acts on.
+#include "core/process_memory.hpp"
 #include "solvers/contact_solver.hpp"
 #include "solvers/damage_solver.hpp"
 
@@ -33,13 +34,18 @@ struct SolverChoice {
   }
 };
 
-/// Where the setup time goes (seconds).
+/// Where the setup time (seconds) and memory go.
 struct SetupTiming {
   double total = 0;
   double assembly = 0;  // K, M, A
   double factor_K = 0;  // factorization of K
   double factor_H = 0;  // the damage solver's setup (factor of M + kκA)
   double contact = 0;   // contact rows N and the contact solver's setup (S = N K⁻¹ Nᵀ)
+  /// This process's memory as each stage ended: its part of the mesh (as the discrete system
+  /// starts), the assembly (K, M, A, H), K's factor or preconditioner (none yet for the primal
+  /// contact solver, which factors K with its active rows at its first solve), H's, the contact
+  /// set-up (summary.json "memory_bytes").
+  ProcessMemory mesh, assembled, factored_K, factored_H, contact_ready;
 };
 
 }  // namespace vpc

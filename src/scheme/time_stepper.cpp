@@ -33,6 +33,8 @@ TimeStepper::TimeStepper(std::shared_ptr<const Problem> problem_in, MeshPart par
   const MeshPart& part = sys_.part;
   const Mesh& mesh = part.mesh();
   setup_timing_.assembly = sys_.assembly_seconds;
+  setup_timing_.mesh = sys_.mesh_memory;
+  setup_timing_.assembled = sys_.assembly_memory;
   // Initial state (3.4): u0 = 0, σ0 = 0 (so z0 = σ0 − ℰε(u0) = 0), β0 = P1 interpolant
   // (in [0, 1]: Problem::validate).
   state_.u = Vector::Zero(part.dofs.n_full());

@@ -15,7 +15,7 @@ OPTIONS --engine petsc` for each P, then compares what they wrote:
   engine's `rank` array (several ranks only) is the only one allowed in one engine only;
 - solution.pvd (the same output times);
 - history.csv and probes.csv: the same header, rows and every column;
-- summary.json: every number and string, except the run's timings, its command
+- summary.json: every number and string, except the run's timings and memory, its command
   line and date, and the PETSc engine's `ranks` and `linear_solver`.
 Numbers agree when |a - b| <= 1e-10 * scale + floor, where scale is the largest
 magnitude of that array or column in the serial run (a field's own unit), and
@@ -58,7 +58,7 @@ ITERATIVE = False  # --iterative: a CG PETSc run against CHOLMOD (see main)
 # Keys of summary.json that say how a run went, not what it computed.
 # `factorizations` counts how the solvers went about it (the serial damage solver
 # picks capacitance or a reduced factor by measured time), not a result.
-SUMMARY_SKIP = {"timing_seconds", "setup_seconds", "vpcontact", "engine", "ranks", "linear_solver", "factorizations"}
+SUMMARY_SKIP = {"timing_seconds", "setup_seconds", "memory_bytes", "vpcontact", "engine", "ranks", "linear_solver", "factorizations"}
 
 
 class Report:

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Run-to-run reproducibility of the PETSc engine: the same case run twice on the same number of
 ranks must write the same files, byte for byte (VTU pieces, history.csv, probes.csv), and the same
-summary.json but for its timings, date and command line.
+summary.json but for its timings, memory, date and command line.
 
   reproducible.py --vpcontact BIN --mpiexec MPIEXEC --work DIR --ranks P -- CASE [run options...]
 
@@ -18,7 +18,7 @@ import sys
 
 import case_runs
 
-VOLATILE = {"timing_seconds", "setup_seconds", "vpcontact"}  # the timings; the version, command line and date
+VOLATILE = {"timing_seconds", "setup_seconds", "memory_bytes", "vpcontact"}  # timings, memory; version, command line, date
 
 
 def run(args, out):

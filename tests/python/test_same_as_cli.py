@@ -11,7 +11,7 @@ import vpcontact
 from conftest import read
 
 # summary.json entries that say when, how fast and by which command a run was made.
-NOT_NUMBERS = {"timing_seconds", "setup_seconds", "vpcontact"}
+NOT_NUMBERS = {"timing_seconds", "setup_seconds", "memory_bytes", "vpcontact"}
 
 
 def same_files(a, b):

@@ -359,6 +359,19 @@ TEST(RunOutput, SummaryIsValidJsonWhateverTheNamesHold) {
   EXPECT_NEAR(j["final"]["total_contact_force"].get<double>(), 3.0, 1e-9);
   EXPECT_EQ(j["probes"][0][0], 1.0);
   EXPECT_FALSE(j.contains("engine"));
+  // Where the memory goes (Linux: /proc/self/status): each stage's resident size within its peak,
+  // the peaks never falling from stage to stage, one rank's peak at the end.
+  const auto& mem = j["memory_bytes"];
+  double last_peak = 0;
+  for (const char* stage : {"mesh", "assembly", "factor_K", "factor_H", "contact", "end"}) {
+    const double resident = mem[stage]["resident"].get<double>(), peak = mem[stage]["peak"].get<double>();
+    EXPECT_GT(resident, 1e6) << stage;
+    EXPECT_LE(resident, peak) << stage;
+    EXPECT_GE(peak, last_peak) << stage;
+    last_peak = peak;
+  }
+  ASSERT_EQ(mem["peak_per_rank"].size(), 1u);
+  EXPECT_EQ(mem["peak_per_rank"][0].get<double>(), mem["end"]["peak"].get<double>());
   // What made the run.
   const auto& v = j["vpcontact"];
   EXPECT_FALSE(v["version"].get<std::string>().empty());
