@@ -1,15 +1,16 @@
 #include "la/petsc_segregated.hpp"
 
 #include <algorithm>
+#include <climits>
 
 namespace vpc::la {
 
 bool several_fields(MPI_Comm comm, const std::vector<int>& field) {
-  int lo = field.empty() ? 0 : *std::min_element(field.begin(), field.end());
-  int hi = field.empty() ? 0 : *std::max_element(field.begin(), field.end());
-  int any = field.empty() ? 0 : 1;
-  lo = any ? lo : INT_MAX;
-  hi = any ? hi : INT_MIN;
+  int lo = INT_MAX, hi = INT_MIN;  // over no rows: neither bound moves
+  for (const int f : field) {
+    lo = std::min(lo, f);
+    hi = std::max(hi, f);
+  }
   MPI_Allreduce(MPI_IN_PLACE, &lo, 1, MPI_INT, MPI_MIN, comm);
   MPI_Allreduce(MPI_IN_PLACE, &hi, 1, MPI_INT, MPI_MAX, comm);
   return lo < hi;
