@@ -10,8 +10,7 @@ void record_gap(const DiscreteSystem& sys, const Vector& g, const Vector& u_free
   if (!records_gap(sys)) return;
   ContactConstraints c;  // what replicate reads: the rows and their number
   c.m = sys.part.n_contact;
-  for (const PartContactNode& node : sys.part.contact)
-    if (node.owned) c.rows.push_back(node.row);
+  c.rows = sys.part.owned_contact_rows();
   s.gap = replicate(sys.part.comm, c, g - sys.N * u_free);
 }
 

@@ -151,8 +151,7 @@ void DiscreteSystem::set_friction_frame(const std::vector<std::vector<int>>& nod
   ContactConstraints c;
   c.N = N;
   c.block = p.contact.block_size(d);
-  for (const PartContactNode& node : part.contact)
-    if (node.owned) c.rows.push_back(node.row);
+  c.rows = part.owned_contact_rows();
   const auto frictions = p.contact.frictions();
   std::vector<double> mus;
   for (const PartContactNode& node : part.contact) {
@@ -195,8 +194,7 @@ ContactConstraints contact_constraints(const DiscreteSystem& sys) {
   const MeshPart& part = sys.part;
   ContactConstraints c;
   c.m = part.n_contact;
-  for (const PartContactNode& node : part.contact)
-    if (node.owned) c.rows.push_back(node.row);
+  c.rows = part.owned_contact_rows();
   c.N = sys.N;
   c.gap = checked_contact_gap(sys, 0.0);
   // Each row's law (contact/contact_law.hpp) and its compliance 1/k_i, k_i = c |Γ3|_i: the law

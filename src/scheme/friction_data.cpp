@@ -49,8 +49,7 @@ void record_slip(const DiscreteSystem& sys, const Vector& tresca, const Vector& 
   // Only what stick_slip (the bounds) and replicate read: the rows, the block, μ and the step's data.
   ContactConstraints c;
   c.m = sys.part.n_contact;
-  for (const PartContactNode& node : sys.part.contact)
-    if (node.owned) c.rows.push_back(node.row);
+  c.rows = sys.part.owned_contact_rows();
   c.block = s.contact_block;
   c.mu = sys.mu;
   c.tresca = tresca;

@@ -30,6 +30,13 @@ void make_layouts(MeshPart& part) {
 
 }  // namespace
 
+std::vector<int> MeshPart::owned_contact_rows() const {
+  std::vector<int> rows;
+  for (const PartContactNode& node : contact)
+    if (node.owned) rows.push_back(node.row);
+  return rows;
+}
+
 MeshPart make_mesh_part(PartPieces pieces) {
   MeshPart part;
   static_cast<PartPieces&>(part) = std::move(pieces);

@@ -80,6 +80,8 @@ struct MeshPart : PartPieces {
 
   const Mesh& mesh() const { return *mesh_ptr; }
   int n_local_nodes() const { return mesh().n_nodes(); }
+  /// The rows of N this process owns, in its contact nodes' order (ContactConstraints::rows).
+  std::vector<int> owned_contact_rows() const;
 };
 
 /// Makes the part of `pieces`: its free dofs (owned first: the owned nodes come
