@@ -145,6 +145,11 @@ TEST(SolverPlan, ContactPairsArePlannedAsOneBodyIs) {
   EXPECT_FALSE(kept.petsc);
   EXPECT_EQ(kept.linear_solver, "cholmod");
   EXPECT_EQ(kept.why, kept_one.why);
+  // Several bodies: CG + GAMG also holds K without the couplings between them through its set-up.
+  p.bodies.push_back({});
+  EXPECT_DOUBLE_EQ(iterative_memory(p, large).total(), one_body[1] + 12.0 * large.K_nonzeros);
+  EXPECT_DOUBLE_EQ(cholmod_memory(p, large, choice).total(), one_body[0]);
+  p.bodies.clear();
   // The dual asked for counts its S = N K⁻¹Nᵀ on pairs as on one body.
   choice.contact = "active-set";
   EXPECT_GE(cholmod_memory(p, large, choice).total() - one_body[0], 8.0 * 20000 * 20000);
