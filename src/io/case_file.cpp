@@ -368,7 +368,8 @@ std::vector<std::string> replaced_parameters(const std::string& section, const s
   } else if (last == "damage" && key == "source") {
     parameters = damage_source_parameters;
     old_name = t["source"].value_or(std::string("zero"));
-  } else if ((last == "contact" || last.starts_with("part[")) && key == "friction") {  // [contact], [[contact.part]]
+  } else if ((last == "contact" || last.starts_with("part[") || last.starts_with("pair[")) && key == "friction") {
+    // [contact], [[contact.part]], [[contact.pair]]
     parameters = friction_law_keys;
     old_name = t["friction"].value_or(std::string("none"));
   }
@@ -1037,7 +1038,7 @@ class SectionFrictionKeys final : public FrictionKeys {
   Section& s_;
 };
 
-/// The friction law of a [contact] or [[contact.part]] table (SPEC §7): friction = "none",
+/// The friction law of a [contact], [[contact.part]] or [[contact.pair]] table (SPEC §7): friction = "none",
 /// "coulomb" (mu) or "tresca" (friction_bound); `inherited` where the table has no friction key.
 std::shared_ptr<const FrictionLaw> read_friction_law(Section& s, std::shared_ptr<const FrictionLaw> inherited, int dim) {
   if (!s.has("friction")) {
@@ -1144,7 +1145,8 @@ std::vector<std::string> locking_warnings(Section& top, const Problem& p) {
   return warnings;
 }
 
-/// [[contact.pair]] (SPEC §8): slave and master, boundary parts of two bodies; `search`.
+/// [[contact.pair]] (SPEC §8): slave and master, boundary parts of two bodies; `search`; a normal
+/// law and a friction law, each [contact]'s where the pair gives none.
 void read_contact_pairs(Section& ct, Problem& p, const Origins& origins) {
   if (!ct.has("pair")) return;
   const toml::node* list = ct.get("pair");
@@ -1167,6 +1169,7 @@ void read_contact_pairs(Section& ct, Problem& p, const Origins& origins) {
       for (const std::string& k : compliance_keys())
         if (s.has(k)) fail("{}: {} needs law = \"normal-compliance\" in the same table", s.where(k), k);
     }
+    pair.friction = read_friction_law(s, p.contact.friction, p.mesh.dim());
     if (!(pair.search >= 0) || !std::isfinite(pair.search))
       fail("{}: expected a distance >= 0 (0: the slave part's longest facet edge)", s.where("search"));
     s.finish();

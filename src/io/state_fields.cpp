@@ -81,20 +81,36 @@ void add_master_averages(const FieldContext& c, Of of, double* out) {
     if (den[i] > 0) out[i] += num[i] / den[i];
 }
 
+/// How a friction vector field reads on a pair's master nodes (tangent_vector_field).
+enum class OnMasters { none, sum, average };
+
 /// Friction's vectors Σ_j x_j t_j at the contact nodes (zero elsewhere), x_j the numbers of
 /// `values` (per contact row: the block − 1 numbers after `offset` of every `stride`) along
-/// the node's tangents (contact_tangents), each divided by `per` (1, or the node's measure).
+/// the node's tangents (contact_tangents), each divided by `per` (1, or the node's measure). On a
+/// pair's master nodes the slave rows' vectors with the mortar weights: their sum (a force) or their
+/// average as add_master_averages takes it (a traction), or nothing.
 template <typename Per>
 VtuField tangent_vector_field(const FieldContext& c, std::string_view name, const Eigen::VectorXd& values, int stride,
-                              int offset, Per per) {
+                              int offset, Per per, OnMasters on_masters = OnMasters::none) {
   const int b = c.state.contact_block;
   const std::vector<Point> t = contact_tangents(c.part, b);
+  std::vector<Point> v(c.part.contact.size());
+  for (std::size_t k = 0; k < v.size(); ++k)
+    v[k] = along_tangents(t, k, b, values.data() + c.part.contact[k].row * stride + offset);
+  const auto of = [&](const PartContactNode& n, int i) {
+    return v[static_cast<std::size_t>(&n - c.part.contact.data())][static_cast<std::size_t>(i)];
+  };
+  const std::vector<double> sums = on_masters == OnMasters::none ? std::vector<double>() : master_sums(c, 3, of);
+  const std::vector<double> measure = on_masters == OnMasters::average
+                                          ? master_sums(c, 1, [](const PartContactNode& n, int) { return n.measure; })
+                                          : std::vector<double>();
   return node_field(c, name, 3, [&](double* out) {
     for (std::size_t k = 0; k < c.part.contact.size(); ++k) {
       const PartContactNode& n = c.part.contact[k];
-      const Point v = along_tangents(t, k, b, values.data() + n.row * stride + offset);
-      for (int i = 0; i < 3; ++i) out[n.local_node * 3 + i] = v[static_cast<std::size_t>(i)] / per(n);
+      for (int i = 0; i < 3; ++i) out[n.local_node * 3 + i] = v[k][static_cast<std::size_t>(i)] / per(n);
     }
+    for (std::size_t i = 0; i < sums.size(); ++i)
+      if (measure.empty() || measure[i / 3] > 0) out[i] += sums[i] / (measure.empty() ? 1.0 : measure[i / 3]);
   });
 }
 
@@ -175,19 +191,21 @@ constexpr StateField kFields[] = {
     {"tangential_force", "tangential_force", "tangential_force", L::node, three, nullptr, nullptr,
      [](const FieldContext& c) {
        const int b = c.state.contact_block;
-       return tangent_vector_field(c, "tangential_force", c.state.lambda, b, 1, [](const PartContactNode&) { return 1.0; });
+       return tangent_vector_field(c, "tangential_force", c.state.lambda, b, 1, [](const PartContactNode&) { return 1.0; },
+                                   OnMasters::sum);
      },
      frictional,
      "the tangential force Σ_j λ_τ,j t_j at each node of Γ3 as a vector: the force on the obstacle (the body "
-     "gets its opposite, against its slip; friction only)", true},
+     "gets its opposite, against its slip); on a contact pair's master nodes the force the slave side exerts on "
+     "them, Σ_j w_jk λ_τ,j t_j (friction only)", true},
     {"tangential_traction", "tangential_traction", "tangential_traction", L::node, three, nullptr, nullptr,
      [](const FieldContext& c) {
        const int b = c.state.contact_block;
        return tangent_vector_field(c, "tangential_traction", c.state.lambda, b, 1,
-                                   [](const PartContactNode& n) { return n.measure; });
+                                   [](const PartContactNode& n) { return n.measure; }, OnMasters::average);
      },
-     frictional, "the tangential force over the node's tributary measure on Γ3 (a traction, like contact_pressure; friction "
-     "only)", true},
+     frictional, "the tangential force over the node's tributary measure on Γ3 (a traction, like contact_pressure; on a "
+     "contact pair's master nodes, the slave side's over the node's measure in contact; friction only)", true},
     {"slip_step", "slip_step", "", L::contact_node, tangents, [](const State& s) { return span_of(s.slip_step); },
      [](State& s, Span v) { set(s.slip_step, v); }, nullptr, nullptr,
      "the last step's slip increment Δ = T u_n − h: contact_block − 1 numbers per contact node, along its "

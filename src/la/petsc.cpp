@@ -333,6 +333,11 @@ class PetscFactor final : public LinearSolver {
         VPC_PETSC(PetscOptionsHasName(nullptr, nullptr, sweeps.c_str(), &given));
         if (!given) VPC_PETSC(PetscOptionsSetValue(nullptr, sweeps.c_str(), "1"));
         if (near_null_space) VPC_PETSC(MatSetNearNullSpace(P, near_null_space));
+        // Transfers from another matrix than A (galerkin_levels): GAMG's smoothed-aggregation
+        // eigenvalue estimates are P's, and the Chebyshev smoothers would keep them for A's levels,
+        // whose D⁻¹A can reach beyond them (an indefinite preconditioner: two stiff blocks pressed
+        // and slid through a contact pair). Without them each smoother estimates on its own operator.
+        if (P != A) VPC_PETSC(PCGAMGSetUseSAEstEig(pc, PETSC_FALSE));
       } else {
         VPC_PETSC(PCSetType(pc, PCHYPRE));
         VPC_PETSC(PCHYPRESetType(pc, "boomeramg"));

@@ -8,7 +8,7 @@ ContactMatrix contact_matrix(const MeshPart& part, ContactColumns columns) {
   const DofMap& dofs = part.dofs;
   const int d = dofs.dim();
   ContactMatrix out;
-  std::vector<Eigen::Triplet<double>> entries;
+  std::vector<Eigen::Triplet<double>> entries, mean;
   int row = 0;
   for (const PartContactNode& node : part.contact) {
     if (columns == ContactColumns::owned && !node.owned) continue;
@@ -28,9 +28,10 @@ ContactMatrix contact_matrix(const MeshPart& part, ContactColumns columns) {
     for (const auto& [master, w] : node.masters)
       for (int i = 0; i < d && columns != ContactColumns::compact; ++i) {
         const int k = dofs.free_index(dofs.full_index(master, i));
-        if (k < 0 || node.direction[i] == 0) continue;
+        if (k < 0) continue;
         require(k < part.n_owned_dofs, "contact row {}: master dof {} is not owned with the row (a bug)", node.row, k);
-        entries.emplace_back(row, k, -w * node.direction[i]);
+        if (const int j = dofs.free_index(dofs.full_index(node.local_node, i)); j >= 0) mean.emplace_back(j, k, w);
+        if (node.direction[i] != 0) entries.emplace_back(row, k, -w * node.direction[i]);
       }
     ++row;
   }
@@ -39,6 +40,10 @@ ContactMatrix contact_matrix(const MeshPart& part, ContactColumns columns) {
                                                            : static_cast<int>(out.component.size());
   out.N.resize(row, n_columns);
   out.N.setFromTriplets(entries.begin(), entries.end());
+  if (!mean.empty()) {
+    out.master_mean.resize(n_columns, n_columns);
+    out.master_mean.setFromTriplets(mean.begin(), mean.end());
+  }
   return out;
 }
 

@@ -21,6 +21,11 @@ struct ContactMatrix {
   SparseMatrix N;                           // a row per node, in part.contact order
   std::vector<std::vector<int>> node_dofs;  // per row, its node's free dofs (columns of N) in component order
   std::vector<int> component;               // compact: per column, the component of its dof (else empty)
+  /// A pair's slave node relative to its masters (friction on pairs; solvers/contact_frame.hpp):
+  /// (M u) at each free dof (j, x) of a pair row's node j is Σ_k w_k u_(k, x) over its masters' free
+  /// dofs (k, x), the mortar's interpolation of the master side. n × n over N's columns; empty
+  /// (0 × 0) in the compact numbering or without pairs.
+  SparseMatrix master_mean;
 };
 
 ContactMatrix contact_matrix(const MeshPart& part, ContactColumns columns);

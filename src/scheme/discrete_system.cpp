@@ -93,9 +93,9 @@ DiscreteSystem::DiscreteSystem(std::shared_ptr<const Problem> problem_in, MeshPa
         dirichlet_cells.push_back(c);
         break;
       }
-  ContactMatrix rows = contact_matrix(part, ContactColumns::owned);
-  N = std::move(rows.N);
-  if (p.contact.frictional()) set_friction_frame(rows.node_dofs);
+  const ContactMatrix rows = contact_matrix(part, ContactColumns::owned);
+  N = rows.N;
+  if (p.contact.frictional()) set_friction_frame(rows);
 
   // Constant matrices: K of (3.9), factorized once; H = M + kκA of (3.8). Each
   // process assembles its cells; the backend sums the parts.
@@ -144,7 +144,7 @@ std::vector<char> constant_damage_nodes(const Problem& p, const MeshPart& part, 
   return held;
 }
 
-void DiscreteSystem::set_friction_frame(const std::vector<std::vector<int>>& node_dofs) {
+void DiscreteSystem::set_friction_frame(const ContactMatrix& rows) {
   const Problem& p = *problem;
   const Mesh& mesh = part.mesh();
   const int d = mesh.dim();
@@ -166,7 +166,8 @@ void DiscreteSystem::set_friction_frame(const std::vector<std::vector<int>>& nod
     mus.push_back(mu_i);
   }
   c.mu = Eigen::Map<Vector>(mus.data(), static_cast<Eigen::Index>(mus.size()));
-  set_tangents(c, node_dofs);
+  c.master_mean = rows.master_mean;
+  set_tangents(c, rows.node_dofs);
   T = std::move(c.T);
   tangent_dof = std::move(c.tangent_dof);
   mu = std::move(c.mu);
@@ -208,7 +209,11 @@ ContactConstraints contact_constraints(const DiscreteSystem& sys) {
       compliance.push_back(node.stiffness > 0 ? 1 / node.stiffness : 0.0);
     }
   c.compliance = Eigen::Map<Vector>(compliance.data(), static_cast<Eigen::Index>(compliance.size()));
-  if (!sys.problem->contact.pairs.empty()) c.node_dofs = contact_matrix(part, ContactColumns::owned).node_dofs;
+  if (!sys.problem->contact.pairs.empty()) {
+    ContactMatrix rows = contact_matrix(part, ContactColumns::owned);
+    c.node_dofs = std::move(rows.node_dofs);
+    if (c.frictional()) c.master_mean = std::move(rows.master_mean);
+  }
   if (c.frictional()) {
     c.T = sys.T;
     c.tangent_dof = sys.tangent_dof;

@@ -21,6 +21,8 @@
 
 namespace vpc {
 
+struct ContactMatrix;
+
 struct DiscreteSystem {
   /// Computes the geometry, materials and data above and assembles K, M, A and the first
   /// step's H = M + k_1 κA (the set-up stage "assembly", told to choice.on_setup_stage). Collective.
@@ -73,9 +75,9 @@ struct DiscreteSystem {
   double assembly_seconds = 0, build_seconds = 0;
   ProcessMemory mesh_memory, assembly_memory;  // this process's as the construction starts and ends
 
-  /// T, tangent_dof, mu and row_friction from N, its rows' free dofs (ContactMatrix::node_dofs)
-  /// and the problem's friction laws (constructor).
-  void set_friction_frame(const std::vector<std::vector<int>>& node_dofs);
+  /// T, tangent_dof, mu and row_friction from N, its rows' free dofs and masters' mean (the owned
+  /// ContactMatrix) and the problem's friction laws (constructor).
+  void set_friction_frame(const ContactMatrix& rows);
   /// A factor of K's kind (name "K"), its coordinates set for multigrid's rigid-body modes.
   std::shared_ptr<la::LinearSolver> make_stiffness_factor() const;
 };

@@ -25,7 +25,35 @@ Vector friction_bounds(const DiscreteSystem& sys, double t, std::string& bad) {
   return Eigen::Map<Vector>(bounds.data(), static_cast<Eigen::Index>(bounds.size()));
 }
 
-Vector slip_shift(const DiscreteSystem& sys, const State& s, double t) {
+namespace {
+
+/// A pair's master node moved by a prescribed displacement slides under its slave as an obstacle
+/// does; T holds the free dofs only, so t_ij·Σ_k w_k Δu_D,k (the prescribed components' motion
+/// over the step: u_D at t less the state's) joins h.
+void add_master_slip(const DiscreteSystem& sys, const Vector& u_before, const Vector& u_D, Vector& shift) {
+  const MeshPart& part = sys.part;
+  const DofMap& dofs = part.dofs;
+  const int d = part.mesh().dim();
+  const auto t = static_cast<Eigen::Index>(sys.problem->contact.block_size(d) - 1);
+  Eigen::Index k = 0;
+  for (const PartContactNode& node : part.contact) {
+    if (!node.owned) continue;
+    Point moved{0, 0, 0};
+    for (const auto& [master, w] : node.masters)
+      for (int i = 0; i < d; ++i)
+        if (const int f = dofs.full_index(master, i); dofs.free_index(f) < 0) moved[i] += w * (u_D[f] - u_before[f]);
+    if (moved != Point{0, 0, 0})
+      for (Eigen::Index j = k * t; j < (k + 1) * t; ++j)
+        for (int i = 0; i < d; ++i)
+          if (const int own = dofs.free_index(dofs.full_index(node.local_node, i)); own >= 0)
+            shift[j] += sys.T.coeff(j, own) * moved[i];  // t_ij's component i (T's entry at the slave's dof)
+    ++k;
+  }
+}
+
+}  // namespace
+
+Vector slip_shift(const DiscreteSystem& sys, const State& s, double t, const Vector& u_D) {
   const MeshPart& part = sys.part;
   const int d = part.mesh().dim();
   const ContactSpec& spec = sys.problem->contact;
@@ -42,7 +70,9 @@ Vector slip_shift(const DiscreteSystem& sys, const State& s, double t) {
         if (const int j = part.dofs.free_index(part.dofs.full_index(node.local_node, i)); j >= 0)
           at[j] += now[i] - before[i];
     }
-  return sys.T * at;
+  Vector h = sys.T * at;
+  if (u_D.size() > 0 && !spec.pairs.empty()) add_master_slip(sys, s.u, u_D, h);
+  return h;
 }
 
 void record_slip(const DiscreteSystem& sys, const Vector& tresca, const Vector& shift, const Vector& u_free, State& s) {

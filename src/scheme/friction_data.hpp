@@ -17,8 +17,10 @@ Vector friction_bounds(const DiscreteSystem& sys, double t, std::string& bad);
 /// h = T (u_{n−1} + w) at the owned rows, per tangent: u_{n−1} the state's displacement (its free
 /// dofs: a tangent has no prescribed component) and w, at each contact node, the translation over
 /// [s.t, t] of the obstacle nearest along ν at t (0 for a gap formula: a foundation that does not
-/// slide). A rotating obstacle's surface motion is not modelled (only translations).
-Vector slip_shift(const DiscreteSystem& sys, const State& s, double t);
+/// slide). A rotating obstacle's surface motion is not modelled (only translations). On a pair's
+/// row w is its masters' prescribed motion over the step, their mortar mean (`u_D`: the prescribed
+/// displacement at t, over the part's dofs; empty where none is prescribed).
+Vector slip_shift(const DiscreteSystem& sys, const State& s, double t, const Vector& u_D);
 
 /// After the step's contact solve (u_free: the owned free dofs, λ in s.lambda), with the step's
 /// `tresca` and `shift`: s.slip_step = Δ, s.slip += |Δ|, s.contact_status. Collective.

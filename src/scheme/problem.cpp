@@ -127,7 +127,7 @@ int ContactSpec::law_index(const std::string& part) const {
 std::vector<std::shared_ptr<const FrictionLaw>> ContactSpec::frictions() const {
   std::vector<std::shared_ptr<const FrictionLaw>> all = {friction};
   for (const PartContactLaw& p : part_laws) all.push_back(p.friction);
-  all.resize(all.size() + pairs.size(), nullptr);  // pairs are frictionless (check_pairs)
+  for (const ContactPair& p : pairs) all.push_back(p.friction);
   return all;
 }
 
@@ -236,7 +236,7 @@ int body_of_part(const Mesh& mesh, const std::string& part) {
 }
 
 /// Contact pairs (SPEC §8): a slave and a master part, each of one body, of two bodies, off Γ3;
-/// any normal law, without friction (friction on pairs: issue 29's next part).
+/// any normal law and friction.
 void check_pairs(const Problem& p) {
   for (std::size_t q = 0; q < p.contact.pairs.size(); ++q) {
     const ContactPair& pair = p.contact.pairs[q];
@@ -254,9 +254,6 @@ void check_pairs(const Problem& p) {
     require(bodies[0] != bodies[1], "{}: slave '{}' and master '{}' are parts of one body; a pair joins two bodies "
             "([[body]])", at, pair.slave, pair.master);
   }
-  if (p.contact.pairs.empty()) return;
-  require(!p.contact.frictional(), "{}: contact pairs are frictionless for now; friction on a case with pairs "
-          "(issue 29's next part) is not built", p.where("contact.pair"));
 }
 
 /// Each body held by its prescribed displacements (a contact pair does not hold one either).

@@ -40,6 +40,9 @@ struct ContactPair {
   std::string slave, master;  // boundary parts of two different bodies
   double search = 0;          // facets this far apart still couple (0: the slave part's longest facet)
   std::shared_ptr<const ContactLaw> law;  // its normal law (the pair's `law`; nullptr: [contact]'s)
+  /// Its friction (SPEC §7 across the pair: the slip is the slave's relative to the master side's
+  /// mortar mean); nullptr frictionless. A pair without a friction key takes [contact]'s.
+  std::shared_ptr<const FrictionLaw> friction;
 };
 
 struct ContactSpec {

@@ -32,7 +32,7 @@ SchemeSolvers set_up_solvers(DiscreteSystem& sys, const SolverChoice& choice, Se
   const bool nonlinear_law = nonlinear_in_dual(part.comm, constraints);  // only the dual solves it
   s.contact_pick =
       pick_contact_solver(choice.contact, part.n_contact, sys.backend->linear_solver(), nonlinear_law, constraints.block);
-  if (s.contact_pick.name == "primal-active-set" && !part.comm.all(masters_apart_from_slaves(constraints.N, constraints.node_dofs))) {
+  if (s.contact_pick.name == "primal-active-set" && !part.comm.all(masters_apart_from_slaves(constraints.N, constraints.node_dofs, constraints.master_mean))) {
     // A node on both sides of contact pairs: its dofs cannot be both a row's gap variable and a
     // master of another (contact_basis).
     require(choice.contact == "auto", "contact solver 'primal-active-set': a node is on the slave side of one contact "
@@ -72,7 +72,9 @@ SchemeSolvers set_up_solvers(DiscreteSystem& sys, const SolverChoice& choice, Se
       const ContactMatrix local = contact_matrix(part, ContactColumns::local);
       for (const PartContactNode& node : part.contact)
         require(node.owned || node.pair < 0, "internal: contact pair row {} is a ghost on this rank", node.row);
-      const ContactBasis basis = contact_basis(local.N, pairs ? local.node_dofs : std::vector<std::vector<int>>());
+      const ContactBasis basis =
+          pairs ? contact_basis(local.N, local.node_dofs, constraints.frictional() ? local.master_mean : SparseMatrix())
+                : contact_basis(local.N, {});
       const SparseMatrix& P = basis.P;
       K_rot = sys.backend->assemble(basis.pairs()     ? SparseMatrix(P.transpose() * sys.K_local * P)
                                     : P.size() > 0 ? SparseMatrix(P * sys.K_local * P)

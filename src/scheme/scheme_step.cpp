@@ -113,7 +113,7 @@ ContactReport SchemeStep::solve_contact(const DiscreteSystem& sys, ContactSolver
   contact.set_gap(data.gap);
   Vector shift;
   if (s.contact_block > 1) {  // friction (SPEC §7): Δ = T u_n − h, h from u_{n−1} and the obstacle's motion
-    shift = slip_shift(sys, s, data.t);
+    shift = slip_shift(sys, s, data.t, data.u_D);
     contact.set_friction(data.tresca, shift);
   }
   const ContactReport rep = contact.solve(f_.owned(), u_free, s.lambda);

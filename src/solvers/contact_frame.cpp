@@ -89,11 +89,14 @@ int slave_among_masters(const SparseMatrix& masters, const std::vector<std::vect
 
 }  // namespace
 
-bool masters_apart_from_slaves(const SparseMatrix& N, const std::vector<std::vector<int>>& node_dofs) {
-  return node_dofs.empty() || slave_among_masters(split_rows(N, node_dofs).second, node_dofs) < 0;
+bool masters_apart_from_slaves(const SparseMatrix& N, const std::vector<std::vector<int>>& node_dofs,
+                               const SparseMatrix& master_mean) {
+  return node_dofs.empty() || (slave_among_masters(split_rows(N, node_dofs).second, node_dofs) < 0 &&
+                               (master_mean.size() == 0 || slave_among_masters(master_mean, node_dofs) < 0));
 }
 
-ContactBasis contact_basis(const SparseMatrix& N, const std::vector<std::vector<int>>& node_dofs) {
+ContactBasis contact_basis(const SparseMatrix& N, const std::vector<std::vector<int>>& node_dofs,
+                           const SparseMatrix& master_mean) {
   ContactBasis b;
   if (node_dofs.empty()) {
     b.P = contact_reflections(N);
@@ -103,11 +106,13 @@ ContactBasis contact_basis(const SparseMatrix& N, const std::vector<std::vector<
   const auto [own, masters] = split_rows(N, node_dofs);
   b.rows = rotated_rows(own);
   SparseMatrix H = contact_reflections(own);
-  if (masters.nonZeros() == 0) {
+  const bool mean = master_mean.nonZeros() > 0;
+  if (masters.nonZeros() == 0 && !mean) {
     b.P = std::move(H);
     return b;
   }
-  const int slave = slave_among_masters(masters, node_dofs);
+  int slave = slave_among_masters(masters, node_dofs);
+  if (slave < 0 && mean) slave = slave_among_masters(master_mean, node_dofs);
   require(slave < 0,
           "free dof {} is a contact pair's slave dof and a master dof of another row (a node on the slave and the "
           "master side): the primal contact solver needs them apart; --contact-solver active-set solves it",
@@ -117,17 +122,23 @@ ContactBasis contact_basis(const SparseMatrix& N, const std::vector<std::vector<
     H.resize(n, n);
     H.setIdentity();
   }
-  // E = −Σ_i (H e_{k_i}/α_i)(m_i H), m_i row i's master part: N_i E = −m_i H cancels N_i H's master part.
+  // P = H + F, F = M + E. M (friction only) moves every free dof of a slave node by its masters'
+  // weighted mean, so that its tangential dofs in w are the slip relative to the master side too.
+  // E = −Σ_i (H e_{k_i}/α_i) r_i cancels what N_i (H + M) has on master dofs, r_i = m_i H + own_i M
+  // (m_i row i's master part; without M, r_i = m_i H and N_i E = −m_i H), so N_i P w = α_i w_k.
+  SparseMatrix R = masters * H;
+  if (mean) R = SparseMatrix(R + own * master_mean).pruned();  // 0 where M and m agree (no slave dof fixed)
   std::vector<Eigen::Triplet<double>> t;
   for (std::size_t i = 0; i < b.rows.size(); ++i)
     for (SparseMatrix::InnerIterator it(H, b.rows[i].dof); it; ++it)
       t.emplace_back(static_cast<int>(it.row()), static_cast<int>(i), it.value() / b.rows[i].alpha);
   SparseMatrix C(n, N.rows());
   C.setFromTriplets(t.begin(), t.end());
-  const SparseMatrix E = -(C * SparseMatrix(masters * H));
-  // E's rows are slave dofs, its columns master dofs, so (EH)² = 0 and P⁻¹ = (I − EH)H = H − HEH.
-  b.P = H + E;
-  b.P_inverse = H - SparseMatrix(H * E * H);
+  SparseMatrix F = -(C * R);
+  if (mean) F += master_mean;
+  // F's rows are slave dofs, its columns master dofs, so (FH)² = 0 and P⁻¹ = (I − FH)H = H − HFH.
+  b.P = H + F;
+  b.P_inverse = H - SparseMatrix(H * F * H);
   return b;
 }
 
@@ -137,9 +148,11 @@ void set_tangents(ContactConstraints& c, const std::vector<std::vector<int>>& no
   require(t >= 1 && static_cast<Eigen::Index>(node_dofs.size()) == rows,
           "internal: tangents for {} nodes of {} contact rows (block {})", node_dofs.size(), rows, c.block);
   // In w = Qu a row's normal is its dof k (rotated_rows) and every other free dof j of its node
-  // is a tangent: Q e_j is a unit vector orthogonal to ν (Q is a reflection, symmetric).
-  const SparseMatrix Q = contact_reflections(c.N);
-  const std::vector<RotatedRow> normal = rotated_rows(c.N);
+  // is a tangent: Q e_j is a unit vector orthogonal to ν (Q is a reflection, symmetric). A pair
+  // row's frame is its own node's (its master entries are the masters' share of ν, not ν).
+  const SparseMatrix own = split_rows(c.N, node_dofs).first;
+  const SparseMatrix Q = contact_reflections(own);
+  const std::vector<RotatedRow> normal = rotated_rows(own);
   std::vector<Eigen::Triplet<double>> entries;
   c.tangent_dof.assign(static_cast<std::size_t>(rows * t), -1);
   for (Eigen::Index i = 0; i < rows; ++i) {
@@ -159,6 +172,7 @@ void set_tangents(ContactConstraints& c, const std::vector<std::vector<int>>& no
   }
   c.T.resize(rows * t, c.N.cols());
   c.T.setFromTriplets(entries.begin(), entries.end());
+  if (c.master_mean.nonZeros() > 0) c.T = SparseMatrix(c.T - c.T * c.master_mean);  // t·(u_j − Σ w_k u_k)
   c.shift = Vector::Zero(rows * t);
   c.tresca = Vector::Zero(rows);
   if (c.mu.size() != rows) c.mu = Vector::Zero(rows);

@@ -39,10 +39,14 @@ struct ContactBasis {
 
 /// `node_dofs` empty: every entry of a row is its node's (P = contact_reflections(N)). A master
 /// dof that is also some row's own dof (a node both slave and master) cannot be written so: an
-/// error (masters_apart_from_slaves tells beforehand).
-ContactBasis contact_basis(const SparseMatrix& N, const std::vector<std::vector<int>>& node_dofs);
+/// error (masters_apart_from_slaves tells beforehand). `master_mean` (ContactConstraints::
+/// master_mean; friction on pairs) moves the slave node's every dof by its masters' mean, not only
+/// along ν, so that its tangential dofs in w are the slip relative to the master too (set_tangents).
+ContactBasis contact_basis(const SparseMatrix& N, const std::vector<std::vector<int>>& node_dofs,
+                           const SparseMatrix& master_mean = {});
 
-/// Whether no master entry of a row is on any row's own dofs (contact_basis can be built).
-bool masters_apart_from_slaves(const SparseMatrix& N, const std::vector<std::vector<int>>& node_dofs);
+/// Whether no master entry of a row (nor of `master_mean`) is on any row's own dofs (contact_basis can be built).
+bool masters_apart_from_slaves(const SparseMatrix& N, const std::vector<std::vector<int>>& node_dofs,
+                               const SparseMatrix& master_mean = {});
 
 }  // namespace vpc

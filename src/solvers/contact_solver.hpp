@@ -72,6 +72,11 @@ struct ContactConstraints {
   /// row's other entries are its master nodes'. Empty where no row has masters (a row's entries are
   /// all its node's). The primal solver's basis needs them (contact_basis, solvers/contact_frame.hpp).
   std::vector<std::vector<int>> node_dofs;
+  /// Friction on pairs: M of ContactMatrix::master_mean (owned numbering), each slave node's masters'
+  /// weighted mean on all its dofs; T's pair rows are then the slip relative to the master,
+  /// t_ij·(u_j − M u), and the primal solver's basis moves the whole slave node (contact_basis).
+  /// Empty without pairs or without friction.
+  SparseMatrix master_mean;
   /// Contact unknowns per row (State::contact_block): λ holds m × block numbers, row after row,
   /// the normal force first. 1 for a normal law; d with friction (SPEC §7): λ_ν then the
   /// d − 1 tangential forces λ_τ along the node's tangents.
@@ -100,8 +105,9 @@ struct ContactConstraints {
 
 /// The tangents of friction (ContactConstraints::T, tangent_dof) for c.block − 1 tangents per row:
 /// `node_dofs[i]` are the free dofs (owned free numbering) of local row i's node, in order. Rows of
-/// N off the axes use contact_reflections' Householder frame. Sets c.T, c.tangent_dof and zero
-/// shift and tresca (mu is the caller's).
+/// N off the axes use contact_reflections' Householder frame of the row's own entries (a pair row's
+/// master entries do not turn it); with c.master_mean a pair row's tangents are relative to its
+/// masters, t_ij·(I − M). Sets c.T, c.tangent_dof and zero shift and tresca (mu is the caller's).
 void set_tangents(ContactConstraints& c, const std::vector<std::vector<int>>& node_dofs);
 
 /// Δ = T u − shift, the slip increments of this rank's rows (rows × (b − 1)); empty without friction.

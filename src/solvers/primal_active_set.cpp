@@ -23,8 +23,7 @@ class PrimalActiveSetSolver final : public ContactSolver {
                         : c.frictional()  ? kPrimalFrictionMaxIterations
                                           : kPrimalMaxIterations),
         K_(std::move(K)), K_rot_(K_rot ? std::move(K_rot) : K_), factor_(std::move(factor)), c_(std::move(c)),
-        basis_(contact_basis(c_.N, c_.node_dofs)), rows_(basis_.rows) {
-    require(!basis_.pairs() || !c_.frictional(), "internal: the primal contact solver has no friction on pairs");
+        basis_(contact_basis(c_.N, c_.node_dofs, c_.master_mean)), rows_(basis_.rows) {
     for (Eigen::Index i = 0; i < static_cast<Eigen::Index>(rows_.size()) && !c_.laws.empty(); ++i) {
       const ContactLaw& law = c_.law_of(i);
       require(law.rigid() || law.linear(),
