@@ -42,7 +42,7 @@ test: build
 # SANITIZE_SKIP: the heaviest runs, whose code paths smaller tests take too (the same solvers on
 # larger meshes: under ASan they cost minutes each, 60 % of the sanitized tests' time); `make test`
 # runs them. Set SANITIZE_SKIP= to run every test.
-SANITIZE_SKIP ?= PrimalDual/EveryShippedCase.PrimalAndDualAgree/(hertz_2d|hertz_3d|hertz_cylinders_2d|hertz_spheres_3d|ironing_3d|indentation_3d|cattaneo_mindlin_2d)( |$$)|^FrictionBenchmarks.CattaneoMindlin|^FrictionIroning.RunsToTheEnd|^cli.check_(cattaneo-mindlin-2d|ironing-3d)$$|^Hertz.(LineContactOnARigidCylinder|SphereIntoAHalfSpaceQuarterModel)$$
+SANITIZE_SKIP ?= PrimalDual/EveryShippedCase.PrimalAndDualAgree/(hertz_2d|hertz_3d|hertz_cylinders_2d|hertz_spheres_3d|ironing_3d|indentation_3d|cattaneo_mindlin_2d|cattaneo_mindlin_pair_2d)( |$$)|^FrictionBenchmarks.CattaneoMindlin|^FrictionIroning.RunsToTheEnd|^cli.check_(cattaneo-mindlin-2d|cattaneo-mindlin-pair-2d|ironing-3d)$$|^Hertz.(LineContactOnARigidCylinder|SphereIntoAHalfSpaceQuarterModel)$$
 test-sanitize: deps
 	@cmake -S . -B $(SANITIZE_BUILD) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DVPCONTACT_SANITIZE=ON -DVPCONTACT_PYTHON=OFF -DVPCONTACT_BENCHMARKS=OFF -DVPCONTACT_ENABLE_PETSC=OFF > /dev/null
 	@cmake --build $(SANITIZE_BUILD) -j $(JOBS)

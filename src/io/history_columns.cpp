@@ -87,6 +87,8 @@ std::vector<std::string> history_column_names(const Problem& p, const MeshPart& 
   for (int i = 0; i < d; ++i) names.push_back(fmt::format("tangential_force_{}", "xyz"[i]));
   for (const Obstacle& o : p.contact.obstacles)
     for (int i = 0; i < d; ++i) names.push_back(fmt::format("tangential_force_{}_{}", o.name, "xyz"[i]));
+  for (const ContactPair& pair : p.contact.pairs)
+    for (int i = 0; i < d; ++i) names.push_back(fmt::format("tangential_force_pair_{}_{}", pair.slave, "xyz"[i]));
   if (p.contact.part_laws.empty()) return names;
   for (const std::string& entry : contact_law_entry_names(p.contact)) {
     names.push_back(fmt::format("force_part_{}", entry));
@@ -118,6 +120,7 @@ std::vector<HistoryValue> history_values(const StepReport& r) {
   for (const HistoryColumn& c : kFrictionColumns) row.push_back({c.value(r), c.format});
   for (double f : r.tangential_force) row.push_back({f, F::exact});
   for (double f : r.obstacle_tangential_force) row.push_back({f, F::exact});
+  for (double f : r.pair_tangential_force) row.push_back({f, F::exact});
   const std::size_t d = r.tangential_force.size();
   for (std::size_t j = 0; j < r.part_force.size(); ++j) {
     row.push_back({r.part_force[j], F::exact});

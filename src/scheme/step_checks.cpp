@@ -36,14 +36,17 @@ void contact_totals(const DiscreteSystem& sys, const State& s, StepReport& rep) 
   const auto& obstacles = sys.problem->contact.obstacles;
   const int b = s.contact_block, d = sys.part.mesh().dim();
   const std::size_t n_obstacles = obstacles.size(), du = static_cast<std::size_t>(d);
-  // With friction and several laws: each law entry's normal and tangential forces.
-  const std::size_t n_parts = b > 1 && !sys.problem->contact.part_laws.empty() ? sys.problem->contact.laws().size() : 0;
+  // With friction and several laws: each law entry's normal and tangential forces (Γ3's entries:
+  // [contact]'s and the [[contact.part]]s'; the pairs' are counted per pair).
+  const auto& c = sys.problem->contact;
+  const std::size_t n_parts = b > 1 && !c.part_laws.empty() ? 1 + c.part_laws.size() : 0, n_pairs = c.pairs.size();
   // area, the obstacles' forces, then with friction the tangential force (d), its share on
-  // each obstacle (obstacles × d) and the law entries' forces (parts × (1 + d))
+  // each obstacle (obstacles × d) and the law entries' forces (parts × (1 + d)); then each contact
+  // pair's normal force and with friction its tangential force (pairs × d)
   const std::size_t on_total = n_obstacles + 1, on_obstacles = on_total + du, on_parts = on_obstacles + du * n_obstacles;
   std::vector<double> sums(b > 1 ? on_parts + n_parts * (1 + du) : n_obstacles + 1, 0.0);
-  const std::size_t on_pairs = sums.size();  // then each contact pair's normal force
-  sums.resize(on_pairs + sys.problem->contact.pairs.size(), 0.0);
+  const std::size_t on_pairs = sums.size(), on_pair_tangents = on_pairs + n_pairs;
+  sums.resize(on_pair_tangents + (b > 1 ? n_pairs * du : 0), 0.0);
   const std::vector<Point> tangents = contact_tangents(sys.part, b);
   for (std::size_t k = 0; k < sys.part.contact.size(); ++k) {
     const PartContactNode& node = sys.part.contact[k];
@@ -55,7 +58,9 @@ void contact_totals(const DiscreteSystem& sys, const State& s, StepReport& rep) 
     if (b > 1) {
       tangential = along_tangents(tangents, k, b, s.lambda.data() + node.row * b + 1);
       for (std::size_t i = 0; i < du; ++i) sums[on_total + i] += tangential[i];
-      if (n_parts > 0) {
+      if (node.pair >= 0)
+        for (std::size_t i = 0; i < du; ++i) sums[on_pair_tangents + du * static_cast<std::size_t>(node.pair) + i] += tangential[i];
+      else if (n_parts > 0) {
         const std::size_t at = on_parts + static_cast<std::size_t>(node.law) * (1 + du);
         sums[at] += lambda;
         for (std::size_t i = 0; i < du; ++i) sums[at + 1 + i] += tangential[i];
@@ -72,7 +77,8 @@ void contact_totals(const DiscreteSystem& sys, const State& s, StepReport& rep) 
   rep.contact_area = sums[0];
   auto at = [&](std::size_t i) { return sums.begin() + static_cast<std::ptrdiff_t>(i); };
   rep.obstacle_force.assign(at(1), at(n_obstacles + 1));
-  rep.pair_force.assign(at(on_pairs), sums.end());
+  rep.pair_force.assign(at(on_pairs), at(on_pair_tangents));
+  rep.pair_tangential_force.assign(at(on_pair_tangents), sums.end());
   rep.tangential_force.clear();
   rep.obstacle_tangential_force.clear();
   rep.part_force.clear();

@@ -48,8 +48,12 @@ struct StepReport {
   /// components (the force on the obstacles; the body gets its opposite), and with
   /// obstacles the same per obstacle (d after d, as obstacle_force counts the nodes).
   std::vector<double> tangential_force, obstacle_tangential_force;
-  /// With friction and [[contact.part]] sections: per law entry (ContactSpec::laws() order,
-  /// each node counted for its law), the normal force and the tangential force (d after d).
+  /// With friction and contact pairs: per pair (ContactSpec::pairs), the tangential force on its
+  /// master side (d after d; the slave side gets its opposite).
+  std::vector<double> pair_tangential_force;
+  /// With friction and [[contact.part]] sections: per law entry of Γ3 ([contact]'s, then the
+  /// [[contact.part]]s', as ContactSpec::laws() begins; each node counted for its law), the normal
+  /// force and the tangential force (d after d). A pair's rows count for their pair only.
   std::vector<double> part_force, part_tangential_force;
   /// The reaction force on each Dirichlet part (dirichlet_parts order): the force its
   /// supports exert on the body, Σ over the part's nodes of (σ_n, ε(φ)) − F_n, in each

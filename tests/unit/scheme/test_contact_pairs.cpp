@@ -323,8 +323,6 @@ TEST(ContactPairs, BadPairsAreRefusedNamingTheKey) {
   std::string both = blocks(2);
   both.replace(both.find("[[boundary.displacement]]"), 25, "contact = [\"top\"]\n[[boundary.displacement]]");
   EXPECT_NE(error(both).find("is on Γ3"), std::string::npos) << error(both);
-  const std::string coulomb = blocks(2, "[contact]\nfriction = \"coulomb\"\nmu = 0.3\n");
-  EXPECT_NE(error(coulomb).find("frictionless for now"), std::string::npos) << error(coulomb);
   const std::string far = error_of([] { blocks_apart(0.3); });
   EXPECT_NE(far.find("covers no node"), std::string::npos) << far;
   // Overlapping at t = 0 by 0.01 (a fifth of a cell): refused, as a body inside an obstacle is.
