@@ -24,14 +24,15 @@ struct LineContact {
   double half_width() const { return 0.5 * (x_active + x_free); }
 };
 
-/// `E_star`: 0 for the rigid cylinder's E/(1 − ν²); `part`: where the nodal pressures are.
-LineContact line_contact(const Case& c, double E_star = 0, const char* label = "hertz-2d", const char* part = "bottom") {
+/// `E_star`: 0 for the rigid cylinder's E/(1 − ν²); `part`: where the nodal pressures are; `R` the
+/// cylinder's radius; `copies`: 2 for a half model on its symmetry plane (P is twice its force).
+LineContact line_contact(const Case& c, double E_star = 0, const char* label = "hertz-2d", const char* part = "bottom",
+                         double R = 1.0, double copies = 1.0) {
   TimeStepper s(c.problem, c.solvers);
   const StepReport r = s.step();
   EXPECT_TRUE(r.ok);
   LineContact l;
-  l.P = r.contact.total_force;
-  const double R = 1.0;
+  l.P = copies * r.contact.total_force;
   if (E_star == 0) E_star = c.problem->elasticity.young() / (1 - 0.3 * 0.3);
   l.a = std::sqrt(4 * l.P * R / (M_PI * E_star));
   l.p0 = 2 * l.P / (M_PI * l.a);
@@ -98,6 +99,25 @@ TEST(Hertz, LineContactBetweenTwoElasticBodies) {
   expect_hertz(l, 25.0);
   EXPECT_NEAR(l.p_axis / l.p0, 1.0, 0.02);
   EXPECT_NEAR(2 * l.P / (M_PI * l.p_axis) / l.a, 1.0, 0.02);  // a from P and the computed p0
+}
+
+// The NAFEMS cylinder-roller benchmark (nafems-roller-2d; Konter, NAFEMS R0094, benchmark 1, as
+// Code_Aster's SSNP154 runs it): a steel roller (R = 50 mm, E = 210 GPa) on an aluminium block
+// (70 GPa), ν = 0.3, plane strain, half model, loaded to 35 kN/mm by the motion of the roller's
+// top. The benchmark's reference, Hertz's: a = 6.21 mm, p0 = 3585.37 MPa (SSNP154's values), within
+// 2 %, and Hertz from the computed force within the tolerances.
+TEST(Hertz, NafemsCylinderRoller) {
+  const Case c = load_case("nafems-roller-2d");
+  const double E_star = 1 / ((1 - 0.3 * 0.3) / 210000 + (1 - 0.3 * 0.3) / 70000);
+  const LineContact l = line_contact(c, E_star, "nafems-roller-2d", "top", 50.0, 2.0);
+  EXPECT_NEAR(l.P, 35000, 0.005 * 35000);  // the prescribed motion carries the benchmark's load
+  expect_hertz(l, 20.0);
+  std::printf("  nafems-roller-2d against the benchmark: half-width %+.2f %% of 6.21 mm, p on the axis %+.2f %% and "
+              "largest %+.2f %% of 3585.37 MPa\n",
+              100 * (l.half_width() / 6.21 - 1), 100 * (l.p_axis / 3585.37 - 1), 100 * (l.p_max / 3585.37 - 1));
+  EXPECT_NEAR(l.half_width() / 6.21, 1.0, 0.02);
+  EXPECT_NEAR(l.p_axis / 3585.37, 1.0, 0.02);
+  EXPECT_NEAR(l.p_max / 3585.37, 1.0, 0.02);
 }
 
 // Hertz's sphere contact, quarter model (hertz-3d): with P the force on the whole sphere
