@@ -1235,7 +1235,8 @@ class Plotter:
 
     def friction_figure(self):
         """A frictional run's (history.csv has tangential_force_<x|y|z>): the tangential
-        force, the force on the obstacles (the body gets its opposite), against the
+        force, the force on the obstacles and the pairs' master sides (each drawn where there
+        are several; the body, or the slave side, gets its opposite), against the
         displacement along the push, with the normal force; the stick and slip nodes and
         the frictional dissipation per step."""
         key = "friction"
@@ -1255,10 +1256,16 @@ class Plotter:
             ax_f.plot(x, h["tangential_force_" + c], "C%d" % k, marker="." if len(x) < 40 else None,
                       label="tangential force, %s" % c)
         obstacles = [o for o in (self.run.obstacles or []) if isinstance(o, dict) and "name" in o]
+        # Each contact pair's force on its master side (tangential_force_pair_<slave>_<c>).
+        pairs = sorted(c for c in h if c.startswith("tangential_force_pair_") and c.endswith("_" + push))
+        several = len(obstacles) + len(pairs) > 1
         for k, o in enumerate(obstacles):
             col = "tangential_force_%s_%s" % (o["name"], push)
-            if col in h and len(obstacles) > 1:
+            if col in h and several:
                 ax_f.plot(x, h[col], "C%d:" % (5 + k % 5), label="on %s, %s" % (o["name"], push))
+        for k, col in enumerate(pairs if several else []):
+            slave = col[len("tangential_force_pair_"):-len("_" + push)]
+            ax_f.plot(x, h[col], "C%d-." % (5 + (len(obstacles) + k) % 5), label="pair %s, %s" % (slave, push))
         if "total_contact_force" in h:
             ax_f.plot(x, h["total_contact_force"], color="0.45", ls="--", label="normal force")
         ax_f.axhline(0.0, color="0.7", lw=0.8)
