@@ -2,12 +2,14 @@
 """Figures of issue 28's frictional cases (docs/verification.md), from a run's output directory:
 
   scripts/friction_figures.py cattaneo-mindlin OUTDIR FIGDIR   # vpcontact run cattaneo-mindlin-2d -o OUTDIR
+  scripts/friction_figures.py cattaneo-mindlin-pair OUTDIR FIGDIR   # vpcontact run cattaneo-mindlin-pair-2d -o OUTDIR
   scripts/friction_figures.py ironing OUTDIR FIGDIR            # vpcontact run ironing-3d -o OUTDIR
 
 cattaneo-mindlin: traction.png, the tangential traction q(x) = |lambda_tau|/|Gamma3|_i at every
 tangential step against Cattaneo-Mindlin's mu p0 [sqrt(1 - x^2/a^2) - (c/a) sqrt(1 - x^2/c^2)], with
 a, p0 from Hertz with the computed P and c/a = sqrt(1 - Q/(mu P)); stick_zone.png, c/a against
-Q/(mu P). ironing: tangential_force.png, the drag and normal forces (the bottom's reactions, which
+Q/(mu P); cattaneo-mindlin-pair the same between two bodies of one material (E* = E/(2(1 - nu^2)),
+nu = 0.3; the nodes of y = 0 are the slave block's, a master node there is left out). ironing: tangential_force.png, the drag and normal forces (the bottom's reactions, which
 balance the contact forces, and history.csv's tangential force) against t; beta_track.png, beta along the track's centre line at the
 surface and below it at the end of the run.
 """
@@ -41,14 +43,19 @@ def contact_nodes(vtu):
     x, ln, lt, pr = vtu.points[on, 0], lam[on, 0], lam[on, 1], p[on]
     order = np.argsort(x)
     x, ln, lt, pr = x[order], ln[order], lt[order], pr[order]
+    # A contact pair's master node at y = 0 (the disc's, under the slave block's node): no row of
+    # its own, so no force; its twin on the slave side has them.
+    keep = np.array([l != 0 or not np.any((x == xi) & (ln != 0)) for xi, l in zip(x, ln)], dtype=bool)
+    x, ln, lt, pr = x[keep], ln[keep], lt[keep], pr[keep]
     with np.errstate(divide="ignore", invalid="ignore"):
         q = np.where(ln > 0, np.abs(lt) * pr / np.where(ln > 0, ln, 1), 0.0)
     return x, ln, lt, q
 
 
-def cattaneo_mindlin(outdir, figdir, R=1.0, mu=0.5, E=1000.0, nu=0.49):
+def cattaneo_mindlin(outdir, figdir, R=1.0, mu=0.5, E=1000.0, nu=0.49, bodies=1):
+    """bodies: 1, an elastic body on a rigid cylinder; 2, two elastic bodies of one material."""
     plt = _pyplot()
-    E_star = E / (1 - nu * nu)
+    E_star = E / (bodies * (1 - nu * nu))
     sols = _solutions(outdir)
     a = p0 = P = None
     curves, zone = [], []
@@ -68,8 +75,10 @@ def cattaneo_mindlin(outdir, figdir, R=1.0, mu=0.5, E=1000.0, nu=0.49):
         ratio = Q / (mu * ln.sum())
         c = a * np.sqrt(max(0.0, 1 - ratio))
         status = vtu.point_data.get("contact_status")
-        if status is not None:  # the run's own stick/slip/free status (1: stick)
-            stick = np.abs(status[np.abs(vtu.points[:, 1]) < 1e-12][np.argsort(vtu.points[np.abs(vtu.points[:, 1]) < 1e-12, 0])] - 1) < 0.5
+        if status is not None:  # the run's own stick/slip/free status (1: stick), at contact_nodes' nodes
+            on = np.abs(vtu.points[:, 1]) < 1e-12
+            xs_on, st_on = vtu.points[on, 0], status[on]
+            stick = np.array([np.any((xs_on == xi) & (np.abs(st_on - 1) < 0.5)) for xi in x], dtype=bool)
         else:
             stick = (ln > 0) & (np.abs(lt) < mu * ln * (1 - 1e-9))
         c_num = 0.0
@@ -151,9 +160,14 @@ def ironing(outdir, figdir):
 
 
 def main(argv):
-    if len(argv) != 4 or argv[1] not in ("cattaneo-mindlin", "ironing"):
+    figures = {
+        "cattaneo-mindlin": cattaneo_mindlin,
+        "cattaneo-mindlin-pair": lambda o, f: cattaneo_mindlin(o, f, nu=0.3, bodies=2),
+        "ironing": ironing,
+    }
+    if len(argv) != 4 or argv[1] not in figures:
         raise SystemExit(__doc__)
-    (cattaneo_mindlin if argv[1] == "cattaneo-mindlin" else ironing)(argv[2], argv[3])
+    figures[argv[1]](argv[2], argv[3])
 
 
 if __name__ == "__main__":
