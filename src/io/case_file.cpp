@@ -1146,7 +1146,7 @@ std::vector<std::string> locking_warnings(Section& top, const Problem& p) {
 }
 
 /// [[contact.pair]] (SPEC §8): slave and master, boundary parts of two bodies; `search`; a normal
-/// law and a friction law, each [contact]'s where the pair gives none.
+/// law and a friction law, each [contact]'s where the pair gives none; `sliding`.
 void read_contact_pairs(Section& ct, Problem& p, const Origins& origins) {
   if (!ct.has("pair")) return;
   const toml::node* list = ct.get("pair");
@@ -1170,6 +1170,7 @@ void read_contact_pairs(Section& ct, Problem& p, const Origins& origins) {
         if (s.has(k)) fail("{}: {} needs law = \"normal-compliance\" in the same table", s.where(k), k);
     }
     pair.friction = read_friction_law(s, p.contact.friction, p.mesh.dim());
+    pair.large_sliding = s.choice("sliding", {"small", "large"}, "small") == "large";
     if (!(pair.search >= 0) || !std::isfinite(pair.search))
       fail("{}: expected a distance >= 0 (0: the slave part's longest facet edge)", s.where("search"));
     s.finish();

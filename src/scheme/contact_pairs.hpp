@@ -22,6 +22,9 @@ mortar::Surface part_surface(const Mesh& mesh, const std::string& part);
 /// symmetry plane) and is refused where it moves; a master node's prescribed components leave N
 /// and, where they move, move the row's bound (step_data.cpp). Throws vpc::Error naming the pair
 /// for a master part that covers no slave node, or a slave node inside the master at t = 0.
-std::vector<ContactRow> pair_rows(const Problem& p, const std::vector<int>& condition);
+/// `moved`: p.mesh displaced (x + u): the rows of the large-sliding pairs alone, in that
+/// configuration (scheme/sliding_pairs.hpp; no overlap check: the last step's answer may
+/// penetrate the moved surfaces by its linearization's error).
+std::vector<ContactRow> pair_rows(const Problem& p, const std::vector<int>& condition, const Mesh* moved = nullptr);
 
 }  // namespace vpc

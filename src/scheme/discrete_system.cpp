@@ -93,9 +93,7 @@ DiscreteSystem::DiscreteSystem(std::shared_ptr<const Problem> problem_in, MeshPa
         dirichlet_cells.push_back(c);
         break;
       }
-  const ContactMatrix rows = contact_matrix(part, ContactColumns::owned);
-  N = rows.N;
-  if (p.contact.frictional()) set_friction_frame(rows);
+  set_contact_rows();
 
   // Constant matrices: K of (3.9), factorized once; H = M + kκA of (3.8). Each
   // process assembles its cells; the backend sums the parts.
@@ -144,6 +142,12 @@ std::vector<char> constant_damage_nodes(const Problem& p, const MeshPart& part, 
   return held;
 }
 
+void DiscreteSystem::set_contact_rows() {
+  const ContactMatrix rows = contact_matrix(part, ContactColumns::owned);
+  N = rows.N;
+  if (problem->contact.frictional()) set_friction_frame(rows);
+}
+
 void DiscreteSystem::set_friction_frame(const ContactMatrix& rows) {
   const Problem& p = *problem;
   const Mesh& mesh = part.mesh();
@@ -153,6 +157,7 @@ void DiscreteSystem::set_friction_frame(const ContactMatrix& rows) {
   c.block = p.contact.block_size(d);
   c.rows = part.owned_contact_rows();
   const auto frictions = p.contact.frictions();
+  row_friction.clear();
   std::vector<double> mus;
   for (const PartContactNode& node : part.contact) {
     if (!node.owned) continue;

@@ -75,8 +75,11 @@ struct DiscreteSystem {
   double assembly_seconds = 0, build_seconds = 0;
   ProcessMemory mesh_memory, assembly_memory;  // this process's as the construction starts and ends
 
+  /// N and, with friction, T, tangent_dof, mu and row_friction from part.contact (the constructor;
+  /// again where large-sliding pairs move their rows, scheme/sliding_pairs.hpp).
+  void set_contact_rows();
   /// T, tangent_dof, mu and row_friction from N, its rows' free dofs and masters' mean (the owned
-  /// ContactMatrix) and the problem's friction laws (constructor).
+  /// ContactMatrix) and the problem's friction laws.
   void set_friction_frame(const ContactMatrix& rows);
   /// A factor of K's kind (name "K"), its coordinates set for multigrid's rigid-body modes.
   std::shared_ptr<la::LinearSolver> make_stiffness_factor() const;

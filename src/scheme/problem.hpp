@@ -43,6 +43,9 @@ struct ContactPair {
   /// Its friction (SPEC §7 across the pair: the slip is the slave's relative to the master side's
   /// mortar mean); nullptr frictionless. A pair without a friction key takes [contact]'s.
   std::shared_ptr<const FrictionLaw> friction;
+  /// `sliding = "large"`: the pair's rows rebuilt at the start of every step in the configuration
+  /// x + u_{n−1} (scheme/sliding_pairs.hpp); "small" (the default): once, in the reference one.
+  bool large_sliding = false;
 };
 
 struct ContactSpec {

@@ -1,6 +1,7 @@
 #include "scheme/scheme_solvers.hpp"
 
 #include "scheme/contact_matrix.hpp"
+#include "scheme/sliding_pairs.hpp"
 #include "solvers/contact_frame.hpp"
 #include "solvers/primal_active_set.hpp"
 
@@ -18,6 +19,41 @@ double seconds_since(Clock::time_point t0) { return std::chrono::duration<double
 
 /// Damage solvers kept for the step sizes in use.
 constexpr std::size_t kDamageSolversKept = 4;
+
+/// The contact solver of s.contact_pick for `constraints` (the primal takes s.K_factor and forms its
+/// K_rot from sys.K_local).
+std::unique_ptr<ContactSolver> contact_solver(const DiscreteSystem& sys, const SolverChoice& choice, SchemeSolvers& s,
+                                              ContactConstraints constraints) {
+  const MeshPart& part = sys.part;
+  ContactSolverOptions options = choice.contact_options;
+  options.friction_tolerance = friction_force_tolerance(choice.residual_tolerance);
+  if (s.contact_pick.name == "primal-active-set") {
+    // Rows off the axes are turned into one dof each by node-local reflections Q: K_rot = Q K Q,
+    // assembled from the cells' matrices like K (Q acts within each node's dofs). A pair's row also
+    // writes its slave node in its masters' dofs: K_rot = Pᵀ K P (contact_basis), which every rank
+    // forms from its own cells because the cells at a slave node are on the rank that owns it and
+    // its masters (own_pairs_together).
+    std::shared_ptr<const la::SpdOperator> K_rot;
+    const bool pairs = !constraints.node_dofs.empty();
+    if (part.comm.any(pairs || contact_reflections(constraints.N).size() > 0)) {
+      const ContactMatrix local = contact_matrix(part, ContactColumns::local);
+      for (const PartContactNode& node : part.contact)
+        require(node.owned || node.pair < 0, "internal: contact pair row {} is a ghost on this rank", node.row);
+      const ContactBasis basis =
+          pairs ? contact_basis(local.N, local.node_dofs, constraints.frictional() ? local.master_mean : SparseMatrix())
+                : contact_basis(local.N, {});
+      const SparseMatrix& P = basis.P;
+      K_rot = sys.backend->assemble(basis.pairs()     ? SparseMatrix(P.transpose() * sys.K_local * P)
+                                    : P.size() > 0 ? SparseMatrix(P * sys.K_local * P)
+                                                   : sys.K_local,  // no row of this rank's cells needs it
+                                    *part.dof_layout, sys.K_block);
+    }
+    return make_primal_active_set_solver(sys.K, std::move(K_rot), std::exchange(s.K_factor, nullptr),
+                                         std::move(constraints), 0, options.friction_tolerance);
+  }
+  return make_contact_solver(s.contact_pick.name, sys.K, s.K_factor, std::move(constraints),
+                             la::factor_factory(sys.backend), options);
+}
 
 }  // namespace
 
@@ -58,40 +94,19 @@ SchemeSolvers set_up_solvers(DiscreteSystem& sys, const SolverChoice& choice, Se
 
   choice.stage("contact set-up");
   t1 = Clock::now();
-  ContactSolverOptions options = choice.contact_options;
-  options.friction_tolerance = friction_force_tolerance(choice.residual_tolerance);
-  if (primal) {
-    // Rows off the axes are turned into one dof each by node-local reflections Q: K_rot = Q K Q,
-    // assembled from the cells' matrices like K (Q acts within each node's dofs). A pair's row also
-    // writes its slave node in its masters' dofs: K_rot = Pᵀ K P (contact_basis), which every rank
-    // forms from its own cells because the cells at a slave node are on the rank that owns it and
-    // its masters (own_pairs_together).
-    std::shared_ptr<const la::SpdOperator> K_rot;
-    const bool pairs = !constraints.node_dofs.empty();
-    if (part.comm.any(pairs || contact_reflections(constraints.N).size() > 0)) {
-      const ContactMatrix local = contact_matrix(part, ContactColumns::local);
-      for (const PartContactNode& node : part.contact)
-        require(node.owned || node.pair < 0, "internal: contact pair row {} is a ghost on this rank", node.row);
-      const ContactBasis basis =
-          pairs ? contact_basis(local.N, local.node_dofs, constraints.frictional() ? local.master_mean : SparseMatrix())
-                : contact_basis(local.N, {});
-      const SparseMatrix& P = basis.P;
-      K_rot = sys.backend->assemble(basis.pairs()     ? SparseMatrix(P.transpose() * sys.K_local * P)
-                                    : P.size() > 0 ? SparseMatrix(P * sys.K_local * P)
-                                                   : sys.K_local,  // no row of this rank's cells needs it
-                                    *part.dof_layout, sys.K_block);
-    }
-    s.contact = make_primal_active_set_solver(sys.K, std::move(K_rot), std::exchange(s.K_factor, nullptr),
-                                              std::move(constraints), 0, options.friction_tolerance);
-  } else {
-    s.contact = make_contact_solver(s.contact_pick.name, sys.K, s.K_factor, std::move(constraints),
-                                    la::factor_factory(sys.backend), options);
-  }
-  sys.K_local = SparseMatrix();
+  s.contact = contact_solver(sys, choice, s, std::move(constraints));
+  if (!slides(*sys.problem)) sys.K_local = SparseMatrix();  // a sliding pair's K_rot is made again
   timing.contact = seconds_since(t1);
   timing.contact_ready = process_memory();
   choice.stage("contact set-up", timing.contact);
   return s;
+}
+
+void remake_contact_solver(const DiscreteSystem& sys, const SolverChoice& choice, SchemeSolvers& s) {
+  const Vector warm = s.contact->warm_state();
+  if (s.contact_pick.name == "primal-active-set") s.K_factor = sys.make_stiffness_factor();  // the last went with it
+  s.contact = contact_solver(sys, choice, s, contact_constraints(sys));
+  s.contact->set_warm_state(warm);
 }
 
 DamageSolver& DamageSolvers::for_step(const DiscreteSystem& sys, const SolverChoice& choice, double k,

@@ -2,6 +2,7 @@
 
 #include "core/error.hpp"
 #include "scheme/contact_gap.hpp"
+#include "scheme/sliding_pairs.hpp"
 #include "scheme/step_data.hpp"
 
 #include <chrono>
@@ -32,6 +33,8 @@ TimeStepper::TimeStepper(std::shared_ptr<const Problem> problem_in, MeshPart par
   const Problem& p = *sys_.problem;
   const MeshPart& part = sys_.part;
   const Mesh& mesh = part.mesh();
+  require(part.comm.size() == 1 || !slides(p), "{}: sliding = \"large\" runs on one process for now (a slid slave "
+          "node's masters may lie on another rank); run it without mpirun", p.where("contact.pair"));
   setup_timing_.assembly = sys_.assembly_seconds;
   setup_timing_.mesh = sys_.mesh_memory;
   setup_timing_.assembled = sys_.assembly_memory;
@@ -72,6 +75,7 @@ StepReport TimeStepper::step() {
 }
 
 StepReport TimeStepper::advance(double k, double t_end) {
+  slide();
   StepTaken taken = step_.take(sys_, solvers_, choice_, state_, u_free_, k, t_end);  // SPEC §2's steps 1–5
   StepReport& rep = taken.report;
   auto t0 = std::chrono::steady_clock::now();
@@ -145,10 +149,17 @@ void TimeStepper::restore(const Snapshot& s) {
           "{}: the saved state does not fit this problem (a different mesh, case or step count?)", problem().name);
   state_ = s.state;
   u_free_ = s.u_free;
+  slide();
   if (records_gap(sys_)) record_gap(sys_, checked_contact_gap(sys_, state_.t), u_free_, state_);
   solvers_.contact->set_warm_state(s.contact_warm);
   solvers_.damage.current().set_warm_state(s.damage_warm);
   step_.forget_rates();  // recomputed from the restored state: the same values
+}
+
+void TimeStepper::slide() {
+  if (!slides(problem())) return;
+  slide_pairs(sys_, state_.u);  // SPEC §8's large sliding: the rows at x + u_{n−1}
+  remake_contact_solver(sys_, choice_, solvers_);
 }
 
 void TimeStepper::set_step_history(std::vector<double> times, const StepControlState& c) {

@@ -116,6 +116,9 @@ class TimeStepper {
   /// One attempt from the current state to t_end with the step k: the step, its report, its
   /// error estimate and whether it is accepted.
   StepReport advance(double k, double t_end);
+  /// Large-sliding pairs (scheme/sliding_pairs.hpp): their rows, and the contact solver, in the
+  /// configuration of the state the next step starts from; nothing without them.
+  void slide();
   StepAttempts attempts();
 
   SolverChoice choice_;
