@@ -4,6 +4,7 @@
 #include "parallel/distributed_mesh.hpp"
 #include "run/progress.hpp"
 #include "run/solver_plan.hpp"
+#include "scheme/sliding_pairs.hpp"
 
 #include <algorithm>
 
@@ -56,7 +57,9 @@ std::unique_ptr<TimeStepper> distributed_stepper(MPI_Comm mpi_comm, std::shared_
 
 std::unique_ptr<TimeStepper> petsc_stepper(MPI_Comm mpi_comm, Case& c, const std::string& linear_solver) {
   auto stepper = distributed_stepper(mpi_comm, c.problem, c.solvers, linear_solver);
-  c.problem->mesh = Mesh();  // from here on, rank 0 too holds its part only
+  // From here on, rank 0 too holds its part only; but a large-sliding pair (one process) builds its
+  // rows again from the whole mesh at every step (scheme/sliding_pairs.hpp).
+  if (!slides(*c.problem)) c.problem->mesh = Mesh();
   return stepper;
 }
 

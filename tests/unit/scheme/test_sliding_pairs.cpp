@@ -3,6 +3,7 @@
 // starts from. An elastic half-disc (R = 1) pressed into a block by 0.02 and then slid along it by
 // 0.2 (24 of the block's elements near the contact): the contact goes with the disc, as it would
 // with the block translated, where rows fixed in the reference configuration lose it.
+#include "cases/builtin_cases.hpp"
 #include "io/case_file.hpp"
 #include "io/checkpoint.hpp"
 #include "io/state_fields.hpp"
@@ -20,7 +21,7 @@
 namespace vpc {
 namespace {
 
-/// hertz-cylinders-2d's bodies at size_factor 2 (h = 0.0084 near the contact), the disc's arc the
+/// hertz-cylinders-2d's bodies (its meshes, found from its directory) at size_factor 2 (h = 0.0084 near the contact), the disc's arc the
 /// slave (it stays on the block), its flat side moved up by 0.02 until t = 1, then along x by 0.2.
 std::string slide(const std::string& sliding, const std::string& extra = "") {
   return fmt::format(R"toml(
@@ -68,7 +69,7 @@ dt = [0.5, 0.1]
 }
 
 Case slide_case(const std::string& sliding, const std::string& solver, const std::string& extra = "") {
-  Case c = parse_case(slide(sliding, extra), "slide.toml", VPC_CASES_DIR, {});
+  Case c = parse_case(slide(sliding, extra), "slide.toml", case_source("hertz-cylinders-2d").base_dir, {});
   c.solvers.contact = solver;
   return c;
 }
@@ -95,7 +96,7 @@ TEST(SlidingPairs, TheContactGoesWithTheSlidingDisc) {
     const char* solver = k == 2 ? "primal-active-set" : "active-set";
     std::string text = slide("large");
     if (k == 1) text.replace(text.find("dt = [0.5, 0.1]"), 15, "dt = [0.5, 0.05]");
-    Case c = parse_case(text, "slide.toml", VPC_CASES_DIR, {});
+    Case c = parse_case(text, "slide.toml", case_source("hertz-cylinders-2d").base_dir, {});
     c.solvers.contact = solver;
     TimeStepper s(c.problem, c.solvers);
     double pressed = 0, lo = INFINITY, hi = 0;
@@ -160,7 +161,7 @@ TEST(SlidingPairs, FrictionFollowsTheSlidingRows) {
 }
 
 TEST(SlidingPairs, TheKeyIsChecked) {
-  const std::string bad = error_of([] { parse_case(slide("big"), "slide.toml", VPC_CASES_DIR, {}); });
+  const std::string bad = error_of([] { parse_case(slide("big"), "slide.toml", case_source("hertz-cylinders-2d").base_dir, {}); });
   EXPECT_NE(bad.find("unknown value 'big'; expected one of: small, large"), std::string::npos) << bad;
 }
 
