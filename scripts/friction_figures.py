@@ -4,6 +4,7 @@
   scripts/friction_figures.py cattaneo-mindlin OUTDIR FIGDIR   # vpcontact run cattaneo-mindlin-2d -o OUTDIR
   scripts/friction_figures.py cattaneo-mindlin-pair OUTDIR FIGDIR   # vpcontact run cattaneo-mindlin-pair-2d -o OUTDIR
   scripts/friction_figures.py ironing OUTDIR FIGDIR            # vpcontact run ironing-3d -o OUTDIR
+  scripts/friction_figures.py punch OUTDIR FIGDIR              # vpcontact run punch-3d -o OUTDIR
 
 cattaneo-mindlin: traction.png, the tangential traction q(x) = |lambda_tau|/|Gamma3|_i at every
 tangential step against Cattaneo-Mindlin's mu p0 [sqrt(1 - x^2/a^2) - (c/a) sqrt(1 - x^2/c^2)], with
@@ -11,7 +12,7 @@ a, p0 from Hertz with the computed P and c/a = sqrt(1 - Q/(mu P)); stick_zone.pn
 Q/(mu P); cattaneo-mindlin-pair the same between two bodies of one material (E* = E/(2(1 - nu^2)),
 nu = 0.3; the nodes of y = 0 are the slave block's, a master node there is left out). ironing: tangential_force.png, the drag and normal forces (the bottom's reactions, which
 balance the contact forces, and history.csv's tangential force) against t; beta_track.png, beta along the track's centre line at the
-surface and below it at the end of the run.
+surface and below it at the end of the run. punch: the same for punch-3d (the pair's drag and normal force; beta in the block).
 """
 import os
 import sys
@@ -122,21 +123,25 @@ def cattaneo_mindlin(outdir, figdir, R=1.0, mu=0.5, E=1000.0, nu=0.49, bodies=1)
         print("Q/(mu P) = %.4f: c/a theory %.4f, computed %.4f" % (ratio, theory, num))
 
 
-def ironing(outdir, figdir):
+def drag_and_track(outdir, figdir, name, drag, normal, mu, y_track, z_top, track):
+    """The drag and normal forces against t (history.csv columns `drag`, `normal`, in absolute value;
+    the tangential force too where it is another column), and beta at the end along the line
+    y = y_track at the surface z = z_top and the two node layers below it, over the points of the
+    cells whose centroid lies below z_top (the damaged body, not one resting on it)."""
     plt = _pyplot()
     h = vp.read_csv(os.path.join(outdir, "history.csv"))
     t = h["t"]
-    drag, normal = np.abs(h["reaction_bottom_x"]), np.abs(h["reaction_bottom_z"])
+    d, n = np.abs(h[drag]), np.abs(h[normal])
     fig, ax = plt.subplots(figsize=(6, 4))
-    if "tangential_force_x" in h:  # history.csv's total tangential force (Σ λ_τ along the tangents)
+    if drag != "tangential_force_x" and "tangential_force_x" in h:  # Σ λ_τ along the tangents
         ax.plot(t, np.abs(h["tangential_force_x"]), "s", ms=5, mfc="none", label="|tangential force x|")
-    ax.plot(t, drag, "-o", ms=3, label="drag |R_x|")
-    ax.plot(t, normal, "-", label="normal |R_z|")
-    ax.plot(t, 0.3 * normal, "--", label="mu |R_z|")
+    ax.plot(t, d, "-o", ms=3, label="drag |%s|" % drag)
+    ax.plot(t, n, "-", label="normal |%s|" % normal)
+    ax.plot(t, mu * n, "--", label="mu x normal")
     ax.set_xlabel("t")
     ax.set_ylabel("force")
-    ax.set_title("ironing-3d: the sphere's drag and normal force")
-    ax.legend()
+    ax.set_title("%s: drag and normal force" % name)
+    ax.legend(fontsize="small")
     fig.tight_layout()
     os.makedirs(figdir, exist_ok=True)
     fig.savefig(os.path.join(figdir, "tangential_force.png"), dpi=120)
@@ -144,19 +149,31 @@ def ironing(outdir, figdir):
     vtu = vp.read_vtu(path)
     beta = vtu.point_data["beta"]
     pts = vtu.points
+    cells = np.asarray(vtu.cells)
+    inside = np.zeros(len(pts), dtype=bool)
+    inside[np.unique(cells[pts[cells][:, :, 2].mean(axis=1) < z_top - 1e-9])] = True
     fig, ax = plt.subplots(figsize=(6, 4))
-    ztop = pts[:, 2].max()
-    for depth in sorted(set(np.round(ztop - pts[:, 2], 9)))[:3]:
-        line = (np.abs(pts[:, 1]) < 1e-9) & (np.abs(ztop - pts[:, 2] - depth) < 1e-9)
+    for depth in sorted(set(np.round(z_top - pts[inside, 2], 9)))[:3]:
+        line = inside & (np.abs(pts[:, 1] - y_track) < 1e-9) & (np.abs(z_top - pts[:, 2] - depth) < 1e-9)
         order = np.argsort(pts[line, 0])
         ax.plot(pts[line, 0][order], beta[line][order], "-o", ms=3, label="depth %.3g" % depth)
-    ax.set_xlabel("x (track: -0.5 to 0.5)")
+    ax.set_xlabel("x (%s)" % track)
     ax.set_ylabel("beta")
-    ax.set_title("ironing-3d: beta along the track (y = 0) at T")
+    ax.set_title("%s: beta along the track (y = %g) at T" % (name, y_track))
     ax.legend()
     fig.tight_layout()
     fig.savefig(os.path.join(figdir, "beta_track.png"), dpi=120)
-    print("drag / normal at the end: %.4f; min beta %.4f" % (drag[-1] / normal[-1], beta.min()))
+    print("drag / normal at the end: %.4f; min beta %.4f" % (d[-1] / n[-1], beta[inside].min()))
+
+
+def ironing(outdir, figdir):
+    drag_and_track(outdir, figdir, "ironing-3d", "reaction_bottom_x", "reaction_bottom_z", 0.3, 0.0,
+                   vp.read_vtu(_solutions(outdir)[-1][1]).points[:, 2].max(), "track: -0.5 to 0.5")
+
+
+def punch(outdir, figdir):
+    drag_and_track(outdir, figdir, "punch-3d", "tangential_force_pair_punch.bottom_x", "force_pair_punch.bottom", 0.3,
+                   0.5, 0.5, "the punch's centre: 0.45 to 0.95")
 
 
 def main(argv):
@@ -164,6 +181,7 @@ def main(argv):
         "cattaneo-mindlin": cattaneo_mindlin,
         "cattaneo-mindlin-pair": lambda o, f: cattaneo_mindlin(o, f, nu=0.3, bodies=2),
         "ironing": ironing,
+        "punch": punch,
     }
     if len(argv) != 4 or argv[1] not in figures:
         raise SystemExit(__doc__)
