@@ -4,6 +4,7 @@
 #include "fem/assembly.hpp"
 #include "la/memory_estimate.hpp"
 #include "scheme/contact_matrix.hpp"
+#include "scheme/sliding_pairs.hpp"
 #include "scheme/stability.hpp"
 #include "scheme/step_data.hpp"
 
@@ -73,7 +74,9 @@ DiscreteSystem::DiscreteSystem(std::shared_ptr<const Problem> problem_in, MeshPa
   if (p.f0 && p.f0_uniform) basis_integral_cells = basis_integral(unit, nullptr);
   if (p.f2 && p.f2_uniform) basis_integral_traction = basis_integral(nullptr, unit);
 
-  if (!p.contact.obstacles.empty()) {  // the body's bounding box, over every process's nodes
+  // The body's bounding box, over every process's nodes: the gap of a node that no obstacle (nor a
+  // sliding pair's master, scheme/sliding_pairs.hpp) lies ahead of.
+  if (!p.contact.obstacles.empty() || slides(p)) {
     Point lo{0, 0, 0}, hi{0, 0, 0};
     for (int j = 0; j < 3; ++j) {
       double l = INFINITY, h = -INFINITY;

@@ -35,6 +35,7 @@ void slide_pairs(DiscreteSystem& sys, const Vector& u) {
     if (it == row_of.end()) {  // no master facet within reach: the node cannot touch this step
       node.masters.clear();
       node.gap = sys.miss_gap;
+      for (int i = 0; i < d; ++i) node.gap += node.direction[static_cast<std::size_t>(i)] * u[node.local_node * d + i];
       continue;
     }
     const ContactRow& r = *it->second;

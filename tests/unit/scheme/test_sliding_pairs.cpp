@@ -160,6 +160,70 @@ TEST(SlidingPairs, FrictionFollowsTheSlidingRows) {
   EXPECT_EQ(a.state().lambda, b.state().lambda);
 }
 
+// A punch slid half off the block's edge: the slave nodes past it lose their masters (no facet within
+// reach) and carry no force; the rest holds the punch, whose top's reaction balances them.
+TEST(SlidingPairs, ASlaveNodeSlidOffItsMasterCarriesNoForce) {
+  const std::string text = R"toml(
+[mesh]
+generator = "rectangle"
+lower = [0.0, 0.0]
+upper = [1.0, 0.5]
+cells = [10, 5]
+[[body]]
+name = "punch"
+[body.mesh]
+generator = "rectangle"
+lower = [0.7, 0.5]
+upper = [0.9, 0.6]
+cells = [8, 2]
+[body.elasticity]
+E = 5000.0
+[boundary]
+clamped = ["bottom"]
+[[boundary.displacement]]
+parts = ["punch.top"]
+ux = "0.2*max(t - 1, 0)"
+uy = "-0.002*min(t, 1)"
+[elasticity]
+kind = "plane-strain"
+E = 1000.0
+nu = 0.3
+[viscoplasticity]
+law = "elastic"
+[damage]
+source = "zero"
+[[contact.pair]]
+slave = "punch.bottom"
+master = "top"
+sliding = "large"
+[time]
+T = 2.0
+breakpoints = [1.0]
+dt = [0.5, 0.05]
+)toml";
+  for (const char* solver : {"active-set", "primal-active-set"}) {
+    Case c = parse_case(text, "off.toml", ".", {});
+    c.solvers.contact = solver;
+    StepReport r;
+    const auto s = run_to_end(c, &r);
+    int off = 0, on = 0;
+    double vertical = 0;  // Σ λ_ν ν_y: the normals are the moved configuration's (the corner tilts them)
+    for (const PartContactNode& node : s->part().contact) {
+      vertical += s->state().lambda[node.row] * node.direction[1];
+      const double x = s->mesh().node(node.local_node)[0] + s->state().u[2 * node.local_node];
+      if (x > 1.0 + 1e-3) {
+        EXPECT_EQ(s->state().lambda[node.row], 0.0) << solver << ", x = " << x;
+        ++off;
+      } else if (s->state().lambda[node.row] > 0) {
+        ++on;
+      }
+    }
+    EXPECT_GE(off, 3) << solver;  // the punch spans [0.9, 1.1]: its right half is off the block
+    EXPECT_GE(on, 3) << solver;
+    EXPECT_NEAR(vertical, r.reaction[3], 1e-8 * r.pair_force[0]) << solver;  // bottom (2), punch top (2)
+  }
+}
+
 TEST(SlidingPairs, TheKeyIsChecked) {
   const std::string bad = error_of([] { parse_case(slide("big"), "slide.toml", case_source("hertz-cylinders-2d").base_dir, {}); });
   EXPECT_NE(bad.find("unknown value 'big'; expected one of: small, large"), std::string::npos) << bad;
