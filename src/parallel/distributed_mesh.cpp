@@ -100,9 +100,10 @@ int lowest_rank(const NodeCells& nc, const std::vector<int>& part, int n_parts, 
 /// cell at each node it owns, as off the pairs: what a rank knows of a node from its cells (its body,
 /// and so its β0 and whether its β can change) would be missing otherwise. Pair nodes sharing a cell
 /// join one set, so no cell has two owners. The other nodes of a moved cell are owned as before
-/// (the lowest rank among their cells, now).
+/// (the lowest rank among their cells, now). `on_rank_0`: nodes that join one set owned by rank 0
+/// (a large-sliding pair's parts, whose rows rank 0 builds again at every step).
 void own_pairs_together(const std::vector<ContactRow>& rows, const Mesh& mesh, const NodeCells& nc, int n_parts,
-                        std::vector<int>& part, std::vector<int>& owner) {
+                        const std::vector<int>& on_rank_0, std::vector<int>& part, std::vector<int>& owner) {
   if (std::ranges::none_of(rows, [](const ContactRow& r) { return r.pair >= 0; })) return;
   std::vector<int> root(owner.size(), -1);  // union–find over the pair rows' nodes
   auto find = [&](int i) {
@@ -120,6 +121,7 @@ void own_pairs_together(const std::vector<ContactRow>& rows, const Mesh& mesh, c
       join(r.node, r.node);  // a slave node with no master (off the master side) too
       for (const auto& [k, w] : r.masters) join(r.node, k);
     }
+  for (const int v : on_rank_0) join(on_rank_0.front(), v);
   // A node is a pair node (slave or master) where it has a set (root ≥ 0); the joins below only
   // merge such sets.
   const auto n = static_cast<int>(owner.size());
@@ -135,10 +137,12 @@ void own_pairs_together(const std::vector<ContactRow>& rows, const Mesh& mesh, c
       c.resize(n_parts, 0);
       ++c[owner[i]];
     }
+  const int sliding = on_rank_0.empty() ? -1 : find(on_rank_0.front());
   for (std::size_t i = 0; i < owner.size(); ++i)
     if (root[i] >= 0) {
-      const std::vector<int>& c = count.at(find(static_cast<int>(i)));
-      owner[i] = static_cast<int>(std::max_element(c.begin(), c.end()) - c.begin());
+      const int set = find(static_cast<int>(i));
+      const std::vector<int>& c = count.at(set);
+      owner[i] = set == sliding ? 0 : static_cast<int>(std::max_element(c.begin(), c.end()) - c.begin());
     }
   for (int i = 0; i < n; ++i)
     if (root[i] >= 0)
@@ -195,7 +199,15 @@ std::vector<Message> pack_parts(const Problem& p, int n_parts) {
   // A node belongs to the lowest rank among its cells, except on contact pairs (own_pairs_together).
   std::vector<int> owner(n_nodes, 0);
   for (int i = 0; i < n_nodes; ++i) owner[i] = lowest_rank(nc, part, n_parts, i);
-  own_pairs_together(whole.rows, mesh, nc, n_parts, part, owner);
+  // Large-sliding pairs (scheme/sliding_pairs.hpp) couple a slave node to whichever master facets
+  // it reaches: every node of their slave and master parts on rank 0, which keeps the whole mesh to
+  // build their rows again at every step.
+  std::vector<int> sliding;
+  for (const ContactPair& q : p.contact.pairs)
+    if (q.large_sliding)
+      for (const std::string& side : {q.slave, q.master})
+        for (const int v : mesh.nodes_of_parts({side})) sliding.push_back(v);
+  own_pairs_together(whole.rows, mesh, nc, n_parts, sliding, part, owner);
   std::vector<std::vector<int>> owned(n_parts);
   for (int i = 0; i < n_nodes; ++i) owned[owner[i]].push_back(i);
   // Global numbers: the nodes of rank 0, then of rank 1, ...; each in its original order.

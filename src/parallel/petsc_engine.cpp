@@ -57,8 +57,8 @@ std::unique_ptr<TimeStepper> distributed_stepper(MPI_Comm mpi_comm, std::shared_
 
 std::unique_ptr<TimeStepper> petsc_stepper(MPI_Comm mpi_comm, Case& c, const std::string& linear_solver) {
   auto stepper = distributed_stepper(mpi_comm, c.problem, c.solvers, linear_solver);
-  // From here on, rank 0 too holds its part only; but a large-sliding pair (one process) builds its
-  // rows again from the whole mesh at every step (scheme/sliding_pairs.hpp).
+  // From here on, rank 0 too holds its part only; but it builds a large-sliding pair's rows again
+  // from the whole mesh at every step (scheme/sliding_pairs.hpp; their nodes are all its own).
   if (!slides(*c.problem)) c.problem->mesh = Mesh();
   return stepper;
 }
