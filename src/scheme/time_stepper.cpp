@@ -156,7 +156,7 @@ void TimeStepper::restore(const Snapshot& s) {
 
 void TimeStepper::slide() {
   if (!slides(problem())) return;
-  slide_pairs(sys_, state_.u);  // SPEC §8's large sliding: the rows at x + u_{n−1}
+  slide_pairs(sys_, state_.u);  // the rows at x + u_{n−1} (docs/scheme.md, "Large sliding")
   remake_contact_solver(sys_, choice_, solvers_);
 }
 
