@@ -63,22 +63,26 @@ std::vector<double> master_sums(const FieldContext& c, int width, Of of) {
   return out;
 }
 
-/// The reaction Σ_j w_jk λ_j ν_j of the pairs' slave rows on their master nodes (3 numbers a node).
-std::vector<double> master_reactions(const FieldContext& c) {
-  return master_sums(c, 3, [&](const PartContactNode& n, int j) { return normal_force(c.state, n) * n.direction[j]; });
+/// Adds into `out` (`width` numbers a node) each master node's Σ_j w_jk x_j (master_sums); nothing
+/// without pairs. Collective.
+template <typename Of>
+void add_master_sums(const FieldContext& c, int width, Of of, double* out) {
+  const std::vector<double> sums = master_sums(c, width, of);
+  for (std::size_t i = 0; i < sums.size(); ++i) out[i] += sums[i];
 }
 
 /// On the master nodes of contact pairs, the slave rows' x_j / D_jj averaged with the weights
 /// w_jk D_jj: Σ_j w_jk x_j / Σ_j w_jk D_jj (D_jj: the slave node's covered measure). For x = λ
 /// it is the master's pressure: Σ_j w_jk D_jj = Σ_j M_jk = ∫ N_k over the covered master
 /// surface (the dual basis sums to 1), so the reaction over the node's measure in contact.
-/// Written into `out` (one number a node) where a master node has weight; empty without pairs.
+/// Added into `out` (`width` numbers a node) where a master node has weight; nothing without pairs.
 template <typename Of>
-void add_master_averages(const FieldContext& c, Of of, double* out) {
-  const std::vector<double> num = master_sums(c, 1, [&](const PartContactNode& n, int) { return of(n); });
+void add_master_averages(const FieldContext& c, int width, Of of, double* out) {
+  const std::vector<double> num = master_sums(c, width, of);
   const std::vector<double> den = master_sums(c, 1, [](const PartContactNode& n, int) { return n.measure; });
+  const auto w = static_cast<std::size_t>(width);
   for (std::size_t i = 0; i < num.size(); ++i)
-    if (den[i] > 0) out[i] += num[i] / den[i];
+    if (den[i / w] > 0) out[i] += num[i] / den[i / w];
 }
 
 /// How a friction vector field reads on a pair's master nodes (tangent_vector_field).
@@ -100,17 +104,13 @@ VtuField tangent_vector_field(const FieldContext& c, std::string_view name, cons
   const auto of = [&](const PartContactNode& n, int i) {
     return v[static_cast<std::size_t>(&n - c.part.contact.data())][static_cast<std::size_t>(i)];
   };
-  const std::vector<double> sums = on_masters == OnMasters::none ? std::vector<double>() : master_sums(c, 3, of);
-  const std::vector<double> measure = on_masters == OnMasters::average
-                                          ? master_sums(c, 1, [](const PartContactNode& n, int) { return n.measure; })
-                                          : std::vector<double>();
   return node_field(c, name, 3, [&](double* out) {
     for (std::size_t k = 0; k < c.part.contact.size(); ++k) {
       const PartContactNode& n = c.part.contact[k];
       for (int i = 0; i < 3; ++i) out[n.local_node * 3 + i] = v[k][static_cast<std::size_t>(i)] / per(n);
     }
-    for (std::size_t i = 0; i < sums.size(); ++i)
-      if (measure.empty() || measure[i / 3] > 0) out[i] += sums[i] / (measure.empty() ? 1.0 : measure[i / 3]);
+    if (on_masters == OnMasters::sum) add_master_sums(c, 3, of, out);
+    if (on_masters == OnMasters::average) add_master_averages(c, 3, of, out);
   });
 }
 
@@ -154,11 +154,11 @@ constexpr StateField kFields[] = {
      [](const FieldContext& c) {
        // The nodal force the foundation exerts at each contact node: −λ ν; on a contact pair's master
        // nodes the slave's reaction, Σ_j w_jk λ_j ν_j (scheme/contact_pairs.hpp).
-       const std::vector<double> masters = master_reactions(c);
        return node_field(c, "contact_force", 3, [&](double* out) {
          for (const PartContactNode& n : c.part.contact)
            for (int j = 0; j < 3; ++j) out[n.local_node * 3 + j] = -normal_force(c.state, n) * n.direction[j];
-         for (std::size_t i = 0; i < masters.size(); ++i) out[i] += masters[i];
+         add_master_sums(c, 3, [&](const PartContactNode& n, int j) { return normal_force(c.state, n) * n.direction[j]; },
+                         out);
        });
      },
      nullptr, "the nodal force −λ ν the foundation exerts on each node of Γ3; with contact pairs, the force each "
@@ -169,7 +169,7 @@ constexpr StateField kFields[] = {
        // the node's measure in contact (add_master_averages).
        return node_field(c, "contact_pressure", 1, [&](double* out) {
          for (const PartContactNode& n : c.part.contact) out[n.local_node] = normal_force(c.state, n) / n.measure;
-         add_master_averages(c, [&](const PartContactNode& n) { return normal_force(c.state, n); }, out);
+         add_master_averages(c, 1, [&](const PartContactNode& n, int) { return normal_force(c.state, n); }, out);
        });
      },
      nullptr, "λ over the node's tributary measure on Γ3 (a pressure); on a contact pair's master nodes, the "
@@ -180,7 +180,7 @@ constexpr StateField kFields[] = {
                "the gap is recorded only for cases with contact pairs");
        return node_field(c, "gap", 1, [&](double* out) {
          for (const PartContactNode& n : c.part.contact) out[n.local_node] = c.state.gap[n.row];
-         add_master_averages(c, [&](const PartContactNode& n) { return c.state.gap[n.row] * n.measure; }, out);
+         add_master_averages(c, 1, [&](const PartContactNode& n, int) { return c.state.gap[n.row] * n.measure; }, out);
        });
      },
      [](const State& s) { return s.gap.size() > 0; },
