@@ -39,6 +39,7 @@ TimeStepper::TimeStepper(std::shared_ptr<const Problem> problem_in, MeshPart par
   // Initial state (3.4): u0 = 0, σ0 = 0 (so z0 = σ0 − ℰε(u0) = 0), β0 = P1 interpolant
   // (in [0, 1]: Problem::validate).
   state_.u = Vector::Zero(part.dofs.n_full());
+  slid_at_ = state_.u;  // the set-up's rows are the reference configuration's
   state_.beta = p.initial_damage(mesh, part.cell_body);
   state_.sigma.assign(mesh.n_cells(), SymTensor{});
   state_.eps.assign(mesh.n_cells(), SymTensor{});
@@ -155,9 +156,11 @@ void TimeStepper::restore(const Snapshot& s) {
 }
 
 void TimeStepper::slide() {
-  if (!slides(problem())) return;
+  // Collective: every rank decides alike (a rank's own u may not have moved where another's has).
+  if (!slides(problem()) || comm().all(slid_at_ == state_.u)) return;
   slide_pairs(sys_, state_.u);  // the rows at x + u_{n−1} (docs/scheme.md, "Large sliding")
   remake_contact_solver(sys_, choice_, solvers_);
+  slid_at_ = state_.u;
 }
 
 void TimeStepper::set_step_history(std::vector<double> times, const StepControlState& c) {

@@ -117,7 +117,8 @@ class TimeStepper {
   /// error estimate and whether it is accepted.
   StepReport advance(double k, double t_end);
   /// Large-sliding pairs (scheme/sliding_pairs.hpp): their rows, and the contact solver, in the
-  /// configuration of the state the next step starts from; nothing without them.
+  /// configuration of the state the next step starts from; nothing without them, or where they were
+  /// built at that state already (set-up at u = 0, a rejected attempt restored then retried).
   void slide();
   StepAttempts attempts();
 
@@ -132,6 +133,7 @@ class TimeStepper {
   std::vector<double> times_{0.0};      // t_0 … t_n
   State state_;
   Vector u_free_;  // owned free dofs: the contact solver's warm start
+  Vector slid_at_;  // the displacement the large-sliding pairs' rows were built at (slide())
 };
 
 }  // namespace vpc
