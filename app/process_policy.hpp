@@ -16,7 +16,8 @@ void ensure_passive_omp_wait(char** argv);
 /// virtual machines that fault is slow (measured here: the 16-column partial
 /// solves of the contact set-up took 2-3x longer, 20 ms of 30 in page faults).
 /// Freed memory then stays with the process and is reused; the peak resident
-/// memory is unchanged (it is a maximum).
+/// memory is unchanged (it is a maximum). Blocks beyond 32 MiB are mapped, and
+/// given back when freed.
 void keep_freed_memory();
 
 }  // namespace vpc
