@@ -102,7 +102,9 @@ int main(int argc, char** argv) {
 #ifdef VPCONTACT_WITH_PETSC
       c = vpc::load_case_everywhere(load, vpc::la::make_mpi_comm(PETSC_COMM_WORLD));
       set_damage_reduced(c, reduced);
-      made = vpc::petsc_stepper(PETSC_COMM_WORLD, c, linear_solver);
+      vpc::PetscSolverOptions linear;
+      linear.kind = linear_solver;
+      made = vpc::petsc_stepper(PETSC_COMM_WORLD, c, linear);
 #else
       vpc::fail("--engine petsc: this vpcontact-bench was built without PETSc (-DVPCONTACT_ENABLE_PETSC=ON)");
 #endif

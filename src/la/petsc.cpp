@@ -95,6 +95,36 @@ class Placed {
   Vec v_;
 };
 
+/// Sets PETSc option `name` to `value` unless it is given (PETSC_OPTIONS, the command line).
+void default_option(const std::string& name, const char* value) {
+  PetscBool given = PETSC_FALSE;
+  VPC_PETSC(PetscOptionsHasName(nullptr, nullptr, name.c_str(), &given));
+  if (!given) VPC_PETSC(PetscOptionsSetValue(nullptr, name.c_str(), value));
+}
+
+/// Frees what PETSc keeps on each multigrid level's Galerkin product PᵀAP (and on a smoothed
+/// prolongator, A·P₀) to form it again in place: a PC here is never set up twice (a rebuild makes a
+/// new KSP). On foundation-3d n = 70 (2 ranks) that was 0.98 GB a rank, the hierarchy itself 0.28 GB
+/// (docs/parallel.md, "Where the memory goes"). Not a multigrid PC: nothing to do.
+void drop_product_data(PC pc) {
+  PetscBool multigrid = PETSC_FALSE;
+  VPC_PETSC(PetscObjectTypeCompare(reinterpret_cast<PetscObject>(pc), PCGAMG, &multigrid));
+  if (!multigrid) return;
+  PetscInt levels = 0;
+  VPC_PETSC(PCMGGetLevels(pc, &levels));
+  for (PetscInt l = 0; l < levels; ++l) {
+    KSP smoother = nullptr;
+    Mat A = nullptr;
+    VPC_PETSC(PCMGGetSmoother(pc, l, &smoother));
+    VPC_PETSC(KSPGetOperators(smoother, &A, nullptr));
+    VPC_PETSC(MatProductClear(A));
+    if (l == 0) continue;
+    Mat P = nullptr;
+    VPC_PETSC(PCMGGetInterpolation(pc, l, &P));
+    VPC_PETSC(MatProductClear(P));
+  }
+}
+
 /// A factorization (MUMPS Cholesky) or a preconditioned Krylov solver (CG + GAMG,
 /// CG + hypre) of a PetscOperator, as one KSP under the options prefix vpc_<name>_
 /// (so any PETSc solver can be chosen from the command line or PETSC_OPTIONS, e.g.
@@ -132,6 +162,7 @@ class PetscFactor final : public LinearSolver {
       PC pc = nullptr;
       VPC_PETSC(KSPGetPC(ksp_, &pc));
       galerkin_levels(pc, op->mat());
+      drop_product_data(pc);
       VPC_PETSC(KSPSetOperators(ksp_, op->mat(), op->mat()));
       VPC_PETSC(KSPSetReusePreconditioner(ksp_, PETSC_TRUE));
     }
@@ -328,10 +359,12 @@ class PetscFactor final : public LinearSolver {
         // One Chebyshev sweep a level (PETSc's default: two): more iterations, each cheaper;
         // foundation-3d n = 40 on 2 ranks, primal contact solver: 2.6 → 1.8 s a step, one
         // solve of K unchanged. An option given (PETSC_OPTIONS, -vpc_<name>_...) wins.
-        const std::string sweeps = "-" + prefix_ + "mg_levels_ksp_max_it";
-        PetscBool given = PETSC_FALSE;
-        VPC_PETSC(PetscOptionsHasName(nullptr, nullptr, sweeps.c_str(), &given));
-        if (!given) VPC_PETSC(PetscOptionsSetValue(nullptr, sweeps.c_str(), "1"));
+        default_option("-" + prefix_ + "mg_levels_ksp_max_it", "1");
+        // Where memory asks for it (run/solver_plan.cpp), PᵀAP row by row: no A·P is held while the
+        // levels are formed (foundation-3d n = 70, 2 ranks: a rank's peak 2.12 GB against 2.64 GB;
+        // the first step's contact solves, a set-up among them, 67 s against 30 s). PETSc reads it
+        // for every product, unprefixed.
+        if (options_.products_row_by_row) default_option("-matptap_via", "allatonce");
         if (near_null_space) VPC_PETSC(MatSetNearNullSpace(P, near_null_space));
         // Transfers from another matrix than A (galerkin_levels): GAMG's smoothed-aggregation
         // eigenvalue estimates are P's, and the Chebyshev smoothers would keep them for A's levels,
@@ -345,6 +378,7 @@ class PetscFactor final : public LinearSolver {
     }
     VPC_PETSC(KSPSetFromOptions(ksp_));
     VPC_PETSC(KSPSetUp(ksp_));
+    drop_product_data(pc);
     MatFactorError err = MAT_FACTOR_NOERROR;
     if (direct()) {
       Mat F = nullptr;
@@ -515,23 +549,41 @@ std::unique_ptr<SpdOperator> PetscOperator::restrict_to_free(const std::vector<c
   return std::make_unique<PetscOperator>(comm_, std::move(AFF));
 }
 
-std::unique_ptr<SpdOperator> PetscOperator::with_fixed(const std::vector<char>& fixed) const {
-  PMat C;
-  VPC_PETSC(MatDuplicate(A_, MAT_COPY_VALUES, C.out()));
+namespace {
+
+/// C (a copy of A's values on A's pattern) with the `fixed` owned rows and columns reduced to A's
+/// diagonal (SpdOperator::with_fixed).
+void fix_rows(Mat C, Mat A, int n_owned, const std::vector<char>& fixed) {
   PetscInt begin = 0;
-  VPC_PETSC(MatGetOwnershipRange(A_, &begin, nullptr));
+  VPC_PETSC(MatGetOwnershipRange(A, &begin, nullptr));
   std::vector<PetscInt> rows;
-  for (int i = 0; i < n_owned_; ++i)
+  for (int i = 0; i < n_owned; ++i)
     if (fixed[i]) rows.push_back(begin + i);
   // Zeroes the values, keeps the nonzero structure (MatZeroRowsColumns does not compress);
   // then A's diagonal back on the fixed rows.
   PVec d;
-  VPC_PETSC(MatCreateVecs(A_, d.out(), nullptr));
-  VPC_PETSC(MatGetDiagonal(A_, d));
+  VPC_PETSC(MatCreateVecs(A, d.out(), nullptr));
+  VPC_PETSC(MatGetDiagonal(A, d));
   VPC_PETSC(MatZeroRowsColumns(C, static_cast<PetscInt>(rows.size()), rows.data(), 1.0, nullptr, nullptr));
   VPC_PETSC(MatDiagonalSet(C, d, INSERT_VALUES));
   VPC_PETSC(MatSetOption(C, MAT_SPD, PETSC_TRUE));
+}
+
+}  // namespace
+
+std::unique_ptr<SpdOperator> PetscOperator::with_fixed(const std::vector<char>& fixed) const {
+  PMat C;
+  VPC_PETSC(MatDuplicate(A_, MAT_COPY_VALUES, C.out()));
+  fix_rows(C, A_, n_owned_, fixed);
   return std::make_unique<PetscOperator>(comm_, std::move(C));
+}
+
+bool PetscOperator::assign_with_fixed(const SpdOperator& base, const std::vector<char>& fixed) {
+  const auto* b = dynamic_cast<const PetscOperator*>(&base);
+  if (b == nullptr || b->n_owned_ != n_owned_) return false;
+  VPC_PETSC(MatCopy(b->A_, A_, SAME_NONZERO_PATTERN));
+  fix_rows(A_, b->A_, n_owned_, fixed);
+  return true;
 }
 
 std::unique_ptr<SpdOperator> PetscOperator::plus(const Eigen::SparseMatrix<double>& B) const {

@@ -24,6 +24,9 @@ struct PetscSolverOptions {
   std::string kind = "mumps";
   double rtol = 1e-12;
   int max_iterations = 10000;
+  /// CG + GAMG: the Galerkin products PᵀAP formed row by row (PETSc's allatonce), keeping no A·P:
+  /// less memory, slower set-ups (run/solver_plan.hpp chooses it where the default does not fit).
+  bool products_row_by_row = false;
 };
 
 }  // namespace vpc
@@ -53,6 +56,7 @@ class PetscOperator final : public SpdOperator {
   long long nonzeros() const override;
   std::unique_ptr<SpdOperator> restrict_to_free(const std::vector<char>& fixed) const override;
   std::unique_ptr<SpdOperator> with_fixed(const std::vector<char>& fixed) const override;
+  bool assign_with_fixed(const SpdOperator& base, const std::vector<char>& fixed) override;
   std::unique_ptr<SpdOperator> plus(const Eigen::SparseMatrix<double>& owned_block) const override;
   RowProduct rows(const std::vector<int>& rows) const override;
   Mat mat() const { return A_; }

@@ -10,9 +10,11 @@
 
 namespace vpc {
 
-/// The largest generated mesh (simplices): far beyond what a run can solve, and
-/// small enough to fail at once rather than exhaust memory or overflow int indices.
-inline constexpr int kMaxGeneratedCells = 10'000'000;
+/// The largest generated mesh (simplices): beyond what a run can solve on a workstation (the
+/// memory plan, run/solver_plan.hpp, refuses what does not fit; foundation-3d n = 120, 1.04e7
+/// cells, runs in 24 GB on 2 ranks), and small enough to fail at once rather than exhaust memory
+/// or overflow int indices (a box's K on one rank: about 7e8 nonzeros, below 2³¹).
+inline constexpr int kMaxGeneratedCells = 30'000'000;
 
 /// Throws vpc::Error if a generated mesh of `n_cells` simplices exceeds
 /// kMaxGeneratedCells. Every generator calls it before allocating anything.

@@ -42,10 +42,8 @@ Case load_case_everywhere(const CaseLoader& load, const la::Comm& comm) {
 namespace {
 
 std::unique_ptr<TimeStepper> distributed_stepper(MPI_Comm mpi_comm, std::shared_ptr<const Problem> problem,
-                                                 const SolverChoice& choice, const std::string& linear_solver) {
+                                                 const SolverChoice& choice, PetscSolverOptions linear) {
   MeshPart part = distribute_mesh(mpi_comm, *problem);
-  PetscSolverOptions linear;
-  linear.kind = linear_solver;
   // Iterative solves stop 100x under the relative residual a step accepts (solver.tolerance,
   // 1e-8): tighter only costs iterations (at 1e-12, a third more on foundation-3d).
   linear.rtol = 1e-2 * choice.residual_tolerance;
@@ -55,8 +53,8 @@ std::unique_ptr<TimeStepper> distributed_stepper(MPI_Comm mpi_comm, std::shared_
 
 }  // namespace
 
-std::unique_ptr<TimeStepper> petsc_stepper(MPI_Comm mpi_comm, Case& c, const std::string& linear_solver) {
-  auto stepper = distributed_stepper(mpi_comm, c.problem, c.solvers, linear_solver);
+std::unique_ptr<TimeStepper> petsc_stepper(MPI_Comm mpi_comm, Case& c, PetscSolverOptions linear) {
+  auto stepper = distributed_stepper(mpi_comm, c.problem, c.solvers, std::move(linear));
   // From here on, rank 0 too holds its part only; but it builds a large-sliding pair's rows again
   // from the whole mesh at every step (scheme/sliding_pairs.hpp; their nodes are all its own).
   if (!slides(*c.problem)) c.problem->mesh = Mesh();
@@ -70,7 +68,9 @@ EngineChoice petsc_engine(MPI_Comm comm, const std::string& linear_solver) {
             return set_up_petsc(comm, load, with);
           },
           [comm, linear_solver](std::shared_ptr<const Problem> problem, const SolverChoice& choice) {
-            return distributed_stepper(comm, std::move(problem), choice, linear_solver.empty() ? "mumps" : linear_solver);
+            PetscSolverOptions linear;
+            linear.kind = linear_solver.empty() ? "mumps" : linear_solver;
+            return distributed_stepper(comm, std::move(problem), choice, linear);
           },
           la::make_mpi_comm(comm).rank() == 0};
 }
@@ -87,14 +87,16 @@ int ranks_on_machine(MPI_Comm comm) {
   return n;
 }
 
-/// The engine of the loaded case `c` on the ranks of `comm` with `linear_solver`. Collective.
-std::unique_ptr<Run> engine_on_ranks(MPI_Comm mpi_comm, Case c, const RunOptions& o,
-                                        const std::string& linear_solver) {
+/// The engine of the loaded case `c` on the ranks of `comm` with `plan`'s linear solver. Collective.
+std::unique_ptr<Run> engine_on_ranks(MPI_Comm mpi_comm, Case c, const RunOptions& o, const SolverPlan& plan) {
   const la::Comm comm = la::make_mpi_comm(mpi_comm);
   c.solvers.max_halvings = o.halvings;
   // Collective stages: a signal is looked at after them all.
   c.solvers.on_setup_stage = StageLog(o.quiet || comm.rank() != 0);
-  auto stepper = petsc_stepper(mpi_comm, c, linear_solver);
+  PetscSolverOptions linear;
+  linear.kind = plan.linear_solver;
+  linear.products_row_by_row = plan.products_row_by_row;
+  auto stepper = petsc_stepper(mpi_comm, c, linear);
   stop_if_interrupted_anywhere(comm);
   return make_run(std::move(c), std::move(stepper), o.quiet);
 }
@@ -111,13 +113,17 @@ std::unique_ptr<Run> set_up_petsc(MPI_Comm mpi_comm, const CaseLoader& load, con
   // Rank 0, which holds the whole mesh, chooses the linear solver (or refuses) for every rank.
   const SolverRequest request{.engine = "petsc", .linear_solver = o.linear_solver, .ranks = comm.size(),
                               .ranks_on_machine = ranks_on_machine(mpi_comm)};
-  double chosen = 0;
+  std::vector<double> chosen(2, 0.0);  // the linear solver's index in kLinearSolvers, products_row_by_row
   la::on_root(comm, [&] {
     const SolverPlan plan = plan_run(c, request, o.quiet);
-    chosen = static_cast<double>(std::ranges::find(kLinearSolvers, plan.linear_solver) - kLinearSolvers.begin());
+    chosen = {static_cast<double>(std::ranges::find(kLinearSolvers, plan.linear_solver) - kLinearSolvers.begin()),
+              plan.products_row_by_row ? 1.0 : 0.0};
   });
-  chosen = la::broadcast(comm, std::vector<double>{chosen})[0];
-  return engine_on_ranks(mpi_comm, std::move(c), o, kLinearSolvers.at(static_cast<std::size_t>(chosen)));
+  chosen = la::broadcast(comm, chosen);
+  SolverPlan plan;
+  plan.linear_solver = kLinearSolvers.at(static_cast<std::size_t>(chosen[0]));
+  plan.products_row_by_row = chosen[1] != 0;
+  return engine_on_ranks(mpi_comm, std::move(c), o, plan);
 }
 
 EngineChoice auto_engine(const std::function<MPI_Comm()>& start_petsc) {
@@ -132,7 +138,7 @@ EngineChoice auto_engine(const std::function<MPI_Comm()>& start_petsc) {
       plan = plan_run(c, {.engine = "auto", .petsc_built = true}, o.quiet);
       if (!plan.petsc) return set_up_on_one_process(std::move(c), o);
     }
-    return engine_on_ranks(start_petsc(), std::move(c), o, plan.linear_solver);
+    return engine_on_ranks(start_petsc(), std::move(c), o, plan);
   };
   return e;
 }

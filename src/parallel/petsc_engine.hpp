@@ -3,6 +3,7 @@
 // communicator, over the PETSc backend (docs/parallel.md). Only rank 0 builds
 // (reads, generates) the whole mesh; it sends each rank its part.
 #include "la/comm.hpp"
+#include "la/petsc.hpp"
 #include "run/run_case.hpp"
 
 #include <mpi.h>
@@ -15,8 +16,9 @@ namespace vpc {
 Case load_case_everywhere(const CaseLoader& load, const la::Comm& comm);
 
 /// The stepper of `c` (loaded by load_case_everywhere) on this rank's part of its
-/// mesh, over the PETSc backend; frees rank 0's whole mesh. Collective.
-std::unique_ptr<TimeStepper> petsc_stepper(MPI_Comm comm, Case& c, const std::string& linear_solver);
+/// mesh, over the PETSc backend with `linear`'s solver (its tolerance: the case's); frees rank
+/// 0's whole mesh. Collective.
+std::unique_ptr<TimeStepper> petsc_stepper(MPI_Comm comm, Case& c, PetscSolverOptions linear);
 
 /// set_up_serial on the ranks of `comm`: the case on every rank, the mesh
 /// distributed, the PETSc backend. Collective.

@@ -76,12 +76,21 @@ double mumps_factor_bytes(const FactorEstimate& f, int ranks, int ranks_on_machi
   return per_rank * ranks_on_machine;
 }
 
-/// CG + GAMG: the multigrid hierarchy (operator complexity under 1.5), its smoother's and the
-/// Krylov vectors, PETSc's copies of K (AIJ, assembly stash), rank 0's whole mesh while it
-/// distributes it: beyond the mesh and the matrices, 146 bytes a nonzero of K at foundation-3d
-/// n = 70 (8.1 GB on the machine, 2 ranks, K with 4.6e7 nonzeros) and 123 at n = 100 (20.4 GB,
-/// 1.36e8): docs/performance.md, issue 14.
-constexpr double kIterativeBytesPerKNonzero = 150;
+/// CG + GAMG beyond the mesh and the matrices, in bytes a nonzero of K (docs/parallel.md, "Where
+/// the memory goes": foundation-3d n = 70 and 100 on 2 ranks, the ranks' peaks summed, 82 and 62 in
+/// all, within 3 %): the copy of K with the active contact rows that the primal solver factors; the
+/// hierarchy GAMG keeps (coarse operators, prolongators), its smoothers' and CG's vectors; and what
+/// comes on top of those at the peak: the working data of GAMG's Galerkin products PᵀAP during a
+/// set-up (la/petsc.cpp frees it after), PETSc's default algorithm holding A·P (0.98 GB a rank at
+/// n = 70); or, with the products formed row by row (allatonce: none held, but a set-up takes
+/// several times as long, so the plan only where the default does not fit), the final checkpoint's
+/// copy of the state in the mesh's numbering.
+constexpr double kActiveRowsCopyBytesPerKNonzero = 12;
+constexpr double kHierarchyBytesPerKNonzero = 28;
+constexpr double kProductBytesPerKNonzero = 42;
+constexpr double kRowByRowProductBytesPerKNonzero = 22;
+/// CG + BoomerAMG (hypre) as a whole: 4.43 GB a rank at foundation-3d n = 70 (docs/parallel.md).
+constexpr double kHypreBytesPerKNonzero = 150;
 
 /// "memory about 12 MiB (CG + GAMG: about 5 MiB), limit 20 GiB".
 std::string memory(const MemoryEstimate& e, const std::string& other, const MemoryEstimate& o, const MemoryLimit& limit) {
@@ -138,11 +147,19 @@ MemoryEstimate mumps_memory(const Problem& p, const ProblemSize& s, int ranks, i
   return e;
 }
 
-MemoryEstimate iterative_memory(const Problem& p, const ProblemSize& s) {
+MemoryEstimate iterative_memory(const Problem& p, const ProblemSize& s, const std::string& linear_solver,
+                                bool products_row_by_row) {
   MemoryEstimate e;
   e.add("mesh and state", mesh_bytes(s, p.mesh.dim()));
   e.add("matrices", matrix_bytes(s));
-  e.add("multigrid and Krylov vectors", kIterativeBytesPerKNonzero * s.K_nonzeros);
+  if (linear_solver == "cg-hypre") {
+    e.add("BoomerAMG and Krylov vectors", kHypreBytesPerKNonzero * s.K_nonzeros);
+    return e;
+  }
+  e.add("K with its active contact rows", kActiveRowsCopyBytesPerKNonzero * s.K_nonzeros);
+  e.add("multigrid hierarchy and Krylov vectors", kHierarchyBytesPerKNonzero * s.K_nonzeros);
+  e.add(products_row_by_row ? "multigrid set-up (products row by row)" : "multigrid set-up",
+        (products_row_by_row ? kRowByRowProductBytesPerKNonzero : kProductBytesPerKNonzero) * s.K_nonzeros);
   // With several bodies GAMG is set up on a copy of K without the couplings between them
   // (la/petsc_segregated.hpp), held through the set-up: foundation-pair-3d n = 70 peaked at
   // 4.75 GB on its larger rank against one body's 4.09 GB.
@@ -156,22 +173,29 @@ SolverPlan plan_solver(const Problem& p, const SolverChoice& solvers, const Solv
 
 SolverPlan plan_solver(const Problem& p, const ProblemSize& s, const SolverChoice& solvers,
                        const SolverRequest& r, const MemoryLimit& limit) {
-  const MemoryEstimate iterative = iterative_memory(p, s);
-  auto go_iterative = [&](const std::string& why) {
-    if (iterative.total() > limit.bytes) refuse(p, iterative, limit, "CG + GAMG", "");
-    return SolverPlan{true, "cg-gamg", fmt::format("{}; memory about {}, limit {}", why, format_bytes(iterative.total()),
-                                                   format_bytes(limit.bytes)),
-                      iterative.total()};
+  const MemoryEstimate iterative = iterative_memory(p, s, "cg-gamg", false),
+                       row_by_row = iterative_memory(p, s, "cg-gamg", true);
+  // `kind` where it fits: CG + GAMG with PETSc's default Galerkin products, else with them formed row
+  // by row (saying so), else refused (as `label`) naming the smaller estimate.
+  auto iterative_plan = [&](const std::string& kind, const std::string& why, const std::string& label) {
+    const MemoryEstimate e = kind == "cg-gamg" ? iterative : iterative_memory(p, s, kind, false);
+    if (e.total() <= limit.bytes)
+      return SolverPlan{true, kind, fmt::format("{}; memory about {}, limit {}", why, format_bytes(e.total()),
+                                                format_bytes(limit.bytes)),
+                        e.total()};
+    if (kind != "cg-gamg" || row_by_row.total() > limit.bytes) refuse(p, kind == "cg-gamg" ? row_by_row : e, limit, label, "");
+    return SolverPlan{true, kind,
+                      fmt::format("{}; the multigrid's Galerkin products formed row by row (less memory, slower "
+                                  "set-ups): memory about {} against {} with PETSc's default, limit {}",
+                                  why, format_bytes(row_by_row.total()), format_bytes(e.total()), format_bytes(limit.bytes)),
+                      row_by_row.total(), true};
   };
+  auto go_iterative = [&](const std::string& why) { return iterative_plan("cg-gamg", why, "CG + GAMG"); };
+  const double cg_needs = iterative.total() <= limit.bytes ? iterative.total() : row_by_row.total();
   if (r.engine == "petsc") {  // the PETSc engine: MUMPS (default or asked), or a Krylov solver as asked
     const std::string asked = r.linear_solver.empty() ? "mumps" : r.linear_solver;
     const std::string on = fmt::format("on {} MPI rank{}", r.ranks, r.ranks > 1 ? "s" : "");
-    if (asked != "mumps") {
-      if (iterative.total() > limit.bytes) refuse(p, iterative, limit, asked, "");
-      return {true, asked, fmt::format("linear solver {} {} (as asked); memory about {}, limit {}", asked, on,
-                                       format_bytes(iterative.total()), format_bytes(limit.bytes)),
-              iterative.total()};
-    }
+    if (asked != "mumps") return iterative_plan(asked, fmt::format("linear solver {} {} (as asked)", asked, on), asked);
     const MemoryEstimate mumps = mumps_memory(p, s, r.ranks, r.ranks_on_machine);
     if (mumps.total() <= limit.bytes)
       return {true, "mumps", fmt::format("linear solver MUMPS {}{}; {}", on,
@@ -179,7 +203,7 @@ SolverPlan plan_solver(const Problem& p, const ProblemSize& s, const SolverChoic
                                          memory(mumps, "CG + GAMG", iterative, limit)),
               mumps.total()};
     if (!r.linear_solver.empty()) refuse(p, mumps, limit, "MUMPS", "--linear-solver cg-gamg needs about " +
-                                                                       format_bytes(iterative.total()));
+                                                                       format_bytes(cg_needs));
     return go_iterative(fmt::format("linear solver CG + GAMG {}: MUMPS's factors would need about {} ({}), more than "
                                     "the limit of {} set by {}",
                                     on, format_bytes(mumps.total()), mumps.describe(), format_bytes(limit.bytes),
@@ -190,7 +214,7 @@ SolverPlan plan_solver(const Problem& p, const ProblemSize& s, const SolverChoic
   const bool can_switch = r.engine == "auto" && r.petsc_built;
   if (direct.total() > limit.bytes) {
     if (!can_switch) refuse(p, direct, limit, "the run", r.petsc_built ? "--engine auto would take CG + GAMG (about " +
-                                                          format_bytes(iterative.total()) + ")" : "");
+                                                          format_bytes(cg_needs) + ")" : "");
     return go_iterative(fmt::format("CG + GAMG on one process (the PETSc engine): CHOLMOD's factors would need about "
                                     "{} ({}), more than the limit of {} set by {}; --engine serial refuses instead",
                                     format_bytes(direct.total()), direct.describe(), format_bytes(limit.bytes),
@@ -201,7 +225,9 @@ SolverPlan plan_solver(const Problem& p, const ProblemSize& s, const SolverChoic
   // The estimate's CG run is the primal solver's, which needs no S; a power law takes the dual,
   // whose S on CG is m solves of K (hertz-spheres-3d on the dual: 766 of them, minutes against
   // CHOLMOD's 20 s), so it moves only when CHOLMOD does not fit.
-  if (can_switch && solvers.contact == "auto" && !s.power_law && iterative_is_faster(cost))
+  // CHOLMOD fits here; CG + GAMG only with its default (faster) set-up.
+  if (can_switch && solvers.contact == "auto" && !s.power_law && iterative_is_faster(cost) &&
+      iterative.total() <= limit.bytes)
     return go_iterative(fmt::format("CG + GAMG on one process (the PETSc engine), estimated faster: {}; --engine "
                                     "serial keeps CHOLMOD",
                                     cost.detail));

@@ -51,12 +51,16 @@ struct SolverPlan {
   std::string linear_solver;  // cholmod, mumps, cg-gamg, cg-hypre
   std::string why;            // one line for the run's header: the choice and its estimates
   double memory = 0;          // the chosen path's estimate on this machine (bytes)
+  bool products_row_by_row = false;  // CG + GAMG's Galerkin products formed row by row (less memory)
 };
 
 /// The memory of each path on this machine (bytes), by part.
 MemoryEstimate cholmod_memory(const Problem& p, const ProblemSize& s, const SolverChoice& solvers);
 MemoryEstimate mumps_memory(const Problem& p, const ProblemSize& s, int ranks, int ranks_on_machine);
-MemoryEstimate iterative_memory(const Problem& p, const ProblemSize& s);
+/// A Krylov solver's (`linear_solver`: cg-gamg or cg-hypre); CG + GAMG's with its Galerkin products
+/// formed row by row where `products_row_by_row`.
+MemoryEstimate iterative_memory(const Problem& p, const ProblemSize& s, const std::string& linear_solver = "cg-gamg",
+                                bool products_row_by_row = false);
 
 /// Chooses for `p` (its whole mesh: on one process, or rank 0's before distribute_mesh).
 /// Throws vpc::Error (MemoryLimitError) for a run that fits no allowed path.

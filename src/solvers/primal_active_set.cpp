@@ -320,19 +320,27 @@ class PrimalActiveSetSolver final : public ContactSolver {
         fixed[rows_[i].dof] = 1;
     }
     std::shared_ptr<const la::SpdOperator> base = K_rot_;
-    if (comm.any(!springs.empty())) {
+    const bool with_springs = comm.any(!springs.empty());
+    if (with_springs) {
       SparseMatrix D(K_->n_owned(), K_->n_owned());
       D.setFromTriplets(springs.begin(), springs.end());
       base = base->plus(D);
     }
-    // The factor (or the preconditioner) keeps a reference to its operator: the old one
-    // lives until the new one is in place.
-    std::shared_ptr<const la::SpdOperator> next = base->with_fixed(fixed);
-    if (A_)
-      factor_->refactorize(*next, "elastic stiffness K with the active contact rows");
-    else
-      factor_->factorize(*next, "elastic stiffness K with the active contact rows");
-    A_ = std::move(next);
+    // Without springs, now and in A_, A_ has K_rot's pattern and takes the new rows in place (where
+    // the backend can); else a new operator, the old one living until it is in place (the factor or
+    // the preconditioner keeps a reference to its operator).
+    const char* what = "elastic stiffness K with the active contact rows";
+    if (A_ && !with_springs && !springs_in_A_ && A_->assign_with_fixed(*base, fixed)) {
+      factor_->refactorize(*A_, what);
+    } else {
+      std::shared_ptr<la::SpdOperator> next = base->with_fixed(fixed);
+      if (A_)
+        factor_->refactorize(*next, what);
+      else
+        factor_->factorize(*next, what);
+      A_ = std::move(next);
+    }
+    springs_in_A_ = with_springs;
     factored_ = active;
     fixed_ = std::move(fixed);
     return 1;
@@ -571,7 +579,8 @@ class PrimalActiveSetSolver final : public ContactSolver {
   std::vector<double> scale_;      // c_i of the update rule
   std::vector<double> spring_;     // per local row: 1/k of an active compliant row's spring, 0 for a rigid row
   Vector diagonal_;                // K_rot's
-  std::shared_ptr<const la::SpdOperator> A_;  // K_rot (+ springs) with the factored set's rows fixed
+  std::shared_ptr<la::SpdOperator> A_;  // K_rot (+ springs) with the factored set's rows fixed
+  bool springs_in_A_ = false;           // A_ holds springs (so not K_rot's pattern)
   std::vector<char> factored_, fixed_;
   std::optional<PrimalFriction> friction_;  // with friction (block > 1)
   std::vector<char> factored_stick_;        // the stick set the factor holds

@@ -11,15 +11,11 @@ Iteration counts are the same from run to run (the partition is deterministic), 
 not a timing. Prints "within bodies: PASSED" or what failed and "within bodies: FAILED".
 Python standard library only.
 """
-import csv
-import json
 import os
 import subprocess
 import sys
 
 import case_runs
-
-COMPARED = ("total_contact_force", "max_von_mises", "beta_min")  # history.csv columns, to 1e-7 relative
 
 
 def run(args, out, across):
@@ -33,34 +29,20 @@ def run(args, out, across):
         print(f"run failed ({r.returncode}): {' '.join(cmd)}\n{r.stdout}\n{r.stderr}")
         print("within bodies: FAILED")
         sys.exit(1)
-    with open(os.path.join(out, "summary.json")) as f:
-        summary = json.load(f)
-    with open(os.path.join(out, "history.csv")) as f:
-        history = list(csv.DictReader(f))
-    return summary, history
+    return case_runs.results(out)
 
 
 def main():
     p = case_runs.parser(__doc__.splitlines()[0])
     p.add_argument("--at-most", type=float, default=0.75)
     args = case_runs.parse(p)
-    within, h_within = run(args, os.path.join(args.work, "within"), across=False)
-    across, h_across = run(args, os.path.join(args.work, "across"), across=True)
-    problems = []
-    n_within, n_across = within["linear_iterations"], across["linear_iterations"]
+    within = run(args, os.path.join(args.work, "within"), across=False)
+    across = run(args, os.path.join(args.work, "across"), across=True)
+    problems = case_runs.disagreements(within, across)
+    n_within, n_across = within[0]["linear_iterations"], across[0]["linear_iterations"]
     print(f"Krylov iterations: {n_within} within bodies, {n_across} across them")
     if not n_within <= args.at_most * n_across:
         problems.append(f"{n_within} iterations within bodies, not at most {args.at_most} x {n_across}")
-    for run_summary in (within, across):
-        if not run_summary["checks"]["all_steps_ok"]:
-            problems.append("a step's checks failed")
-    if len(h_within) != len(h_across):
-        problems.append(f"{len(h_within)} steps against {len(h_across)}")
-    for a, b in zip(h_within, h_across):
-        for col in COMPARED:
-            x, y = float(a[col]), float(b[col])
-            if abs(x - y) > 1e-7 * max(abs(x), abs(y), 1e-300):
-                problems.append(f"step {a['step']}: {col} {x!r} against {y!r}")
     for line in problems:
         print("  " + line)
     print("within bodies: " + ("FAILED" if problems else "PASSED"))

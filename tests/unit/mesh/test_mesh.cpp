@@ -88,12 +88,12 @@ TEST(Mesh, GeneratorsRefuseHugeMeshesBeforeAllocating) {
     }
     return std::string("no error");
   };
-  EXPECT_EQ(message([] { make_interval(0, 1, 20'000'000); }),
-            "the mesh would have 20000000 cells; at most 10000000 are allowed (use fewer cells per edge)");
+  EXPECT_EQ(message([] { make_interval(0, 1, 40'000'000); }),
+            "the mesh would have 40000000 cells; at most 30000000 are allowed (use fewer cells per edge)");
   EXPECT_EQ(message([] { make_rectangle({0, 0, 0}, {2, 2, 0}, 5000, 5000); }),
-            "the mesh would have 50000000 cells; at most 10000000 are allowed (use fewer cells per edge)");
+            "the mesh would have 50000000 cells; at most 30000000 are allowed (use fewer cells per edge)");
   EXPECT_EQ(message([] { make_box({0, 0, 0}, {2, 2, 2}, 100000, 100000, 100000); }),
-            "the mesh would have 6000000000000000 cells; at most 10000000 are allowed (use fewer cells per edge)");
+            "the mesh would have 6000000000000000 cells; at most 30000000 are allowed (use fewer cells per edge)");
 }
 
 }  // namespace

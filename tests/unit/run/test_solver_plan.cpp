@@ -85,6 +85,52 @@ TEST(SolverPlan, RefusesOrMovesToCgBeforeSetUp) {
   EXPECT_TRUE(fits.petsc);
 }
 
+// Where CG + GAMG with PETSc's default Galerkin products does not fit, the plan forms them row by
+// row (less memory, slower set-ups) and says so; below that it refuses, naming the smaller estimate.
+// MUMPS refused points at what CG + GAMG needs; hypre keeps its own estimate.
+TEST(SolverPlan, CgGamgFormsItsProductsRowByRowWhereTheDefaultDoesNotFit) {
+  auto c = load_case("foundation-3d", {}, {.cells = 8});
+  const Problem& p = *c.problem;
+  const ProblemSize s = problem_size(p);
+  const MemoryEstimate by_default = iterative_memory(p, s), row_by_row = iterative_memory(p, s, "cg-gamg", true);
+  ASSERT_LT(row_by_row.total(), by_default.total());
+  EXPECT_NE(row_by_row.describe().find("multigrid set-up (products row by row)"), std::string::npos);
+  EXPECT_GT(iterative_memory(p, s, "cg-hypre").total(), by_default.total());
+  const MemoryLimit between{0.5 * (row_by_row.total() + by_default.total()), "--memory-limit"};
+  const SolverChoice choice;
+  for (const SolverRequest& r : {SolverRequest{.engine = "petsc", .linear_solver = "cg-gamg", .ranks = 2},
+                                 SolverRequest{.engine = "petsc", .ranks = 2}}) {
+    const SolverPlan low = plan_solver(p, s, choice, r, between);
+    EXPECT_EQ(low.linear_solver, "cg-gamg");
+    EXPECT_TRUE(low.products_row_by_row);
+    EXPECT_DOUBLE_EQ(low.memory, row_by_row.total());
+    EXPECT_NE(low.why.find("Galerkin products formed row by row"), std::string::npos) << low.why;
+    const SolverPlan ample = plan_solver(p, s, choice, r, {1e15, "test"});
+    EXPECT_FALSE(ample.products_row_by_row);
+  }
+  const std::string mumps = error_of([&] {
+    plan_solver(p, s, choice, {.engine = "petsc", .linear_solver = "mumps", .ranks = 2}, between);
+  });
+  EXPECT_NE(mumps.find("--linear-solver cg-gamg needs about " + format_bytes(row_by_row.total())), std::string::npos)
+      << mumps;
+  const std::string refused = error_of([&] {
+    plan_solver(p, s, choice, {.engine = "petsc", .linear_solver = "cg-gamg", .ranks = 2},
+                {0.99 * row_by_row.total(), "--memory-limit"});
+  });
+  EXPECT_NE(refused.find("cg-gamg would need about " + format_bytes(row_by_row.total())), std::string::npos) << refused;
+  EXPECT_NE(refused.find("(products row by row)"), std::string::npos) << refused;
+  const SolverPlan hypre =
+      plan_solver(p, s, choice, {.engine = "petsc", .linear_solver = "cg-hypre", .ranks = 2}, {1e15, "test"});
+  EXPECT_FALSE(hypre.products_row_by_row);
+  EXPECT_DOUBLE_EQ(hypre.memory, iterative_memory(p, s, "cg-hypre").total());
+  // One process: auto keeps CHOLMOD where it fits rather than take CG + GAMG's slower set-ups.
+  const SolverPlan one = plan_solver(p, s, choice, {.engine = "auto", .petsc_built = true}, between);
+  if (cholmod_memory(p, s, choice).total() <= between.bytes)
+    EXPECT_EQ(one.linear_solver, "cholmod") << one.why;
+  else
+    EXPECT_TRUE(one.products_row_by_row) << one.why;
+}
+
 // One process: --engine serial refuses a run whose CHOLMOD factors would not fit, at once,
 // naming the estimate by part (issue 11); auto takes CG + GAMG instead where the build has it.
 TEST(SolverPlan, OneProcessRefusesOrMoves) {
