@@ -96,11 +96,28 @@ class Placed {
 };
 
 /// Sets PETSc option `name` to `value` unless it is given (PETSC_OPTIONS, the command line).
-void default_option(const std::string& name, const char* value) {
+/// Returns whether it set it.
+bool default_option(const std::string& name, const char* value) {
   PetscBool given = PETSC_FALSE;
   VPC_PETSC(PetscOptionsHasName(nullptr, nullptr, name.c_str(), &given));
   if (!given) VPC_PETSC(PetscOptionsSetValue(nullptr, name.c_str(), value));
+  return !given;
 }
+
+/// default_option for a scope: an option set here is cleared at its end (one given is left).
+class ScopedOption {
+ public:
+  ScopedOption(const char* name, const char* value) : name_(name), set_(name != nullptr && default_option(name, value)) {}
+  ~ScopedOption() {
+    if (set_) PetscOptionsClearValue(nullptr, name_);
+  }
+  ScopedOption(const ScopedOption&) = delete;
+  ScopedOption& operator=(const ScopedOption&) = delete;
+
+ private:
+  const char* name_;
+  bool set_;
+};
 
 /// Frees what PETSc keeps on each multigrid level's Galerkin product PᵀAP (and on a smoothed
 /// prolongator, A·P₀) to form it again in place: a PC here is never set up twice (a rebuild makes a
@@ -146,6 +163,12 @@ class PetscFactor final : public LinearSolver {
     require(op != nullptr, "internal: PETSc factors PETSc operators only ({})", what);
     what_ = what;
     const double start = flops();
+    // Where memory asks for it (run/solver_plan.cpp), PᵀAP row by row: no A·P is held while the
+    // levels are formed (foundation-3d n = 70, 2 ranks: a rank's peak 2.12 GB against 2.64 GB; the
+    // first step's contact solves, a set-up among them, 67 s against 30 s). PETSc reads it for
+    // every product, unprefixed: it is set for this set-up only (GAMG's and galerkin_levels'), so
+    // that a later run in this process (Python) plans its own.
+    const ScopedOption row_by_row(options_.products_row_by_row ? "-matptap_via" : nullptr, "allatonce");
     // GAMG's transfers from the matrix without the couplings between fields, where there are
     // several (petsc_segregated.hpp); the levels' operators from the matrix itself.
     PMat within;
@@ -360,11 +383,6 @@ class PetscFactor final : public LinearSolver {
         // foundation-3d n = 40 on 2 ranks, primal contact solver: 2.6 → 1.8 s a step, one
         // solve of K unchanged. An option given (PETSC_OPTIONS, -vpc_<name>_...) wins.
         default_option("-" + prefix_ + "mg_levels_ksp_max_it", "1");
-        // Where memory asks for it (run/solver_plan.cpp), PᵀAP row by row: no A·P is held while the
-        // levels are formed (foundation-3d n = 70, 2 ranks: a rank's peak 2.12 GB against 2.64 GB;
-        // the first step's contact solves, a set-up among them, 67 s against 30 s). PETSc reads it
-        // for every product, unprefixed.
-        if (options_.products_row_by_row) default_option("-matptap_via", "allatonce");
         if (near_null_space) VPC_PETSC(MatSetNearNullSpace(P, near_null_space));
         // Transfers from another matrix than A (galerkin_levels): GAMG's smoothed-aggregation
         // eigenvalue estimates are P's, and the Chebyshev smoothers would keep them for A's levels,
