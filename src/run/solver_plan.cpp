@@ -78,7 +78,7 @@ double mumps_factor_bytes(const FactorEstimate& f, int ranks, int ranks_on_machi
 
 /// CG + GAMG beyond the mesh and the matrices, in bytes a nonzero of K (docs/parallel.md, "Where
 /// the memory goes": foundation-3d n = 70 and 100 on 2 ranks, the ranks' peaks summed, 82 and 62 in
-/// all, within 3 %): the copy of K with the active contact rows that the primal solver factors; the
+/// all, within 2 %): the copy of K with the active contact rows that the primal solver factors; the
 /// hierarchy GAMG keeps (coarse operators, prolongators), its smoothers' and CG's vectors; and what
 /// comes on top of those at the peak: the working data of GAMG's Galerkin products PᵀAP during a
 /// set-up (la/petsc.cpp frees it after), PETSc's default algorithm holding A·P (0.98 GB a rank at
