@@ -6,6 +6,7 @@ import argparse
 import csv
 import json
 import os
+import sys
 
 COMPARED = ("total_contact_force", "max_von_mises", "beta_min")  # history.csv columns, to 1e-7 relative
 
@@ -54,3 +55,11 @@ def disagreements(first, second):
             if abs(x - y) > 1e-7 * max(abs(x), abs(y), 1e-300):
                 problems.append(f"step {a['step']}: {col} {x!r} against {y!r}")
     return problems
+
+
+def report(name, problems):
+    """Prints `problems` and "NAME: PASSED" or "NAME: FAILED" (what ctest looks for); exits 0 or 1."""
+    for line in problems:
+        print("  " + line)
+    print(f"{name}: " + ("FAILED" if problems else "PASSED"))
+    sys.exit(1 if problems else 0)

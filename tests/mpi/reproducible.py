@@ -55,11 +55,8 @@ def main():
                     problems.append(f"summary.json: {key}: {sa.get(key)} against {sb.get(key)}")
         elif not os.path.exists(b) or not filecmp.cmp(a, b, shallow=False):
             problems.append(f"{name} differs")
-    for line in problems:
-        print("  " + line)
     print(f"{len(names)} files compared")
-    print("reproducible: " + ("FAILED" if problems else "PASSED"))
-    sys.exit(1 if problems else 0)
+    case_runs.report("reproducible", problems)
 
 
 if __name__ == "__main__":

@@ -43,10 +43,7 @@ def main():
     print(f"Krylov iterations: {n_within} within bodies, {n_across} across them")
     if not n_within <= args.at_most * n_across:
         problems.append(f"{n_within} iterations within bodies, not at most {args.at_most} x {n_across}")
-    for line in problems:
-        print("  " + line)
-    print("within bodies: " + ("FAILED" if problems else "PASSED"))
-    sys.exit(1 if problems else 0)
+    case_runs.report("within bodies", problems)
 
 
 if __name__ == "__main__":
