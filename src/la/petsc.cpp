@@ -164,8 +164,8 @@ class PetscFactor final : public LinearSolver {
     what_ = what;
     const double start = flops();
     // Where memory asks for it (run/solver_plan.cpp), PᵀAP row by row: no A·P is held while the
-    // levels are formed (foundation-3d n = 70, 2 ranks: a rank's peak 2.12 GB against 2.64 GB; the
-    // first step's contact solves, a set-up among them, 67 s against 30 s). PETSc reads it for
+    // levels are formed (foundation-3d n = 70, 2 ranks: a rank's peak 2.14 GB against 2.64 GB; the
+    // first step's contact solves, a set-up among them, 67.8 s against 17.5 s). PETSc reads it for
     // every product, unprefixed: it is set for this set-up only (GAMG's and galerkin_levels'), so
     // that a later run in this process (Python) plans its own.
     const ScopedOption row_by_row(options_.products_row_by_row ? "-matptap_via" : nullptr, "allatonce");
