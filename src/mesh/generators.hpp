@@ -5,6 +5,7 @@
 // cases re-tag subsets (e.g. the contact zone) with Mesh::tag_facets.
 #include "mesh/mesh.hpp"
 
+#include <array>
 #include <string>
 #include <vector>
 
@@ -44,5 +45,39 @@ Mesh make_rectangle(Point lo, Point hi, int nx, int ny, Diagonal diagonal = Diag
 /// Box of nx × ny × nz cubes, each split into six tetrahedra (Kuhn subdivision,
 /// conforming across cubes; 24 with Diagonal::crossed).
 Mesh make_box(Point lo, Point hi, int nx, int ny, int nz, Diagonal diagonal = Diagonal::right);
+
+/// A block of a generated mesh's grid of segments (squares, cubes): along each axis a
+/// of the mesh's dimension, the cells lo[a] ≤ i < hi[a] (lo = hi = 0 on the other axes).
+struct GridBlock {
+  std::array<int, 3> lo{0, 0, 0}, hi{0, 0, 0};
+  long long cells() const;  // segments, squares or cubes
+  bool operator==(const GridBlock&) const = default;
+};
+
+/// The whole grid of n[a] cells along each of the first `dim` axes.
+GridBlock whole_grid(const std::array<int, 3>& n, int dim);
+
+/// Splits `grid` into `parts` blocks by recursive bisection: the longest axis (in cells; the
+/// first of equals) is cut in proportion to the parts on either side, which gives blocks of
+/// nearly equal size and small faces, a structured domain decomposition. Blocks are in the
+/// order of the bisection tree, so consecutive ones are neighbours. Throws vpc::Error where
+/// a block would be empty (fewer cells than parts along the way).
+std::vector<GridBlock> split_grid(const GridBlock& grid, int dim, int parts);
+
+/// The part of a generated mesh in a block of its grid, built without the rest: the
+/// cells the whole generator makes in the block's segments (squares, cubes), in its order
+/// and with its nodes in its order (the node coordinates bit for bit), and the boundary
+/// facets of the whole mesh on them, tagged by side as it tags them (not the faces where the
+/// block is cut). `node_id` and `cell_id` number its nodes and cells in the whole mesh.
+struct BlockMesh {
+  Mesh mesh;
+  std::vector<int> node_id, cell_id;
+};
+
+/// The generators above on a block of the grid (of n, nx × ny, nx × ny × nz cells).
+/// The size check (check_mesh_size) applies to the block; the whole mesh's numbers must fit in int.
+BlockMesh make_interval_block(double x0, double x1, int n, const GridBlock& block);
+BlockMesh make_rectangle_block(Point lo, Point hi, int nx, int ny, Diagonal diagonal, const GridBlock& block);
+BlockMesh make_box_block(Point lo, Point hi, int nx, int ny, int nz, Diagonal diagonal, const GridBlock& block);
 
 }  // namespace vpc

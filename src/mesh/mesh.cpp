@@ -120,7 +120,7 @@ Point centroid(const std::vector<Point>& x, const int* v, int n) {
 
 }  // namespace
 
-void Mesh::build_boundary() {
+void Mesh::build_boundary(const std::function<bool(const Point&)>& keep) {
   std::unordered_map<FacetKey, std::pair<int, int>, FacetKeyHash> count;  // key -> (uses, cell*local)
   const int npc = nodes_per_cell(), npf = nodes_per_facet();
   for_each_cell_facet(*this, [&](const FacetKey& key, int c, int i) {
@@ -139,6 +139,7 @@ void Mesh::build_boundary() {
   std::sort(owners.begin(), owners.end());
   for (int o : owners) {
     cell_facet(cell(o / npc), npc, o % npc, f);
+    if (keep && !keep(centroid(x_, f, npf))) continue;
     facets_.insert(facets_.end(), f, f + npf);
     facet_part_.push_back(-1);
     facet_cell_.push_back(o / npc);

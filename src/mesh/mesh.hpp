@@ -96,8 +96,10 @@ class Mesh {
   std::pair<Point, Point> bounding_box() const;
 
   /// Builds the boundary facets of the cell complex (facets used by one cell),
-  /// all untagged; called by generators and readers after cells are added.
-  void build_boundary();
+  /// all untagged; called by generators and readers after cells are added. With
+  /// `keep`, only those whose centroid it accepts: a block of a generated mesh keeps
+  /// the whole mesh's boundary, not the faces where it was cut (mesh/generators.hpp).
+  void build_boundary(const std::function<bool(const Point&)>& keep = {});
 
  private:
   void find_facet_cells() const;
