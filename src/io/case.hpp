@@ -22,6 +22,13 @@ struct MeshRequest {
   int dim = 0;
   std::optional<int> cells;  // `--n`: cells per edge of a generated mesh (unset: the case's own),
                              // checked by the case file's mesh.cells rules
+  /// Under MPI: build rank `rank`'s block of a generated mesh of one body, of `ranks` blocks
+  /// (Problem::block), whether or not `build`; a mesh read from a file, or of several bodies or
+  /// with contact pairs, is built as without it (issue 30).
+  struct Block {
+    int rank = 0, ranks = 1;
+  };
+  std::optional<Block> block;
 };
 
 struct Case {

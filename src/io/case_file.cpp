@@ -7,6 +7,7 @@
 #include "la/memory_estimate.hpp"
 #include "material/sources/expression_source.hpp"
 #include "mesh/generators.hpp"
+#include "mesh/mesh_block.hpp"
 #include "mesh/gmsh_reader.hpp"
 #include "mesh/mesh_extent.hpp"
 
@@ -580,7 +581,53 @@ std::vector<int> read_cells(Section& m, int d) {
   return n;
 }
 
-Mesh generate_mesh(Section& m) {
+/// The rank's block of the grid (split_grid) and a layer of cells around it (MeshBlock).
+std::pair<GridBlock, std::vector<GridBlock>> block_with_layer(const std::array<int, 3>& n, int d,
+                                                              const MeshRequest::Block& request) {
+  std::vector<GridBlock> parts = split_grid(whole_grid(n, d), d, request.ranks);
+  GridBlock b = parts[static_cast<std::size_t>(request.rank)];
+  for (int a = 0; a < d; ++a) {
+    b.lo[a] = std::max(b.lo[a] - 1, 0);
+    b.hi[a] = std::min(b.hi[a] + 1, n[a]);
+  }
+  return {b, std::move(parts)};
+}
+
+/// Each cell's rank: the part of the grid holding its square (cube); `per_box` cells each.
+std::vector<int> cell_ranks(const BlockMesh& bm, const std::array<int, 3>& n, int d, const GridBlock& block,
+                            const std::vector<GridBlock>& parts) {
+  std::vector<int> near;  // the parts that the block meets
+  for (std::size_t r = 0; r < parts.size(); ++r) {
+    bool meets = true;
+    for (int a = 0; a < d; ++a) meets = meets && parts[r].lo[a] < block.hi[a] && block.lo[a] < parts[r].hi[a];
+    if (meets) near.push_back(static_cast<int>(r));
+  }
+  long long boxes = 1;
+  for (int a = 0; a < d; ++a) boxes *= n[a];
+  const long long per_box = bm.whole_cells / boxes;
+  std::vector<int> rank(bm.cell_id.size(), -1);
+  for (std::size_t c = 0; c < rank.size(); ++c) {
+    long long box = bm.cell_id[c] / per_box;
+    int at[3] = {0, 0, 0};
+    for (int a = 0; a < d; ++a) {
+      at[a] = static_cast<int>(box % n[a]);
+      box /= n[a];
+    }
+    for (const int r : near) {
+      bool in = true;
+      for (int a = 0; a < d; ++a) in = in && parts[static_cast<std::size_t>(r)].lo[a] <= at[a] && at[a] < parts[static_cast<std::size_t>(r)].hi[a];
+      if (in) {
+        rank[c] = r;
+        break;
+      }
+    }
+  }
+  return rank;
+}
+
+/// [mesh] with a generator: the whole mesh, or with `block` a rank's block (MeshBlock) into `*out`.
+Mesh generate_mesh(Section& m, const std::optional<MeshRequest::Block>& block = std::nullopt,
+                   std::shared_ptr<MeshBlock>* out = nullptr) {
   const std::string gen = m.choice("generator", {"interval", "rectangle", "box"});
   const int d = gen == "interval" ? 1 : (gen == "rectangle" ? 2 : 3);
   const auto lo = m.numbers("lower", d), hi = m.numbers("upper", d);
@@ -593,15 +640,40 @@ Mesh generate_mesh(Section& m) {
   const Diagonal diagonal = d == 1 ? Diagonal::right : diagonal_from_name(m.choice("diagonal", diagonal_names(), "right"));
   // The generators check the mesh size (check_mesh_size) before allocating; the
   // other checks above make the size the only thing they can refuse.
+  if (!block) {
+    return located(m.where("cells"), [&] {
+      if (d == 1) return make_interval(lo[0], hi[0], n[0]);
+      if (d == 2) return make_rectangle({lo[0], lo[1], 0}, {hi[0], hi[1], 0}, n[0], n[1], diagonal);
+      return make_box({lo[0], lo[1], lo[2]}, {hi[0], hi[1], hi[2]}, n[0], n[1], n[2], diagonal);
+    });
+  }
+  const std::array<int, 3> n3{n[0], d > 1 ? n[1] : 0, d > 2 ? n[2] : 0};
   return located(m.where("cells"), [&] {
-    if (d == 1) return make_interval(lo[0], hi[0], n[0]);
-    if (d == 2) return make_rectangle({lo[0], lo[1], 0}, {hi[0], hi[1], 0}, n[0], n[1], diagonal);
-    return make_box({lo[0], lo[1], lo[2]}, {hi[0], hi[1], hi[2]}, n[0], n[1], n[2], diagonal);
+    const auto [b, parts] = block_with_layer(n3, d, *block);
+    BlockMesh bm = d == 1   ? make_interval_block(lo[0], hi[0], n[0], b)
+                   : d == 2 ? make_rectangle_block({lo[0], lo[1], 0}, {hi[0], hi[1], 0}, n[0], n[1], diagonal, b)
+                            : make_box_block({lo[0], lo[1], lo[2]}, {hi[0], hi[1], hi[2]}, n[0], n[1], n[2], diagonal, b);
+    auto info = std::make_shared<MeshBlock>();
+    info->rank = block->rank;
+    info->ranks = block->ranks;
+    info->cell_rank = cell_ranks(bm, n3, d, b, parts);
+    info->node_id = std::move(bm.node_id);
+    info->cell_id = std::move(bm.cell_id);
+    info->whole_nodes = bm.whole_nodes;
+    info->whole_cells = bm.whole_cells;
+    for (int a = 0; a < d; ++a) {
+      info->lo[a] = lo[a];
+      info->hi[a] = hi[a];
+    }
+    *out = std::move(info);
+    return std::move(bm.mesh);
   });
 }
 
 /// [[mesh.part]]: re-tag the boundary facets whose centroid satisfies a predicate.
-void read_mesh_parts(Section& m, Mesh& mesh, const Origins& origins) {
+/// `check`: whether a part must have facets here (not in a block, whose MeshBlock::selected_parts
+/// keeps the check for all ranks together).
+void read_mesh_parts(Section& m, Mesh& mesh, const Origins& origins, bool check, MeshBlock* block) {
   if (!m.has("part")) return;
   const toml::node* parts = m.get("part");
   if (!parts->is_array_of_tables()) m.expected("part", "an array of tables [[mesh.part]] with name and where");
@@ -612,24 +684,27 @@ void read_mesh_parts(Section& m, Mesh& mesh, const Origins& origins) {
     const auto where = p.expression("where", Expression::Kind::Space);
     p.finish();
     mesh.tag_facets(name, [&](const Point& x) { return (*where)(x) != 0.0; });
-    if (mesh.part_size(name) == 0)
-      fail("{}: the predicate {} selects no boundary facet", p.where("where"), quote_formula(where->text()));
+    const std::string none = fmt::format("{}: the predicate {} selects no boundary facet", p.where("where"),
+                                         quote_formula(where->text()));
+    if (check && mesh.part_size(name) == 0) fail("{}", none);
+    if (block) block->selected_parts.emplace_back(name, none);
   }
 }
 
-/// [mesh], built, or an empty mesh of the requested dimension (a rank that does not build it).
+/// [mesh], built, or an empty mesh of the requested dimension (a rank that does not build it),
+/// or with a block request (only for a generator: parse_case) the rank's block into `*block`.
 Mesh read_mesh(Section m, const fs::path& base_dir, const Origins& origins, const MeshRequest& request,
-               const std::string& memory_limit_option) {
+               const std::string& memory_limit_option, std::shared_ptr<MeshBlock>* block = nullptr) {
   if (!m.exists()) fail("{}: missing section [mesh]", origins.file);
-  if (!request.build) {
+  if (!request.build && !request.block) {
     require(request.dim >= 1 && request.dim <= 3, "{}: the mesh dimension must be 1, 2 or 3", origins.file);
     return Mesh(request.dim);  // [mesh] is read by the rank that builds the mesh
   }
-  Mesh mesh = m.has("file") ? read_mesh_file(m, base_dir, memory_limit_option) : generate_mesh(m);
+  Mesh mesh = m.has("file") ? read_mesh_file(m, base_dir, memory_limit_option) : generate_mesh(m, request.block, block);
   // Coordinates such as 1e120 overflow the method's products (issue 26): refused here, at check.
   located(m.has("file") ? fmt::format("{}: {}", m.where("file"), quote(m.string("file"))) : m.where("upper"),
           [&] { check_mesh_extent(mesh); });
-  read_mesh_parts(m, mesh, origins);
+  read_mesh_parts(m, mesh, origins, !request.block, block ? block->get() : nullptr);
   m.finish();
   return mesh;
 }
@@ -669,7 +744,7 @@ std::vector<Section> read_body_meshes(Section& top, Problem& p, const fs::path& 
     }
     Section m = s.table("mesh");
     if (!m.exists()) fail("{}: missing section [body.mesh] of body {} (a generator or a file, as [mesh])", s.where_section(), quote(name));
-    const Mesh mesh = read_mesh(m, base_dir, origins, {request.build, request.dim, std::nullopt}, memory_limit_option);
+    const Mesh mesh = read_mesh(m, base_dir, origins, {request.build, request.dim, std::nullopt, std::nullopt}, memory_limit_option);
     if (request.build) p.mesh.append(mesh, name);
     bodies.push_back(std::move(s));
   }
@@ -678,15 +753,18 @@ std::vector<Section> read_body_meshes(Section& top, Problem& p, const fs::path& 
 
 // ---------------------------------------------------------------- [boundary], [elasticity], laws
 
-/// `check`: whether the parts must exist in `mesh` (not on a rank that did not build it).
-std::vector<std::string> read_parts(Section& b, const std::string& key, const Mesh& mesh, bool required, bool check) {
+/// `check`: whether the parts must exist in the problem's mesh (not on a rank that did not build
+/// it; on a block, MeshBlock::required_parts keeps the check for all ranks together).
+std::vector<std::string> read_parts(Section& b, const std::string& key, Problem& problem, bool required, bool check) {
   if (!required && !b.has(key)) return {};
   const auto parts = b.strings(key);
   if (parts.empty()) fail("{}: expected at least one boundary part name", b.where(key));
-  for (const auto& p : parts)
-    if (check && mesh.part_size(p) == 0)
-      fail("{}: boundary part {} does not exist in the mesh (or has no facets); the mesh has: {}", b.where(key), quote(p),
-           describe_parts(mesh));
+  for (const auto& p : parts) {
+    const std::string missing =
+        fmt::format("{}: boundary part {} does not exist in the mesh (or has no facets); the mesh has: ", b.where(key), quote(p));
+    if (check && problem.mesh.part_size(p) == 0) fail("{}{}", missing, describe_parts(problem.mesh));
+    if (problem.block) problem.block->required_parts.emplace_back(p, missing);
+  }
   return parts;
 }
 
@@ -701,7 +779,7 @@ void read_displacements(Section& b, Problem& p, const Origins& origins, bool che
   for (const auto& node : *list->as_array()) {
     Section s(node.as_table(), fmt::format("boundary.displacement[{}]", k++), origins);
     PrescribedDisplacement bc;
-    bc.parts = read_parts(s, "parts", p.mesh, true, check);
+    bc.parts = read_parts(s, "parts", p, true, check);
     for (int c = 0; c < 3; ++c) {
       const std::string key = std::string("u") + "xyz"[c];
       if (!s.has(key)) continue;
@@ -721,13 +799,13 @@ void read_displacements(Section& b, Problem& p, const Origins& origins, bool che
 void read_boundary(Section b, Problem& p, const Origins& origins, bool check, bool pairs) {
   if (!b.exists()) fail("{}: missing section [boundary] (clamped and contact parts)", origins.file);
   read_displacements(b, p, origins, check);
-  p.symmetry = read_parts(b, "symmetry", p.mesh, false, check);
+  p.symmetry = read_parts(b, "symmetry", p, false, check);
   if (check)
     for (const auto& part : p.symmetry) located(b.where("symmetry"), [&] { symmetry_axis(p.mesh, part); });
   // Γ1 may be left out when prescribed displacements or symmetry planes hold the body.
-  p.clamped = read_parts(b, "clamped", p.mesh, p.displacement.empty() && p.symmetry.empty(), check);
-  p.contact.parts = read_parts(b, "contact", p.mesh, !pairs, check);
-  p.traction = read_parts(b, "traction", p.mesh, false, check);
+  p.clamped = read_parts(b, "clamped", p, p.displacement.empty() && p.symmetry.empty(), check);
+  p.contact.parts = read_parts(b, "contact", p, !pairs, check);
+  p.traction = read_parts(b, "traction", p, false, check);
   b.finish();
 }
 
@@ -923,7 +1001,7 @@ void read_pressure(Section& l, Problem& p, const Origins& origins, bool check) {
   for (const auto& node : *loads->as_array()) {
     Section s(node.as_table(), fmt::format("loads.pressure[{}]", i++), origins);
     PressureLoad load;
-    load.parts = read_parts(s, "parts", p.mesh, true, check);
+    load.parts = read_parts(s, "parts", p, true, check);
     const auto pressure = s.state_expression("p", Expression::Kind::SpaceTime);
     load.p = [pressure](const Point& x, double t) { return (*pressure)(x, t); };
     s.finish();
@@ -1151,7 +1229,7 @@ void read_contact_pairs(Section& ct, Problem& p, const Origins& origins) {
   if (!ct.has("pair")) return;
   const toml::node* list = ct.get("pair");
   if (!list->is_array_of_tables()) ct.expected("pair", "an array of tables [[contact.pair]] with slave and master");
-  const bool check = p.mesh.n_cells() > 0;  // the rank that built the mesh
+  const bool check = p.mesh.n_cells() > 0 && !p.block;  // the rank that built the whole mesh
   int k = 0;
   for (const auto& node : *list->as_array()) {
     Section s(node.as_table(), fmt::format("contact.pair[{}]", k++), origins);
@@ -1382,8 +1460,8 @@ OutputOptions read_output(Section out, Problem& p) {
          out.where("fields"));
   o.encoding.compression = vtu_compression(out.choice("compression", {"zlib", "none"}, "zlib"));
   if (out.has("probes")) o.probes = read_probes(out, p.mesh.dim());
-  // A probe must lie in the body (on a rank without the mesh: rank 0 checks it).
-  for (std::size_t i = 0; i < o.probes.size() && p.mesh.n_cells() > 0; ++i)
+  // A probe must lie in the body (on a rank without the whole mesh: the run's output finds it on the parts).
+  for (std::size_t i = 0; i < o.probes.size() && p.mesh.n_cells() > 0 && !p.block; ++i)
     located(fmt::format("{}[{}]", out.where("probes"), i), [&] { (void)locate_point(p.mesh, o.probes[i]); });
   out.finish();
   return o;
@@ -1444,17 +1522,25 @@ Case parse_case(std::string_view text, const std::string& name, const fs::path& 
 
   auto p = std::make_shared<Problem>();
   p->name = c.name;
-  p->mesh = read_mesh(top.table("mesh"), base_dir, origins, mesh_request, overrides.memory_limit);
-  std::vector<Section> bodies = read_body_meshes(top, *p, base_dir, origins, mesh_request, overrides.memory_limit);
   const toml::node* contact = root.get("contact");
   const bool pairs = contact && contact->is_table() && contact->as_table()->contains("pair");
-  read_boundary(top.table("boundary"), *p, origins, mesh_request.build, pairs);
+  // A block of a generated mesh of one body (MeshRequest::block); otherwise the whole mesh, as
+  // without the request. `whole`: this rank holds the whole mesh and checks the case on it.
+  MeshRequest request = mesh_request;
+  const toml::node* mesh_table = root.get("mesh");
+  if (request.block && (pairs || root.contains("body") || !mesh_table || !mesh_table->is_table() ||
+                        mesh_table->as_table()->contains("file")))
+    request.block.reset();
+  const bool whole = request.build && !request.block;
+  p->mesh = read_mesh(top.table("mesh"), base_dir, origins, request, overrides.memory_limit, &p->block);
+  std::vector<Section> bodies = read_body_meshes(top, *p, base_dir, origins, request, overrides.memory_limit);
+  read_boundary(top.table("boundary"), *p, origins, whole, pairs);
   p->elasticity = read_elasticity(top.table("elasticity"), p->mesh.dim(), name);
   p->law = read_viscoplasticity(top.table("viscoplasticity"), p->elasticity.young());
   read_damage(top.table("damage"), *p);
   read_body_data(bodies, *p);
-  read_materials(top, *p, origins, mesh_request.build);
-  read_loads(top.table("loads"), *p, origins, mesh_request.build);
+  read_materials(top, *p, origins, whole);
+  read_loads(top.table("loads"), *p, origins, whole);
   read_obstacles(top, *p, origins, read_contact(top.table("contact"), *p, origins));
   read_time(top.table("time"), *p, name);
   c.output = read_output(top.table("output"), *p);
@@ -1464,9 +1550,10 @@ Case parse_case(std::string_view text, const std::string& name, const fs::path& 
   record_key_locations(top, *p, origins);
   if (mesh_request.build) c.warnings = locking_warnings(top, *p);  // once, by the rank that reports
   p->formulas = *origins.formulas;
-  // Without the mesh (a rank that did not build it): validated by the rank that has it.
+  // Without the mesh (a rank that did not build it): validated by the rank that has it; a
+  // block: by all ranks together (validate_blocks, parallel/block_part.hpp).
   // A message that names a key of the file has its location already.
-  if (mesh_request.build) {
+  if (whole) {
     try {
       p->validate();
     } catch (const Error& e) {

@@ -232,6 +232,8 @@ BlockMesh interval_block(double x0, double x1, int n, const GridBlock& b, bool i
     m.cell(c, i);
   }
   finish_boundary(m.out.mesh, {x0, 0, 0}, {x1, 0, 0}, b == whole_grid({n, 0, 0}, 1));
+  m.out.whole_nodes = n + 1;
+  m.out.whole_cells = n;
   return std::move(m.out);
 }
 
@@ -278,6 +280,9 @@ BlockMesh rectangle_block(Point lo, Point hi, int nx, int ny, Diagonal diagonal,
       }
     }
   finish_boundary(m.out.mesh, lo, hi, b == whole_grid({nx, ny, 0}, 2));
+  const long long squares = static_cast<long long>(nx) * ny;
+  m.out.whole_nodes = g.whole_count() + (crossed ? squares : 0);
+  m.out.whole_cells = (crossed ? 4 : 2) * squares;
   return std::move(m.out);
 }
 
@@ -326,6 +331,10 @@ BlockMesh box_block(Point lo, Point hi, int nx, int ny, int nz, Diagonal diagona
         }
   }
   finish_boundary(m.out.mesh, lo, hi, b == whole_grid({nx, ny, nz}, 3));
+  const long long cubes = static_cast<long long>(nx) * ny * nz;
+  const long long faces = static_cast<long long>(nx + 1) * ny * nz + nx * (ny + 1LL) * nz + nx * ny * (nz + 1LL);
+  m.out.whole_nodes = g.whole_count() + (crossed ? cubes + faces : 0);
+  m.out.whole_cells = (crossed ? 24 : 6) * cubes;
   return std::move(m.out);
 }
 

@@ -72,6 +72,7 @@ std::vector<GridBlock> split_grid(const GridBlock& grid, int dim, int parts);
 struct BlockMesh {
   Mesh mesh;
   std::vector<int> node_id, cell_id;
+  long long whole_nodes = 0, whole_cells = 0;  // the whole mesh's
 };
 
 /// The generators above on a block of the grid (of n, nx × ny, nx × ny × nz cells).

@@ -189,11 +189,13 @@ constexpr int kHeader = 12;
 
 /// Rank 0: the part of every rank, cut from the whole problem (cut_part) and packed
 /// with its mesh: its nodes, its cells and their loaded facets.
-std::vector<Message> pack_parts(const Problem& p, int n_parts) {
+std::vector<Message> pack_parts(const Problem& p, int n_parts, const std::vector<int>& cell_rank) {
   const Mesh& mesh = p.mesh;
   const int d = mesh.dim(), npc = mesh.nodes_per_cell(), n_nodes = mesh.n_nodes();
   const NodeCells nc(mesh);
-  std::vector<int> part = partition_cells(mesh, nc, n_parts);
+  std::vector<int> part = cell_rank.empty() ? partition_cells(mesh, nc, n_parts) : cell_rank;
+  require(part.size() == static_cast<std::size_t>(mesh.n_cells()), "internal: {} cell ranks for {} cells", part.size(),
+          mesh.n_cells());
 
   const WholeMeshData whole(p);
   // A node belongs to the lowest rank among its cells, except on contact pairs (own_pairs_together).
@@ -320,9 +322,7 @@ PartPieces unpack_part(MPI_Comm comm, const Message& m) {
   }
   for (int f = 0; f < n_facets; ++f) {
     for (int a = 0; a < d; ++a) nodes[a] = static_cast<int>(*in++);
-    const int load = static_cast<int>(*in++);
-    mesh->add_facet(nodes, load == 0 ? "traction" : fmt::format("pressure{}", load));
-    (load == 0 ? dm.traction_facets : dm.pressure_facets[load - 1]).push_back(f);
+    add_loaded_facet(dm, *mesh, nodes, static_cast<int>(*in++));
   }
   dm.mesh_ptr = std::move(mesh);
   for (int k = 0; k < n_contacts; ++k) dm.contact.push_back(unpack_contact_node(in, x));
@@ -331,14 +331,14 @@ PartPieces unpack_part(MPI_Comm comm, const Message& m) {
 
 }  // namespace
 
-MeshPart distribute_mesh(MPI_Comm comm, const Problem& problem) {
+MeshPart distribute_mesh(MPI_Comm comm, const Problem& problem, const std::vector<int>& cell_rank) {
   const int rank = comm_rank(comm), size = comm_size(comm);
   Message mine;
   // Rank 0 packs every part; a failure there (e.g. a bad gap) is every rank's.
   std::vector<Message> parts;
   la::on_root(la::make_mpi_comm(comm), [&] {
     problem.validate();
-    parts = pack_parts(problem, size);
+    parts = pack_parts(problem, size, cell_rank);
   });
   if (rank == 0) {
     for (int r = 1; r < size; ++r) {

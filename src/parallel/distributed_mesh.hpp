@@ -24,6 +24,8 @@ namespace vpc {
 /// ranks' meshes are ignored) and gives every rank its part, with the contact rows
 /// and Γ2 facets of the one-process part: rank 0 cuts every part from the whole problem
 /// (cut_part) and each rank finishes its own (make_mesh_part). Collective on comm.
-MeshPart distribute_mesh(MPI_Comm comm, const Problem& problem);
+/// `cell_rank`: each cell's rank, instead of PTScotch's partition (rank 0's; the blocks of a
+/// generated mesh, block_part.hpp, cut the same parts from their blocks).
+MeshPart distribute_mesh(MPI_Comm comm, const Problem& problem, const std::vector<int>& cell_rank = {});
 
 }  // namespace vpc

@@ -89,7 +89,7 @@ std::vector<ContactRow> contact_rows(const Problem& p, const std::vector<int>& c
     for (int a = 0; a < mesh.nodes_per_facet(); ++a)
       for (int j = 0; j < 3; ++j) normal[mesh.facet(f)[a]][j] += w * nf[j];
   }
-  const auto [lo, hi] = mesh.bounding_box();
+  const auto [lo, hi] = p.block ? std::pair{p.block->lo, p.block->hi} : mesh.bounding_box();  // the whole mesh's
   const double miss = contact_miss_gap(lo, hi);
   // Per node: its law (a rigid one where any of its Γ3 facets has one; else the compliant law
   // of its facets, which must agree: ContactLaw::conflict), k_i (their shares, lumped by the
@@ -161,7 +161,9 @@ std::vector<ContactRow> contact_rows(const Problem& p, const std::vector<int>& c
     rows.push_back({node, v, g, rigid ? rigid_law[node] : compliant_law[node], rigid ? 0.0 : stiffness[node],
                     obstacles[node], {}, -1, 0.0});  // Γ3's row: no masters, no pair
   }
-  if (rows.empty() && !p.contact.parts.empty()) {  // every contact node has every component prescribed: by which keys
+  // Every contact node has every component prescribed: by which keys (a block may have no contact
+  // node: the ranks check the whole mesh's together, validate_blocks).
+  if (rows.empty() && !p.contact.parts.empty() && !p.block) {
     std::set<std::string> by;
     const std::vector<int> clamped = mesh.nodes_of_parts(p.clamped);
     for (int node : mesh.nodes_of_parts(p.contact.parts))

@@ -99,6 +99,9 @@ DirichletDofs dirichlet_dofs(const Problem& p) {
   for (int node : mesh.nodes_of_parts(p.clamped))
     for (int c = 0; c < d; ++c) prescribe(node, c, 0, "the clamped part Γ1");
   for (const auto& part : p.symmetry) {
+    // A block of the mesh (Problem::block) may not meet the part: its axis is then found by the
+    // ranks whose blocks do (block_part_pieces).
+    if (p.block && mesh.part_size(part) == 0) continue;
     const int c = located(p.name, [&] { return symmetry_axis(mesh, part); });
     part_prescribes(part, 1u << c);
     for (int node : mesh.nodes_of_parts({part})) prescribe(node, c, 0, fmt::format("symmetry part '{}'", part));

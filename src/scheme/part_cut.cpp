@@ -2,6 +2,8 @@
 
 #include "core/error.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cstddef>
 #include <unordered_map>
@@ -42,6 +44,11 @@ WholeNumbering::WholeNumbering(const std::vector<std::vector<int>>& owned, const
 
 PartContactNode part_contact_node(int k, const ContactRow& row, int local_node, bool owned, double measure) {
   return {k, local_node, owned, row.direction, row.gap, measure, row.law, row.stiffness, row.obstacles, {}, row.pair};
+}
+
+void add_loaded_facet(PartPieces& pieces, Mesh& mesh, const int* nodes, int load) {
+  mesh.add_facet(nodes, load == 0 ? "traction" : fmt::format("pressure{}", load));
+  (load == 0 ? pieces.traction_facets : pieces.pressure_facets[static_cast<std::size_t>(load) - 1]).push_back(mesh.n_facets() - 1);
 }
 
 PartPieces cut_part(const Problem& p, const WholeMeshData& whole, const WholeNumbering& numbering,

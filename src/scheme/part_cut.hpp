@@ -34,11 +34,16 @@ struct WholeNumbering {
   std::vector<long long> first_dof;  // per node: its first free dof, −1 where none
   long long n_dofs = 0;
   WholeNumbering(const std::vector<std::vector<int>>& owned, const DirichletDofs& dirichlet, int dim);
+  WholeNumbering() = default;  // filled by the caller (a block's nodes: parallel/block_part.cpp)
 };
 
 /// The contact node of `row` (the row numbered `k`) in a part, at its local node.
 /// The one place a contact row's law and geometry reach the scheme.
 PartContactNode part_contact_node(int k, const ContactRow& row, int local_node, bool owned, double measure);
+
+/// Adds a loaded facet of the part (its nodes in `mesh`, the part's): `load` 0 on Γ2, k under
+/// pressure load k − 1, into pieces.traction_facets or pieces.pressure_facets[k − 1].
+void add_loaded_facet(PartPieces& pieces, Mesh& mesh, const int* nodes, int load);
 
 /// The pieces of the part whose local nodes are `nodes` (numbers of the whole mesh:
 /// its `n_owned` owned nodes first, then the ghosts) and whose cells are `cells`:

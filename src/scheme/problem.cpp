@@ -9,6 +9,7 @@
 #include <fmt/ranges.h>
 
 #include <algorithm>
+#include <functional>
 #include <numeric>
 #include <cmath>
 #include <set>
@@ -162,17 +163,12 @@ namespace {
 /// K's factorization fails, located at [boundary] and naming the free motion.
 /// Throws unless the prescribed dofs among `nodes` (one body's) stop every rigid motion of them.
 /// `body`: how the message names the body.
+/// The body's box is [lo, hi]; with `sum`, `nodes` are this rank's share of a body on several
+/// (Problem::block), whose matrices `sum` adds up over the ranks.
 void check_body_held(const Problem& p, const std::vector<int>& condition, const std::vector<int>& nodes,
-                     const std::string& body) {
+                     const std::string& body, Point lo, Point hi, const std::function<void(double*, int)>& sum = {}) {
   const Mesh& mesh = p.mesh;
   const int d = mesh.dim(), m = d == 1 ? 1 : d == 2 ? 3 : 6;  // rigid motions: translations, then rotations
-  if (nodes.empty()) return;
-  Point lo = mesh.node(nodes[0]), hi = lo;
-  for (int node : nodes)
-    for (int j = 0; j < 3; ++j) {
-      lo[j] = std::min(lo[j], mesh.node(node)[j]);
-      hi[j] = std::max(hi[j], mesh.node(node)[j]);
-    }
   Point centre{0, 0, 0};
   for (int j = 0; j < 3; ++j) centre[j] = (lo[j] + hi[j]) / 2;
   double scale = 1e-300;
@@ -195,6 +191,7 @@ void check_body_held(const Problem& p, const std::vector<int>& condition, const 
       }
       G += r * r.transpose();
     }
+  if (sum) sum(G.data(), m * m);
   const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(G);
   const Eigen::VectorXd& lambda = eig.eigenvalues();  // increasing
   if (lambda[0] > 1e-12 * std::max(lambda[m - 1], 1.0)) return;
@@ -259,23 +256,33 @@ void check_pairs(const Problem& p) {
 /// Each body held by its prescribed displacements (a contact pair does not hold one either).
 void check_held(const Problem& p, const std::vector<int>& condition) {
   const Mesh& mesh = p.mesh;
-  if (mesh.n_bodies() == 1) {
-    std::vector<int> all(static_cast<std::size_t>(mesh.n_nodes()));
-    std::iota(all.begin(), all.end(), 0);
-    check_body_held(p, condition, all, "the body");
-    return;
-  }
   const std::vector<int> body_of = node_bodies(mesh, cell_bodies(mesh));
   for (int b = 0; b < mesh.n_bodies(); ++b) {
     std::vector<int> nodes;
     for (int i = 0; i < mesh.n_nodes(); ++i)
       if (body_of[static_cast<std::size_t>(i)] == b) nodes.push_back(i);
+    if (nodes.empty()) continue;
+    Point lo = mesh.node(nodes[0]), hi = lo;
+    for (int node : nodes)
+      for (int j = 0; j < 3; ++j) {
+        lo[j] = std::min(lo[j], mesh.node(node)[j]);
+        hi[j] = std::max(hi[j], mesh.node(node)[j]);
+      }
     check_body_held(p, condition, nodes,
-                    b == 0 ? std::string("the body of [mesh]") : fmt::format("body '{}'", p.bodies[static_cast<std::size_t>(b) - 1].name));
+                    mesh.n_bodies() == 1 ? std::string("the body")
+                    : b == 0             ? std::string("the body of [mesh]")
+                                         : fmt::format("body '{}'", p.bodies[static_cast<std::size_t>(b) - 1].name),
+                    lo, hi);
   }
 }
 
 }  // namespace
+
+void check_block_held(const Problem& p, const std::vector<int>& condition, const std::vector<int>& nodes,
+                      const std::function<void(double*, int)>& sum) {
+  require(p.block != nullptr && p.mesh.n_bodies() == 1, "internal: check_block_held on a mesh that is not one body's block");
+  check_body_held(p, condition, nodes, "the body", p.block->lo, p.block->hi, sum);
+}
 
 void Problem::validate() const {
   const std::string where = name.empty() ? "problem" : name;
@@ -300,13 +307,16 @@ void Problem::validate() const {
   require(source != nullptr, "{}: no damage source phi", where);
   require(!clamped.empty() || !displacement.empty() || !symmetry.empty(),
           "{}: no clamped part Γ1 and no prescribed displacement given (the body must be held)", where);
+  // On a block of the mesh (Problem::block) a part may lie elsewhere, and the body's supports too:
+  // validate_blocks (parallel/block_part.hpp) checks those on all the blocks together.
+  const bool whole = !block;
   for (const auto& p : clamped)
-    require(mesh.part_size(p) > 0, "{}: clamped part '{}' has no boundary facets in the mesh", where, p);
+    require(!whole || mesh.part_size(p) > 0, "{}: clamped part '{}' has no boundary facets in the mesh", where, p);
   for (std::size_t k = 0; k < displacement.size(); ++k) {
     const PrescribedDisplacement& bc = displacement[k];
     require(!bc.parts.empty(), "{}: prescribed displacement {} has no parts", where, k + 1);
     for (const auto& p : bc.parts)
-      require(mesh.part_size(p) > 0, "{}: displacement part '{}' has no boundary facets in the mesh", where, p);
+      require(!whole || mesh.part_size(p) > 0, "{}: displacement part '{}' has no boundary facets in the mesh", where, p);
     require(std::any_of(bc.value.begin(), bc.value.end(), [](const ScalarField& f) { return static_cast<bool>(f); }),
             "{}: prescribed displacement {} (parts {}) prescribes no component", where, k + 1, fmt::join(bc.parts, ", "));
     for (int c = mesh.dim(); c < 3; ++c)
@@ -315,16 +325,16 @@ void Problem::validate() const {
   }
   const std::vector<int> cell_material = cell_materials(*this);  // checks the materials' regions and kinds
   const DirichletDofs dirichlet = dirichlet_dofs(*this);  // checks the symmetry parts, values and conflicts
-  check_held(*this, dirichlet.condition);
+  if (whole) check_held(*this, dirichlet.condition);
   require(!contact.parts.empty() || !contact.pairs.empty(), "{}: no contact part Γ3 and no contact pair given", where);
   check_pairs(*this);
   for (const auto& p : contact.parts)
-    require(mesh.part_size(p) > 0, "{}: contact part '{}' has no boundary facets in the mesh", where, p);
+    require(!whole || mesh.part_size(p) > 0, "{}: contact part '{}' has no boundary facets in the mesh", where, p);
   for (const auto& p : traction)
-    require(mesh.part_size(p) > 0, "{}: traction part '{}' has no boundary facets in the mesh", where, p);
+    require(!whole || mesh.part_size(p) > 0, "{}: traction part '{}' has no boundary facets in the mesh", where, p);
   for (const PressureLoad& load : pressure)
     for (const auto& p : load.parts) {
-      require(mesh.part_size(p) > 0, "{}: pressure part '{}' has no boundary facets in the mesh", where, p);
+      require(!whole || mesh.part_size(p) > 0, "{}: pressure part '{}' has no boundary facets in the mesh", where, p);
       const bool on_gamma1 = std::find(clamped.begin(), clamped.end(), p) != clamped.end();
       const bool on_gamma3 = std::find(contact.parts.begin(), contact.parts.end(), p) != contact.parts.end();
       require(!on_gamma1 && !on_gamma3, "{}: pressure part '{}' is a {} part; a pressure acts on Γ2 only", where, p,

@@ -9,11 +9,13 @@
 #include "material/elasticity.hpp"
 #include "material/viscoplastic_law.hpp"
 #include "mesh/mesh.hpp"
+#include "mesh/mesh_block.hpp"
 #include "scheme/obstacle.hpp"
 #include "scheme/time_grid.hpp"
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <memory>
 #include <optional>
@@ -113,6 +115,10 @@ struct Body {
 struct Problem {
   std::string name;
   Mesh mesh;
+  /// Where `mesh` is this rank's block of a generated mesh, not the whole (issue 30): what
+  /// it is a block of. Checks that need the whole mesh (a part that exists somewhere, the
+  /// body held) are then made by all ranks together (parallel/block_part.hpp).
+  std::shared_ptr<MeshBlock> block;
   std::vector<std::string> clamped;   // Γ1: every component zero (may be empty when `displacement` or `symmetry` holds the body)
   std::vector<PrescribedDisplacement> displacement;
   /// Symmetry planes (rollers): parts lying in a plane x_i = const, whose normal component u_i is zero.
@@ -230,6 +236,12 @@ std::vector<std::string> dirichlet_parts(const Problem& p);
 /// The axis i of a symmetry part: its facets all lie in one plane x_i = const. Throws
 /// vpc::Error naming the part otherwise.
 int symmetry_axis(const Mesh& mesh, const std::string& part);
+
+/// Problem::validate's check that the body is held (its prescribed components stop every rigid
+/// motion), on a block of its mesh (Problem::block): `nodes` are this rank's own, and `sum` adds
+/// up n values over the ranks in place. Collective through `sum`; throws as validate.
+void check_block_held(const Problem& p, const std::vector<int>& condition, const std::vector<int>& nodes,
+                      const std::function<void(double*, int)>& sum);
 /// The Dirichlet data of every node. Throws vpc::Error where two conditions prescribe
 /// different values of one component at a node (compared at t = 0 and t = T).
 DirichletDofs dirichlet_dofs(const Problem& p);

@@ -60,6 +60,8 @@ void expect_blocks_restrict_the_whole_mesh(const Generated& g, int parts) {
   std::vector<Facet> facets;
   for (const GridBlock& b : blocks) {
     const BlockMesh bm = block(g, b);
+    EXPECT_EQ(bm.whole_nodes, m.n_nodes());
+    EXPECT_EQ(bm.whole_cells, m.n_cells());
     ASSERT_EQ(bm.node_id.size(), static_cast<std::size_t>(bm.mesh.n_nodes()));
     ASSERT_EQ(bm.cell_id.size(), static_cast<std::size_t>(bm.mesh.n_cells()));
     EXPECT_TRUE(std::is_sorted(bm.cell_id.begin(), bm.cell_id.end()));  // the whole mesh's order

@@ -1,0 +1,28 @@
+#pragma once
+// One rank's block of a generated mesh (issue 30): what a rank builds of a mesh that no
+// rank holds whole. The block's cells are those of its rank's part of the grid
+// (split_grid, mesh/generators.hpp) and a layer of cells around them, so that every node
+// of the rank's own cells has all its cells and boundary facets here: what is computed at
+// a node from its cells and facets (its Dirichlet components, its contact row, its share of
+// Γ3) comes out as on the whole mesh.
+#include "mesh/mesh.hpp"
+
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace vpc {
+
+struct MeshBlock {
+  int rank = 0, ranks = 1;
+  std::vector<int> node_id, cell_id;  // numbers in the whole mesh, increasing
+  std::vector<int> cell_rank;         // per cell: the rank whose part of the grid holds it
+  long long whole_nodes = 0, whole_cells = 0;
+  Point lo{0, 0, 0}, hi{0, 0, 0};     // the whole mesh's bounding box
+  /// Checks of the case that need the whole mesh, which the loader leaves to all ranks together
+  /// (validate_blocks): a part the case names, with the start of its message where it has no
+  /// facet anywhere; a [[mesh.part]] predicate's part, with its message where it selects none.
+  std::vector<std::pair<std::string, std::string>> required_parts, selected_parts;
+};
+
+}  // namespace vpc

@@ -1,0 +1,241 @@
+#include "parallel/block_part.hpp"
+
+#include "core/quote.hpp"
+#include "la/petsc.hpp"
+#include "scheme/part_cut.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <climits>
+#include <cstddef>
+
+namespace vpc {
+
+namespace {
+
+/// A node's owner: the lowest rank among its cells (as distribute_mesh's). Exact at the nodes of
+/// the rank's own cells, whose cells are all in the block; the others are not the rank's.
+std::vector<int> node_owners(const Mesh& mesh, const std::vector<int>& cell_rank) {
+  std::vector<int> owner(static_cast<std::size_t>(mesh.n_nodes()), INT_MAX);
+  for (int c = 0; c < mesh.n_cells(); ++c)
+    for (int a = 0; a < mesh.nodes_per_cell(); ++a) {
+      int& o = owner[static_cast<std::size_t>(mesh.cell(c)[a])];
+      o = std::min(o, cell_rank[static_cast<std::size_t>(c)]);
+    }
+  return owner;
+}
+
+/// The rank's own nodes: those of its cells that it owns.
+std::vector<int> own_nodes(const Mesh& mesh, const std::vector<int>& cell_rank, const std::vector<int>& owner, int me) {
+  std::vector<char> in_part(static_cast<std::size_t>(mesh.n_nodes()), 0);
+  for (int c = 0; c < mesh.n_cells(); ++c)
+    if (cell_rank[static_cast<std::size_t>(c)] == me)
+      for (int a = 0; a < mesh.nodes_per_cell(); ++a) in_part[static_cast<std::size_t>(mesh.cell(c)[a])] = 1;
+  std::vector<int> own;
+  for (int v = 0; v < mesh.n_nodes(); ++v)
+    if (in_part[static_cast<std::size_t>(v)] && owner[static_cast<std::size_t>(v)] == me) own.push_back(v);
+  return own;
+}
+
+int free_components(const DirichletDofs& dirichlet, int v, int d) {
+  const auto begin = dirichlet.condition.begin() + static_cast<std::ptrdiff_t>(v) * d;
+  return static_cast<int>(std::count(begin, begin + d, -1));
+}
+
+/// The values of every rank, in rank order (each rank's `mine` sent to all). Collective.
+std::vector<long long> gather_all(const la::Comm& comm, const std::vector<long long>& mine) {
+  const std::vector<std::vector<long long>> from = comm.exchange(std::vector<std::vector<long long>>(comm.size(), mine));
+  std::vector<long long> all;
+  for (const auto& v : from) all.insert(all.end(), v.begin(), v.end());
+  return all;
+}
+
+}  // namespace
+
+void validate_blocks(const la::Comm& comm, const Problem& p) {
+  const MeshBlock& b = *p.block;
+  const Mesh& mesh = p.mesh;
+  const int me = comm.rank(), d = mesh.dim();
+  la::collective(comm, [&] { p.validate(); });  // each block's own checks
+
+  // The parts' facets over the whole mesh, each counted by the rank of its cell (the part names
+  // are the same on every rank: the generator's sides, then the case's [[mesh.part]]s).
+  const std::vector<std::string>& names = mesh.part_names();
+  std::vector<long long> facets(names.size(), 0);
+  for (int f = 0; f < mesh.n_facets(); ++f)
+    if (mesh.facet_part(f) >= 0 && b.cell_rank[static_cast<std::size_t>(mesh.facet_cell(f))] == me)
+      ++facets[static_cast<std::size_t>(mesh.facet_part(f))];
+  comm.sum(facets.data(), static_cast<int>(facets.size()));
+  auto facets_of = [&](const std::string& name) {
+    const int k = mesh.find_part(name);
+    return k < 0 ? 0LL : facets[static_cast<std::size_t>(k)];
+  };
+  std::string parts;  // as describe_parts on the whole mesh
+  for (std::size_t k = 0; k < names.size(); ++k)
+    parts += fmt::format("{}{} ({} facet{})", parts.empty() ? "" : ", ", names[k], facets[k], facets[k] == 1 ? "" : "s");
+  parts = parts.empty() ? "no parts" : printable(parts, 300);
+  // A symmetry part lies in one plane x_i = const: each block has checked its share; the axes agree.
+  std::vector<bool> one_axis;
+  for (const std::string& part : p.symmetry) {
+    const int axis = mesh.part_size(part) > 0 ? symmetry_axis(mesh, part) : -1;
+    one_axis.push_back(comm.max(axis) == comm.min(axis >= 0 ? axis : 3));
+  }
+  const DirichletDofs dirichlet = dirichlet_dofs(p);
+  const std::vector<int> owner = node_owners(mesh, b.cell_rank);
+  const std::vector<int> own = own_nodes(mesh, b.cell_rank, owner, me);
+  const std::vector<ContactRow> rows = contact_rows(p, dirichlet.condition);
+  long long own_rows = 0;
+  for (const ContactRow& r : rows) own_rows += owner[static_cast<std::size_t>(r.node)] == me;
+  own_rows = comm.sum(own_rows);
+
+  // Every rank has the same sums: each finds the same error (thrown as one, la::collective).
+  la::collective(comm, [&] {
+    // The loader's checks in its order: [[mesh.part]] predicates, then the parts named.
+    for (const auto& [name, message] : b.selected_parts) require(facets_of(name) > 0, "{}", message);
+    for (const auto& [name, message] : b.required_parts) require(facets_of(name) > 0, "{}{}", message, parts);
+    for (std::size_t k = 0; k < p.symmetry.size(); ++k)
+      require(one_axis[k], "{}: symmetry part '{}' does not lie in a plane x = const, y = const{}: a symmetry plane "
+              "(roller) prescribes the displacement component normal to an axis-aligned plane",
+              p.where("boundary.symmetry"), p.symmetry[k], d == 3 ? " or z = const" : "");
+    require(own_rows > 0 || p.contact.parts.empty(),
+            "{}: the contact part has no free node: every displacement component of each of its nodes is prescribed; "
+            "a contact node must be free to move (take the contact part's nodes out of the prescribed parts, or give "
+            "another contact part)",
+            p.where("boundary.contact"));
+  });
+  // The body is held: its prescribed dofs summed over the ranks' own nodes (every rank reaches the
+  // sum, and then throws alike).
+  la::collective(comm, [&] {
+    check_block_held(p, dirichlet.condition, own, [&](double* v, int n) { comm.sum(v, n); });
+  });
+}
+
+PartPieces block_part_pieces(MPI_Comm mpi_comm, const Problem& p) {
+  const la::Comm comm = la::make_mpi_comm(mpi_comm);
+  const MeshBlock& b = *p.block;
+  const Mesh& mesh = p.mesh;
+  const int me = comm.rank(), ranks = comm.size(), d = mesh.dim(), n = mesh.n_nodes();
+  require(b.ranks == ranks && b.rank == me, "internal: rank {} of {} holds block {} of {}", me, ranks, b.rank, b.ranks);
+  const WholeMeshData whole(p);  // on the block: its own nodes' values are the whole mesh's
+  const std::vector<int> owner = node_owners(mesh, b.cell_rank);
+  std::vector<int> cells;
+  for (int c = 0; c < mesh.n_cells(); ++c)
+    if (b.cell_rank[static_cast<std::size_t>(c)] == me) cells.push_back(c);
+  const std::vector<int> own = own_nodes(mesh, b.cell_rank, owner, me);
+
+  // Own nodes and free dofs numbered after the lower ranks', each in the whole mesh's order
+  // (the block's is the same): WholeNumbering's numbering.
+  WholeNumbering numbering;
+  numbering.node.assign(static_cast<std::size_t>(n), -1);
+  numbering.first_dof.assign(static_cast<std::size_t>(n), -1);
+  long long own_dofs = 0;
+  for (const int v : own) own_dofs += free_components(whole.dirichlet, v, d);
+  const std::vector<long long> node_counts = comm.all_gather(static_cast<long long>(own.size()));
+  const std::vector<long long> dof_counts = comm.all_gather(own_dofs);
+  long long next_node = 0, next_dof = 0;
+  for (int r = 0; r < me; ++r) {
+    next_node += node_counts[static_cast<std::size_t>(r)];
+    next_dof += dof_counts[static_cast<std::size_t>(r)];
+  }
+  for (const long long k : dof_counts) numbering.n_dofs += k;
+  for (const int v : own) {
+    numbering.node[static_cast<std::size_t>(v)] = next_node++;
+    if (const int k = free_components(whole.dirichlet, v, d); k > 0) {
+      numbering.first_dof[static_cast<std::size_t>(v)] = next_dof;
+      next_dof += k;
+    }
+  }
+
+  // The ghost layer: the other nodes of the rank's cells, their numbers asked of their owners.
+  std::vector<char> in_part(static_cast<std::size_t>(n), 0);
+  for (const int c : cells)
+    for (int a = 0; a < mesh.nodes_per_cell(); ++a) in_part[static_cast<std::size_t>(mesh.cell(c)[a])] = 1;
+  std::vector<int> ghosts;
+  std::vector<std::vector<long long>> ask(static_cast<std::size_t>(ranks));
+  for (int v = 0; v < n; ++v)
+    if (in_part[static_cast<std::size_t>(v)] && owner[static_cast<std::size_t>(v)] != me) {
+      ghosts.push_back(v);
+      ask[static_cast<std::size_t>(owner[static_cast<std::size_t>(v)])].push_back(b.node_id[static_cast<std::size_t>(v)]);
+    }
+  const std::vector<std::vector<long long>> asked = comm.exchange(ask);
+  std::vector<std::vector<long long>> answer(static_cast<std::size_t>(ranks));
+  std::string missing;
+  for (int r = 0; r < ranks; ++r)
+    for (const long long id : asked[static_cast<std::size_t>(r)]) {
+      const auto it = std::lower_bound(b.node_id.begin(), b.node_id.end(), id);
+      const auto v = static_cast<std::size_t>(it - b.node_id.begin());
+      if (it == b.node_id.end() || *it != id || owner[v] != me) {
+        missing = fmt::format("internal: rank {} asked rank {} for node {}, which it does not own", r, me, id);
+        answer[static_cast<std::size_t>(r)].insert(answer[static_cast<std::size_t>(r)].end(), {-1, -1});
+        continue;
+      }
+      answer[static_cast<std::size_t>(r)].insert(answer[static_cast<std::size_t>(r)].end(),
+                                                 {numbering.node[v], numbering.first_dof[v]});
+    }
+  const std::vector<std::vector<long long>> answered = comm.exchange(answer);
+  comm.throw_if_any(!missing.empty(), missing);
+  std::vector<std::size_t> next(static_cast<std::size_t>(ranks), 0);
+  for (const int v : ghosts) {
+    const auto r = static_cast<std::size_t>(owner[static_cast<std::size_t>(v)]);
+    numbering.node[static_cast<std::size_t>(v)] = answered[r][next[r]++];
+    numbering.first_dof[static_cast<std::size_t>(v)] = answered[r][next[r]++];
+  }
+  std::sort(ghosts.begin(), ghosts.end(), [&](int x, int y) {
+    return numbering.node[static_cast<std::size_t>(x)] < numbering.node[static_cast<std::size_t>(y)];
+  });
+  std::vector<int> nodes = own;
+  nodes.insert(nodes.end(), ghosts.begin(), ghosts.end());
+
+  PartPieces piece = cut_part(p, whole, numbering, nodes, static_cast<int>(own.size()), cells);
+  // The block's numbers to the whole mesh's.
+  for (std::size_t k = 0; k < nodes.size(); ++k) piece.original_node[k] = b.node_id[static_cast<std::size_t>(nodes[k])];
+  for (std::size_t k = 0; k < cells.size(); ++k) piece.original_cell[k] = b.cell_id[static_cast<std::size_t>(cells[k])];
+  piece.n_global_nodes = b.whole_nodes;
+  piece.n_global_cells = b.whole_cells;
+  // Contact rows are numbered in the whole mesh's node order (WholeMeshData::rows): by the
+  // whole-mesh numbers of every rank's own contact nodes.
+  std::vector<long long> own_rows;
+  for (const int v : own)
+    if (whole.row_of[static_cast<std::size_t>(v)] >= 0) own_rows.push_back(b.node_id[static_cast<std::size_t>(v)]);
+  std::vector<long long> all_rows = gather_all(comm, own_rows);
+  std::sort(all_rows.begin(), all_rows.end());
+  piece.n_contact = static_cast<int>(all_rows.size());
+  for (PartContactNode& c : piece.contact) {
+    const long long id = piece.original_node[static_cast<std::size_t>(c.local_node)];
+    const auto it = std::lower_bound(all_rows.begin(), all_rows.end(), id);
+    if (it == all_rows.end() || *it != id) missing = fmt::format("internal: rank {}: contact node {} has no row on its owner", me, id);
+    c.row = static_cast<int>(it - all_rows.begin());
+  }
+  comm.throw_if_any(!missing.empty(), missing);
+  // A symmetry plane's component, known where the part meets the block (dirichlet_dofs).
+  for (unsigned& mask : piece.dirichlet_components) mask = static_cast<unsigned>(comm.max(static_cast<double>(mask)));
+
+  // The part's mesh: its nodes, its cells and their loaded facets, in distribute_mesh's order.
+  auto part_mesh = std::make_shared<Mesh>(d);
+  std::vector<int> local(static_cast<std::size_t>(n), -1);
+  for (std::size_t k = 0; k < nodes.size(); ++k) {
+    local[static_cast<std::size_t>(nodes[k])] = static_cast<int>(k);
+    part_mesh->add_node(mesh.node(nodes[k]));
+  }
+  int v[4];
+  for (const int c : cells) {
+    for (int a = 0; a <= d; ++a) v[a] = local[static_cast<std::size_t>(mesh.cell(c)[a])];
+    part_mesh->add_cell(v);
+  }
+  piece.pressure_facets.resize(whole.pressure_facets.size());
+  auto add_facets = [&](const std::vector<int>& facets, int load) {
+    for (const int f : facets) {
+      if (b.cell_rank[static_cast<std::size_t>(mesh.facet_cell(f))] != me) continue;
+      for (int a = 0; a < d; ++a) v[a] = local[static_cast<std::size_t>(mesh.facet(f)[a])];
+      add_loaded_facet(piece, *part_mesh, v, load);
+    }
+  };
+  add_facets(whole.traction_facets, 0);
+  for (std::size_t k = 0; k < whole.pressure_facets.size(); ++k) add_facets(whole.pressure_facets[k], static_cast<int>(k) + 1);
+  piece.mesh_ptr = std::move(part_mesh);
+  piece.comm = comm;
+  return piece;
+}
+
+}  // namespace vpc
