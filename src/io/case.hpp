@@ -28,7 +28,7 @@ struct MeshRequest {
   struct Block {
     int rank = 0, ranks = 1;
   };
-  std::optional<Block> block;
+  std::optional<Block> block = std::nullopt;
 };
 
 struct Case {

@@ -640,14 +640,9 @@ Mesh generate_mesh(Section& m, const std::optional<MeshRequest::Block>& block = 
   const Diagonal diagonal = d == 1 ? Diagonal::right : diagonal_from_name(m.choice("diagonal", diagonal_names(), "right"));
   // The generators check the mesh size (check_mesh_size) before allocating; the
   // other checks above make the size the only thing they can refuse.
-  if (!block) {
-    return located(m.where("cells"), [&] {
-      if (d == 1) return make_interval(lo[0], hi[0], n[0]);
-      if (d == 2) return make_rectangle({lo[0], lo[1], 0}, {hi[0], hi[1], 0}, n[0], n[1], diagonal);
-      return make_box({lo[0], lo[1], lo[2]}, {hi[0], hi[1], hi[2]}, n[0], n[1], n[2], diagonal);
-    });
-  }
   const std::array<int, 3> n3{n[0], d > 1 ? n[1] : 0, d > 2 ? n[2] : 0};
+  const Point box_lo{lo[0], d > 1 ? lo[1] : 0, d > 2 ? lo[2] : 0}, box_hi{hi[0], d > 1 ? hi[1] : 0, d > 2 ? hi[2] : 0};
+  if (!block) return located(m.where("cells"), [&] { return generate(d, box_lo, box_hi, n3, diagonal); });
   return located(m.where("cells"), [&] {
     const auto [b, parts] = block_with_layer(n3, d, *block);
     BlockMesh bm = d == 1   ? make_interval_block(lo[0], hi[0], n[0], b)
@@ -661,10 +656,10 @@ Mesh generate_mesh(Section& m, const std::optional<MeshRequest::Block>& block = 
     info->cell_id = std::move(bm.cell_id);
     info->whole_nodes = bm.whole_nodes;
     info->whole_cells = bm.whole_cells;
-    for (int a = 0; a < d; ++a) {
-      info->lo[a] = lo[a];
-      info->hi[a] = hi[a];
-    }
+    info->lo = box_lo;
+    info->hi = box_hi;
+    info->cells = n3;
+    info->diagonal = diagonal;
     *out = std::move(info);
     return std::move(bm.mesh);
   });
@@ -891,7 +886,7 @@ void read_damage(Section dm, Problem& p) {
   const auto b0 = dm.has("beta0") ? dm.expression("beta0", Expression::Kind::Space) : nullptr;
   if (b0) {
     p.beta0 = [b0](const Point& x, double) { return (*b0)(x); };
-    located(dm.where("beta0"), [&] { check_beta0(p.mesh, p.beta0, p.mesh.n_bodies() > 1 ? 0 : -1); });
+    located(dm.where("beta0"), [&] { check_beta0(p.mesh, p.beta0, p.mesh.n_bodies() > 1 ? 0 : -1, p.block.get()); });
   } else {
     p.beta0 = [](const Point&, double) { return 1.0; };
   }
@@ -1261,7 +1256,7 @@ bool read_contact(Section ct, Problem& p, const Origins& origins) {
   const auto gap = ct.has("gap") ? ct.state_expression("gap", Expression::Kind::SpaceTime) : nullptr;
   p.contact.gap = [gap](const Point& x, double t) { return gap ? (*gap)(x, t) : 0.0; };
   p.contact.gap_moves = gap && gap->uses_time();
-  located(ct.where("gap"), [&] { check_gap(p.mesh, p.contact); });
+  located(ct.where("gap"), [&] { check_gap(p.mesh, p.contact, p.block.get()); });
   p.contact.direction = read_contact_direction(ct, p.mesh.dim());
   p.contact.law = read_contact_law(ct);
   p.contact.friction = read_friction_law(ct, nullptr, p.mesh.dim());
@@ -1460,9 +1455,15 @@ OutputOptions read_output(Section out, Problem& p) {
          out.where("fields"));
   o.encoding.compression = vtu_compression(out.choice("compression", {"zlib", "none"}, "zlib"));
   if (out.has("probes")) o.probes = read_probes(out, p.mesh.dim());
-  // A probe must lie in the body (on a rank without the whole mesh: the run's output finds it on the parts).
-  for (std::size_t i = 0; i < o.probes.size() && p.mesh.n_cells() > 0 && !p.block; ++i)
-    located(fmt::format("{}[{}]", out.where("probes"), i), [&] { (void)locate_point(p.mesh, o.probes[i]); });
+  // A probe must lie in the body (on a rank without the mesh: rank 0 checks it; on a block: all ranks
+  // together, validate_blocks).
+  for (std::size_t i = 0; i < o.probes.size() && p.mesh.n_cells() > 0; ++i) {
+    const std::string where = fmt::format("{}[{}]", out.where("probes"), i);
+    if (p.block)
+      p.block->probes.emplace_back(o.probes[i], where);
+    else
+      located(where, [&] { (void)locate_point(p.mesh, o.probes[i]); });
+  }
   out.finish();
   return o;
 }
@@ -1553,16 +1554,19 @@ Case parse_case(std::string_view text, const std::string& name, const fs::path& 
   // Without the mesh (a rank that did not build it): validated by the rank that has it; a
   // block: by all ranks together (validate_blocks, parallel/block_part.hpp).
   // A message that names a key of the file has its location already.
-  if (whole) {
-    try {
-      p->validate();
-    } catch (const Error& e) {
-      if (std::string_view(e.what()).starts_with(name + ":")) throw;
-      throw Error(name + ": " + e.what());
-    }
-  }
+  if (whole) validate_case(*p, name);
+  if (p->block) p->block->source = name;
   c.problem = std::move(p);
   return c;
+}
+
+void validate_case(const Problem& p, const std::string& name) {
+  try {
+    p.validate();
+  } catch (const Error& e) {
+    if (std::string_view(e.what()).starts_with(name + ":")) throw;
+    throw Error(name + ": " + e.what());
+  }
 }
 
 std::string case_description(std::string_view text) {

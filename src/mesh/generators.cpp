@@ -352,6 +352,12 @@ Mesh make_box(Point lo, Point hi, int nx, int ny, int nz, Diagonal diagonal) {
   return box_block(lo, hi, nx, ny, nz, diagonal, whole_grid({nx, ny, nz}, 3), false).mesh;
 }
 
+Mesh generate(int dim, const Point& lo, const Point& hi, const std::array<int, 3>& n, Diagonal diagonal) {
+  if (dim == 1) return make_interval(lo[0], hi[0], n[0]);
+  if (dim == 2) return make_rectangle({lo[0], lo[1], 0}, {hi[0], hi[1], 0}, n[0], n[1], diagonal);
+  return make_box(lo, hi, n[0], n[1], n[2], diagonal);
+}
+
 BlockMesh make_interval_block(double x0, double x1, int n, const GridBlock& block) {
   return interval_block(x0, x1, n, block, true);
 }

@@ -46,6 +46,10 @@ Mesh make_rectangle(Point lo, Point hi, int nx, int ny, Diagonal diagonal = Diag
 /// conforming across cubes; 24 with Diagonal::crossed).
 Mesh make_box(Point lo, Point hi, int nx, int ny, int nz, Diagonal diagonal = Diagonal::right);
 
+/// The generator of dimension `dim` (interval, rectangle, box) on [lo, hi] with n[a] cells along
+/// axis a (the first `dim`): the case file's [mesh] generator.
+Mesh generate(int dim, const Point& lo, const Point& hi, const std::array<int, 3>& n, Diagonal diagonal);
+
 /// A block of a generated mesh's grid of segments (squares, cubes): along each axis a
 /// of the mesh's dimension, the cells lo[a] ≤ i < hi[a] (lo = hi = 0 on the other axes).
 struct GridBlock {

@@ -5,8 +5,10 @@
 // of the rank's own cells has all its cells and boundary facets here: what is computed at
 // a node from its cells and facets (its Dirichlet components, its contact row, its share of
 // Γ3) comes out as on the whole mesh.
+#include "mesh/generators.hpp"
 #include "mesh/mesh.hpp"
 
+#include <array>
 #include <string>
 #include <utility>
 #include <vector>
@@ -18,11 +20,15 @@ struct MeshBlock {
   std::vector<int> node_id, cell_id;  // numbers in the whole mesh, increasing
   std::vector<int> cell_rank;         // per cell: the rank whose part of the grid holds it
   long long whole_nodes = 0, whole_cells = 0;
-  Point lo{0, 0, 0}, hi{0, 0, 0};     // the whole mesh's bounding box
+  Point lo{0, 0, 0}, hi{0, 0, 0};     // the whole mesh's bounding box, the generator's box
+  std::array<int, 3> cells{0, 0, 0};  // the generator's cells per axis (0 beyond the dimension)
+  Diagonal diagonal = Diagonal::right;
   /// Checks of the case that need the whole mesh, which the loader leaves to all ranks together
   /// (validate_blocks): a part the case names, with the start of its message where it has no
   /// facet anywhere; a [[mesh.part]] predicate's part, with its message where it selects none.
   std::vector<std::pair<std::string, std::string>> required_parts, selected_parts;
+  std::vector<std::pair<Point, std::string>> probes;  // [output] probes, each with its key's location
+  std::string source;                                 // the case file, as its messages name it
 };
 
 }  // namespace vpc

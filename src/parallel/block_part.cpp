@@ -1,14 +1,19 @@
 #include "parallel/block_part.hpp"
 
 #include "core/quote.hpp"
+#include "io/case_file.hpp"
+#include "io/run_output.hpp"
 #include "la/petsc.hpp"
 #include "scheme/part_cut.hpp"
 
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <climits>
+#include <cmath>
 #include <cstddef>
+#include <cstdint>
 
 namespace vpc {
 
@@ -57,7 +62,7 @@ void validate_blocks(const la::Comm& comm, const Problem& p) {
   const MeshBlock& b = *p.block;
   const Mesh& mesh = p.mesh;
   const int me = comm.rank(), d = mesh.dim();
-  la::collective(comm, [&] { p.validate(); });  // each block's own checks
+  la::collective(comm, [&] { validate_case(p, b.source); });  // each block's own checks
 
   // The parts' facets over the whole mesh, each counted by the rank of its cell (the part names
   // are the same on every rank: the generator's sides, then the case's [[mesh.part]]s).
@@ -89,11 +94,24 @@ void validate_blocks(const la::Comm& comm, const Problem& p) {
   for (const ContactRow& r : rows) own_rows += owner[static_cast<std::size_t>(r.node)] == me;
   own_rows = comm.sum(own_rows);
 
+  // A probe lies in some rank's block (where none does, each rank's message is the same).
+  std::vector<std::string> outside;
+  for (const auto& [x, where] : b.probes) {
+    std::string why;
+    try {
+      (void)locate_point(mesh, x);
+    } catch (const Error& e) {
+      why = e.what();
+    }
+    outside.push_back(comm.all(!why.empty()) ? fmt::format("{}: {}", where, why) : std::string());
+  }
+
   // Every rank has the same sums: each finds the same error (thrown as one, la::collective).
   la::collective(comm, [&] {
     // The loader's checks in its order: [[mesh.part]] predicates, then the parts named.
     for (const auto& [name, message] : b.selected_parts) require(facets_of(name) > 0, "{}", message);
     for (const auto& [name, message] : b.required_parts) require(facets_of(name) > 0, "{}{}", message, parts);
+    for (const std::string& why : outside) require(why.empty(), "{}", why);
     for (std::size_t k = 0; k < p.symmetry.size(); ++k)
       require(one_axis[k], "{}: symmetry part '{}' does not lie in a plane x = const, y = const{}: a symmetry plane "
               "(roller) prescribes the displacement component normal to an axis-aligned plane",
@@ -109,6 +127,52 @@ void validate_blocks(const la::Comm& comm, const Problem& p) {
   la::collective(comm, [&] {
     check_block_held(p, dirichlet.condition, own, [&](double* v, int n) { comm.sum(v, n); });
   });
+}
+
+ProblemSize block_problem_size(const la::Comm& comm, const Problem& p) {
+  const MeshBlock& b = *p.block;
+  const Mesh& mesh = p.mesh;
+  const int me = comm.rank(), d = mesh.dim();
+  const DirichletDofs dirichlet = dirichlet_dofs(p);
+  const std::vector<int> owner = node_owners(mesh, b.cell_rank);
+  auto mine = [&](int v) { return owner[static_cast<std::size_t>(v)] == me; };  // exact: see node_owners
+  // Over the rank's own nodes: free dofs, contact rows, power-law rows, node graph entries (its rows).
+  double own[4] = {0, 0, 0, 0};
+  for (int v = 0; v < mesh.n_nodes(); ++v)
+    if (mine(v)) own[0] += free_components(dirichlet, v, d);
+  const auto laws = p.contact.laws();
+  for (const ContactRow& r : contact_rows(p, dirichlet.condition))
+    if (mine(r.node)) {
+      own[1] += 1;
+      own[2] += laws[static_cast<std::size_t>(r.law)]->linear() ? 0 : 1;
+    }
+  std::vector<std::uint64_t> pairs;  // (row node, column node) of the rank's rows
+  for (int c = 0; c < mesh.n_cells(); ++c)
+    for (int a = 0; a <= d; ++a)
+      if (mine(mesh.cell(c)[a]))
+        for (int e = 0; e <= d; ++e)
+          pairs.push_back(std::uint64_t(mesh.cell(c)[a]) << 32 | std::uint64_t(mesh.cell(c)[e]));
+  std::sort(pairs.begin(), pairs.end());
+  own[3] = static_cast<double>(std::unique(pairs.begin(), pairs.end()) - pairs.begin());
+  comm.sum(own, 4);
+  ProblemSize s;
+  s.nodes = static_cast<double>(b.whole_nodes);
+  s.cells = static_cast<double>(b.whole_cells);
+  s.unknowns = own[0];
+  s.contact_nodes = own[1];
+  s.contact_unknowns = own[1] * p.contact.block_size(d);
+  s.power_law = own[2] > 0;
+  s.node_nonzeros = own[3];
+  const double free_share = s.nodes > 0 ? s.unknowns / (d * s.nodes) : 0;  // as problem_size
+  s.K_nonzeros = d * d * s.node_nonzeros * free_share;
+  if (me == 0) {
+    constexpr double kCoarseNodes = 30000;
+    const double f = std::max(1.0, std::ceil(std::pow(s.nodes / kCoarseNodes, 1.0 / d)));
+    std::array<int, 3> n = b.cells;
+    for (int a = 0; a < d; ++a) n[static_cast<std::size_t>(a)] = std::max(1, static_cast<int>(std::lround(n[static_cast<std::size_t>(a)] / f)));
+    scale_factors(s, generate(d, b.lo, b.hi, n, b.diagonal), d);
+  }
+  return s;
 }
 
 PartPieces block_part_pieces(MPI_Comm mpi_comm, const Problem& p) {

@@ -7,6 +7,7 @@
 // after the lower ranks' and asks the owners of its ghost nodes for theirs. The part is the
 // one distribute_mesh sends for the same cells per rank, piece for piece.
 #include "la/comm.hpp"
+#include "run/solver_plan.hpp"
 #include "scheme/mesh_part.hpp"
 #include "scheme/problem.hpp"
 
@@ -19,6 +20,11 @@ namespace vpc {
 /// names have facets somewhere, a symmetry plane has one axis, Γ3 has a free node, the body is
 /// held. Collective; every rank throws the error of the lowest rank that found one.
 void validate_blocks(const la::Comm& comm, const Problem& p);
+
+/// The sizes the solver plan takes (problem_size on the whole mesh), summed over the blocks; the
+/// factor estimates (rank 0's only) from the generator's grid coarsened to at most about 30,000
+/// nodes (scale_factors; the whole grid below that, as problem_size). Collective.
+ProblemSize block_problem_size(const la::Comm& comm, const Problem& p);
 
 /// The rank's part, from its block (Problem::block): the part distribute_mesh gives it for the
 /// cells per rank of MeshBlock::cell_rank. Collective.

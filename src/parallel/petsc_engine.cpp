@@ -1,12 +1,16 @@
 #include "parallel/petsc_engine.hpp"
 
 #include "la/petsc.hpp"
+#include "parallel/block_part.hpp"
 #include "parallel/distributed_mesh.hpp"
 #include "run/progress.hpp"
 #include "run/solver_plan.hpp"
 #include "scheme/sliding_pairs.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
+#include <optional>
 
 namespace vpc {
 
@@ -22,20 +26,25 @@ void stop_if_interrupted_anywhere(const la::Comm& comm) {
 // Rank 0 builds the case and sends the mesh's dimension (or its error, which every
 // rank then reports alike); the other ranks build everything else (laws and
 // formulas are C++ objects made by the parser) around an empty mesh of that dimension.
+// A generated mesh of one body is built by blocks instead, each rank its own (MeshRequest::block);
+// its checks that need the whole mesh are then made by all ranks together (validate_blocks).
 Case load_case_everywhere(const CaseLoader& load, const la::Comm& comm) {
   Case c;
   double dim = 0;
+  MeshRequest request;
+  if (comm.size() > 1) request.block = MeshRequest::Block{comm.rank(), comm.size()};
   la::on_root(comm, [&] {
-    c = load({});
+    c = load(request);
     dim = c.problem->mesh.dim();
   });
   dim = la::broadcast(comm, std::vector<double>{dim})[0];
-  if (comm.rank() != 0) {
-    MeshRequest without_mesh;  // the mesh comes from rank 0 (distribute_mesh)
-    without_mesh.build = false;
-    without_mesh.dim = static_cast<int>(dim);
-    c = load(without_mesh);
-  }
+  la::collective(comm, [&] {
+    if (comm.rank() == 0) return;
+    request.build = false;  // the whole mesh, where it is not built by blocks, comes from rank 0 (distribute_mesh)
+    request.dim = static_cast<int>(dim);
+    c = load(request);
+  });
+  if (c.problem->block) validate_blocks(comm, *c.problem);
   return c;
 }
 
@@ -43,7 +52,7 @@ namespace {
 
 std::unique_ptr<TimeStepper> distributed_stepper(MPI_Comm mpi_comm, std::shared_ptr<const Problem> problem,
                                                  const SolverChoice& choice, PetscSolverOptions linear) {
-  MeshPart part = distribute_mesh(mpi_comm, *problem);
+  MeshPart part = problem->block ? make_mesh_part(block_part_pieces(mpi_comm, *problem)) : distribute_mesh(mpi_comm, *problem);
   // Iterative solves stop 100x under the relative residual a step accepts (solver.tolerance,
   // 1e-8): tighter only costs iterations (at 1e-12, a third more on foundation-3d).
   linear.rtol = 1e-2 * choice.residual_tolerance;
@@ -58,6 +67,13 @@ std::unique_ptr<TimeStepper> petsc_stepper(MPI_Comm mpi_comm, Case& c, PetscSolv
   // From here on, rank 0 too holds its part only; but it builds a large-sliding pair's rows again
   // from the whole mesh at every step (scheme/sliding_pairs.hpp; their nodes are all its own).
   if (!slides(*c.problem)) c.problem->mesh = Mesh();
+  if (c.problem->block) {  // a block's numbers, not needed once the part is cut
+    auto kept = std::make_shared<MeshBlock>(*c.problem->block);
+    std::vector<int>().swap(kept->node_id);
+    std::vector<int>().swap(kept->cell_id);
+    std::vector<int>().swap(kept->cell_rank);
+    c.problem->block = std::move(kept);
+  }
   return stepper;
 }
 
@@ -109,13 +125,23 @@ std::unique_ptr<Run> set_up_petsc(MPI_Comm mpi_comm, const CaseLoader& load, con
   const la::Comm comm = la::make_mpi_comm(mpi_comm);
   la::on_root(comm, [&] { begin_run(o); });
   Case c = load_case_everywhere(load, comm);
+  if (c.problem->block) {  // what each rank built: its block, a part of the grid with a layer of cells around it
+    const double most = comm.max(static_cast<double>(c.problem->mesh.n_cells()));
+    if (comm.rank() == 0 && !o.quiet)
+      fmt::print("  mesh built by blocks on {} ranks: at most {:.0f} cells a rank, of {} ({:.1f} %)\n", comm.size(), most,
+                 c.problem->block->whole_cells, 100.0 * most / static_cast<double>(c.problem->block->whole_cells));
+  }
   stop_if_interrupted_anywhere(comm);
-  // Rank 0, which holds the whole mesh, chooses the linear solver (or refuses) for every rank.
+  // Rank 0 (which holds the whole mesh, or the sizes summed over the blocks) chooses the linear
+  // solver (or refuses) for every rank.
   const SolverRequest request{.engine = "petsc", .linear_solver = o.linear_solver, .ranks = comm.size(),
                               .ranks_on_machine = ranks_on_machine(mpi_comm)};
   std::vector<double> chosen(2, 0.0);  // the linear solver's index in kLinearSolvers, products_row_by_row
+  // A mesh built by blocks: its sizes summed over the ranks.
+  std::optional<ProblemSize> size;
+  if (c.problem->block) size = block_problem_size(comm, *c.problem);
   la::on_root(comm, [&] {
-    const SolverPlan plan = plan_run(c, request, o.quiet);
+    const SolverPlan plan = plan_run(c, request, o.quiet, size ? &*size : nullptr);
     chosen = {static_cast<double>(std::ranges::find(kLinearSolvers, plan.linear_solver) - kLinearSolvers.begin()),
               plan.products_row_by_row ? 1.0 : 0.0};
   });

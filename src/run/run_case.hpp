@@ -58,9 +58,11 @@ std::unique_ptr<Run> set_up_on_one_process(Case c, const RunOptions& options);
 
 struct SolverPlan;
 struct SolverRequest;
+struct ProblemSize;
 /// Chooses the engine and linear solver of the loaded case `c` (plan_solver), reported as
 /// a set-up stage and one line (unless quiet). Throws vpc::Error for a run that does not fit.
-SolverPlan plan_run(const Case& c, const SolverRequest& request, bool quiet);
+/// `size`: the problem's sizes where its mesh is not here whole (block_problem_size).
+SolverPlan plan_run(const Case& c, const SolverRequest& request, bool quiet, const ProblemSize* size = nullptr);
 
 /// Makes a TimeStepper of a problem with its solver choices: what `converge` runs each
 /// level on. Collective on a distributed engine (which distributes rank 0's mesh).

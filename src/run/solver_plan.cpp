@@ -10,6 +10,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -127,6 +128,20 @@ ProblemSize problem_size(const Problem& p) {
   s.H = estimate_cholmod_factor(G, "the node graph of the mesh");
   s.K = blocked(s.H, d, s.unknowns);
   return s;
+}
+
+void scale_factors(ProblemSize& s, const Mesh& coarse, int d) {
+  const FactorEstimate c = estimate_cholmod_factor(node_graph(coarse), "the node graph of a coarser mesh");
+  const double n = coarse.n_nodes(), r = s.nodes / n;
+  const double entries = d == 1 ? r : d == 2 ? r * std::log(s.nodes) / std::log(std::max(n, 2.0)) : std::pow(r, 4.0 / 3);
+  const double flops = d == 1 ? r : d == 2 ? std::pow(r, 1.5) : r * r;
+  s.H = c;
+  s.H.rows = s.nodes;
+  s.H.entries *= entries;
+  s.H.factor_bytes *= entries;
+  s.H.workspace_bytes *= entries;
+  s.H.flops *= flops;
+  s.K = blocked(s.H, d, s.unknowns);
 }
 
 MemoryEstimate cholmod_memory(const Problem& p, const ProblemSize& s, const SolverChoice& solvers) {

@@ -45,6 +45,12 @@ struct ProblemSize {
 /// analysis of the node graph, K's factor scaled from it by d (blocks of d dofs a node).
 ProblemSize problem_size(const Problem& p);
 
+/// CHOLMOD's factors of a node graph that no process holds whole (Problem::block: a generated
+/// mesh of `s.nodes` nodes): analysed on `coarse`, the same generator's grid with fewer cells,
+/// and scaled to s.nodes by the growth of nested dissection on a d-dimensional grid (factor
+/// entries as N log N in 2D and N^(4/3) in 3D, flops as N^(3/2) and N²). Sets s.H and s.K.
+void scale_factors(ProblemSize& s, const Mesh& coarse, int d);
+
 /// The chosen engine and linear solver.
 struct SolverPlan {
   bool petsc = false;         // the PETSc engine (else one process: Eigen + CHOLMOD)

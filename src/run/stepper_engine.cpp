@@ -121,13 +121,14 @@ std::unique_ptr<Run> make_run(Case c, std::unique_ptr<TimeStepper> stepper, bool
   return engine;
 }
 
-SolverPlan plan_run(const Case& c, const SolverRequest& request, bool quiet) {
+SolverPlan plan_run(const Case& c, const SolverRequest& request, bool quiet, const ProblemSize* size) {
   const StageLog log(quiet);
   const auto t0 = std::chrono::steady_clock::now();
   log("choosing the linear solver (symbolic analysis of the node graph)", -1);
   SolverPlan plan;
   try {
-    plan = plan_solver(*c.problem, c.solvers, request);
+    plan = size ? plan_solver(*c.problem, *size, c.solvers, request, memory_limit(c.solvers.memory_limit))
+                : plan_solver(*c.problem, c.solvers, request);
   } catch (const MemoryLimitError&) {
     if (!quiet) fmt::print(" refused\n");  // the stage's line closed before the error
     std::fflush(stdout);

@@ -35,7 +35,7 @@ void check_direction(const Problem& p, int node, const Point& direction, const P
   fail("{}: the contact direction ({}, {}, {}) points into the body at contact node {} ({}, {}, {}): its angle "
        "with the outward normal ({:.6g}, {:.6g}, {:.6g}) of the contact part is {:.6g} degrees; a fixed direction "
        "must make an angle below 90 degrees with the outward normal at every contact node (e.g. its opposite)",
-       p.name, direction[0], direction[1], direction[2], node, x[0], x[1], x[2], n[0], n[1], n[2], angle);
+       p.name, direction[0], direction[1], direction[2], p.node_number(node), x[0], x[1], x[2], n[0], n[1], n[2], angle);
 }
 
 /// The key that prescribes component c at a node (condition: DirichletDofs::condition),
@@ -69,10 +69,10 @@ void check_outside_obstacles(const Problem& p, int node, ObstacleMask mask) {
       fail("{}: contact node {} ({}, {}, {}) lies inside the obstacle at t = 0: {:.6g} behind the plane, on the side "
            "its normal ({:.6g}, {:.6g}, {:.6g}) points away from; the normal must point from the obstacle towards the "
            "body, and at t = 0 every contact node must lie outside every obstacle",
-           where, node, x[0], x[1], x[2], depth_0, o.normal[0], o.normal[1], o.normal[2]);
+           where, p.node_number(node), x[0], x[1], x[2], depth_0, o.normal[0], o.normal[1], o.normal[2]);
     fail("{}: contact node {} ({}, {}, {}) lies inside the {} at t = 0, {:.6g} from its {} (radius {}); at t = 0 "
          "every contact node must lie outside every obstacle",
-         where, node, x[0], x[1], x[2], o.shape == Obstacle::Shape::Sphere ? "sphere" : "cylinder",
+         where, p.node_number(node), x[0], x[1], x[2], o.shape == Obstacle::Shape::Sphere ? "sphere" : "cylinder",
          o.radius - depth_0, o.shape == Obstacle::Shape::Sphere ? "centre" : "axis", o.radius);
   }
 }
@@ -117,7 +117,7 @@ std::vector<ContactRow> contact_rows(const Problem& p, const std::vector<int>& c
       if (compliant_law[i] < 0) compliant_law[i] = k;
       const std::string why = laws[static_cast<std::size_t>(compliant_law[i])]->conflict(law);
       const Point& x = mesh.node(i);
-      require(why.empty(), "{}: contact node {} ({}, {}, {}) lies on contact parts whose {}", p.name, i, x[0], x[1], x[2],
+      require(why.empty(), "{}: contact node {} ({}, {}, {}) lies on contact parts whose {}", p.name, p.node_number(i), x[0], x[1], x[2],
               why);
       stiffness[i] += law.lumped(mesh.facet_measure(f), mesh.nodes_per_facet());
     }
@@ -130,7 +130,7 @@ std::vector<ContactRow> contact_rows(const Problem& p, const std::vector<int>& c
     require(length(normal[node]) > 0,
             "{}: the outward normal of the contact part vanishes at node {} ({}, {}, {}) (its facets face opposite "
             "ways); split the contact part there",
-            p.name, node, x[0], x[1], x[2]);
+            p.name, p.node_number(node), x[0], x[1], x[2]);
     if (p.contact.direction) check_direction(p, node, *p.contact.direction, normal[node]);
     Point v = p.contact.direction ? *p.contact.direction : normal[node];
     double l = length(v);
@@ -144,7 +144,7 @@ std::vector<ContactRow> contact_rows(const Problem& p, const std::vector<int>& c
         fail("{}: contact node {} ({}, {}, {}) has u{} prescribed (by {}), but its contact direction ({:.6g}, {:.6g}, "
              "{:.6g}) has a component along it; a node cannot be in contact along a prescribed component (remove the "
              "node from one of the parts, or use a symmetry part for a symmetry plane)",
-             p.where("boundary.contact"), node, x[0], x[1], x[2], c == 0 ? "x" : c == 1 ? "y" : "z",
+             p.where("boundary.contact"), p.node_number(node), x[0], x[1], x[2], c == 0 ? "x" : c == 1 ? "y" : "z",
              prescribed_by(p, node, c, condition, mesh.nodes_of_parts(p.clamped)), v[0], v[1], v[2]);
       v[c] = 0;
       l = length(v);
@@ -155,7 +155,7 @@ std::vector<ContactRow> contact_rows(const Problem& p, const std::vector<int>& c
     if (!(std::isfinite(g) && g >= 0)) {
       const int k = p.contact.obstacles.empty() ? -1 : nearest_obstacle(p.contact.obstacles, x, v, 0.0, obstacles[node]);
       fail("{}: the gap g must be a number >= 0 at t = 0; it is {} at contact node {} ({}, {}, {})",
-           k < 0 ? p.where("contact.gap") : obstacle_where(p, k), g, node, x[0], x[1], x[2]);
+           k < 0 ? p.where("contact.gap") : obstacle_where(p, k), g, p.node_number(node), x[0], x[1], x[2]);
     }
     const bool rigid = rigid_law[node] >= 0;
     rows.push_back({node, v, g, rigid ? rigid_law[node] : compliant_law[node], rigid ? 0.0 : stiffness[node],

@@ -83,13 +83,13 @@ DirichletDofs dirichlet_dofs(const Problem& p) {
       const double v = value(k, c, x, t);
       require(std::isfinite(v), "{}: {} gives u{} = {} (not finite) at t = {} at node {} ({}, {}, {})",
               k > 0 ? p.where(fmt::format("boundary.displacement[{}]", k - 1)) : p.name, what,
-              kAxis[c], v, t, node, x[0], x[1], x[2]);
+              kAxis[c], v, t, p.node_number(node), x[0], x[1], x[2]);
       if (out.condition[i] < 0) continue;
       const double before = value(out.condition[i], c, x, t);
       require(std::abs(v - before) <= 1e-12 * std::max({1.0, std::abs(v), std::abs(before)}),
               "{}: u{} at node {} ({}, {}, {}) is prescribed twice with different values at t = {}: {} by {} and {} "
               "by {}; restrict one of the parts",
-              p.name, kAxis[c], node, x[0], x[1], x[2], t, before, by[i], v, what);
+              p.name, kAxis[c], p.node_number(node), x[0], x[1], x[2], t, before, by[i], v, what);
     }
     if (out.condition[i] >= 0) return;
     out.condition[i] = k;

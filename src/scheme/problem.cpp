@@ -95,7 +95,14 @@ void check_formulas(const Problem& p) {
   for (const auto& f : p.formulas) f->check_finite();
 }
 
-void check_beta0(const Mesh& mesh, const ScalarField& beta0, int body) {
+namespace {
+/// Node i of a mesh that may be `block` (its number in the whole mesh, as messages name it).
+long long number_of(const MeshBlock* block, int i) {
+  return block && !block->node_id.empty() ? block->node_id[static_cast<std::size_t>(i)] : i;
+}
+}  // namespace
+
+void check_beta0(const Mesh& mesh, const ScalarField& beta0, int body, const MeshBlock* block) {
   if (!beta0) return;  // β0 = 1
   const std::vector<int> of_node = body < 0 ? std::vector<int>() : node_bodies(mesh, cell_bodies(mesh));
   for (int i = 0; i < mesh.n_nodes(); ++i) {
@@ -103,7 +110,7 @@ void check_beta0(const Mesh& mesh, const ScalarField& beta0, int body) {
     const Point& x = mesh.node(i);
     const double b = beta0(x, 0.0);
     require(std::isfinite(b) && b >= 0 && b <= 1, "initial damage beta0 must lie in [0, 1]; it is {} at node {} ({}, {}, {})",
-            b, i, x[0], x[1], x[2]);
+            b, number_of(block, i), x[0], x[1], x[2]);
   }
 }
 
@@ -144,14 +151,16 @@ int ContactSpec::block_size(int dim) const {
 
 double contact_miss_gap(const Point& lo, const Point& hi) { return std::hypot(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]); }
 
-void check_gap(const Mesh& mesh, const ContactSpec& contact) {
+void check_gap(const Mesh& mesh, const ContactSpec& contact, const MeshBlock* block) {
   if (!contact.obstacles.empty()) return;  // needs the directions: checked by contact_rows
   for (int i : mesh.nodes_of_parts(contact.parts)) {
     const Point& x = mesh.node(i);
     const double g = contact.gap(x, 0.0);
     // NaN compares false with everything: test finiteness first so that it is not called negative.
-    require(std::isfinite(g), "the gap g is not finite ({}) at contact node {} ({}, {}, {})", g, i, x[0], x[1], x[2]);
-    require(g >= 0, "the gap g must be >= 0; it is {} at contact node {} ({}, {}, {})", g, i, x[0], x[1], x[2]);
+    require(std::isfinite(g), "the gap g is not finite ({}) at contact node {} ({}, {}, {})", g, number_of(block, i), x[0],
+            x[1], x[2]);
+    require(g >= 0, "the gap g must be >= 0; it is {} at contact node {} ({}, {}, {})", g, number_of(block, i), x[0], x[1],
+            x[2]);
   }
 }
 
@@ -357,9 +366,9 @@ void Problem::validate() const {
       require(on_gamma3(part), "{}: a contact law is given on part '{}', which is not a contact part (Γ3: {})", where,
               part, fmt::join(contact.parts, ", "));
   }
-  located(where, [&] { check_gap(mesh, contact); });
+  located(where, [&] { check_gap(mesh, contact, block.get()); });
   contact_rows(*this, dirichlet.condition);  // directions against prescribed components; obstacles' gaps
-  located(where, [&] { check_beta0(mesh, beta0, bodies.empty() ? -1 : 0); });
+  located(where, [&] { check_beta0(mesh, beta0, bodies.empty() ? -1 : 0, block.get()); });
   for (std::size_t b = 0; b < bodies.size(); ++b) {
     const std::string at = fmt::format("{}: body '{}'", where, bodies[b].name);
     located(at, [&] { check_kappa(bodies[b].kappa); });

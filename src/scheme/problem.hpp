@@ -119,6 +119,8 @@ struct Problem {
   /// it is a block of. Checks that need the whole mesh (a part that exists somewhere, the
   /// body held) are then made by all ranks together (parallel/block_part.hpp).
   std::shared_ptr<MeshBlock> block;
+  /// Node i of `mesh` as messages name it: its number in the whole mesh (not a block's own).
+  long long node_number(int i) const { return block && !block->node_id.empty() ? block->node_id[static_cast<std::size_t>(i)] : i; }
   std::vector<std::string> clamped;   // Γ1: every component zero (may be empty when `displacement` or `symmetry` holds the body)
   std::vector<PrescribedDisplacement> displacement;
   /// Symmetry planes (rollers): parts lying in a plane x_i = const, whose normal component u_i is zero.
@@ -203,13 +205,13 @@ void check_n_steps(int n_steps);
 int steps_of_time_step(double final_time, double k);
 /// β0 in [0, 1] at every node.
 /// (`body` ≥ 0: at the nodes of that body's cells only.)
-void check_beta0(const Mesh& mesh, const ScalarField& beta0, int body = -1);
+void check_beta0(const Mesh& mesh, const ScalarField& beta0, int body = -1, const MeshBlock* block = nullptr);
 /// Throws vpc::Error, naming the key, the value, the time and the point, if a formula
 /// of p.formulas has given a value that is not finite (Expression::check_finite): the
 /// time stepper calls it after each step's data (F_n, u_D, g) and sources (φ_n).
 void check_formulas(const Problem& p);
 /// g finite and ≥ 0 at every node of Γ3.
-void check_gap(const Mesh& mesh, const ContactSpec& contact);
+void check_gap(const Mesh& mesh, const ContactSpec& contact, const MeshBlock* block = nullptr);
 
 /// g at a contact node x with direction ν at time t: the gap formula, or the distance
 /// to the nearest obstacle of the mask (those acting on the node's parts) (`miss` where every ray misses: see contact_miss_gap).

@@ -108,6 +108,14 @@ int run(int argc, char** argv) {
     ++differences;
     fmt::print("rank {}: the parts' cells sum to {}, not {}\n", rank, total, from_block.n_global_cells);
   }
+  // Each part near 1/P of the cells (whole slabs of the grid: within 30 % here), each block far
+  // from the whole mesh.
+  const double share = static_cast<double>(total) / size;
+  if (static_cast<double>(part_cells) > 1.3 * share || (size > 1 && 2.0 * static_cast<double>(block_cells) >= (size + 2) * share)) {
+    ++differences;
+    fmt::print("rank {}: part of {} cells and block of {} cells, against {} cells a rank: FAILED\n", rank, part_cells,
+               block_cells, share);
+  }
   const int failed = static_cast<int>(c.sum(static_cast<long long>(differences)));
   if (rank == 0) fmt::print("{}\n", failed == 0 ? "PASSED" : "FAILED");
   return failed == 0 ? 0 : 1;
