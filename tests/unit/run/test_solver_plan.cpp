@@ -10,7 +10,9 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <cstdio>
 #include <string>
+#include <tuple>
 
 namespace vpc {
 namespace {
@@ -32,6 +34,28 @@ TEST(SolverPlan, NodeGraphEstimateMatchesTheAnalysisOfK) {
   EXPECT_GT(s.K.flops, 0.8 * exact.flops);
   EXPECT_LT(s.K.flops, 3.0 * exact.flops);
   EXPECT_EQ(s.contact_nodes, static_cast<double>(part.n_contact));
+}
+
+// A generated mesh built by blocks (issue 30): its factors scaled from a coarser grid's analysis
+// (scale_factors) against the analysis of the whole mesh's node graph, in 2D and 3D.
+TEST(SolverPlan, FactorsScaledFromACoarserGridMatchTheWholeMeshsAnalysis) {
+  for (const auto& [name, fine, coarse] : {std::tuple{"foundation-3d", 24, 12}, std::tuple{"foundation-3d", 30, 10},
+                                           std::tuple{"paper-2d", 160, 40}}) {
+    auto f = load_case(name, {}, {.cells = fine});
+    auto c = load_case(name, {}, {.cells = coarse});
+    const ProblemSize whole = problem_size(*f.problem);
+    ProblemSize scaled = whole;
+    scale_factors(scaled, c.problem->mesh, f.problem->mesh.dim());
+    SCOPED_TRACE(::testing::Message() << name << " n = " << fine << " from n = " << coarse);
+    std::printf("%s n = %d from n = %d: factor entries %.3f, flops %.3f of the whole mesh's analysis\n", name, fine,
+                coarse, scaled.H.entries / whole.H.entries, scaled.H.flops / whole.H.flops);
+    EXPECT_EQ(scaled.H.rows, whole.H.rows);
+    EXPECT_NEAR(scaled.H.entries / whole.H.entries, 1.0, 0.35);
+    EXPECT_NEAR(scaled.H.factor_bytes / whole.H.factor_bytes, 1.0, 0.35);
+    EXPECT_GT(scaled.H.flops / whole.H.flops, 0.5);
+    EXPECT_LT(scaled.H.flops / whole.H.flops, 2.0);
+    EXPECT_NEAR(scaled.K.entries / whole.K.entries, scaled.H.entries / whole.H.entries, 1e-12);
+  }
 }
 
 // MUMPS's estimate holds at least CHOLMOD's factors, and every estimate grows with the mesh.
