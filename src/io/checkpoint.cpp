@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <bit>
+#include <memory>
 #include <set>
 
 namespace vpc {
@@ -79,18 +80,6 @@ la::Layout cell_layout(const MeshPart& part) {
   return la::Layout(part.comm, n, {}, {part.original_cell.begin(), part.original_cell.end()});
 }
 
-/// This process's blocks of the state in the numbering of the mesh as read: nodes
-/// [node_begin, node_end), cells [cell_begin, cell_end).
-struct StateBlock {
-  long long node_begin = 0, node_end = 0, cell_begin = 0, cell_end = 0;
-  int d = 1;
-  /// The stored fields of nodes and cells (io/state_fields.hpp) at their file arrays,
-  /// `width` values per node or cell.
-  std::array<Vector, kArrays> field;
-  std::array<int, kArrays> width{};
-  Vector free, damage_warm;  // per node d (1 at a free dof) and 1 (or none) values
-};
-
 /// The stored fields of nodes and cells: the arrays of the blocks.
 template <typename F>
 void for_block_fields(F&& f) {
@@ -98,68 +87,150 @@ void for_block_fields(F&& f) {
     if (sf.stored() && sf.location != FieldLocation::contact_node) f(sf, file_array(sf.name));
 }
 
-/// The stepper's node and cell arrays sent to the processes whose blocks hold them:
-/// all to rank 0 (`to_root`) or PETSc's split over the processes. Collective.
-StateBlock state_block(const TimeStepper& stepper, bool to_root) {
-  const MeshPart& part = stepper.part();
-  const la::Comm& comm = stepper.comm();
-  const la::Layout& nodes = *part.node_layout;
-  const la::Layout cells = cell_layout(part);
-  auto split = [&](long long n) {
-    return to_root ? la::BlockSplit::first_only(n, comm.size()) : la::BlockSplit(n, comm.size());
-  };
-  const la::BlockSplit node_split = split(part.n_global_nodes), cell_split = split(part.n_global_cells);
-  const State& st = stepper.state();
-  StateBlock b;
-  b.d = part.dofs.dim();
-  b.node_begin = node_split.begin(comm.rank());
-  b.node_end = node_split.end(comm.rank());
-  b.cell_begin = cell_split.begin(comm.rank());
-  b.cell_end = cell_split.end(comm.rank());
-  for_block_fields([&](const StateField& f, Array a) {
-    const std::span<const double> v = f.values(st);
-    const Eigen::Map<const Vector> values(v.data(), static_cast<Eigen::Index>(v.size()));
-    b.width[a] = f.components(st, b.d);
-    b.field[a] = f.location == FieldLocation::node ? nodes.to_blocks(values, node_split, b.width[a])
-                                                   : cells.to_blocks(values, cell_split, b.width[a]);
-  });
-  Vector free(part.dofs.n_full());
-  for (int i = 0; i < part.dofs.n_full(); ++i) free[i] = part.dofs.free_index(i) >= 0;
-  b.free = nodes.to_blocks(free, node_split, b.d);
-  // The damage solver's warm start: a node field (owned entries), or none.
-  const Vector damage_warm = stepper.damage_warm_state();
-  if (comm.any(damage_warm.size() > 0)) {
-    comm.throw_if_any(damage_warm.size() != part.n_owned_nodes,
-                      "internal: the damage solver's warm state is not a node field");
-    b.damage_warm = nodes.to_blocks(damage_warm, node_split);
+/// The stepper's node and cell arrays in this process's blocks of the numbering of the
+/// mesh as read (PETSc's split over the processes, or all on rank 0): nodes [node_begin,
+/// node_end), cells [cell_begin, cell_end). One array at a time: each is formed when asked
+/// (sent from the processes that own its entries, Layout::to_blocks) into the caller's
+/// storage, which the caller frees before the next, so that no process holds more than one
+/// of them besides the state. On one process an array is a view of the state's own (nothing
+/// copied). Each call is collective, in the same order on every process.
+class StateBlocks {
+ public:
+  StateBlocks(const TimeStepper& stepper, bool to_root)
+      : stepper_(stepper),
+        cells_(cell_layout(stepper.part())),
+        node_split_(split(stepper.part().n_global_nodes, to_root)),
+        cell_split_(split(stepper.part().n_global_cells, to_root)) {
+    const int me = stepper.comm().rank();
+    node_begin = node_split_.begin(me);
+    node_end = node_split_.end(me);
+    cell_begin = cell_split_.begin(me);
+    cell_end = cell_split_.end(me);
   }
-  return b;
+
+  long long node_begin = 0, node_end = 0, cell_begin = 0, cell_end = 0;
+
+  /// A stored field of nodes or cells, f.components values per node or cell.
+  Values field(const StateField& f, Vector& storage) const {
+    const int width = f.components(stepper_.state(), stepper_.part().dofs.dim());
+    return block(f.location == FieldLocation::node, f.values(stepper_.state()), width, storage);
+  }
+  /// 1 at each free dof, 0 at each prescribed one (d per node).
+  Values free_dofs(Vector& storage) const {
+    const DofMap& dofs = stepper_.part().dofs;
+    storage.resize(dofs.n_full());
+    for (int i = 0; i < dofs.n_full(); ++i) storage[i] = dofs.free_index(i) >= 0;
+    return block(true, values(storage), dofs.dim(), storage);
+  }
+  /// The damage solver's warm start: one value per node, or none (on every process).
+  Values damage_warm(Vector& storage) const {
+    const la::Comm& comm = stepper_.comm();
+    storage = stepper_.damage_warm_state();
+    if (!comm.any(storage.size() > 0)) return {};
+    comm.throw_if_any(storage.size() != stepper_.part().n_owned_nodes,
+                      "internal: the damage solver's warm state is not a node field");
+    return block(true, values(storage), 1, storage);
+  }
+
+ private:
+  la::BlockSplit split(long long n, bool to_root) const {
+    const int p = stepper_.comm().size();
+    return to_root ? la::BlockSplit::first_only(n, p) : la::BlockSplit(n, p);
+  }
+  /// `v` (the part's numbering: owned entries first, `width` values each) as this
+  /// process's block of nodes or cells: a view of v on one process, else in `storage`
+  /// (which v may be a view of: it is replaced once the block is formed).
+  Values block(bool of_nodes, Values v, int width, Vector& storage) const {
+    const la::Layout& layout = of_nodes ? *stepper_.part().node_layout : cells_;
+    if (layout.comm().serial()) return v.first(static_cast<std::size_t>(layout.n_owned()) * width);
+    storage = layout.to_blocks(Eigen::Map<const Vector>(v.data(), static_cast<Eigen::Index>(v.size())),
+                               of_nodes ? node_split_ : cell_split_, width);
+    return values(storage);
+  }
+
+  const TimeStepper& stepper_;
+  la::Layout cells_;
+  la::BlockSplit node_split_, cell_split_;
+};
+
+/// The stored field whose file array is a (a node, cell or contact-node field).
+const StateField& stored_field(Array a) {
+  for (const StateField& f : state_fields())
+    if (f.stored() && file_array(f.name) == a) return f;
+  fail("internal: the checkpoint array {} holds no stored state field", static_cast<int>(a));
 }
 
-/// The state arrays of nodes [n0, n1) and cells [c0, c1) of `b` (within its blocks) as
-/// a file's content; u on the free dofs (DofMap's numbering of the mesh as read:
-/// node-major, prescribed components dropped) is made into `u_free`.
-FileContent block_content(const StateBlock& b, long long n0, long long n1, long long c0, long long c1, Vector& u_free) {
-  const auto d = static_cast<Eigen::Index>(b.d);
-  const Eigen::Index i0 = (n0 - b.node_begin) * d, i1 = (n1 - b.node_begin) * d;
-  u_free.resize(static_cast<Eigen::Index>(b.free.segment(i0, i1 - i0).sum()));
+/// u at the free dofs (`free`: 1 there, 0 at the prescribed ones), in DofMap's numbering
+/// of the mesh as read: node-major, prescribed components dropped.
+Vector free_values(Values u, Values free) {
+  Vector out(static_cast<Eigen::Index>(std::count_if(free.begin(), free.end(), [](double f) { return f != 0; })));
   Eigen::Index k = 0;
-  for (Eigen::Index i = i0; i < i1; ++i)
-    if (b.free[i] != 0) u_free[k++] = b.field[kU][i];
-  auto nodes = [&](const Vector& v, Eigen::Index width) -> Values {
-    if (v.size() == 0) return {};
-    return {v.data() + (n0 - b.node_begin) * width, static_cast<std::size_t>((n1 - n0) * width)};
+  for (std::size_t i = 0; i < u.size(); ++i)
+    if (free[i] != 0) out[k++] = u[i];
+  return out;
+}
+
+/// A checkpoint file that this process writes: piece q, its nodes [n0, n1) and cells
+/// [c0, c1) counted from the first of the process's blocks.
+struct PieceWriter {
+  int q;
+  long long n0, n1, c0, c1;
+  std::unique_ptr<FileWriter> file;
+  Vector u_free;  // from u's block until its place in the file
+};
+
+/// Writes the stepper's arrays into this process's pieces `mine`, in the file's order. Each
+/// node or cell array is formed as this process's block (collective), written into each
+/// piece its part, and freed before the next; the others (λ, the contact warm state, the
+/// times, the step-size state: the same on every process) go whole into piece 0.
+void write_arrays(const TimeStepper& stepper, const StateBlocks& blocks, Values contact_warm, Values control,
+                  std::vector<PieceWriter>& mine) {
+  const State& st = stepper.state();
+  const int d = stepper.part().dofs.dim();
+  enum class Part { nodes, cells, first };
+  auto write = [&](Array a, Values v, Part part, int width) {
+    for (PieceWriter& m : mine) {
+      Values of_m;
+      if (part == Part::first) {
+        if (m.q == 0) of_m = v;
+      } else if (!v.empty()) {
+        const long long b = part == Part::nodes ? m.n0 : m.c0, e = part == Part::nodes ? m.n1 : m.c1;
+        of_m = v.subspan(static_cast<std::size_t>(b * width), static_cast<std::size_t>((e - b) * width));
+      }
+      m.file->array(a, of_m);
+    }
   };
-  auto cells = [&](const Vector& v, Eigen::Index width) -> Values {
-    return {v.data() + (c0 - b.cell_begin) * width, static_cast<std::size_t>((c1 - c0) * width)};
-  };
-  FileContent f;
-  for_block_fields([&](const StateField& sf, Array a) {
-    f.arrays[a] = sf.location == FieldLocation::node ? nodes(b.field[a], b.width[a]) : cells(b.field[a], b.width[a]);
-  });
-  f.arrays[kUFree] = values(u_free);
-  f.arrays[kDamageWarm] = nodes(b.damage_warm, 1);
-  return f;
+  for (int i = 0; i < arrays_in_file(st.contact_block); ++i) {
+    const auto a = static_cast<Array>(i);
+    Vector block;  // this array's block, freed at the end of the iteration
+    if (a == kUFree) {
+      for (PieceWriter& m : mine) {
+        m.file->array(a, values(m.u_free));
+        m.u_free = Vector();
+      }
+    } else if (a == kContactWarm) {
+      write(a, contact_warm, Part::first, 1);
+    } else if (a == kDamageWarm) {
+      write(a, blocks.damage_warm(block), Part::nodes, 1);
+    } else if (a == kTimes) {
+      write(a, stepper.times(), Part::first, 1);
+    } else if (a == kStepControl) {
+      write(a, control, Part::first, 1);
+    } else if (const StateField& f = stored_field(a); f.location == FieldLocation::contact_node) {
+      write(a, f.values(st), Part::first, 1);
+    } else {
+      const Values v = blocks.field(f, block);
+      write(a, v, f.location == FieldLocation::node ? Part::nodes : Part::cells, f.components(st, d));
+      if (a == kU) {  // u on the free dofs of each piece, written after β and λ
+        Vector mask;
+        const Values free = blocks.free_dofs(mask);
+        for (PieceWriter& m : mine) {
+          const auto at = static_cast<std::size_t>(m.n0 * d), n = static_cast<std::size_t>((m.n1 - m.n0) * d);
+          m.u_free = free_values(v.subspan(at, n), free.subspan(at, n));
+        }
+      }
+    }
+  }
 }
 
 /// The first error that `work` throws on any process (the lowest rank's message),
@@ -259,23 +330,35 @@ std::string time_levels_difference(const Problem& p, const std::vector<double>& 
 }
 
 Snapshot gather_snapshot(const TimeStepper& stepper) {
-  const StateBlock b = state_block(stepper, true);
+  const StateBlocks blocks(stepper, true);
   const Vector contact_warm = stepper.contact_warm_state();  // collective: one value per contact row, the same everywhere
-  if (stepper.comm().rank() != 0) return {};
+  const State& st = stepper.state();
+  const bool root = stepper.comm().rank() == 0;
   Snapshot g;
-  g.state.n = stepper.state().n;
-  g.state.t = stepper.state().t;
-  g.state.contact_block = stepper.state().contact_block;
-  for (const StateField& f : state_fields()) {
-    if (!f.stored()) continue;
-    if (f.location == FieldLocation::contact_node)  // every process holds all of them
-      f.assign(g.state, f.values(stepper.state()));
-    else
-      f.assign(g.state, values(b.field[file_array(f.name)]));
+  g.state.contact_block = st.contact_block;
+  // One array at a time: each gathered, kept on rank 0, and its exchange's buffers freed.
+  for_block_fields([&](const StateField& f, Array) {
+    Vector block;
+    const Values v = blocks.field(f, block);
+    if (root) f.assign(g.state, v);
+  });
+  {
+    Vector block;
+    const Values free = blocks.free_dofs(block);
+    if (root) g.u_free = free_values(values(g.state.u), free);
   }
+  {
+    Vector block;
+    const Values warm = blocks.damage_warm(block);
+    if (root) g.damage_warm = Eigen::Map<const Vector>(warm.data(), static_cast<Eigen::Index>(warm.size()));
+  }
+  if (!root) return {};
+  g.state.n = st.n;
+  g.state.t = st.t;
+  for (const StateField& f : state_fields())
+    if (f.stored() && f.location == FieldLocation::contact_node)  // every process holds all of them
+      f.assign(g.state, f.values(st));
   g.contact_warm = contact_warm;
-  g.damage_warm = b.damage_warm;
-  block_content(b, b.node_begin, b.node_end, b.cell_begin, b.cell_end, g.u_free);
   return g;
 }
 
@@ -286,17 +369,19 @@ void write_checkpoint(const TimeStepper& stepper, const fs::path& dir, const std
   const int p = comm.size(), me = comm.rank();
   pieces = pieces > 0 ? pieces : p;
   require(p == 1 || pieces == p, "internal: {} checkpoint pieces from {} processes", pieces, p);
-  const StateBlock b = state_block(stepper, false);
   const State& st = stepper.state();
-  const Vector contact_warm = stepper.contact_warm_state();
-  // Piece q of `pieces`: this process's blocks (several processes), or a part of them (one process).
-  const la::BlockSplit node_split(stepper.part().n_global_nodes, pieces), cell_split(stepper.part().n_global_cells, pieces);
+  const StateBlocks blocks(stepper, false);
+  const Vector contact_warm = stepper.contact_warm_state();  // collective
   const std::string key = problem_key(stepper);
   const std::uint64_t fingerprint = fnv1a(key.data(), key.size());
   const Vector control = stepper.step_control_state().values();
-  Vector u_free;
-  auto content = [&](int q) {
-    FileContent f = block_content(b, node_split.begin(q), node_split.end(q), cell_split.begin(q), cell_split.end(q), u_free);
+  // Piece q of `pieces`: this process's blocks (several processes), or a part of them (one
+  // process, which writes all the pieces). Each file is opened, then written array by array.
+  const la::BlockSplit node_split(stepper.part().n_global_nodes, pieces),
+      cell_split(stepper.part().n_global_cells, pieces);
+  std::vector<PieceWriter> mine;
+  for (int q = p == 1 ? 0 : me; q < (p == 1 ? pieces : me + 1); ++q) {
+    FileContent f;
     f.case_name = case_name;
     f.fingerprint = fingerprint;
     f.problem_key = key;
@@ -307,23 +392,21 @@ void write_checkpoint(const TimeStepper& stepper, const fs::path& dir, const std
       f.head = PieceHead{static_cast<std::uint64_t>(q), static_cast<std::uint64_t>(pieces),
                          static_cast<std::uint64_t>(node_split.begin(q)), static_cast<std::uint64_t>(node_split.end(q)),
                          static_cast<std::uint64_t>(cell_split.begin(q)), static_cast<std::uint64_t>(cell_split.end(q))};
-    if (q == 0) {  // the run's data, rank 0's (λ and the contact warm state are the same everywhere)
-      for (const StateField& sf : state_fields())
-        if (sf.stored() && sf.location == FieldLocation::contact_node) f.arrays[file_array(sf.name)] = sf.values(st);
-      f.arrays[kContactWarm] = values(contact_warm);
-      f.arrays[kTimes] = stepper.times();
-      f.arrays[kStepControl] = values(control);
+    if (q == 0) {  // the run's data, rank 0's
       f.pvd = &pvd;
       f.totals = &totals;
     }
-    return f;
-  };
-  // Pieces 1 … P − 1 first, then piece 0, which lists them: a checkpoint whose piece 0
-  // is in place has all its pieces.
+    mine.push_back({q, node_split.begin(q) - blocks.node_begin, node_split.end(q) - blocks.node_begin,
+                    cell_split.begin(q) - blocks.cell_begin, cell_split.end(q) - blocks.cell_begin,
+                    std::make_unique<FileWriter>(piece_file(dir, st.n, q, pieces), f), Vector()});
+  }
+  write_arrays(stepper, blocks, values(contact_warm), values(control), mine);
+  // Pieces 1 … P − 1 in place first, then piece 0, which lists them: a checkpoint whose
+  // piece 0 is in place has all its pieces.
   std::vector<PieceSum> sums(static_cast<std::size_t>(pieces));
   la::collective(comm, [&] {
-    for (int q = p == 1 ? 1 : me; q > 0 && q < pieces; q += p)  // one process: all; several: its own
-      sums[q] = write_file(piece_file(dir, st.n, q, pieces), content(q));
+    for (PieceWriter& m : mine)
+      if (m.q > 0) sums[m.q] = m.file->commit();
   });
   if (p > 1) {
     const std::vector<long long> size = comm.all_gather(std::bit_cast<long long>(sums[me].size));
@@ -331,9 +414,7 @@ void write_checkpoint(const TimeStepper& stepper, const fs::path& dir, const std
     for (int q = 0; q < p; ++q) sums[q] = {std::bit_cast<std::uint64_t>(size[q]), std::bit_cast<std::uint64_t>(checksum[q])};
   }
   la::on_root(comm, [&] {
-    FileContent first = content(0);
-    first.others.assign(sums.begin() + 1, sums.end());
-    write_file(main_file(dir, st.n), first);
+    mine.front().file->commit({sums.begin() + 1, sums.end()});
     std::set<fs::path> written;
     for (int q = 0; q < pieces; ++q) written.insert(piece_file(dir, st.n, q, pieces));
     remove_stale(dir, st.n, written, keep);

@@ -78,100 +78,90 @@ void remove_stale(const fs::path& dir, long long n, const std::set<fs::path>& wr
 }
 
 // ---------------------------------------------------------------------------------
-// Writing: the payload is streamed twice (size and checksum, then the bytes) from
-// views of the caller's arrays, never held in memory.
+// Writing: the payload is streamed once, its size and checksum counted as it goes and
+// written into the header at the end; nothing but the array at hand is in memory.
 
-namespace {
-
-/// Serializes the payload to a stream, or (without one) only measures its size
-/// and checksum.
-class Writer {
- public:
-  explicit Writer(std::ostream* out = nullptr) : out_(out) {}
-  template <typename T>
-  void pod(const T& v) {
-    bytes(reinterpret_cast<const char*>(&v), sizeof v);
-  }
-  void string(std::string_view s) {
-    pod<std::uint64_t>(s.size());
-    bytes(s.data(), s.size());
-  }
-  void doubles(std::span<const double> v) {
-    pod<std::uint64_t>(v.size());
-    bytes(reinterpret_cast<const char*>(v.data()), v.size_bytes());
-  }
-  std::uint64_t size() const { return size_; }
-  std::uint64_t checksum() const { return hash_; }
-
- private:
-  void bytes(const char* p, std::size_t n) {
-    if (n == 0) return;
-    size_ += n;
-    if (out_)
-      out_->write(p, static_cast<std::streamsize>(n));
-    else
-      hash_ = fnv1a(p, n, hash_);
-  }
-  std::ostream* out_;
-  std::uint64_t size_ = 0, hash_ = fnv1a(nullptr, 0);
-};
-
-
-
-
-void write_payload(Writer& w, const FileContent& f) {
-  w.string(f.case_name);
-  w.pod(f.fingerprint);
-  w.string(f.problem_key);
-  w.pod(f.n);
-  w.pod(f.t);
+FileWriter::FileWriter(const fs::path& path, const FileContent& f) : file_(path), f_(f) {
+  f_.arrays = {};
+  std::ostream& out = file_.stream();
+  out.write(kMagic, sizeof kMagic);
+  // The header's second u32: the contact block where it is above 1, else 0, so that the
+  // checkpoints of a normal law are those of earlier versions.
+  const std::uint32_t version = f.head ? kPiece : kWhole;
+  const auto block = static_cast<std::uint32_t>(f.contact_block == 1 ? 0 : f.contact_block);
+  const std::uint64_t unknown = 0;  // the payload's size and checksum: commit() writes them
+  out.write(reinterpret_cast<const char*>(&version), sizeof version);
+  out.write(reinterpret_cast<const char*>(&block), sizeof block);
+  out.write(reinterpret_cast<const char*>(&unknown), sizeof unknown);
+  out.write(reinterpret_cast<const char*>(&unknown), sizeof unknown);
+  string(f.case_name);
+  pod(f.fingerprint);
+  string(f.problem_key);
+  pod(f.n);
+  pod(f.t);
   if (f.head)
     for (std::uint64_t v : {f.head->count, f.head->index, f.head->node_begin, f.head->node_end, f.head->cell_begin,
                             f.head->cell_end})
-      w.pod(v);
-  for (int a = 0; a < arrays_in_file(f.contact_block); ++a) w.doubles(f.arrays[static_cast<std::size_t>(a)]);
-  if (!f.whole_or_first()) return;
-  w.pod<std::uint64_t>(f.pvd->size());
-  for (const auto& [t, file] : *f.pvd) {
-    w.pod(t);
-    w.string(file);
-  }
-  const RunTotals& r = *f.totals;
-  for (double v : {r.max_contact_residual, r.max_damage_residual, r.seconds_sources, r.seconds_damage,
-                   r.seconds_contact, r.seconds_stress, r.seconds_output})
-    w.pod(v);
-  w.pod<std::int64_t>(r.max_contact_iterations);
-  w.pod<std::int64_t>(r.max_damage_iterations);
-  w.pod<std::uint8_t>(r.all_ok ? 1 : 0);
-  w.pod<std::int64_t>(r.last_n_active);
-  if (f.contact_block > 1)  // friction's totals: only in a frictional run's files
-    for (double v : {r.max_friction_bound, r.max_stick_slip, r.max_slip_direction, r.dissipation}) w.pod(v);
-  for (const PieceSum& s : f.others) {
-    w.pod(s.size);
-    w.pod(s.checksum);
-  }
+      pod(v);
 }
 
-}  // namespace
+void FileWriter::array(Array a, Values v) {
+  require(a == next_ && a < arrays_in_file(f_.contact_block), "internal: checkpoint array {} written where {} is due",
+          static_cast<int>(a), next_);
+  pod<std::uint64_t>(v.size());
+  bytes(v.data(), v.size_bytes());
+  ++next_;
+}
+
+PieceSum FileWriter::commit(const std::vector<PieceSum>& others) {
+  require(next_ == arrays_in_file(f_.contact_block), "internal: a checkpoint file committed after {} of its {} arrays",
+          next_, arrays_in_file(f_.contact_block));
+  if (f_.whole_or_first()) {
+    pod<std::uint64_t>(f_.pvd->size());
+    for (const auto& [t, file] : *f_.pvd) {
+      pod(t);
+      string(file);
+    }
+    const RunTotals& r = *f_.totals;
+    for (double v : {r.max_contact_residual, r.max_damage_residual, r.seconds_sources, r.seconds_damage,
+                     r.seconds_contact, r.seconds_stress, r.seconds_output})
+      pod(v);
+    pod<std::int64_t>(r.max_contact_iterations);
+    pod<std::int64_t>(r.max_damage_iterations);
+    pod<std::uint8_t>(r.all_ok ? 1 : 0);
+    pod<std::int64_t>(r.last_n_active);
+    if (f_.contact_block > 1)  // friction's totals: only in a frictional run's files
+      for (double v : {r.max_friction_bound, r.max_stick_slip, r.max_slip_direction, r.dissipation}) pod(v);
+    for (const PieceSum& s : others) {
+      pod(s.size);
+      pod(s.checksum);
+    }
+  }
+  std::ostream& out = file_.stream();
+  out.seekp(sizeof kMagic + 2 * sizeof(std::uint32_t));
+  out.write(reinterpret_cast<const char*>(&sum_.size), sizeof sum_.size);
+  out.write(reinterpret_cast<const char*>(&sum_.checksum), sizeof sum_.checksum);
+  file_.commit();
+  return sum_;
+}
+
+void FileWriter::string(std::string_view s) {
+  pod<std::uint64_t>(s.size());
+  bytes(s.data(), s.size());
+}
+
+void FileWriter::bytes(const void* p, std::size_t n) {
+  if (n == 0) return;
+  sum_.size += n;
+  sum_.checksum = fnv1a(p, n, sum_.checksum);
+  file_.stream().write(static_cast<const char*>(p), static_cast<std::streamsize>(n));
+}
 
 PieceSum write_file(const fs::path& path, const FileContent& f) {
-  Writer measure;
-  write_payload(measure, f);
-  write_file_atomic(path, [&](std::ostream& out) {
-    out.write(kMagic, sizeof kMagic);
-    // The header's second u32: the contact block where it is above 1, else 0, so
-    // that the checkpoints of a normal law are those of earlier versions.
-    const std::uint32_t version = f.head ? kPiece : kWhole;
-    const auto block = static_cast<std::uint32_t>(f.contact_block == 1 ? 0 : f.contact_block);
-    const std::uint64_t size = measure.size(), sum = measure.checksum();
-    out.write(reinterpret_cast<const char*>(&version), sizeof version);
-    out.write(reinterpret_cast<const char*>(&block), sizeof block);
-    out.write(reinterpret_cast<const char*>(&size), sizeof size);
-    out.write(reinterpret_cast<const char*>(&sum), sizeof sum);
-    Writer w(&out);
-    write_payload(w, f);
-  });
-  return {measure.size(), measure.checksum()};
+  FileWriter w(path, f);
+  for (int a = 0; a < arrays_in_file(f.contact_block); ++a)
+    w.array(static_cast<Array>(a), f.arrays[static_cast<std::size_t>(a)]);
+  return w.commit(f.others);
 }
 
 // ---------------------------------------------------------------------------------

@@ -1,10 +1,12 @@
 #pragma once
 // The checkpoint files (io/checkpoint.hpp says what they hold): their names, the
-// writer of one file (streamed, atomic, checksummed) and the reader that locates its
-// arrays, so that a process reads only the entries it needs. Format versions 4 (the
-// whole state in one file) and 5 (one piece of a checkpoint written by P processes);
-// docs/reliability.md. Used by io/checkpoint.cpp only.
+// writer of one file (streamed array by array, atomic, checksummed) and the reader
+// that locates its arrays, so that a process reads only the entries it needs. Format
+// versions 4 (the whole state in one file) and 5 (one piece of a checkpoint written
+// by P processes); docs/reliability.md. Used by io/checkpoint.cpp only.
+#include "core/hash.hpp"
 #include "core/sym_tensor.hpp"
+#include "io/atomic_file.hpp"
 #include "io/run_output.hpp"
 
 #include <array>
@@ -102,6 +104,38 @@ struct FileContent {
 
 /// Writes one file atomically; returns its payload's size and checksum.
 PieceSum write_file(const fs::path& path, const FileContent& f);
+
+/// One file written array by array as the caller forms them (a process forms one array's
+/// block, writes it and frees it before the next: it never holds its whole state twice),
+/// atomically (AtomicFile). The payload is written once: its size and checksum are counted
+/// as it goes and written into the header by commit(), the bytes those of write_file. A
+/// failure to open or write the file waits for commit(), so that the caller's collective
+/// steps between the arrays go on with the other processes.
+class FileWriter {
+ public:
+  /// The header and the fields before the arrays, from f (whose arrays it does not read;
+  /// its pvd and totals must outlive the writer).
+  FileWriter(const fs::path& path, const FileContent& f);
+  /// The next array: a, in the format's order from kU to arrays_in_file(contact block).
+  void array(Array a, Values v);
+  /// After the last array: the fields after them (version 4 and piece 0: the PVD entries,
+  /// the totals and `others`, the sizes and checksums of pieces 1 … P − 1), the header's
+  /// size and checksum, and the file renamed into place. Throws vpc::Error.
+  PieceSum commit(const std::vector<PieceSum>& others = {});
+
+ private:
+  template <typename T>
+  void pod(const T& v) {
+    bytes(&v, sizeof v);
+  }
+  void string(std::string_view s);
+  void bytes(const void* p, std::size_t n);
+
+  AtomicFile file_;
+  FileContent f_;  // its fields but the arrays
+  int next_ = 0;   // the next array
+  PieceSum sum_{0, kFnv1aOffset};
+};
 
 /// One checkpoint file opened for reading. The constructor checks the header, the
 /// payload size and (with `verify`) the checksum, streaming the payload, then reads

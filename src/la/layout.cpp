@@ -105,25 +105,46 @@ std::vector<std::vector<int>> Layout::by_block(const BlockSplit& split) const {
 Eigen::VectorXd Layout::to_blocks(const Eigen::Ref<const Eigen::VectorXd>& values, const BlockSplit& split, int width) const {
   const auto w = static_cast<Eigen::Index>(width);
   if (comm_.serial()) return values.head(n_owned_ * w);
-  // Each entry goes with its original index; the block's rank puts it in place.
   const std::vector<std::vector<int>> at = by_block(split);
-  std::vector<std::vector<long long>> where(at.size());
-  std::vector<std::vector<double>> what(at.size());
-  for (size_t r = 0; r < at.size(); ++r)
-    for (int i : at[r]) {
-      where[r].push_back(original_[i]);
-      what[r].insert(what[r].end(), values.data() + i * w, values.data() + (i + 1) * w);
-    }
-  const auto from = comm_.exchange(where);
-  where = {};
-  const auto data = comm_.exchange(what);
-  const int me = comm_.rank();
+  const int p = comm_.size(), me = comm_.rank();
+  const long long first = split.begin(me);
   Eigen::VectorXd block(split.size(me) * w);
-  long long received = 0;
-  for (size_t r = 0; r < from.size(); ++r) {
-    for (size_t k = 0; k < from[r].size(); ++k)
-      std::copy_n(data[r].data() + k * w, w, block.data() + (from[r][k] - split.begin(me)) * w);
-    received += static_cast<long long>(from[r].size());
+  // This rank's entries of its own block: in place, no message.
+  for (int i : at[me]) std::copy_n(values.data() + i * w, w, block.data() + (original_[i] - first) * w);
+  long long received = static_cast<long long>(at[me].size());
+  // The others' in rounds, each entry with its original index, so that besides the block no
+  // rank holds more than one round's messages: at most kRoundValues values sent by each rank
+  // (the block's rank puts each in place). Every rank takes part in every round.
+  constexpr long long kRoundValues = 1 << 18;
+  const long long per_rank = std::max(1LL, kRoundValues / (w * std::max(1, p - 1)));  // entries to each rank per round
+  long long most = 0;
+  for (int r = 0; r < p; ++r)
+    if (r != me) most = std::max(most, static_cast<long long>(at[r].size()));
+  const auto rounds = static_cast<long long>(comm_.max(static_cast<double>((most + per_rank - 1) / per_rank)));
+  std::vector<std::vector<long long>> where(p);
+  std::vector<std::vector<double>> what(p);
+  for (long long k = 0; k < rounds; ++k) {
+    for (int r = 0; r < p; ++r) {
+      where[r].clear();
+      what[r].clear();
+      if (r == me) continue;
+      const auto n = static_cast<long long>(at[r].size());
+      const long long b = std::min(n, k * per_rank), e = std::min(n, b + per_rank);
+      where[r].reserve(static_cast<std::size_t>(e - b));
+      what[r].reserve(static_cast<std::size_t>((e - b) * w));
+      for (long long j = b; j < e; ++j) {
+        const int i = at[r][static_cast<std::size_t>(j)];
+        where[r].push_back(original_[i]);
+        what[r].insert(what[r].end(), values.data() + i * w, values.data() + (i + 1) * w);
+      }
+    }
+    const auto from = comm_.exchange(where);
+    const auto data = comm_.exchange(what);
+    for (int r = 0; r < p; ++r) {
+      for (std::size_t j = 0; j < from[r].size(); ++j)
+        std::copy_n(data[r].data() + j * w, w, block.data() + (from[r][j] - first) * w);
+      received += static_cast<long long>(from[r].size());
+    }
   }
   require(received == split.size(me), "internal: block {} received {} of its {} entries", me, received, split.size(me));
   return block;

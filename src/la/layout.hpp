@@ -67,6 +67,8 @@ class Layout {
   /// The owned entries of every rank, `width` values each (entry i: values[i * width + j]),
   /// sent to the rank whose block of `split` (over the original numbering, one block per
   /// rank) holds them: this rank's block, split.size(rank) * width values. Collective.
+  /// Besides the block, no rank holds more than a bounded round of messages (2¹⁸ values
+  /// sent per rank per round): a large array does not take several times its size.
   Eigen::VectorXd to_blocks(const Eigen::Ref<const Eigen::VectorXd>& values, const BlockSplit& split, int width = 1) const;
   /// The inverse: each rank's block of `split` (split.size(rank) * width values) into
   /// the owned and ghost entries of `local` (n_local * width values). Collective.

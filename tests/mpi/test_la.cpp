@@ -242,6 +242,22 @@ void run() {
     ok = back[2 * i] == global && back[2 * i + 1] == -global;
   }
   check(ok, "from_blocks round trip (owned and ghosts)", comm);
+  {  // A chain large enough that to_blocks sends its values in several rounds (2¹⁸ values a rank
+     // a round: 2 or 3 here), into PETSc's split and all to rank 0.
+    const Chain big(comm, 300007 + 1000 * p);
+    const la::Layout large(comm, big.n_owned, {}, big.original());
+    Eigen::VectorXd three(3 * big.n_owned);
+    for (int i = 0; i < big.n_owned; ++i)
+      for (int k = 0; k < 3; ++k) three[3 * i + k] = static_cast<double>(big.begin + i) + 0.25 * k;
+    for (const la::BlockSplit& to : {la::BlockSplit(big.N, p), la::BlockSplit::first_only(big.N, p)}) {
+      const Eigen::VectorXd b = large.to_blocks(three, to, 3);
+      ok = b.size() == 3 * to.size(me);
+      for (long long j = to.begin(me); ok && j < to.end(me); ++j)  // original j is global N − 1 − j
+        for (int k = 0; k < 3; ++k)
+          ok = ok && b[3 * (j - to.begin(me)) + k] == static_cast<double>(big.N - 1 - j) + 0.25 * k;
+      check(ok, fmt::format("to_blocks in rounds ({})", to.size(0) == big.N ? "all on rank 0" : "PETSc's split"), comm);
+    }
+  }
 
   // Operator: the ranks' elements summed, against the serial matrix.
   const double h = 1.0 / (c.N - 1);

@@ -6,6 +6,7 @@
 #include "cases/builtin_cases.hpp"
 #include "core/error.hpp"
 #include "io/checkpoint.hpp"
+#include "io/checkpoint_file.hpp"
 #include "io/output_files.hpp"
 #include "test_files.hpp"
 
@@ -325,6 +326,53 @@ TEST(StepperCheckpoint, TheVersionFourBytesAreAsDocumented) {
   expected += payload;
   const fs::path file = write_checkpoint(fresh_dir("bytes"), c);
   EXPECT_EQ(test::read_bytes(file), expected);
+}
+
+// A file is written array by array as a process forms them (checkpoint_file::FileWriter): a
+// write that stops before commit (an error on another process, an exception) leaves neither
+// the file nor its temporary, and a file that cannot be opened takes every array and fails at
+// commit, so that its process goes on with the others' collective steps in between.
+TEST(CheckpointFile, AnUncommittedWriteLeavesNothingAndErrorsWaitForTheCommit) {
+  using namespace checkpoint_file;
+  const fs::path dir = fresh_dir("writer");
+  const std::vector<std::pair<double, std::string>> pvd{{0.5, "a.vtu"}};
+  const RunTotals totals;
+  FileContent f;
+  f.case_name = "k";
+  f.n = 1;
+  f.pvd = &pvd;
+  f.totals = &totals;
+  std::array<std::vector<double>, kArrays> content;  // one node of 2 dofs, no cell, step 1
+  content[kU] = {1, 2};
+  content[kBeta] = {0.25};
+  content[kTimes] = {0, 0.5};
+  auto write_all = [&](FileWriter& w) {
+    for (int a = 0; a < arrays_in_file(1); ++a) w.array(static_cast<Array>(a), content[a]);
+  };
+  {
+    FileWriter w(dir / "checkpoint_00001.bin", f);
+    w.array(kU, content[kU]);
+  }
+  EXPECT_TRUE(fs::is_empty(dir));
+  FileWriter nowhere(dir / "missing" / "checkpoint_00001.bin", f);
+  write_all(nowhere);
+  try {
+    nowhere.commit();
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("cannot open"), std::string::npos) << e.what();
+  }
+  EXPECT_TRUE(fs::is_empty(dir));
+  // The same arrays into a file that can be written: the file write_file writes.
+  FileWriter w(dir / "checkpoint_00001.bin", f);
+  write_all(w);
+  const PieceSum sum = w.commit();
+  for (int a = 0; a < kArrays; ++a) f.arrays[a] = content[a];
+  EXPECT_EQ(write_file(dir / "whole.bin", f), sum);
+  EXPECT_EQ(test::read_bytes(dir / "checkpoint_00001.bin"), test::read_bytes(dir / "whole.bin"));
+  CheckpointFile back(dir / "checkpoint_00001.bin", true);
+  EXPECT_EQ(back.read(kU), Eigen::Vector2d(1, 2));
+  EXPECT_EQ(back.pvd, pvd);
 }
 
 fs::path piece(const fs::path& dir, int n, int r, int p) {
