@@ -22,20 +22,17 @@ void tag_sides(Mesh& m, const Point& lo, const Point& hi) {
   }
 }
 
-/// The boundary facets and their sides: every facet used by one cell on the whole mesh; on a
-/// block, those of them on the box's sides (the faces where the block is cut are not boundary).
-void finish_boundary(Mesh& m, const Point& lo, const Point& hi, bool whole) {
-  if (whole) {
-    m.build_boundary();
-  } else {
-    m.build_boundary([&](const Point& p) {
-      for (int a = 0; a < m.dim(); ++a) {
-        const double tol = 1e-9 * (hi[a] - lo[a]);
-        if (std::abs(p[a] - lo[a]) < tol || std::abs(p[a] - hi[a]) < tol) return true;
-      }
-      return false;
-    });
-  }
+/// The boundary facets and their sides: those on the box's sides, which are the whole mesh's
+/// facets used by one cell (on a block, the faces where it is cut are not boundary; and only
+/// the sides' facets are counted, not every cell's).
+void finish_boundary(Mesh& m, const Point& lo, const Point& hi) {
+  m.build_boundary([&](const Point& p) {
+    for (int a = 0; a < m.dim(); ++a) {
+      const double tol = 1e-9 * (hi[a] - lo[a]);
+      if (std::abs(p[a] - lo[a]) < tol || std::abs(p[a] - hi[a]) < tol) return true;
+    }
+    return false;
+  });
   tag_sides(m, lo, hi);
 }
 
@@ -231,7 +228,7 @@ BlockMesh interval_block(double x0, double x1, int n, const GridBlock& b, bool i
     const int c[2] = {i - b.lo[0], i + 1 - b.lo[0]};
     m.cell(c, i);
   }
-  finish_boundary(m.out.mesh, {x0, 0, 0}, {x1, 0, 0}, b == whole_grid({n, 0, 0}, 1));
+  finish_boundary(m.out.mesh, {x0, 0, 0}, {x1, 0, 0});
   m.out.whole_nodes = n + 1;
   m.out.whole_cells = n;
   return std::move(m.out);
@@ -279,7 +276,7 @@ BlockMesh rectangle_block(Point lo, Point hi, int nx, int ny, Diagonal diagonal,
         m.cell(t2, 2 * square + 1);
       }
     }
-  finish_boundary(m.out.mesh, lo, hi, b == whole_grid({nx, ny, 0}, 2));
+  finish_boundary(m.out.mesh, lo, hi);
   const long long squares = static_cast<long long>(nx) * ny;
   m.out.whole_nodes = g.whole_count() + (crossed ? squares : 0);
   m.out.whole_cells = (crossed ? 4 : 2) * squares;
@@ -330,7 +327,7 @@ BlockMesh box_block(Point lo, Point hi, int nx, int ny, int nz, Diagonal diagona
           }
         }
   }
-  finish_boundary(m.out.mesh, lo, hi, b == whole_grid({nx, ny, nz}, 3));
+  finish_boundary(m.out.mesh, lo, hi);
   const long long cubes = static_cast<long long>(nx) * ny * nz;
   const long long faces = static_cast<long long>(nx + 1) * ny * nz + nx * (ny + 1LL) * nz + nx * ny * (nz + 1LL);
   m.out.whole_nodes = g.whole_count() + (crossed ? cubes + faces : 0);

@@ -123,12 +123,16 @@ Point centroid(const std::vector<Point>& x, const int* v, int n) {
 void Mesh::build_boundary(const std::function<bool(const Point&)>& keep) {
   std::unordered_map<FacetKey, std::pair<int, int>, FacetKeyHash> count;  // key -> (uses, cell*local)
   const int npc = nodes_per_cell(), npf = nodes_per_facet();
+  int f[3];
   for_each_cell_facet(*this, [&](const FacetKey& key, int c, int i) {
+    if (keep) {  // only the facets `keep` accepts are counted (a generated box's sides: far fewer than all)
+      cell_facet(cell(c), npc, i, f);
+      if (!keep(centroid(x_, f, npf))) return;
+    }
     auto& e = count[key];
     e.first += 1;
     e.second = c * npc + i;
   });
-  int f[3];
   facets_.clear();
   facet_part_.clear();
   facet_cell_.clear();
@@ -139,7 +143,6 @@ void Mesh::build_boundary(const std::function<bool(const Point&)>& keep) {
   std::sort(owners.begin(), owners.end());
   for (int o : owners) {
     cell_facet(cell(o / npc), npc, o % npc, f);
-    if (keep && !keep(centroid(x_, f, npf))) continue;
     facets_.insert(facets_.end(), f, f + npf);
     facet_part_.push_back(-1);
     facet_cell_.push_back(o / npc);

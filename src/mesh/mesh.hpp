@@ -97,8 +97,9 @@ class Mesh {
 
   /// Builds the boundary facets of the cell complex (facets used by one cell),
   /// all untagged; called by generators and readers after cells are added. With
-  /// `keep`, only those whose centroid it accepts: a block of a generated mesh keeps
-  /// the whole mesh's boundary, not the faces where it was cut (mesh/generators.hpp).
+  /// `keep`, only those whose centroid it accepts, and only those are counted: a
+  /// generated box's sides, and on a block of it not the faces where it was cut
+  /// (mesh/generators.hpp).
   void build_boundary(const std::function<bool(const Point&)>& keep = {});
 
  private:

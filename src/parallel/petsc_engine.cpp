@@ -10,6 +10,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <chrono>
 #include <optional>
 
 namespace vpc {
@@ -27,7 +28,7 @@ void stop_if_interrupted_anywhere(const la::Comm& comm) {
 // rank then reports alike); the other ranks build everything else (laws and
 // formulas are C++ objects made by the parser) around an empty mesh of that dimension.
 // A generated mesh of one body is built by blocks instead, each rank its own (MeshRequest::block);
-// its checks that need the whole mesh are then made by all ranks together (validate_blocks).
+// the caller then checks the case on all blocks together (validate_blocks).
 Case load_case_everywhere(const CaseLoader& load, const la::Comm& comm) {
   Case c;
   double dim = 0;
@@ -44,7 +45,6 @@ Case load_case_everywhere(const CaseLoader& load, const la::Comm& comm) {
     request.dim = static_cast<int>(dim);
     c = load(request);
   });
-  if (c.problem->block) validate_blocks(comm, *c.problem);
   return c;
 }
 
@@ -125,7 +125,16 @@ std::unique_ptr<Run> set_up_petsc(MPI_Comm mpi_comm, const CaseLoader& load, con
   const la::Comm comm = la::make_mpi_comm(mpi_comm);
   la::on_root(comm, [&] { begin_run(o); });
   Case c = load_case_everywhere(load, comm);
-  if (c.problem->block) {  // what each rank built: its block, a part of the grid with a layer of cells around it
+  // A mesh built by blocks: the case checked on all of them, its sizes summed over them.
+  std::optional<ProblemSize> size;
+  if (c.problem->block) {
+    const StageLog log(o.quiet || comm.rank() != 0);
+    const auto t0 = std::chrono::steady_clock::now();
+    log("checking the case on every rank's block and summing their sizes", -1);
+    validate_blocks(comm, *c.problem);
+    size = block_problem_size(comm, *c.problem);
+    log("", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    // What each rank built: its block, a part of the grid with a layer of cells around it.
     const double most = comm.max(static_cast<double>(c.problem->mesh.n_cells()));
     if (comm.rank() == 0 && !o.quiet)
       fmt::print("  mesh built by blocks on {} ranks: at most {:.0f} cells a rank, of {} ({:.1f} %)\n", comm.size(), most,
@@ -137,9 +146,6 @@ std::unique_ptr<Run> set_up_petsc(MPI_Comm mpi_comm, const CaseLoader& load, con
   const SolverRequest request{.engine = "petsc", .linear_solver = o.linear_solver, .ranks = comm.size(),
                               .ranks_on_machine = ranks_on_machine(mpi_comm)};
   std::vector<double> chosen(2, 0.0);  // the linear solver's index in kLinearSolvers, products_row_by_row
-  // A mesh built by blocks: its sizes summed over the ranks.
-  std::optional<ProblemSize> size;
-  if (c.problem->block) size = block_problem_size(comm, *c.problem);
   la::on_root(comm, [&] {
     const SolverPlan plan = plan_run(c, request, o.quiet, size ? &*size : nullptr);
     chosen = {static_cast<double>(std::ranges::find(kLinearSolvers, plan.linear_solver) - kLinearSolvers.begin()),
