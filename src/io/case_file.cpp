@@ -682,7 +682,7 @@ void read_mesh_parts(Section& m, Mesh& mesh, const Origins& origins, bool check,
     const std::string none = fmt::format("{}: the predicate {} selects no boundary facet", p.where("where"),
                                          quote_formula(where->text()));
     if (check && mesh.part_size(name) == 0) fail("{}", none);
-    if (block) block->selected_parts.emplace_back(name, none);
+    if (block) block->checks.push_back({MeshBlock::Check::Of::part, name, none});
   }
 }
 
@@ -758,7 +758,7 @@ std::vector<std::string> read_parts(Section& b, const std::string& key, Problem&
     const std::string missing =
         fmt::format("{}: boundary part {} does not exist in the mesh (or has no facets); the mesh has: ", b.where(key), quote(p));
     if (check && problem.mesh.part_size(p) == 0) fail("{}{}", missing, describe_parts(problem.mesh));
-    if (problem.block) problem.block->required_parts.emplace_back(p, missing);
+    if (problem.block) problem.block->checks.push_back({MeshBlock::Check::Of::part, p, missing, true});
   }
   return parts;
 }
@@ -920,20 +920,24 @@ void read_materials(Section& top, Problem& p, const Origins& origins, bool build
     if (s.has("regions")) {
       m.regions = s.strings("regions");
       if (m.regions.empty()) fail("{}: expected at least one region name", s.where("regions"));
-      for (const auto& r : m.regions)
-        if (build && p.mesh.region_size(r) == 0)
-          fail("{}: the mesh has no cell in region {}; its regions: {}", s.where("regions"), quote(r),
-               p.mesh.region_names().empty() ? "(none: give the cells Gmsh physical groups of dimension d)"
-                                              : printable(fmt::format("{}", fmt::join(p.mesh.region_names(), ", ")), 300));
+      for (const auto& r : m.regions) {
+        const std::string none = fmt::format(
+            "{}: the mesh has no cell in region {}; its regions: {}", s.where("regions"), quote(r),
+            p.mesh.region_names().empty() ? "(none: give the cells Gmsh physical groups of dimension d)"
+                                           : printable(fmt::format("{}", fmt::join(p.mesh.region_names(), ", ")), 300));
+        if (build && p.mesh.region_size(r) == 0) fail("{}", none);
+        if (p.block) p.block->checks.push_back({MeshBlock::Check::Of::region, r, none});
+      }
     } else {
       const auto where = s.expression("where", Expression::Kind::Space);
       if (build && p.mesh.find_region(m.name) >= 0)
         fail("{}: the mesh has a region named {} already; name the material otherwise, or give regions = [{}]",
              s.where("name"), quote(m.name), quote_formula(m.name));
       p.mesh.tag_cells(m.name, [&](const Point& x) { return (*where)(x) != 0.0; });
-      if (build && p.mesh.region_size(m.name) == 0)
-        fail("{}: the predicate {} selects no cell (it is evaluated at cell centroids)", s.where("where"),
-             quote_formula(where->text()));
+      const std::string none = fmt::format("{}: the predicate {} selects no cell (it is evaluated at cell centroids)",
+                                           s.where("where"), quote_formula(where->text()));
+      if (build && p.mesh.region_size(m.name) == 0) fail("{}", none);
+      if (p.block) p.block->checks.push_back({MeshBlock::Check::Of::region, m.name, none});
       m.regions = {m.name};
     }
     Section e = s.table("elasticity");

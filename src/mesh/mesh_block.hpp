@@ -23,10 +23,16 @@ struct MeshBlock {
   Point lo{0, 0, 0}, hi{0, 0, 0};     // the whole mesh's bounding box, the generator's box
   std::array<int, 3> cells{0, 0, 0};  // the generator's cells per axis (0 beyond the dimension)
   Diagonal diagonal = Diagonal::right;
-  /// Checks of the case that need the whole mesh, which the loader leaves to all ranks together
-  /// (validate_blocks): a part the case names, with the start of its message where it has no
-  /// facet anywhere; a [[mesh.part]] predicate's part, with its message where it selects none.
-  std::vector<std::pair<std::string, std::string>> required_parts, selected_parts;
+  /// A check of the case that needs the whole mesh, which the loader leaves to all ranks together
+  /// (validate_blocks), in the loader's order: that a part (a [[mesh.part]] predicate's, or one the
+  /// case names) has facets, or a material's region cells, somewhere; else the loader's message (a
+  /// named part's followed by the parts the mesh has).
+  struct Check {
+    enum class Of { part, region } of = Of::part;
+    std::string name, message;
+    bool list_parts = false;
+  };
+  std::vector<Check> checks;
   std::vector<std::pair<Point, std::string>> probes;  // [output] probes, each with its key's location
   std::string source;                                 // the case file, as its messages name it
 };

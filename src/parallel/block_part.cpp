@@ -80,6 +80,17 @@ void validate_blocks(const la::Comm& comm, const Problem& p) {
   for (std::size_t k = 0; k < names.size(); ++k)
     parts += fmt::format("{}{} ({} facet{})", parts.empty() ? "" : ", ", names[k], facets[k], facets[k] == 1 ? "" : "s");
   parts = parts.empty() ? "no parts" : printable(parts, 300);
+  // The cells of each material region the loader left to check, each counted by its rank.
+  std::vector<long long> region_cells;
+  for (const MeshBlock::Check& check : b.checks) {
+    const int r = check.of == MeshBlock::Check::Of::region ? mesh.find_region(check.name) : -1;
+    long long n = 0;
+    for (int c = 0; c < mesh.n_cells() && r >= 0; ++c)
+      n += mesh.cell_region(c) == r && b.cell_rank[static_cast<std::size_t>(c)] == me;
+    region_cells.push_back(n);
+  }
+  comm.sum(region_cells.data(), static_cast<int>(region_cells.size()));
+
   // A symmetry part lies in one plane x_i = const: each block has checked its share; the axes agree.
   std::vector<bool> one_axis;
   for (const std::string& part : p.symmetry) {
@@ -108,19 +119,20 @@ void validate_blocks(const la::Comm& comm, const Problem& p) {
 
   // Every rank has the same sums: each finds the same error (thrown as one, la::collective).
   la::collective(comm, [&] {
-    // The loader's checks in its order: [[mesh.part]] predicates, then the parts named.
-    for (const auto& [name, message] : b.selected_parts) require(facets_of(name) > 0, "{}", message);
-    for (const auto& [name, message] : b.required_parts) require(facets_of(name) > 0, "{}{}", message, parts);
+    // The loader's checks in its order, then the probes (read last).
+    for (std::size_t k = 0; k < b.checks.size(); ++k) {
+      const MeshBlock::Check& check = b.checks[k];
+      const bool found = check.of == MeshBlock::Check::Of::part ? facets_of(check.name) > 0 : region_cells[k] > 0;
+      require(found, "{}{}", check.message, check.list_parts ? parts : std::string());
+    }
     for (const std::string& why : outside) require(why.empty(), "{}", why);
     for (std::size_t k = 0; k < p.symmetry.size(); ++k)
       require(one_axis[k], "{}: symmetry part '{}' does not lie in a plane x = const, y = const{}: a symmetry plane "
               "(roller) prescribes the displacement component normal to an axis-aligned plane",
               p.where("boundary.symmetry"), p.symmetry[k], d == 3 ? " or z = const" : "");
-    require(own_rows > 0 || p.contact.parts.empty(),
-            "{}: the contact part has no free node: every displacement component of each of its nodes is prescribed; "
-            "a contact node must be free to move (take the contact part's nodes out of the prescribed parts, or give "
-            "another contact part)",
-            p.where("boundary.contact"));
+    // Γ3 has a free node somewhere; else each rank with contact nodes names the keys that hold its own.
+    if (own_rows == 0 && !p.contact.parts.empty() && !mesh.nodes_of_parts(p.contact.parts).empty())
+      fail_no_free_contact_node(p, dirichlet.condition);
   });
   // The body is held: its prescribed dofs summed over the ranks' own nodes (every rank reaches the
   // sum, and then throws alike).

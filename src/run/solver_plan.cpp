@@ -84,12 +84,14 @@ double mumps_factor_bytes(const FactorEstimate& f, int ranks, int ranks_on_machi
 /// comes on top of those at the peak: the working data of GAMG's Galerkin products PᵀAP during a
 /// set-up (la/petsc.cpp frees it after), PETSc's default algorithm holding A·P (0.98 GB a rank at
 /// n = 70); or, with the products formed row by row (allatonce: none held, but a set-up takes
-/// several times as long, so the plan only where the default does not fit), the final checkpoint's
-/// copy of the state in the mesh's numbering.
+/// several times as long, so the plan only where the default does not fit), what a set-up still
+/// holds and a checkpoint's one array at a time: 11, since checkpoints no longer copy the whole
+/// state (d589959; n = 70 row by row, 3.80 GB summed against 4.33 before, 0.53 GB = 11 B a nonzero
+/// less).
 constexpr double kActiveRowsCopyBytesPerKNonzero = 12;
 constexpr double kHierarchyBytesPerKNonzero = 28;
 constexpr double kProductBytesPerKNonzero = 42;
-constexpr double kRowByRowProductBytesPerKNonzero = 22;
+constexpr double kRowByRowProductBytesPerKNonzero = 11;
 /// CG + BoomerAMG (hypre) as a whole: 4.43 GB a rank at foundation-3d n = 70 (docs/parallel.md).
 constexpr double kHypreBytesPerKNonzero = 150;
 

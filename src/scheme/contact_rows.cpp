@@ -79,6 +79,18 @@ void check_outside_obstacles(const Problem& p, int node, ObstacleMask mask) {
 
 }  // namespace
 
+void fail_no_free_contact_node(const Problem& p, const std::vector<int>& condition) {
+  const Mesh& mesh = p.mesh;
+  std::set<std::string> by;  // the keys that prescribe them
+  const std::vector<int> clamped = mesh.nodes_of_parts(p.clamped);
+  for (int node : mesh.nodes_of_parts(p.contact.parts))
+    for (int c = 0; c < mesh.dim(); ++c) by.insert(prescribed_by(p, node, c, condition, clamped));
+  fail("{}: the contact part has no free node: every displacement component of each of its nodes is prescribed, by "
+       "{}; a contact node must be free to move (take the contact part's nodes out of those parts, or give another "
+       "contact part)",
+       p.where("boundary.contact"), fmt::join(by, " and "));
+}
+
 std::vector<ContactRow> contact_rows(const Problem& p, const std::vector<int>& condition) {
   const Mesh& mesh = p.mesh;
   const int d = mesh.dim();
@@ -161,18 +173,9 @@ std::vector<ContactRow> contact_rows(const Problem& p, const std::vector<int>& c
     rows.push_back({node, v, g, rigid ? rigid_law[node] : compliant_law[node], rigid ? 0.0 : stiffness[node],
                     obstacles[node], {}, -1, 0.0});  // Γ3's row: no masters, no pair
   }
-  // Every contact node has every component prescribed: by which keys (a block may have no contact
-  // node: the ranks check the whole mesh's together, validate_blocks).
-  if (rows.empty() && !p.contact.parts.empty() && !p.block) {
-    std::set<std::string> by;
-    const std::vector<int> clamped = mesh.nodes_of_parts(p.clamped);
-    for (int node : mesh.nodes_of_parts(p.contact.parts))
-      for (int c = 0; c < d; ++c) by.insert(prescribed_by(p, node, c, condition, clamped));
-    fail("{}: the contact part has no free node: every displacement component of each of its nodes is prescribed, by "
-         "{}; a contact node must be free to move (take the contact part's nodes out of those parts, or give another "
-         "contact part)",
-         p.where("boundary.contact"), fmt::join(by, " and "));
-  }
+  // Every contact node has every component prescribed (a block may have no contact node: the
+  // ranks check the whole mesh's together, validate_blocks).
+  if (rows.empty() && !p.contact.parts.empty() && !p.block) fail_no_free_contact_node(p, condition);
   if (p.contact.pairs.empty()) return rows;
   // Pairs between bodies (SPEC §8): their slave nodes' rows, among Γ3's in node order.
   std::vector<ContactRow> pairs = pair_rows(p, condition);

@@ -36,6 +36,10 @@ struct ContactRow {
 /// node is left on Γ3.
 std::vector<ContactRow> contact_rows(const Problem& p, const std::vector<int>& condition);
 
+/// contact_rows' error where Γ3 has no free node: every component of each of its nodes (of p.mesh)
+/// prescribed, naming the keys that prescribe them.
+[[noreturn]] void fail_no_free_contact_node(const Problem& p, const std::vector<int>& condition);
+
 /// The tributary measure of each node on the facets of `parts` (Γ3): the sum over
 /// those facets containing the node of facet measure / vertices per facet (a
 /// length in 2D, an area in 3D, 1 in 1D); 0 at the other nodes. A uniform

@@ -58,7 +58,8 @@ std::vector<int> cell_materials(const Problem& p) {
             where, m.name);
     require(!m.regions.empty(), "{}: material '{}' has no region", where, m.name);
     for (const auto& region : m.regions) {
-      require(mesh.region_size(region) > 0,
+      // On a block (Problem::block) the region may lie in other blocks: validate_blocks checks it.
+      require(p.block || mesh.region_size(region) > 0,
               "{}: material '{}': the mesh has no cell in region '{}'{}", where, m.name, region,
               mesh.region_names().empty()
                   ? " (it has no regions: name the cells with a Gmsh physical group of the mesh's dimension, or give the material a `where`)"
@@ -66,7 +67,7 @@ std::vector<int> cell_materials(const Problem& p) {
       const auto [it, fresh] = owner.emplace(region, m.name);
       require(fresh, "{}: region '{}' is in materials '{}' and '{}'; a cell has one material", where, region,
               it->second, m.name);
-      material_of_region[static_cast<std::size_t>(mesh.find_region(region))] = static_cast<int>(k) + 1;
+      if (const int r = mesh.find_region(region); r >= 0) material_of_region[static_cast<std::size_t>(r)] = static_cast<int>(k) + 1;
     }
   }
   require(mesh.n_bodies() == 1 + static_cast<int>(p.bodies.size()), "{}: the mesh has {} bodies for {} described",
