@@ -13,7 +13,6 @@
 #include <climits>
 #include <cmath>
 #include <cstddef>
-#include <cstdint>
 
 namespace vpc {
 
@@ -62,8 +61,8 @@ void validate_blocks(const la::Comm& comm, const Problem& p) {
   const MeshBlock& b = *p.block;
   const Mesh& mesh = p.mesh;
   const int me = comm.rank(), d = mesh.dim();
-  la::collective(comm, [&] { validate_case(p, b.source); });  // each block's own checks
 
+  // The loader's checks first, as on one process (it makes them as it reads the case).
   // The parts' facets over the whole mesh, each counted by the rank of its cell (the part names
   // are the same on every rank: the generator's sides, then the case's [[mesh.part]]s).
   const std::vector<std::string>& names = mesh.part_names();
@@ -90,6 +89,28 @@ void validate_blocks(const la::Comm& comm, const Problem& p) {
     region_cells.push_back(n);
   }
   comm.sum(region_cells.data(), static_cast<int>(region_cells.size()));
+  // A probe lies in some rank's block (where none does, each rank's message is the same).
+  std::vector<std::string> outside;
+  for (const auto& [x, where] : b.probes) {
+    std::string why;
+    try {
+      (void)locate_point(mesh, x);
+    } catch (const Error& e) {
+      why = e.what();
+    }
+    outside.push_back(comm.all(!why.empty()) ? fmt::format("{}: {}", where, why) : std::string());
+  }
+  // Every rank has the same sums: each finds the same error (thrown as one, la::collective).
+  la::collective(comm, [&] {
+    for (std::size_t k = 0; k < b.checks.size(); ++k) {
+      const MeshBlock::Check& check = b.checks[k];
+      const bool found = check.of == MeshBlock::Check::Of::part ? facets_of(check.name) > 0 : region_cells[k] > 0;
+      require(found, "{}{}", check.message, check.list_parts ? parts : std::string());
+    }
+    for (const std::string& why : outside) require(why.empty(), "{}", why);
+  });
+
+  la::collective(comm, [&] { validate_case(p, b.source); });  // each block's own checks (Problem::validate)
 
   // A symmetry part lies in one plane x_i = const: each block has checked its share; the axes agree.
   std::vector<bool> one_axis;
@@ -104,28 +125,7 @@ void validate_blocks(const la::Comm& comm, const Problem& p) {
   long long own_rows = 0;
   for (const ContactRow& r : rows) own_rows += owner[static_cast<std::size_t>(r.node)] == me;
   own_rows = comm.sum(own_rows);
-
-  // A probe lies in some rank's block (where none does, each rank's message is the same).
-  std::vector<std::string> outside;
-  for (const auto& [x, where] : b.probes) {
-    std::string why;
-    try {
-      (void)locate_point(mesh, x);
-    } catch (const Error& e) {
-      why = e.what();
-    }
-    outside.push_back(comm.all(!why.empty()) ? fmt::format("{}: {}", where, why) : std::string());
-  }
-
-  // Every rank has the same sums: each finds the same error (thrown as one, la::collective).
   la::collective(comm, [&] {
-    // The loader's checks in its order, then the probes (read last).
-    for (std::size_t k = 0; k < b.checks.size(); ++k) {
-      const MeshBlock::Check& check = b.checks[k];
-      const bool found = check.of == MeshBlock::Check::Of::part ? facets_of(check.name) > 0 : region_cells[k] > 0;
-      require(found, "{}{}", check.message, check.list_parts ? parts : std::string());
-    }
-    for (const std::string& why : outside) require(why.empty(), "{}", why);
     for (std::size_t k = 0; k < p.symmetry.size(); ++k)
       require(one_axis[k], "{}: symmetry part '{}' does not lie in a plane x = const, y = const{}: a symmetry plane "
               "(roller) prescribes the displacement component normal to an axis-aligned plane",
@@ -158,14 +158,30 @@ ProblemSize block_problem_size(const la::Comm& comm, const Problem& p) {
       own[1] += 1;
       own[2] += laws[static_cast<std::size_t>(r.law)]->linear() ? 0 : 1;
     }
-  std::vector<std::uint64_t> pairs;  // (row node, column node) of the rank's rows
+  // The node graph's entries in the rank's rows: each own node's distinct neighbours (itself too),
+  // found through its cells (CSR, 4 bytes a cell's node) and marked, not as sorted pairs of every
+  // cell's nodes (16 a cell in 3D at 8 bytes: 0.8 GB a rank at foundation-3d n = 126).
+  const int npc = d + 1, n = mesh.n_nodes();
+  std::vector<int> start(static_cast<std::size_t>(n) + 1, 0), cells_of;
   for (int c = 0; c < mesh.n_cells(); ++c)
-    for (int a = 0; a <= d; ++a)
-      if (mine(mesh.cell(c)[a]))
-        for (int e = 0; e <= d; ++e)
-          pairs.push_back(std::uint64_t(mesh.cell(c)[a]) << 32 | std::uint64_t(mesh.cell(c)[e]));
-  std::sort(pairs.begin(), pairs.end());
-  own[3] = static_cast<double>(std::unique(pairs.begin(), pairs.end()) - pairs.begin());
+    for (int a = 0; a < npc; ++a) ++start[static_cast<std::size_t>(mesh.cell(c)[a]) + 1];
+  for (int v = 0; v < n; ++v) start[static_cast<std::size_t>(v) + 1] += start[static_cast<std::size_t>(v)];
+  cells_of.resize(static_cast<std::size_t>(start.back()));
+  {
+    std::vector<int> fill(start.begin(), start.end() - 1);
+    for (int c = 0; c < mesh.n_cells(); ++c)
+      for (int a = 0; a < npc; ++a) cells_of[static_cast<std::size_t>(fill[static_cast<std::size_t>(mesh.cell(c)[a])]++)] = c;
+  }
+  std::vector<int> seen(static_cast<std::size_t>(n), -1);
+  for (int v = 0; v < n; ++v) {
+    if (!mine(v)) continue;
+    for (int k = start[static_cast<std::size_t>(v)]; k < start[static_cast<std::size_t>(v) + 1]; ++k)
+      for (int a = 0; a < npc; ++a)
+        if (int& w = seen[static_cast<std::size_t>(mesh.cell(cells_of[static_cast<std::size_t>(k)])[a])]; w != v) {
+          w = v;
+          own[3] += 1;
+        }
+  }
   comm.sum(own, 4);
   ProblemSize s;
   s.nodes = static_cast<double>(b.whole_nodes);
