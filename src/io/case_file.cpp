@@ -593,7 +593,7 @@ std::pair<GridBlock, std::vector<GridBlock>> block_with_layer(const std::array<i
   return {b, std::move(parts)};
 }
 
-/// Each cell's rank: the part of the grid holding its square (cube); `per_box` cells each.
+/// Each cell's rank: the part of the grid (`parts`) holding its segment, square or cube.
 std::vector<int> cell_ranks(const BlockMesh& bm, const std::array<int, 3>& n, int d, const GridBlock& block,
                             const std::vector<GridBlock>& parts) {
   std::vector<int> near;  // the parts that the block meets
@@ -621,6 +621,7 @@ std::vector<int> cell_ranks(const BlockMesh& bm, const std::array<int, 3>& n, in
         break;
       }
     }
+    require(rank[c] >= 0, "internal: cell {} of the generated mesh is in no rank's part of the grid", bm.cell_id[c]);
   }
   return rank;
 }
@@ -645,9 +646,7 @@ Mesh generate_mesh(Section& m, const std::optional<MeshRequest::Block>& block = 
   if (!block) return located(m.where("cells"), [&] { return generate(d, box_lo, box_hi, n3, diagonal); });
   return located(m.where("cells"), [&] {
     const auto [b, parts] = block_with_layer(n3, d, *block);
-    BlockMesh bm = d == 1   ? make_interval_block(lo[0], hi[0], n[0], b)
-                   : d == 2 ? make_rectangle_block({lo[0], lo[1], 0}, {hi[0], hi[1], 0}, n[0], n[1], diagonal, b)
-                            : make_box_block({lo[0], lo[1], lo[2]}, {hi[0], hi[1], hi[2]}, n[0], n[1], n[2], diagonal, b);
+    BlockMesh bm = generate_block(d, box_lo, box_hi, n3, diagonal, b);
     auto info = std::make_shared<MeshBlock>();
     info->rank = block->rank;
     info->ranks = block->ranks;
@@ -666,8 +665,8 @@ Mesh generate_mesh(Section& m, const std::optional<MeshRequest::Block>& block = 
 }
 
 /// [[mesh.part]]: re-tag the boundary facets whose centroid satisfies a predicate.
-/// `check`: whether a part must have facets here (not in a block, whose MeshBlock::selected_parts
-/// keeps the check for all ranks together).
+/// `check`: whether a part must have facets here (not in a block, whose MeshBlock::checks keeps
+/// the check for all ranks together).
 void read_mesh_parts(Section& m, Mesh& mesh, const Origins& origins, bool check, MeshBlock* block) {
   if (!m.has("part")) return;
   const toml::node* parts = m.get("part");

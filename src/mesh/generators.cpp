@@ -355,6 +355,13 @@ Mesh generate(int dim, const Point& lo, const Point& hi, const std::array<int, 3
   return make_box(lo, hi, n[0], n[1], n[2], diagonal);
 }
 
+BlockMesh generate_block(int dim, const Point& lo, const Point& hi, const std::array<int, 3>& n, Diagonal diagonal,
+                         const GridBlock& block) {
+  if (dim == 1) return make_interval_block(lo[0], hi[0], n[0], block);
+  if (dim == 2) return make_rectangle_block({lo[0], lo[1], 0}, {hi[0], hi[1], 0}, n[0], n[1], diagonal, block);
+  return make_box_block(lo, hi, n[0], n[1], n[2], diagonal, block);
+}
+
 BlockMesh make_interval_block(double x0, double x1, int n, const GridBlock& block) {
   return interval_block(x0, x1, n, block, true);
 }

@@ -79,6 +79,10 @@ struct BlockMesh {
   long long whole_nodes = 0, whole_cells = 0;  // the whole mesh's
 };
 
+/// `generate` on a block of the grid.
+BlockMesh generate_block(int dim, const Point& lo, const Point& hi, const std::array<int, 3>& n, Diagonal diagonal,
+                         const GridBlock& block);
+
 /// The generators above on a block of the grid (of n, nx × ny, nx × ny × nz cells).
 /// The size check (check_mesh_size) applies to the block; the whole mesh's numbers must fit in int.
 BlockMesh make_interval_block(double x0, double x1, int n, const GridBlock& block);

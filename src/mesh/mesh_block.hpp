@@ -9,6 +9,7 @@
 #include "mesh/mesh.hpp"
 
 #include <array>
+#include <cstddef>
 #include <string>
 #include <utility>
 #include <vector>
@@ -36,5 +37,10 @@ struct MeshBlock {
   std::vector<std::pair<Point, std::string>> probes;  // [output] probes, each with its key's location
   std::string source;                                 // the case file, as its messages name it
 };
+
+/// Node i of a mesh that may be `block` as messages name it: its number in the whole mesh.
+inline long long node_number(const MeshBlock* block, int i) {
+  return block && !block->node_id.empty() ? block->node_id[static_cast<std::size_t>(i)] : i;
+}
 
 }  // namespace vpc

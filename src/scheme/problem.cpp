@@ -95,13 +95,6 @@ void check_formulas(const Problem& p) {
   for (const auto& f : p.formulas) f->check_finite();
 }
 
-namespace {
-/// Node i of a mesh that may be `block` (its number in the whole mesh, as messages name it).
-long long number_of(const MeshBlock* block, int i) {
-  return block && !block->node_id.empty() ? block->node_id[static_cast<std::size_t>(i)] : i;
-}
-}  // namespace
-
 void check_beta0(const Mesh& mesh, const ScalarField& beta0, int body, const MeshBlock* block) {
   if (!beta0) return;  // β0 = 1
   const std::vector<int> of_node = body < 0 ? std::vector<int>() : node_bodies(mesh, cell_bodies(mesh));
@@ -110,7 +103,7 @@ void check_beta0(const Mesh& mesh, const ScalarField& beta0, int body, const Mes
     const Point& x = mesh.node(i);
     const double b = beta0(x, 0.0);
     require(std::isfinite(b) && b >= 0 && b <= 1, "initial damage beta0 must lie in [0, 1]; it is {} at node {} ({}, {}, {})",
-            b, number_of(block, i), x[0], x[1], x[2]);
+            b, node_number(block, i), x[0], x[1], x[2]);
   }
 }
 
@@ -157,9 +150,9 @@ void check_gap(const Mesh& mesh, const ContactSpec& contact, const MeshBlock* bl
     const Point& x = mesh.node(i);
     const double g = contact.gap(x, 0.0);
     // NaN compares false with everything: test finiteness first so that it is not called negative.
-    require(std::isfinite(g), "the gap g is not finite ({}) at contact node {} ({}, {}, {})", g, number_of(block, i), x[0],
+    require(std::isfinite(g), "the gap g is not finite ({}) at contact node {} ({}, {}, {})", g, node_number(block, i), x[0],
             x[1], x[2]);
-    require(g >= 0, "the gap g must be >= 0; it is {} at contact node {} ({}, {}, {})", g, number_of(block, i), x[0], x[1],
+    require(g >= 0, "the gap g must be >= 0; it is {} at contact node {} ({}, {}, {})", g, node_number(block, i), x[0], x[1],
             x[2]);
   }
 }

@@ -120,7 +120,7 @@ struct Problem {
   /// body held) are then made by all ranks together (parallel/block_part.hpp).
   std::shared_ptr<MeshBlock> block;
   /// Node i of `mesh` as messages name it: its number in the whole mesh (not a block's own).
-  long long node_number(int i) const { return block && !block->node_id.empty() ? block->node_id[static_cast<std::size_t>(i)] : i; }
+  long long node_number(int i) const { return vpc::node_number(block.get(), i); }
   std::vector<std::string> clamped;   // Γ1: every component zero (may be empty when `displacement` or `symmetry` holds the body)
   std::vector<PrescribedDisplacement> displacement;
   /// Symmetry planes (rollers): parts lying in a plane x_i = const, whose normal component u_i is zero.

@@ -465,8 +465,11 @@ TEST(BoxQp, EqualBoundsAreHeldFromTheFirstIteration) {
     EXPECT_EQ(r.iterations, 1);  // one reduced solve; then the sets repeat
     EXPECT_EQ(r.cycles, 0);
     EXPECT_LE(r.kkt_residual, 1e-14);
-    for (int i = 0; i < n; ++i)
-      if (fixed[i]) ASSERT_EQ(x[i], lo[i]) << i;
+    for (int i = 0; i < n; ++i) {
+      if (fixed[i]) {
+        ASSERT_EQ(x[i], lo[i]) << i;
+      }
+    }
     EXPECT_LE((x - ref).cwiseAbs().maxCoeff(), 1e-13);
   }
 }
