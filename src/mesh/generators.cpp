@@ -40,7 +40,7 @@ void finish_boundary(Mesh& m, const Point& lo, const Point& hi) {
 /// simplices per square or cube; the block's count is the one limited (check_mesh_size), and
 /// the whole mesh's numbers of cells and nodes (at most 5 per cube) must fit an int.
 void check_box(const Point& lo, const Point& hi, int dim, const int* n, int per_box, const GridBlock& block) {
-  double cells = per_box, whole = per_box;
+  double cells = per_box, all_cells = per_box, whole = per_box;
   for (int a = 0; a < dim; ++a) {
     require(n[a] >= 1, "mesh generator: number of cells along axis {} must be >= 1 (got {})", a, n[a]);
     require(hi[a] > lo[a], "mesh generator: upper corner must exceed lower corner along axis {}", a);
@@ -48,9 +48,13 @@ void check_box(const Point& lo, const Point& hi, int dim, const int* n, int per_
             "internal: mesh generator: block [{}, {}) along axis {} is not within the {} cells", block.lo[a],
             block.hi[a], a, n[a]);
     cells *= block.hi[a] - block.lo[a];
+    all_cells *= n[a];
     whole *= n[a] + 1;
   }
-  check_mesh_size(cells);
+  if (cells == all_cells) check_mesh_size(cells);
+  require(cells <= kMaxGeneratedCells,
+          "this rank's block of the mesh would have {:.0f} cells (of {:.0f}); at most {} are allowed on a rank (use "
+          "fewer cells per edge, or more ranks)", cells, all_cells, kMaxGeneratedCells);
   require(whole < 2e9, "the mesh would have about {:.3g} cells or nodes, beyond the numbers of a mesh (2^31)", whole);
 }
 
