@@ -115,7 +115,7 @@ void validate_blocks(const la::Comm& comm, const Problem& p) {
   // A symmetry part lies in one plane x_i = const: each block has checked its share; the axes agree.
   std::vector<bool> one_axis;
   for (const std::string& part : p.symmetry) {
-    const int axis = mesh.part_size(part) > 0 ? symmetry_axis(mesh, part) : -1;
+    const int axis = mesh.part_size(part) > 0 ? symmetry_axis(mesh, part, &b) : -1;
     one_axis.push_back(comm.max(axis) == comm.min(axis >= 0 ? axis : 3));
   }
   const DirichletDofs dirichlet = dirichlet_dofs(p);

@@ -42,7 +42,7 @@ std::vector<std::string> dirichlet_parts(const Problem& p) {
   return parts;
 }
 
-int symmetry_axis(const Mesh& mesh, const std::string& part) {
+int symmetry_axis(const Mesh& mesh, const std::string& part, const MeshBlock* block) {
   const std::vector<int> nodes = mesh.nodes_of_parts({part});
   require(!nodes.empty(), "symmetry part '{}' has no boundary facets in the mesh", part);
   const double tol = 1e-9 * std::max(mesh_extent(mesh), 1e-300);
@@ -54,7 +54,7 @@ int symmetry_axis(const Mesh& mesh, const std::string& part) {
   const Point& x = mesh.node(nodes.front());
   fail("symmetry part '{}' does not lie in a plane x = const, y = const{}: a symmetry plane (roller) prescribes "
        "the displacement component normal to an axis-aligned plane (its node {} is at ({}, {}, {}))",
-       part, mesh.dim() == 3 ? " or z = const" : "", nodes.front(), x[0], x[1], x[2]);
+       part, mesh.dim() == 3 ? " or z = const" : "", node_number(block, nodes.front()), x[0], x[1], x[2]);
 }
 
 DirichletDofs dirichlet_dofs(const Problem& p) {
@@ -102,7 +102,7 @@ DirichletDofs dirichlet_dofs(const Problem& p) {
     // A block of the mesh (Problem::block) may not meet the part: its axis is then found by the
     // ranks whose blocks do (block_part_pieces).
     if (p.block && mesh.part_size(part) == 0) continue;
-    const int c = located(p.name, [&] { return symmetry_axis(mesh, part); });
+    const int c = located(p.name, [&] { return symmetry_axis(mesh, part, p.block.get()); });
     part_prescribes(part, 1u << c);
     for (int node : mesh.nodes_of_parts({part})) prescribe(node, c, 0, fmt::format("symmetry part '{}'", part));
   }

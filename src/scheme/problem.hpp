@@ -236,8 +236,9 @@ struct DirichletDofs {
 /// Γ1's parts, then those of Problem::displacement and Problem::symmetry (each name once).
 std::vector<std::string> dirichlet_parts(const Problem& p);
 /// The axis i of a symmetry part: its facets all lie in one plane x_i = const. Throws
-/// vpc::Error naming the part otherwise.
-int symmetry_axis(const Mesh& mesh, const std::string& part);
+/// vpc::Error naming the part otherwise (and a node, by its number in the whole mesh where
+/// `mesh` is `block`).
+int symmetry_axis(const Mesh& mesh, const std::string& part, const MeshBlock* block = nullptr);
 
 /// Problem::validate's check that the body is held (its prescribed components stop every rigid
 /// motion), on a block of its mesh (Problem::block): `nodes` are this rank's own, and `sum` adds
