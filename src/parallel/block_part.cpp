@@ -30,22 +30,19 @@ std::vector<int> node_owners(const Mesh& mesh, const std::vector<int>& cell_rank
   return owner;
 }
 
-/// The rank's own nodes: those of its cells that it owns.
-std::vector<int> own_nodes(const Mesh& mesh, const std::vector<int>& cell_rank, const std::vector<int>& owner, int me) {
-  std::vector<char> in_part(static_cast<std::size_t>(mesh.n_nodes()), 0);
-  for (int c = 0; c < mesh.n_cells(); ++c)
-    if (cell_rank[static_cast<std::size_t>(c)] == me)
-      for (int a = 0; a < mesh.nodes_per_cell(); ++a) in_part[static_cast<std::size_t>(mesh.cell(c)[a])] = 1;
-  std::vector<int> own;
-  for (int v = 0; v < mesh.n_nodes(); ++v)
-    if (in_part[static_cast<std::size_t>(v)] && owner[static_cast<std::size_t>(v)] == me) own.push_back(v);
-  return own;
-}
-
-int free_components(const DirichletDofs& dirichlet, int v, int d) {
-  const auto begin = dirichlet.condition.begin() + static_cast<std::ptrdiff_t>(v) * d;
-  return static_cast<int>(std::count(begin, begin + d, -1));
-}
+/// The nodes of the rank's cells: those it owns, and the others (its ghost layer), each in the
+/// block's order.
+struct PartNodes {
+  std::vector<int> own, ghosts;
+  PartNodes(const Mesh& mesh, const std::vector<int>& cell_rank, const std::vector<int>& owner, int me) {
+    std::vector<char> in_part(static_cast<std::size_t>(mesh.n_nodes()), 0);
+    for (int c = 0; c < mesh.n_cells(); ++c)
+      if (cell_rank[static_cast<std::size_t>(c)] == me)
+        for (int a = 0; a < mesh.nodes_per_cell(); ++a) in_part[static_cast<std::size_t>(mesh.cell(c)[a])] = 1;
+    for (int v = 0; v < mesh.n_nodes(); ++v)
+      if (in_part[static_cast<std::size_t>(v)]) (owner[static_cast<std::size_t>(v)] == me ? own : ghosts).push_back(v);
+  }
+};
 
 /// The values of every rank, in rank order (each rank's `mine` sent to all). Collective.
 std::vector<long long> gather_all(const la::Comm& comm, const std::vector<long long>& mine) {
@@ -120,7 +117,7 @@ void validate_blocks(const la::Comm& comm, const Problem& p) {
   }
   const DirichletDofs dirichlet = dirichlet_dofs(p);
   const std::vector<int> owner = node_owners(mesh, b.cell_rank);
-  const std::vector<int> own = own_nodes(mesh, b.cell_rank, owner, me);
+  const std::vector<int> own = PartNodes(mesh, b.cell_rank, owner, me).own;
   const std::vector<ContactRow> rows = contact_rows(p, dirichlet.condition);
   long long own_rows = 0;
   for (const ContactRow& r : rows) own_rows += owner[static_cast<std::size_t>(r.node)] == me;
@@ -214,42 +211,29 @@ PartPieces block_part_pieces(MPI_Comm mpi_comm, const Problem& p) {
   std::vector<int> cells;
   for (int c = 0; c < mesh.n_cells(); ++c)
     if (b.cell_rank[static_cast<std::size_t>(c)] == me) cells.push_back(c);
-  const std::vector<int> own = own_nodes(mesh, b.cell_rank, owner, me);
+  PartNodes part_nodes(mesh, b.cell_rank, owner, me);
+  const std::vector<int>& own = part_nodes.own;
+  std::vector<int>& ghosts = part_nodes.ghosts;
 
   // Own nodes and free dofs numbered after the lower ranks', each in the whole mesh's order
-  // (the block's is the same): WholeNumbering's numbering.
-  WholeNumbering numbering;
-  numbering.node.assign(static_cast<std::size_t>(n), -1);
-  numbering.first_dof.assign(static_cast<std::size_t>(n), -1);
+  // (the block's is the same): WholeNumbering from the lower ranks' counts.
   long long own_dofs = 0;
   for (const int v : own) own_dofs += free_components(whole.dirichlet, v, d);
   const std::vector<long long> node_counts = comm.all_gather(static_cast<long long>(own.size()));
   const std::vector<long long> dof_counts = comm.all_gather(own_dofs);
-  long long next_node = 0, next_dof = 0;
+  long long next_node = 0, next_dof = 0, all_dofs = 0;
   for (int r = 0; r < me; ++r) {
     next_node += node_counts[static_cast<std::size_t>(r)];
     next_dof += dof_counts[static_cast<std::size_t>(r)];
   }
-  for (const long long k : dof_counts) numbering.n_dofs += k;
-  for (const int v : own) {
-    numbering.node[static_cast<std::size_t>(v)] = next_node++;
-    if (const int k = free_components(whole.dirichlet, v, d); k > 0) {
-      numbering.first_dof[static_cast<std::size_t>(v)] = next_dof;
-      next_dof += k;
-    }
-  }
+  for (const long long k : dof_counts) all_dofs += k;
+  WholeNumbering numbering({own}, whole.dirichlet, d, next_node, next_dof);
+  numbering.n_dofs = all_dofs;
 
-  // The ghost layer: the other nodes of the rank's cells, their numbers asked of their owners.
-  std::vector<char> in_part(static_cast<std::size_t>(n), 0);
-  for (const int c : cells)
-    for (int a = 0; a < mesh.nodes_per_cell(); ++a) in_part[static_cast<std::size_t>(mesh.cell(c)[a])] = 1;
-  std::vector<int> ghosts;
+  // The ghost layer, their numbers asked of their owners.
   std::vector<std::vector<long long>> ask(static_cast<std::size_t>(ranks));
-  for (int v = 0; v < n; ++v)
-    if (in_part[static_cast<std::size_t>(v)] && owner[static_cast<std::size_t>(v)] != me) {
-      ghosts.push_back(v);
-      ask[static_cast<std::size_t>(owner[static_cast<std::size_t>(v)])].push_back(b.node_id[static_cast<std::size_t>(v)]);
-    }
+  for (const int v : ghosts)
+    ask[static_cast<std::size_t>(owner[static_cast<std::size_t>(v)])].push_back(b.node_id[static_cast<std::size_t>(v)]);
   const std::vector<std::vector<long long>> asked = comm.exchange(ask);
   std::vector<std::vector<long long>> answer(static_cast<std::size_t>(ranks));
   std::string missing;

@@ -67,12 +67,10 @@ std::unique_ptr<TimeStepper> petsc_stepper(MPI_Comm mpi_comm, Case& c, PetscSolv
   // From here on, rank 0 too holds its part only; but it builds a large-sliding pair's rows again
   // from the whole mesh at every step (scheme/sliding_pairs.hpp; their nodes are all its own).
   if (!slides(*c.problem)) c.problem->mesh = Mesh();
-  if (c.problem->block) {  // a block's numbers, not needed once the part is cut
-    auto kept = std::make_shared<MeshBlock>(*c.problem->block);
-    std::vector<int>().swap(kept->node_id);
-    std::vector<int>().swap(kept->cell_id);
-    std::vector<int>().swap(kept->cell_rank);
-    c.problem->block = std::move(kept);
+  if (MeshBlock* b = c.problem->block.get()) {  // a block's numbers, not needed once the part is cut
+    std::vector<int>().swap(b->node_id);
+    std::vector<int>().swap(b->cell_id);
+    std::vector<int>().swap(b->cell_rank);
   }
   return stepper;
 }

@@ -26,16 +26,22 @@ WholeMeshData::WholeMeshData(const Problem& p)
   }
 }
 
-WholeNumbering::WholeNumbering(const std::vector<std::vector<int>>& owned, const DirichletDofs& dirichlet, int dim) {
+int free_components(const DirichletDofs& dirichlet, int node, int dim) {
+  const auto begin = dirichlet.condition.begin() + static_cast<std::ptrdiff_t>(node) * dim;
+  return static_cast<int>(std::count(begin, begin + dim, -1));
+}
+
+WholeNumbering::WholeNumbering(const std::vector<std::vector<int>>& owned, const DirichletDofs& dirichlet, int dim,
+                               long long first_node, long long first_free) {
   const std::size_t n_nodes = dirichlet.condition.size() / static_cast<std::size_t>(dim);
   node.assign(n_nodes, -1);
   first_dof.assign(n_nodes, -1);
-  long long next_node = 0;
+  long long next_node = first_node;
+  n_dofs = first_free;
   for (const std::vector<int>& nodes : owned)
     for (int i : nodes) {
       node[i] = next_node++;
-      const auto begin = dirichlet.condition.begin() + static_cast<std::ptrdiff_t>(i) * dim;
-      if (const auto k = std::count(begin, begin + dim, -1); k > 0) {  // the node's free components
+      if (const int k = free_components(dirichlet, i, dim); k > 0) {
         first_dof[i] = n_dofs;
         n_dofs += k;
       }

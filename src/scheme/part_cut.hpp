@@ -26,15 +26,19 @@ struct WholeMeshData {
   explicit WholeMeshData(const Problem& p);
 };
 
+/// The free components of `node` (DirichletDofs::condition −1).
+int free_components(const DirichletDofs& dirichlet, int node, int dim);
+
 /// The global numbering of the whole mesh's nodes and free dofs: the nodes of
 /// `owned[0]` (in its order), then of `owned[1]`, ...; the free components of a
-/// node numbered together, in order.
+/// node numbered together, in order. Numbers start at `first_node` and `first_free`
+/// (a block's own nodes after the lower ranks': parallel/block_part.cpp).
 struct WholeNumbering {
   std::vector<long long> node;       // global number per node
   std::vector<long long> first_dof;  // per node: its first free dof, −1 where none
-  long long n_dofs = 0;
-  WholeNumbering(const std::vector<std::vector<int>>& owned, const DirichletDofs& dirichlet, int dim);
-  WholeNumbering() = default;  // filled by the caller (a block's nodes: parallel/block_part.cpp)
+  long long n_dofs = 0;              // the last number given + 1
+  WholeNumbering(const std::vector<std::vector<int>>& owned, const DirichletDofs& dirichlet, int dim,
+                 long long first_node = 0, long long first_free = 0);
 };
 
 /// The contact node of `row` (the row numbered `k`) in a part, at its local node.
