@@ -10,6 +10,7 @@
 #include "mesh/mesh_block.hpp"
 #include "mesh/gmsh_reader.hpp"
 #include "mesh/mesh_extent.hpp"
+#include "mesh/refine.hpp"
 
 #include <fmt/ranges.h>
 #include <toml++/toml.h>
@@ -22,11 +23,13 @@
 #include <cctype>
 #include <cmath>
 #include <cerrno>
+#include <cstdint>
 #include <cstring>
 #include <fstream>
 #include <map>
 #include <set>
 #include <sstream>
+#include <tuple>
 
 namespace vpc {
 
@@ -630,6 +633,9 @@ std::vector<int> cell_ranks(const BlockMesh& bm, const std::array<int, 3>& n, in
 Mesh generate_mesh(Section& m, const std::optional<MeshRequest::Block>& block = std::nullopt,
                    std::shared_ptr<MeshBlock>* out = nullptr) {
   const std::string gen = m.choice("generator", {"interval", "rectangle", "box"});
+  if (m.has("refine"))
+    fail("{}: refine applies to a mesh read from a file; a generated mesh is refined by its cells per edge (cells)",
+         m.where("refine"));
   const int d = gen == "interval" ? 1 : (gen == "rectangle" ? 2 : 3);
   const auto lo = m.numbers("lower", d), hi = m.numbers("upper", d);
   const std::vector<int> n = read_cells(m, d);
@@ -659,6 +665,42 @@ Mesh generate_mesh(Section& m, const std::optional<MeshRequest::Block>& block = 
     info->hi = box_hi;
     info->cells = n3;
     info->diagonal = diagonal;
+    *out = std::move(info);
+    return std::move(bm.mesh);
+  });
+}
+
+/// [mesh] file with `refine` uniform refinements (mesh/refine.hpp): the whole refined mesh, or with
+/// `block` the rank's block into `*out`: the children of its coarse cells (split_cells) and a layer
+/// of fine cells around them, which every rank refines from the coarse mesh it read.
+Mesh read_refined_mesh(Section& m, const fs::path& base_dir, const std::string& memory_limit_option,
+                       const std::optional<MeshRequest::Block>& block, std::shared_ptr<MeshBlock>* out) {
+  const int levels = m.integer("refine", 0);
+  if (levels < 0 || levels > 10)
+    fail("{}: expected a number of uniform refinements from 0 to 10 (each cuts every cell into 2^d), got {}",
+         m.where("refine"), levels);
+  auto coarse = std::make_shared<const Mesh>(read_mesh_file(m, base_dir, memory_limit_option));
+  if (levels == 0) return *coarse;
+  return located(m.where("refine"), [&] {
+    const MeshRefinement refinement(*coarse, levels);
+    if (!block) return refinement.refine_all().mesh;
+    const std::vector<int> coarse_rank = split_cells(*coarse, block->ranks);
+    std::vector<int> own;
+    for (int c = 0; c < coarse->n_cells(); ++c)
+      if (coarse_rank[static_cast<std::size_t>(c)] == block->rank) own.push_back(c);
+    BlockMesh bm = refinement.refine(own, layer_cells(*coarse, coarse_rank, block->rank));
+    auto info = std::make_shared<MeshBlock>();
+    info->rank = block->rank;
+    info->ranks = block->ranks;
+    const int shift = coarse->dim() * levels;  // 2^(d·levels) children a coarse cell
+    for (const int id : bm.cell_id) info->cell_rank.push_back(coarse_rank[static_cast<std::size_t>(id >> shift)]);
+    info->node_id = std::move(bm.node_id);
+    info->cell_id = std::move(bm.cell_id);
+    info->whole_nodes = bm.whole_nodes;
+    info->whole_cells = bm.whole_cells;
+    std::tie(info->lo, info->hi) = coarse->bounding_box();  // the refined mesh's: its corners are coarse nodes
+    info->coarse = coarse;
+    info->levels = levels;
     *out = std::move(info);
     return std::move(bm.mesh);
   });
@@ -694,7 +736,8 @@ Mesh read_mesh(Section m, const fs::path& base_dir, const Origins& origins, cons
     require(request.dim >= 1 && request.dim <= 3, "{}: the mesh dimension must be 1, 2 or 3", origins.file);
     return Mesh(request.dim);  // [mesh] is read by the rank that builds the mesh
   }
-  Mesh mesh = m.has("file") ? read_mesh_file(m, base_dir, memory_limit_option) : generate_mesh(m, request.block, block);
+  Mesh mesh = m.has("file") ? read_refined_mesh(m, base_dir, memory_limit_option, request.block, block)
+                             : generate_mesh(m, request.block, block);
   // Coordinates such as 1e120 overflow the method's products (issue 26): refused here, at check.
   located(m.has("file") ? fmt::format("{}: {}", m.where("file"), quote(m.string("file"))) : m.where("upper"),
           [&] { check_mesh_extent(mesh); });
@@ -1532,8 +1575,11 @@ Case parse_case(std::string_view text, const std::string& name, const fs::path& 
   // without the request. `whole`: this rank holds the whole mesh and checks the case on it.
   MeshRequest request = mesh_request;
   const toml::node* mesh_table = root.get("mesh");
+  // A file's mesh by blocks only when refined (`refine`; a value that is not a count is refused by read_mesh).
+  const bool refined_file = mesh_table && mesh_table->is_table() && mesh_table->as_table()->contains("file") &&
+                            (*mesh_table->as_table())["refine"].value<std::int64_t>().value_or(0) > 0;
   if (request.block && (pairs || root.contains("body") || !mesh_table || !mesh_table->is_table() ||
-                        mesh_table->as_table()->contains("file")))
+                        (mesh_table->as_table()->contains("file") && !refined_file)))
     request.block.reset();
   const bool whole = request.build && !request.block;
   p->mesh = read_mesh(top.table("mesh"), base_dir, origins, request, overrides.memory_limit, &p->block);

@@ -48,12 +48,15 @@ int Mesh::find_region(const std::string& name) const {
   return it == region_names_.end() ? -1 : static_cast<int>(it - region_names_.begin());
 }
 
+int Mesh::region_id(const std::string& name) {
+  const int r = find_region(name);
+  if (r >= 0) return r;
+  region_names_.push_back(name);
+  return static_cast<int>(region_names_.size()) - 1;
+}
+
 void Mesh::set_cell_region(int c, const std::string& region) {
-  int r = find_region(region);
-  if (r < 0) {
-    region_names_.push_back(region);
-    r = static_cast<int>(region_names_.size()) - 1;
-  }
+  const int r = region_id(region);
   if (cell_region_.empty()) cell_region_.assign(n_cells(), -1);
   cell_region_[c] = r;
 }

@@ -62,6 +62,8 @@ class Mesh {
   const std::vector<std::string>& region_names() const { return region_names_; }
   /// Index of a region, -1 if absent.
   int find_region(const std::string& name) const;
+  /// Index of a region, created (without cells) if absent.
+  int region_id(const std::string& name);
   /// Number of cells in the region.
   int region_size(const std::string& name) const;
   /// Re-tags every cell whose centroid satisfies `pred` as region `name`.

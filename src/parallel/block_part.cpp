@@ -4,15 +4,18 @@
 #include "io/case_file.hpp"
 #include "io/run_output.hpp"
 #include "la/petsc.hpp"
+#include "mesh/refine.hpp"
 #include "scheme/part_cut.hpp"
 
 #include <fmt/format.h>
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <climits>
 #include <cmath>
 #include <cstddef>
+#include <cstdint>
 
 namespace vpc {
 
@@ -52,12 +55,36 @@ std::vector<long long> gather_all(const la::Comm& comm, const std::vector<long l
   return all;
 }
 
+/// FNV-1a over the nodes' coordinates (their bits) and the cells' nodes.
+std::uint64_t mesh_fingerprint(const Mesh& mesh) {
+  std::uint64_t h = 14695981039346656037ULL;
+  auto mix = [&](std::uint64_t v) {
+    for (int k = 0; k < 8; ++k, v >>= 8) h = (h ^ (v & 0xff)) * 1099511628211ULL;
+  };
+  for (const Point& x : mesh.nodes())
+    for (const double c : x) mix(std::bit_cast<std::uint64_t>(c));
+  for (const int v : mesh.cell_array()) mix(static_cast<std::uint64_t>(static_cast<std::uint32_t>(v)));
+  return h;
+}
+
 }  // namespace
 
 void validate_blocks(const la::Comm& comm, const Problem& p) {
   const MeshBlock& b = *p.block;
   const Mesh& mesh = p.mesh;
   const int me = comm.rank(), d = mesh.dim();
+
+  // A refined file's mesh was read (or meshed by Gmsh) on every rank: the same mesh everywhere, or
+  // the blocks are not of one mesh.
+  if (b.coarse) {
+    const std::uint64_t h = mesh_fingerprint(*b.coarse);
+    const double high = static_cast<double>(h >> 32), low = static_cast<double>(h & 0xffffffffULL);
+    const bool same = comm.max(high) == comm.min(high) && comm.max(low) == comm.min(low);
+    la::collective(comm, [&] {
+      require(same, "{}: the mesh file gave a different mesh on some ranks (each rank reads it, or meshes a script, "
+              "itself); mesh it once into a .msh file (gmsh -{} FILE.geo) and read that", b.source, d);
+    });
+  }
 
   // The loader's checks first, as on one process (it makes them as it reads the case).
   // The parts' facets over the whole mesh, each counted by the rank of its cell (the part names
@@ -192,6 +219,12 @@ ProblemSize block_problem_size(const la::Comm& comm, const Problem& p) {
   s.K_nonzeros = d * d * s.node_nonzeros * free_share;
   if (me == 0) {
     constexpr double kCoarseNodes = 30000;
+    if (b.coarse) {  // the file's mesh refined as far as it stays within that (itself where larger)
+      int levels = 0;
+      while (levels < b.levels && MeshRefinement(*b.coarse, levels + 1).whole_nodes() <= kCoarseNodes) ++levels;
+      scale_factors(s, refine_mesh(*b.coarse, levels), d);
+      return s;
+    }
     const double f = std::max(1.0, std::ceil(std::pow(s.nodes / kCoarseNodes, 1.0 / d)));
     std::array<int, 3> n = b.cells;
     for (int a = 0; a < d; ++a) n[static_cast<std::size_t>(a)] = std::max(1, static_cast<int>(std::lround(n[static_cast<std::size_t>(a)] / f)));
