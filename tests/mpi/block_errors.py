@@ -6,10 +6,12 @@ and on --ranks ranks; the error lines must be the same.
 
   block_errors.py --vpcontact BIN --mpiexec MPIEXEC --work DIR --ranks P -- CASE_FILE
 
-CASE_FILE: a valid case with a generated box (tests/mpi/cases/blocks-3d.toml). Prints "block
+CASE_FILE: a valid case with a generated box (tests/mpi/cases/blocks-3d.toml), or with a Gmsh mesh
+refined on every rank (tests/mpi/cases/refine-3d.toml, whose wrong inputs are its own). Prints "block
 errors: PASSED" or what differs and "block errors: FAILED". Python standard library only.
 """
 import os
+import re
 import subprocess
 
 import case_runs
@@ -26,6 +28,17 @@ WRONG = {
     "Γ3 on a symmetry plane": ['boundary.symmetry=["zone", "front"]'],
 }
 
+# A Gmsh mesh refined on every rank (tests/mpi/cases/refine-3d.toml): its parts and regions are the
+# file's physical groups.
+WRONG_REFINED = {
+    "a clamped part misspelt": ['boundary.clamped=["clampd"]'],
+    "a predicate that selects nothing": ['mesh.part[0].where="x < -1"'],
+    "a probe outside the body": ["output.probes=[[0.5, 0.5, 3.0]]"],
+    "a material's region misspelt": ['material[0].regions=["bdy"]'],
+    "Γ3 clamped": ['boundary.clamped=["contact"]'],
+    "a body not held (only its symmetry plane)": ('clamped = ["clamped"]', ""),
+}
+
 
 def error_line(cmd):
     r = subprocess.run(cmd, capture_output=True, text=True)
@@ -37,13 +50,16 @@ def main():
     args = case_runs.parse(case_runs.parser(__doc__.splitlines()[0]))
     problems = []
     os.makedirs(args.work, exist_ok=True)
-    for k, (what, wrong) in enumerate(WRONG.items()):
+    wrongs = WRONG_REFINED if os.path.basename(args.case[0]).startswith("refine") else WRONG
+    for k, (what, wrong) in enumerate(wrongs.items()):
         out = os.path.join(args.work, f"wrong{k}")
         case, opts = args.case, []
-        if isinstance(wrong, tuple):  # the case file with a line replaced (a generated mesh: no relative paths)
+        if isinstance(wrong, tuple):  # the case file with a line replaced, its mesh file's path made absolute
             with open(args.case[0]) as f:
                 text = f.read()
             assert wrong[0] in text, wrong[0]
+            text = re.sub(r'^file = "([^"]+)"', lambda m: 'file = "%s"' % os.path.join(
+                os.path.dirname(os.path.abspath(args.case[0])), m.group(1)), text, flags=re.M)
             edited = os.path.join(args.work, f"wrong{k}.toml")
             with open(edited, "w") as f:
                 f.write(text.replace(wrong[0], wrong[1]))

@@ -10,6 +10,7 @@
 #      interrupted, resumed with mpirun -np 3, mpirun -np 1 and the serial engine
 #   F: E's files with one piece of step 20 missing: the resume passes step 20 over,
 #      says why, and continues from step 10
+#   H, I: contact pairs, and a Gmsh mesh refined on every rank, across rank counts
 #   G: mpirun -np 1 (the PETSc engine on one process) writes the one-file format,
 #      byte for byte the serial engine's layout; interrupted, resumed with mpirun -np 1:
 #      the history and the last fields bit-identical to an uninterrupted run
@@ -110,4 +111,17 @@ compare_to "$WORK/H" "$WORK/H3" "contact pairs: 3 ranks -> 2 ranks" 6
 rm -f "$WORK"/Hs/checkpoint_00006*.bin
 run 3 run "${PAIRS[@]}" --resume "$WORK/Hs"
 compare_to "$WORK/H" "$WORK/Hs" "contact pairs: serial engine -> 3 ranks" 6
+
+# I: a Gmsh mesh refined on every rank (`[mesh] refine`, issue 30): each rank's block numbered from the
+# coarse mesh, so 3 ranks -> 2 ranks and 2 ranks -> the serial engine (which refines it whole) continue.
+REFINED=("$(dirname "$0")/cases/refine-2d.toml" -q)
+run 2 run "${REFINED[@]}" -o "$WORK/I"
+run 3 run "${REFINED[@]}" --checkpoint-every 2 -o "$WORK/I3"
+rm -f "$WORK"/I3/checkpoint_00006*.bin
+run 2 run "${REFINED[@]}" --resume "$WORK/I3"
+compare_to "$WORK/I" "$WORK/I3" "refined Gmsh mesh: 3 ranks -> 2 ranks" 6
+run 2 run "${REFINED[@]}" --checkpoint-every 2 -o "$WORK/I2"
+rm -f "$WORK"/I2/checkpoint_00006*.bin
+"$VPC" run "${REFINED[@]}" --engine serial --resume "$WORK/I2"
+compare_to "$WORK/I" "$WORK/I2" "refined Gmsh mesh: 2 ranks -> serial engine" 6
 echo "resume across rank counts: ok"
