@@ -73,17 +73,57 @@ MeshRefinement::MeshRefinement(const Mesh& coarse, int levels) : coarse_(coarse)
     std::sort(list.begin(), list.end());
     list.erase(std::unique(list.begin(), list.end()), list.end());
   }
-  // New nodes inside the j-faces, entity after entity; j = d: inside the cells.
-  double nodes = coarse.n_nodes();
-  first_[1] = coarse.n_nodes();
-  for (int j = 1; j <= d; ++j) {
-    const double entities = j < d ? static_cast<double>(entities_[j].size()) : coarse.n_cells();
-    nodes += entities * static_cast<double>(binomial(m_ - 1, j));
-    require(nodes < 2e9, "the mesh refined {} times would have more than {:.3g} nodes, beyond the numbers of a mesh (2^31)",
-            levels, nodes);
-    if (j < 3) first_[j + 1] = static_cast<long long>(nodes);
+  // Nodes numbered coarse cell after coarse cell: each cell's nodes not numbered yet (in an earlier
+  // cell), its vertices, then the lattice points inside its edges, faces and itself, entity after
+  // entity. A cell's children then have nearby numbers, as the coarse cells near in the file's
+  // order are near in space: the matrices' rows of a rank stay local, as a generator's.
+  const int npc = d + 1;
+  for (int j = 0; j <= d; ++j)
+    base_[j].assign(j == 0 ? static_cast<std::size_t>(coarse.n_nodes())
+                           : (j < d ? entities_[j].size() : static_cast<std::size_t>(coarse.n_cells())), -1);
+  long long next = 0;
+  auto take = [&](int& base, long long count) {
+    if (base >= 0) return;
+    require(next + count < 2'000'000'000LL, "the mesh refined {} times would have more than {} nodes, beyond the numbers "
+            "of a mesh (2^31)", levels, next + count);
+    base = static_cast<int>(next);
+    next += count;
+  };
+  for (int c = 0; c < coarse.n_cells(); ++c) {
+    const int* v = coarse.cell(c);
+    for (int a = 0; a < npc; ++a) take(base_[0][static_cast<std::size_t>(v[a])], 1);
+    for (int j = 1; j < d; ++j)
+      for (int mask = 0; mask < (1 << npc); ++mask) {
+        if (__builtin_popcount(static_cast<unsigned>(mask)) != j + 1) continue;
+        std::array<int, 3> e{-1, -1, -1};
+        int k = 0;
+        for (int a = 0; a < npc; ++a)
+          if (mask >> a & 1) e[static_cast<std::size_t>(k++)] = v[a];
+        sort_first(e, k);
+        take(base_[j][static_cast<std::size_t>(entity(j, e))], binomial(m_ - 1, j));
+      }
+    take(base_[d][static_cast<std::size_t>(c)], binomial(m_ - 1, d));
   }
-  whole_nodes_ = static_cast<long long>(nodes);
+  for (int& b : base_[0]) take(b, 1);  // a node of no cell (none in a mesh read from a file)
+  whole_nodes_ = next;
+  // One level: each new node's edge, for the transfers of verification/refine.hpp.
+  if (levels == 1) {
+    midpoint_.resize(static_cast<std::size_t>(next));
+    for (int i = 0; i < coarse.n_nodes(); ++i) midpoint_[static_cast<std::size_t>(base_[0][static_cast<std::size_t>(i)])] = {i, i};
+    if (d == 1) {
+      for (int c = 0; c < coarse.n_cells(); ++c)
+        midpoint_[static_cast<std::size_t>(base_[1][static_cast<std::size_t>(c)])] = {
+            std::min(coarse.cell(c)[0], coarse.cell(c)[1]), std::max(coarse.cell(c)[0], coarse.cell(c)[1])};
+    } else {
+      for (std::size_t e = 0; e < entities_[1].size(); ++e)
+        midpoint_[static_cast<std::size_t>(base_[1][e])] = {entities_[1][e][0], entities_[1][e][1]};
+    }
+  }
+}
+
+long long MeshRefinement::entity(int j, const std::array<int, 3>& sorted) const {
+  const auto& list = entities_[j];
+  return std::lower_bound(list.begin(), list.end(), sorted) - list.begin();
 }
 
 long long MeshRefinement::node_id(const int* vertices, int n, const Lattice& lambda, int cell) const {
@@ -92,17 +132,12 @@ long long MeshRefinement::node_id(const int* vertices, int n, const Lattice& lam
   int j = -1;
   for (int i = 0; i < n; ++i)
     if (lambda[static_cast<std::size_t>(i)] > 0) on[static_cast<std::size_t>(++j)] = {vertices[i], lambda[static_cast<std::size_t>(i)]};
-  if (j == 0) return on[0].first;
+  if (j == 0) return base_[0][static_cast<std::size_t>(on[0].first)];
   sort_first(on, j + 1);
-  long long entity = cell;
-  if (j < coarse_.dim()) {
-    const std::array<int, 3> key{on[0].first, on[1].first, j > 1 ? on[2].first : -1};
-    const auto& list = entities_[j];
-    entity = std::lower_bound(list.begin(), list.end(), key) - list.begin();
-  }
+  const long long e = j < coarse_.dim() ? entity(j, {on[0].first, on[1].first, j > 1 ? on[2].first : -1}) : cell;
   int a[3];
   for (int i = 0; i < j; ++i) a[i] = on[static_cast<std::size_t>(i) + 1].second;
-  return first_[j] + entity * binomial(m_ - 1, j) + lattice_index(a, j, m_ - 1);
+  return base_[j][static_cast<std::size_t>(e)] + lattice_index(a, j, m_ - 1);
 }
 
 Point MeshRefinement::node_x(const int* vertices, int n, const Lattice& lambda) const {
@@ -192,13 +227,7 @@ BlockMesh MeshRefinement::refine_all() const {
 
 std::array<int, 2> MeshRefinement::midpoint_of(int id) const {
   require(levels_ == 1, "internal: midpoint_of with {} levels", levels_);
-  if (id < coarse_.n_nodes()) return {id, id};
-  const auto e = static_cast<std::size_t>(id - first_[1]);
-  if (coarse_.dim() == 1) {
-    const int* v = coarse_.cell(static_cast<int>(e));
-    return {std::min(v[0], v[1]), std::max(v[0], v[1])};
-  }
-  return {entities_[1][e][0], entities_[1][e][1]};
+  return midpoint_[static_cast<std::size_t>(id)];
 }
 
 BlockMesh MeshRefinement::refine(const std::vector<int>& cells, const std::vector<int>& layer, bool every_facet) const {

@@ -7,9 +7,10 @@
 // physical groups.
 //
 // The refined mesh is numbered from the coarse mesh alone, which every rank holds (as p4est and
-// deal.II hold their coarse mesh): the coarse nodes first, then the new nodes inside each coarse
-// edge, face and tetrahedron, entity after entity, each entity's in a fixed order of its lattice
-// points; the children of coarse cell c are cells c·2^(dk) onwards. So a rank refines only its
+// deal.II hold their coarse mesh): coarse cell after coarse cell, the nodes a cell adds (its
+// vertices, then the points inside its edges, faces and itself, each entity's in a fixed order of
+// its lattice points, where no earlier cell has numbered them); the children of coarse cell c are
+// cells c·2^(dk) onwards. So a rank refines only its
 // coarse cells and a layer around them (refine_block), with the numbers, coordinates (bit for
 // bit) and cells of the whole refinement (refine_mesh), and no rank builds the whole fine mesh.
 #include "mesh/generators.hpp"
@@ -55,11 +56,16 @@ class MeshRefinement {
   void children(const int* vertices, int n, Emit emit) const;
   BlockMesh refine(const std::vector<int>& cells, const std::vector<int>& layer, bool every_facet) const;
 
+  /// The index in entities_[j] of the j-face with these sorted vertices.
+  long long entity(int j, const std::array<int, 3>& sorted) const;
+
   const Mesh& coarse_;
   int levels_ = 0, m_ = 1;    // m = 2^levels lattice steps along each coarse edge
   long long children_ = 1;    // cells per coarse cell: 2^(d·levels)
   std::vector<std::array<int, 3>> entities_[3];  // [j]: sorted vertices of the coarse j-faces, j = 1, 2
-  long long first_[4] = {0, 0, 0, 0};           // [j]: the first number of the new nodes inside j-faces
+  std::vector<int> base_[4];  // [j]: the first number of the nodes inside each j-face (j = 0: the
+                              // coarse nodes; j = d: the cells)
+  std::vector<std::array<int, 2>> midpoint_;  // with one level: each node's coarse edge (midpoint_of)
   long long whole_nodes_ = 0;
 };
 
