@@ -167,6 +167,11 @@ INPUTS = [
     # --- mesh files
     ("mesh file missing", {"c.toml": MESH_CASE.format(mesh="body.msh")}, ["c.toml"]),
     ("mesh file is a folder", {"c.toml": MESH_CASE.format(mesh="."), "d/x": ""}, ["c.toml"]),
+    ("refine a negative number of times", {"c.toml": MESH_CASE.format(mesh="body.msh"), "body.msh": SQUARE_MSH},
+     ["c.toml", "--set", "mesh.refine=-1"]),
+    ("refine a generated mesh", {"c.toml": CASE}, ["c.toml", "--set", "mesh.refine=2"]),
+    ("refine a mesh beyond 3e7 cells", {}, ["dome-3d", "--set", "mesh.refine=5"]),
+    ("refine a mesh beyond the numbers of a mesh (2^31 cells)", {}, ["dome-3d", "--set", "mesh.refine=9"]),
     ("not a mesh", {"c.toml": MESH_CASE.format(mesh="body.msh"), "body.msh": "this is { not a mesh ;;\n"},
      ["c.toml"]),
     ("truncated .msh", {"c.toml": MESH_CASE.format(mesh="body.msh"),

@@ -485,7 +485,7 @@ void check_generated_cells(const toml::table& root, const KeyOverride& ov, const
   const auto mesh_file = root["mesh"]["file"].value<std::string>();
   if (ov.generated_mesh_only && mesh_file)
     fail("{}: --n sets the cells per edge of a generated mesh only; {} reads its mesh from {} (refine that mesh "
-         "with --set mesh.size_factor=..., or in Gmsh)", ov.origin, file, quote(*mesh_file));
+         "with --set mesh.refine=k, each level cutting every cell into 2^d, or a .geo's with --set mesh.size_factor=...)", ov.origin, file, quote(*mesh_file));
 }
 
 /// Applies the overrides to the parsed table and records their origins. A key that
