@@ -7,6 +7,7 @@
 #include "fem/assembly.hpp"
 #include "scheme/mesh_part.hpp"
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -55,6 +56,27 @@ TEST(SolverPlan, FactorsScaledFromACoarserGridMatchTheWholeMeshsAnalysis) {
     EXPECT_GT(scaled.H.flops / whole.H.flops, 0.5);
     EXPECT_LT(scaled.H.flops / whole.H.flops, 2.0);
     EXPECT_NEAR(scaled.K.entries / whole.K.entries, scaled.H.entries / whole.H.entries, 1e-12);
+  }
+}
+
+// The same for a Gmsh mesh refined on every rank (block_problem_size): the factors scaled from the
+// file's mesh refined fewer times. The dome (Gmsh, 6,010 tetrahedra) refined twice, from once.
+TEST(SolverPlan, FactorsScaledFromAFewerTimesRefinedMeshMatchTheWholeMeshsAnalysis) {
+  for (const auto& [name, fine, coarse] : {std::tuple{"dome-3d", 2, 1}, std::tuple{"dome-3d", 2, 0}}) {
+    CaseOverrides refine_fine, refine_coarse;
+    refine_fine.sets = {fmt::format("mesh.refine={}", fine)};
+    refine_coarse.sets = {fmt::format("mesh.refine={}", coarse)};
+    auto f = load_case(name, refine_fine);
+    auto c = load_case(name, refine_coarse);
+    const ProblemSize whole = problem_size(*f.problem);
+    ProblemSize scaled = whole;
+    scale_factors(scaled, c.problem->mesh, f.problem->mesh.dim());
+    SCOPED_TRACE(::testing::Message() << name << " refined " << fine << " times, from " << coarse);
+    std::printf("%s refined %d times from %d: factor entries %.3f, flops %.3f of the whole mesh's analysis\n", name,
+                fine, coarse, scaled.H.entries / whole.H.entries, scaled.H.flops / whole.H.flops);
+    EXPECT_NEAR(scaled.H.entries / whole.H.entries, 1.0, 0.35);
+    EXPECT_GT(scaled.H.flops / whole.H.flops, 0.5);
+    EXPECT_LT(scaled.H.flops / whole.H.flops, 2.0);
   }
 }
 
