@@ -29,6 +29,9 @@ struct MeshRequest {
     int rank = 0, ranks = 1;
   };
   std::optional<Block> block = std::nullopt;
+  /// With `block`, a refined file's mesh as rank 0 read it (mesh_bytes, sent by the engine): taken
+  /// instead of reading the file, so that the file is read and a .geo meshed once.
+  std::shared_ptr<const Mesh> coarse = nullptr;
 };
 
 struct Case {

@@ -534,7 +534,9 @@ void apply_overrides(toml::table& root, const std::vector<KeyOverride>& override
 // ---------------------------------------------------------------- [mesh]
 
 /// `memory_limit`: --memory-limit, the default limit of meshing a script.
-Mesh read_mesh_file(Section& m, const fs::path& base_dir, const std::string& memory_limit_option) {
+/// [mesh] file's path and Gmsh's options, every key of them read.
+std::pair<fs::path, GmshOptions> mesh_file_options(Section& m, const fs::path& base_dir,
+                                                   const std::string& memory_limit_option) {
   const fs::path path = base_dir / m.string("file");
   GmshOptions g;
   g.size_factor = m.positive("size_factor", 1.0);
@@ -554,7 +556,12 @@ Mesh read_mesh_file(Section& m, const fs::path& base_dir, const std::string& mem
       std::isfinite(limit.bytes) ? static_cast<std::size_t>(std::max(limit.bytes, 1024.0 * 1024 * 1024)) : 0;
   g.memory_limit_how =
       m.has("memory_limit") ? limit.source : limit.source + "; [mesh] memory_limit sets it for meshing";
-  return located(m.where("file"), [&] { return read_gmsh(path, g); });
+  return {path, g};
+}
+
+Mesh read_mesh_file(Section& m, const fs::path& base_dir, const std::string& memory_limit_option) {
+  const auto [path, options] = mesh_file_options(m, base_dir, memory_limit_option);
+  return located(m.where("file"), [&] { return read_gmsh(path, options); });
 }
 
 /// The cells per direction of a generated mesh: one number for all, or one each;
@@ -671,15 +678,21 @@ Mesh generate_mesh(Section& m, const std::optional<MeshRequest::Block>& block = 
 }
 
 /// [mesh] file with `refine` uniform refinements (mesh/refine.hpp): the whole refined mesh, or with
-/// `block` the rank's block into `*out`: the children of its coarse cells (split_cells) and a layer
-/// of fine cells around them, which every rank refines from the coarse mesh it read.
+/// a block request the rank's block into `*out`: the children of its coarse cells (split_cells) and
+/// a layer of fine cells around them, which every rank refines from the file's mesh (rank 0's,
+/// MeshRequest::coarse, where given; else read here).
 Mesh read_refined_mesh(Section& m, const fs::path& base_dir, const std::string& memory_limit_option,
-                       const std::optional<MeshRequest::Block>& block, std::shared_ptr<MeshBlock>* out) {
+                       const MeshRequest& request, std::shared_ptr<MeshBlock>* out) {
+  const std::optional<MeshRequest::Block>& block = request.block;
   const int levels = m.integer("refine", 0);
   if (levels < 0 || levels > 10)
     fail("{}: expected a number of uniform refinements from 0 to 10 (each cuts every cell into 2^d), got {}",
          m.where("refine"), levels);
-  auto coarse = std::make_shared<const Mesh>(read_mesh_file(m, base_dir, memory_limit_option));
+  std::shared_ptr<const Mesh> coarse = request.coarse;
+  if (coarse && block)
+    (void)mesh_file_options(m, base_dir, memory_limit_option);  // its keys read and checked, as by rank 0
+  else
+    coarse = std::make_shared<const Mesh>(read_mesh_file(m, base_dir, memory_limit_option));
   if (levels == 0) return *coarse;
   return located(m.where("refine"), [&] {
     const MeshRefinement refinement(*coarse, levels);
@@ -736,7 +749,7 @@ Mesh read_mesh(Section m, const fs::path& base_dir, const Origins& origins, cons
     require(request.dim >= 1 && request.dim <= 3, "{}: the mesh dimension must be 1, 2 or 3", origins.file);
     return Mesh(request.dim);  // [mesh] is read by the rank that builds the mesh
   }
-  Mesh mesh = m.has("file") ? read_refined_mesh(m, base_dir, memory_limit_option, request.block, block)
+  Mesh mesh = m.has("file") ? read_refined_mesh(m, base_dir, memory_limit_option, request, block)
                              : generate_mesh(m, request.block, block);
   // Coordinates such as 1e120 overflow the method's products (issue 26): refused here, at check.
   located(m.has("file") ? fmt::format("{}: {}", m.where("file"), quote(m.string("file"))) : m.where("upper"),
@@ -781,7 +794,7 @@ std::vector<Section> read_body_meshes(Section& top, Problem& p, const fs::path& 
     }
     Section m = s.table("mesh");
     if (!m.exists()) fail("{}: missing section [body.mesh] of body {} (a generator or a file, as [mesh])", s.where_section(), quote(name));
-    const Mesh mesh = read_mesh(m, base_dir, origins, {request.build, request.dim, std::nullopt, std::nullopt}, memory_limit_option);
+    const Mesh mesh = read_mesh(m, base_dir, origins, {request.build, request.dim, std::nullopt, std::nullopt, nullptr}, memory_limit_option);
     if (request.build) p.mesh.append(mesh, name);
     bodies.push_back(std::move(s));
   }

@@ -74,15 +74,15 @@ void validate_blocks(const la::Comm& comm, const Problem& p) {
   const Mesh& mesh = p.mesh;
   const int me = comm.rank(), d = mesh.dim();
 
-  // A refined file's mesh was read (or meshed by Gmsh) on every rank: the same mesh everywhere, or
-  // the blocks are not of one mesh.
+  // A refined file's mesh, rank 0's sent to the others (MeshRequest::coarse) or read by each: the
+  // same mesh everywhere, or the blocks are not of one mesh.
   if (b.coarse) {
     const std::uint64_t h = mesh_fingerprint(*b.coarse);
     const double high = static_cast<double>(h >> 32), low = static_cast<double>(h & 0xffffffffULL);
     const bool same = comm.max(high) == comm.min(high) && comm.max(low) == comm.min(low);
     la::collective(comm, [&] {
-      require(same, "{}: the mesh file gave a different mesh on some ranks (each rank reads it, or meshes a script, "
-              "itself); mesh it once into a .msh file (gmsh -{} FILE.geo) and read that", b.source, d);
+      require(same, "{}: the mesh file gave a different mesh on some ranks (each read it, or meshed a script, itself); "
+              "mesh it once into a .msh file (gmsh -{} FILE.geo) and read that", b.source, d);
     });
   }
 

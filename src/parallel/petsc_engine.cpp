@@ -1,6 +1,7 @@
 #include "parallel/petsc_engine.hpp"
 
 #include "la/petsc.hpp"
+#include "mesh/mesh_bytes.hpp"
 #include "parallel/block_part.hpp"
 #include "parallel/distributed_mesh.hpp"
 #include "run/progress.hpp"
@@ -11,7 +12,9 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstring>
 #include <optional>
+#include <string_view>
 
 namespace vpc {
 
@@ -22,13 +25,30 @@ void stop_if_interrupted_anywhere(const la::Comm& comm) {
   if (const int s = static_cast<int>(comm.max(interrupt_signal()))) throw Interrupted(s);
 }
 
+/// Rank 0's `coarse` (or none) on every rank, as mesh_bytes in 8-byte words. Collective.
+std::shared_ptr<const Mesh> broadcast_coarse_mesh(const la::Comm& comm, const std::shared_ptr<const Mesh>& coarse) {
+  std::vector<long long> words;
+  if (comm.rank() == 0 && coarse) {
+    const std::string bytes = mesh_bytes(*coarse);
+    words.assign(1 + (bytes.size() + 7) / 8, 0);
+    words[0] = static_cast<long long>(bytes.size());
+    std::memcpy(words.data() + 1, bytes.data(), bytes.size());
+  }
+  words = la::broadcast(comm, std::move(words));
+  if (words.empty()) return nullptr;
+  if (comm.rank() == 0) return coarse;
+  return std::make_shared<const Mesh>(
+      mesh_from_bytes(std::string_view(reinterpret_cast<const char*>(words.data() + 1), static_cast<std::size_t>(words[0]))));
+}
+
 }  // namespace
 
 // Rank 0 builds the case and sends the mesh's dimension (or its error, which every
 // rank then reports alike); the other ranks build everything else (laws and
 // formulas are C++ objects made by the parser) around an empty mesh of that dimension.
-// A generated mesh of one body is built by blocks instead, each rank its own (MeshRequest::block);
-// the caller then checks the case on all blocks together (validate_blocks).
+// A generated mesh of one body is built by blocks instead, each rank its own (MeshRequest::block),
+// and so is a refined file's mesh, which only rank 0 reads (MeshRequest::coarse); the caller then
+// checks the case on all blocks together (validate_blocks).
 Case load_case_everywhere(const CaseLoader& load, const la::Comm& comm) {
   Case c;
   double dim = 0;
@@ -39,6 +59,8 @@ Case load_case_everywhere(const CaseLoader& load, const la::Comm& comm) {
     dim = c.problem->mesh.dim();
   });
   dim = la::broadcast(comm, std::vector<double>{dim})[0];
+  // A refined file's mesh: rank 0's to every rank, which refines its part of it without reading the file.
+  if (comm.size() > 1) request.coarse = broadcast_coarse_mesh(comm, comm.rank() == 0 && c.problem->block ? c.problem->block->coarse : nullptr);
   la::collective(comm, [&] {
     if (comm.rank() == 0) return;
     request.build = false;  // the whole mesh, where it is not built by blocks, comes from rank 0 (distribute_mesh)
@@ -134,9 +156,13 @@ std::unique_ptr<Run> set_up_petsc(MPI_Comm mpi_comm, const CaseLoader& load, con
     log("", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
     // What each rank built: its block, a part of the grid with a layer of cells around it.
     const double most = comm.max(static_cast<double>(c.problem->mesh.n_cells()));
+    const MeshBlock& b = *c.problem->block;
     if (comm.rank() == 0 && !o.quiet)
-      fmt::print("  mesh built by blocks on {} ranks: at most {:.0f} cells a rank, of {} ({:.1f} %)\n", comm.size(), most,
-                 c.problem->block->whole_cells, 100.0 * most / static_cast<double>(c.problem->block->whole_cells));
+      fmt::print("  mesh built by blocks on {} ranks: at most {:.0f} cells a rank, of {} ({:.1f} %){}\n", comm.size(), most,
+                 b.whole_cells, 100.0 * most / static_cast<double>(b.whole_cells),
+                 b.coarse ? fmt::format("; the file's {} cells refined {} time{}, read by rank 0 and sent to every rank",
+                                        b.coarse->n_cells(), b.levels, b.levels == 1 ? "" : "s")
+                          : std::string());
   }
   stop_if_interrupted_anywhere(comm);
   // Rank 0 (which holds the whole mesh, or the sizes summed over the blocks) chooses the linear
