@@ -5,9 +5,11 @@
 // pays one predictable branch. A distributed Comm (la/mpi_comm.hpp, PETSc build)
 // forwards them to MPI through CommBackend. The pattern is MFEM's: one algorithm,
 // whose only MPI hook is a reduction after a local computation.
+#include <cstring>
 #include <exception>
 #include <memory>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 namespace vpc::la {
@@ -30,6 +32,8 @@ class CommBackend {
   virtual std::vector<std::vector<long long>> exchange(const std::vector<std::vector<long long>>& to_rank) const = 0;
   /// The message of the lowest rank with failed set, on every rank ("" when none failed).
   virtual std::string first_failure(bool failed, const std::string& message) const = 0;
+  /// Rank 0's bytes on every rank (a broadcast tree: rank 0 sends log P copies, not P).
+  virtual void broadcast(std::string& bytes) const = 0;
 };
 
 class Comm {
@@ -67,6 +71,10 @@ class Comm {
   template <typename T>
   std::vector<std::vector<T>> exchange(const std::vector<std::vector<T>>& to_rank) const {
     return b_ ? b_->exchange(to_rank) : to_rank;
+  }
+  /// Rank 0's bytes on every rank.
+  void broadcast(std::string& bytes) const {
+    if (b_) b_->broadcast(bytes);
   }
   /// Collective: when `failed` holds on some rank, every rank throws the same
   /// vpc::CollectiveError (reported once by the program), with the message of the lowest such rank (no rank left waiting
@@ -108,11 +116,14 @@ void on_root(const Comm& comm, F&& work) {
 /// Rank 0's `values` on every process (the others' are replaced), exactly. Collective.
 template <typename T>
 std::vector<T> broadcast(const Comm& comm, std::vector<T> values) {
+  static_assert(std::is_trivially_copyable_v<T>);
   if (comm.serial()) return values;
-  std::vector<std::vector<T>> out(comm.size());
-  if (comm.rank() == 0)
-    for (auto& v : out) v = values;
-  return comm.exchange(out)[0];
+  std::string bytes;
+  if (comm.rank() == 0) bytes.assign(reinterpret_cast<const char*>(values.data()), values.size() * sizeof(T));
+  comm.broadcast(bytes);
+  values.resize(bytes.size() / sizeof(T));
+  if (!bytes.empty()) std::memcpy(values.data(), bytes.data(), bytes.size());
+  return values;
 }
 
 }  // namespace vpc::la

@@ -2,6 +2,7 @@
 
 #include "la/petsc_segregated.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <numeric>
 
@@ -31,6 +32,14 @@ class MpiComm final : public CommBackend {
   }
   std::vector<std::vector<long long>> exchange(const std::vector<std::vector<long long>>& to) const override {
     return exchange_as(to, MPI_LONG_LONG);
+  }
+  void broadcast(std::string& bytes) const override {
+    long long n = static_cast<long long>(bytes.size());
+    MPI_Bcast(&n, 1, MPI_LONG_LONG, 0, comm_);
+    bytes.resize(static_cast<std::size_t>(n));
+    // In pieces of at most 2^30 bytes: MPI's counts are ints.
+    for (long long at = 0; at < n; at += 1LL << 30)
+      MPI_Bcast(bytes.data() + at, static_cast<int>(std::min(n - at, 1LL << 30)), MPI_CHAR, 0, comm_);
   }
   std::string first_failure(bool failed, const std::string& message) const override {
     int first = failed ? rank() : size();

@@ -12,9 +12,7 @@
 
 #include <algorithm>
 #include <chrono>
-#include <cstring>
 #include <optional>
-#include <string_view>
 
 namespace vpc {
 
@@ -25,20 +23,12 @@ void stop_if_interrupted_anywhere(const la::Comm& comm) {
   if (const int s = static_cast<int>(comm.max(interrupt_signal()))) throw Interrupted(s);
 }
 
-/// Rank 0's `coarse` (or none) on every rank, as mesh_bytes in 8-byte words. Collective.
+/// Rank 0's `coarse` (or none) on every rank, as mesh_bytes. Collective.
 std::shared_ptr<const Mesh> broadcast_coarse_mesh(const la::Comm& comm, const std::shared_ptr<const Mesh>& coarse) {
-  std::vector<long long> words;
-  if (comm.rank() == 0 && coarse) {
-    const std::string bytes = mesh_bytes(*coarse);
-    words.assign(1 + (bytes.size() + 7) / 8, 0);
-    words[0] = static_cast<long long>(bytes.size());
-    std::memcpy(words.data() + 1, bytes.data(), bytes.size());
-  }
-  words = la::broadcast(comm, std::move(words));
-  if (words.empty()) return nullptr;
-  if (comm.rank() == 0) return coarse;
-  return std::make_shared<const Mesh>(
-      mesh_from_bytes(std::string_view(reinterpret_cast<const char*>(words.data() + 1), static_cast<std::size_t>(words[0]))));
+  std::string bytes = comm.rank() == 0 && coarse ? mesh_bytes(*coarse) : std::string();
+  comm.broadcast(bytes);
+  if (bytes.empty()) return nullptr;
+  return comm.rank() == 0 ? coarse : std::make_shared<const Mesh>(mesh_from_bytes(bytes));
 }
 
 }  // namespace

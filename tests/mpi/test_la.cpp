@@ -1,4 +1,4 @@
-// The linear-algebra layer (la/) on several ranks: reductions and the shared
+// The linear-algebra layer (la/) on several ranks: reductions, broadcasts and the shared
 // error, ghost updates (forward, reverse-add), gather/scatter round trip in the
 // original numbering, the MPIAIJ operator's mult, restriction and fixed rows against the
 // serial Eigen operator, the box QP with bounds active on different ranks
@@ -182,6 +182,16 @@ void run() {
   check(comm.sum(static_cast<double>(me + 1)) == p * (p + 1) / 2.0, "sum", comm);
   check(comm.sum(static_cast<long long>(me)) == p * (p - 1) / 2, "sum (integers)", comm);
   check(comm.max(double(me)) == p - 1 && comm.min(double(me)) == 0, "max/min", comm);
+  {  // rank 0's values everywhere, bit for bit; an empty vector too
+    std::vector<double> v(100001);
+    for (std::size_t i = 0; i < v.size(); ++i) v[i] = me == 0 ? std::sin(static_cast<double>(i)) : -1.0;
+    const std::vector<double> b = la::broadcast(comm, v);
+    bool same = b.size() == v.size();
+    for (std::size_t i = 0; same && i < b.size(); ++i) same = b[i] == std::sin(static_cast<double>(i));
+    check(same, "broadcast", comm);
+    check(la::broadcast(comm, me == 0 ? std::vector<long long>{} : std::vector<long long>{7}).empty(),
+          "broadcast of nothing", comm);
+  }
   check(comm.all(true) && !comm.all(me != 0) && comm.any(me == p - 1) && !comm.any(false), "all/any", comm);
   try {
     comm.throw_if_any(me == p - 1, fmt::format("bad input on rank {}", me));
