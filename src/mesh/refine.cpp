@@ -44,6 +44,21 @@ void sort_first(std::array<T, N>& a, int k) {
       std::swap(a[static_cast<std::size_t>(j)], a[static_cast<std::size_t>(j - 1)]);
 }
 
+/// Calls visit(face) for each j-face of the simplex of npc `vertices` (its j + 1 vertices, sorted,
+/// −1 beyond them), in a fixed order.
+template <class Visit>
+void for_each_face(const int* vertices, int npc, int j, Visit visit) {
+  for (int mask = 0; mask < (1 << npc); ++mask) {
+    if (__builtin_popcount(static_cast<unsigned>(mask)) != j + 1) continue;
+    std::array<int, 3> face{-1, -1, -1};
+    int k = 0;
+    for (int a = 0; a < npc; ++a)
+      if (mask >> a & 1) face[static_cast<std::size_t>(k++)] = vertices[a];
+    sort_first(face, k);
+    visit(face);
+  }
+}
+
 }  // namespace
 
 MeshRefinement::MeshRefinement(const Mesh& coarse, int levels) : coarse_(coarse), levels_(levels) {
@@ -55,21 +70,11 @@ MeshRefinement::MeshRefinement(const Mesh& coarse, int levels) : coarse_(coarse)
           cells);
   children_ = 1LL << (d * levels);
   // The coarse edges (and triangles in 3D): every cell's, sorted and once each.
+  const int npc = d + 1;
   for (int j = 1; j < d; ++j) {
     std::vector<std::array<int, 3>>& list = entities_[j];
-    const int npc = d + 1;
-    for (int c = 0; c < coarse.n_cells(); ++c) {
-      const int* v = coarse.cell(c);
-      for (int mask = 0; mask < (1 << npc); ++mask) {
-        if (__builtin_popcount(static_cast<unsigned>(mask)) != j + 1) continue;
-        std::array<int, 3> e{-1, -1, -1};
-        int k = 0;
-        for (int a = 0; a < npc; ++a)
-          if (mask >> a & 1) e[static_cast<std::size_t>(k++)] = v[a];
-        sort_first(e, k);
-        list.push_back(e);
-      }
-    }
+    for (int c = 0; c < coarse.n_cells(); ++c)
+      for_each_face(coarse.cell(c), npc, j, [&](const std::array<int, 3>& face) { list.push_back(face); });
     std::sort(list.begin(), list.end());
     list.erase(std::unique(list.begin(), list.end()), list.end());
   }
@@ -77,7 +82,6 @@ MeshRefinement::MeshRefinement(const Mesh& coarse, int levels) : coarse_(coarse)
   // cell), its vertices, then the lattice points inside its edges, faces and itself, entity after
   // entity. A cell's children then have nearby numbers, as the coarse cells near in the file's
   // order are near in space: the matrices' rows of a rank stay local, as a generator's.
-  const int npc = d + 1;
   for (int j = 0; j <= d; ++j)
     base_[j].assign(j == 0 ? static_cast<std::size_t>(coarse.n_nodes())
                            : (j < d ? entities_[j].size() : static_cast<std::size_t>(coarse.n_cells())), -1);
@@ -93,15 +97,9 @@ MeshRefinement::MeshRefinement(const Mesh& coarse, int levels) : coarse_(coarse)
     const int* v = coarse.cell(c);
     for (int a = 0; a < npc; ++a) take(base_[0][static_cast<std::size_t>(v[a])], 1);
     for (int j = 1; j < d; ++j)
-      for (int mask = 0; mask < (1 << npc); ++mask) {
-        if (__builtin_popcount(static_cast<unsigned>(mask)) != j + 1) continue;
-        std::array<int, 3> e{-1, -1, -1};
-        int k = 0;
-        for (int a = 0; a < npc; ++a)
-          if (mask >> a & 1) e[static_cast<std::size_t>(k++)] = v[a];
-        sort_first(e, k);
-        take(base_[j][static_cast<std::size_t>(entity(j, e))], binomial(m_ - 1, j));
-      }
+      for_each_face(v, npc, j, [&](const std::array<int, 3>& face) {
+        take(base_[j][static_cast<std::size_t>(entity(j, face))], binomial(m_ - 1, j));
+      });
     take(base_[d][static_cast<std::size_t>(c)], binomial(m_ - 1, d));
   }
   for (int& b : base_[0]) take(b, 1);  // a node of no cell (none in a mesh read from a file)

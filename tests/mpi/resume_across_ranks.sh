@@ -98,30 +98,30 @@ for f in history.csv probes.csv solution_00020.vtu; do
 done
 echo "1 rank -> 1 rank: history, probes and last fields bit-identical to the uninterrupted run"
 
+# A 6-step case from the checkpoint of step 4: run on WRITER (a rank count or "serial"),
+# its last checkpoint removed, resumed on READER, against the uninterrupted 2-rank run REFERENCE.
+#   resumed REFERENCE DIR WRITER READER LABEL CASE...
+on() { if [ "$1" = serial ]; then "$VPC" "${@:2}" --engine serial; else run "$@"; fi; }
+resumed() {
+  local ref=$1 dir=$2 writer=$3 reader=$4 label=$5; shift 5
+  on "$writer" run "$@" --checkpoint-every 2 -o "$dir"
+  rm -f "$dir"/checkpoint_00006*.bin
+  on "$reader" run "$@" --resume "$dir"
+  compare_to "$ref" "$dir" "$label" 6
+}
+
 # H: contact pairs between bodies (issue 29): the pair's rows are owned by one rank, which changes
 # with the rank count; the checkpoint holds λ by row and the fields by node, so 3 ranks -> 2 and
 # the serial engine -> 3 continue the uninterrupted run.
 PAIRS=("$(dirname "$0")/cases/pairs-2d.toml" -q)
 run 2 run "${PAIRS[@]}" -o "$WORK/H"
-run 3 run "${PAIRS[@]}" --checkpoint-every 2 -o "$WORK/H3"
-rm -f "$WORK"/H3/checkpoint_00006*.bin
-run 2 run "${PAIRS[@]}" --resume "$WORK/H3"
-compare_to "$WORK/H" "$WORK/H3" "contact pairs: 3 ranks -> 2 ranks" 6
-"$VPC" run "${PAIRS[@]}" --engine serial --checkpoint-every 2 -o "$WORK/Hs"
-rm -f "$WORK"/Hs/checkpoint_00006*.bin
-run 3 run "${PAIRS[@]}" --resume "$WORK/Hs"
-compare_to "$WORK/H" "$WORK/Hs" "contact pairs: serial engine -> 3 ranks" 6
+resumed "$WORK/H" "$WORK/H3" 3 2 "contact pairs: 3 ranks -> 2 ranks" "${PAIRS[@]}"
+resumed "$WORK/H" "$WORK/Hs" serial 3 "contact pairs: serial engine -> 3 ranks" "${PAIRS[@]}"
 
 # I: a Gmsh mesh refined on every rank (`[mesh] refine`, issue 30): each rank's block numbered from the
 # coarse mesh, so 3 ranks -> 2 ranks and 2 ranks -> the serial engine (which refines it whole) continue.
 REFINED=("$(dirname "$0")/cases/refine-2d.toml" -q)
 run 2 run "${REFINED[@]}" -o "$WORK/I"
-run 3 run "${REFINED[@]}" --checkpoint-every 2 -o "$WORK/I3"
-rm -f "$WORK"/I3/checkpoint_00006*.bin
-run 2 run "${REFINED[@]}" --resume "$WORK/I3"
-compare_to "$WORK/I" "$WORK/I3" "refined Gmsh mesh: 3 ranks -> 2 ranks" 6
-run 2 run "${REFINED[@]}" --checkpoint-every 2 -o "$WORK/I2"
-rm -f "$WORK"/I2/checkpoint_00006*.bin
-"$VPC" run "${REFINED[@]}" --engine serial --resume "$WORK/I2"
-compare_to "$WORK/I" "$WORK/I2" "refined Gmsh mesh: 2 ranks -> serial engine" 6
+resumed "$WORK/I" "$WORK/I3" 3 2 "refined Gmsh mesh: 3 ranks -> 2 ranks" "${REFINED[@]}"
+resumed "$WORK/I" "$WORK/I2" 2 serial "refined Gmsh mesh: 2 ranks -> serial engine" "${REFINED[@]}"
 echo "resume across rank counts: ok"

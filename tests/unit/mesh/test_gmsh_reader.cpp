@@ -1,6 +1,7 @@
 // Gmsh reader: .msh and .geo files, physical groups as parts, and the errors.
 #include "mesh/gmsh_reader.hpp"
 
+#include "../mesh_measures.hpp"
 #include "core/error.hpp"
 #include "fem/cell_geometry.hpp"
 
@@ -28,23 +29,11 @@ fs::path temp_file(const std::string& name, const std::string& text) {
   return file;
 }
 
-double part_measure(const Mesh& m, const std::string& part) {
-  double s = 0;
-  for (int f : m.facets_of_parts({part})) s += m.facet_measure(f);
-  return s;
-}
-
 double untagged_measure(const Mesh& m) {
   double s = 0;
   for (int f = 0; f < m.n_facets(); ++f)
     if (m.facet_part(f) < 0) s += m.facet_measure(f);
   return s;
-}
-
-double total_volume(const Mesh& m) {
-  double v = 0;
-  for (const auto& g : compute_geometry(m)) v += g.volume;
-  return v;
 }
 
 /// The error message of `read_gmsh(file, options)`; fails the test if it does not throw.

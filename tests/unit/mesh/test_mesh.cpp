@@ -1,4 +1,5 @@
 // Generators: counts, measures, boundary parts and outward normals.
+#include "../mesh_measures.hpp"
 #include "core/error.hpp"
 #include "fem/cell_geometry.hpp"
 #include "mesh/generators.hpp"
@@ -101,12 +102,6 @@ TEST(Mesh, GeneratorsRefuseHugeMeshesBeforeAllocating) {
 
 namespace vpc {
 namespace {
-
-double total_volume(const Mesh& m) {
-  double v = 0;
-  for (const CellGeometry& g : compute_geometry(m)) v += g.volume;
-  return v;
-}
 
 /// Cell centroids rounded to 1e-9, mirrored about x = xm if asked, sorted.
 std::vector<std::array<long long, 3>> centroids(const Mesh& m, bool mirror, double xm) {

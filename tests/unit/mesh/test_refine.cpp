@@ -1,5 +1,6 @@
 // `[mesh] refine = k` (mesh/refine.hpp): k levels of red refinement at once, numbered from the
 // coarse mesh alone, and a rank's block of it equal to the whole refinement where they meet.
+#include "../mesh_measures.hpp"
 #include "core/error.hpp"
 #include "fem/cell_geometry.hpp"
 #include "mesh/generators.hpp"
@@ -16,18 +17,6 @@
 
 namespace vpc {
 namespace {
-
-double total_volume(const Mesh& m) {
-  double s = 0;
-  for (const auto& g : compute_geometry(m)) s += g.volume;
-  return s;
-}
-
-double part_measure(const Mesh& m, const std::string& part) {
-  double s = 0;
-  for (int f : m.facets_of_parts({part})) s += m.facet_measure(f);
-  return s;
-}
 
 /// Coarse meshes of every dimension, with parts, a region and unstructured 3D cells (Gmsh).
 std::vector<Mesh> coarse_meshes() {

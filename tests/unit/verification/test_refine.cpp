@@ -1,5 +1,6 @@
 // Red refinement: conformity, measures, nestedness, boundary parts, exact P1/P0
 // prolongation, and the norms of prolonged fields (which must not change).
+#include "../mesh_measures.hpp"
 #include "fem/cell_geometry.hpp"
 #include "mesh/generators.hpp"
 #include "mesh/gmsh_reader.hpp"
@@ -14,18 +15,6 @@
 
 namespace vpc {
 namespace {
-
-double total_volume(const Mesh& m) {
-  double s = 0;
-  for (const auto& g : compute_geometry(m)) s += g.volume;
-  return s;
-}
-
-double part_measure(const Mesh& m, const std::string& part) {
-  double s = 0;
-  for (int f : m.facets_of_parts({part})) s += m.facet_measure(f);
-  return s;
-}
 
 /// Barycentric coordinates of x in cell c of m.
 std::array<double, 4> barycentric(const Mesh& m, int c, const Point& x) {
