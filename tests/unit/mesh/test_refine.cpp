@@ -45,7 +45,7 @@ TEST(MeshRefinement, LevelsKeepMeasuresPartsAndRegionsAndAreConforming) {
       Mesh rebuilt = fine;
       rebuilt.build_boundary();
       EXPECT_EQ(rebuilt.n_facets(), fine.n_facets()) << "d = " << d << ", " << levels << " levels";
-      // Nodes: the lattice points of every coarse simplex, each once (Euler: V = V0 + E0 (m−1) + ...).
+      // Nodes: every lattice point once (no two nodes at one place).
       std::vector<Point> x = fine.nodes();
       std::sort(x.begin(), x.end());
       EXPECT_EQ(std::adjacent_find(x.begin(), x.end()), x.end());
