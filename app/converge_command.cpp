@@ -195,14 +195,18 @@ namespace {
 /// stepper over its ranks); rank 0 prints and writes.
 int converge_on(const EngineChoice& engine) {
   const ConvergeOptions& o = options();
-  require(o.levels >= 2 && o.levels <= 8, "--levels must lie in 2..8 (got {})", o.levels);
-  require(o.reference_offset >= 1, "--reference-offset must be >= 1 (got {})", o.reference_offset);
-  require(!given("--n") || o.n >= 1, "--n must be >= 1 (got {})", o.n);
-  require(!given("--steps") || o.steps >= 1, "--steps must be >= 1 (got {})", o.steps);
-  require(o.k_refinements >= 0, "--k-refinements must be >= 0 (got {})", o.k_refinements);
-  const bool mms = is_manufactured_case_name(o.case_name);
-  require(mms || !given("--forcing"), "--forcing applies to manufactured cases (mms-...) only");
-  StudyInput in = mms ? manufactured_input(o) : case_input(o);
+  StudyInput in;
+  // Every process reads the options and the case alike: a bad one is one error, reported once.
+  la::collective(engine.comm, [&] {
+    require(o.levels >= 2 && o.levels <= 8, "--levels must lie in 2..8 (got {})", o.levels);
+    require(o.reference_offset >= 1, "--reference-offset must be >= 1 (got {})", o.reference_offset);
+    require(!given("--n") || o.n >= 1, "--n must be >= 1 (got {})", o.n);
+    require(!given("--steps") || o.steps >= 1, "--steps must be >= 1 (got {})", o.steps);
+    require(o.k_refinements >= 0, "--k-refinements must be >= 0 (got {})", o.k_refinements);
+    const bool mms = is_manufactured_case_name(o.case_name);
+    require(mms || !given("--forcing"), "--forcing applies to manufactured cases (mms-...) only");
+    in = mms ? manufactured_input(o) : case_input(o);
+  });
   if (!o.contact_solver.empty()) in.solvers.contact = o.contact_solver;
   if (!o.damage_solver.empty()) in.solvers.damage = o.damage_solver;
   if (given("--tolerance")) {

@@ -104,19 +104,6 @@ MeshRefinement::MeshRefinement(const Mesh& coarse, int levels) : coarse_(coarse)
   }
   for (int& b : base_[0]) take(b, 1);  // a node of no cell (none in a mesh read from a file)
   whole_nodes_ = next;
-  // One level: each new node's edge, for the transfers of verification/refine.hpp.
-  if (levels == 1) {
-    midpoint_.resize(static_cast<std::size_t>(next));
-    for (int i = 0; i < coarse.n_nodes(); ++i) midpoint_[static_cast<std::size_t>(base_[0][static_cast<std::size_t>(i)])] = {i, i};
-    if (d == 1) {
-      for (int c = 0; c < coarse.n_cells(); ++c)
-        midpoint_[static_cast<std::size_t>(base_[1][static_cast<std::size_t>(c)])] = {
-            std::min(coarse.cell(c)[0], coarse.cell(c)[1]), std::max(coarse.cell(c)[0], coarse.cell(c)[1])};
-    } else {
-      for (std::size_t e = 0; e < entities_[1].size(); ++e)
-        midpoint_[static_cast<std::size_t>(base_[1][e])] = {entities_[1][e][0], entities_[1][e][1]};
-    }
-  }
 }
 
 long long MeshRefinement::entity(int j, const std::array<int, 3>& sorted) const {
@@ -223,9 +210,19 @@ BlockMesh MeshRefinement::refine_all() const {
   return refine(all, {}, true);
 }
 
-std::array<int, 2> MeshRefinement::midpoint_of(int id) const {
-  require(levels_ == 1, "internal: midpoint_of with {} levels", levels_);
-  return midpoint_[static_cast<std::size_t>(id)];
+std::vector<std::array<int, 2>> MeshRefinement::midpoints() const {
+  require(levels_ == 1, "internal: midpoints with {} levels", levels_);
+  const Mesh& coarse = coarse_;
+  std::vector<std::array<int, 2>> of(static_cast<std::size_t>(whole_nodes_));
+  for (int v = 0; v < coarse.n_nodes(); ++v) of[static_cast<std::size_t>(base_[0][static_cast<std::size_t>(v)])] = {v, v};
+  if (coarse.dim() == 1) {  // the edges are the cells
+    for (int c = 0; c < coarse.n_cells(); ++c)
+      of[static_cast<std::size_t>(base_[1][static_cast<std::size_t>(c)])] = {std::min(coarse.cell(c)[0], coarse.cell(c)[1]),
+                                                                             std::max(coarse.cell(c)[0], coarse.cell(c)[1])};
+  } else {
+    for (std::size_t e = 0; e < entities_[1].size(); ++e) of[static_cast<std::size_t>(base_[1][e])] = {entities_[1][e][0], entities_[1][e][1]};
+  }
+  return of;
 }
 
 BlockMesh MeshRefinement::refine(const std::vector<int>& cells, const std::vector<int>& layer, bool every_facet) const {

@@ -41,8 +41,9 @@ class MeshRefinement {
   /// The whole refinement (refine on every coarse cell, with every coarse facet).
   BlockMesh refine_all() const;
 
-  /// With one level: the two coarse nodes whose midpoint node `id` is ({id, id} for a coarse node).
-  std::array<int, 2> midpoint_of(int id) const;
+  /// With one level, for every node of the whole refinement: the two coarse nodes whose midpoint
+  /// it is ({v, v} for coarse node v).
+  std::vector<std::array<int, 2>> midpoints() const;
 
  private:
   using Lattice = std::array<int, 4>;  // barycentric coordinates times 2^levels on a coarse simplex
@@ -65,7 +66,6 @@ class MeshRefinement {
   std::vector<std::array<int, 3>> entities_[3];  // [j]: sorted vertices of the coarse j-faces, j = 1, 2
   std::vector<int> base_[4];  // [j]: the first number of the nodes inside each j-face (j = 0: the
                               // coarse nodes; j = d: the cells)
-  std::vector<std::array<int, 2>> midpoint_;  // with one level: each node's coarse edge (midpoint_of)
   long long whole_nodes_ = 0;
 };
 

@@ -98,7 +98,7 @@ EngineChoice petsc_engine(MPI_Comm comm, const std::string& linear_solver) {
             linear.kind = linear_solver.empty() ? "mumps" : linear_solver;
             return distributed_stepper(comm, std::move(problem), choice, linear);
           },
-          la::make_mpi_comm(comm).rank() == 0};
+          la::make_mpi_comm(comm).rank() == 0, la::make_mpi_comm(comm)};
 }
 
 namespace {

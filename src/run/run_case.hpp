@@ -7,6 +7,7 @@
 //   RunResult r = run_case([&](const MeshRequest&) { return load_case("paper-1d"); }, o);
 #include "io/case.hpp"
 #include "io/checkpoint.hpp"
+#include "la/comm.hpp"
 #include "run/engine.hpp"
 #include "run/progress.hpp"
 
@@ -75,6 +76,7 @@ struct EngineChoice {
   EngineSetUp set_up;
   StepperFactory make_stepper;
   bool root = true;
+  la::Comm comm;  // its processes (one: the serial engine), for the errors every one finds alike
 };
 
 /// One process: set_up_serial, TimeStepper(problem, choice).

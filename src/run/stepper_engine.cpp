@@ -168,7 +168,7 @@ EngineChoice serial_engine() {
           [](std::shared_ptr<const Problem> problem, const SolverChoice& choice) {
             return std::make_unique<TimeStepper>(std::move(problem), choice);
           },
-          true};
+          true, la::Comm{}};
 }
 
 }  // namespace vpc

@@ -18,7 +18,7 @@ Refinement refine_uniform(const Mesh& coarse) {
   BlockMesh b = one.refine_all();  // the whole mesh: node i is number i
   Refinement r;
   r.fine = std::move(b.mesh);
-  for (int i = 0; i < r.fine.n_nodes(); ++i) r.node_parents.push_back(one.midpoint_of(i));
+  r.node_parents = one.midpoints();
   for (const int id : b.cell_id) r.parent_cell.push_back(id >> d);  // 2^d children a cell
   for (int f = 0; f < coarse.n_facets(); ++f)
     for (int k = 0; k < 1 << (d - 1); ++k) r.parent_facet.push_back(f);
