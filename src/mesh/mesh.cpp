@@ -2,6 +2,7 @@
 
 #include "core/error.hpp"
 #include "mesh/facet_key.hpp"
+#include "mesh/node_cells.hpp"
 
 #include <Eigen/Dense>
 
@@ -158,22 +159,12 @@ void Mesh::find_facet_cells() const {
   // from a table of every cell's facets: hashing 4 keys a tetrahedron took 1.5 s of a refined
   // block's 1.6M cells (issue 30); the cells of the facets' first nodes are a few per facet.
   const int npc = nodes_per_cell(), npf = nodes_per_facet();
-  std::vector<int> start(static_cast<std::size_t>(n_nodes()) + 1, 0);
-  std::vector<char> first(static_cast<std::size_t>(n_nodes()), 0);
-  for (int f = 0; f < n_facets(); ++f) first[static_cast<std::size_t>(facet(f)[0])] = 1;
-  for (int c = 0; c < n_cells(); ++c)
-    for (int a = 0; a < npc; ++a)
-      if (first[static_cast<std::size_t>(cell(c)[a])]) ++start[static_cast<std::size_t>(cell(c)[a]) + 1];
-  for (std::size_t v = 0; v + 1 < start.size(); ++v) start[v + 1] += start[v];
-  std::vector<int> cells_of(static_cast<std::size_t>(start.back())), fill(start.begin(), start.end() - 1);
-  for (int c = 0; c < n_cells(); ++c)
-    for (int a = 0; a < npc; ++a)
-      if (first[static_cast<std::size_t>(cell(c)[a])]) cells_of[static_cast<std::size_t>(fill[static_cast<std::size_t>(cell(c)[a])]++)] = c;
+  const NodeCells around(*this);
   facet_cell_.assign(static_cast<std::size_t>(n_facets()), -1);
   for (int f = 0; f < n_facets(); ++f) {
     const int* v = facet(f);
-    for (int k = start[static_cast<std::size_t>(v[0])]; k < start[static_cast<std::size_t>(v[0]) + 1]; ++k) {
-      const int c = cells_of[static_cast<std::size_t>(k)];
+    for (int k = around.start[static_cast<std::size_t>(v[0])]; k < around.start[static_cast<std::size_t>(v[0]) + 1]; ++k) {
+      const int c = around.list[static_cast<std::size_t>(k)];
       const int* w = cell(c);
       bool all = true;
       for (int b = 1; b < npf && all; ++b) all = std::find(w, w + npc, v[b]) != w + npc;

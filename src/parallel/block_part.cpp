@@ -4,6 +4,7 @@
 #include "io/case_file.hpp"
 #include "io/run_output.hpp"
 #include "la/petsc.hpp"
+#include "mesh/node_cells.hpp"
 #include "mesh/refine.hpp"
 #include "scheme/part_cut.hpp"
 
@@ -186,22 +187,13 @@ ProblemSize block_problem_size(const la::Comm& comm, const Problem& p) {
   // found through its cells (CSR, 4 bytes a cell's node) and marked, not as sorted pairs of every
   // cell's nodes (16 a cell in 3D at 8 bytes: 0.8 GB a rank at foundation-3d n = 126).
   const int npc = d + 1, n = mesh.n_nodes();
-  std::vector<int> start(static_cast<std::size_t>(n) + 1, 0), cells_of;
-  for (int c = 0; c < mesh.n_cells(); ++c)
-    for (int a = 0; a < npc; ++a) ++start[static_cast<std::size_t>(mesh.cell(c)[a]) + 1];
-  for (int v = 0; v < n; ++v) start[static_cast<std::size_t>(v) + 1] += start[static_cast<std::size_t>(v)];
-  cells_of.resize(static_cast<std::size_t>(start.back()));
-  {
-    std::vector<int> fill(start.begin(), start.end() - 1);
-    for (int c = 0; c < mesh.n_cells(); ++c)
-      for (int a = 0; a < npc; ++a) cells_of[static_cast<std::size_t>(fill[static_cast<std::size_t>(mesh.cell(c)[a])]++)] = c;
-  }
+  const NodeCells around(mesh);
   std::vector<int> seen(static_cast<std::size_t>(n), -1);
   for (int v = 0; v < n; ++v) {
     if (!mine(v)) continue;
-    for (int k = start[static_cast<std::size_t>(v)]; k < start[static_cast<std::size_t>(v) + 1]; ++k)
+    for (int k = around.start[static_cast<std::size_t>(v)]; k < around.start[static_cast<std::size_t>(v) + 1]; ++k)
       for (int a = 0; a < npc; ++a)
-        if (int& w = seen[static_cast<std::size_t>(mesh.cell(cells_of[static_cast<std::size_t>(k)])[a])]; w != v) {
+        if (int& w = seen[static_cast<std::size_t>(mesh.cell(around.list[static_cast<std::size_t>(k)])[a])]; w != v) {
           w = v;
           own[3] += 1;
         }

@@ -1,6 +1,7 @@
 #include "parallel/distributed_mesh.hpp"
 
 #include "la/petsc.hpp"
+#include "mesh/node_cells.hpp"
 #include "scheme/part_cut.hpp"
 
 #include <petscmat.h>
@@ -13,21 +14,6 @@
 namespace vpc {
 
 namespace {
-
-/// Cells around each node (CSR: cells of node i are list[start[i] .. start[i + 1])).
-struct NodeCells {
-  std::vector<int> start, list;
-  explicit NodeCells(const Mesh& mesh) : start(mesh.n_nodes() + 1, 0) {
-    const int npc = mesh.nodes_per_cell();
-    for (int c = 0; c < mesh.n_cells(); ++c)
-      for (int a = 0; a < npc; ++a) ++start[mesh.cell(c)[a] + 1];
-    for (int i = 0; i < mesh.n_nodes(); ++i) start[i + 1] += start[i];
-    list.resize(start.back());
-    std::vector<int> fill(start.begin(), start.end() - 1);
-    for (int c = 0; c < mesh.n_cells(); ++c)
-      for (int a = 0; a < npc; ++a) list[fill[mesh.cell(c)[a]]++] = c;
-  }
-};
 
 /// Cell partition by PTScotch on the dual graph (cells sharing a facet, i.e. d nodes).
 std::vector<int> partition_cells(const Mesh& mesh, const NodeCells& nc, int n_parts) {
