@@ -32,22 +32,25 @@ for trial in $(seq 1 "$trials"); do
       sleep 0.005
     done
     [ "$target" -eq 0 ] && sleep 0.0$((RANDOM % 10))
-    if kill -9 "$pid" 2> /dev/null; then
-      wait "$pid" 2> /dev/null || true
-      kills=$((kills + 1))
-      if ls "$out"/checkpoint_*.bin > /dev/null 2>&1; then
-        mode=(--resume "$out")
-      else
-        mode=(-o "$out")   # killed before the first checkpoint: start again
-      fi
+    # kill succeeds on a run that has exited but is not yet reaped, so its
+    # status tells the two apart: 137 is SIGKILL, anything else is how it ended.
+    kill -9 "$pid" 2> /dev/null || true
+    status=0; wait "$pid" 2> /dev/null || status=$?
+    if [ "$status" -ne 137 ]; then
+      [ "$status" -eq 0 ] || { echo "trial $trial: attempt $attempt failed (exit $status)"; cat "$out.log.$attempt"; exit 1; }
+      break   # it had finished
+    fi
+    kills=$((kills + 1))
+    if ls "$out"/checkpoint_*.bin > /dev/null 2>&1; then
+      mode=(--resume "$out")
     else
-      wait "$pid"  # it had finished: must have succeeded
-      break
+      mode=(-o "$out")   # killed before the first checkpoint: start again
     fi
   done
-  # Finish whatever is left (a last resume if the final attempt was killed).
+  # Finish whatever is left: resume if the last attempt was killed after a
+  # checkpoint, start again if every attempt was killed before the first one.
   if ! grep -q '"all_steps_ok"' "$out/summary.json" 2> /dev/null || [ ! -f "$out/$final" ]; then
-    "$bin" run "${common[@]}" --resume "$out" > "$out.log.final" 2>&1
+    "$bin" run "${common[@]}" "${mode[@]}" > "$out.log.final" 2>&1
   fi
   for f in "$final" probes.csv history.csv solution.pvd; do
     cmp -s "$work/reference/$f" "$out/$f" || { echo "trial $trial: $f differs from the uninterrupted run"; exit 1; }
