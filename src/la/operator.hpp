@@ -45,11 +45,17 @@ class SpdOperator {
   /// layout, the block size and the stored pattern are kept, so a factor reuses its
   /// analysis and multigrid its rigid-body modes (collective).
   virtual std::unique_ptr<SpdOperator> with_fixed(const std::vector<char>& fixed) const = 0;
-  /// This operator made base.with_fixed(fixed) in place, where it was made by base.with_fixed
-  /// before (base's pattern): the primal contact solver's active set changes without a second copy
-  /// of K held meanwhile (0.32 GB a rank at foundation-3d n = 70 on 2 ranks, docs/parallel.md).
-  /// False where the backend makes a new one instead (with_fixed). Collective.
-  virtual bool assign_with_fixed(const SpdOperator& /*base*/, const std::vector<char>& /*fixed*/) { return false; }
+  /// This operator made (base + B).with_fixed(fixed) in place (B as in plus; null: none), where
+  /// it has base's stored pattern and B's entries lie within it: the primal contact solver's
+  /// active set changes without a second copy of K held meanwhile (0.32 GB a rank at
+  /// foundation-3d n = 70 on 2 ranks, docs/parallel.md), and with friction its springs change
+  /// at every iterate without two copies made (frictional foundation-3d n = 40, 2 ranks: 57 ms
+  /// an iterate, 15 % of the contact solves' time). False where the patterns differ or the
+  /// backend makes a new one instead (plus, with_fixed). Collective.
+  virtual bool assign_with_fixed(const SpdOperator& /*base*/, const std::vector<char>& /*fixed*/,
+                                 const Eigen::SparseMatrix<double>* /*owned_block*/) {
+    return false;
+  }
   /// A + B, B given on the owned rows and columns (n_owned × n_owned, owned
   /// numbering): penalty–duality's H + ωEᵀE (collective).
   virtual std::unique_ptr<SpdOperator> plus(const Eigen::SparseMatrix<double>& owned_block) const = 0;

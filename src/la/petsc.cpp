@@ -605,11 +605,26 @@ std::unique_ptr<SpdOperator> PetscOperator::with_fixed(const std::vector<char>& 
   return std::make_unique<PetscOperator>(comm_, std::move(C));
 }
 
-bool PetscOperator::assign_with_fixed(const SpdOperator& base, const std::vector<char>& fixed) {
+bool PetscOperator::assign_with_fixed(const SpdOperator& base, const std::vector<char>& fixed,
+                                      const Eigen::SparseMatrix<double>* owned_block) {
   const auto* b = dynamic_cast<const PetscOperator*>(&base);
-  if (b == nullptr || b->n_owned_ != n_owned_) return false;
+  // This operator was made from base by copies and insertions only, so an equal count of stored
+  // entries (over all ranks: every rank decides alike) is an equal pattern.
+  if (b == nullptr || b->n_owned_ != n_owned_ || b->nonzeros() != nonzeros()) return false;
   VPC_PETSC(MatCopy(b->A_, A_, SAME_NONZERO_PATTERN));
-  fix_rows(A_, b->A_, n_owned_, fixed);
+  if (owned_block) {
+    PetscInt begin = 0;
+    VPC_PETSC(MatGetOwnershipRange(A_, &begin, nullptr));
+    std::vector<PetscInt> l2g(static_cast<size_t>(n_owned_));
+    std::iota(l2g.begin(), l2g.end(), begin);
+    // An entry outside the pattern is taken (a correct matrix, a new pattern: the next call then
+    // finds the counts differ and returns false before copying).
+    VPC_PETSC(MatSetOption(A_, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_FALSE));
+    add_local_matrix(A_, *owned_block, l2g);
+    VPC_PETSC(MatAssemblyBegin(A_, MAT_FINAL_ASSEMBLY));
+    VPC_PETSC(MatAssemblyEnd(A_, MAT_FINAL_ASSEMBLY));
+  }
+  fix_rows(A_, A_, n_owned_, fixed);  // the diagonal of base + B (fix_rows reads it first)
   return true;
 }
 

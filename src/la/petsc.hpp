@@ -56,7 +56,8 @@ class PetscOperator final : public SpdOperator {
   long long nonzeros() const override;
   std::unique_ptr<SpdOperator> restrict_to_free(const std::vector<char>& fixed) const override;
   std::unique_ptr<SpdOperator> with_fixed(const std::vector<char>& fixed) const override;
-  bool assign_with_fixed(const SpdOperator& base, const std::vector<char>& fixed) override;
+  bool assign_with_fixed(const SpdOperator& base, const std::vector<char>& fixed,
+                         const Eigen::SparseMatrix<double>* owned_block) override;
   std::unique_ptr<SpdOperator> plus(const Eigen::SparseMatrix<double>& owned_block) const override;
   RowProduct rows(const std::vector<int>& rows) const override;
   Mat mat() const { return A_; }

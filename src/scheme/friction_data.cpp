@@ -75,7 +75,8 @@ Vector slip_shift(const DiscreteSystem& sys, const State& s, double t, const Vec
   return h;
 }
 
-void record_slip(const DiscreteSystem& sys, const Vector& tresca, const Vector& shift, const Vector& u_free, State& s) {
+void record_slip(const DiscreteSystem& sys, const Vector& tresca, const Vector& shift, const Vector& u_free,
+                 double slack, State& s) {
   // Only what stick_slip (the bounds) and replicate read: the rows, the block, μ and the step's data.
   ContactConstraints c;
   c.m = sys.part.n_contact;
@@ -85,7 +86,7 @@ void record_slip(const DiscreteSystem& sys, const Vector& tresca, const Vector& 
   c.tresca = tresca;
   const int t = c.block - 1;
   const Vector slip = sys.T * u_free - shift;
-  const std::vector<ContactStatus> stick_or_slip = stick_slip(c, s.lambda);
+  const std::vector<ContactStatus> stick_or_slip = stick_slip(c, s.lambda, slack);
   const auto rows = static_cast<Eigen::Index>(c.rows.size());
   Vector status(rows), length(rows);
   for (Eigen::Index i = 0; i < rows; ++i) {

@@ -117,7 +117,7 @@ ContactReport SchemeStep::solve_contact(const DiscreteSystem& sys, ContactSolver
     contact.set_friction(data.tresca, shift);
   }
   const ContactReport rep = contact.solve(f_.owned(), u_free, s.lambda);
-  if (s.contact_block > 1) record_slip(sys, data.tresca, shift, u_free, s);
+  if (s.contact_block > 1) record_slip(sys, data.tresca, shift, u_free, kSlipForceShare * rep.residuals.force_scale, s);
   record_gap(sys, data.gap, u_free, s);
   u_.owned() = u_free;
   u_.update_ghosts();

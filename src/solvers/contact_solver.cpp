@@ -76,9 +76,9 @@ Vector slip_increment(const ContactConstraints& c, const Vector& u) {
   return c.T * u - c.shift;
 }
 
-ContactStatus contact_status(double lambda_nu, double tangential_norm, double bound) {
+ContactStatus contact_status(double lambda_nu, double tangential_norm, double bound, double slack) {
   if (!(lambda_nu > 0)) return ContactStatus::Free;
-  return tangential_norm >= (1 - kSlipShare) * bound ? ContactStatus::Slip : ContactStatus::Stick;
+  return tangential_norm >= std::min((1 - kSlipShare) * bound, bound - slack) ? ContactStatus::Slip : ContactStatus::Stick;
 }
 
 ContactResiduals contact_residuals(const la::SpdOperator& K, const ContactConstraints& c, const Vector& F,
@@ -130,6 +130,7 @@ ContactResiduals contact_residuals(const la::SpdOperator& K, const ContactConstr
       r.slip_direction = std::max(r.slip_direction, (ln * dn - l.dot(d)) / (l_scale * u_scale));
     }
   }
+  r.force_scale = comm.max(l_scale);
   for (double* x : {&r.penetration, &r.negative_force, &r.complementarity}) *x = comm.max(*x);
   if (c.frictional())
     for (double* x : {&r.friction_bound, &r.stick_slip, &r.slip_direction}) *x = comm.max(*x);
@@ -172,7 +173,7 @@ ContactReport contact_report(const la::SpdOperator& K, const ContactConstraints&
     rep.total_force += lambda[i * b];
   }
   // Stick and slip counts and the dissipation from this rank's rows.
-  const std::vector<ContactStatus> status = stick_slip(c, lambda, active_threshold);
+  const std::vector<ContactStatus> status = stick_slip(c, lambda, kSlipForceShare * rep.residuals.force_scale, active_threshold);
   const Vector tangential = local_tangential(c, lambda), slip = slip_increment(c, u);
   double sums[3] = {0, 0, 0};
   for (std::size_t i = 0; i < status.size(); ++i) {
@@ -229,7 +230,7 @@ ContactSolverPick pick_contact_solver(const std::string& requested, int m, const
   return {"active-set", fmt::format("auto: {} <= {} and a direct solver", unknowns, kDualContactRows)};
 }
 
-double friction_force_tolerance(double residual_tolerance) { return std::max(1e-3 * residual_tolerance, 1e-12); }
+double friction_force_tolerance(double residual_tolerance) { return std::max(1e-1 * residual_tolerance, 1e-12); }
 
 std::unique_ptr<ContactSolver> make_contact_solver(const std::string& name, std::shared_ptr<const la::SpdOperator> K,
                                                    std::shared_ptr<const la::LinearSolver> K_factor,

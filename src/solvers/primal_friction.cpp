@@ -94,6 +94,13 @@ void PrimalFriction::factored_springs(std::vector<Eigen::Triplet<double>>& out) 
   if (factored_spring_.size() == spring_.size()) add_springs(factored_spring_, factored_force_, out);
 }
 
+void PrimalFriction::spring_pattern(std::vector<Eigen::Triplet<double>>& out) const {
+  for (std::size_t i = 0; i < stick_.size(); ++i)
+    for (int a = 0; a < t_; ++a)
+      for (int b = 0; b < t_; ++b)
+        if (dof_[i * t_ + a] >= 0 && dof_[i * t_ + b] >= 0) out.emplace_back(dof_[i * t_ + a], dof_[i * t_ + b], 0.0);
+}
+
 void PrimalFriction::add_springs(const std::vector<double>& spring, const Vector& force,
                                  std::vector<Eigen::Triplet<double>>& out) const {
   for (std::size_t i = 0; i < stick_.size(); ++i) {

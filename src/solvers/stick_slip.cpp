@@ -2,13 +2,14 @@
 
 namespace vpc {
 
-std::vector<ContactStatus> stick_slip(const ContactConstraints& c, const Vector& lambda, double active_threshold) {
+std::vector<ContactStatus> stick_slip(const ContactConstraints& c, const Vector& lambda, double slack,
+                                      double active_threshold) {
   const int t = c.block - 1;
   const Vector normal = local_normal(c, lambda), tangential = local_tangential(c, lambda);
   std::vector<ContactStatus> status;
   for (Eigen::Index i = 0; i < normal.size(); ++i)
     status.push_back(normal[i] > active_threshold
-                         ? contact_status(normal[i], tangential.segment(i * t, t).norm(), c.bound(i, normal[i]))
+                         ? contact_status(normal[i], tangential.segment(i * t, t).norm(), c.bound(i, normal[i]), slack)
                          : ContactStatus::Free);
   return status;
 }

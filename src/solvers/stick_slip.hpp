@@ -8,8 +8,10 @@
 
 namespace vpc {
 
-/// contact_status of this rank's rows at λ (m × c.block numbers, replicated), with c's bounds:
-/// Free where λ_ν ≤ active_threshold (as ContactReport::n_active counts a row).
-std::vector<ContactStatus> stick_slip(const ContactConstraints& c, const Vector& lambda, double active_threshold = 0);
+/// contact_status of this rank's rows at λ (m × c.block numbers, replicated), with c's bounds and
+/// `slack` (kSlipForceShare of the step's force scale): Free where λ_ν ≤ active_threshold (as
+/// ContactReport::n_active counts a row).
+std::vector<ContactStatus> stick_slip(const ContactConstraints& c, const Vector& lambda, double slack,
+                                      double active_threshold = 0);
 
 }  // namespace vpc
