@@ -56,7 +56,7 @@ constexpr HistoryColumn kFrictionColumns[] = {
     {"n_stick", F::integer, [](const StepReport& r) { return double(r.contact.n_stick); },
      "contact nodes that stick: in contact, the tangential force below its bound"},
     {"n_slip", F::integer, [](const StepReport& r) { return double(r.contact.n_slip); },
-     "contact nodes that slip: in contact, the tangential force at its bound"},
+     "contact nodes that slip: in contact, the tangential force at its bound (to 1e-8 of the force scale)"},
     {"dissipation", F::exact, [](const StepReport& r) { return r.contact.dissipation; },
      "the step's frictional dissipation Σ λ_τ,i·Δ_i (≥ 0)"},
     {"friction_bound", F::residual, [](const StepReport& r) { return r.contact.residuals.friction_bound; },

@@ -301,6 +301,39 @@ void run() {
   check((y - ys.segment(c.begin, c.n_owned)).lpNorm<Eigen::Infinity>() <= 1e-12 &&
             Hfix->diagonal() == Hs.diagonal().segment(c.begin, c.n_owned) && Hfix->nonzeros() == H.nonzeros(),
         "fixed rows (same pattern, A's diagonal kept)", comm);
+  {  // The same made in place with a block added (the primal friction solver's springs): B on the
+     // owned diagonal and the owned (j, j+1) pairs, inside H's pattern; against (Hs + Bs) fixed.
+    std::vector<Eigen::Triplet<double>> t, ts;
+    for (long long j = 0; j < c.N; ++j) {
+      const bool owned = j >= c.begin && j < c.begin + c.n_owned, next_owned = j + 1 < c.begin + c.n_owned;
+      ts.emplace_back(j, j, 2.0 + j % 3);
+      if (owned) t.emplace_back(j - c.begin, j - c.begin, 2.0 + j % 3);
+      if (owned && next_owned) {
+        for (const auto& [a, b] : {std::pair{j, j + 1}, std::pair{j + 1, j}}) {
+          ts.emplace_back(a, b, -0.5);
+          t.emplace_back(a - c.begin, b - c.begin, -0.5);
+        }
+      }
+    }
+    Eigen::SparseMatrix<double> B(c.n_owned, c.n_owned), Bs(c.N, c.N);
+    B.setFromTriplets(t.begin(), t.end());
+    Bs.setFromTriplets(ts.begin(), ts.end());
+    const auto want = Hs.plus(Bs)->with_fixed(fixed_s);
+    const std::unique_ptr<la::SpdOperator> A = H.with_fixed(std::vector<char>(fixed.size(), 0));
+    const bool in_place = A->assign_with_fixed(H, fixed, &B);
+    want->mult(xs, ys);
+    A->mult(xs.segment(c.begin, c.n_owned), y);
+    check(in_place && (y - ys.segment(c.begin, c.n_owned)).lpNorm<Eigen::Infinity>() <= 1e-12 &&
+              A->diagonal() == want->diagonal().segment(c.begin, c.n_owned) && A->nonzeros() == H.nonzeros(),
+          "fixed rows and a block, in place", comm);
+    // An operator of another pattern (an entry (j, j+2) added) is not assigned in place.
+    std::vector<Eigen::Triplet<double>> far;
+    if (c.n_owned >= 3) far.emplace_back(0, 2, 1.0), far.emplace_back(2, 0, 1.0);
+    Eigen::SparseMatrix<double> F(c.n_owned, c.n_owned);
+    F.setFromTriplets(far.begin(), far.end());
+    const std::unique_ptr<la::SpdOperator> other = H.plus(F);
+    check(!other->assign_with_fixed(H, fixed, &B) || !comm.any(c.n_owned >= 3), "another pattern: not in place", comm);
+  }
   // A few rows' product (the primal friction solver's coupling): every rank's rows j ≡ 1 (mod 4),
   // then rank 0's first row only (the other ranks ask for none and still take part).
   Hs.mult(xs, ys);

@@ -7,6 +7,7 @@
 #include "core/error.hpp"
 #include "solvers/contact_solver.hpp"
 #include "solvers/primal_active_set.hpp"
+#include "solvers/stick_slip.hpp"
 
 #include "fem/assembly.hpp"
 #include "material/elasticity.hpp"
@@ -71,6 +72,33 @@ double max_abs(const Vector& v) { return v.cwiseAbs().maxCoeff(); }
 // Two nodes A, B, each pressed onto the plane (normal loads P_A, P_B; u_y ≥ 0), tangential
 // springs ground–A (k1) and A–B (k2), B pulled by Q. Q ≤ μP_B: all stick, λ_τ,B = Q;
 // μP_B < Q ≤ μ(P_A + P_B): B slips, A sticks, u_B = (Q − μP_B)/k2; beyond: both slip.
+// A row's status from λ (stick_slip): at its bound to within the slack (kSlipForceShare of the
+// force scale) it slips, whatever its own bound's size; below by more, it sticks; λ_ν = 0 is free.
+TEST(StickSlip, ARowAtItsBoundToWithinTheSlackSlips) {
+  ContactConstraints c;
+  c.m = 5;
+  c.block = 3;
+  for (int i = 0; i < c.m; ++i) c.rows.push_back(i);
+  c.mu = Vector::Constant(c.m, 0.5);
+  c.tresca = Vector::Zero(c.m);
+  const double scale = 100, slack = kSlipForceShare * scale;
+  // λ_ν, then |λ_τ| below the bound μ λ_ν by: 0, slack/2, 2 slack, a third of the bound; free.
+  const double normal[] = {2.0, 1e-4, 1e-4, 2.0, 0.0};
+  const double below[] = {0.0, 0.5 * slack, 2 * slack, 1.0 / 3.0, 0.0};
+  Vector lambda = Vector::Zero(c.m * c.block);
+  for (int i = 0; i < c.m; ++i) {
+    const double t = std::max(0.5 * normal[i] - below[i], 0.0);
+    lambda[c.block * i] = normal[i];
+    lambda[c.block * i + 1] = 0.6 * t, lambda[c.block * i + 2] = -0.8 * t;  // |λ_τ| = t
+  }
+  const std::vector<ContactStatus> s = stick_slip(c, lambda, slack);
+  const std::vector<ContactStatus> want = {ContactStatus::Slip, ContactStatus::Slip, ContactStatus::Stick,
+                                           ContactStatus::Stick, ContactStatus::Free};
+  EXPECT_EQ(s, want);
+  // Without the slack the small row half a slack below its bound (1e-2 of it) sticks.
+  EXPECT_EQ(stick_slip(c, lambda, 0.0)[1], ContactStatus::Stick);
+}
+
 TEST(PrimalFriction, SpringChainHasTheHandAnswers) {
   const double k1 = 3, k2 = 2, ky = 5, PA = 2, PB = 1, mu = 0.5;
   Eigen::MatrixXd Kd = Eigen::MatrixXd::Zero(4, 4);  // dofs A_x, A_y, B_x, B_y
