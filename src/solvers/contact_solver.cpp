@@ -130,7 +130,7 @@ ContactResiduals contact_residuals(const la::SpdOperator& K, const ContactConstr
       r.slip_direction = std::max(r.slip_direction, (ln * dn - l.dot(d)) / (l_scale * u_scale));
     }
   }
-  r.force_scale = comm.max(l_scale);
+  r.force_scale = l_scale;  // the same on every rank (λ is replicated, f_scale reduced)
   for (double* x : {&r.penetration, &r.negative_force, &r.complementarity}) *x = comm.max(*x);
   if (c.frictional())
     for (double* x : {&r.friction_bound, &r.stick_slip, &r.slip_direction}) *x = comm.max(*x);
