@@ -578,6 +578,18 @@ std::unique_ptr<SpdOperator> PetscOperator::restrict_to_free(const std::vector<c
 
 namespace {
 
+/// A += B, B on the owned rows and columns (owned numbering), new entries allowed; assembled.
+void add_owned_block(Mat A, const Eigen::SparseMatrix<double>& B, int n_owned) {
+  VPC_PETSC(MatSetOption(A, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_FALSE));
+  PetscInt begin = 0;
+  VPC_PETSC(MatGetOwnershipRange(A, &begin, nullptr));
+  std::vector<PetscInt> l2g(static_cast<size_t>(n_owned));
+  std::iota(l2g.begin(), l2g.end(), begin);
+  add_local_matrix(A, B, l2g);
+  VPC_PETSC(MatAssemblyBegin(A, MAT_FINAL_ASSEMBLY));
+  VPC_PETSC(MatAssemblyEnd(A, MAT_FINAL_ASSEMBLY));
+}
+
 /// C (a copy of A's values on A's pattern) with the `fixed` owned rows and columns reduced to A's
 /// diagonal (SpdOperator::with_fixed).
 void fix_rows(Mat C, Mat A, int n_owned, const std::vector<char>& fixed) {
@@ -612,18 +624,9 @@ bool PetscOperator::assign_with_fixed(const SpdOperator& base, const std::vector
   // entries (over all ranks: every rank decides alike) is an equal pattern.
   if (b == nullptr || b->n_owned_ != n_owned_ || b->nonzeros() != nonzeros()) return false;
   VPC_PETSC(MatCopy(b->A_, A_, SAME_NONZERO_PATTERN));
-  if (owned_block) {
-    PetscInt begin = 0;
-    VPC_PETSC(MatGetOwnershipRange(A_, &begin, nullptr));
-    std::vector<PetscInt> l2g(static_cast<size_t>(n_owned_));
-    std::iota(l2g.begin(), l2g.end(), begin);
-    // An entry outside the pattern is taken (a correct matrix, a new pattern: the next call then
-    // finds the counts differ and returns false before copying).
-    VPC_PETSC(MatSetOption(A_, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_FALSE));
-    add_local_matrix(A_, *owned_block, l2g);
-    VPC_PETSC(MatAssemblyBegin(A_, MAT_FINAL_ASSEMBLY));
-    VPC_PETSC(MatAssemblyEnd(A_, MAT_FINAL_ASSEMBLY));
-  }
+  // An entry outside the pattern is taken (a correct matrix, a new pattern: the next call then
+  // finds the counts differ and returns false before copying).
+  if (owned_block) add_owned_block(A_, *owned_block, n_owned_);
   fix_rows(A_, A_, n_owned_, fixed);  // the diagonal of base + B (fix_rows reads it first)
   return true;
 }
@@ -631,14 +634,7 @@ bool PetscOperator::assign_with_fixed(const SpdOperator& base, const std::vector
 std::unique_ptr<SpdOperator> PetscOperator::plus(const Eigen::SparseMatrix<double>& B) const {
   PMat C;
   VPC_PETSC(MatDuplicate(A_, MAT_COPY_VALUES, C.out()));
-  VPC_PETSC(MatSetOption(C, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_FALSE));
-  PetscInt begin = 0;
-  VPC_PETSC(MatGetOwnershipRange(A_, &begin, nullptr));
-  std::vector<PetscInt> l2g(static_cast<size_t>(n_owned_));
-  std::iota(l2g.begin(), l2g.end(), begin);
-  add_local_matrix(C, B, l2g);
-  VPC_PETSC(MatAssemblyBegin(C, MAT_FINAL_ASSEMBLY));
-  VPC_PETSC(MatAssemblyEnd(C, MAT_FINAL_ASSEMBLY));
+  add_owned_block(C, B, n_owned_);
   VPC_PETSC(MatSetOption(C, MAT_SPD, PETSC_TRUE));
   return std::make_unique<PetscOperator>(comm_, std::move(C));
 }

@@ -129,14 +129,7 @@ class PrimalActiveSetSolver final : public ContactSolver {
       // linearizations after it (frictional foundation-3d n = 20 on CG + GAMG: the residual of
       // the second linearization 1.2e-3 → 1.6e-5 of the force scale; n = 40, 100 steps, 2 ranks:
       // 6,703 → 6,008 Krylov iterations).
-      Vector start_bound(rows);
-      for (Eigen::Index i = 0; i < rows; ++i) {
-        const double gap = gap_left(w, i);
-        start_bound[i] = c_.bound(i, !active[i]      ? 0.0
-                                     : compliant(i) ? -gap / spring_[static_cast<std::size_t>(i)]
-                                                    : normal_in[i] - scale_[i] * gap);
-      }
-      friction_->take(friction_->next(c_, w, tangential_in, start_bound));
+      friction_->take(friction_->next(c_, w, tangential_in, hsw_bound(active, normal_in, w)));
     }
     Vector bound = Vector::Zero(rows);  // Coulomb's bound: the iterate's own, or the lagged Tresca problem's
     // (λ_τ sized from the start: a first coupled solve that fails leaves it as it is.)
@@ -166,14 +159,7 @@ class PrimalActiveSetSolver final : public ContactSolver {
       if (monotone) release_one(active, next, most_negative, worst);
       tangential = friction_->forces(r);
       if (couple_) {
-        // HSW: Coulomb's bound tresca + μ (λ_ν + c_ν (N u − g))₊ on the next set (λ_ν at the rows
-        // in contact; a row that enters gets its penetration's force).
-        for (Eigen::Index i = 0; i < rows; ++i) {
-          const double gap = gap_left(w, i);
-          bound[i] = c_.bound(i, !next[i]         ? 0.0
-                                 : compliant(i) ? -gap / spring_[static_cast<std::size_t>(i)]
-                                                : lambda_local[i] - scale_[i] * gap);
-        }
+        bound = hsw_bound(next, lambda_local, w);
       }
       const double scale = std::max({b_scale, comm.max(lambda_local.size() ? lambda_local.cwiseAbs().maxCoeff() : 0.0),
                                      std::numeric_limits<double>::min()});
@@ -291,6 +277,18 @@ class PrimalActiveSetSolver final : public ContactSolver {
       moved = std::max(moved, d);
     }
     return moved;
+  }
+  /// HSW: Coulomb's bound tresca + μ (λ_ν + c_ν (N u − g))₊ on the normal set `in_contact` (λ_ν
+  /// `normal` at the rows in contact; a row that enters gets its penetration's force).
+  Vector hsw_bound(const std::vector<char>& in_contact, const Vector& normal, const Vector& w) const {
+    Vector bound(normal.size());
+    for (Eigen::Index i = 0; i < bound.size(); ++i) {
+      const double gap = gap_left(w, i);
+      bound[i] = c_.bound(i, !in_contact[static_cast<std::size_t>(i)] ? 0.0
+                             : compliant(i)                         ? -gap / spring_[static_cast<std::size_t>(i)]
+                                                                    : normal[i] - scale_[i] * gap);
+    }
+    return bound;
   }
   bool compliant(Eigen::Index i) const { return !spring_.empty() && spring_[static_cast<std::size_t>(i)] > 0; }
   /// g_i − N_i u, in the rotated dofs.
