@@ -210,7 +210,7 @@ struct ContactSolverOptions {
 /// The primal solver's friction_tolerance for a step's residual tolerance: 1e-1 of it (so that
 /// the step's friction residuals stay below its tolerance), at least 1e-12. Frictional
 /// foundation-3d n = 40 on CG + GAMG, 2 ranks, 100 steps: 5,403 iterations with 1e-3 of it, 4,539
-/// with 1e-2, 3,735 with 1e-1 (docs/performance.md, issue 28's seventh part). The stick/slip
+/// with 1e-2, 3,735 with 1e-1 (docs/performance.md, "Friction"). The stick/slip
 /// status of a row at its bound to within this accuracy is kSlipForceShare's.
 double friction_force_tolerance(double residual_tolerance);
 
