@@ -5,6 +5,7 @@
 //   arrays.cpp      read-only numpy views of C++ memory, kept alive by their owner
 //   simulation.cpp  Simulation: the library's run loop (RunLoop) stepped from Python,
 //                   with views of the state and the mesh, and the constant matrices
+//   call_lock.cpp   one caller of a Simulation at a time (vpcontact.BusyError otherwise)
 #include "cases/builtin_cases.hpp"
 
 #include <pybind11/numpy.h>

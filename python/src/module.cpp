@@ -1,5 +1,6 @@
 // vpcontact._core: the C++ half of the Python module vpcontact (docs/python.md).
 #include "bindings.hpp"
+#include "call_lock.hpp"
 
 #include "io/build_info.hpp"
 
@@ -9,5 +10,6 @@ PYBIND11_MODULE(_core, m) {
   m.attr("git_commit") = vpc::git_commit();
   vpc::python::bind_errors(m);
   vpc::python::bind_case(m);
+  vpc::python::bind_call_lock(m);
   vpc::python::bind_simulation(m);
 }

@@ -3,8 +3,10 @@
 // and checkpoints. What Python sees of it: the step reports as history.csv's numbers
 // (io/history_columns.hpp), read-only numpy views of the state's fields (io/state_fields.hpp:
 // never copies, they follow the steps) and the mesh, copies of the output fields, and the
-// constant matrices.
+// constant matrices. Every call enters the Simulation's CallLock (call_lock.hpp): one caller
+// at a time.
 #include "bindings.hpp"
+#include "call_lock.hpp"
 
 #include "core/error.hpp"
 #include "io/history_columns.hpp"
@@ -17,8 +19,11 @@
 
 #include <array>
 #include <chrono>
+#include <cmath>
 #include <filesystem>
+#include <functional>
 #include <optional>
+#include <type_traits>
 
 namespace vpc::python {
 
@@ -47,6 +52,12 @@ class Simulation {
       require(so.output.has_value(), "resume=True needs the output directory of the run to resume (output=...)");
       o.resume = *so.output;
     }
+    require(so.checkpoint_every >= -1,
+            "checkpoint_every must be a number of steps >= 0 (0: checkpoints at the start and the end only) or "
+            "-1 (by wall time: checkpoint_seconds) (got {})",
+            so.checkpoint_every);
+    require(std::isfinite(so.checkpoint_seconds) && so.checkpoint_seconds > 0,
+            "checkpoint_seconds must be a finite number of seconds > 0 (got {})", so.checkpoint_seconds);
     o.checkpoint_every = so.checkpoint_every;
     o.checkpoint_seconds = so.checkpoint_seconds;
     require(so.halvings >= 0 && so.halvings <= 20, "halvings must be in [0, 20] (got {})", so.halvings);
@@ -113,6 +124,8 @@ class Simulation {
   const RunLoop& loop() const { return *loop_; }
   /// The output directory; None: a run without files.
   const std::optional<std::string>& output() const { return output_; }
+  /// The lock every call of the binding enters (a lock is state of its own, not the simulation's).
+  CallLock& calls() const { return calls_; }
 
  private:
   /// Where each stored field's numbers are (the views point there).
@@ -130,6 +143,7 @@ class Simulation {
   std::vector<std::string> columns_;
   std::vector<std::vector<HistoryValue>> rows_;
   std::optional<std::string> output_;
+  mutable CallLock calls_;
 };
 
 /// A matrix as the arrays of scipy.sparse.csc_matrix((data, indices, indptr), shape).
@@ -203,6 +217,28 @@ py::list column_table() {
   return out;
 }
 
+/// The binding of `f` (given the Simulation, or its Python object where a view needs it as
+/// its base) as the Simulation's `call`: `f` runs inside the call lock (call_lock.hpp).
+template <typename F>
+auto locked(CallLock::Access access, std::string call, F f) {
+  return [access, call = "Simulation." + std::move(call), f](py::handle self) {
+    Simulation& s = self.cast<Simulation&>();
+    const CallLock::Entered entered = s.calls().enter(call, access);
+    if constexpr (std::is_invocable_v<F, Simulation&>)
+      return std::invoke(f, s);
+    else
+      return std::invoke(f, self);
+  };
+}
+template <typename F>
+auto reads(std::string call, F f) {
+  return locked(CallLock::Access::read, std::move(call), f);
+}
+template <typename F>
+auto writes(std::string call, F f) {
+  return locked(CallLock::Access::write, std::move(call), f);
+}
+
 }  // namespace
 
 void bind_simulation(py::module_& m) {
@@ -217,113 +253,132 @@ void bind_simulation(py::module_& m) {
            }),
            py::arg("case"), py::arg("output") = py::none(), py::arg("resume") = false, py::arg("quiet") = true,
            py::arg("checkpoint_every") = -1, py::arg("checkpoint_seconds") = 60.0, py::arg("halvings") = 0)
-      .def("_step", &S::step)
-      .def("checkpoint", &S::checkpoint, "Writes a checkpoint of the state now (output directory needed).")
-      .def("finish", &S::finish, "Ends the run: writes summary.json (once); no step after it.")
-      .def_property_readonly("done", &S::done, "Whether the last step is reached.")
-      .def_property_readonly("finished", &S::finished)
-      .def_property_readonly("output", &S::output, "The output directory (None: no files).")
-      .def_property_readonly("n", [](const S& s) { return s.state().n; }, "The step reached.")
-      .def_property_readonly("t", [](const S& s) { return s.state().t; }, "Its time t_n.")
+      .def("_hold", [sim](py::handle self, std::string call) { return hold(self, sim(self).calls(), std::move(call)); },
+           "A context manager holding the call lock for `call` (a write) while its block runs.")
+      .def("_step", writes("_step()", &S::step))
+      .def("checkpoint", writes("checkpoint()", &S::checkpoint),
+           "Writes a checkpoint of the state now (output directory needed).")
+      .def("finish", writes("finish()", &S::finish), "Ends the run: writes summary.json (once); no step after it.")
+      .def_property_readonly("done", reads("done", &S::done), "Whether the last step is reached.")
+      .def_property_readonly("finished", reads("finished", &S::finished))
+      .def_property_readonly("output", reads("output", &S::output), "The output directory (None: no files).")
+      .def_property_readonly("n", reads("n", [](const S& s) { return s.state().n; }), "The step reached.")
+      .def_property_readonly("t", reads("t", [](const S& s) { return s.state().t; }), "Its time t_n.")
       .def_property_readonly("n_steps",
-                             [](const S& s) -> std::optional<int> {
-                               const Problem& p = s.stepper().problem();
-                               if (p.step_control) return std::nullopt;
-                               return p.n_steps;
-                             },
+                             reads("n_steps",
+                                   [](const S& s) -> std::optional<int> {
+                                     const Problem& p = s.stepper().problem();
+                                     if (p.step_control) return std::nullopt;
+                                     return p.n_steps;
+                                   }),
                              "N of a fixed grid; None with error-controlled steps (their number is known only "
                              "at the end: sim.n is the number taken so far).")
-      .def_property_readonly("final_time", [](const S& s) { return s.stepper().problem().final_time; })
-      .def_property_readonly("kappa", [](const S& s) { return s.stepper().problem().kappa; })
-      .def_property_readonly("last_checkpoint", [](const S& s) { return s.loop().last_checkpoint(); })
-      .def_property_readonly("wall_seconds", [](const S& s) { return s.loop().result().wall_seconds; },
+      .def_property_readonly("final_time",
+                             reads("final_time", [](const S& s) { return s.stepper().problem().final_time; }))
+      .def_property_readonly("kappa", reads("kappa", [](const S& s) { return s.stepper().problem().kappa; }))
+      .def_property_readonly("last_checkpoint",
+                             reads("last_checkpoint", [](const S& s) { return s.loop().last_checkpoint(); }))
+      .def_property_readonly("wall_seconds",
+                             reads("wall_seconds", [](const S& s) { return s.loop().result().wall_seconds; }),
                              "The run's wall time, set by finish().")
-      .def_property_readonly("setup_seconds", [](const S& s) { return s.stepper().setup_seconds(); })
-      .def_property_readonly("contact_solver", [](const S& s) { return s.stepper().contact_solver(); })
-      .def_property_readonly("frictional", [](const S& s) { return s.state().contact_block > 1; },
+      .def_property_readonly("setup_seconds",
+                             reads("setup_seconds", [](const S& s) { return s.stepper().setup_seconds(); }))
+      .def_property_readonly("contact_solver",
+                             reads("contact_solver", [](const S& s) { return s.stepper().contact_solver(); }))
+      .def_property_readonly("frictional", reads("frictional", [](const S& s) { return s.state().contact_block > 1; }),
                              "Whether the run has friction (contact_force then holds lambda_nu and the "
                              "tangential forces per node; the friction fields and history columns exist).")
-      .def_property_readonly("_history_columns", &S::history_columns)
-      .def_property_readonly("_rows",
-                             [](const S& s) {
-                               py::list rows;
-                               for (const auto& r : s.rows()) rows.append(numbers(r));
-                               return rows;
-                             })
-      .def_property_readonly("_last_row",
-                             [](const S& s) -> py::object {
-                               if (s.rows().empty()) return py::none();
-                               return numbers(s.rows().back());
-                             })
+      .def_property_readonly("_history_columns", reads("history_columns", &S::history_columns))
+      .def_property_readonly("_rows", reads("history()",
+                                            [](const S& s) {
+                                              py::list rows;
+                                              for (const auto& r : s.rows()) rows.append(numbers(r));
+                                              return rows;
+                                            }))
+      .def_property_readonly("_last_row", reads("report",
+                                                [](const S& s) -> py::object {
+                                                  if (s.rows().empty()) return py::none();
+                                                  return numbers(s.rows().back());
+                                                }))
       // The mesh (the whole mesh: one process).
-      .def_property_readonly("dim", [](const S& s) { return s.stepper().mesh().dim(); })
+      .def_property_readonly("dim", reads("dim", [](const S& s) { return s.stepper().mesh().dim(); }))
       .def_property_readonly("points",
-                             [sim](py::handle self) {
-                               const Mesh& mesh = sim(self).stepper().mesh();
-                               return view(mesh.nodes().front().data(), {mesh.n_nodes(), 3}, self);
-                             },
+                             reads("points",
+                                   [sim](py::handle self) {
+                                     const Mesh& mesh = sim(self).stepper().mesh();
+                                     return view(mesh.nodes().front().data(), {mesh.n_nodes(), 3}, self);
+                                   }),
                              "The nodes' coordinates, (n_nodes, 3) (unused coordinates 0).")
       .def_property_readonly("cells",
-                             [sim](py::handle self) {
-                               const Mesh& mesh = sim(self).stepper().mesh();
-                               return view(mesh.cell_array().data(), {mesh.n_cells(), mesh.nodes_per_cell()}, self);
-                             },
+                             reads("cells",
+                                   [sim](py::handle self) {
+                                     const Mesh& mesh = sim(self).stepper().mesh();
+                                     return view(mesh.cell_array().data(),
+                                                 {mesh.n_cells(), mesh.nodes_per_cell()}, self);
+                                   }),
                              "The cells' nodes, (n_cells, d + 1).")
       .def_property_readonly("facets",
-                             [sim](py::handle self) {
-                               const Mesh& mesh = sim(self).stepper().mesh();
-                               return view(mesh.n_facets() ? mesh.facet(0) : nullptr,
-                                           {mesh.n_facets(), mesh.nodes_per_facet()}, self);
-                             },
+                             reads("facets",
+                                   [sim](py::handle self) {
+                                     const Mesh& mesh = sim(self).stepper().mesh();
+                                     return view(mesh.n_facets() ? mesh.facet(0) : nullptr,
+                                                 {mesh.n_facets(), mesh.nodes_per_facet()}, self);
+                                   }),
                              "The boundary facets' nodes, (n_facets, d).")
       .def_property_readonly("facet_parts",
-                             [](const S& s) {
-                               const Mesh& mesh = s.stepper().mesh();
-                               std::vector<int> part(mesh.n_facets());
-                               for (int f = 0; f < mesh.n_facets(); ++f) part[f] = mesh.facet_part(f);
-                               return copy(part);
-                             },
+                             reads("facet_parts",
+                                   [](const S& s) {
+                                     const Mesh& mesh = s.stepper().mesh();
+                                     std::vector<int> part(mesh.n_facets());
+                                     for (int f = 0; f < mesh.n_facets(); ++f) part[f] = mesh.facet_part(f);
+                                     return copy(part);
+                                   }),
                              "Each facet's part (an index into part_names; -1: none), a copy.")
-      .def_property_readonly("part_names", [](const S& s) { return s.stepper().mesh().part_names(); })
+      .def_property_readonly("part_names",
+                             reads("part_names", [](const S& s) { return s.stepper().mesh().part_names(); }))
       // The state's fields are added from their table below.
       .def_property_readonly("contact_nodes",
-                             [](const S& s) {
-                               const MeshPart& part = s.stepper().part();
-                               std::vector<int> node(part.contact.size());
-                               for (const PartContactNode& c : part.contact) node.at(c.row) = c.local_node;
-                               return copy(node);
-                             },
+                             reads("contact_nodes",
+                                   [](const S& s) {
+                                     const MeshPart& part = s.stepper().part();
+                                     std::vector<int> node(part.contact.size());
+                                     for (const PartContactNode& c : part.contact) node.at(c.row) = c.local_node;
+                                     return copy(node);
+                                   }),
                              "The node of each contact row (of N and contact_force), a copy.")
       .def_property_readonly("contact_directions",
-                             [](const S& s) {
-                               const MeshPart& part = s.stepper().part();
-                               py::array_t<double> a({static_cast<py::ssize_t>(part.contact.size()), py::ssize_t{3}});
-                               auto w = a.mutable_unchecked<2>();
-                               for (const PartContactNode& c : part.contact)
-                                 for (int i = 0; i < 3; ++i) w(c.row, i) = c.direction[i];
-                               return a;
-                             },
+                             reads("contact_directions",
+                                   [](const S& s) {
+                                     const MeshPart& part = s.stepper().part();
+                                     py::array_t<double> a(
+                                         {static_cast<py::ssize_t>(part.contact.size()), py::ssize_t{3}});
+                                     auto w = a.mutable_unchecked<2>();
+                                     for (const PartContactNode& c : part.contact)
+                                       for (int i = 0; i < 3; ++i) w(c.row, i) = c.direction[i];
+                                     return a;
+                                   }),
                              "The contact direction nu at each contact node, (n_contact, 3), a copy.")
       .def_property_readonly("free_dofs",
-                             [](const S& s) {
-                               const DofMap& dofs = s.stepper().dofs();
-                               std::vector<int> full;
-                               for (int i = 0; i < dofs.n_full(); ++i)
-                                 if (dofs.free_index(i) >= 0) full.push_back(i);
-                               return copy(full);
-                             },
+                             reads("free_dofs",
+                                   [](const S& s) {
+                                     const DofMap& dofs = s.stepper().dofs();
+                                     std::vector<int> full;
+                                     for (int i = 0; i < dofs.n_full(); ++i)
+                                       if (dofs.free_index(i) >= 0) full.push_back(i);
+                                     return copy(full);
+                                   }),
                              "The index in u.ravel() of each free dof (the rows of K and the columns of N).")
-      .def("_matrices", [](const S& s) {
-        const TimeStepper& ts = s.stepper();
-        const SparseMatrix* K = ts.stiffness_operator().whole_matrix();
-        require(K != nullptr, "K is not an Eigen sparse matrix (not the serial engine)");
-        py::dict d;
-        d["K"] = csc(*K);
-        d["M"] = csc(ts.mass_matrix());
-        d["A"] = csc(ts.laplacian_matrix());
-        d["N"] = csc(ts.contact_rows());
-        return d;
-      });
+      .def("_matrices", reads("matrices()", [](const S& s) {
+             const TimeStepper& ts = s.stepper();
+             const SparseMatrix* K = ts.stiffness_operator().whole_matrix();
+             require(K != nullptr, "K is not an Eigen sparse matrix (not the serial engine)");
+             py::dict d;
+             d["K"] = csc(*K);
+             d["M"] = csc(ts.mass_matrix());
+             d["A"] = csc(ts.laplacian_matrix());
+             d["N"] = csc(ts.contact_rows());
+             return d;
+           }));
   // The state's fields (io/state_fields.hpp): views of the stored ones, copies of the
   // output fields made as the VTU files make them.
   auto cls = py::reinterpret_borrow<py::class_<S>>(m.attr("Simulation"));
@@ -331,19 +386,20 @@ void bind_simulation(py::module_& m) {
     if (f.python.empty()) continue;
     const std::string doc = fmt::format("{} (per {}{})", f.meaning, location_name(f.location),
                                         f.stored() ? ", a read-only view" : ", a copy");
+    const std::string name(f.python);
     if (f.stored())
-      cls.def_property_readonly(std::string(f.python).c_str(), [&f, sim](py::handle self) {
+      cls.def_property_readonly(name.c_str(), reads(name, [&f, sim](py::handle self) {
         const S& s = sim(self);
         const std::span<const double> v = f.values(s.state());
         return view(v.data(), shape(f, s.state(), s.stepper().mesh().dim(), v.size()), self);
-      }, doc.c_str());
+      }), doc.c_str());
     else
-      cls.def_property_readonly(std::string(f.python).c_str(), [&f](const S& s) {
+      cls.def_property_readonly(name.c_str(), reads(name, [&f](const S& s) {
         const VtuField a = f.vtu_field({s.state(), s.stepper().part()});
         py::array_t<double> out(shape(f, s.state(), s.stepper().mesh().dim(), a.values.size()));
         std::copy(a.values.begin(), a.values.end(), out.mutable_data());
         return out;
-      }, doc.c_str());
+      }), doc.c_str());
   }
   m.def("_state_fields", &field_table, "The table of the state's fields (io/state_fields.hpp).");
   m.def("_history_column_table", &column_table, "The table of history.csv's columns (io/history_columns.hpp).");

@@ -15,6 +15,8 @@ The module drives the C++ library: its case reader, its run loop (the one
         report = sim.step()                             # history.csv's numbers of the step
 """
 
+import numbers as _numbers
+import operator as _operator
 import os as _os
 
 # The command line runs with passive OpenMP waiting (app/process_policy.cpp: spinning
@@ -24,13 +26,14 @@ _os.environ.setdefault("OMP_WAIT_POLICY", "passive")
 
 from . import _core  # noqa: E402
 from ._core import builtin_cases, case_text  # noqa: E402
-from .errors import CaseError, Error, RunError  # noqa: E402
+from .errors import BusyError, CaseError, Error, RunError  # noqa: E402
 from .results import Fields, Results, read  # noqa: E402
 from .tables import table as _table  # noqa: E402
 
 __version__ = _core.__version__
 __all__ = ["Case", "Simulation", "run", "read", "plot", "builtin_cases", "case_text", "toml_value",
-           "Results", "Fields", "Error", "CaseError", "RunError", "state_fields", "history_column_table"]
+           "Results", "Fields", "Error", "CaseError", "RunError", "BusyError", "state_fields",
+           "history_column_table"]
 
 
 def state_fields():
@@ -119,6 +122,11 @@ class Case(_core.Case):
     def copy(self):
         return Case(self)
 
+    def _set_n(self, n):
+        # the range is the case reader's (--n); the type is said here, not as pybind11's overloads
+        _core.Case.n.fset(self, None if n is None else _integer("Case.n", "n", n, "an integer or None"))
+
+    n = property(_core.Case.n.fget, _set_n, doc=_core.Case.n.__doc__)
     kappa = property(_core.Case.kappa.fget, lambda self, v: self.set("damage.kappa", v), doc="damage.kappa")
     steps = property(_core.Case.steps.fget, lambda self, v: self.set("time.steps", v), doc="time.steps")
     dt = property(_core.Case.dt.fget, lambda self, v: self.set("time.dt", v), doc="time.dt")
@@ -150,27 +158,39 @@ class Simulation(_core.Simulation):
     friction tangential_force, tangential_traction, slip_increment),
     active, contact_nodes, contact_directions, facet_parts, free_dofs, boundary_parts,
     matrices(). state_fields() and history_column_table() list the fields and columns.
+
+    One caller at a time: a call made while another call of the same Simulation is in
+    progress in another thread (a step releases the GIL) raises BusyError naming that call
+    and its thread; so does a step, checkpoint or finish() from run()'s progress callback.
     """
 
     def __init__(self, case, output=None, *, resume=False, quiet=True, checkpoint_every=-1,
                  checkpoint_seconds=60.0, halvings=0):
         if not isinstance(case, _core.Case):
             case = Case(case)
+        # the ranges are checked by _core (CaseError), the types here
+        checkpoint_every = _integer("Simulation", "checkpoint_every", checkpoint_every, "an integer")
+        halvings = _integer("Simulation", "halvings", halvings, "an integer")
+        if isinstance(checkpoint_seconds, bool) or not isinstance(checkpoint_seconds, _numbers.Real):
+            raise TypeError("Simulation: checkpoint_seconds must be a number (got %r)" % (checkpoint_seconds,))
         super().__init__(case, _output_directory(case, output), resume, quiet,
                          checkpoint_every, float(checkpoint_seconds), halvings)
         self.case = Case(case)
 
     def step(self, count=1):
-        """Advances `count` steps (fewer where fewer are left before T); returns the last
-        one's report. Raises RunError when no step is left (sim.done: the run is at T)."""
-        if self.done:
-            raise RunError("the simulation is at its final time (step %d, t = T = %g): there is no step after "
-                           "the last (sim.done is True)" % (self.n, self.final_time))
-        for _ in range(count):
+        """Advances `count` steps (an integer >= 1; fewer where fewer are left before T);
+        returns the last one's report. Raises RunError when no step is left (sim.done: the
+        run is at T), ValueError for a count < 1."""
+        count = _count("Simulation.step(count)", "count", count)
+        with self._hold("Simulation.step()"):
             if self.done:
-                break
-            self._step()
-        return self.report
+                raise RunError("the simulation is at its final time (step %d, t = T = %g): there is no step after "
+                               "the last (sim.done is True)" % (self.n, self.final_time))
+            for _ in range(count):
+                if self.done:
+                    break
+                self._step()
+            return self.report
 
     @property
     def report(self):
@@ -190,27 +210,35 @@ class Simulation(_core.Simulation):
 
     def run(self, progress=None):
         """Runs the remaining steps and finishes (summary.json). progress: None or False
-        (nothing), True (a bar: tqdm where installed), or a callable given each report.
+        (nothing), True (a bar: tqdm where installed), or a callable given each report; it
+        may read the simulation (sim.u, sim.t, ...), not step it (BusyError).
         On KeyboardInterrupt a run with output writes a checkpoint and summary.json
         first (resume with Simulation(case, output=dir, resume=True))."""
-        if progress is True:
-            from .progress import bar
+        if not (progress is None or isinstance(progress, bool) or callable(progress)):
+            raise TypeError("Simulation.run(progress): progress must be None, False, True or a callable given each "
+                            "step's report (got %r)" % (progress,))
+        with self._hold("Simulation.run()") as held:
+            if progress is True:
+                from .progress import bar
 
-            progress = bar(self.final_time, self.t)
-        try:
-            while not self.done:
-                self._step()
-                if progress:
-                    progress(self.report)
-        except KeyboardInterrupt:
-            if self.output is not None and not self.finished:
-                self.checkpoint()
+                progress = bar(self.final_time, self.t)
+            try:
+                while not self.done:
+                    self._step()
+                    if progress:
+                        report = self.report
+                        with held.callback():  # the user's code: it may read, not step
+                            progress(report)
+            except KeyboardInterrupt:
+                if self.output is not None and not self.finished:
+                    self.checkpoint()
+                self.finish()
+                raise
+            finally:
+                if progress and hasattr(progress, "close"):
+                    with held.callback():
+                        progress.close()
             self.finish()
-            raise
-        finally:
-            if progress and hasattr(progress, "close"):
-                progress.close()
-        self.finish()
         return self
 
     @property
@@ -264,6 +292,24 @@ class Simulation(_core.Simulation):
     def __repr__(self):
         of = " of %d" % self.n_steps if self.n_steps else ""  # None: error-controlled step sizes
         return "<vpcontact.Simulation %s: step %d%s, t = %g of %g>" % (self.case.name, self.n, of, self.t, self.final_time)
+
+
+def _integer(call, name, value, expected):
+    """`value` as an int (a Python or numpy integer, not a bool, a float or a NaN), else a
+    TypeError naming the argument and what is `expected` of it."""
+    if isinstance(value, bool) or not hasattr(type(value), "__index__"):
+        raise TypeError("%s: %s must be %s (got %r)" % (call, name, expected, value))
+    return _operator.index(value)
+
+
+def _count(call, name, value):
+    """`value` as an int >= 1 (a number of steps), else TypeError or ValueError naming the
+    argument: a count of 0, -1 or NaN is a mistake, not a request for nothing."""
+    expected = "an integer >= 1"
+    value = _integer(call, name, value, expected)
+    if value < 1:
+        raise ValueError("%s: %s must be %s (got %d)" % (call, name, expected, value))
+    return value
 
 
 def _output_directory(case, output):

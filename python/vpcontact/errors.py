@@ -9,7 +9,7 @@ exceptions carry that location as attributes (None where the message has none);
 
 import re
 
-__all__ = ["Error", "CaseError", "RunError", "from_message"]
+__all__ = ["Error", "CaseError", "RunError", "BusyError", "from_message"]
 
 
 class Error(Exception):
@@ -37,6 +37,19 @@ class CaseError(Error, ValueError):
 class RunError(Error, RuntimeError):
     """A run that cannot go on: a step that failed (the solvers did not converge,
     NaN in the data) or no checkpoint to resume from."""
+
+
+class BusyError(Error, RuntimeError):
+    """A call of a Simulation refused because another call of it is in progress: a
+    Simulation is driven from one thread at a time (docs/python.md, "Threads"). Raised in
+    the second caller's thread; the first call goes on unharmed. Also a step, checkpoint or
+    finish() asked for from run()'s progress callback. Attributes: ``call``, the call in
+    progress (e.g. ``"Simulation.run()"``), and ``thread``, its thread's name."""
+
+    def __init__(self, message, call=None, thread=None):
+        super().__init__(message)
+        self.call = call
+        self.thread = thread
 
 
 # file:line:column: rest

@@ -6,6 +6,8 @@ for the figures and for Python.
 """
 
 import json
+import math
+import numbers
 import os
 
 import numpy as np
@@ -140,8 +142,20 @@ class Results:
             raise RunError("%s: no VTU output (output.vtu = false?)" % self.directory)
         if t is not None and index is not None:
             raise ValueError("give t or index, not both")
-        if index is None:
-            index = -1 if t is None else int(np.argmin(np.abs(self.times - t)))
+        k = len(self._solutions)
+        if index is not None:
+            if isinstance(index, bool) or not hasattr(type(index), "__index__"):
+                raise TypeError("Results.fields(index): index must be an integer (got %r)" % (index,))
+            if not -k <= index < k:
+                raise IndexError("Results.fields(index): index must be in [%d, %d): %d outputs (got %d)"
+                                 % (-k, k, k, index))
+        elif t is None:
+            index = -1
+        else:
+            # a NaN would pick the first output silently (argmin of NaNs)
+            if isinstance(t, bool) or not isinstance(t, numbers.Real) or not math.isfinite(t):
+                raise ValueError("Results.fields(t): t must be a finite time (got %r)" % (t,))
+            index = int(np.argmin(np.abs(self.times - t)))
         time, path = self._solutions[index]
         try:
             vtu = _plot.read_vtu(path)

@@ -1,5 +1,6 @@
 """Bad input raises a Python exception with the command line's message and its location."""
 
+import numpy as np
 import pytest
 
 import vpcontact
@@ -101,3 +102,44 @@ def test_reading_a_directory_that_is_no_run(tmp_path):
     with pytest.raises(vpcontact.RunError, match="summary.json") as e:
         vpcontact.read(tmp_path)
     assert e.value.file.endswith("summary.json")
+
+
+def test_counts_and_times_that_are_zero_negative_or_nan_raise(tmp_path):
+    # Issue 48 item 15: sim.step(0) and sim.step(-1) returned silently
+    sim = vpcontact.Simulation(vpcontact.Case("paper-1d", steps=3))
+    for count in (0, -1):
+        with pytest.raises(ValueError, match=r"^Simulation.step\(count\): count must be an integer >= 1 \(got %d\)$"
+                           % count):
+            sim.step(count)
+    for count in (1.5, float("nan"), True, "2"):
+        with pytest.raises(TypeError, match=r"^Simulation.step\(count\): count must be an integer >= 1 \(got "):
+            sim.step(count)
+    assert sim.n == 0 and sim.report is None  # nothing stepped
+    assert sim.step(np.int64(2))["step"] == 2  # a numpy integer is an integer
+    with pytest.raises(TypeError, match=r"progress must be None, False, True or a callable .* \(got 5\)"):
+        sim.run(progress=5)
+    # the options of a Simulation: before anything is set up
+    case = vpcontact.Case("paper-1d", steps=2)
+    for options, message in (({"checkpoint_every": -2}, r"^checkpoint_every must be a number of steps >= 0 .*\(got -2\)"),
+                             ({"checkpoint_seconds": 0}, r"^checkpoint_seconds must be a finite number .* > 0 \(got 0\)"),
+                             ({"checkpoint_seconds": -1.0}, r"^checkpoint_seconds must .* \(got -1\)"),
+                             ({"checkpoint_seconds": float("nan")}, r"^checkpoint_seconds must .* \(got nan\)"),
+                             ({"halvings": -1}, r"^halvings must be in \[0, 20\] \(got -1\)")):
+        with pytest.raises(vpcontact.CaseError, match=message):
+            vpcontact.Simulation(case, output=tmp_path / "none", **options)
+    assert not (tmp_path / "none").exists()
+    for options in ({"checkpoint_every": 1.5}, {"halvings": 0.5}, {"checkpoint_seconds": "60"}):
+        with pytest.raises(TypeError, match=r"^Simulation: %s must be" % next(iter(options))):
+            vpcontact.Simulation(case, **options)
+    with pytest.raises(TypeError, match=r"^Case.n: n must be an integer or None \(got 2.5\)"):
+        vpcontact.Case("paper-2d", n=2.5)
+    # a run read back: fields(t=nan) gave the first output, silently
+    run = vpcontact.run(vpcontact.Case("paper-1d", steps=4, set={"output.every": 2}), output=tmp_path / "run")
+    results = vpcontact.read(tmp_path / "run")
+    assert list(results.steps) == [0, 2, 4]
+    assert results.fields(t=0.6).n == 2 and results.fields(index=-3).n == 0
+    with pytest.raises(ValueError, match=r"^Results.fields\(t\): t must be a finite time \(got nan\)"):
+        results.fields(t=float("nan"))
+    with pytest.raises(IndexError, match=r"^Results.fields\(index\): index must be in \[-3, 3\): 3 outputs \(got 3\)"):
+        results.fields(index=3)
+    assert run.done
