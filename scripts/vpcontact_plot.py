@@ -982,8 +982,8 @@ class Plotter:
             u = np.linalg.norm(vtu.displacement()[:, :2], axis=1)
             pc = ax.tripcolor(tri, u, shading="gouraud", cmap=FIELD_CMAP)
             self.colorbar(fig, pc, ax, r"displacement $|u|$" + UNITS.br("length"))
-        ax.triplot(tri, color="0.25" if true_scale else "C0", lw=0.25 if true_scale else 0.5,
-                   alpha=0.4 if true_scale else 1.0, label="deformed mesh")
+        ax.triplot(tri, color="0.2" if true_scale else "C0", lw=0.35 if true_scale else 0.5,
+                   alpha=0.5 if true_scale else 1.0, label="deformed mesh")
         for k, loop in enumerate(edge_loops(boundary_edges(vtu.cells))):
             ax.plot(xy[loop, 0], xy[loop, 1], "k--", lw=1.2, label="initial boundary" if k == 0 else None)
         active, what = self.contact_nodes(vtu)
