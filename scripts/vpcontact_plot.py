@@ -21,21 +21,28 @@ the neutral name:
   2  fig_4_7_von_mises_damage      von_mises_beta       |sigma|_VM (per element) and beta on the deformed body (VTU)
   3                                surface_von_mises    |sigma|_VM on the deformed boundary, from above and below (VTU)
   3                                surface_beta         beta on the deformed boundary, from above and below   (VTU)
-  3                                contact_pressure     the point field contact_pressure on the lower boundary,
-                                                        and against the distance from the centre of pressure
-                                                        (on the case's symmetry planes it touches)    (VTU)
+  3                                contact_pressure     the point field contact_pressure on Gamma_3's face (the lower
+                                                        boundary, or the top face where only it touches) or, with
+                                                        contact pairs, on the pair's slave side, with the nodes in
+                                                        contact and the force there; and against the distance from
+                                                        the centre of pressure (on the case's symmetry planes it
+                                                        touches)                                      (VTU)
   2,3  probes                      probes               u, von Mises, beta versus time at the probes   (probes.csv)
   all  history                     history              total contact force, active nodes, min/max beta (history.csv)
-  all  friction                    friction             with friction: the tangential force (total, per obstacle)
-                                                        and the normal force against the displacement along the
-                                                        push of the probe that moves most (else t); stick/slip nodes
-                                                        and the dissipation per step  (history.csv, probes.csv)
+  all  friction                    friction             with friction: the tangential force (total, per obstacle
+                                                        and per pair) and the normal force against t; stick/slip
+                                                        nodes and the dissipation per step            (history.csv)
   all  time_steps                  time_steps           the step size k(t), the error estimate per step and the
                                                         rejected steps, when the steps are not uniform, and the
                                                         tolerance of error-controlled steps   (history.csv)
 
 summary.json also gives the labels' units ("units": [case] units; SI where absent), the
-symmetry planes and the obstacles' positions at the output times.
+symmetry planes, the obstacles' positions at the output times and the bodies.
+
+Deformed configurations: one body is drawn with its displacements magnified (the paper's are
+tiny; the rigid obstacles' motions with them); several bodies (touching through contact pairs)
+at true scale, as a magnification would carry each body's rigid motion into the others: the 2D
+deformed mesh then shows |u| in colour.
 
 The 2D field figures follow the domain's aspect ratio (a wide domain puts
 the two fields one above the other); colour bars are as tall as their plot;
@@ -112,14 +119,15 @@ BETA_LABEL = r"damage $\beta$ [-]"
 # units). The known systems put units in the labels; other text (units the user
 # describes) leaves them out and is shown in the titles; outputs without "units": SI.
 UNIT_SYSTEMS = {
-    "SI": {"length": "m", "force": "N", "stress": "N/m$^2$", "time": "s"},
-    "mm-N-MPa": {"length": "mm", "force": "N", "stress": "MPa", "time": "s"},
+    "SI": {"length": "m", "force": "N", "stress": "N/m$^2$", "time": "s", "energy": "J"},
+    "mm-N-MPa": {"length": "mm", "force": "N", "stress": "MPa", "time": "s", "energy": "mJ"},  # N mm = mJ
 }
 
 
 class Units:
-    """The units of one run's labels. Quantities: length, time, force, stress, and
-    line (force per length: the rod's stress, a 2D force per unit thickness)."""
+    """The units of one run's labels. Quantities: length, time, force, stress, energy, and
+    line (force per length: the rod's stress, a 2D force per unit thickness) and
+    line_energy (energy per length: a 2D work per unit thickness)."""
 
     def __init__(self, name="SI"):
         self.name = name
@@ -130,6 +138,8 @@ class Units:
             return None
         if q == "line":
             return "%s/%s" % (self.system["force"], self.system["length"])
+        if q == "line_energy":
+            return "%s/%s" % (self.system["energy"], self.system["length"])
         return self.system[q]
 
     def br(self, q):
@@ -484,7 +494,35 @@ class Run:
             if "t" not in table:
                 raise PlotError("%s has no column 't'" % os.path.join(outdir, name))
         self.solutions = list_solutions(outdir, self.probes)
+        # The bodies, by the index the VTU cell field `body` gives them (summary.json "bodies":
+        # the case's [mesh] first, then each [[body]]; absent for one body), and the slave part of
+        # each contact pair (history.csv's force_pair_<slave> columns).
+        try:
+            self.bodies = [str(b["name"]) for b in self.summary.get("bodies", [])]
+        except (KeyError, TypeError) as e:
+            raise PlotError("%s: unreadable bodies (%s)" % (summary, e))
+        self.pair_slaves = [c[len("force_pair_"):] for c in self.history if c.startswith("force_pair_")]
         self._cache = {}
+
+    def several_bodies(self):
+        """Whether the case has bodies that touch each other (contact pairs between them): drawn
+        at true scale, as a magnified displacement would carry their rigid motions into each other."""
+        return len(self.bodies) > 1
+
+    def slave_body(self, slave):
+        """The index of the body a pair's slave part is on: "<body>.<part>" for a [[body]]'s part,
+        the case's [mesh] (0) for a plain name (a body's name has no '.': docs/cases.md)."""
+        head = slave.split(".", 1)[0]
+        return self.bodies.index(head) if "." in slave and head in self.bodies[1:] else 0
+
+    def history_at(self, col, t):
+        """history.csv's column col at the step of time t (the nearest), None without it."""
+        import numpy as np
+
+        h = self.history
+        if col not in h or not len(h["t"]):
+            return None
+        return float(h[col][int(np.argmin(np.abs(h["t"] - t)))])
 
     def vtu(self, path):
         if path not in self._cache:
@@ -621,17 +659,18 @@ def in_contact(vtu):
     return np.zeros(len(vtu.points), dtype=bool)
 
 
-def contact_boundary(vtu, pressure):
-    """(faces, description) of the boundary where a 3D body touches: the flat
-    bottom face z = zmin, or the top face z = zmax when only it has nodes in contact
-    (a body indented from above), or for a curved body the faces that look down."""
+def contact_boundary(points, cells, pressure):
+    """(faces, description) of the boundary where the 3D body made of the tetrahedra cells
+    touches: its flat bottom face z = zmin, or its top face z = zmax when only that has nodes
+    in contact (a body indented from above), or for a curved body the faces that look down."""
     import numpy as np
 
-    p = vtu.points
-    tol = 1e-9 * max(float(np.ptp(p[:, 2])), 1.0)
-    faces, _ = boundary_faces(vtu.cells, p)
-    zmin, zmax = p[:, 2].min(), p[:, 2].max()
-    bottom, top = (faces[np.all(np.abs(p[faces, 2] - z) <= tol, axis=1)] for z in (zmin, zmax))
+    p = points
+    z = p[np.unique(cells), 2]
+    tol = 1e-9 * max(float(np.ptp(z)), 1.0)
+    faces, _ = boundary_faces(cells, p)
+    zmin, zmax = z.min(), z.max()
+    bottom, top = (faces[np.all(np.abs(p[faces, 2] - z0) <= tol, axis=1)] for z0 in (zmin, zmax))
 
     def touched(f):
         return bool(np.any(pressure[np.unique(f)] > 0))
@@ -675,13 +714,14 @@ def _inches(v):
     return round(v * 10.0) / 10.0
 
 
-def deformed_mesh_size(aspect):
+def deformed_mesh_size(aspect, colorbar=False):
     """Figure size for one equal-aspect plot of height/width aspect: the data
     box at most 6.4 in wide and 6.4 in tall, plus room for the labels, the
-    legend and the two-line title."""
+    legend, the two-line title and a colour bar."""
     w = 6.4 if aspect <= 1 else 6.4 / aspect
     h = w * aspect
-    return (_inches(max(w + 1.2, 6.5)), _inches(h + 1.6))
+    bar = 1.0 if colorbar else 0.0
+    return (_inches(max(w + 1.2 + bar, 6.5 + bar)), _inches(h + 1.6))
 
 
 def field_pair_layout(aspect):
@@ -707,6 +747,12 @@ def force_quantity(dim):
     # 1D: the contact force is -sigma(L) (N/m in the paper's units); 2D: force
     # per unit thickness of the plane-stress slab; 3D: a force.
     return {1: "line", 2: "line", 3: "force"}[dim]
+
+
+def work_quantity(dim):
+    # A force of force_quantity(dim) times a length: in 1D (N/m) m = N, in 2D a work per
+    # unit thickness (J/m), in 3D a work (J).
+    return {1: "force", 2: "line_energy", 3: "energy"}[dim]
 
 
 # --------------------------------------------------------------------------
@@ -777,6 +823,21 @@ class Plotter:
         frac = width_in / max(w_in, 1e-3)
         cax = ax.inset_axes([1.0 + 0.12 / max(w_in, 1e-3), 0.0, frac, 1.0])
         return fig.colorbar(mappable, cax=cax, label=label)
+
+    def magnification(self, points, u):
+        """(s, max |u|): the deformed configurations are drawn at x + s u, s such that the largest
+        displacement is DEFORMATION_FRACTION of the body's size; bodies in contact at true scale
+        (s = 1), as s would carry their rigid motions into each other (a pressed roller deep in
+        its block)."""
+        import numpy as np
+
+        if self.run.several_bodies():
+            return 1.0, float(np.max(np.linalg.norm(u, axis=1))) if len(u) else 0.0
+        return deformation_scale(points, u)
+
+    def scale_words(self, s):
+        """How the displacements are drawn, for the titles."""
+        return "true scale" if self.run.several_bodies() else "displacements magnified × %s" % scale_text(s)
 
     # ---- d = 1 -----------------------------------------------------------
 
@@ -899,7 +960,7 @@ class Plotter:
 
         xy = vtu.points[:, :2]
         u = vtu.displacement()[:, :2]
-        s, umax = deformation_scale(xy, u)
+        s, umax = self.magnification(xy, u)
         y = xy + s * u
         return mtri.Triangulation(y[:, 0], y[:, 1], vtu.cells), s, umax, xy
 
@@ -914,15 +975,21 @@ class Plotter:
         if why:
             return self.skip(key, why)
         tri, s, umax, xy = self.deformed_2d(vtu)
-        fig = self.figure(key, size=deformed_mesh_size(plot_aspect(tri, xy)))
+        true_scale = self.run.several_bodies()
+        fig = self.figure(key, size=deformed_mesh_size(plot_aspect(tri, xy), colorbar=true_scale))
         ax = fig.subplots()
-        ax.triplot(tri, color="C0", lw=0.5, label="deformed mesh")
+        if true_scale:  # the displacements too small to see: their size in colour
+            u = np.linalg.norm(vtu.displacement()[:, :2], axis=1)
+            pc = ax.tripcolor(tri, u, shading="gouraud", cmap=FIELD_CMAP)
+            self.colorbar(fig, pc, ax, r"displacement $|u|$" + UNITS.br("length"))
+        ax.triplot(tri, color="0.2" if true_scale else "C0", lw=0.35 if true_scale else 0.5,
+                   alpha=0.5 if true_scale else 1.0, label="deformed mesh")
         for k, loop in enumerate(edge_loops(boundary_edges(vtu.cells))):
             ax.plot(xy[loop, 0], xy[loop, 1], "k--", lw=1.2, label="initial boundary" if k == 0 else None)
-        active = in_contact(vtu)
+        active, what = self.contact_nodes(vtu)
         if np.any(active):
             ax.plot(tri.x[active], tri.y[active], "o", color="C3", ms=4,
-                    label="nodes in contact: %d" % np.count_nonzero(active))
+                    label="%s: %d" % (what, np.count_nonzero(active)))
         self.draw_obstacles(ax, t, s)
         ax.set_aspect("equal")
         ax.set_xlabel(r"$x$" + UNITS.br("length"))
@@ -931,11 +998,25 @@ class Plotter:
         # Above the axes, under the title: never over the mesh or the x label.
         ax.legend(loc="lower center", bbox_to_anchor=(0.5, 1.0), ncol=3, fontsize="small", frameon=False,
                   borderaxespad=0.3)
+        how = "true scale, colour: $|u|$" if true_scale else self.scale_words(s)
         fig.suptitle(self.title(key, "deformed mesh at $t$ = %s%s and initial boundary\n"
-                                "displacements magnified × %s (max $|u|$ = %.3g%s)"
-                                % (fmt_t(t), UNITS.after("time"), scale_text(s), umax, UNITS.after("length"))),
+                                "%s (max $|u|$ = %.3g%s)"
+                                % (fmt_t(t), UNITS.after("time"), how, umax, UNITS.after("length"))),
                      fontsize="medium")
         self.save(fig, key)
+
+    def contact_nodes(self, vtu):
+        """(mask, what) of the nodes in contact: with contact pairs those of the slave sides (a
+        master node reads the slave's reaction: the same contact seen from the other body)."""
+        import numpy as np
+
+        active = in_contact(vtu)
+        if not self.run.pair_slaves or len(self.run.bodies) < 2 or not vtu.has("body"):
+            return active, "nodes in contact"
+        slaves = [self.run.slave_body(sl) for sl in self.run.pair_slaves]
+        on_slave = np.zeros(len(vtu.points), dtype=bool)
+        on_slave[np.unique(vtu.cells[np.isin(vtu.cell("body"), slaves)])] = True
+        return active & on_slave, "slave nodes in contact"
 
     def draw_obstacles(self, ax, t, s):
         """The rigid obstacles at time t (summary.json "obstacles": their positions at the
@@ -996,7 +1077,7 @@ class Plotter:
         else:
             ax_b.triplot(tri, color="0.85", lw=0.3)
             self.empty_panel(ax_b, self.missing(vtu, "beta"), key)
-        where = ("on the deformed configuration (displacements × %s)" % scale_text(s) if vtu.has("displacement")
+        where = ("on the deformed configuration (%s)" % self.scale_words(s) if vtu.has("displacement")
                  else "on the undeformed configuration (no displacement field in the VTU files)")
         fig.suptitle(self.title(key, "at $t$ = %s%s %s" % (fmt_t(t), UNITS.after("time"), where)))
         self.save(fig, key)
@@ -1017,7 +1098,7 @@ class Plotter:
         why = self.missing(vtu, field)
         if why:
             return self.skip(key, why)
-        s, umax = deformation_scale(vtu.points, vtu.displacement())
+        s, umax = self.magnification(vtu.points, vtu.displacement())
         y = vtu.points + s * vtu.displacement()
         faces, owner = boundary_faces(vtu.cells, y)
         normals = np.cross(y[faces[:, 1]] - y[faces[:, 0]], y[faces[:, 2]] - y[faces[:, 0]])
@@ -1058,11 +1139,36 @@ class Plotter:
         fig.subplots_adjust(left=0.0, right=0.86, bottom=0.1, top=0.85, wspace=0.05)
         cax = fig.add_axes([0.89, 0.2, 0.018, 0.56])
         fig.colorbar(sm, cax=cax, label=label)
-        where = ("on the deformed boundary (displacements × %s, max $|u|$ = %.3g%s)"
-                 % (scale_text(s), umax, UNITS.after("length"))
+        where = ("on the deformed boundary (%s, max $|u|$ = %.3g%s)" % (self.scale_words(s), umax, UNITS.after("length"))
                  if vtu.has("displacement") else "on the undeformed boundary (no displacement field in the VTU files)")
         fig.suptitle(self.title(key, "%s at $t$ = %s%s\n%s" % (title, fmt_t(t), UNITS.after("time"), where)))
         self.save(fig, key)
+
+    def pressure_surface(self, t, vtu, pres):
+        """(faces, what they are, (force name, value) or None): the surface the pressure figure
+        draws at time t. With contact pairs, the slave side of the pair carrying the largest normal
+        force (its nodes hold the pair's λ_j; the master side reads the slave's reaction, another
+        body), found on the slave's body as contact_boundary finds Γ3 on the one body, with the
+        pair's force (history.csv force_pair_<slave>); else Γ3 and the total contact force."""
+        import numpy as np
+
+        if not self.run.pair_slaves:
+            faces, where = contact_boundary(vtu.points, vtu.cells, pres)
+            total = self.run.history_at("total_contact_force", t)
+            return faces, where, None if total is None else ("total force", total)
+        forces = {sl: self.run.history_at("force_pair_" + sl, t) for sl in self.run.pair_slaves}
+        slave = max(self.run.pair_slaves, key=lambda sl: abs(forces[sl] or 0.0))
+        body = self.run.slave_body(slave)
+        cells = vtu.cells
+        if len(self.run.bodies) > 1:
+            if not vtu.has("body"):
+                raise PlotError("%s: no cell field 'body' for the %d bodies of summary.json"
+                                % (self.run.solutions[-1][1], len(self.run.bodies)))
+            cells = cells[vtu.cell("body") == body]
+        faces, where = contact_boundary(vtu.points, cells, pres)
+        which = " (of %d pairs, the one of largest force)" % len(forces) if len(forces) > 1 else ""
+        return (faces, "the slave part \"%s\"%s: %s of its body" % (slave, which, where),
+                ("force between the bodies", forces[slave]))
 
     def contact_pressure(self):
         key = "contact_pressure"
@@ -1079,7 +1185,7 @@ class Plotter:
                                   "it was added, or a selection of fields): re-run the case to draw it")
         pres = vtu.scalar("contact_pressure")
         p = vtu.points
-        lower, where = contact_boundary(vtu, pres)
+        lower, where, force = self.pressure_surface(t, vtu, pres)
         if len(lower) == 0:
             return self.skip(key, "no boundary faces look down (-z)")
         nodes = np.unique(lower)
@@ -1124,10 +1230,9 @@ class Plotter:
         ax_r.set_xlim(left=0.0)
         ax_r.set_ylim(bottom=0.0)
         ax_r.grid(True, alpha=0.4)
-        total = self.run.summary.get("final", {}).get("total_contact_force")
         extra = ": %d nodes in contact, max $p$ = %.4g%s" % (len(active), pmax, UNITS.after("stress"))
-        if isinstance(total, (int, float)):
-            extra += ", total force %.4g%s" % (total, UNITS.after("force"))
+        if force is not None:
+            extra += ", %s %.4g%s" % (force[0], force[1], UNITS.after("force"))
         fig.suptitle(self.title(key, "contact pressure at $t$ = %s%s (undeformed coordinates)%s"
                                 % (fmt_t(t), UNITS.after("time"), extra)))
         self.save(fig, key)
@@ -1211,34 +1316,14 @@ class Plotter:
         fig.suptitle(self.title(key, "per-step history" + note))
         self.save(fig, key)
 
-    def friction_abscissa(self, comp):
-        """The displacement a force-displacement curve is drawn against: at each step of
-        history.csv (probes.csv has the same steps, and step 0) the component `comp` of the
-        probe that moves most along it; the time where none moves."""
-        h, pr = self.run.history, self.run.probes
-        if "step" not in pr or "step" not in h:
-            return h["t"], r"time $t$" + UNITS.br("time")
-        at = {int(s): i for i, s in enumerate(pr["step"])}
-        best, best_range = None, 0.0
-        if all(int(s) in at for s in h["step"]):
-            rows = [at[int(s)] for s in h["step"]]
-            for i, p in enumerate(self.run.probe_points):
-                col = "p%d_u%s" % (i, comp)
-                if col in pr and len(rows):
-                    u = pr[col][rows]
-                    if float(u.max() - u.min()) > best_range:
-                        best, best_range = (u, p), float(u.max() - u.min())
-        if best is None:
-            return h["t"], r"time $t$" + UNITS.br("time")
-        u, p = best
-        return u, "displacement $u_%s$ at %s" % (comp, probe_label(p, self.run.dim)) + UNITS.br("length")
-
     def friction_figure(self):
         """A frictional run's (history.csv has tangential_force_<x|y|z>): the tangential
         force, the force on the obstacles and the pairs' master sides (each drawn where there
-        are several; the body, or the slave side, gets its opposite), against the
-        displacement along the push, with the normal force; the stick and slip nodes and
-        the frictional dissipation per step."""
+        are several; the body, or the slave side, gets its opposite), against t, with the
+        normal force; the stick and slip nodes and the frictional dissipation per step.
+        Against t, not a displacement: the motion is imposed as a function of t (of a part or
+        an obstacle), and a point of the body moves a little and back as it sticks and slips
+        (a curve against it folds over) or not at all when its obstacle slides under it."""
         key = "friction"
         h = self.run.history
         comps = [c for c in "xyz"[: self.run.dim] if "tangential_force_" + c in h]
@@ -1247,7 +1332,7 @@ class Plotter:
         # The push: the component of the largest tangential force.
         size = {c: float(abs(h["tangential_force_" + c]).max()) for c in comps}
         push = max(comps, key=lambda c: size[c])
-        x, xlabel = self.friction_abscissa(push)
+        x = h["t"]
         fig = self.figure(key)
         ax_f, ax_s = fig.subplots(1, 2)
         for k, c in enumerate(comps):
@@ -1269,9 +1354,11 @@ class Plotter:
         if "total_contact_force" in h:
             ax_f.plot(x, h["total_contact_force"], color="0.45", ls="--", label="normal force")
         ax_f.axhline(0.0, color="0.7", lw=0.8)
-        ax_f.set_xlabel(xlabel)
-        ax_f.set_ylabel("force on the obstacle" + UNITS.br(force_quantity(self.run.dim)))
-        ax_f.set_title("tangential force against the displacement")
+        ax_f.set_xlabel(r"time $t$" + UNITS.br("time"))
+        on = " and ".join(w + ("s" if n > 1 else "") for w, n in (("the obstacle", len(obstacles) or not pairs),
+                                                                   ("the master side", len(pairs))) if n)
+        ax_f.set_ylabel("force on %s" % on + UNITS.br(force_quantity(self.run.dim)))
+        ax_f.set_title("tangential and normal force")
         ax_f.legend(fontsize="small")
         t = h["t"]
         lines = []
@@ -1283,8 +1370,7 @@ class Plotter:
         if "dissipation" in h:
             ax_d = ax_s.twinx()
             lines += ax_d.plot(t, h["dissipation"].cumsum(), "C4-.", label="dissipation so far")
-            force, length = UNITS.of(force_quantity(self.run.dim)), UNITS.of("length")
-            ax_d.set_ylabel("frictional dissipation" + (" [%s %s]" % (force, length) if force and length else ""))
+            ax_d.set_ylabel("frictional dissipation" + UNITS.br(work_quantity(self.run.dim)))
         if lines:
             ax_s.legend(lines, [l.get_label() for l in lines], fontsize="small", loc="upper left")
         ax_s.set_xlabel(r"time $t$" + UNITS.br("time"))

@@ -10,6 +10,14 @@
   check_plot.py texts DIR          draws DIR's figures and prints every text of each,
                                    one per line: FIGURE<TAB>KIND<TAB>TEXT (KIND: title,
                                    suptitle, xlabel, ylabel, zlabel, legend, colorbar)
+  check_plot.py drawn DIR          draws DIR's figures and prints what some of them draw, one
+                                   per line: FIGURE<TAB>WHAT<TAB>VALUE:
+                                   deformed_mesh / von_mises_beta  scale  s, the least-squares
+                                     fit of the drawn nodes y = x + s u (1: true scale)
+                                   contact_pressure  nodes  the nodes of the pressure map's
+                                     triangles (VTU point indices, comma-separated)
+                                   friction  x  the x data of its first panel's curves, each
+                                     curve's comma-separated, curves separated by ';'
 """
 
 import glob
@@ -135,13 +143,46 @@ def texts(outdir):
         print("%s\t%s\t%s" % (name, kind, text.replace("\n", " ")))
 
 
+def drawn(outdir):
+    import numpy as np
+
+    run = vp.Run(outdir)
+    lines = []
+
+    class Recording(vp.Plotter):
+        def deformed_2d(self, vtu):
+            tri, s, umax, xy = vp.Plotter.deformed_2d(self, vtu)
+            self.last_deformed = (np.column_stack([tri.x, tri.y]), xy, vtu.displacement()[:, :2])
+            return tri, s, umax, xy
+
+        def save(self, fig, key):
+            name = self.name(key)
+            if key in ("deformed_mesh", "von_mises_beta"):
+                y, x, u = self.last_deformed
+                lines.append((name, "scale", "%.6g" % (float(((y - x) * u).sum()) / float((u * u).sum()))))
+            elif key == "contact_pressure":
+                tris = [c._triangulation for c in fig.axes[0].collections if hasattr(c, "_triangulation")]
+                nodes = np.unique(np.concatenate([t.triangles.ravel() for t in tris]))
+                lines.append((name, "nodes", ",".join(str(int(n)) for n in nodes)))
+            elif key == "friction":
+                xs = [l.get_xdata() for l in fig.axes[0].get_lines() if not l.get_label().startswith("_")]
+                lines.append((name, "x", ";".join(",".join("%.17g" % v for v in x) for x in xs)))
+            vp.Plotter.save(self, fig, key)
+
+    Recording(run, "png", 60).all()
+    for name, what, value in lines:
+        print("%s\t%s\t%s" % (name, what, value))
+
+
 if __name__ == "__main__":
-    if len(sys.argv) < 3 or sys.argv[1] not in ("reader", "layout", "texts"):
+    if len(sys.argv) < 3 or sys.argv[1] not in ("reader", "layout", "texts", "drawn"):
         print(__doc__, file=sys.stderr)
         sys.exit(2)
     if sys.argv[1] == "reader":
         reader(sys.argv[2:])
     elif sys.argv[1] == "texts":
         texts(sys.argv[2])
+    elif sys.argv[1] == "drawn":
+        drawn(sys.argv[2])
     else:
         layout(sys.argv[2])

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Issue 28: `vpcontact plot` of a frictional run draws friction.png: the tangential force
-# (the force on the obstacle) against the displacement of the first probe along the push,
-# with the normal force, and the stick/slip counts and dissipation per step; a frictionless
+# (the force on the obstacle) against t (issue 48: not a probe's displacement, which may move
+# a little and back), with the normal force, and the stick/slip counts and dissipation per step; a frictionless
 # run has no such figure (nothing skipped either). The frictional run: tests/data/friction-2d.toml
 # (a block pressed onto a plane, then pushed sideways until it slides at μ times the normal force).
 #
@@ -31,10 +31,10 @@ w, h = struct.unpack(">II", head[16:24])
 assert (w, h) == (1800, 720), "%s: %dx%d pixels, expected 1800x720 (FIGSIZES 12 x 4.8 in at 150 dpi)" % (sys.argv[1], w, h)
 PY
 [ $? -eq 0 ] || fail "friction.png"
-# Its texts: the tangential force against a displacement (the probes move), the counts.
+# Its texts: the tangential force against t, the counts, the dissipation (a work per unit thickness).
 "$python" "$src/tests/plot/check_plot.py" texts "$tmp/fric" > "$tmp/fric.txt" 2> "$tmp/fric.err" ||
   fail "texts: $(tail -1 "$tmp/fric.err")"
-for want in $'friction\txlabel\tdisplacement $u_' $'friction\tlegend\ttangential force, x' $'friction\tlegend\tnormal force' \
+for want in $'friction\txlabel\ttime $t$ [s]' $'friction\tylabel\tfrictional dissipation [J/m]' $'friction\tlegend\ttangential force, x' $'friction\tlegend\tnormal force' \
             $'friction\tlegend\tstick nodes' $'friction\tlegend\tslip nodes' $'friction\tlegend\tdissipation so far'; do
   grep -qF "$want" "$tmp/fric.txt" || fail "friction.png has no '$want': $(grep '^friction' "$tmp/fric.txt")"
 done

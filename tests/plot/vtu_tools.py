@@ -90,7 +90,7 @@ def add_pressure(vtu):
     import numpy as np
 
     f = np.linalg.norm(vtu.point("contact_force"), axis=1)
-    faces, _ = vp.contact_boundary(vtu, np.ones(len(vtu.points)))
+    faces, _ = vp.contact_boundary(vtu.points, vtu.cells, np.ones(len(vtu.points)))
     p = vtu.points
     area = 0.5 * np.linalg.norm(np.cross(p[faces[:, 1]] - p[faces[:, 0]], p[faces[:, 2]] - p[faces[:, 0]]), axis=1)
     trib = np.zeros(len(p))
