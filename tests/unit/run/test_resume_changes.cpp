@@ -41,7 +41,7 @@ nu = 0.3
 [viscoplasticity]
 law = "perzyna"
 E = 1000.0
-lambda = 100.0
+lambda = 1000.0
 sigma_y = 50.0
 [damage]
 kappa = 1.0
@@ -106,7 +106,7 @@ TEST(ResumeChanges, EachKindOfInputThatMakesAnotherProblemIsRefusedNamingTheKey)
     std::string named;
   } changes[] = {
       {kCase, {"elasticity.E=2000"}, "elasticity.E: 1000 → 2000"},
-      {kCase, {"viscoplasticity.lambda=50"}, "viscoplasticity.lambda: 100 → 50"},
+      {kCase, {"viscoplasticity.lambda=500"}, "viscoplasticity.lambda: 1000 → 500"},
       {kCase, {"damage.c=3"}, "damage.c: 2 → 3"},
       {kCase, {"contact.law=normal-compliance", "contact.stiffness=1e4"}, "contact.law: (not given) → \"normal-compliance\""},
       {kCase, {"contact.mu=0.6"}, "contact.mu: 0.3 → 0.6"},
