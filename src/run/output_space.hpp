@@ -14,8 +14,9 @@
 namespace vpc {
 
 /// Bytes a run will write from a step to its end (an estimate from the sizes: the columns, the
-/// probes, the mesh and the fields, the steps and output steps; each number of a CSV row at its
-/// longest, VTU data uncompressed: compression only shrinks it).
+/// probes, the mesh and the fields, the steps and output steps; each exact number of a CSV row at
+/// a usual 17-digit length, zlib-compressed VTU data at 60 % of its size; it errs high: 1.0 MB for
+/// 0.61 MB written by the 1000 steps of tests/data/reported/resume_changed_law.toml).
 struct OutputEstimate {
   long long steps = 0;         // the steps counted (N, or from the checkpoint's to N)
   bool steps_estimated = false;  // error-controlled steps: N from T / dt_initial

@@ -94,7 +94,7 @@ if run 2 run "${LOUD[@]}" --set elasticity.E=2000 --resume "$WORK/EK" > "$WORK/E
 fi
 grep -q "was written for another case: elasticity.E: 1000 → 2000" "$WORK/EK.log" ||
   { cat "$WORK/EK.log"; echo "2 ranks: another E not refused by its key"; exit 1; }
-run 3 run "${LOUD[@]}" --set time.T=2 --steps 40 --resume "$WORK/EK" > "$WORK/EK.log" 2>&1
+run 3 run paper-2d --n 20 --every 5 --set time.T=2 --steps 40 --resume "$WORK/EK" > "$WORK/EK.log" 2>&1
 grep -q "changed on resume: time.T: 1 → 2" "$WORK/EK.log" && grep -q '"key": "time.T"' "$WORK/EK/summary.json" ||
   { cat "$WORK/EK.log"; echo "2 ranks -> 3 ranks: a later T not reported"; exit 1; }
 echo "a changed case: refused on 2 ranks naming elasticity.E; a later T continued on 3 ranks and reported"
