@@ -168,6 +168,8 @@ int check(const Options& o, const CLI::App& cmd) {
   const vpc::RunOptions ro = run_options(o, info, {});
   return on_engine(o, ro, [&](const vpc::EngineChoice& choice) {
     const auto engine = choice.set_up(case_loader(o, cmd, src, output_directory(o, info)), ro);
+    const std::string output = engine->check_output_space(0);  // refused where a run's output would not fit
+    if (engine->root() && !o.run.quiet) fmt::print("  {}\n", output);
     if (engine->root()) fmt::print("{}: ok\n", o.case_name);
     return 0;
   });

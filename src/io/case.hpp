@@ -8,9 +8,21 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <string_view>
+#include <utility>
 #include <vector>
 
 namespace vpc {
+
+/// Every key of a case as read (the file with the command line's overrides applied), each
+/// "section.key" (the i-th table of an array of tables: "obstacle[0].radius") with its value in
+/// one form (numbers by value: 1000 and 1000.0 alike; strings in double quotes, as given;
+/// arrays element by element). What a checkpoint records of its case, so that
+/// --resume compares the case key by key (io/checkpoint.hpp: case_changes).
+using CaseKeys = std::vector<std::pair<std::string, std::string>>;
+
+/// A string value as CaseKeys holds it.
+inline std::string case_key_string(std::string_view s) { return '"' + std::string(s) + '"'; }
 
 /// Whether a case's mesh is built. A rank > 0 of a distributed run does not build
 /// it: it receives its part from rank 0 (docs/parallel.md), so no rank but the one
@@ -43,6 +55,8 @@ struct Case {
   /// Lines the program prints as warnings: data that is valid but likely to give a poor
   /// answer (ν near 1/2 with P1 elements), each located in the case file.
   std::vector<std::string> warnings;
+  /// The case's keys as read (empty for a case made in code).
+  CaseKeys keys;
 };
 
 }  // namespace vpc

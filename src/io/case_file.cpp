@@ -1549,6 +1549,42 @@ toml::table parse_toml(std::string_view text, const std::vector<KeyOverride>& ov
   return root;
 }
 
+/// A value as Case::keys holds it: numbers by value (shortest form that reads back: 1000 and
+/// 1000.0 alike), strings in double quotes as given, arrays and inline tables element by element.
+std::string key_value(const toml::node& n) {
+  if (const auto* v = n.as_integer()) return fmt::format("{}", v->get());
+  if (const auto* v = n.as_floating_point()) return fmt::format("{}", v->get());
+  if (const auto* v = n.as_boolean()) return v->get() ? "true" : "false";
+  if (const auto* v = n.as_string()) return case_key_string(v->get());
+  std::string out;
+  if (const auto* a = n.as_array()) {
+    for (const toml::node& e : *a) out += (out.empty() ? "" : ", ") + key_value(e);
+    return "[" + out + "]";
+  }
+  if (const auto* t = n.as_table()) {
+    for (const auto& [k, v] : *t) out += fmt::format("{}{} = {}", out.empty() ? "" : ", ", k.str(), key_value(v));
+    return "{" + out + "}";
+  }
+  std::ostringstream other;  // dates and times
+  n.visit([&](auto&& v) { other << v; });
+  return other.str();
+}
+
+/// Every key of `t` under `prefix` with its value (Case::keys), in the table's order.
+void collect_keys(const toml::table& t, const std::string& prefix, CaseKeys& out) {
+  for (const auto& [k, v] : t) {
+    const std::string key = prefix + std::string(k.str());
+    if (const auto* sub = v.as_table()) {
+      collect_keys(*sub, key + ".", out);
+    } else if (v.is_array_of_tables()) {
+      const toml::array& a = *v.as_array();
+      for (std::size_t i = 0; i < a.size(); ++i) collect_keys(*a[i].as_table(), fmt::format("{}[{}].", key, i), out);
+    } else {
+      out.emplace_back(key, key_value(v));
+    }
+  }
+}
+
 /// case.name names the output directory output/<name>: one safe path component
 /// (letters, digits, '-', '_', '.'; not "." or ".."), so that no case writes or
 /// cleans outside output/. `given`: set by the key (the file's stem otherwise,
@@ -1619,6 +1655,7 @@ Case parse_case(std::string_view text, const std::string& name, const fs::path& 
   if (whole) validate_case(*p, name);
   if (p->block) p->block->source = name;
   c.problem = std::move(p);
+  collect_keys(root, "", c.keys);
   return c;
 }
 

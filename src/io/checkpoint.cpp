@@ -2,6 +2,7 @@
 
 #include "core/error.hpp"
 #include "core/hash.hpp"
+#include "core/quote.hpp"
 #include "fem/assembly.hpp"
 #include "io/checkpoint_file.hpp"
 #include "io/state_fields.hpp"
@@ -10,6 +11,7 @@
 
 #include <algorithm>
 #include <bit>
+#include <map>
 #include <memory>
 #include <set>
 
@@ -37,11 +39,12 @@ Checkpoint read_whole(CheckpointFile& f) {
   c.case_name = f.case_name;
   c.fingerprint = f.fingerprint;
   c.problem_key = f.problem_key;
+  c.case_keys = f.keys;
   s.n = static_cast<int>(f.n);
   s.t = f.t;
   s.contact_block = f.contact_block();
-  const Vector times = f.read(kTimes);
-  c.times.assign(times.begin(), times.end());
+  c.times = f.times();
+  c.grid = f.grid;
   c.step_control = f.read(kStepControl);
   c.snapshot.contact_warm = f.read(kContactWarm);
   c.pvd = f.pvd;
@@ -182,9 +185,10 @@ struct PieceWriter {
 /// Writes the stepper's arrays into this process's pieces `mine`, in the file's order. Each
 /// node or cell array is formed as this process's block (collective), written into each
 /// piece its part, and freed before the next; the others (λ, the contact warm state, the
-/// times, the step-size state: the same on every process) go whole into piece 0.
-void write_arrays(const TimeStepper& stepper, const StateBlocks& blocks, Values contact_warm, Values control,
-                  std::vector<PieceWriter>& mine) {
+/// times (none where their grid is stored), the step-size state: the same on every process)
+/// go whole into piece 0.
+void write_arrays(const TimeStepper& stepper, const StateBlocks& blocks, Values contact_warm, Values times,
+                  Values control, std::vector<PieceWriter>& mine) {
   const State& st = stepper.state();
   const int d = stepper.part().dofs.dim();
   enum class Part { nodes, cells, first };
@@ -213,7 +217,7 @@ void write_arrays(const TimeStepper& stepper, const StateBlocks& blocks, Values 
     } else if (a == kDamageWarm) {
       write(a, blocks.damage_warm(block), Part::nodes, 1);
     } else if (a == kTimes) {
-      write(a, stepper.times(), Part::first, 1);
+      write(a, times, Part::first, 1);
     } else if (a == kStepControl) {
       write(a, control, Part::first, 1);
     } else if (const StateField& f = stored_field(a); f.location == FieldLocation::contact_node) {
@@ -315,6 +319,73 @@ std::string problem_key_difference(const std::string& saved, const std::string& 
   return out.empty() ? "a problem written by another version of vpcontact" : out;
 }
 
+std::vector<double> UniformGrid::levels(std::int64_t n) const {
+  Problem grid;  // Problem::time_at, the one formula of a uniform grid's levels
+  grid.final_time = final_time;
+  grid.n_steps = static_cast<int>(steps);
+  std::vector<double> t(static_cast<std::size_t>(n) + 1);
+  for (std::int64_t i = 0; i <= n; ++i) t[static_cast<std::size_t>(i)] = grid.time_at(static_cast<int>(i));
+  return t;
+}
+
+UniformGrid UniformGrid::of(const Problem& p, const std::vector<double>& times) {
+  if (!p.uniform_steps() || times.size() > static_cast<std::size_t>(p.n_steps) + 1) return {};
+  for (std::size_t i = 0; i < times.size(); ++i)
+    if (times[i] != p.time_at(static_cast<int>(i))) return {};  // bit for bit, or the levels are stored
+  return {p.final_time, p.n_steps};
+}
+
+bool may_change_on_resume(std::string_view key) {
+  if (key == "output.probes" || key.starts_with("output.probes[")) return false;  // probes.csv's columns
+  for (std::string_view section : {"time.", "output.", "solver."})
+    if (key.starts_with(section)) return true;
+  return key == "case.description";
+}
+
+std::vector<ResumeChange> case_changes(const CaseKeys& checkpoint, const CaseKeys& now) {
+  std::map<std::string, std::pair<std::string, std::string>> both;  // key → (checkpoint's, this case's)
+  for (const auto& [key, value] : checkpoint) both[key].first = value;
+  for (const auto& [key, value] : now) both[key].second = value;
+  std::vector<ResumeChange> out;
+  for (const auto& [key, values] : both)
+    if (values.first != values.second) out.push_back({0, key, values.first, values.second});
+  return out;
+}
+
+std::string describe_change(const ResumeChange& c) {
+  auto value = [](const std::string& v) { return v.empty() ? std::string("(not given)") : printable(v, 200); };
+  return fmt::format("{}: {} → {}", printable(c.key, 200), value(c.before), value(c.after));
+}
+
+namespace {
+
+/// Why the checkpoint `f` (its first file) cannot be continued by the case `keys`: a key that
+/// may not change on resume differs (each named, with its value then and now), or the file
+/// does not record its case; empty when it can. `changes`: the keys that changed and may.
+std::string case_refusal(const CheckpointFile& f, const CaseKeys& keys, std::vector<ResumeChange>& changes) {
+  changes.clear();
+  if (!f.has_keys())
+    return fmt::format("--resume: checkpoint '{}' is of format version {}, written by an earlier vpcontact that did "
+                       "not record its case: it cannot be compared with this case, so it is not continued (run the "
+                       "case afresh, or resume it with the vpcontact that wrote it)",
+                       f.name(), f.version());
+  std::string refused;
+  for (ResumeChange& c : case_changes(f.keys, keys)) {
+    if (may_change_on_resume(c.key))
+      changes.push_back(std::move(c));
+    else
+      refused += (refused.empty() ? "" : "; ") + describe_change(c);
+  }
+  if (refused.empty()) return {};
+  return fmt::format("--resume: checkpoint '{}' was written for another case: {}. Only T and the steps after the "
+                     "checkpoint ([time]), the output settings ([output], but its probes), the solver settings "
+                     "([solver]) and case.description may change on resume (docs/cases.md, \"Continuing a run\"): "
+                     "give the checkpoint's values, or run the changed case afresh in another directory",
+                     f.name(), refused);
+}
+
+}  // namespace
+
 std::string time_levels_difference(const Problem& p, const std::vector<double>& times) {
   const int n = static_cast<int>(times.size()) - 1;
   const double t = times.back();
@@ -364,7 +435,7 @@ Snapshot gather_snapshot(const TimeStepper& stepper) {
 
 void write_checkpoint(const TimeStepper& stepper, const fs::path& dir, const std::string& case_name,
                       const std::vector<std::pair<double, std::string>>& pvd, const RunTotals& totals, int pieces,
-                      int keep) {
+                      int keep, const CaseKeys& keys) {
   const la::Comm& comm = stepper.comm();
   const int p = comm.size(), me = comm.rank();
   pieces = pieces > 0 ? pieces : p;
@@ -375,6 +446,7 @@ void write_checkpoint(const TimeStepper& stepper, const fs::path& dir, const std
   const std::string key = problem_key(stepper);
   const std::uint64_t fingerprint = fnv1a(key.data(), key.size());
   const Vector control = stepper.step_control_state().values();
+  const UniformGrid grid = UniformGrid::of(stepper.problem(), stepper.times());
   // Piece q of `pieces`: this process's blocks (several processes), or a part of them (one
   // process, which writes all the pieces). Each file is opened, then written array by array.
   const la::BlockSplit node_split(stepper.part().n_global_nodes, pieces),
@@ -385,8 +457,10 @@ void write_checkpoint(const TimeStepper& stepper, const fs::path& dir, const std
     f.case_name = case_name;
     f.fingerprint = fingerprint;
     f.problem_key = key;
+    f.keys = &keys;
     f.n = st.n;
     f.t = st.t;
+    f.grid = grid;
     f.contact_block = st.contact_block;
     if (pieces > 1)
       f.head = PieceHead{static_cast<std::uint64_t>(q), static_cast<std::uint64_t>(pieces),
@@ -400,7 +474,8 @@ void write_checkpoint(const TimeStepper& stepper, const fs::path& dir, const std
                     cell_split.begin(q) - blocks.cell_begin, cell_split.end(q) - blocks.cell_begin,
                     std::make_unique<FileWriter>(piece_file(dir, st.n, q, pieces), f), Vector()});
   }
-  write_arrays(stepper, blocks, values(contact_warm), values(control), mine);
+  write_arrays(stepper, blocks, values(contact_warm), grid.steps > 0 ? Values() : Values(stepper.times()),
+               values(control), mine);
   // Pieces 1 … P − 1 in place first, then piece 0, which lists them: a checkpoint whose
   // piece 0 is in place has all its pieces.
   std::vector<PieceSum> sums(static_cast<std::size_t>(pieces));
@@ -422,7 +497,7 @@ void write_checkpoint(const TimeStepper& stepper, const fs::path& dir, const std
 }
 
 std::optional<ResumePoint> resume_from_checkpoint(TimeStepper& stepper, const fs::path& dir,
-                                                  std::vector<std::string>* skipped) {
+                                                  std::vector<std::string>* skipped, const CaseKeys& keys) {
   const MeshPart& part = stepper.part();
   const la::Comm& comm = stepper.comm();
   const int p = comm.size(), me = comm.rank();
@@ -451,19 +526,25 @@ std::optional<ResumePoint> resume_from_checkpoint(TimeStepper& stepper, const fs
   std::optional<CheckpointFile> first;
   std::vector<CheckpointFile> mine;  // the pieces that overlap this process's blocks
   std::vector<double> times;         // its time levels, checked against the problem's
+  std::string refusal;               // rank 0: why the newest intact checkpoint's case is not this one
+  std::vector<ResumeChange> changed;  // rank 0: the keys that changed and may
   bool found = false;
   for (long long n : steps) {
     first.reset();
     mine.clear();
+    refusal.clear();
     const std::string why = first_error(comm, [&] {
       first.emplace(main_file(dir, n), me == 0);
       const CheckpointFile& f = *first;
       require(f.head().index == 0, "checkpoint '{}': piece {} of {}, not a checkpoint's first file", f.name(),
               f.head().index, f.head().count);
+      // The case, key by key, before the problem's sizes: a change is named by its key. (Rank 0
+      // has checked the file's checksum.)
+      if (me == 0) refusal = case_refusal(f, keys, changed);
+      if (!refusal.empty()) return;
       require(f.fingerprint == fingerprint, "{}: written for another problem ({})", f.name(),
               problem_key_difference(f.problem_key, key));
-      const Vector saved = first->read(kTimes);
-      times.assign(saved.begin(), saved.end());
+      times = first->times();
       const std::string times_differ = time_levels_difference(stepper.problem(), times);
       require(times_differ.empty(), "{}: {}", f.name(), times_differ);
       require(f.contact_block() == block,
@@ -497,6 +578,9 @@ std::optional<ResumePoint> resume_from_checkpoint(TimeStepper& stepper, const fs
         if (overlaps) mine.push_back(std::move(piece));
       }
     });
+    // The newest checkpoint of the directory whose first file is intact is the run's: older
+    // ones are of the same case, and a changed case is refused, not passed over.
+    la::on_root(comm, [&] { require(refusal.empty(), "{}", refusal); });
     if (why.empty()) {
       found = true;
       break;
@@ -552,6 +636,9 @@ std::optional<ResumePoint> resume_from_checkpoint(TimeStepper& stepper, const fs
   la::on_root(comm, [&] {
     at.pvd = first->pvd;
     at.totals = first->totals;
+    for (ResumeChange& c : changed) c.step = at.n;
+    at.totals.resume_changes.insert(at.totals.resume_changes.end(), changed.begin(), changed.end());
+    at.changed = std::move(changed);
   });
   s.contact_warm = Eigen::Map<const Vector>(contact_warm.data(), static_cast<Eigen::Index>(contact_warm.size()));
   stepper.restore(s);
@@ -566,15 +653,17 @@ fs::path write_checkpoint(const fs::path& dir, const Checkpoint& c, int keep) {
   f.case_name = c.case_name;
   f.fingerprint = c.fingerprint;
   f.problem_key = c.problem_key;
+  f.keys = &c.case_keys;
   f.n = s.n;
   f.t = s.t;
+  f.grid = c.grid;
   f.contact_block = s.contact_block;
   for (const StateField& sf : state_fields())
     if (sf.stored()) f.arrays[file_array(sf.name)] = sf.values(s);
   f.arrays[kUFree] = values(c.snapshot.u_free);
   f.arrays[kContactWarm] = values(c.snapshot.contact_warm);
   f.arrays[kDamageWarm] = values(c.snapshot.damage_warm);
-  f.arrays[kTimes] = c.times;
+  if (c.grid.steps == 0) f.arrays[kTimes] = c.times;
   f.arrays[kStepControl] = values(c.step_control);
   f.pvd = &c.pvd;
   f.totals = &c.totals;

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <cstring>
 
 namespace vpc::checkpoint_file {
@@ -97,8 +98,17 @@ FileWriter::FileWriter(const fs::path& path, const FileContent& f) : file_(path)
   string(f.case_name);
   pod(f.fingerprint);
   string(f.problem_key);
+  const bool first = f.whole_or_first();
+  pod<std::uint64_t>(first && f.keys ? f.keys->size() : 0);
+  if (first && f.keys)
+    for (const auto& [key, value] : *f.keys) {
+      string(key);
+      string(value);
+    }
   pod(f.n);
   pod(f.t);
+  pod(f.grid.final_time);
+  pod(f.grid.steps);
   if (f.head)
     for (std::uint64_t v : {f.head->count, f.head->index, f.head->node_begin, f.head->node_end, f.head->cell_begin,
                             f.head->cell_end})
@@ -132,6 +142,13 @@ PieceSum FileWriter::commit(const std::vector<PieceSum>& others) {
     pod<std::int64_t>(r.last_n_active);
     if (f_.contact_block > 1)  // friction's totals: only in a frictional run's files
       for (double v : {r.max_friction_bound, r.max_stick_slip, r.max_slip_direction, r.dissipation}) pod(v);
+    pod<std::uint64_t>(r.resume_changes.size());
+    for (const ResumeChange& c : r.resume_changes) {
+      pod<std::int64_t>(c.step);
+      string(c.key);
+      string(c.before);
+      string(c.after);
+    }
     for (const PieceSum& s : others) {
       pod(s.size);
       pod(s.checksum);
@@ -183,8 +200,8 @@ CheckpointFile::CheckpointFile(const fs::path& file, bool verify) : path_(file),
   in_.read(reinterpret_cast<char*>(&sum_.checksum), sizeof sum_.checksum);
   require(!ec && in_.good() && bytes >= kHeaderBytes && std::memcmp(magic, kMagic, sizeof kMagic) == 0,
           "checkpoint '{}': not a vpcontact checkpoint", name());
-  require(version_ == kWhole || version_ == kPiece,
-          "checkpoint '{}': format version {}, this program reads versions {} and {}", name(), version_, kWhole,
+  require(version_ == kWhole || version_ == kPiece || version_ == kWholeV4 || version_ == kPieceV5,
+          "checkpoint '{}': format version {}, this program reads versions {} to {}", name(), version_, kWholeV4,
           kPiece);
   require(bytes - kHeaderBytes == sum_.size, "checkpoint '{}': {} payload bytes, the header says {} (truncated?)",
           name(), bytes - kHeaderBytes, sum_.size);
@@ -224,9 +241,26 @@ void CheckpointFile::parse() {
   case_name = string();
   fingerprint = pod<std::uint64_t>();
   problem_key = string();
+  const bool pieces = version_ == kPiece || version_ == kPieceV5;
+  if (has_keys()) {
+    const auto count = pod<std::uint64_t>();
+    need_items(count, 2 * sizeof(std::uint64_t));  // each key and value at least its length
+    keys.reserve(count);
+    for (std::uint64_t i = 0; i < count; ++i) {
+      std::string key = string();
+      keys.emplace_back(std::move(key), string());
+    }
+  }
   n = pod<std::int64_t>();
   t = pod<double>();
-  if (version_ == kPiece)
+  if (has_keys()) {
+    grid.final_time = pod<double>();
+    grid.steps = pod<std::int64_t>();
+    require(grid.steps == 0 || (grid.steps >= n && n >= 0 && std::isfinite(grid.final_time) && grid.final_time > 0),
+            "checkpoint '{}': a uniform grid of {} steps over T = {} for step {} (damaged?)", name(), grid.steps,
+            grid.final_time, n);
+  }
+  if (pieces)
     for (std::uint64_t* v : {&head_.count, &head_.index, &head_.node_begin, &head_.node_end, &head_.cell_begin,
                              &head_.cell_end})
       *v = pod<std::uint64_t>();
@@ -240,7 +274,7 @@ void CheckpointFile::parse() {
   for (Array a : {kSigma, kEps, kZ})
     require(count_[a] % 6 == 0, "checkpoint '{}': a tensor array has {} values, not a multiple of 6", name(),
             count_[a]);
-  if (version_ == kWhole) head_ = {0, 1, 0, count_[kBeta], 0, count_[kSigma] / 6};
+  if (!pieces) head_ = {0, 1, 0, count_[kBeta], 0, count_[kSigma] / 6};
   require(head_.index < head_.count && head_.count >= 1 && head_.count < (1u << 24) &&
               head_.node_begin <= head_.node_end &&
               head_.cell_begin <= head_.cell_end && count_[kBeta] == n_nodes() && count_[kSigma] == 6 * n_cells() &&
@@ -255,7 +289,7 @@ void CheckpointFile::parse() {
                (count_[kSlip] * static_cast<std::uint64_t>(contact_block_) == count_[kLambda] &&
                 count_[kContactStatus] == count_[kSlip] &&
                 count_[kSlipStep] == count_[kSlip] * static_cast<std::uint64_t>(contact_block_ - 1))) &&
-              (head_.index != 0 || count_[kTimes] == static_cast<std::uint64_t>(n) + 1),
+              (head_.index != 0 || count_[kTimes] == (grid.steps > 0 ? 0 : static_cast<std::uint64_t>(n) + 1)),
           "checkpoint '{}': its arrays do not match its blocks (nodes [{}, {}), cells [{}, {}))", name(),
           head_.node_begin, head_.node_end, head_.cell_begin, head_.cell_end);
   if (head_.index == 0) {
@@ -276,7 +310,19 @@ void CheckpointFile::parse() {
       for (double* v : {&totals.max_friction_bound, &totals.max_stick_slip, &totals.max_slip_direction,
                         &totals.dissipation})
         *v = pod<double>();
-    if (version_ == kPiece) {
+    if (has_keys()) {
+      const auto count = pod<std::uint64_t>();
+      need_items(count, 4 * sizeof(std::uint64_t));
+      for (std::uint64_t i = 0; i < count; ++i) {
+        ResumeChange c;
+        c.step = pod<std::int64_t>();
+        c.key = string();
+        c.before = string();
+        c.after = string();
+        totals.resume_changes.push_back(std::move(c));
+      }
+    }
+    if (pieces) {
       need((head_.count - 1) * 2 * sizeof(std::uint64_t));
       others.resize(head_.count - 1);
       for (PieceSum& s : others) {
@@ -286,6 +332,13 @@ void CheckpointFile::parse() {
     }
   }
   require(at_ == end_, "checkpoint '{}': trailing bytes after the payload", name());
+}
+
+std::vector<double> CheckpointFile::times() {
+  if (grid.steps > 0) return grid.levels(n);
+  std::vector<double> v(count(kTimes));
+  read(kTimes, 0, v.size(), v.data());
+  return v;
 }
 
 void CheckpointFile::read(Array a, std::uint64_t first, std::uint64_t n, double* out) {
@@ -304,7 +357,7 @@ CheckpointFile open_piece(const CheckpointFile& first, std::uint64_t r, bool ver
   require(fs::exists(file, ec), "checkpoint '{}': piece {} of {} ('{}') is missing", first.name(), r, p,
           file.filename().string());
   CheckpointFile f(file, verify);
-  require(f.version() == kPiece && f.head().index == r && f.head().count == p && f.fingerprint == first.fingerprint &&
+  require(f.version() == first.version() && f.head().index == r && f.head().count == p && f.fingerprint == first.fingerprint &&
               f.n == first.n && f.t == first.t && f.case_name == first.case_name,
           "checkpoint '{}': not piece {} of {} of the checkpoint of step {}", f.name(), r, p, first.n);
   require(f.sum() == first.others[r - 1],

@@ -2,11 +2,13 @@
 // The checkpoint files (io/checkpoint.hpp says what they hold): their names, the
 // writer of one file (streamed array by array, atomic, checksummed) and the reader
 // that locates its arrays, so that a process reads only the entries it needs. Format
-// versions 4 (the whole state in one file) and 5 (one piece of a checkpoint written
-// by P processes); docs/reliability.md. Used by io/checkpoint.cpp only.
+// versions 6 (the whole state in one file) and 7 (one piece of a checkpoint written by P
+// processes); 4 and 5, the same before the case's keys and the time grid, are read too;
+// docs/reliability.md. Used by io/checkpoint.cpp only.
 #include "core/hash.hpp"
 #include "core/sym_tensor.hpp"
 #include "io/atomic_file.hpp"
+#include "io/checkpoint.hpp"
 #include "io/run_output.hpp"
 
 #include <array>
@@ -25,9 +27,11 @@ namespace vpc::checkpoint_file {
 
 namespace fs = std::filesystem;
 
-// 4: the whole state in one file; 5: one piece of a checkpoint written by several
-// processes (2 and 3 before the problem key, the time levels and the step-size state).
-constexpr std::uint32_t kWhole = 4, kPiece = 5;
+// 6: the whole state in one file; 7: one piece of a checkpoint written by several processes.
+// 4 and 5: the same without the case's keys, the time grid and the changes on resume (read,
+// for tools; a resume refuses them: it cannot compare their case with its own). 2 and 3:
+// before the problem key, the time levels and the step-size state.
+constexpr std::uint32_t kWhole = 6, kPiece = 7, kWholeV4 = 4, kPieceV5 = 5;
 constexpr std::size_t kHeaderBytes = 8 + 2 * sizeof(std::uint32_t) + 2 * sizeof(std::uint64_t);
 
 // File names: checkpoint_NNNNN.bin (the whole state, or piece 0) and
@@ -62,7 +66,7 @@ struct PieceSum {
 
 /// The arrays of a file, in their order: the state's stored fields (io/state_fields.hpp)
 /// where kFileArrays places them, u on the free dofs, the solvers' warm states, and
-/// kTimes: t_0 … t_n; kStepControl: StepControlState::values (both in piece 0 only); then,
+/// kTimes: t_0 … t_n (empty where the file gives their uniform grid); kStepControl: StepControlState::values (both in piece 0 only); then,
 /// only in the files of a frictional run (contact block > 1, in the header), friction's
 /// fields of the contact nodes (piece 0 only): files without friction are those of before.
 enum Array {
@@ -85,18 +89,20 @@ constexpr FileArray kFileArrays[] = {{"u", kU},         {"beta", kBeta},  {"lamb
 /// The file's array of a stored state field; throws vpc::Error when the format has none.
 Array file_array(std::string_view field);
 
-/// What one file holds, as views (nothing copied). Without a head: version 4, the
-/// whole state. With one: version 5, piece head->index, its state arrays its blocks.
+/// What one file holds, as views (nothing copied). Without a head: version 6, the
+/// whole state. With one: version 7, piece head->index, its state arrays its blocks.
 struct FileContent {
   std::string_view case_name;
   std::uint64_t fingerprint = 0;
   std::string_view problem_key;  // what the fingerprint is made of (problem_key)
+  const CaseKeys* keys = nullptr;  // the case's keys (written in version 6 and piece 0)
   std::int64_t n = 0;
   double t = 0;
+  UniformGrid grid;  // steps > 0: the time levels are this grid's, and kTimes is empty
   std::optional<PieceHead> head;
   int contact_block = 1;  // State::contact_block: λ's numbers per contact node
   std::array<Values, kArrays> arrays;
-  const std::vector<std::pair<double, std::string>>* pvd = nullptr;  // version 4 and piece 0
+  const std::vector<std::pair<double, std::string>>* pvd = nullptr;  // version 6 and piece 0
   const RunTotals* totals = nullptr;
   std::vector<PieceSum> others;  // piece 0: pieces 1 … P − 1
   bool whole_or_first() const { return !head || head->index == 0; }
@@ -118,7 +124,7 @@ class FileWriter {
   FileWriter(const fs::path& path, const FileContent& f);
   /// The next array: a, in the format's order from kU to arrays_in_file(contact block).
   void array(Array a, Values v);
-  /// After the last array: the fields after them (version 4 and piece 0: the PVD entries,
+  /// After the last array: the fields after them (version 6 and piece 0: the PVD entries,
   /// the totals and `others`, the sizes and checksums of pieces 1 … P − 1), the header's
   /// size and checksum, and the file renamed into place. Throws vpc::Error.
   PieceSum commit(const std::vector<PieceSum>& others = {});
@@ -148,7 +154,7 @@ class CheckpointFile {
   std::string name() const { return path_.string(); }
   std::uint32_t version() const { return version_; }
   PieceSum sum() const { return sum_; }
-  /// Version 2: piece 0 of 1 whose blocks are the whole arrays.
+  /// The whole state's file: piece 0 of 1 whose blocks are the whole arrays.
   const PieceHead& head() const { return head_; }
   std::uint64_t n_nodes() const { return head_.node_end - head_.node_begin; }
   std::uint64_t n_cells() const { return head_.cell_end - head_.cell_begin; }
@@ -166,16 +172,27 @@ class CheckpointFile {
   std::string case_name;
   std::uint64_t fingerprint = 0;
   std::string problem_key;
+  /// Whether the file records its case's keys (versions 6 and 7; 4 and 5 do not).
+  bool has_keys() const { return version_ == kWhole || version_ == kPiece; }
+  CaseKeys keys;  // piece 0's
   std::int64_t n = 0;
   double t = 0;
-  std::vector<std::pair<double, std::string>> pvd;  // version 4 and piece 0
+  UniformGrid grid;  // steps > 0: kTimes is empty, the levels are the grid's
+  std::vector<std::pair<double, std::string>> pvd;  // the whole state's file or piece 0
   RunTotals totals;
-  std::vector<PieceSum> others;  // piece 0 of version 5
+  std::vector<PieceSum> others;  // piece 0 of several
+
+  /// t_0 … t_n: kTimes, or the grid's levels (UniformGrid::levels). Piece 0 only.
+  std::vector<double> times();
 
  private:
   void verify_checksum();
   void parse();
   void need(std::uint64_t bytes) const { require(bytes <= end_ - at_, "checkpoint '{}': truncated payload", name()); }
+  /// `count` items of at least `bytes` each (a damaged count cannot overflow the product).
+  void need_items(std::uint64_t count, std::uint64_t bytes) const {
+    require(count <= (end_ - at_) / bytes, "checkpoint '{}': truncated payload", name());
+  }
   template <typename T>
   T pod() {
     need(sizeof(T));

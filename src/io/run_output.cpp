@@ -447,6 +447,11 @@ std::string summary_json(const Problem& p, const RunSummary& r, const OutputOpti
                      {"n_stick", r.n_stick},
                      {"n_slip", r.n_slip},
                      {"dissipation", t.dissipation}};
+  if (!t.resume_changes.empty()) {  // the keys a --resume changed (those that may change: docs/cases.md)
+    j["changed_on_resume"] = Json::array();
+    for (const ResumeChange& c : t.resume_changes)
+      j["changed_on_resume"].push_back({{"step", c.step}, {"key", c.key}, {"checkpoint", c.before}, {"now", c.after}});
+  }
   j["probes"] = Json::array();
   for (const auto& x : r.probes) j["probes"].push_back(xyz(x));
   j["timing_seconds"] = {{"wall", r.wall_seconds},       {"setup", r.setup.total},     {"sources", t.seconds_sources},

@@ -72,6 +72,14 @@ std::string probes_header(const Elasticity& e, std::size_t n_probes);
 /// ≤ n, drops a partly written last line; rewritten atomically.
 void truncate_csv(const std::filesystem::path& path, int n);
 
+/// A key of the case that a --resume changed (one that may change: io/checkpoint.hpp,
+/// may_change_on_resume), at the step it continued from; values as Case::keys has them
+/// ("" where the key is not given).
+struct ResumeChange {
+  long long step = 0;
+  std::string key, before, after;
+};
+
 /// What the summary aggregates over the steps of a run (kept in checkpoints).
 struct RunTotals {
   double max_contact_residual = 0, max_damage_residual = 0;
@@ -84,6 +92,8 @@ struct RunTotals {
   /// frictional dissipation summed over them.
   double max_friction_bound = 0, max_stick_slip = 0, max_slip_direction = 0, dissipation = 0;
   double seconds_sources = 0, seconds_damage = 0, seconds_contact = 0, seconds_stress = 0, seconds_output = 0;
+  /// The keys each --resume of the run changed, in order (summary.json "changed_on_resume").
+  std::vector<ResumeChange> resume_changes;
   void add(const StepReport& r);
 };
 

@@ -15,10 +15,12 @@
 
 namespace vpc {
 
-/// Where a resumed run continues: the step and time of its checkpoint.
+/// Where a resumed run continues: the step and time of its checkpoint, and the keys of the
+/// case that changed since (those that may: "time.T: 1 → 2"; on the root).
 struct ResumedAt {
   int n = 0;
   double t = 0;
+  std::vector<std::string> changed;
 };
 
 class Run {
@@ -47,6 +49,11 @@ class Run {
   /// Restores the newest good checkpoint for this problem in `dir` and continues
   /// the output from it; nullopt if there is none (`skipped` says why, per file).
   virtual std::optional<ResumedAt> resume(const std::filesystem::path& dir, std::vector<std::string>& skipped) = 0;
+  /// The size of the output from step `from` to the end against the free space where the
+  /// output directory is (run/output_space.hpp): throws vpc::CollectiveError where it does
+  /// not fit, warns (on stderr) where it takes more than half of it; returns a line that says
+  /// both (on the root; "" for an engine without output).
+  virtual std::string check_output_space(int /*from*/) { return {}; }
 
   // The processes (one, for the serial engine).
   /// The process that prints and writes the shared files.

@@ -23,19 +23,25 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 int resume(Run& e, const RunOptions& o) {
   std::vector<std::string> skipped;
   const auto saved = e.resume(o.resume, skipped);
+  // Without a checkpoint to continue, the newest one's reason is the error's (the others' before it).
   if (e.root())
-    for (const auto& s : skipped) fmt::print(stderr, "vpcontact: skipping {}\n", s);
+    for (std::size_t i = saved ? 0 : 1; i < skipped.size(); ++i) fmt::print(stderr, "vpcontact: skipping {}\n", skipped[i]);
   if (!saved)
     throw CollectiveError(fmt::format("--resume: no good checkpoint for this case in '{}'{}", o.resume.string(),
-                                      skipped.empty() ? "" : " (see the files skipped above)"));
-  if (!o.quiet && e.root())
+                                      skipped.empty()       ? ""
+                                      : skipped.size() == 1 ? ": " + skipped.front()
+                                                            : fmt::format(": {} (older ones skipped above)", skipped.front())));
+  if (!o.quiet && e.root()) {
     fmt::print("  resuming from the checkpoint of step {} (t = {}){}\n", saved->n, saved->t,
                e.ranks() > 0 ? fmt::format(" on {} rank{}", e.ranks(), e.ranks() > 1 ? "s" : "") : "");
+    for (const std::string& c : saved->changed) fmt::print("  changed on resume: {}\n", c);
+  }
   return saved->n;
 }
 
 /// A fresh run: removes an earlier run's files (stale solution_*.vtu, and
-/// checkpoints not to resume from), writes step 0 and its checkpoint.
+/// checkpoints not to resume from), checks that its output fits (check_output_space), writes
+/// step 0 and its checkpoint.
 void start(Run& e, const RunOptions& o) {
   e.on_root([&] {
     const auto removed = remove_run_outputs(e.directory());
@@ -43,6 +49,7 @@ void start(Run& e, const RunOptions& o) {
       fmt::print("  removed {} file{} of an earlier run from {}/\n", removed.size(), removed.size() > 1 ? "s" : "",
                  e.directory().string());
   });
+  e.check_output_space(0);
   e.start();
   e.checkpoint();
 }
@@ -127,10 +134,12 @@ RunLoop::RunLoop(Run& e, const RunOptions& o)
       progress_(e.n_steps(), e.final_time(), o.quiet || !e.root()) {
   if (writes()) {
     e.open_output();
-    if (o.resume.empty())
+    if (o.resume.empty()) {
       start(e, o);
-    else
+    } else {
       last_checkpoint_ = resume(e, o);
+      e.check_output_space(last_checkpoint_);  // what the rest of the run adds
+    }
     schedule_.written();
   }
   result_.steps = last_checkpoint_;

@@ -5,6 +5,8 @@
 #include "core/quote.hpp"
 #include "io/checkpoint.hpp"
 #include "io/run_output.hpp"
+#include "la/memory_estimate.hpp"
+#include "run/output_space.hpp"
 #include "run/progress.hpp"
 #include "run/run_case.hpp"
 #include "run/solver_plan.hpp"
@@ -12,6 +14,7 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <optional>
@@ -22,7 +25,8 @@ namespace {
 
 class StepperRun final : public Run {
  public:
-  StepperRun(Case c, std::unique_ptr<TimeStepper> stepper) : case_(std::move(c)), stepper_(std::move(stepper)) {}
+  StepperRun(Case c, std::unique_ptr<TimeStepper> stepper)
+      : case_(std::move(c)), stepper_(std::move(stepper)), keys_(keys_of(case_)) {}
 
   bool done() const override { return stepper_->done(); }
   StepReport step() override { return stepper_->step(); }
@@ -36,15 +40,32 @@ class StepperRun final : public Run {
   void record(const StepReport& r) override { output_->record(r); }
   void finish(double wall_seconds) override { output_->finish(wall_seconds); }
   void checkpoint() override {
-    write_checkpoint(*stepper_, output_->directory(), case_.name, output_->pvd_entries(), output_->totals());
+    write_checkpoint(*stepper_, output_->directory(), case_.name, output_->pvd_entries(), output_->totals(), 0, 2,
+                     keys_);
     note_checkpoint();
   }
   std::optional<ResumedAt> resume(const std::filesystem::path& dir, std::vector<std::string>& skipped) override {
-    auto saved = resume_from_checkpoint(*stepper_, dir, &skipped);
+    auto saved = resume_from_checkpoint(*stepper_, dir, &skipped, keys_);
     if (!saved) return std::nullopt;
     note_checkpoint();
     output_->resume(saved->n, std::move(saved->pvd), saved->totals);
-    return ResumedAt{saved->n, saved->t};
+    ResumedAt at{saved->n, saved->t, {}};
+    for (const ResumeChange& c : saved->changed) at.changed.push_back(describe_change(c));
+    return at;
+  }
+
+  std::string check_output_space(int from) override {
+    const OutputEstimate e = estimate_output(*stepper_, case_.output, from);  // the same on every process
+    std::string line;
+    on_root([&] {
+      const std::filesystem::path dir =
+          case_.output.directory.empty() ? std::filesystem::path("output") / case_.name : case_.output.directory;
+      const double free = free_space(dir);
+      const std::string warning = require_output_space(e, free, dir);
+      if (!warning.empty()) fmt::print(stderr, "vpcontact: warning: {}\n", warning);
+      line = fmt::format("output: {}; {} free where '{}' is", e.describe(), format_bytes(free), dir.string());
+    });
+    return line;
   }
 
   bool root() const override { return comm().rank() == 0; }
@@ -78,8 +99,28 @@ class StepperRun final : public Run {
   const la::Comm& comm() const { return stepper_->comm(); }
   bool petsc() const { return stepper_->backend().engine() == "petsc"; }
 
+  /// The case's keys as its checkpoints record them: the keys read, with the solver settings
+  /// in use (the command line's --contact-solver, --damage-solver, --tolerance, and the
+  /// defaults) and whether VTU files are written (--no-vtu).
+  static CaseKeys keys_of(const Case& c) {
+    CaseKeys keys = c.keys;
+    auto set = [&](const std::string& key, std::string value) {
+      const auto at = std::find_if(keys.begin(), keys.end(), [&](const auto& k) { return k.first == key; });
+      if (at != keys.end())
+        at->second = std::move(value);
+      else
+        keys.emplace_back(key, std::move(value));
+    };
+    set("solver.contact", case_key_string(c.solvers.contact));
+    set("solver.damage", case_key_string(c.solvers.damage));
+    set("solver.tolerance", fmt::format("{}", c.solvers.residual_tolerance));
+    set("output.vtu", c.output.vtu ? "true" : "false");
+    return keys;
+  }
+
   Case case_;
   std::unique_ptr<TimeStepper> stepper_;
+  CaseKeys keys_;
   std::optional<RunOutput> output_;
 };
 

@@ -86,11 +86,24 @@ grep -q "skipping checkpoint '.*checkpoint_00020.bin': piece 1 of 2 ('checkpoint
   { cat "$WORK/EF.log"; echo "a missing piece: step 20 not passed over"; exit 1; }
 compare "$WORK/EF" "2 ranks, a piece missing -> 3 ranks from the step before"
 
+# K: a changed case (issue 48): refused on every rank, naming the key and both values; a change
+# that may happen on resume (T, the steps after the checkpoint) is printed and recorded.
+cp -r "$WORK/E" "$WORK/EK"
+if run 2 run "${LOUD[@]}" --set elasticity.E=2000 --resume "$WORK/EK" > "$WORK/EK.log" 2>&1; then
+  cat "$WORK/EK.log"; echo "2 ranks: a checkpoint of E = 1000 continued with E = 2000"; exit 1
+fi
+grep -q "was written for another case: elasticity.E: 1000 → 2000" "$WORK/EK.log" ||
+  { cat "$WORK/EK.log"; echo "2 ranks: another E not refused by its key"; exit 1; }
+run 3 run paper-2d --n 20 --every 5 --set time.T=2 --steps 40 --resume "$WORK/EK" > "$WORK/EK.log" 2>&1
+grep -q "changed on resume: time.T: 1 → 2" "$WORK/EK.log" && grep -q '"key": "time.T"' "$WORK/EK/summary.json" ||
+  { cat "$WORK/EK.log"; echo "2 ranks -> 3 ranks: a later T not reported"; exit 1; }
+echo "a changed case: refused on 2 ranks naming elasticity.E; a later T continued on 3 ranks and reported"
+
 run 1 run "${CASE[@]}" -o "$WORK/G0"
 run 1 run "${CASE[@]}" --checkpoint-every 10 -o "$WORK/G"
 ls "$WORK"/G/checkpoint_*.bin | grep -q -- "-of-" && { echo "one rank wrote pieces"; exit 1; }
-head -c 12 "$WORK/G/checkpoint_00020.bin" | od -An -tx1 | grep -q "56 50 43 43 4b 50 54 00 04 00 00 00" ||
-  { echo "one rank: not the version-4 file"; exit 1; }
+head -c 12 "$WORK/G/checkpoint_00020.bin" | od -An -tx1 | grep -q "56 50 43 43 4b 50 54 00 06 00 00 00" ||
+  { echo "one rank: not the version-6 file"; exit 1; }
 interrupt "$WORK/G"
 run 1 run "${CASE[@]}" --resume "$WORK/G"
 for f in history.csv probes.csv solution_00020.vtu; do

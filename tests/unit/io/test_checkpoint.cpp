@@ -257,13 +257,79 @@ TEST(StepperCheckpoint, ResumedRunIsBitIdentical) {
   EXPECT_EQ(skipped.size(), 1u);
 }
 
-// The version-4 file, byte for byte, built here independently of the writer (the
-// format docs/reliability.md describes).
-TEST(StepperCheckpoint, TheVersionFourBytesAreAsDocumented) {
+/// The payload and header of a file in the format docs/reliability.md describes, built here
+/// independently of the writer: version 6 with the case's keys, the grid and the changes on
+/// resume, or version 4 (earlier programs) without them.
+std::string documented_file(std::uint32_t version) {
+  std::string payload;
+  auto put = [&](auto v) { payload.append(reinterpret_cast<const char*>(&v), sizeof v); };
+  auto string = [&](const std::string& v) {
+    put(std::uint64_t(v.size()));
+    payload += v;
+  };
+  auto array = [&](std::initializer_list<double> v) {
+    put(std::uint64_t(v.size()));
+    for (double x : v) put(x);
+  };
+  string("k");
+  put(std::uint64_t(0x0123456789abcdefull));
+  string("case=k");
+  if (version == 6) {
+    put(std::uint64_t(1));
+    string("elasticity.E");
+    string("1000");
+  }
+  put(std::int64_t(7));
+  put(0.5);
+  if (version == 6) {  // no grid: the levels are stored
+    put(0.0);
+    put(std::int64_t(0));
+  }
+  array({1, 2});
+  array({0.25});
+  array({3});
+  array({2});
+  array({0, 1, 2, 3, 4, 5});
+  array({0, -1, -2, -3, -4, -5});
+  array({10, 11, 12, 13, 14, 15});
+  array({});
+  array({});
+  array({0, 0.1, 0.2, 0.25, 0.3, 0.35, 0.4, 0.5});
+  array({0.125, 2, 1, 0, 3, 4});
+  put(std::uint64_t(1));
+  put(0.5);
+  string("a.vtu");
+  for (int i = 0; i < 7; ++i) put(0.0);
+  put(std::int64_t(4));
+  put(std::int64_t(0));
+  put(std::uint8_t(0));
+  put(std::int64_t(9));
+  if (version == 6) {
+    put(std::uint64_t(1));
+    put(std::int64_t(3));
+    string("time.T");
+    string("1");
+    string("2");
+  }
+  std::uint64_t h = 1469598103934665603ull;
+  for (char ch : payload) h = (h ^ static_cast<unsigned char>(ch)) * 1099511628211ull;
+  std::string file("VPCCKPT\0", 8);
+  const std::uint32_t reserved = 0;
+  file.append(reinterpret_cast<const char*>(&version), 4);
+  file.append(reinterpret_cast<const char*>(&reserved), 4);
+  const std::uint64_t size = payload.size();
+  file.append(reinterpret_cast<const char*>(&size), 8);
+  file.append(reinterpret_cast<const char*>(&h), 8);
+  return file + payload;
+}
+
+/// The checkpoint documented_file holds.
+Checkpoint documented_checkpoint() {
   Checkpoint c;
   c.case_name = "k";
   c.fingerprint = 0x0123456789abcdefull;
   c.problem_key = "case=k";
+  c.case_keys = {{"elasticity.E", "1000"}};
   c.times = {0, 0.1, 0.2, 0.25, 0.3, 0.35, 0.4, 0.5};
   c.step_control = Eigen::Vector<double, 6>(0.125, 2, 1, 0, 3, 4);
   State& s = c.snapshot.state;
@@ -281,51 +347,68 @@ TEST(StepperCheckpoint, TheVersionFourBytesAreAsDocumented) {
   c.totals.max_contact_iterations = 4;
   c.totals.all_ok = false;
   c.totals.last_n_active = 9;
-  std::string payload;
-  auto put = [&](auto v) { payload.append(reinterpret_cast<const char*>(&v), sizeof v); };
-  auto array = [&](std::initializer_list<double> v) {
-    put(std::uint64_t(v.size()));
-    for (double x : v) put(x);
+  c.totals.resume_changes = {{3, "time.T", "1", "2"}};
+  return c;
+}
+
+TEST(StepperCheckpoint, TheVersionSixBytesAreAsDocumented) {
+  const fs::path file = write_checkpoint(fresh_dir("bytes"), documented_checkpoint());
+  EXPECT_EQ(test::read_bytes(file), documented_file(6));
+  const Checkpoint back = read_checkpoint(file);
+  EXPECT_EQ(back.case_keys, documented_checkpoint().case_keys);
+  ASSERT_EQ(back.totals.resume_changes.size(), 1u);
+  EXPECT_EQ(back.totals.resume_changes[0].key, "time.T");
+  EXPECT_EQ(back.totals.resume_changes[0].after, "2");
+}
+
+// A checkpoint of an earlier program (version 4: no case keys) is still read whole, but a resume
+// refuses it, saying why: its case cannot be compared with this one.
+TEST(StepperCheckpoint, AVersionFourFileIsReadButNotResumed) {
+  const fs::path dir = fresh_dir("v4");
+  const fs::path file = dir / "checkpoint_00007.bin";
+  std::ofstream(file, std::ios::binary) << documented_file(4);
+  const Checkpoint c = read_checkpoint(file), expected = documented_checkpoint();
+  EXPECT_TRUE(c.case_keys.empty());
+  EXPECT_EQ(c.times, expected.times);
+  EXPECT_EQ(c.snapshot.state.u, expected.snapshot.state.u);
+  EXPECT_EQ(c.snapshot.state.z[0].c, expected.snapshot.state.z[0].c);
+  EXPECT_EQ(c.pvd, expected.pvd);
+  EXPECT_EQ(c.totals.last_n_active, 9);
+  EXPECT_TRUE(c.totals.resume_changes.empty());
+  TimeStepper s(small_2d());
+  try {
+    resume_from_checkpoint(s, dir);
+    ADD_FAILURE() << "a version-4 checkpoint was resumed";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("is of format version 4, written by an earlier vpcontact that did not record "
+                                         "its case"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
+// A uniform grid's checkpoint stores the grid, not t_0 … t_n: its size does not grow with the
+// steps (issue 48: 8 bytes a step, 800 MB a checkpoint at 10^8 steps). Its levels read back
+// bit for bit. A grid that is not uniform still stores its levels.
+TEST(StepperCheckpoint, AUniformGridIsStoredInsteadOfItsLevels) {
+  auto size_at = [](const std::shared_ptr<Problem>& p, int n, const std::string& name) {
+    TimeStepper s(p);
+    for (int i = 0; i < n; ++i) s.step();
+    const fs::path dir = fresh_dir(name);
+    write_checkpoint(s, dir, "paper-2d", {}, {});
+    const fs::path file = dir / fmt::format("checkpoint_{:05d}.bin", n);
+    const Checkpoint c = read_checkpoint(file);
+    EXPECT_EQ(c.times, s.times());
+    EXPECT_EQ(c.grid.steps > 0, p->uniform_steps());
+    return fs::file_size(file);
   };
-  put(std::uint64_t(1));
-  payload += "k";
-  put(c.fingerprint);
-  put(std::uint64_t(6));
-  payload += "case=k";
-  put(std::int64_t(7));
-  put(0.5);
-  array({1, 2});
-  array({0.25});
-  array({3});
-  array({2});
-  array({0, 1, 2, 3, 4, 5});
-  array({0, -1, -2, -3, -4, -5});
-  array({10, 11, 12, 13, 14, 15});
-  array({});
-  array({});
-  array({0, 0.1, 0.2, 0.25, 0.3, 0.35, 0.4, 0.5});
-  array({0.125, 2, 1, 0, 3, 4});
-  put(std::uint64_t(1));
-  put(0.5);
-  put(std::uint64_t(5));
-  payload += "a.vtu";
-  for (int i = 0; i < 7; ++i) put(0.0);
-  put(std::int64_t(4));
-  put(std::int64_t(0));
-  put(std::uint8_t(0));
-  put(std::int64_t(9));
-  std::uint64_t h = 1469598103934665603ull;
-  for (char ch : payload) h = (h ^ static_cast<unsigned char>(ch)) * 1099511628211ull;
-  std::string expected("VPCCKPT\0", 8);
-  const std::uint32_t version = 4, reserved = 0;
-  expected.append(reinterpret_cast<const char*>(&version), 4);
-  expected.append(reinterpret_cast<const char*>(&reserved), 4);
-  const std::uint64_t size = payload.size();
-  expected.append(reinterpret_cast<const char*>(&size), 8);
-  expected.append(reinterpret_cast<const char*>(&h), 8);
-  expected += payload;
-  const fs::path file = write_checkpoint(fresh_dir("bytes"), c);
-  EXPECT_EQ(test::read_bytes(file), expected);
+  const auto uniform = small_2d();
+  EXPECT_EQ(size_at(uniform, 1, "grid1"), size_at(uniform, 8, "grid8"));
+  const auto listed = load_case("paper-2d", {.sets = {"time.dt=[0.1, 0.1, 0.2, 0.2, 0.4]"}}, {.cells = 10}).problem;
+  EXPECT_EQ(size_at(listed, 4, "levels4"), size_at(listed, 1, "levels1") + 3 * 8);
+  // The levels of a uniform grid are Problem::time_at's (T exactly at N).
+  const UniformGrid g{1.0, 3};
+  EXPECT_EQ(g.levels(3), (std::vector<double>{0, 1.0 / 3, 2 * (1.0 / 3), 1.0}));
 }
 
 // A file is written array by array as a process forms them (checkpoint_file::FileWriter): a

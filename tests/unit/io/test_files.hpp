@@ -35,6 +35,7 @@ inline Checkpoint checkpoint_of(const TimeStepper& s) {
   c.problem_key = problem_key(s);
   c.snapshot = s.snapshot();
   c.times = s.times();
+  c.grid = UniformGrid::of(s.problem(), s.times());  // as the stepper's writer stores them
   c.step_control = s.step_control_state().values();
   return c;
 }

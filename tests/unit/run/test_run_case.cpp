@@ -94,7 +94,7 @@ TEST(RunLoop, ResumeWithoutAGoodCheckpointSaysWhy) {
     FAIL() << "no error";
   } catch (const CollectiveError& err) {
     EXPECT_STREQ(err.what(),
-                 "--resume: no good checkpoint for this case in 'somewhere' (see the files skipped above)");
+                 "--resume: no good checkpoint for this case in 'somewhere': checkpoint_00009.bin: bad checksum");
   }
 }
 
