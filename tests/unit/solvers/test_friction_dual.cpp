@@ -384,7 +384,7 @@ TEST(FrictionDual, PowerLawAtExponentOneIsTheLinearCompliance) {
           EXPECT_LE((forced.lambda - linear.lambda).cwiseAbs().maxCoeff(), 1e-10 * ls);
           EXPECT_EQ(forced.rep.n_active, linear.rep.n_active);
           EXPECT_EQ(forced.rep.n_slip, linear.rep.n_slip);
-          EXPECT_GT(linear.rep.n_slip, 0);
+          EXPECT_GT(slide > 1 ? linear.rep.n_slip : linear.rep.n_stick, 0);
         }
 }
 
