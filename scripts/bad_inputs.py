@@ -301,6 +301,16 @@ INPUTS = [
     ("Tresca bound that is NaN for t > 0.5",
      {"c.toml": case('gap = "0.001*x"', 'gap = "0.001*x"\nfriction = "tresca"\nfriction_bound = "t > 0.5 ? sqrt(-1) : 1"')},
      ["run", "c.toml", "--no-vtu", "-o", "out"]),
+    # Issue 48: Coulomb's shear limit, a traction > 0; Tresca acting out of contact warns.
+    ("shear limit of 0", {}, ["shear-2d", "--set", "contact.shear_limit=0"]),
+    ("shear limit that is a formula < 0 on part of the face", {}, ["shear-2d", "--set", "contact.shear_limit=\"x\""]),
+    ("shear limit with friction = \"tresca\"", {},
+     ["shear-2d", "--set", "contact.friction=\"tresca\"", "--set", "contact.friction_bound=1", "--set",
+      "contact.shear_limit=1"]),
+    ("Tresca friction through nodes not in contact (a plane 0.1 away that slides)", {},
+     ["run", "shear-2d", "--no-vtu", "-q", "-o", "out", "--set", "contact.friction=\"tresca\"", "--set",
+      "contact.friction_bound=1", "--set", "obstacle[0].point=[\"0.02*max(t - 1, 0)\", \"-0.1\"]"],
+     {"warning": True}),
 ]
 
 

@@ -30,9 +30,11 @@ LawField nonnegative_field(FrictionKeys& keys, const std::string& key, bool time
   return f;
 }
 
-void refuse_keys_of_others(FrictionKeys& keys, const std::string& mine, const std::string& law) {
+void refuse_keys_of_others(FrictionKeys& keys, const std::string& law) {
+  const std::vector<std::string> mine = friction_law_keys(law);
   for (const std::string& k : friction_keys())
-    if (k != mine && keys.has(k)) fail("{}: {} does not belong to friction = \"{}\"", keys.where(k), k, law);
+    if (std::find(mine.begin(), mine.end(), k) == mine.end() && keys.has(k))
+      fail("{}: {} does not belong to friction = \"{}\"", keys.where(k), k, law);
 }
 
 template <typename T>
@@ -43,7 +45,7 @@ FrictionLawFactory entry() {
 std::vector<std::pair<std::string, FrictionLawFactory>>& table() {
   static std::vector<std::pair<std::string, FrictionLawFactory>> t = {
       {"none", [](FrictionKeys& keys) -> std::shared_ptr<const FrictionLaw> {
-         refuse_keys_of_others(keys, "", "none");
+         refuse_keys_of_others(keys, "none");
          return nullptr;
        }},
       {"coulomb", entry<CoulombFriction>()},
@@ -55,8 +57,20 @@ std::vector<std::pair<std::string, FrictionLawFactory>>& table() {
 }  // namespace
 
 CoulombFriction::CoulombFriction(FrictionKeys& keys) {
-  refuse_keys_of_others(keys, "mu", "coulomb");
+  refuse_keys_of_others(keys, "coulomb");
   mu_ = nonnegative_field(keys, "mu", false, "a friction coefficient mu", text_);
+  if (!keys.has("shear_limit")) return;
+  limit_ = keys.field("shear_limit", false);
+  if (!keys.is_number("shear_limit")) {
+    text_ += ", shear limit (a formula)";
+    return;
+  }
+  // > 0: a zero limit is no friction at all (friction = "none" says that); +∞ is no limit (leave it out).
+  const double v = limit_(Point{0, 0, 0}, 0.0);
+  if (!(v > 0) || !std::isfinite(v))
+    fail("{}: expected a shear limit > 0 (a traction, the largest tangential traction), got {}",
+         keys.where("shear_limit"), v);
+  text_ += fmt::format(", shear limit {}", v);
 }
 
 CoulombFriction::CoulombFriction(double mu) : mu_([mu](const Point&, double) { return mu; }), text_(fmt::format("{}", mu)) {
@@ -64,7 +78,7 @@ CoulombFriction::CoulombFriction(double mu) : mu_([mu](const Point&, double) { r
 }
 
 TrescaFriction::TrescaFriction(FrictionKeys& keys) {
-  refuse_keys_of_others(keys, "friction_bound", "tresca");
+  refuse_keys_of_others(keys, "tresca");
   g_ = nonnegative_field(keys, "friction_bound", true, "a friction bound (a traction)", text_);
   moves_ = keys.uses_time("friction_bound");
 }
@@ -88,10 +102,10 @@ std::vector<std::string> friction_law_names() {
   return names;
 }
 
-std::vector<std::string> friction_keys() { return {"mu", "friction_bound"}; }
+std::vector<std::string> friction_keys() { return {"mu", "shear_limit", "friction_bound"}; }
 
 std::vector<std::string> friction_law_keys(const std::string& name) {
-  if (name == "coulomb") return {"mu"};
+  if (name == "coulomb") return {"mu", "shear_limit"};
   if (name == "tresca") return {"friction_bound"};
   return {};
 }

@@ -10,6 +10,7 @@
 #include "core/sym_tensor.hpp"
 
 #include <functional>
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -43,9 +44,19 @@ class FrictionLaw {
   virtual double bound(const Point& /*x*/, double /*t*/) const { return 0; }
   /// Whether bound() changes in time (then it is evaluated at every step).
   virtual bool bound_moves() const { return false; }
+  /// τ_max(x) > 0: a shear-stress limit (a traction) that caps Coulomb's bound, lumped at a node
+  /// by its tributary measure: s_i = min(μ λ_ν,i, τ_max |Γ3|_i); +∞ where none.
+  virtual double limit(const Point& /*x*/) const { return std::numeric_limits<double>::infinity(); }
+  /// Whether limit() is finite somewhere (a law that has one).
+  virtual bool has_limit() const { return false; }
+  /// Whether its bound acts where λ_ν = 0 (Tresca's given bound acts on all of Γ3, in or out of
+  /// contact: the runs count those nodes, ContactStatus::Open, and warn).
+  virtual bool acts_out_of_contact() const { return false; }
 };
 
-/// Coulomb: s_i = μ(x_i) λ_ν,i; key mu (a number or a formula in x, y, z; ≥ 0).
+/// Coulomb: s_i = μ(x_i) λ_ν,i; key mu (a number or a formula in x, y, z; ≥ 0); with the key
+/// shear_limit (τ_max > 0, a traction, a number or a formula in x, y, z) s_i = min(μ λ_ν,i,
+/// τ_max |Γ3|_i): acting in contact only, unlike Tresca's bound.
 class CoulombFriction final : public FrictionLaw {
  public:
   explicit CoulombFriction(FrictionKeys& keys);
@@ -53,9 +64,13 @@ class CoulombFriction final : public FrictionLaw {
   std::string name() const override { return "coulomb"; }
   std::string describe() const override { return "Coulomb friction mu = " + text_; }
   double coefficient(const Point& x) const override { return mu_(x, 0.0); }
+  double limit(const Point& x) const override {
+    return limit_ ? limit_(x, 0.0) : std::numeric_limits<double>::infinity();
+  }
+  bool has_limit() const override { return static_cast<bool>(limit_); }
 
  private:
-  LawField mu_;
+  LawField mu_, limit_;
   std::string text_;
 };
 
@@ -69,6 +84,7 @@ class TrescaFriction final : public FrictionLaw {
   std::string describe() const override { return "Tresca friction bound = " + text_; }
   double bound(const Point& x, double t) const override { return g_(x, t); }
   bool bound_moves() const override { return moves_; }
+  bool acts_out_of_contact() const override { return true; }
 
  private:
   LawField g_;

@@ -1176,7 +1176,7 @@ std::shared_ptr<const FrictionLaw> read_friction_law(Section& s, std::shared_ptr
   if (!s.has("friction")) {
     for (const std::string& k : friction_keys())
       if (s.has(k))
-        fail("{}: {} needs friction = \"{}\" in the same table", s.where(k), k, k == "mu" ? "coulomb" : "tresca");
+        fail("{}: {} needs friction = \"{}\" in the same table", s.where(k), k, k == "friction_bound" ? "tresca" : "coulomb");
     return inherited;
   }
   const std::string name = s.choice("friction", friction_law_names(), "none");
@@ -1227,7 +1227,7 @@ void record_key_locations(Section& top, Problem& p, const Origins& origins) {
   for (const char* key : {"contact", "clamped", "symmetry"}) record(b, key);
   record_tables(b, "displacement");
   Section ct = top.table("contact");
-  for (const char* key : {"gap", "direction", "friction", "mu", "friction_bound"}) record(ct, key);
+  for (const char* key : {"gap", "direction", "friction", "mu", "shear_limit", "friction_bound"}) record(ct, key);
   record_tables(ct, "pair");
   if (p.key_locations.count("contact.pair[0]")) p.key_locations["contact.pair"] = p.key_locations["contact.pair[0]"];
   record_tables(top, "obstacle");

@@ -60,17 +60,28 @@ constexpr HistoryColumn kFrictionColumns[] = {
     {"dissipation", F::exact, [](const StepReport& r) { return r.contact.dissipation; },
      "the step's frictional dissipation Σ λ_τ,i·Δ_i (≥ 0)"},
     {"friction_bound", F::residual, [](const StepReport& r) { return r.contact.residuals.friction_bound; },
-     "max(0, ‖λ_τ‖ − s) over the nodes (s = tresca + μ λ_ν), relative"},
+     "max(0, ‖λ_τ‖ − s) over the nodes (s = min(tresca + μ λ_ν, shear limit)), relative"},
     {"friction_stick_slip", F::residual, [](const StepReport& r) { return r.contact.residuals.stick_slip; },
-     "max (s − ‖λ_τ‖)₊ ‖Δ‖ over the nodes: no slip below the bound, relative"},
+     "max min((s − ‖λ_τ‖)₊, force scale) ‖Δ‖ over the nodes: no slip below the bound, relative"},
     {"friction_slip_direction", F::residual, [](const StepReport& r) { return r.contact.residuals.slip_direction; },
      "max ‖λ_τ‖ ‖Δ‖ − λ_τ·Δ over the nodes: slip along λ_τ, relative"},
 };
+
+// A run with a friction law whose bound acts out of contact (Tresca), after the friction columns.
+constexpr HistoryColumn kOpenColumns[] = {
+    {"n_tresca_open", F::integer, [](const StepReport& r) { return double(r.contact.n_open); },
+     "contact nodes not in contact (λ_ν = 0) that carry a tangential force: Tresca's bound acts on all of Γ3"},
+};
+
+bool has_open_column(const Problem& p) {
+  return std::ranges::any_of(p.contact.frictions(), [](const auto& f) { return f && f->acts_out_of_contact(); });
+}
 
 }  // namespace
 
 std::span<const HistoryColumn> history_columns() { return kColumns; }
 std::span<const HistoryColumn> friction_columns() { return kFrictionColumns; }
+std::span<const HistoryColumn> open_friction_columns() { return kOpenColumns; }
 
 std::vector<std::string> history_column_names(const Problem& p, const MeshPart& part) {
   std::vector<std::string> names;
@@ -84,6 +95,8 @@ std::vector<std::string> history_column_names(const Problem& p, const MeshPart& 
   const int d = part.dofs.dim();
   if (p.contact.block_size(d) == 1) return names;
   for (const HistoryColumn& c : kFrictionColumns) names.emplace_back(c.name);
+  if (has_open_column(p))
+    for (const HistoryColumn& c : kOpenColumns) names.emplace_back(c.name);
   for (int i = 0; i < d; ++i) names.push_back(fmt::format("tangential_force_{}", "xyz"[i]));
   for (const Obstacle& o : p.contact.obstacles)
     for (int i = 0; i < d; ++i) names.push_back(fmt::format("tangential_force_{}_{}", o.name, "xyz"[i]));
@@ -118,6 +131,8 @@ std::vector<HistoryValue> history_values(const StepReport& r) {
   for (double f : r.reaction) row.push_back({f, F::exact});
   if (r.tangential_force.empty()) return row;  // no friction
   for (const HistoryColumn& c : kFrictionColumns) row.push_back({c.value(r), c.format});
+  if (r.contact.n_open >= 0)  // a run with Tresca's bound (contact_totals)
+    for (const HistoryColumn& c : kOpenColumns) row.push_back({c.value(r), c.format});
   for (double f : r.tangential_force) row.push_back({f, F::exact});
   for (double f : r.obstacle_tangential_force) row.push_back({f, F::exact});
   for (double f : r.pair_tangential_force) row.push_back({f, F::exact});

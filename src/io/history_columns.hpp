@@ -28,6 +28,9 @@ struct HistoryColumn {
 std::span<const HistoryColumn> history_columns();
 /// The columns of a frictional run (contact block > 1), after the per-case ones below.
 std::span<const HistoryColumn> friction_columns();
+/// After friction_columns, in a run with a bound that acts out of contact (Tresca;
+/// FrictionLaw::acts_out_of_contact): n_tresca_open.
+std::span<const HistoryColumn> open_friction_columns();
 
 /// After history_columns, per case (totals over the case's nodes, never per contact node):
 /// the force on each obstacle (force_<name>, Problem::contact.obstacles order), then the

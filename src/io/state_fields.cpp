@@ -224,8 +224,8 @@ constexpr StateField kFields[] = {
     {"contact_status", "contact_status", "contact_status", L::contact_node, one,
      [](const State& s) { return span_of(s.contact_status); }, [](State& s, Span v) { set(s.contact_status, v); },
      [](const FieldContext& c) { return contact_scalar_field(c, "contact_status", c.state.contact_status); },
-     has_slip, "each contact node's status after the last step: 0 free, 1 stick, 2 slip (friction only; VTU: zero off "
-     "Γ3)", true},
+     has_slip, "each contact node's status after the last step: 0 free, 1 stick, 2 slip, 3 not in contact but "
+     "carrying Tresca friction (friction only; VTU: zero off Γ3)", true},
     {"sigma", "sigma", "stress", L::cell, tensor, [](const State& s) { return span_of(s.sigma); },
      [](State& s, Span v) { set(s.sigma, v); }, [](const FieldContext& c) { return tensor_field("stress", c.state.sigma); },
      nullptr, "the stress σ_n"},

@@ -10,6 +10,7 @@
 #include "run/progress.hpp"
 #include "run/run_case.hpp"
 #include "run/solver_plan.hpp"
+#include "scheme/step_checks.hpp"
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
@@ -29,7 +30,16 @@ class StepperRun final : public Run {
       : case_(std::move(c)), stepper_(std::move(stepper)), keys_(keys_of(case_)) {}
 
   bool done() const override { return stepper_->done(); }
-  StepReport step() override { return stepper_->step(); }
+  StepReport step() override {
+    StepReport r = stepper_->step();
+    // Once a run: Tresca's bound acted through nodes not in contact (the same count on every rank).
+    if (!warned_open_)
+      if (const std::string w = open_friction_warning(stepper_->problem(), r); !w.empty()) {
+        warned_open_ = true;
+        if (root()) fmt::print(stderr, "vpcontact: warning: {}\n", w);
+      }
+    return r;
+  }
   int n_steps() const override { return stepper_->problem().n_steps; }
   double final_time() const override { return stepper_->problem().final_time; }
   double tolerance() const override { return case_.solvers.residual_tolerance; }
@@ -96,6 +106,7 @@ class StepperRun final : public Run {
   }
 
  private:
+  bool warned_open_ = false;
   const la::Comm& comm() const { return stepper_->comm(); }
   bool petsc() const { return stepper_->backend().engine() == "petsc"; }
 

@@ -161,7 +161,7 @@ void DiscreteSystem::set_friction_frame(const ContactMatrix& rows) {
   c.rows = part.owned_contact_rows();
   const auto frictions = p.contact.frictions();
   row_friction.clear();
-  std::vector<double> mus;
+  std::vector<double> mus, limits;
   for (const PartContactNode& node : part.contact) {
     if (!node.owned) continue;
     const FrictionLaw* law = frictions[static_cast<std::size_t>(node.law)].get();
@@ -172,8 +172,14 @@ void DiscreteSystem::set_friction_frame(const ContactMatrix& rows) {
       fail("{}: the friction coefficient mu is {} at contact node ({}, {}, {}) ({}); expected a number >= 0",
            p.where("contact.mu"), mu_i, x[0], x[1], x[2], law->describe());
     mus.push_back(mu_i);
+    const double tau = law ? law->limit(x) : std::numeric_limits<double>::infinity();
+    if (!(tau > 0))  // +∞ (none) passes; NaN and ≤ 0 do not
+      fail("{}: the shear limit is {} at contact node ({}, {}, {}) ({}); expected a traction > 0",
+           p.where("contact.shear_limit"), tau, x[0], x[1], x[2], law->describe());
+    limits.push_back(std::isfinite(tau) ? tau * node.measure : tau);
   }
   c.mu = Eigen::Map<Vector>(mus.data(), static_cast<Eigen::Index>(mus.size()));
+  limit = Eigen::Map<Vector>(limits.data(), static_cast<Eigen::Index>(limits.size()));
   c.master_mean = rows.master_mean;
   set_tangents(c, rows.node_dofs);
   T = std::move(c.T);
@@ -226,6 +232,7 @@ ContactConstraints contact_constraints(const DiscreteSystem& sys) {
     c.T = sys.T;
     c.tangent_dof = sys.tangent_dof;
     c.mu = sys.mu;
+    c.limit = sys.limit;
     c.tresca = Vector::Zero(static_cast<Eigen::Index>(c.rows.size()));
     c.shift = Vector::Zero(static_cast<Eigen::Index>(c.rows.size()) * (c.block - 1));
   }

@@ -66,11 +66,12 @@ struct DiscreteSystem {
   /// N: one row per owned contact node, in part.contact order, over the owned free dofs
   /// (ContactConstraints::N).
   SparseMatrix N;
-  /// Friction (SPEC §7; empty without): T, tangent_dof and Coulomb's μ_i of the owned rows
-  /// (ContactConstraints; set_tangents), and each owned row's friction law (nullptr: none).
+  /// Friction (SPEC §7; empty without): T, tangent_dof, Coulomb's μ_i and shear limit
+  /// τ_max |Γ3|_i (+∞: none) of the owned rows (ContactConstraints; set_tangents), and each owned
+  /// row's friction law (nullptr: none).
   SparseMatrix T;
   std::vector<int> tangent_dof;
-  Vector mu;
+  Vector mu, limit;
   std::vector<const FrictionLaw*> row_friction;
   double assembly_seconds = 0, build_seconds = 0;
   ProcessMemory mesh_memory, assembly_memory;  // this process's as the construction starts and ends

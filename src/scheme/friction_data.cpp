@@ -83,6 +83,7 @@ void record_slip(const DiscreteSystem& sys, const Vector& tresca, const Vector& 
   c.rows = sys.part.owned_contact_rows();
   c.block = s.contact_block;
   c.mu = sys.mu;
+  c.limit = sys.limit;
   c.tresca = tresca;
   const int t = c.block - 1;
   const Vector slip = sys.T * u_free - shift;

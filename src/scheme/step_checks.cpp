@@ -32,7 +32,33 @@ MinimumAt global_minimum_at(const la::Comm& comm, std::span<const double> values
   return {lo, std::isfinite(at) ? static_cast<int>(at) : mine.index};
 }
 
+namespace {
+
+bool acts_out_of_contact(const FrictionLaw* f) { return f && f->acts_out_of_contact(); }
+
+}  // namespace
+
+std::string open_friction_warning(const Problem& p, const StepReport& rep) {
+  if (rep.contact.n_open <= 0) return {};
+  const ContactSpec& c = p.contact;
+  std::string where = p.where("contact.friction");  // [contact]'s, or a [[contact.part]]'s
+  if (!acts_out_of_contact(c.friction.get()))
+    for (std::size_t k = 0; k < c.pairs.size(); ++k)
+      if (acts_out_of_contact(c.pairs[k].friction.get())) {
+        where = p.where(fmt::format("contact.pair[{}]", k));
+        break;
+      }
+  return fmt::format(
+      "{}: Tresca friction acts through {} contact node(s) not in contact at step {} (t = {:.6g}): its given bound "
+      "acts on all of Γ3, in contact or not (history.csv n_tresca_open; contact_status 3). For friction only where "
+      "the surfaces touch, with a largest shear traction, use friction = \"coulomb\" with shear_limit",
+      where, rep.contact.n_open, rep.n, rep.t);
+}
+
 void contact_totals(const DiscreteSystem& sys, const State& s, StepReport& rep) {
+  // n_tresca_open only where some bound acts out of contact (history.csv's column is there only then).
+  if (std::ranges::none_of(sys.problem->contact.frictions(), [](const auto& f) { return acts_out_of_contact(f.get()); }))
+    rep.contact.n_open = -1;
   const auto& obstacles = sys.problem->contact.obstacles;
   const int b = s.contact_block, d = sys.part.mesh().dim();
   const std::size_t n_obstacles = obstacles.size(), du = static_cast<std::size_t>(d);

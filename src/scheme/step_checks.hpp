@@ -8,6 +8,7 @@
 #include "scheme/step_report.hpp"
 
 #include <span>
+#include <string>
 #include <vector>
 
 namespace vpc {
@@ -28,6 +29,9 @@ void contact_totals(const DiscreteSystem& sys, const State& s, StepReport& rep);
 void reactions(const DiscreteSystem& sys, const State& s, const Vector& F, StepReport& rep);
 /// min β over all processes by MinimumAt's rule, and max β. Collective.
 void beta_range(const DiscreteSystem& sys, const State& s, StepReport& rep);
+/// The warning of a step whose Tresca bound acted through nodes not in contact (rep.contact.n_open
+/// > 0), located at the friction key of the law; empty where none did.
+std::string open_friction_warning(const Problem& p, const StepReport& rep);
 /// contact_totals, reactions and beta_range of the step that ended in s with the load F. Collective.
 void report_step(const DiscreteSystem& sys, const State& s, const Vector& F, StepReport& rep);
 /// Whether the step is accepted: both solvers converged, every residual is within `tolerance`

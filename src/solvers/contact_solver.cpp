@@ -126,7 +126,10 @@ ContactResiduals contact_residuals(const la::SpdOperator& K, const ContactConstr
       const auto d = slip.segment(i * t, t);
       const double bound = c.bound(i, lambda_local[i]), ln = l.norm(), dn = d.norm();
       r.friction_bound = std::max(r.friction_bound, (ln - bound) / l_scale);
-      r.stick_slip = std::max(r.stick_slip, std::max(bound - ln, 0.0) * dn / (l_scale * u_scale));
+      // Below the bound a node's slip is measured against the displacement scale, weighted by how far
+      // below it is up to the force scale: a bound far above every force (μ or a Tresca bound of 1e8:
+      // a stuck face) would otherwise multiply a sticking node's round-off slip into a failure.
+      r.stick_slip = std::max(r.stick_slip, std::clamp(bound - ln, 0.0, l_scale) * dn / (l_scale * u_scale));
       r.slip_direction = std::max(r.slip_direction, (ln * dn - l.dot(d)) / (l_scale * u_scale));
     }
   }
@@ -175,17 +178,19 @@ ContactReport contact_report(const la::SpdOperator& K, const ContactConstraints&
   // Stick and slip counts and the dissipation from this rank's rows.
   const std::vector<ContactStatus> status = stick_slip(c, lambda, kSlipForceShare * rep.residuals.force_scale, active_threshold);
   const Vector tangential = local_tangential(c, lambda), slip = slip_increment(c, u);
-  double sums[3] = {0, 0, 0};
+  double sums[4] = {0, 0, 0, 0};
   for (std::size_t i = 0; i < status.size(); ++i) {
     const auto k = static_cast<Eigen::Index>(i);
     sums[0] += status[i] == ContactStatus::Stick;
     sums[1] += status[i] == ContactStatus::Slip;
     sums[2] += tangential.segment(k * t, t).dot(slip.segment(k * t, t));
+    sums[3] += status[i] == ContactStatus::Open;
   }
-  K.comm().sum(sums, 3);
+  K.comm().sum(sums, 4);
   rep.n_stick = static_cast<int>(sums[0]);
   rep.n_slip = static_cast<int>(sums[1]);
   rep.dissipation = sums[2];
+  rep.n_open = static_cast<int>(sums[3]);
   return rep;
 }
 

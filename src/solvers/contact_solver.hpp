@@ -28,7 +28,7 @@ struct ContactResiduals {
   // Friction (SPEC §7; 0 without): with Δ_i = T_i u − h_i the slip increment and s_i the bound
   // (ContactConstraints::bound) of node i,
   double friction_bound = 0;        // max(0, max_i |λ_τ,i| − s_i) / scale_λ: |λ_τ| ≤ s
-  double stick_slip = 0;            // max_i (s_i − |λ_τ,i|)₊ |Δ_i| / (scale_λ scale_u): below the bound, no slip
+  double stick_slip = 0;            // max_i min((s_i − |λ_τ,i|)₊, scale_λ) |Δ_i| / (scale_λ scale_u): below the bound, no slip
   double slip_direction = 0;        // max_i (|λ_τ,i| |Δ_i| − λ_τ,i·Δ_i) / (scale_λ scale_u): slip along λ_τ
   double force_scale = 0;           // scale_λ (not a residual: max() leaves it out)
   double max() const;
@@ -51,6 +51,9 @@ struct ContactReport {
   /// Friction (0 without): active nodes below their bound (stick) and at it (slip, or about
   /// to), by contact_status; the frictional dissipation Σ λ_τ,i·Δ_i of the step (≥ 0).
   int n_stick = 0, n_slip = 0;
+  /// Nodes not in contact (λ_ν = 0) that carry a tangential force: Tresca's given bound acts on
+  /// all of Γ3 (ContactStatus::Open), in or out of contact.
+  int n_open = 0;
   double dissipation = 0;
   ContactResiduals residuals;
 };
@@ -94,14 +97,23 @@ struct ContactConstraints {
   /// plane) has zero rows and tangent_dof −1 there; its λ_τ,ij is 0.
   SparseMatrix T;
   std::vector<int> tangent_dof;  // per local row × (b − 1): owned free dof, −1 where none
-  /// The bound of the tangential force, s_i = tresca_i + μ_i λ_ν,i (|λ_τ,i| ≤ s_i, Euclidean: a
-  /// disc in 3D): Coulomb's μ_i (constant), Tresca's g_τ(x_i, t_n) |Γ3|_i as a force (per step).
-  Vector mu, tresca;
+  /// The bound of the tangential force, s_i = min(tresca_i + μ_i λ_ν,i, limit_i) (|λ_τ,i| ≤ s_i,
+  /// Euclidean: a disc in 3D): Coulomb's μ_i (constant), Tresca's g_τ(x_i, t_n) |Γ3|_i as a force
+  /// (per step), Coulomb's shear limit τ_max(x_i) |Γ3|_i as a force (constant; +∞ where none; an
+  /// empty vector: none anywhere).
+  Vector mu, tresca, limit;
   /// h of the slip increment Δ_i = T_i u − h_i (per local row × (b − 1), per step): t_ij·u_{n−1}
   /// plus the obstacle's tangential displacement over the step.
   Vector shift;
   bool frictional() const { return block > 1; }
-  double bound(Eigen::Index i, double lambda_nu) const { return tresca[i] + mu[i] * std::max(lambda_nu, 0.0); }
+  double bound(Eigen::Index i, double lambda_nu) const {
+    const double s = tresca[i] + mu[i] * std::max(lambda_nu, 0.0);
+    return i < limit.size() ? std::min(s, limit[i]) : s;
+  }
+  /// Whether row i's bound at λ_ν is its shear limit (then it does not move with λ_ν).
+  bool at_limit(Eigen::Index i, double lambda_nu) const {
+    return i < limit.size() && tresca[i] + mu[i] * std::max(lambda_nu, 0.0) >= limit[i];
+  }
 };
 
 /// The tangents of friction (ContactConstraints::T, tangent_dof) for c.block − 1 tangents per row:
@@ -115,9 +127,10 @@ void set_tangents(ContactConstraints& c, const std::vector<std::vector<int>>& no
 Vector slip_increment(const ContactConstraints& c, const Vector& u);
 
 /// A contact node's state after a step, for friction's outputs: not in contact (λ_ν = 0),
-/// sticking (|λ_τ| below the bound by more than kSlipShare of it and more than `slack`) or
-/// slipping (at it).
-enum class ContactStatus { Free = 0, Stick = 1, Slip = 2 };
+/// sticking (|λ_τ| below the bound by more than kSlipShare of it and more than `slack`),
+/// slipping (at it), or not in contact yet carrying a tangential force above `slack` (Open:
+/// Tresca's given bound acts on all of Γ3, in or out of contact).
+enum class ContactStatus { Free = 0, Stick = 1, Slip = 2, Open = 3 };
 constexpr double kSlipShare = 1e-9;
 /// The slack of a row's stick or slip status (stick_slip): this share of the force scale of the
 /// friction residuals (ContactResiduals::force_scale). A solver's slip forces are exact only to

@@ -40,17 +40,20 @@ class ActiveSetContactSolver final : public ContactSolver {
       compliance_ = replicate(comm(), c_, c_.compliance);
       nonlinear_ = std::ranges::any_of(row_laws_, [](const ContactLaw* l) { return !l->linear(); });
     }
-    require(!nonlinear_ || !c_.frictional(),
-            "contact solver 'active-set': friction with a normal law that is not linear is not solved; use Signorini "
-            "or a linear normal compliance with friction");
     if (nonlinear_) S_plain_ = S;  // the nonlinear law's dual (solve_compliance_dual) on S itself
     // A linear law's λ_i = k_i d₊ adds its spring's compliance 1/k_i to S_ii (the box QP of S + diag(1/k)),
-    // on the normal rows (j × block).
+    // on the normal rows (j × block); a law that is not linear has λ_i = λ(d) on S itself.
     const Eigen::Index b = c_.block;
     for (Eigen::Index j = 0; j < compliance_.size(); ++j)
-      if (const ContactLaw* law = row_laws_[static_cast<std::size_t>(j)]; !law->rigid())
+      if (const ContactLaw* law = row_laws_[static_cast<std::size_t>(j)]; !law->rigid() && law->linear())
         S(j * b, j * b) += law->spring_compliance(compliance_[j]);
-    if (c_.frictional()) sets_ = friction_sets(comm(), c_, row_laws_, S);
+    if (c_.frictional()) {
+      sets_ = friction_sets(comm(), c_, row_laws_, S);
+      if (nonlinear_) {  // friction_dual.hpp: those rows' λ_ν = λ(d) in the semismooth Newton
+        for (const ContactLaw* law : row_laws_) sets_.force_law.push_back(law->linear() ? nullptr : law);
+        sets_.compliance = compliance_;
+      }
+    }
     S_ = std::make_unique<DenseBoxQpOperator>(std::move(S));
   }
 
@@ -86,8 +89,10 @@ class ActiveSetContactSolver final : public ContactSolver {
   void set_friction(const Vector& tresca, const Vector& shift) override { set_friction_data(c_, tresca, shift); }
   std::string name() const override { return "active-set"; }
   std::string describe() const override {
-    if (nonlinear_) return describe_solves() + "; semismooth Newton for the nonlinear compliance law";
+    if (nonlinear_ && !c_.frictional()) return describe_solves() + "; semismooth Newton for the nonlinear compliance law";
     if (c_.frictional()) {
+      if (nonlinear_)
+        return describe_solves() + "; friction and the nonlinear compliance law by semismooth Newton (Alart-Curnier) on the dual";
       if (sets_.coulomb()) return describe_solves() + "; Coulomb friction by semismooth Newton (Alart-Curnier) on the dual";
       if (c_.block == 2) return describe_solves() + "; Tresca friction as a box QP";
       return describe_solves() + "; Tresca friction by semismooth Newton (Alart-Curnier) on the dual";

@@ -37,19 +37,37 @@ Vector step_lengths(const Eigen::MatrixXd& S, const FrictionDualSets& f) {
   return rho;
 }
 
+/// A node whose normal force is its law's λ(d) (a law that is not linear), not a projection.
+const ContactLaw* force_law(const FrictionDualSets& f, int node) {
+  return f.force_law.empty() ? nullptr : f.force_law[static_cast<std::size_t>(node)];
+}
+
 /// p = P(z), node by node, and where dP is given its derivative: row k holds ∂p_k/∂z over the
-/// d unknowns of k's node (the branch of λ's own value at a tie, as solve_compliance_dual).
-void project(const FrictionDualSets& f, const Vector& z, Vector& p, Eigen::MatrixXd* dP) {
+/// d unknowns of k's node (the branch of λ's own value at a tie, as solve_compliance_dual). At a
+/// node with a force law p_ν = λ(d) at its penetration d = (z_ν − λ_ν)/ρ_ν = r_ν (λ: the iterate
+/// z was made from); dP holds its slope through z_ν, and newton_step adds λ_ν's own part.
+void project(const FrictionDualSets& f, const Vector& z, const Vector& lambda, const Vector& rho, Vector& p,
+             Eigen::MatrixXd* dP) {
   const int d = f.block, t = d - 1;
   p.setZero(z.size());
   if (dP) dP->setZero(z.size(), d);
   for (int i = 0; i < f.nodes(); ++i) {
     const Eigen::Index k = static_cast<Eigen::Index>(i) * d;
-    p[k] = std::clamp(z[k], f.lo[i], f.hi[i]);
-    const bool normal_free = z[k] > f.lo[i] && z[k] < f.hi[i];
-    if (dP && normal_free) (*dP)(k, 0) = 1;
-    const double s = f.tresca[i] + f.mu[i] * std::max(p[k], 0.0);
-    const double ds = normal_free && p[k] > 0 ? f.mu[i] : 0.0;  // ∂s/∂z_ν
+    double slope = 0;  // ∂p_ν/∂z_ν
+    if (const ContactLaw* law = force_law(f, i)) {
+      const double pen = (z[k] - lambda[k]) / rho[k];
+      p[k] = law->force(pen, f.compliance[i]);
+      slope = law->force_slope(pen, f.compliance[i]) / rho[k];
+    } else {
+      p[k] = std::clamp(z[k], f.lo[i], f.hi[i]);
+      slope = z[k] > f.lo[i] && z[k] < f.hi[i] ? 1.0 : 0.0;
+    }
+    if (dP) (*dP)(k, 0) = slope;
+    // Coulomb's bound, capped by the shear limit (where it holds the bound does not move with λ_ν).
+    const double coulomb = f.tresca[i] + f.mu[i] * std::max(p[k], 0.0);
+    const bool capped = f.limit.size() > 0 && coulomb >= f.limit[i];
+    const double s = capped ? f.limit[i] : coulomb;
+    const double ds = !capped && p[k] > 0 ? f.mu[i] * slope : 0.0;  // ∂s/∂z_ν
     double norm2 = 0;
     for (int j = 0; j < t; ++j)
       if (has_tangent(f, i, j)) norm2 += z[k + 1 + j] * z[k + 1 + j];
@@ -74,7 +92,7 @@ void project(const FrictionDualSets& f, const Vector& z, Vector& p, Eigen::Matri
 /// Alart–Curnier's Φ(λ) = λ − P(λ + ρ(b − Sλ)); p = P(·).
 Vector alart_curnier(const Eigen::MatrixXd& S, const Vector& b, const FrictionDualSets& f, const Vector& rho,
                      const Vector& lambda, Vector& p, Eigen::MatrixXd* dP) {
-  project(f, Vector(lambda + rho.cwiseProduct(b - S * lambda)), p, dP);
+  project(f, Vector(lambda + rho.cwiseProduct(b - S * lambda)), lambda, rho, p, dP);
   return lambda - p;
 }
 
@@ -104,6 +122,8 @@ Vector newton_step(const Eigen::MatrixXd& S, const FrictionDualSets& f, const Ve
         row[base + l] -= v;
       }
     row[k] += 1;
+    // A force law's node: p depends on λ_ν also directly, through d = (z_ν − λ_ν)/ρ_ν.
+    if (force_law(f, static_cast<int>(k / d))) row[base] += dP(k, 0);
     rhs[a] = -phi[k] - row.dot(step);  // the fixed rows' δ moved to the right
     for (Eigen::Index c = 0; c < nf; ++c) J_FF(a, c) = row[free[static_cast<std::size_t>(c)]];
   }
@@ -113,13 +133,16 @@ Vector newton_step(const Eigen::MatrixXd& S, const FrictionDualSets& f, const Ve
 }
 
 /// The force scale of the tolerance besides ‖λ‖∞: the normal forces b_ν / S_νν would take
-/// alone, and the Tresca bounds. Not b_τ / S_ττ: a far slide (h large) makes it any size, and
-/// the forces it gives are bounded by s.
+/// alone, and the tangential ones b_τ / S_ττ up to the Tresca bound: a far slide (h large) makes
+/// b_τ any size, and the forces it gives are bounded by s; a bound far above the forces (1e8: a
+/// stuck face) is no force scale either, and would loosen the tolerance by as much.
 double b_scale(const Eigen::MatrixXd& S, const Vector& b, const FrictionDualSets& f) {
-  double scale = max_abs(f.tresca);
+  double scale = 0;
   for (int i = 0; i < f.nodes(); ++i) {
     const Eigen::Index k = static_cast<Eigen::Index>(i) * f.block;
     scale = std::max(scale, std::abs(b[k] / S(k, k)));
+    for (int j = 0; j < f.block - 1; ++j)
+      if (has_tangent(f, i, j)) scale = std::max(scale, std::min(f.tresca[i], std::abs(b[k + 1 + j] / S(k + 1 + j, k + 1 + j))));
   }
   return scale;
 }
@@ -221,6 +244,11 @@ FrictionDualSets friction_sets(const la::Comm& comm, const ContactConstraints& c
   Vector has(c.T.rows());
   for (Eigen::Index k = 0; k < has.size(); ++k) has[k] = c.tangent_dof[static_cast<std::size_t>(k)] >= 0;
   const Vector all = replicate_blocks(comm, c, c.mu, has);
+  // The shear limits (+∞: none), replicated where some row has one (a sum with one owner a row: exact).
+  const double inf = std::numeric_limits<double>::infinity();
+  const auto rows = static_cast<Eigen::Index>(c.rows.size());
+  const Vector limit = c.limit.size() == rows ? c.limit : Vector(Vector::Constant(rows, inf));
+  if (comm.any(rows > 0 && limit.minCoeff() < inf)) f.limit = replicate(comm, c, limit);
   f.mu.resize(m);
   f.tresca = Vector::Zero(m);
   f.tangent.assign(static_cast<std::size_t>(m * t), 0);
@@ -258,6 +286,9 @@ BoxQpResult solve_friction_dual(DenseBoxQpOperator& S, const Vector& b, const Fr
   const int d = f.block;
   require(d >= 2 && S.size() == n && n == static_cast<Eigen::Index>(f.nodes()) * d &&
               f.hi.size() == f.nodes() && f.tresca.size() == f.nodes() && f.mu.size() == f.nodes() &&
+              (f.limit.size() == 0 || f.limit.size() == f.nodes()) &&
+              (f.force_law.empty() || (f.force_law.size() == static_cast<std::size_t>(f.nodes()) &&
+                                       f.compliance.size() == f.nodes())) &&
               f.tangent.size() == static_cast<std::size_t>(f.nodes() * (d - 1)),
           "internal: friction dual of {} unknowns for {} nodes of block {}", n, f.nodes(), d);
   if (lambda.size() != n) lambda = Vector::Zero(n);
@@ -266,7 +297,7 @@ BoxQpResult solve_friction_dual(DenseBoxQpOperator& S, const Vector& b, const Fr
     r.kkt_residual = std::numeric_limits<double>::infinity();
     return r;
   }
-  if (d == 2 && !f.coulomb()) {
+  if (d == 2 && !f.coulomb() && f.force_law.empty()) {
     Vector lo, hi;
     tresca_box(f, lo, hi);
     return solve_box_qp(S, b, lo, hi, lambda, max_iterations);

@@ -5,9 +5,12 @@
 //     min ½λᵀSλ − bᵀλ   over  λ_ν,i ∈ [lo_i, hi_i] (λ_ν,i ≥ 0 for Signorini),  |λ_τ,i| ≤ s_i,
 // since r = b − Sλ is (N u − g, T u − h) = (the penetration, the slip increment Δ) at
 // u = K⁻¹(F − Bᵀλ): r_ν ≤ 0 ⟂ λ_ν, and Δ_i lies in the normal cone of the disc at λ_τ,i
-// (no slip below the bound, slip along λ_τ at it). s_i = tresca_i + μ_i λ_ν,i: Tresca is
-// a convex QP (in 2D a box QP), Coulomb a quasi-variational one, solved exactly as well.
-// A linear compliance law's λ_ν = k d₊ adds 1/k to S's normal diagonal (the caller does).
+// (no slip below the bound, slip along λ_τ at it). s_i = min(tresca_i + μ_i λ_ν,i, limit_i):
+// Tresca is a convex QP (in 2D a box QP), Coulomb (with or without its shear limit) a
+// quasi-variational one, solved exactly as well. A linear compliance law's λ_ν = k d₊ adds 1/k to
+// S's normal diagonal (the caller does); a law that is not linear (a power law λ_ν = k d₊^e) has
+// the row λ_ν − λ(r_ν) = 0 in place of the projection (FrictionDualSets::force_law): the normal law
+// is monotone, so the problem is Coulomb's with a monotone normal law, and the bound is its force.
 #include "solvers/box_qp.hpp"
 #include "solvers/contact_solver.hpp"
 
@@ -19,7 +22,14 @@ namespace vpc {
 struct FrictionDualSets {
   int block = 2;          // d: λ_ν and d − 1 tangential forces per node
   Vector lo, hi;          // the normal force's bounds (ContactLaw::dual_lower, dual_upper)
-  Vector tresca, mu;      // the bound s_i = tresca_i + μ_i max(λ_ν,i, 0)
+  Vector tresca, mu;      // the bound s_i = min(tresca_i + μ_i max(λ_ν,i, 0), limit_i)
+  Vector limit;           // Coulomb's shear limit as a force (+∞: none; empty: none anywhere)
+  /// A normal law that is not linear (ContactLaw::linear; e.g. a power-law compliance): per node
+  /// its law (nullptr where λ_ν is projected onto [lo, hi]: Signorini, a linear law with 1/k on
+  /// S's diagonal) and its compliance 1/k_i. Empty: none. At such a node λ_ν = λ(d), d = r_ν the
+  /// penetration, in place of the projection (S without 1/k there).
+  std::vector<const ContactLaw*> force_law;
+  Vector compliance;
   /// Per node × (block − 1): the tangent exists (else its row of T is zero, a symmetry plane:
   /// λ_τ,ij = 0, and S has 1 on that diagonal so that the problem stays definite).
   std::vector<char> tangent;

@@ -461,6 +461,8 @@ class PrimalActiveSetSolver final : public ContactSolver {
     for (size_t i = 0; i < rows_.size(); ++i) {
       const auto e = static_cast<Eigen::Index>(i);
       if (!couple_ || !active[i] || friction_->stick()[i] || !(c_.mu[e] > 0) || friction_->direction(i).isZero(0.0)) continue;
+      // At its shear limit the bound does not move with λ_ν: the force s n stays a load.
+      if (c_.limit.size() > 0 && friction_->slip_force(i).norm() >= (1 - 1e-12) * c_.limit[e]) continue;
       coupled_[i] = 1;
       const RotatedRow& row = rows_[i];
       for (int j = 0; j < t; ++j) {

@@ -52,6 +52,10 @@ class PrimalFriction {
   Eigen::Ref<const Vector> direction(std::size_t i) const {
     return direction_.segment(static_cast<Eigen::Index>(i) * t_, t_);
   }
+  /// s_i n_i of a slip row (the bound of its linearization along n_i; zero at stick rows).
+  Eigen::Ref<const Vector> slip_force(std::size_t i) const {
+    return force_.segment(static_cast<Eigen::Index>(i) * t_, t_);
+  }
   int tangents() const { return t_; }
   int tangent_dof(std::size_t i, int j) const { return dof_[i * t_ + j]; }
   /// λ_τ of the iterate (rows × (b − 1)): the reaction r = b − K_rot w at the tangent dofs, 0

@@ -7,10 +7,13 @@ std::vector<ContactStatus> stick_slip(const ContactConstraints& c, const Vector&
   const int t = c.block - 1;
   const Vector normal = local_normal(c, lambda), tangential = local_tangential(c, lambda);
   std::vector<ContactStatus> status;
-  for (Eigen::Index i = 0; i < normal.size(); ++i)
-    status.push_back(normal[i] > active_threshold
-                         ? contact_status(normal[i], tangential.segment(i * t, t).norm(), c.bound(i, normal[i]), slack)
-                         : ContactStatus::Free);
+  for (Eigen::Index i = 0; i < normal.size(); ++i) {
+    const double tn = tangential.segment(i * t, t).norm();
+    // Out of contact only Tresca's given bound leaves a tangential force (Open; else Free).
+    status.push_back(normal[i] > active_threshold ? contact_status(normal[i], tn, c.bound(i, normal[i]), slack)
+                     : tn > slack                 ? ContactStatus::Open
+                                                  : ContactStatus::Free);
+  }
   return status;
 }
 

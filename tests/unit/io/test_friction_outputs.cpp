@@ -249,6 +249,7 @@ TEST(FrictionOutputs, HistoryHasFrictionColumnsOnlyWithFriction) {
   r.contact.residuals.slip_direction = 3e-12;
   r.tangential_force = {0.5, -0.25};
   r.obstacle_tangential_force = {0.5, -0.25};
+  r.contact.n_open = -1;  // no bound that acts out of contact (contact_totals): no n_tresca_open
   const std::vector<HistoryValue> row = history_values(r);
   ASSERT_EQ(row.size(), names.size());
   std::vector<std::string> text;

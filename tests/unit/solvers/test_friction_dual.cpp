@@ -16,6 +16,7 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -176,14 +177,17 @@ TEST(FrictionDual, FullSlipGivesMuTimesTheNormalForce) {
 
 // (2) μ = 100: every node in contact sticks, and the solution is the frictionless one with the
 // base's tangential displacements prescribed to the plane's (u_τ = h), whose reactions on
-// those dofs are λ_τ. The reference: the frictionless dual on the dofs left free.
+// those dofs are λ_τ. The reference: the frictionless dual on the dofs left free. Also μ = 1e8
+// and μ = 1e300 and a Tresca bound of 1e8 (issue 48: the stick-slip residual scaled a sticking
+// node's round-off slip by the bound, and refused them): μ → ∞ is the stick solution.
 TEST(FrictionDual, HugeMuSticksLikePrescribedTangentialDisplacements) {
-  for (const int dim : {2, 3}) {
-    SCOPED_TRACE(dim);
-    FrictionBlock b = make_friction_block(dim, 100);
+  for (const int dim : {2, 3})
+    for (const auto& [mu, g] : {std::pair{100.0, 0.0}, std::pair{1e8, 0.0}, std::pair{1e300, 0.0}, std::pair{0.0, 1e8}}) {
+    SCOPED_TRACE(::testing::Message() << dim << "D, mu " << mu << ", Tresca bound " << g);
+    FrictionBlock b = make_friction_block(dim, mu);
     std::vector<double> along(static_cast<std::size_t>(dim - 1), 0.002);
     const Vector h = slide_shift(b, along);
-    const Solved s = solve(b, Vector::Zero(b.m()), h);
+    const Solved s = solve(b, Vector::Constant(b.m(), g), h);
     EXPECT_EQ(s.rep.n_stick, b.m());
     // The reference: tangential dofs (T's rows are unit vectors here) prescribed to h.
     const auto n = b.K.rows();
@@ -226,6 +230,33 @@ TEST(FrictionDual, HugeMuSticksLikePrescribedTangentialDisplacements) {
                     1e-10 * ls);
     }
   }
+}
+
+// The stick-slip residual still fails a node that slips below its bound, however large the
+// bound: the stuck answer of μ = 1e8 with one base node's tangential displacement moved by 1e-3
+// of the displacement scale (its λ unchanged, far below μ λ_ν) reads about that share; with
+// μ = 0.3 as well (a node well below its bound), and at μ = 1e8 it is not multiplied by μ.
+TEST(FrictionDual, StickSlipResidualFailsASlipBelowTheBound) {
+  for (const int dim : {2, 3})
+    for (const double mu : {0.3, 1e8}) {
+      SCOPED_TRACE(::testing::Message() << dim << "D, mu " << mu);
+      FrictionBlock b = make_friction_block(dim, mu);
+      std::vector<double> along(static_cast<std::size_t>(dim - 1), 0.0005);
+      const Vector h = slide_shift(b, along);
+      Solved s = solve(b, Vector::Zero(b.m()), h);
+      ContactConstraints c = b.c;
+      set_friction_data(c, Vector::Zero(b.m()), h);
+      const la::SparseOperator K(b.K);
+      // The middle base node: it sticks (below its bound by a share of the force scale).
+      const int i = b.m() / 2;
+      ASSERT_LT(tangential(s, b, i).norm(), 0.9 * mu * normal(s, b, i));
+      const double before = contact_residuals(K, c, b.F, s.u, s.lambda).stick_slip;
+      EXPECT_LE(before, 1e-10);
+      s.u[b.c.tangent_dof[static_cast<std::size_t>(i * b.t())]] += 1e-3 * s.u.cwiseAbs().maxCoeff();
+      const double after = contact_residuals(K, c, b.F, s.u, s.lambda).stick_slip;
+      EXPECT_GT(after, 1e-6) << "a slip of 1e-3 of u below the bound must fail the tolerance";
+      EXPECT_LT(after, 1e-2);
+    }
 }
 
 // (3) A Coulomb solution with stick and slip nodes equals the Tresca solution whose bound is
@@ -301,8 +332,103 @@ TEST(FrictionDual, LinearComplianceWithCoulomb) {
     std::vector<double> along(static_cast<std::size_t>(dim - 1), 0.003);
     const Solved s = solve(b, Vector::Zero(b.m()), slide_shift(b, along));
     EXPECT_GT(s.rep.n_active, 0);
-    b.c.laws = {std::make_shared<NormalComplianceLaw>(10.0, 2.0)};  // not linear: refused with friction
-    EXPECT_NE(error_of([&] { dual_solver(b.c, b.K); }).find("not linear"), std::string::npos);
+    b.c.laws = {std::make_shared<NormalComplianceLaw>(10.0, 2.0)};  // not linear: the force rows (issue 48)
+    const Solved p = solve(b, Vector::Zero(b.m()), slide_shift(b, along));
+    EXPECT_GT(p.rep.n_active, 0);
+    EXPECT_GT(p.rep.n_stick + p.rep.n_slip, 0);
+  }
+}
+
+/// The linear compliance (exponent 1) saying it is not linear: the dual then solves λ_ν = k d₊ by
+/// the force rows of the semismooth Newton (friction_dual.hpp), on S without 1/k, instead of the
+/// projection with S + diag(1/k).
+class LinearAsNonlinear final : public ContactLaw {
+ public:
+  explicit LinearAsNonlinear(double c) : law_(c, 1.0) {}
+  std::string name() const override { return "normal-compliance"; }
+  std::string describe() const override { return law_.describe(); }
+  std::string kind() const override { return "a power-law compliance of exponent 1"; }
+  bool linear() const override { return false; }
+  double gap_left(double s0, double l, double compliance) const override { return law_.gap_left(s0, l, compliance); }
+  double force(double d, double compliance) const override { return law_.force(d, compliance); }
+  double force_slope(double d, double compliance) const override { return law_.force_slope(d, compliance); }
+
+ private:
+  NormalComplianceLaw law_;
+};
+
+// Issue 48: friction with a power-law compliance. At exponent 1 the force rows' answer is the
+// linear law's (the projection's with S + 1/k) to round-off: partial slip, full slip, Coulomb
+// and Tresca, 2D and 3D; a second law on half the rows (Signorini) mixes both kinds of rows.
+TEST(FrictionDual, PowerLawAtExponentOneIsTheLinearCompliance) {
+  for (const int dim : {2, 3})
+    for (const double slide : {0.003, 10.0})
+      for (const bool tresca : {false, true})
+        for (const bool mixed : {false, true}) {
+          SCOPED_TRACE(::testing::Message() << dim << "D, slide " << slide << (tresca ? ", Tresca" : ", Coulomb")
+                                            << (mixed ? ", half Signorini" : ""));
+          FrictionBlock b = make_friction_block(dim, tresca ? 0.0 : 0.3);
+          b.c.laws = {std::make_shared<NormalComplianceLaw>(10.0, 1.0), signorini_law()};
+          b.c.law.assign(static_cast<std::size_t>(b.m()), 0);
+          if (mixed)
+            for (int i = 0; i < b.m(); i += 2) b.c.law[static_cast<std::size_t>(i)] = 1;
+          b.c.compliance = Vector::Constant(b.m(), 0.05);
+          std::vector<double> along(static_cast<std::size_t>(dim - 1), slide);
+          const Vector h = slide_shift(b, along);
+          const Vector g = Vector::Constant(b.m(), tresca ? 0.002 : 0.0);
+          const Solved linear = solve(b, g, h);
+          b.c.laws[0] = std::make_shared<LinearAsNonlinear>(10.0);
+          const Solved forced = solve(b, g, h);
+          const double us = linear.u.cwiseAbs().maxCoeff(), ls = linear.lambda.cwiseAbs().maxCoeff();
+          EXPECT_LE((forced.u - linear.u).cwiseAbs().maxCoeff(), 1e-10 * us);
+          EXPECT_LE((forced.lambda - linear.lambda).cwiseAbs().maxCoeff(), 1e-10 * ls);
+          EXPECT_EQ(forced.rep.n_active, linear.rep.n_active);
+          EXPECT_EQ(forced.rep.n_slip, linear.rep.n_slip);
+          EXPECT_GT(slide > 1 ? linear.rep.n_slip : linear.rep.n_stick, 0);
+        }
+}
+
+// Issue 48: Coulomb with a shear limit, |λ_τ,i| ≤ min(μ λ_ν,i, L_i). Full slip: every node in
+// contact carries min(μ λ_ν,i, L_i), with L the median of the plain Coulomb run's μ λ_ν (so that
+// both kinds of node occur); the sum is Σ min(μ λ_ν, L). A limit far above the forces is plain
+// Coulomb, bit for bit. Partial slip meets every residual.
+TEST(FrictionDual, ShearLimitCapsCoulombsBound) {
+  const double mu = 0.3;
+  for (const int dim : {2, 3}) {
+    SCOPED_TRACE(dim);
+    FrictionBlock b = make_friction_block(dim, mu);
+    std::vector<double> far(static_cast<std::size_t>(dim - 1), 0.0);
+    far[0] = 10;
+    const Vector h = slide_shift(b, far);
+    const Solved plain = solve(b, Vector::Zero(b.m()), h);
+    std::vector<double> bounds;
+    for (int i = 0; i < b.m(); ++i) bounds.push_back(mu * normal(plain, b, i));
+    std::sort(bounds.begin(), bounds.end());
+    const double L = bounds[bounds.size() / 2];
+    b.c.limit = Vector::Constant(b.m(), L);
+    const Solved capped = solve(b, Vector::Zero(b.m()), h);
+    int at_limit = 0, below = 0;
+    double sum = 0, expected = 0;
+    for (int i = 0; i < b.m(); ++i) {
+      const double s = std::min(mu * normal(capped, b, i), L);
+      EXPECT_NEAR(tangential(capped, b, i).norm(), s, 1e-12 * capped.rep.total_force) << i;
+      (mu * normal(capped, b, i) > L ? at_limit : below) += normal(capped, b, i) > 0;
+      sum += tangential(capped, b, i).norm();
+      expected += s;
+    }
+    EXPECT_GT(at_limit, 0);
+    EXPECT_GT(below, 0);
+    EXPECT_EQ(capped.rep.n_slip, capped.rep.n_active);
+    EXPECT_NEAR(sum, expected, 1e-10 * expected);
+    EXPECT_LT(sum, mu * capped.rep.total_force * (1 - 1e-3));
+    b.c.limit = Vector::Constant(b.m(), 1e30);
+    const Solved high = solve(b, Vector::Zero(b.m()), h);
+    EXPECT_EQ(high.u, plain.u);
+    EXPECT_EQ(high.lambda, plain.lambda);
+    b.c.limit = Vector::Constant(b.m(), L);
+    std::vector<double> near(static_cast<std::size_t>(dim - 1), 0.003);
+    const Solved partial = solve(b, Vector::Zero(b.m()), slide_shift(b, near));
+    EXPECT_GT(partial.rep.n_stick, 0);
   }
 }
 

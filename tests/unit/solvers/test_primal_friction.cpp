@@ -15,6 +15,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <string>
@@ -277,20 +278,58 @@ Solved bonded(const Block& b, const ContactConstraints& c, const Vector& shift) 
 }
 
 // μ = 1e3: every node in contact sticks, and the answer is the bonded one to round-off, on the
-// 2D block (base along the axis, and tilted: the Householder frame) and the 3D block.
+// 2D block (base along the axis, and tilted: the Householder frame) and the 3D block. Also μ =
+// 1e8 and 1e300 and a Tresca bound of 1e8 (issue 48: the stick-slip residual was scaled by the
+// bound): μ → ∞ is the stick solution.
 TEST(PrimalFriction, HugeMuGivesTheBondedSolution) {
-  for (const auto& [dim, theta] : {std::pair{2, 0.0}, std::pair{2, 0.3}, std::pair{3, 0.0}}) {
-    SCOPED_TRACE(::testing::Message() << dim << "D, tilt " << theta);
+  for (const auto& [dim, theta] : {std::pair{2, 0.0}, std::pair{2, 0.3}, std::pair{3, 0.0}})
+    for (const auto& [mu, g] : {std::pair{1e3, 0.0}, std::pair{1e8, 0.0}, std::pair{1e300, 0.0}, std::pair{0.0, 1e8}}) {
+    SCOPED_TRACE(::testing::Message() << dim << "D, tilt " << theta << ", mu " << mu << ", Tresca bound " << g);
     const Block b = make_block(dim, theta);
-    const ContactConstraints c = frictional(b.N, Vector::Zero(b.N.rows()), dim, b.node_dofs, 1e3);
+    const ContactConstraints c = frictional(b.N, Vector::Zero(b.N.rows()), dim, b.node_dofs, mu);
     // The obstacle moves by 0.02 along each tangent (a shear far below the huge bound).
     const Vector shift = Vector::Constant(c.T.rows(), 0.02);
     const Solved ref = bonded(b, c, shift);
     ASSERT_GT(normal_of(ref.lambda, dim).minCoeff(), 0) << "the bonded block must press everywhere";
-    const Solved s = solve(b.K, c, b.F, shift);
+    const Solved s = solve(b.K, c, b.F, shift, Vector::Constant(c.m, g));
     EXPECT_EQ(s.rep.n_stick, c.m);
     EXPECT_LE(max_abs(s.u - ref.u), 1e-12 * max_abs(ref.u));
     EXPECT_LE(max_abs(s.lambda - ref.lambda), 1e-12 * max_abs(ref.lambda));
+  }
+}
+
+// Issue 48: Coulomb with a shear limit L_i, |λ_τ,i| ≤ min(μ λ_ν,i, L_i), in full slip (2D and 3D):
+// every node in contact carries min(μ λ_ν,i, L_i), L the median of the plain run's μ λ_ν (both
+// kinds of node occur); a limit far above the forces is the plain Coulomb answer; the dual solver
+// gives the same answer.
+TEST(PrimalFriction, ShearLimitCapsCoulombsBound) {
+  const double mu = 0.3;
+  for (const int dim : {2, 3}) {
+    SCOPED_TRACE(dim);
+    const Block b = make_block(dim);
+    ContactConstraints c = frictional(b.N, Vector::Zero(b.N.rows()), dim, b.node_dofs, mu);
+    const Vector shift = Vector::Constant(c.T.rows(), dim == 2 ? 5.0 : 5 / std::sqrt(2.0));
+    const Solved plain = solve(b.K, c, b.F, shift);
+    std::vector<double> bounds;
+    for (const double n : normal_of(plain.lambda, dim)) if (n > 0) bounds.push_back(mu * n);
+    std::sort(bounds.begin(), bounds.end());
+    const double L = bounds[bounds.size() / 2];
+    c.limit = Vector::Constant(c.m, L);
+    const Solved capped = solve(b.K, c, b.F, shift);
+    const Vector n = normal_of(capped.lambda, dim), l = tangential_of(capped.lambda, dim);
+    int at_limit = 0, below = 0;
+    for (Eigen::Index i = 0; i < n.size(); ++i) {
+      const double s = std::min(mu * std::max(n[i], 0.0), L);
+      EXPECT_NEAR(l.segment(i * (dim - 1), dim - 1).norm(), s, kTol * n.maxCoeff()) << i;
+      if (n[i] > 0) (mu * n[i] > L ? at_limit : below) += 1;
+    }
+    EXPECT_GT(at_limit, 0);
+    EXPECT_GT(below, 0);
+    EXPECT_EQ(capped.rep.n_slip, capped.rep.n_active);
+    c.limit = Vector::Constant(c.m, 1e30);
+    const Solved high = solve(b.K, c, b.F, shift);
+    EXPECT_LE(max_abs(high.u - plain.u), 1e-12 * max_abs(plain.u));
+    EXPECT_LE(max_abs(high.lambda - plain.lambda), 1e-12 * max_abs(plain.lambda));
   }
 }
 
