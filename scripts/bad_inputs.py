@@ -282,6 +282,17 @@ INPUTS = [
     ("Tresca bound that is NaN for t > 0.5",
      {"c.toml": case('gap = "0.001*x"', 'gap = "0.001*x"\nfriction = "tresca"\nfriction_bound = "t > 0.5 ? sqrt(-1) : 1"')},
      ["run", "c.toml", "--no-vtu", "-o", "out"]),
+    ("a component prescribed twice with different values (two [[boundary.displacement]] tables)",
+     {"c.toml": case('clamped = "top"\ncontact = "patch"',
+                     'contact = "patch"\n\n[[boundary.displacement]]\nparts = "top"\nux = 0\nuy = "-0.01*t"\n\n'
+                     '[[boundary.displacement]]\nparts = "right"\nuy = 0')}, ["c.toml"]),
+    ("a pressure on a contact part",
+     {"c.toml": case('f0 = ["0", "-10*t"]', 'f0 = ["0", "-10*t"]\n\n[[loads.pressure]]\nparts = "patch"\np = 1')},
+     ["c.toml"]),
+    ("kappa = 1e300 by --set (the damage matrix H = M + k kappa A not positive definite)", {"c.toml": CASE},
+     ["run", "c.toml", "--set", "damage.kappa=1e300", "--no-vtu", "-o", "out"]),
+    ("output.fields = [\"slip\"] (a friction field) on a frictionless case",
+     {"c.toml": case('probes = [[1.0, 0.0]]', 'probes = [[1.0, 0.0]]\nfields = ["slip"]')}, ["c.toml"]),
 ]
 
 
