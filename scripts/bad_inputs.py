@@ -311,6 +311,15 @@ INPUTS = [
      ["run", "shear-2d", "--no-vtu", "-q", "-o", "out", "--set", "contact.friction=\"tresca\"", "--set",
       "contact.friction_bound=1", "--set", "obstacle[0].point=[\"0.02*max(t - 1, 0)\", \"-0.1\"]"],
      {"warning": True}),
+    ("a component prescribed twice with different values (two [[boundary.displacement]] tables)",
+     {"c.toml": case('clamped = "top"\ncontact = "patch"',
+                     'contact = "patch"\n\n[[boundary.displacement]]\nparts = "top"\nux = 0\nuy = "-0.01*t"\n\n'
+                     '[[boundary.displacement]]\nparts = "right"\nuy = 0')}, ["c.toml"]),
+    ("a pressure on a contact part",
+     {"c.toml": case('f0 = ["0", "-10*t"]', 'f0 = ["0", "-10*t"]\n\n[[loads.pressure]]\nparts = "patch"\np = 1')},
+     ["c.toml"]),
+    ("output.fields = [\"slip\"] (a friction field) on a frictionless case",
+     {"c.toml": case('probes = [[1.0, 0.0]]', 'probes = [[1.0, 0.0]]\nfields = ["slip"]')}, ["c.toml"]),
 ]
 
 

@@ -1,4 +1,5 @@
 #include "io/case_file.hpp"
+#include "io/state_fields.hpp"
 
 #include "contact/registry.hpp"
 #include "core/error.hpp"
@@ -1231,6 +1232,10 @@ void record_key_locations(Section& top, Problem& p, const Origins& origins) {
   record_tables(ct, "pair");
   if (p.key_locations.count("contact.pair[0]")) p.key_locations["contact.pair"] = p.key_locations["contact.pair[0]"];
   record_tables(top, "obstacle");
+  Section ld = top.table("loads");
+  record_tables(ld, "pressure");
+  Section dm = top.table("damage");
+  record(dm, "kappa");
   Section tm = top.table("time");
   if (tm.exists()) p.key_locations["time"] = fmt::format("{}: [time]", tm.where_section());
   for (const char* key : {"steps", "dt", "tolerance", "dt_min"}) record(tm, key);
@@ -1438,6 +1443,28 @@ std::vector<std::string> read_fields(Section& out) {
   return fields;
 }
 
+/// [output] fields may name only fields the case's VTU files can have: a field its files would never
+/// hold (VTU files with no array) is refused, located at the key. gap: cases with contact pairs;
+/// friction's fields (StateField::friction): a friction law somewhere; contact_lambda: more than
+/// one contact unknown per node.
+void check_fields_written(Section& out, const std::vector<std::string>& fields, const Problem& p) {
+  const bool frictional = p.contact.frictional();
+  for (const std::string& f : fields) {
+    const auto field = std::ranges::find(state_fields(), f, &StateField::vtu);
+    if (f == "gap" && p.contact.pairs.empty())
+      fail("{}: the field \"gap\" is written only for cases with contact pairs ([[contact.pair]]); this case has none",
+           out.where("fields"));
+    if (field != state_fields().end() && field->friction && !frictional)
+      fail("{}: the field {} is written only for frictional cases (a friction law in [contact], a [[contact.part]] "
+           "or a [[contact.pair]]); this case is frictionless",
+           out.where("fields"), quote(f));
+    if (f == "contact_lambda" && p.contact.block_size(p.mesh.dim()) == 1)
+      fail("{}: the field \"contact_lambda\" is written only where λ has more than one number per contact node "
+           "(frictional cases); this case has one, the normal force (see contact_force and contact_pressure)",
+           out.where("fields"));
+  }
+}
+
 std::vector<Point> read_probes(Section& out, int d) {
   std::vector<Point> probes;
   for (const auto& pt : out.array("probes", "an array of points, e.g. [[0.25], [1.0]]")) {
@@ -1509,9 +1536,7 @@ OutputOptions read_output(Section out, Problem& p) {
   if (controlled) p.step_control->landings.insert(p.step_control->landings.end(), o.times.begin(), o.times.end());
   o.vtu = out.boolean("vtu", true);
   if (out.has("fields")) o.fields = read_fields(out);
-  if (std::ranges::find(o.fields, "gap") != o.fields.end() && p.contact.pairs.empty())
-    fail("{}: the field \"gap\" is written only for cases with contact pairs ([[contact.pair]]); this case has none",
-         out.where("fields"));
+  check_fields_written(out, o.fields, p);
   o.encoding.compression = vtu_compression(out.choice("compression", {"zlib", "none"}, "zlib"));
   if (out.has("probes")) o.probes = read_probes(out, p.mesh.dim());
   // A probe must lie in the body (on a rank without the mesh: rank 0 checks it; on a block: all ranks

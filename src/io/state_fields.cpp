@@ -90,12 +90,14 @@ enum class OnMasters { none, sum, average };
 
 /// Friction's vectors Σ_j x_j t_j at the contact nodes (zero elsewhere), x_j the numbers of
 /// `values` (per contact row: the block − 1 numbers after `offset` of every `stride`) along
-/// the node's tangents (contact_tangents), each divided by `per` (1, or the node's measure). On a
-/// pair's master nodes the slave rows' vectors with the mortar weights: their sum (a force) or their
-/// average as add_master_averages takes it (a traction), or nothing.
+/// the node's tangents (contact_tangents), each times `sign` and divided by `per` (1, or the
+/// node's measure). On a pair's master nodes the slave rows' vectors with the mortar weights: their
+/// sum (a force) or their average as add_master_averages takes it (a traction), or nothing.
+/// λ_τ is the force on the obstacle (the master side): a force field on the body that owns the
+/// node takes sign −1 at the contact nodes and the master sums as they are, as contact_force does.
 template <typename Per>
 VtuField tangent_vector_field(const FieldContext& c, std::string_view name, const Eigen::VectorXd& values, int stride,
-                              int offset, Per per, OnMasters on_masters = OnMasters::none) {
+                              int offset, double sign, Per per, OnMasters on_masters = OnMasters::none) {
   const int b = c.state.contact_block;
   const std::vector<Point> t = contact_tangents(c.part, b);
   std::vector<Point> v(c.part.contact.size());
@@ -107,7 +109,7 @@ VtuField tangent_vector_field(const FieldContext& c, std::string_view name, cons
   return node_field(c, name, 3, [&](double* out) {
     for (std::size_t k = 0; k < c.part.contact.size(); ++k) {
       const PartContactNode& n = c.part.contact[k];
-      for (int i = 0; i < 3; ++i) out[n.local_node * 3 + i] = v[k][static_cast<std::size_t>(i)] / per(n);
+      for (int i = 0; i < 3; ++i) out[n.local_node * 3 + i] = sign * v[k][static_cast<std::size_t>(i)] / per(n);
     }
     if (on_masters == OnMasters::sum) add_master_sums(c, 3, of, out);
     if (on_masters == OnMasters::average) add_master_averages(c, 3, of, out);
@@ -191,21 +193,23 @@ constexpr StateField kFields[] = {
     {"tangential_force", "tangential_force", "tangential_force", L::node, three, nullptr, nullptr,
      [](const FieldContext& c) {
        const int b = c.state.contact_block;
-       return tangent_vector_field(c, "tangential_force", c.state.lambda, b, 1, [](const PartContactNode&) { return 1.0; },
-                                   OnMasters::sum);
+       return tangent_vector_field(c, "tangential_force", c.state.lambda, b, 1, -1.0,
+                                   [](const PartContactNode&) { return 1.0; }, OnMasters::sum);
      },
      frictional,
-     "the tangential force Σ_j λ_τ,j t_j at each node of Γ3 as a vector: the force on the obstacle (the body "
-     "gets its opposite, against its slip); on a contact pair's master nodes the force the slave side exerts on "
-     "them, Σ_j w_jk λ_τ,j t_j (friction only)", true},
+     "the tangential nodal force on the body that owns the node, as a vector, like contact_force: −Σ_j λ_τ,j t_j "
+     "at each node of Γ3 and each slave node (against its slip; λ_τ is the force on the obstacle or master side), "
+     "and on a contact pair's master nodes the force the slave side exerts on them, Σ_j w_jk λ_τ,j t_j; per body "
+     "the slave's and the master's sum to equal and opposite forces (friction only)", true},
     {"tangential_traction", "tangential_traction", "tangential_traction", L::node, three, nullptr, nullptr,
      [](const FieldContext& c) {
        const int b = c.state.contact_block;
-       return tangent_vector_field(c, "tangential_traction", c.state.lambda, b, 1,
+       return tangent_vector_field(c, "tangential_traction", c.state.lambda, b, 1, -1.0,
                                    [](const PartContactNode& n) { return n.measure; }, OnMasters::average);
      },
-     frictional, "the tangential force over the node's tributary measure on Γ3 (a traction, like contact_pressure; on a "
-     "contact pair's master nodes, the slave side's over the node's measure in contact; friction only)", true},
+     frictional, "tangential_force over the node's tributary measure on Γ3 (a traction on the body that owns the "
+     "node, like contact_pressure; on a contact pair's master nodes, the slave side's over the node's measure in "
+     "contact; friction only)", true},
     {"slip_step", "slip_step", "", L::contact_node, tangents, [](const State& s) { return span_of(s.slip_step); },
      [](State& s, Span v) { set(s.slip_step, v); }, nullptr, nullptr,
      "the last step's slip increment Δ = T u_n − h: contact_block − 1 numbers per contact node, along its "
@@ -213,7 +217,7 @@ constexpr StateField kFields[] = {
     {"slip_increment", "slip_increment", "slip_increment", L::node, three, nullptr, nullptr,
      [](const FieldContext& c) {
        const int t = c.state.contact_block - 1;
-       return tangent_vector_field(c, "slip_increment", c.state.slip_step, t, 0,
+       return tangent_vector_field(c, "slip_increment", c.state.slip_step, t, 0, 1.0,
                                    [](const PartContactNode&) { return 1.0; });
      },
      has_slip, "the last step's slip increment at each node of Γ3 as a vector Σ_j Δ_j t_j (friction only)", true},

@@ -73,42 +73,51 @@ DirichletDofs dirichlet_dofs(const Problem& p) {
   auto part_prescribes = [&](const std::string& part, unsigned mask) {
     out.components[std::find(out.parts.begin(), out.parts.end(), part) - out.parts.begin()] |= mask;
   };
+  // A condition that prescribes a dof: what it is and where the case gives it (Problem::where:
+  // "case.toml:12:1: boundary.displacement[0]"), for the messages.
+  struct Condition {
+    std::string what, at;
+  };
   // What set each prescribed dof, for the message of a conflict.
-  std::vector<std::string> by(out.condition.size());
+  std::vector<Condition> by(out.condition.size());
   auto value = [&](int k, int c, const Point& x, double t) { return k == 0 ? 0.0 : p.displacement[k - 1].value[c](x, t); };
-  auto prescribe = [&](int node, int c, int k, const std::string& what) {
+  auto prescribe = [&](int node, int c, int k, const Condition& cond) {
     const Point& x = mesh.node(node);
     const std::size_t i = static_cast<std::size_t>(node) * d + c;
     for (double t : {0.0, p.final_time}) {
       const double v = value(k, c, x, t);
-      require(std::isfinite(v), "{}: {} gives u{} = {} (not finite) at t = {} at node {} ({}, {}, {})",
-              k > 0 ? p.where(fmt::format("boundary.displacement[{}]", k - 1)) : p.name, what,
-              kAxis[c], v, t, p.node_number(node), x[0], x[1], x[2]);
+      require(std::isfinite(v), "{}: {} gives u{} = {} (not finite) at t = {} at node {} ({}, {}, {})", cond.at,
+              cond.what, kAxis[c], v, t, p.node_number(node), x[0], x[1], x[2]);
       if (out.condition[i] < 0) continue;
       const double before = value(out.condition[i], c, x, t);
+      // Located at the later condition; the message names both, each with its place in the file.
       require(std::abs(v - before) <= 1e-12 * std::max({1.0, std::abs(v), std::abs(before)}),
-              "{}: u{} at node {} ({}, {}, {}) is prescribed twice with different values at t = {}: {} by {} and {} "
-              "by {}; restrict one of the parts",
-              p.name, kAxis[c], p.node_number(node), x[0], x[1], x[2], t, before, by[i], v, what);
+              "{}: u{} at node {} ({}, {}, {}) is prescribed twice with different values at t = {}: {} by {} at {}, "
+              "and {} by {} at {}; restrict one of the parts",
+              cond.at, kAxis[c], p.node_number(node), x[0], x[1], x[2], t, before, by[i].what, by[i].at, v, cond.what,
+              cond.at);
     }
     if (out.condition[i] >= 0) return;
     out.condition[i] = k;
-    by[i] = what;
+    by[i] = cond;
   };
   for (const auto& part : p.clamped) part_prescribes(part, (1u << d) - 1);
+  const Condition clamped{"the clamped part Γ1", p.where("boundary.clamped")};
   for (int node : mesh.nodes_of_parts(p.clamped))
-    for (int c = 0; c < d; ++c) prescribe(node, c, 0, "the clamped part Γ1");
+    for (int c = 0; c < d; ++c) prescribe(node, c, 0, clamped);
   for (const auto& part : p.symmetry) {
     // A block of the mesh (Problem::block) may not meet the part: its axis is then found by the
     // ranks whose blocks do (block_part_pieces).
     if (p.block && mesh.part_size(part) == 0) continue;
-    const int c = located(p.name, [&] { return symmetry_axis(mesh, part, p.block.get()); });
+    const int c = located(p.where("boundary.symmetry"), [&] { return symmetry_axis(mesh, part, p.block.get()); });
     part_prescribes(part, 1u << c);
-    for (int node : mesh.nodes_of_parts({part})) prescribe(node, c, 0, fmt::format("symmetry part '{}'", part));
+    const Condition symmetry{fmt::format("symmetry part '{}'", part), p.where("boundary.symmetry")};
+    for (int node : mesh.nodes_of_parts({part})) prescribe(node, c, 0, symmetry);
   }
   for (std::size_t k = 0; k < p.displacement.size(); ++k) {
     const PrescribedDisplacement& bc = p.displacement[k];
-    const std::string what = fmt::format("[[boundary.displacement]] {} (parts {})", k + 1, fmt::join(bc.parts, ", "));
+    const Condition what{fmt::format("[[boundary.displacement]] {} (parts {})", k + 1, fmt::join(bc.parts, ", ")),
+                         p.where(fmt::format("boundary.displacement[{}]", k))};
     for (const auto& part : bc.parts)
       for (int c = 0; c < d; ++c)
         if (bc.value[c]) part_prescribes(part, 1u << c);

@@ -334,14 +334,16 @@ void Problem::validate() const {
     require(!whole || mesh.part_size(p) > 0, "{}: contact part '{}' has no boundary facets in the mesh", where, p);
   for (const auto& p : traction)
     require(!whole || mesh.part_size(p) > 0, "{}: traction part '{}' has no boundary facets in the mesh", where, p);
-  for (const PressureLoad& load : pressure)
-    for (const auto& p : load.parts) {
-      require(!whole || mesh.part_size(p) > 0, "{}: pressure part '{}' has no boundary facets in the mesh", where, p);
+  for (std::size_t k = 0; k < pressure.size(); ++k) {
+    const std::string at = this->where(fmt::format("loads.pressure[{}]", k));  // its [[loads.pressure]] table
+    for (const auto& p : pressure[k].parts) {
+      require(!whole || mesh.part_size(p) > 0, "{}: pressure part '{}' has no boundary facets in the mesh", at, p);
       const bool on_gamma1 = std::find(clamped.begin(), clamped.end(), p) != clamped.end();
       const bool on_gamma3 = std::find(contact.parts.begin(), contact.parts.end(), p) != contact.parts.end();
-      require(!on_gamma1 && !on_gamma3, "{}: pressure part '{}' is a {} part; a pressure acts on Γ2 only", where, p,
+      require(!on_gamma1 && !on_gamma3, "{}: pressure part '{}' is a {} part; a pressure acts on Γ2 only", at, p,
               on_gamma1 ? "clamped" : "contact");
     }
+  }
   require(static_cast<bool>(contact.gap) || !contact.obstacles.empty(), "{}: no gap function g", where);
   require(contact.obstacles.size() <= 64, "{}: {} obstacles; at most 64 are supported", where, contact.obstacles.size());
   auto on_gamma3 = [&](const std::string& part) {

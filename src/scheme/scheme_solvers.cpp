@@ -55,6 +55,12 @@ std::unique_ptr<ContactSolver> contact_solver(const DiscreteSystem& sys, const S
                              la::factor_factory(sys.backend), options);
 }
 
+/// Where the case gives κ, for the message of an H that k κ makes singular (make_damage_solver).
+std::string kappa_location(const Problem& p) {
+  const std::string at = p.where("damage.kappa");
+  return p.bodies.empty() ? at : at + " (or a [[body]]'s [body.damage] kappa)";
+}
+
 }  // namespace
 
 SchemeSolvers set_up_solvers(DiscreteSystem& sys, const SolverChoice& choice, SetupTiming& timing,
@@ -125,7 +131,7 @@ DamageSolver& DamageSolvers::for_step(const DiscreteSystem& sys, const SolverCho
                                 *sys.part.node_layout, 1);
     ++matrices_made_;
     kept_.push_back({k, make_damage_solver(choice.damage, std::move(H), la::factor_factory(sys.backend),
-                                           choice.damage_reduced)});
+                                           choice.damage_reduced, kappa_location(*sys.problem))});
     kept_.back().solver->hold(sys.constant_damage);
     if (current_) kept_.back().solver->set_warm_state(warm);
     current_ = kept_.back().solver.get();

@@ -29,9 +29,10 @@ double mass_share(const la::SpdOperator& H) {
 }
 
 /// Makes a damage solver, whose set-up factorizes H; if that fails, says the likely cause,
-/// measured on H (issue 26: a singular H was blamed on a missing clamp, which concerns K).
+/// measured on H (issue 26: a singular H was blamed on a missing clamp, which concerns K), located
+/// at κ (`kappa_at`) when it is κ.
 template <typename Make>
-std::unique_ptr<DamageSolver> with_cause(const la::SpdOperator& H, Make&& make) {
+std::unique_ptr<DamageSolver> with_cause(const la::SpdOperator& H, const std::string& kappa_at, Make&& make) {
   const double share = mass_share(H);  // before `make` takes H
   try {
     return make();
@@ -40,12 +41,12 @@ std::unique_ptr<DamageSolver> with_cause(const la::SpdOperator& H, Make&& make) 
     // kκ/h² = 1e14 (measured: 10 × 10 cells, k = 0.5: κ = 1e12 runs, 1e13 fails). Another cause
     // (a share above 1e-10) is left to the factor's own message.
     if (!(share < 1e-10)) throw;
-    fail("{}. Likely cause: k kappa is too large for the cells: H is definite only through its mass part M "
+    fail("{}: {}. Likely cause: k kappa is too large for the cells: H is definite only through its mass part M "
          "(A 1 = 0), and M, {:.1e} of H's diagonal, is lost in round-off next to k kappa A (k kappa / h^2 must stay "
-         "below about 1e14, k the time step, h the cell size). Check [damage] kappa and the unit of length: kappa "
+         "below about 1e14, k the time step, h the cell size). Check kappa and the unit of length: kappa "
          "is a length^2 per unit of time, so a mesh in a small unit (a body 1e-9 across, in metres) needs kappa "
          "scaled by the square of that unit, or another unit",
-         e.what(), share);
+         kappa_at, e.what(), share);
   }
 }
 
@@ -193,12 +194,13 @@ std::string damage_failure(const DamageReport& r, double tolerance) {
 
 std::unique_ptr<DamageSolver> make_damage_solver(const std::string& name, std::unique_ptr<la::SpdOperator> H,
                                                  const la::LinearSolverFactory& make_factor, ReducedSolve reduced,
-                                                 double tolerance, int max_iterations) {
+                                                 const std::string& kappa_at, double tolerance, int max_iterations) {
   const la::SpdOperator& h = *H;
   if (name == "active-set")
-    return with_cause(h, [&] { return std::make_unique<ActiveSetDamageSolver>(std::move(H), make_factor, reduced); });
+    return with_cause(h, kappa_at,
+                      [&] { return std::make_unique<ActiveSetDamageSolver>(std::move(H), make_factor, reduced); });
   if (name == "penalty-duality")
-    return with_cause(h, [&] {
+    return with_cause(h, kappa_at, [&] {
       return std::make_unique<PenaltyDualityDamageSolver>(std::move(H), make_factor, tolerance, max_iterations);
     });
   fail("unknown damage solver '{}'; expected active-set or penalty-duality", name);
@@ -207,7 +209,7 @@ std::unique_ptr<DamageSolver> make_damage_solver(const std::string& name, std::u
 std::unique_ptr<DamageSolver> make_damage_solver(const std::string& name, const SparseMatrix& H, double tolerance,
                                                  int max_iterations, ReducedSolve reduced) {
   return make_damage_solver(name, std::make_unique<la::SparseOperator>(H), la::factor_factory(la::serial_backend()), reduced,
-                            tolerance, max_iterations);
+                            "[damage] kappa", tolerance, max_iterations);
 }
 
 }  // namespace vpc

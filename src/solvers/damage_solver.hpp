@@ -57,11 +57,13 @@ class DamageSolver {
 /// H: the assembled operator (owned rows of this rank), `make_factor` a backend's
 /// factors (la/): the same algorithms on one process and on many. "active-set"
 /// (primal–dual active set, factor of H cached; reduced systems by `reduced`, see
-/// ReducedSolve) or "penalty-duality" (Bermúdez–Moreno, factor of H + ωI).
-/// Collective.
+/// ReducedSolve) or "penalty-duality" (Bermúdez–Moreno, factor of H + ωI). `kappa_at`:
+/// where κ is given ("case.toml:9:1: damage.kappa", "--set damage.kappa=1e300"), which
+/// an H that k κ has made singular names. Collective.
 std::unique_ptr<DamageSolver> make_damage_solver(const std::string& name, std::unique_ptr<la::SpdOperator> H,
                                                  const la::LinearSolverFactory& make_factor,
                                                  ReducedSolve reduced = ReducedSolve::automatic,
+                                                 const std::string& kappa_at = "[damage] kappa",
                                                  double tolerance = 1e-13, int max_iterations = 200000);
 /// One process: H in Eigen, CHOLMOD.
 std::unique_ptr<DamageSolver> make_damage_solver(const std::string& name, const SparseMatrix& H,

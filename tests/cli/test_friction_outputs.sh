@@ -4,7 +4,7 @@
 #     friction residuals, tangential_force_<x|y>, tangential_force_<obstacle>_<x|y>);
 #   - the final VTU has tangential_force, tangential_traction, slip_increment, slip and
 #     contact_status, and their sums and counts are the history's and summary.json's: Σ of the
-#     nodal tangential force = the history's total, the statuses = n_stick and n_slip, the
+#     nodal tangential force (on the body) = −the history's total (on the obstacle), the statuses = n_stick and n_slip, the
 #     traction × the tributary measure (= force / pressure × λ_ν) = the force;
 #   - summary.json's friction block: the final counts, the dissipation summed over the steps,
 #     the residuals' maxima;
@@ -48,8 +48,9 @@ for name, comps in (("tangential_force", 3), ("tangential_traction", 3), ("slip_
     assert (a.shape[1] if a.ndim == 2 else 1) == comps, (name, a.shape)
 f = vtu.point_data["tangential_force"]
 scale = max(1.0, abs(last["tangential_force_x"]))
-assert abs(f[:, 0].sum() - last["tangential_force_x"]) <= 1e-12 * scale, (f[:, 0].sum(), last["tangential_force_x"])
-assert abs(f[:, 1].sum() - last["tangential_force_y"]) <= 1e-12 * scale
+# the field is the force on the body, the history's the force on the obstacle: opposite sums
+assert abs(f[:, 0].sum() + last["tangential_force_x"]) <= 1e-12 * scale, (f[:, 0].sum(), last["tangential_force_x"])
+assert abs(f[:, 1].sum() + last["tangential_force_y"]) <= 1e-12 * scale
 assert np.abs(f[:, 1]).max() <= 1e-12 * scale, "the tangent of the plane y = 0 is x"
 status = vtu.point_data["contact_status"]
 assert int((status == 1).sum()) == last["n_stick"] and int((status == 2).sum()) == last["n_slip"], \

@@ -33,9 +33,9 @@ def test_views_and_reports_of_a_frictional_run(sim, tmp_path):
     assert all(c in report for c in friction), report
     assert isinstance(report["n_stick"], int) and isinstance(report["dissipation"], float)
     assert report["n_stick"] + report["n_slip"] == int((sim.contact_status > 0).sum())
-    force = sim.tangential_force  # a copy, as the VTU file has it
+    force = sim.tangential_force  # a copy, as the VTU file has it: the force on the body
     assert force.shape == (len(sim.points), 3)
-    assert force[:, 0].sum() == pytest.approx(report["tangential_force_x"], rel=1e-12)
+    assert force[:, 0].sum() == pytest.approx(-report["tangential_force_x"], rel=1e-12)  # history: on the obstacle
     # The output directory read back: the same arrays and columns.
     run = sim.results()
     f = run.fields()

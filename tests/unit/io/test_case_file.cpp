@@ -5,6 +5,7 @@
 #include "core/error.hpp"
 #include "core/expression.hpp"
 #include "io/case_file.hpp"
+#include "io/state_fields.hpp"
 
 #include <gtest/gtest.h>
 
@@ -327,11 +328,49 @@ TEST(CaseFile, BadCaseFilesGiveTheirMessages) {
       {"[output]", "[output]\ncompression = \"gzip\"", "output.compression: unknown value 'gzip'; expected one of: zlib, none"},
       {"upper = [2.0, 1.0]", "upper = [2.0, 1.0", "bad.toml:9:1: invalid TOML: Error while parsing array"},
       {"[case]", "[case]\n[case]", "invalid TOML"},
+      // Issue 48: a component prescribed twice names both tables (the later first), a pressure on a
+      // contact part its table, a friction field on a frictionless case the key.
+      {"clamped = [\"top\"]\ncontact = [\"patch\"]\n",
+       "contact = [\"patch\"]\n\n[[boundary.displacement]]\nparts = [\"top\"]\nux = 0\nuy = \"-0.02*t\"\n\n"
+       "[[boundary.displacement]]\nparts = [\"right\"]\nuy = 0\n",
+       "bad.toml:23:1: boundary.displacement[1]: uy at node 65 (2, 1, 0) is prescribed twice with different values at "
+       "t = 0.5: -0.01 by [[boundary.displacement]] 1 (parts top) at bad.toml:18:1: boundary.displacement[0], and 0 by "
+       "[[boundary.displacement]] 2 (parts right) at bad.toml:23:1: boundary.displacement[1]; restrict one of the parts"},
+      {"f0 = [\"0\", \"-5*t\"]", "f0 = [\"0\", \"-5*t\"]\n\n[[loads.pressure]]\nparts = [\"patch\"]\np = 1",
+       "bad.toml:37:1: loads.pressure[0]: pressure part 'patch' is a contact part; a pressure acts on Γ2 only"},
+      {"fields = [\"displacement\", \"damage\"]", "fields = [\"slip\"]",
+       "bad.toml:48:10: output.fields: the field 'slip' is written only for frictional cases (a friction law in "
+       "[contact], a [[contact.part]] or a [[contact.pair]]); this case is frictionless"},
   };
   for (const auto& b : table) {
     const std::string msg = error_of(variant(b.from, b.to));
     EXPECT_NE(msg.find(b.message), std::string::npos) << "case: " << b.to << "\nexpected: " << b.message
                                                       << "\ngot:      " << msg;
+  }
+}
+
+// Issue 48: [output] fields names only arrays the case's VTU files can hold (VTU files with no
+// array were written for "slip" on a frictionless case): each friction field and contact_lambda
+// are refused without friction, gap without pairs, each at the key; all are accepted with friction.
+TEST(CaseFile, OutputFieldsTheFilesWouldNeverHoldAreRefused) {
+  for (const StateField& f : state_fields()) {
+    if (f.vtu.empty()) continue;
+    const std::string fields = fmt::format("fields = [\"{}\"]", f.vtu);
+    const std::string m = error_of(variant("fields = [\"displacement\", \"damage\"]", fields));
+    const bool refused = f.friction || f.vtu == "contact_lambda" || f.vtu == "gap";
+    if (!refused) {
+      EXPECT_EQ(m, "(no error)") << f.vtu;
+      continue;
+    }
+    EXPECT_TRUE(m.starts_with("bad.toml:48:10: output.fields: the field")) << m;
+    EXPECT_NE(m.find(f.vtu == "gap" ? "only for cases with contact pairs" : "frictional cases"),
+              std::string::npos)
+        << m;
+    // With friction (Coulomb on Γ3) all but gap are written, and accepted.
+    const std::string frictional =
+        test::replaced(variant("fields = [\"displacement\", \"damage\"]", fields), "direction = [0, -1]",
+                       "direction = [0, -1]\nfriction = \"coulomb\"\nmu = 0.3");
+    EXPECT_EQ(error_of(frictional) == "(no error)", f.vtu != "gap") << f.vtu << ": " << error_of(frictional);
   }
 }
 

@@ -128,8 +128,9 @@ TEST(FrictionOutputs, VtuFieldsAreTheTangentialVectorsSlipAndStatus) {
     on_contact[static_cast<std::size_t>(n.local_node)] = 1;
     const double lt = st.lambda[n.row * 2 + 1], dt = st.slip_step[n.row];
     for (std::size_t i = 0; i < 3; ++i) {
-      EXPECT_EQ(by_name["tangential_force"]->values[n.local_node * 3 + i], lt * t[k][i]);
-      EXPECT_EQ(by_name["tangential_traction"]->values[n.local_node * 3 + i], lt * t[k][i] / n.measure);
+      // the force on the body: λ_τ's opposite (λ_τ is the force on the obstacle), as contact_force −λ ν
+      EXPECT_EQ(by_name["tangential_force"]->values[n.local_node * 3 + i], -lt * t[k][i]);
+      EXPECT_EQ(by_name["tangential_traction"]->values[n.local_node * 3 + i], -lt * t[k][i] / n.measure);
       EXPECT_EQ(by_name["slip_increment"]->values[n.local_node * 3 + i], dt * t[k][i]);
     }
     EXPECT_EQ(by_name["slip"]->values[n.local_node], st.slip[n.row]);

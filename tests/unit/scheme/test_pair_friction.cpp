@@ -11,6 +11,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cstdio>
 #include <map>
 #include <string>
@@ -105,7 +106,8 @@ std::vector<double> point_field(const TimeStepper& s, const char* name) {
 
 // Once the whole face slides, every slave row is at its bound: Σ|λ_τ| = μ Σ λ_ν to the solver's
 // tolerance, on both solvers, which agree; the bodies balance: the moved top's reaction is the
-// pair's tangential force on the master, and the master nodes' tangential_force field sums to it.
+// pair's tangential force on the master, the master nodes' tangential_force field sums to it and
+// the slave nodes' to its opposite (each node's is the force on its own body).
 TEST(PairFriction, FullSlipCarriesMuTimesTheNormalForce) {
   for (int d : {2, 3}) {
     Vector u[2];
@@ -134,8 +136,7 @@ TEST(PairFriction, FullSlipCarriesMuTimesTheNormalForce) {
         EXPECT_EQ(r.pair_tangential_force[static_cast<std::size_t>(i)], r.tangential_force[static_cast<std::size_t>(i)]);
       }
       EXPECT_GT(r.pair_tangential_force[0], 0.2 * normal) << at;  // the master dragged along +x
-      // Both sides' fields: the master nodes' forces (y below 0.5: the lower block's top; the
-      // slave nodes' field is the force on the master too) sum to the pair's.
+      // Both sides' fields: the master nodes' forces sum to the pair's, the slave nodes' to its opposite.
       const std::vector<double> f = point_field(*s, "tangential_force");
       double on_masters = 0, on_slaves = 0;
       const Mesh& m = s->mesh();
@@ -144,7 +145,7 @@ TEST(PairFriction, FullSlipCarriesMuTimesTheNormalForce) {
         if (std::abs(m.node(n)[d - 1]) > 1e-12) continue;  // the interface, both sides, is at z (y) = 0
         (slip[static_cast<std::size_t>(n)] > 0 ? on_slaves : on_masters) += f[static_cast<std::size_t>(3 * n)];
       }
-      EXPECT_NEAR(on_slaves, r.pair_tangential_force[0], 1e-12 * normal) << at;
+      EXPECT_NEAR(on_slaves, -r.pair_tangential_force[0], 1e-12 * normal) << at;
       EXPECT_NEAR(on_masters, r.pair_tangential_force[0], 1e-10 * normal) << at;
       u[k] = s->state().u;
     }
@@ -152,6 +153,50 @@ TEST(PairFriction, FullSlipCarriesMuTimesTheNormalForce) {
     EXPECT_LT(apart, 1e-8) << "d = " << d;
     std::printf("  d = %d: primal and dual u apart by %.2e of max |u|\n", d, apart);
   }
+}
+
+/// Each body's sum of a nodal point field (3 components a node): [body][component], a node counted
+/// for the body of the cells it is in.
+std::vector<std::array<double, 3>> sums_per_body(const Mesh& m, const std::vector<double>& f) {
+  std::vector<int> body(static_cast<std::size_t>(m.n_nodes()), -1);
+  int bodies = 0;
+  for (int c = 0; c < m.n_cells(); ++c) {
+    bodies = std::max(bodies, m.cell_body(c) + 1);
+    for (int k = 0; k < m.nodes_per_cell(); ++k) body[static_cast<std::size_t>(m.cell(c)[k])] = m.cell_body(c);
+  }
+  std::vector<std::array<double, 3>> sums(static_cast<std::size_t>(bodies), {0.0, 0.0, 0.0});
+  for (std::size_t n = 0; n < body.size(); ++n)
+    for (std::size_t i = 0; i < 3; ++i) sums[static_cast<std::size_t>(body[n])][i] += f[3 * n + i];
+  return sums;
+}
+
+// Issue 48: every nodal force field (contact_force, tangential_force) is the force on the body that
+// owns the node, so that a per-body sum (ParaView's Threshold on the cell field body, or Python)
+// is the force on that body: the slave's and the master's are equal and opposite, and the master's
+// is history.csv's pair columns (the force on the master side), on both solvers, in 2D and 3D.
+TEST(PairFriction, EachNodalForceFieldSumsPerBodyToEqualAndOpposite) {
+  for (int d : {2, 3})
+    for (const char* solver : {"active-set", "primal-active-set"}) {
+      StepReport r;
+      const auto s = run_to_end(shear_case(d, 0.3, solver), &r);
+      const std::string at = fmt::format("d = {}, {}", d, solver);
+      const double normal = r.pair_force[0];
+      ASSERT_GT(normal, 10.0) << at;
+      for (const char* name : {"contact_force", "tangential_force"}) {
+        const auto sums = sums_per_body(s->mesh(), point_field(*s, name));
+        ASSERT_EQ(sums.size(), 2u) << at;  // body 0: the lower (master) block, 1: "upper" (slave)
+        const bool tangential = std::string(name) == "tangential_force";
+        for (std::size_t i = 0; i < 3; ++i) {
+          EXPECT_NEAR(sums[1][i], -sums[0][i], 1e-10 * normal) << at << ", " << name << ", component " << i;
+          // the master's: the pair's force on it (normal along −y (−z), tangential the drag)
+          const auto last = static_cast<std::size_t>(d - 1);
+          double pair = 0;
+          if (i == last && !tangential) pair = -normal;
+          if (i < last && tangential) pair = r.pair_tangential_force[i];
+          EXPECT_NEAR(sums[0][i], pair, 1e-8 * normal) << at << ", " << name << " on the master, component " << i;
+        }
+      }
+    }
 }
 
 // μ large: the rows stick from the first step, and a stick row's slave node moves with its masters'
