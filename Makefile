@@ -1,19 +1,23 @@
 # The README's two commands:
 #   make run    installs what is missing, builds, runs the paper's 2D example and
 #               draws its figures (Figs 4.6-4.7, PNG; without matplotlib: a warning)
-#   make test   installs what is missing, builds, runs every test
+#   make test   installs what is missing, builds what the quick tier needs and runs it
+#               (CTest label quick: every module touched, the paper's 1D and 2D examples,
+#               one MPI run, the Python module; docs/reliability.md)
 # and, for CI (.ci/run) and docs/reliability.md:
+#   make test-all        builds everything and runs every test (SKIP_QUICK=1: all but the
+#                        quick tier, for CI, which has just run `make test`)
 #   make test-sanitize   the tests again (but SANITIZE_SKIP's heaviest), built with
 #                        AddressSanitizer and UndefinedBehaviorSanitizer in $(SANITIZE_BUILD)
 #   make test-mpi        the PETSc + MPI engine's tests alone (under mpirun -np 1, 2, 3;
-#                        docs/parallel.md); `make test` runs them too
+#                        docs/parallel.md); `make test-all` runs them too
 BUILD ?= build
 SANITIZE_BUILD ?= build-asan
 JOBS ?= $(shell nproc 2>/dev/null || echo 2)
 PETSC ?= ON  # OFF: the serial engine alone, no MPI or PETSc installed
 CASE ?= paper-2d
 
-.PHONY: all deps configure build run test test-sanitize test-mpi clean
+.PHONY: all deps configure build run test test-all test-sanitize test-mpi clean
 
 all: build
 
@@ -34,13 +38,19 @@ run: configure
 # As root (containers, CI) OpenMPI needs consent; 3 ranks oversubscribe 2 cores.
 MPI_ENV = OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 
-test: build
-	cd $(BUILD) && $(MPI_ENV) ctest --output-on-failure -j $(JOBS)
+# The quick tier builds the program, the Python module and vpcontact_quick_tests alone (target
+# vpcontact_quick_tier, tests/CMakeLists.txt): not the other test executables, which `test-all` builds.
+test: configure
+	@cmake --build $(BUILD) -j $(JOBS) --target vpcontact_quick_tier
+	cd $(BUILD) && $(MPI_ENV) ctest --output-on-failure -j $(JOBS) -L quick
+
+test-all: build
+	cd $(BUILD) && $(MPI_ENV) ctest --output-on-failure -j $(JOBS) $(if $(SKIP_QUICK),-LE quick,)
 
 # Leaks inside Gmsh are suppressed (tests/lsan.supp); any other report fails the test.
-# Without PETSc: MPI's own allocations are not ours to check (the MPI tests run in `make test`).
+# Without PETSc: MPI's own allocations are not ours to check (the MPI tests run in `make test-all`).
 # SANITIZE_SKIP: the heaviest runs, whose code paths smaller tests take too (the same solvers on
-# larger meshes: under ASan they cost minutes each, 60 % of the sanitized tests' time); `make test`
+# larger meshes: under ASan they cost minutes each, 60 % of the sanitized tests' time); `make test-all`
 # runs them. Set SANITIZE_SKIP= to run every test.
 SANITIZE_SKIP ?= PrimalDual/EveryShippedCase.PrimalAndDualAgree/(hertz_2d|hertz_3d|hertz_cylinders_2d|hertz_spheres_3d|ironing_3d|indentation_3d|cattaneo_mindlin_2d|cattaneo_mindlin_pair_2d)( |$$)|^FrictionBenchmarks.CattaneoMindlin|^FrictionIroning.RunsToTheEnd|^cli.check_(cattaneo-mindlin-2d|cattaneo-mindlin-pair-2d|ironing-3d)$$|^Hertz.(LineContactOnARigidCylinder|SphereIntoAHalfSpaceQuarterModel)$$
 test-sanitize: deps
