@@ -1231,6 +1231,13 @@ void record_key_locations(Section& top, Problem& p, const Origins& origins) {
   record_tables(ct, "pair");
   if (p.key_locations.count("contact.pair[0]")) p.key_locations["contact.pair"] = p.key_locations["contact.pair[0]"];
   record_tables(top, "obstacle");
+  if (top.has("obstacle") && top.get("obstacle")->is_array_of_tables()) {  // a plane's normal (contact_rows.cpp)
+    int k = 0;
+    for (const auto& node : *top.get("obstacle")->as_array()) {
+      Section s(node.as_table(), fmt::format("obstacle[{}]", k++), origins);
+      record(s, "normal");
+    }
+  }
   Section tm = top.table("time");
   if (tm.exists()) p.key_locations["time"] = fmt::format("{}: [time]", tm.where_section());
   for (const char* key : {"steps", "dt", "tolerance", "dt_min"}) record(tm, key);
