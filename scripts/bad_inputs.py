@@ -282,6 +282,13 @@ INPUTS = [
     ("Tresca bound that is NaN for t > 0.5",
      {"c.toml": case('gap = "0.001*x"', 'gap = "0.001*x"\nfriction = "tresca"\nfriction_bound = "t > 0.5 ? sqrt(-1) : 1"')},
      ["run", "c.toml", "--no-vtu", "-o", "out"]),
+    # --- issue 48: obstacles and contact pairs
+    ("plane obstacle started on the contact face with its normal pointing away (every node at gap 0)",
+     reported("plane_normal_away_touching.toml"), ["plane_normal_away_touching.toml"]),
+    ("a frictional pair's slave part moved along itself by a [[boundary.displacement]]",
+     reported("slave_moved_with_friction.toml"), ["slave_moved_with_friction.toml"]),
+    ("sliding = \"small\" slid 2.5 master facets", reported("small_sliding_far.toml"),
+     ["run", "small_sliding_far.toml", "--no-vtu", "-o", "out"], {"warning": True}),
 ]
 
 
