@@ -98,7 +98,7 @@ double slide_at(const MeshPart& part, const PartContactNode& j, const Vector& u)
 
 }  // namespace
 
-std::vector<PairSlide> small_slides(const Problem& p, const MeshPart& part, const Vector& u) {
+std::vector<PairSlide> small_slides(const Problem& p, const MeshPart& part, const State& state) {
   const la::Comm& comm = part.comm;
   std::vector<PairSlide> slides(p.contact.pairs.size());
   for (std::size_t q = 0; q < slides.size(); ++q) {
@@ -106,9 +106,11 @@ std::vector<PairSlide> small_slides(const Problem& p, const MeshPart& part, cons
     PairSlide& s = slides[q];
     for (const PartContactNode& node : part.contact) {
       if (!node.owned || node.pair != static_cast<int>(q)) continue;
+      if (!(state.lambda.size() > 0 && state.lambda[static_cast<Eigen::Index>(node.row) * state.contact_block] > 0))
+        continue;  // not in contact
       const double facet = master_facet_at(part, node);
       if (!(facet > 0)) continue;
-      const double slide = slide_at(part, node, u), ratio = slide / facet;
+      const double slide = slide_at(part, node, state.u), ratio = slide / facet;
       const int original = part.original_node[static_cast<std::size_t>(node.local_node)];
       if (s.node < 0 || ratio > s.ratio || (ratio == s.ratio && original < s.node))
         s = {ratio, slide, facet, original, part.mesh().node(node.local_node)};

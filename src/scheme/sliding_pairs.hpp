@@ -6,6 +6,7 @@
 // u_n as N_n u_n ≤ g(x + u_{n−1}) + N_n u_{n−1} (a master's prescribed components move the bound
 // by their motion over the step, step_data.cpp); friction's slip is T_n (u_n − u_{n−1}).
 #include "scheme/discrete_system.hpp"
+#include "scheme/state.hpp"
 
 namespace vpc {
 
@@ -35,10 +36,11 @@ struct PairSlide {
 inline constexpr double kSmallSlideLimit = 0.5;
 
 /// Per pair of p (ContactSpec::pairs order; ratio 0 for a large-sliding pair, whose rows follow the
-/// motion): the largest over its slave nodes j of the slide across ν_j relative to the masters' mortar
+/// motion): the largest over its slave nodes j in contact (λ_ν,j > 0: an open node's masters give only
+/// its distance, and it is measured again once it touches) of the slide across ν_j relative to the masters' mortar
 /// mean, |(I − ν_j ν_jᵀ)(u_j − Σ_k w_k u_k)|, over the size of a master facet at j (PairSlide::facet),
-/// from the rows alone (the same on every engine; under MPI the whole mesh is gone). `u`: a state's
-/// displacement over the part's dofs, as slide_pairs'. Collective.
-std::vector<PairSlide> small_slides(const Problem& p, const MeshPart& part, const Vector& u);
+/// from the rows alone (the same on every engine; under MPI the whole mesh is gone), in state s
+/// (its u over the part's dofs, as slide_pairs', and its replicated λ). Collective.
+std::vector<PairSlide> small_slides(const Problem& p, const MeshPart& part, const State& s);
 
 }  // namespace vpc
