@@ -320,6 +320,13 @@ INPUTS = [
      ["c.toml"]),
     ("output.fields = [\"slip\"] (a friction field) on a frictionless case",
      {"c.toml": case('probes = [[1.0, 0.0]]', 'probes = [[1.0, 0.0]]\nfields = ["slip"]')}, ["c.toml"]),
+    # --- issue 48: obstacles and contact pairs
+    ("plane obstacle started on the contact face with its normal pointing away (every node at gap 0)",
+     reported("plane_normal_away_touching.toml"), ["plane_normal_away_touching.toml"]),
+    ("a frictional pair's slave part moved along itself by a [[boundary.displacement]]",
+     reported("slave_moved_with_friction.toml"), ["slave_moved_with_friction.toml"]),
+    ("sliding = \"small\" slid 2.5 master facets", reported("small_sliding_far.toml"),
+     ["run", "small_sliding_far.toml", "--no-vtu", "-o", "out"], {"warning": True}),
 ]
 
 

@@ -1236,6 +1236,13 @@ void record_key_locations(Section& top, Problem& p, const Origins& origins) {
   record_tables(ld, "pressure");
   Section dm = top.table("damage");
   record(dm, "kappa");
+  if (top.has("obstacle") && top.get("obstacle")->is_array_of_tables()) {  // a plane's normal (contact_rows.cpp)
+    int k = 0;
+    for (const auto& node : *top.get("obstacle")->as_array()) {
+      Section s(node.as_table(), fmt::format("obstacle[{}]", k++), origins);
+      record(s, "normal");
+    }
+  }
   Section tm = top.table("time");
   if (tm.exists()) p.key_locations["time"] = fmt::format("{}: [time]", tm.where_section());
   for (const char* key : {"steps", "dt", "tolerance", "dt_min"}) record(tm, key);

@@ -337,7 +337,31 @@ void RunOutput::record_untimed(const StepReport& r) {
   }
   write_probe_row();
   totals_.add(r);
+  warn_small_sliding(r);
   if (is_output_step(r.n, r.t)) write_fields();
+}
+
+/// A slave node of a `sliding = "small"` pair slid past kSmallSlideLimit of a master facet from the
+/// masters it was coupled to at t = 0: the answer degrades silently from there (its rows keep those
+/// masters), so say it once, at the pair's table, with the remedy.
+void RunOutput::warn_small_sliding(const StepReport& r) {
+  const Problem& p = stepper_.problem();
+  const auto large = [](const ContactPair& q) { return q.large_sliding; };
+  if (warned_small_sliding_ || std::ranges::all_of(p.contact.pairs, large)) return;
+  const std::vector<PairSlide> slides = small_slides(p, stepper_.part(), stepper_.state());
+  for (std::size_t q = 0; q < slides.size() && !warned_small_sliding_; ++q) {
+    const PairSlide& s = slides[q];
+    if (!(s.ratio > kSmallSlideLimit)) continue;
+    warned_small_sliding_ = true;
+    if (root())
+      fmt::print(stderr,
+                 "vpcontact: warning: {}: at step {} (t = {:.6g}) slave node {} ({:.6g}, {:.6g}, {:.6g}) of '{}' has "
+                 "slid {:.6g} from the master nodes it was coupled to at t = 0, {:.3g} of the master facet there "
+                 "({:.6g}); with sliding = \"small\" (the default) a slave node keeps its t = 0 masters, right only "
+                 "while it slides less than {} of a master facet: set sliding = \"large\" in this [[contact.pair]]\n",
+                 p.where(fmt::format("contact.pair[{}]", q)), r.n, r.t, p.node_number(s.node), s.x[0], s.x[1], s.x[2],
+                 p.contact.pairs[q].slave, s.slide, s.ratio, s.facet, kSmallSlideLimit);
+  }
 }
 
 bool RunOutput::is_output_step(int n, double t_n) const {
@@ -452,6 +476,21 @@ std::string summary_json(const Problem& p, const RunSummary& r, const OutputOpti
     for (const ResumeChange& c : t.resume_changes)
       j["changed_on_resume"].push_back({{"step", c.step}, {"key", c.key}, {"checkpoint", c.before}, {"now", c.after}});
   }
+  // The small-sliding pairs' largest slide from their t = 0 masters, at the last step (RunOutput::
+  // warn_small_sliding warns past the limit).
+  if (!r.pair_slides.empty()) {
+    j["small_sliding"] = Json::array();
+    for (std::size_t q = 0; q < r.pair_slides.size(); ++q) {
+      const PairSlide& s = r.pair_slides[q];
+      if (p.contact.pairs[q].large_sliding) continue;
+      j["small_sliding"].push_back({{"slave", p.contact.pairs[q].slave},
+                                    {"slide", s.slide},
+                                    {"master_facet", s.facet},
+                                    {"slide_per_facet", s.ratio},
+                                    {"limit", kSmallSlideLimit},
+                                    {"past_limit", s.ratio > kSmallSlideLimit}});
+    }
+  }
   j["probes"] = Json::array();
   for (const auto& x : r.probes) j["probes"].push_back(xyz(x));
   j["timing_seconds"] = {{"wall", r.wall_seconds},       {"setup", r.setup.total},     {"sources", t.seconds_sources},
@@ -562,6 +601,8 @@ RunSummary RunOutput::summary(double wall_seconds) const {
         break;
       }
   }
+  if (!std::ranges::all_of(stepper_.problem().contact.pairs, [](const ContactPair& q) { return q.large_sliding; }))
+    r.pair_slides = small_slides(stepper_.problem(), part, s);
   for (const auto& [t, file] : pvd_) r.output_times.push_back(t);
   if (r.output_times.empty() || r.output_times.back() != s.t) r.output_times.push_back(s.t);
   if (stepper_.backend().engine() == "petsc") {  // on one rank too

@@ -15,6 +15,7 @@
 //                                      what made it (version, commit, command line, date)
 // The shared files (CSV, .pvd, .pvtu, summary.json) are written by rank 0.
 #include "io/vtu_writer.hpp"
+#include "scheme/sliding_pairs.hpp"
 #include "scheme/time_stepper.hpp"
 
 #include <chrono>
@@ -136,6 +137,9 @@ struct RunSummary {
     double coordinate = 0;
   };
   std::vector<SymmetryPlane> symmetry_planes;
+  /// Per contact pair: how far its slave nodes have slid from their t = 0 masters at the last step
+  /// (scheme/sliding_pairs.hpp; summary.json "small_sliding", for the small-sliding pairs).
+  std::vector<PairSlide> pair_slides;
 };
 
 /// The text of summary.json (valid JSON whatever the names and paths hold).
@@ -183,6 +187,7 @@ class RunOutput {
   void write_fields();
   void write_probe_row();
   bool is_output_step(int n, double t_n) const;
+  void warn_small_sliding(const StepReport& report);
   RunSummary summary(double wall_seconds) const;
 
   const TimeStepper& stepper_;
@@ -191,6 +196,7 @@ class RunOutput {
   std::ofstream history_, probe_csv_;  // rank 0
   std::vector<std::pair<double, std::string>> pvd_;
   RunTotals totals_;
+  bool warned_small_sliding_ = false;  // once a run (warn_small_sliding)
 };
 
 }  // namespace vpc

@@ -32,6 +32,37 @@ mortar::Surface part_surface(const Mesh& mesh, const std::string& part) {
   return mortar::Surface(d, std::move(x), std::move(ids), std::move(facets), mortar::FacetOrder::Outward);
 }
 
+namespace {
+
+/// A component prescribed at a slave node by a [[boundary.displacement]] (condition k > 0: the
+/// k-th; taken as moving) is right only where the pair's constraints do not see it: the
+/// normal row ν_j·u_j − Σ_k w_k ν_j·u_k ≤ g holds u_j's components along ν_j alone, so a motion
+/// across ν_j (a slave face slid along itself) leaves the row as it is and only moves the body. Refused
+/// where ν_j has a component along it (the row would need the motion in its bound), under friction
+/// (the slip t_j·(Δu_j − Σ_k w_k Δu_k) along it would miss the motion: the frame keeps free components
+/// only) and under large sliding (the normal of a later step may turn towards it).
+void check_slave_motion(const Problem& p, std::size_t q, int node, const Point& normal, const int* fixed) {
+  const ContactPair& pair = p.contact.pairs[q];
+  const bool frictional = p.contact.frictions()[static_cast<std::size_t>(p.contact.pair_law_index(q))] != nullptr;
+  for (int i = 0; i < p.mesh.dim(); ++i) {
+    if (fixed[i] <= 0) continue;  // free, or prescribed zero (clamped, a symmetry plane)
+    const char* why = normal[i] != 0 ? "its normal ({:.6g}, {:.6g}, {:.6g}) has a component along it"
+                      : frictional   ? "the pair has friction, whose slip along it would not see the motion"
+                      : pair.large_sliding ? "the pair slides large, whose normal may turn towards it"
+                                           : nullptr;
+    if (why == nullptr) continue;
+    const Point& x = p.mesh.node(node);
+    fail("{}: u{} of slave node {} ({}, {}, {}) of '{}' is prescribed by this displacement, but {}; a contact "
+         "pair's slave nodes may be clamped ([boundary] clamped), on a symmetry plane, or moved by a "
+         "[[boundary.displacement]] across their normal in a frictionless pair with sliding = \"small\" ({}: make the moved part the master, or drive the body through another part)",
+         p.where(fmt::format("boundary.displacement[{}]", fixed[i] - 1)), "xyz"[i], p.node_number(node), x[0], x[1],
+         x[2], pair.slave, fmt::format(fmt::runtime(why), normal[0], normal[1], normal[2]),
+         p.where(fmt::format("contact.pair[{}]", q)));
+  }
+}
+
+}  // namespace
+
 std::vector<ContactRow> pair_rows(const Problem& p, const std::vector<int>& condition, const Mesh* moved) {
   const Mesh& mesh = moved ? *moved : p.mesh;
   const int d = mesh.dim();
@@ -57,15 +88,10 @@ std::vector<ContactRow> pair_rows(const Problem& p, const std::vector<int>& cond
       ContactRow row;
       row.node = s.id;
       row.direction = s.normal;
+      if (!moved) check_slave_motion(p, q, s.id, s.normal, fixed);
       // A component prescribed zero at the slave node (a symmetry plane) leaves the normal, as on Γ3.
-      for (int i = 0; i < d; ++i) {
-        if (fixed[i] < 0 || row.direction[i] == 0) continue;
-        const Point& x = mesh.node(s.id);
-        require(fixed[i] == 0, "{}: slave node {} ({}, {}, {}) has u{} prescribed by a displacement that moves; a "
-                "contact pair's slave nodes may be clamped or on a symmetry plane, not moved (a moved part can be the "
-                "master)", where, s.id, x[0], x[1], x[2], "xyz"[i]);
-        row.direction[i] = 0;
-      }
+      for (int i = 0; i < d; ++i)
+        if (fixed[i] >= 0) row.direction[i] = 0;
       const double l = std::hypot(row.direction[0], row.direction[1], row.direction[2]);
       require(l > 0, "{}: slave node {} has every component of its normal prescribed", where, s.id);
       for (double& v : row.direction) v /= l;
@@ -90,8 +116,10 @@ std::vector<ContactRow> pair_rows(const Problem& p, const std::vector<int>& cond
       for (const auto& [k, m] : masters[s.id]) row.masters.emplace_back(k, m / s.d);
       rows.push_back(std::move(row));
     }
-    require(covered > 0, "{}: master part '{}' covers no node of slave part '{}' (their facets must face each other "
-            "within the search distance {:.6g}: [[contact.pair]] search)", where, pair.master, pair.slave,
+    // At t = 0 a pair whose master covers nothing is a mistake; in a large-sliding step the slave may
+    // have slid off its master, and then its nodes are simply inactive (slide_pairs).
+    require(covered > 0 || moved, "{}: master part '{}' covers no node of slave part '{}' (their facets must face "
+            "each other within the search distance {:.6g}: [[contact.pair]] search)", where, pair.master, pair.slave,
             options.search_margin);
   }
   std::sort(rows.begin(), rows.end(), [](const ContactRow& a, const ContactRow& b) { return a.node < b.node; });

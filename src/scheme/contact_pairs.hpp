@@ -24,7 +24,8 @@ mortar::Surface part_surface(const Mesh& mesh, const std::string& part);
 /// for a master part that covers no slave node, or a slave node inside the master at t = 0.
 /// `moved`: p.mesh displaced (x + u): the rows of the large-sliding pairs alone, in that
 /// configuration (scheme/sliding_pairs.hpp; no overlap check: the last step's answer may
-/// penetrate the moved surfaces by its linearization's error).
+/// penetrate the moved surfaces by its linearization's error, and no coverage check: a slave slid
+/// off its master has no rows then).
 std::vector<ContactRow> pair_rows(const Problem& p, const std::vector<int>& condition, const Mesh* moved = nullptr);
 
 }  // namespace vpc

@@ -77,6 +77,53 @@ void check_outside_obstacles(const Problem& p, int node, ObstacleMask mask) {
   }
 }
 
+/// The obstacles acting on the facets of contact part `part` (Obstacle::parts; none named: all).
+ObstacleMask acting_on(const Problem& p, const std::string& part) {
+  ObstacleMask acting = 0;
+  for (std::size_t o = 0; o < p.contact.obstacles.size(); ++o) {
+    const auto& on = p.contact.obstacles[o].parts;
+    if (on.empty() || std::find(on.begin(), on.end(), part) != on.end()) acting |= ObstacleMask{1} << o;
+  }
+  return acting;
+}
+
+/// At t = 0 the body must lie outside every obstacle, not only its contact nodes: a node on an
+/// obstacle's surface (gap 0) passes check_outside_obstacles whichever side of it the body is on, so a
+/// plane put on the contact face with its normal pointing away from the body would hold the whole body
+/// and never meet it (its rays along ν all miss). The cell behind each contact facet is tested at its
+/// centroid, a point strictly inside the body: inside an obstacle acting on the facet, the body
+/// overlaps the obstacle. Run after the node's check, whose message names a node inside, and
+/// before its gap's (a node touching a sphere or cylinder from inside has a negative gap, which
+/// says less).
+void check_body_outside_obstacles(const Problem& p, int node, int f, ObstacleMask acting) {
+  const Mesh& mesh = p.mesh;
+  const Point c = mesh.cell_centroid(mesh.facet_cell(f));
+  const Point& x = mesh.node(node);
+  const double reach = std::hypot(c[0] - x[0], c[1] - x[1], c[2] - x[2]);  // the cell's size there
+  for (std::size_t k = 0; k < p.contact.obstacles.size(); ++k) {
+    if (!(acting >> k & 1)) continue;
+    const Obstacle& o = p.contact.obstacles[k];
+    const double inside = depth(o, c, 0.0);
+    if (!(inside > 1e-6 * reach)) continue;  // outside (or round-off of a face meshed on a curved obstacle)
+    if (o.shape == Obstacle::Shape::Plane) {
+      const std::string key = fmt::format("obstacle[{}].normal", k);
+      fail("{} ('{}'): the body lies inside the obstacle at t = 0: next to contact node {} ({}, {}, {}), {:.6g} from "
+           "the plane, the centroid ({:.6g}, {:.6g}, {:.6g}) of its cell is {:.6g} behind the plane, on the side its "
+           "normal ({:.6g}, {:.6g}, {:.6g}) points away from (the side the obstacle occupies); the normal must point "
+           "from the obstacle towards the body: flip it to ({:.6g}, {:.6g}, {:.6g})",
+           p.key_locations.count(key) ? p.where(key) : obstacle_where(p, static_cast<int>(k)), o.name,
+           p.node_number(node), x[0], x[1], x[2], 0.0 - depth(o, x, 0.0), c[0], c[1], c[2], inside, o.normal[0],
+           o.normal[1], o.normal[2], -o.normal[0] + 0.0, -o.normal[1] + 0.0, -o.normal[2] + 0.0);
+    }
+    const bool sphere = o.shape == Obstacle::Shape::Sphere;
+    fail("{}: the body lies inside the {} at t = 0: next to contact node {} ({}, {}, {}), the centroid ({:.6g}, "
+         "{:.6g}, {:.6g}) of its cell is {:.6g} inside it (radius {}); a {} occupies its inside, and at t = 0 the body "
+         "must lie outside every obstacle: move them apart",
+         obstacle_where(p, static_cast<int>(k)), sphere ? "sphere" : "cylinder", p.node_number(node), x[0], x[1], x[2],
+         c[0], c[1], c[2], inside, o.radius, sphere ? "sphere" : "cylinder");
+  }
+}
+
 }  // namespace
 
 void fail_no_free_contact_node(const Problem& p, const std::vector<int>& condition) {
@@ -110,18 +157,17 @@ std::vector<ContactRow> contact_rows(const Problem& p, const std::vector<int>& c
   std::vector<double> stiffness(mesh.n_nodes(), 0.0);
   std::vector<int> compliant_law(mesh.n_nodes(), -1), rigid_law(mesh.n_nodes(), -1);
   std::vector<ObstacleMask> obstacles(mesh.n_nodes(), 0);
+  // Per node with obstacles: its Γ3 facets and the obstacles acting on each (check_body_outside_obstacles).
+  std::vector<std::vector<std::pair<int, ObstacleMask>>> facets_at(p.contact.obstacles.empty() ? 0 : mesh.n_nodes());
   for (int f : mesh.facets_of_parts(p.contact.parts)) {  // each facet once, with its part's law and obstacles
     const std::string& part = mesh.part_names()[static_cast<std::size_t>(mesh.facet_part(f))];
     const int k = p.contact.law_index(part);
     const ContactLaw& law = *laws[static_cast<std::size_t>(k)];
-    ObstacleMask acting = 0;
-    for (std::size_t o = 0; o < p.contact.obstacles.size(); ++o) {
-      const auto& on = p.contact.obstacles[o].parts;
-      if (on.empty() || std::find(on.begin(), on.end(), part) != on.end()) acting |= ObstacleMask{1} << o;
-    }
+    const ObstacleMask acting = acting_on(p, part);
     for (int a = 0; a < mesh.nodes_per_facet(); ++a) {
       const int i = mesh.facet(f)[a];
       obstacles[i] |= acting;
+      if (!facets_at.empty()) facets_at[static_cast<std::size_t>(i)].emplace_back(f, acting);
       if (law.rigid()) {
         if (rigid_law[i] < 0) rigid_law[i] = k;
         continue;
@@ -163,6 +209,8 @@ std::vector<ContactRow> contact_rows(const Problem& p, const std::vector<int>& c
       for (double& vc : v) vc /= l;
     }
     check_outside_obstacles(p, node, obstacles[node]);
+    if (!facets_at.empty())
+      for (const auto& [f, acting] : facets_at[static_cast<std::size_t>(node)]) check_body_outside_obstacles(p, node, f, acting);
     const double g = contact_gap_at(p.contact, x, v, 0.0, miss, obstacles[node]);
     if (!(std::isfinite(g) && g >= 0)) {
       const int k = p.contact.obstacles.empty() ? -1 : nearest_obstacle(p.contact.obstacles, x, v, 0.0, obstacles[node]);

@@ -6,6 +6,7 @@
 // u_n as N_n u_n ≤ g(x + u_{n−1}) + N_n u_{n−1} (a master's prescribed components move the bound
 // by their motion over the step, step_data.cpp); friction's slip is T_n (u_n − u_{n−1}).
 #include "scheme/discrete_system.hpp"
+#include "scheme/state.hpp"
 
 namespace vpc {
 
@@ -20,5 +21,26 @@ bool slides(const Problem& p);
 /// this step); a node without a row at t = 0 gets none. Under MPI rank 0 owns every node of a
 /// sliding pair's parts and holds the whole mesh; other ranks only renew N and T.
 void slide_pairs(DiscreteSystem& sys, const Vector& u);
+
+/// How far a small-sliding pair's slave nodes have slid from the masters they were coupled to at t = 0.
+struct PairSlide {
+  double ratio = 0;  // the largest over its slave nodes of slide / facet (0: none, or large sliding)
+  double slide = 0;  // at the node of that ratio: |(I − ν_j ν_jᵀ)(u_j − Σ_k w_k u_k)|
+  double facet = 0;  // there, a master facet's size: the largest distance from one of its masters to the nearest other
+  int node = -1;     // that slave node, numbered as in the mesh read (−1: none)
+  Point x{0, 0, 0};  // its reference position
+};
+
+/// With `sliding = "small"` a slave node keeps the masters it faced at t = 0; the run warns when a
+/// slave node slides past this fraction of a master facet (docs/cases.md, "Large sliding").
+inline constexpr double kSmallSlideLimit = 0.5;
+
+/// Per pair of p (ContactSpec::pairs order; ratio 0 for a large-sliding pair, whose rows follow the
+/// motion): the largest over its slave nodes j in contact (λ_ν,j > 0: an open node's masters give only
+/// its distance, and it is measured again once it touches) of the slide across ν_j relative to the masters' mortar
+/// mean, |(I − ν_j ν_jᵀ)(u_j − Σ_k w_k u_k)|, over the size of a master facet at j (PairSlide::facet),
+/// from the rows alone (the same on every engine; under MPI the whole mesh is gone), in state s
+/// (its u over the part's dofs, as slide_pairs', and its replicated λ). Collective.
+std::vector<PairSlide> small_slides(const Problem& p, const MeshPart& part, const State& s);
 
 }  // namespace vpc

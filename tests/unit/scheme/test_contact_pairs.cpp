@@ -337,5 +337,73 @@ TEST(ContactPairs, BadPairsAreRefusedNamingTheKey) {
   EXPECT_NE(error(negative).find("expected a distance >= 0"), std::string::npos) << error(negative);
 }
 
+/// Issue 48 (slave-moved-tangentially): two blocks, the upper pressed down by its top, its bottom
+/// (the slave) also moved by `[[boundary.displacement]]` `slave_motion`; `extra` ends the file.
+std::string slave_moved(const std::string& slave_motion, const std::string& extra = "") {
+  return R"toml(
+[mesh]
+generator = "rectangle"
+lower = [0.0, 0.0]
+upper = [2.0, 0.5]
+cells = [10, 3]
+[[body]]
+name = "upper"
+[body.mesh]
+generator = "rectangle"
+lower = [0.5, 0.5]
+upper = [1.5, 1.0]
+cells = [7, 4]
+[body.elasticity]
+E = 3000.0
+[boundary]
+clamped = ["bottom"]
+[[boundary.displacement]]
+parts = ["upper.top"]
+ux = "0.02*max(t - 1, 0)"
+uy = "-0.005*min(t, 1)"
+[[boundary.displacement]]
+parts = ["upper.bottom"]
+)toml" + slave_motion + R"toml(
+[elasticity]
+kind = "plane-strain"
+E = 1000.0
+nu = 0.3
+[viscoplasticity]
+law = "elastic"
+[damage]
+source = "zero"
+[time]
+T = 2.0
+steps = 4
+[[contact.pair]]
+slave = "upper.bottom"
+master = "top"
+)toml" + extra;
+}
+
+// A slave face slid along itself leaves the rows ν_j·u_j − Σ w ν·u_k ≤ g as they are (ν_j has no x):
+// right in a frictionless small-sliding pair, where the forces balance; refused along the normal, under
+// friction (the slip would not see the motion) and under large sliding, naming the displacement.
+TEST(ContactPairs, ASlaveMovedAcrossItsNormalIsRightOnlyWithoutFrictionAndLargeSliding) {
+  StepReport r;
+  run_to_end(parse_case(slave_moved("ux = \"0.01*t\""), "c.toml", ".", {}), &r);
+  ASSERT_EQ(r.pair_force.size(), 1u);
+  EXPECT_GT(r.pair_force[0], 1.0);
+  // reaction: bottom (x, y), upper.top (x, y), upper.bottom (x): the pair's force is what both supports carry.
+  ASSERT_EQ(r.reaction.size(), 5u);
+  EXPECT_NEAR(r.pair_force[0], r.reaction[1], 1e-10 * r.pair_force[0]);
+  EXPECT_NEAR(r.pair_force[0], -r.reaction[3], 1e-10 * r.pair_force[0]);
+  auto error = [](const std::string& text) { return error_of([&] { parse_case(text, "c.toml", ".", {}); }); };
+  std::string m = error(slave_moved("uy = \"-0.001*t\""));
+  EXPECT_NE(m.find("c.toml:22:1: boundary.displacement[1]: uy of slave node"), std::string::npos) << m;
+  EXPECT_NE(m.find("its normal (0, -1, 0) has a component along it"), std::string::npos) << m;
+  m = error(slave_moved("ux = \"0.01*t\"", "friction = \"coulomb\"\nmu = 0.3\n"));
+  EXPECT_NE(m.find("boundary.displacement[1]: ux of slave node"), std::string::npos) << m;
+  EXPECT_NE(m.find("the pair has friction"), std::string::npos) << m;
+  m = error(slave_moved("ux = \"0.01*t\"", "sliding = \"large\"\n"));
+  EXPECT_NE(m.find("the pair slides large"), std::string::npos) << m;
+  EXPECT_NE(m.find("contact.pair[0]: make the moved part the master"), std::string::npos) << m;
+}
+
 }  // namespace
 }  // namespace vpc

@@ -11,6 +11,7 @@
 #include <string>
 
 #include "../error_of.hpp"
+#include "../run_to_end.hpp"
 #include "bar_case.hpp"
 
 namespace vpc {
@@ -112,6 +113,67 @@ TEST(Obstacle, BadObstaclesAreLocatedErrors) {
   EXPECT_NE(m.find("lies inside the sphere at t = 0, 0.2 from its centre (radius 5)"), std::string::npos) << m;
   m = error("[[obstacle]]\nshape = \"plane\"\npoint = [2]\nnormal = [0]\n");
   EXPECT_NE(m.find("non-zero vector"), std::string::npos) << m;
+}
+
+/// A block [-1, 1] × [0, 0.5] clamped at its top, its bottom the contact part, with `obstacle` (an
+/// [[obstacle]] section) and Coulomb friction (issue 48: obstacle-normal-away-touching).
+std::string block_text(const std::string& obstacle) {
+  return R"(
+[mesh]
+generator = "rectangle"
+lower = [-1.0, 0.0]
+upper = [1.0, 0.5]
+cells = [20, 5]
+[boundary]
+clamped = ["top"]
+contact = ["bottom"]
+[elasticity]
+kind = "plane-strain"
+E = 1000.0
+nu = 0.3
+[viscoplasticity]
+law = "elastic"
+[damage]
+source = "zero"
+[contact]
+friction = "coulomb"
+mu = 0.3
+[time]
+T = 1.0
+steps = 4
+)" + obstacle;
+}
+
+// Issue 48: an obstacle started touching the contact face (every contact node at gap 0) with the body
+// on the obstacle's side passed the nodes' check and was never met; the cells behind the contact
+// facets are tested too. Started touching from outside, it passes and presses the body.
+TEST(Obstacle, ABodyOnTheObstaclesSideIsRefusedWhereItsNodesTouch) {
+  auto error = [](const std::string& text) { return error_of([&] { parse_case(text, "o.toml", ".", {}); }); };
+  const std::string rising = "[[obstacle]]\nname = \"plane\"\nshape = \"plane\"\npoint = [0.0, \"0.005*t\"]\n";
+  std::string m = error(block_text(rising + "normal = [0.0, -1.0]\n"));  // the plane on the face, flipped
+  EXPECT_NE(m.find("o.toml:28:10: obstacle[0].normal ('plane'): the body lies inside the obstacle at t = 0: next to "
+                   "contact node 0 (-1, 0, 0), 0 from the plane, the centroid (-0.933333, 0.0333333, 0) of its cell is "
+                   "0.0333333 behind the plane"), std::string::npos) << m;
+  EXPECT_NE(m.find("flip it to (0, 1, 0)"), std::string::npos) << m;
+  // The same plane a little above the face: the nodes are outside, the body's cells inside.
+  m = error(block_text("[[obstacle]]\nshape = \"plane\"\npoint = [0.0, 0.01]\nnormal = [0.0, -1.0]\n"));
+  EXPECT_NE(m.find("the body lies inside the obstacle at t = 0"), std::string::npos) << m;
+  // A circle touching the face at (0, 0) from inside the body, and in 1D the plane on the bar's tip.
+  m = error(block_text("[[obstacle]]\nshape = \"cylinder\"\ncenter = [0.0, 10.0]\nradius = 10.0\n"));
+  EXPECT_NE(m.find("the body lies inside the cylinder at t = 0: next to contact node"), std::string::npos) << m;
+  m = error(bar_text("[[obstacle]]\nshape = \"plane\"\npoint = [1]\nnormal = [1]\n"));
+  EXPECT_NE(m.find("obstacle[0].normal ('obstacle1'): the body lies inside the obstacle at t = 0"), std::string::npos)
+      << m;
+  EXPECT_NE(m.find("flip it to (-1, 0, 0)"), std::string::npos) << m;
+  // Started touching from outside: accepted, and the rising plane presses 21 nodes.
+  for (const std::string& touching :
+       {rising + "normal = [0.0, 1.0]\n",
+        std::string("[[obstacle]]\nshape = \"cylinder\"\ncenter = [0.0, \"-10.0 + 0.005*t\"]\nradius = 10.0\n")}) {
+    StepReport r;
+    run_to_end(parse_case(block_text(touching), "o.toml", ".", {}), &r);
+    EXPECT_GT(r.contact.n_active, 0) << touching;
+    EXPECT_GT(r.obstacle_force[0], 0.0) << touching;
+  }
 }
 
 }  // namespace

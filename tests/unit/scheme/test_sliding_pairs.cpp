@@ -7,12 +7,17 @@
 #include "io/case_file.hpp"
 #include "io/checkpoint.hpp"
 #include "io/state_fields.hpp"
+#include "run/run_case.hpp"
+#include "scheme/sliding_pairs.hpp"
 #include "scheme/time_stepper.hpp"
 #include "../io/test_files.hpp"
 
 #include <gtest/gtest.h>
 
+#include <nlohmann/json.hpp>
+
 #include <cstdio>
+#include <fstream>
 #include <string>
 
 #include "../error_of.hpp"
@@ -221,6 +226,132 @@ dt = [0.5, 0.05]
     EXPECT_GE(off, 3) << solver;  // the punch spans [0.9, 1.1]: its right half is off the block
     EXPECT_GE(on, 3) << solver;
     EXPECT_NEAR(vertical, r.reaction[3], 1e-8 * r.pair_force[0]) << solver;  // bottom (2), punch top (2)
+  }
+}
+
+/// Issue 48 (large-slide-off-stops, small-sliding-no-warning): a block [0.5, 1.5] × [0.5, 1] pressed
+/// by 0.005 into a block [0, 2] × [0, 0.5] until t = 1, then its top moved along x by `ux`; `friction`
+/// ends the pair's table.
+std::string blocks_slid(const std::string& sliding, const std::string& ux, double T, int steps,
+                        const std::string& friction = "") {
+  return fmt::format(R"toml(
+[mesh]
+generator = "rectangle"
+lower = [0.0, 0.0]
+upper = [2.0, 0.5]
+cells = [10, 3]
+[[body]]
+name = "upper"
+[body.mesh]
+generator = "rectangle"
+lower = [0.5, 0.5]
+upper = [1.5, 1.0]
+cells = [7, 4]
+[body.elasticity]
+E = 3000.0
+[boundary]
+clamped = ["bottom"]
+[[boundary.displacement]]
+parts = ["upper.top"]
+ux = "{1}"
+uy = "-0.005*min(t, 1)"
+[elasticity]
+kind = "plane-strain"
+E = 1000.0
+nu = 0.3
+[viscoplasticity]
+law = "elastic"
+[damage]
+source = "zero"
+[[contact.pair]]
+slave = "upper.bottom"
+master = "top"
+sliding = "{0}"
+{4}
+[time]
+T = {2}
+steps = {3}
+)toml",
+                     sliding, ux, T, steps, friction);
+}
+
+// A slave slid right off its master (by 3 along a block 2 wide) runs on with the pair's force 0, its
+// nodes inactive; slid back, it is pressed again as it was at t = 1 (the run stopped at the first
+// step where no slave node had a master).
+TEST(SlidingPairs, ASlaveSlidRightOffRunsOnAndComesBack) {
+  Case c = parse_case(blocks_slid("large", "3.0*max(min(t - 1, 3 - t), 0)", 3.0, 30, "friction = \"coulomb\"\nmu = 0.3"), "off.toml", ".", {});
+  TimeStepper s(c.problem, c.solvers);
+  double pressed = 0, back = 0;
+  int off = 0, touching = 0, touching_back = 0;
+  while (!s.done()) {
+    const StepReport r = s.step();
+    ASSERT_TRUE(r.ok) << "t = " << r.t;
+    if (std::abs(r.t - 1) < 1e-9) pressed = r.pair_force[0], touching = r.contact.n_active;
+    if (r.t > 1.75 && r.t < 2.25) {  // t = 1.8 to 2.2: the upper block past x = 2.9 at its start, off
+      EXPECT_EQ(r.pair_force[0], 0.0) << "t = " << r.t;
+      EXPECT_EQ(r.contact.n_active, 0) << "t = " << r.t;
+      EXPECT_EQ(r.pair_tangential_force[0], 0.0) << "t = " << r.t;
+      ++off;
+    }
+    back = r.pair_force[0], touching_back = r.contact.n_active;
+  }
+  EXPECT_EQ(off, 5);
+  EXPECT_GT(pressed, 1.0);
+  // Back where it was pressed, every slave node touching again; the force within friction's history
+  // (dragged back against μ = 0.3: 12.26 against 11.28).
+  EXPECT_EQ(touching_back, touching);
+  EXPECT_NEAR(back, pressed, 0.15 * pressed);
+}
+
+// sliding = "small" slid 0.5 (2.5 master facets of 0.2) gives a normal force 9.5 % off the large
+// sliding one: small_slides measures the slide from the t = 0 masters (RunOutput warns past 0.5 of
+// a master facet, and summary.json says it); slid 0.02, it stays below.
+TEST(SlidingPairs, SmallSlidingMeasuresTheSlideFromItsMasters) {
+  for (const auto& [ux, slid] : {std::pair{"0.5*max(t - 1, 0)", 0.5}, {"0.02*max(t - 1, 0)", 0.02}}) {
+    Case c = parse_case(blocks_slid("small", ux, 2.0, 20), "small.toml", ".", {});
+    const auto s = run_to_end(c);
+    const std::vector<PairSlide> slides = small_slides(*c.problem, s->part(), s->state());
+    ASSERT_EQ(slides.size(), 1u);
+    EXPECT_NEAR(slides[0].facet, 0.2, 1e-15);
+    // The slave slides with the body's top (frictionless: no shear holds it back), the master's mean
+    // barely moving.
+    EXPECT_NEAR(slides[0].slide, slid, 0.002) << ux;
+    EXPECT_EQ(slides[0].ratio > kSmallSlideLimit, slid > 0.1) << ux;
+    EXPECT_GE(slides[0].node, 0);
+    EXPECT_EQ(slides[0].x[1], 0.5);
+    c = parse_case(blocks_slid("large", ux, 2.0, 20), "large.toml", ".", {});
+    const auto large = run_to_end(c);
+    EXPECT_EQ(small_slides(*c.problem, large->part(), large->state())[0].ratio, 0.0);  // rows follow the motion
+  }
+}
+
+// The run says it: one warning at the pair's table naming sliding = "large", and summary.json.
+TEST(SlidingPairs, ARunWarnsOnceWhenSmallSlidingSlidesPastTheLimit) {
+  for (const auto& [ux, warns] : {std::pair{"0.5*max(t - 1, 0)", true}, {"0.02*max(t - 1, 0)", false}}) {
+    RunOptions o;
+    o.quiet = true;
+    o.output_directory = test::fresh_dir("sliding_pairs", warns ? "warns" : "quiet");
+    const CaseLoader load = [&](const MeshRequest&) {
+      Case c = parse_case(blocks_slid("small", ux, 2.0, 20), "small.toml", ".", {});
+      c.output.directory = o.output_directory;
+      return c;
+    };
+    testing::internal::CaptureStderr();
+    run_case(load, o);
+    const std::string err = testing::internal::GetCapturedStderr();
+    const std::string warning = "vpcontact: warning: small.toml:30:1: contact.pair[0]: at step ";
+    EXPECT_EQ(err.find(warning) != std::string::npos, warns) << err;
+    EXPECT_EQ(err.find(warning), err.rfind(warning)) << err;  // once
+    if (warns) EXPECT_NE(err.find("set sliding = \"large\" in this [[contact.pair]]"), std::string::npos) << err;
+    const auto summary = nlohmann::json::parse(std::ifstream(o.output_directory / "summary.json"));
+    ASSERT_TRUE(summary.contains("small_sliding")) << summary.dump();
+    const auto& pair = summary["small_sliding"][0];
+    EXPECT_EQ(pair["slave"], "upper.bottom");
+    EXPECT_NEAR(pair["master_facet"].get<double>(), 0.2, 1e-15);
+    EXPECT_EQ(pair["limit"], kSmallSlideLimit);
+    EXPECT_EQ(pair["past_limit"], warns);
+    const double ratio = pair["slide"].get<double>() / pair["master_facet"].get<double>();
+    EXPECT_NEAR(pair["slide_per_facet"].get<double>(), ratio, 1e-14 * ratio);
   }
 }
 
