@@ -267,7 +267,14 @@ int main(int argc, char** argv) {
   add_plot_options(run_cmd, o);
   run_cmd->add_option("--checkpoint-every", o.run.checkpoint_every,
                       "write a checkpoint every this many steps (0: only at the start and the end; default: by time, "
-                      "see --checkpoint-seconds)");
+                      "see --checkpoint-seconds)")
+      // -1, the default's "by time", is not a value to give: a negative count is a mistake.
+      ->check(CLI::Validator(
+          [](std::string& v) {
+            return !v.empty() && v[0] == '-' ? "expected a number of steps >= 0 (0: only at the start and the end), got " + v
+                                             : std::string();
+          },
+          "N >= 0"));
   run_cmd->add_option("--checkpoint-seconds", o.run.checkpoint_seconds,
                       "without --checkpoint-every: write a checkpoint once this many seconds of wall time have passed "
                       "since the last one (default 60)");
