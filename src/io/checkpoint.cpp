@@ -620,7 +620,7 @@ std::optional<ResumePoint> resume_from_checkpoint(TimeStepper& stepper, const fs
   }
   // The contact nodes' fields (λ) and the contact warm state (one value per contact row)
   // from rank 0, the PVD entries and totals on rank 0.
-  ResumePoint at{s.state.n, s.state.t, {}, {}};
+  ResumePoint at{s.state.n, s.state.t, {}, {}, {}};
   // The time levels: every process read them to check the checkpoint.
   auto from_root = [&](Array a) {
     std::vector<double> v;

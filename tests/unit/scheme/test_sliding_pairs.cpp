@@ -342,7 +342,9 @@ TEST(SlidingPairs, ARunWarnsOnceWhenSmallSlidingSlidesPastTheLimit) {
     const std::string warning = "vpcontact: warning: small.toml:30:1: contact.pair[0]: at step ";
     EXPECT_EQ(err.find(warning) != std::string::npos, warns) << err;
     EXPECT_EQ(err.find(warning), err.rfind(warning)) << err;  // once
-    if (warns) EXPECT_NE(err.find("set sliding = \"large\" in this [[contact.pair]]"), std::string::npos) << err;
+    if (warns) {
+      EXPECT_NE(err.find("set sliding = \"large\" in this [[contact.pair]]"), std::string::npos) << err;
+    }
     const auto summary = nlohmann::json::parse(std::ifstream(o.output_directory / "summary.json"));
     ASSERT_TRUE(summary.contains("small_sliding")) << summary.dump();
     const auto& pair = summary["small_sliding"][0];
