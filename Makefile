@@ -47,6 +47,9 @@ test: configure
 test-all: build
 	cd $(BUILD) && $(MPI_ENV) ctest --output-on-failure -j $(JOBS) $(if $(SKIP_QUICK),-LE quick,)
 
+# -O1 -g1 (line tables: ASan's reports keep file and line): compiles in 0.55x the time of -O2 -g
+# (measured on src/solvers/dual_active_set.cpp: 9.3 s against 16.8 s), which halves CI's sanitized build.
+SANITIZE_OPT ?= -O1 -g1 -DNDEBUG
 # Leaks inside Gmsh are suppressed (tests/lsan.supp); any other report fails the test.
 # Without PETSc: MPI's own allocations are not ours to check (the MPI tests run in `make test-all`).
 # SANITIZE_SKIP: the heaviest runs, whose code paths smaller tests take too (the same solvers on
@@ -54,7 +57,7 @@ test-all: build
 # runs them. Set SANITIZE_SKIP= to run every test.
 SANITIZE_SKIP ?= PrimalDual/EveryShippedCase.PrimalAndDualAgree/(hertz_2d|hertz_3d|hertz_cylinders_2d|hertz_spheres_3d|ironing_3d|indentation_3d|cattaneo_mindlin_2d|cattaneo_mindlin_pair_2d)( |$$)|^FrictionBenchmarks.CattaneoMindlin|^FrictionIroning.RunsToTheEnd|^cli.check_(cattaneo-mindlin-2d|cattaneo-mindlin-pair-2d|ironing-3d)$$|^Hertz.(LineContactOnARigidCylinder|SphereIntoAHalfSpaceQuarterModel)$$
 test-sanitize: deps
-	@cmake -S . -B $(SANITIZE_BUILD) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DVPCONTACT_SANITIZE=ON -DVPCONTACT_PYTHON=OFF -DVPCONTACT_BENCHMARKS=OFF -DVPCONTACT_ENABLE_PETSC=OFF > /dev/null
+	@cmake -S . -B $(SANITIZE_BUILD) -DCMAKE_BUILD_TYPE=RelWithDebInfo "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=$(SANITIZE_OPT)" -DVPCONTACT_SANITIZE=ON -DVPCONTACT_PYTHON=OFF -DVPCONTACT_BENCHMARKS=OFF -DVPCONTACT_ENABLE_PETSC=OFF > /dev/null
 	@cmake --build $(SANITIZE_BUILD) -j $(JOBS)
 	cd $(SANITIZE_BUILD) && \
 	  ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 \
