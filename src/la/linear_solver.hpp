@@ -89,6 +89,14 @@ class LinearSolver {
   /// GMRES does not get there. The default is Eigen's GMRES, one process only.
   virtual void solve_perturbed(const SpdOperator& A, const Perturbation& C, const Eigen::VectorXd& b,
                                Eigen::VectorXd& x, double rtol, const char* what) const;
+  /// S = B A⁻¹ Bᵀ (m × m, the same on every rank) for a few rows B by the backend's own means,
+  /// where they cost less than m solves (MUMPS: one factorization of [A Bᵀ; B 0], la/mumps_schur.hpp);
+  /// nullopt where it has none or the solves are cheaper. `B_local`: this rank's rows of B
+  /// (columns: A's owned rows), `rows`: their places among B's m rows. Collective.
+  virtual std::optional<Eigen::MatrixXd> schur_complement(const Eigen::SparseMatrix<double>& /*B_local*/,
+                                                          const std::vector<int>& /*rows*/, int /*m*/) const {
+    return std::nullopt;
+  }
   virtual bool has_halves() const { return false; }
   /// Only when has_halves().
   virtual Eigen::MatrixXd forward(const Eigen::MatrixXd& B) const;

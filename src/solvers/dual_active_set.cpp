@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <limits>
+#include <optional>
 
 namespace vpc {
 
@@ -31,7 +32,7 @@ class ActiveSetContactSolver final : public ContactSolver {
       : K_(std::move(K)), c_(std::move(c)), factor_(std::move(factor)) {
     if (c_.frictional()) B_ = friction_rows(c_, B_rows_);
     Eigen::MatrixXd S = factor_->has_halves() ? dual_matrix_from_halves(max_cached_share)
-                                              : dual_matrix_from_solves(max_cached_share);
+                                              : dual_matrix_from_schur_or_solves(max_cached_share);
     S = 0.5 * (S + S.transpose()).eval();
     if (!c_.laws.empty()) {  // every row's law and compliance, the same on every rank
       const auto n = static_cast<Eigen::Index>(c_.law.size());
@@ -120,7 +121,7 @@ class ActiveSetContactSolver final : public ContactSolver {
   std::string describe_solves() const {
     if (Y_.cols() > 0) return "one solve per step (K's halves)";
     if (W_.cols() > 0) return "one solve per step (K⁻¹Nᵀ kept)";
-    return "two solves per step";
+    return schur_ ? "two solves per step (S by MUMPS' Schur complement)" : "two solves per step";
   }
 
   const la::Comm& comm() const { return K_->comm(); }
@@ -170,6 +171,16 @@ class ActiveSetContactSolver final : public ContactSolver {
     return Eigen::MatrixXd(SparseMatrix(Y_.transpose() * Y_));
   }
 
+  /// S = N K⁻¹Nᵀ as the backend's Schur complement where it has one cheaper than m solves (MUMPS:
+  /// one factorization of [K Nᵀ; N 0]; a step then takes two solves), else by block solves.
+  Eigen::MatrixXd dual_matrix_from_schur_or_solves(double max_cached_share) {
+    if (std::optional<Eigen::MatrixXd> S = factor_->schur_complement(B(), rows(), unknowns())) {
+      schur_ = true;
+      return std::move(*S);
+    }
+    return dual_matrix_from_solves(max_cached_share);
+  }
+
   /// S = N K⁻¹Nᵀ by block solves X = K⁻¹Nᵀ (collective: every rank solves the same
   /// blocks); S's rows are computed where N's rows live, then summed over the ranks
   /// (one owner per row: exact, the same S everywhere). X is kept as W when it fits
@@ -208,6 +219,7 @@ class ActiveSetContactSolver final : public ContactSolver {
   FrictionDualSets sets_;       // with friction: each node's sets, replicated
   SparseMatrix Y_;     // L⁻¹PNᵀ (factors with halves), or empty
   Eigen::MatrixXd W_;  // K⁻¹Nᵀ on the owned rows (factors without halves), or empty
+  bool schur_ = false;  // S came from the backend's Schur complement (no W)
   static constexpr double kMaxCachedBytes = 256.0 * 1024 * 1024;
 };
 

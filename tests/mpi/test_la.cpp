@@ -8,6 +8,7 @@
 // against the one-process solve (CHOLMOD) of the same global problem; multigrid within fields
 // (the couplings between fields dropped for GAMG's transfers).
 // Prints PASSED or FAILED (on rank 0).
+#include "la/mumps_schur.hpp"
 #include "la/petsc.hpp"
 #include "la/petsc_segregated.hpp"
 #include "la/vector.hpp"
@@ -79,7 +80,7 @@ bool close(const la::Comm& comm, const Eigen::VectorXd& a, const Eigen::VectorXd
 /// of one dof per node and as the damage matrix), distributed by contiguous node
 /// ranges, against one process.
 void check_solvers(const la::Comm& comm, const Chain& c, const Eigen::SparseMatrix<double>& local,
-                   const std::vector<PetscInt>& l2g, double h) {
+                   const std::vector<PetscInt>& l2g, double h, bool dual_only = false) {
   const auto seg = [&](const Eigen::VectorXd& a) { return Eigen::VectorXd(a.segment(c.begin, c.n_owned)); };
   const Eigen::SparseMatrix<double> K_serial = element_matrix_sum(0, c.N, h);
   auto make_op = [&] { return std::make_unique<la::PetscOperator>(comm, local, l2g, c.n_owned, c.N, 1); };
@@ -112,11 +113,16 @@ void check_solvers(const la::Comm& comm, const Chain& c, const Eigen::SparseMatr
     const char* name;
     ContactSolverOptions opt;
     const char* says;
-  } variants[] = {{"active-set", {}, "one solve per step (K⁻¹Nᵀ kept)"},
-                  {"active-set", two_solves, "two solves per step"},
-                  {"penalty-duality", {}, nullptr},
-                  {"primal-active-set", {}, nullptr}};
+  };
+  // Beyond one block of right-hand sides (64) MUMPS forms S as its Schur complement of [K Nᵀ; N 0].
+  const bool schur = m > 64;
+  const Variant variants[] = {
+      {"active-set", {}, schur ? "two solves per step (S by MUMPS' Schur complement)" : "one solve per step (K⁻¹Nᵀ kept)"},
+      {"active-set", two_solves, schur ? "two solves per step (S by MUMPS' Schur complement)" : "two solves per step"},
+      {"penalty-duality", {}, nullptr},
+      {"primal-active-set", {}, nullptr}};
   for (const Variant& v : variants) {
+    if (dual_only && std::string(v.name) != "active-set") continue;
     auto serial = make_contact_solver(v.name, K_serial, N_all, g_all, v.opt);
     Eigen::VectorXd u_s, l_s;
     const ContactReport rs = serial->solve(F, u_s, l_s);
@@ -153,6 +159,7 @@ void check_solvers(const la::Comm& comm, const Chain& c, const Eigen::SparseMatr
   }
 
   // Damage (3.8): 0 ≤ β ≤ 1 with both bounds active on different ranks.
+  if (dual_only) return;
   Eigen::VectorXd b(c.N);
   for (long long j = 0; j < c.N; ++j) b[j] = 80.0 * std::sin(6.0 * j * h) * h;
   for (const char* name : {"active-set", "penalty-duality"}) {
@@ -173,6 +180,60 @@ void check_solvers(const la::Comm& comm, const Chain& c, const Eigen::SparseMatr
     const Eigen::VectorXd w = dist->warm_state(), w_s = serial->warm_state();
     check(close(comm, w, w_s.size() ? seg(w_s) : w_s, 1e-10), what + ": warm state (owned entries)", comm);
   }
+}
+
+/// check_solvers' dual contact solver on a chain of n nodes (each rank its elements and the ghost after its range).
+void check_solvers_on_chain(const la::Comm& comm, long long n) {
+  const Chain c(comm, n);
+  const double h = 1.0 / (c.N - 1);
+  const long long n_local = c.n_owned + static_cast<long long>(c.ghosts.size());
+  std::vector<PetscInt> l2g;
+  for (long long i = 0; i < n_local; ++i) l2g.push_back(static_cast<PetscInt>(c.begin + i));
+  check_solvers(comm, c, element_matrix_sum(c.begin, n_local, h), l2g, h, true);
+}
+
+/// la::mumps_schur_complement: S = B K⁻¹Bᵀ for rows B of two entries each (of either sign, a row's
+/// entries on two ranks' nodes where it straddles a cut: its owner gives only its own), against
+/// one process's dense K⁻¹.
+void check_schur_complement(const la::Comm& comm) {
+  const Chain c(comm, 60);
+  const double h = 1.0 / (c.N - 1);
+  const long long n_local = c.n_owned + static_cast<long long>(c.ghosts.size());
+  std::vector<PetscInt> l2g;
+  for (long long i = 0; i < n_local; ++i) l2g.push_back(static_cast<PetscInt>(c.begin + i));
+  const la::PetscOperator K(comm, element_matrix_sum(c.begin, n_local, h), l2g, c.n_owned, c.N, 1);
+  const Eigen::SparseMatrix<double> K_serial = element_matrix_sum(0, c.N, h);
+  // Row r: 1.5 u_{2r} − 0.7 u_{2r+1}, rows numbered backwards (not in node order).
+  const int m = static_cast<int>(c.N / 2);
+  Eigen::SparseMatrix<double> B_all(m, c.N);
+  std::vector<Eigen::Triplet<double>> t_all, t_own;
+  std::vector<int> rows;
+  for (int r = 0; r < m; ++r) {
+    const int row = m - 1 - r;
+    t_all.emplace_back(row, 2 * r, 1.5);
+    t_all.emplace_back(row, 2 * r + 1, -0.7);
+    if (2 * r < c.begin || 2 * r + 1 >= c.begin + c.n_owned) continue;  // both nodes owned here
+    t_own.emplace_back(static_cast<int>(rows.size()), static_cast<int>(2 * r - c.begin), 1.5);
+    t_own.emplace_back(static_cast<int>(rows.size()), static_cast<int>(2 * r + 1 - c.begin), -0.7);
+    rows.push_back(row);
+  }
+  // Rows straddling a cut are on no rank here: they leave B (and S's row and column) zero.
+  std::vector<char> owned(static_cast<std::size_t>(m), 0);
+  for (const int r : rows) owned[static_cast<std::size_t>(r)] = 1;
+  std::vector<double> flags(owned.begin(), owned.end());
+  comm.sum(flags.data(), m);
+  std::vector<Eigen::Triplet<double>> t_kept;
+  for (const auto& t : t_all)
+    if (flags[static_cast<std::size_t>(t.row())] > 0) t_kept.push_back(t);
+  B_all.setFromTriplets(t_kept.begin(), t_kept.end());
+  Eigen::SparseMatrix<double> B_own(static_cast<Eigen::Index>(rows.size()), c.n_owned);
+  B_own.setFromTriplets(t_own.begin(), t_own.end());
+  const Eigen::MatrixXd K_inv = Eigen::MatrixXd(K_serial).inverse();
+  const Eigen::MatrixXd expected = B_all * K_inv * B_all.transpose();
+  const Eigen::MatrixXd S = la::mumps_schur_complement(PETSC_COMM_WORLD, K.mat(), B_own, rows, m, "test matrix");
+  const double err = (S - expected).cwiseAbs().maxCoeff(), scale = expected.cwiseAbs().maxCoeff();
+  check(err <= 1e-12 * scale && (S - S.transpose()).cwiseAbs().maxCoeff() == 0,
+        fmt::format("MUMPS' Schur complement B K^-1 B^T: largest difference {:.2e} of {:.2e}", err, scale), comm);
 }
 
 void run() {
@@ -428,6 +489,8 @@ void run() {
         "box QP: bounds active", comm);
 
   check_solvers(comm, c, element_matrix_sum(c.begin, n_local_nodes, h), l2g, h);
+  check_solvers_on_chain(comm, 400);  // 133 contact rows: S by MUMPS' Schur complement
+  check_schur_complement(comm);
 }
 
 }  // namespace
