@@ -159,7 +159,7 @@ class PrimalActiveSetSolver final : public ContactSolver {
       if (monotone) release_one(active, next, most_negative, worst);
       tangential = friction_->forces(r);
       if (couple_) {
-        bound = hsw_bound(next, lambda_local, w);
+        bound = hsw_bound(next, lambda_local, w, active);
       }
       const double scale = std::max({b_scale, comm.max(lambda_local.size() ? lambda_local.cwiseAbs().maxCoeff() : 0.0),
                                      std::numeric_limits<double>::min()});
@@ -169,6 +169,7 @@ class PrimalActiveSetSolver final : public ContactSolver {
       friction_->secant(c_, w, tangential, comm, last_direction > kSecantUntil);
       PrimalFriction::Next up = friction_->next(c_, w, tangential, bound);
       if (monotone) friction_->slip_one(up, comm);
+      if (couple_) friction_->slip_before_leaving(c_, active, tangential, bound, next, up);
       if (!comm.all(next == active) || !comm.all(up.stick == friction_->stick())) {
         if (history->came_back(contact_sets(next, up.stick), comm) && !monotone) {
           monotone = true;
@@ -279,14 +280,20 @@ class PrimalActiveSetSolver final : public ContactSolver {
     return moved;
   }
   /// HSW: Coulomb's bound tresca + μ (λ_ν + c_ν (N u − g))₊ on the normal set `in_contact` (λ_ν
-  /// `normal` at the rows in contact; a row that enters gets its penetration's force).
-  Vector hsw_bound(const std::vector<char>& in_contact, const Vector& normal, const Vector& w) const {
+  /// `normal` at the rows in contact; a row that enters gets its penetration's force). `held`: the
+  /// normal set the iterate w was solved with (empty: none), whose rows have their λ_ν: a Signorini
+  /// row N u = g by its constraint, not the round-off of g − α (g/α) that μ would multiply (μ = 1e8:
+  /// 1e-8 of the bound), a compliant one its spring's force (or the law's, law_determines).
+  Vector hsw_bound(const std::vector<char>& in_contact, const Vector& normal, const Vector& w,
+                   const std::vector<char>& held = {}) const {
     Vector bound(normal.size());
     for (Eigen::Index i = 0; i < bound.size(); ++i) {
+      const auto k = static_cast<std::size_t>(i);
       const double gap = gap_left(w, i);
-      bound[i] = c_.bound(i, !in_contact[static_cast<std::size_t>(i)] ? 0.0
-                             : compliant(i)                         ? -gap / spring_[static_cast<std::size_t>(i)]
-                                                                    : normal[i] - scale_[i] * gap);
+      bound[i] = c_.bound(i, !in_contact[k]                   ? 0.0
+                             : !held.empty() && held[k] ? normal[i]
+                             : compliant(i)             ? -gap / spring_[k]
+                                                        : normal[i] - scale_[i] * gap);
     }
     return bound;
   }
@@ -384,7 +391,7 @@ class PrimalActiveSetSolver final : public ContactSolver {
       else
         fixed_values[rows_[i].dof] = c_.gap[e] / rows_[i].alpha;
     }
-    const la::Perturbation C = friction_ ? coupling(active, b, rhs) : la::Perturbation();
+    la::Perturbation C = friction_ ? coupling(active, b, rhs) : la::Perturbation();
     if (friction_) friction_->load(c_, coupled_, rhs, fixed_values);
     Vector coupling;
     K_rot_->mult(fixed_values, coupling);
@@ -399,6 +406,7 @@ class PrimalActiveSetSolver final : public ContactSolver {
       // with friction the fixed rows (stick dofs at h, which grows with the slip) can dominate
       // ‖rhs‖, against which an iterative solver's tolerance is relative (Cattaneo–Mindlin on
       // CG + GAMG: equilibrium residual 2.9e-8 above the tolerance 1e-8 without).
+      if (C) weigh_law_rows(rhs, C);
       Vector r, delta = Vector::Zero(w.size()), Cw;
       A_->residual(rhs, w, r);
       if (C) C(w, Cw), r -= Cw;
@@ -444,6 +452,30 @@ class PrimalActiveSetSolver final : public ContactSolver {
     factor_->set_relative_tolerance(tight ? 0.0 : loose_tolerance(rhs, w));
     residual_left_ = 0;  // a direct solve (a loose one never ends the iteration: was_tight)
     factor_->solve(rhs, w);
+  }
+
+  /// The coupled system with each law_determines row's tangent equations over μ: D (A + C) δ = D r
+  /// as A + C' with C' = (D − I) A + D C (`rhs` scaled by D here). Their equations −λ_τ(w) +
+  /// (tresca + μ λ_ν(w)) n = 0 carry μ times K w's round-off (μ = 1e8: a residual 5x the friction
+  /// tolerance, however far GMRES goes), the scaled ones λ_ν's own: the residual that is left is
+  /// then the normal equilibrium's at the force law_normal_force reports.
+  void weigh_law_rows(Vector& rhs, la::Perturbation& C) const {
+    Vector weight = Vector::Ones(rhs.size());
+    bool any = false;
+    for (Eigen::Index i = 0; i < static_cast<Eigen::Index>(rows_.size()); ++i) {
+      if (!law_determines(i)) continue;
+      any = true;
+      for (int j = 0; j < friction_->tangents(); ++j)
+        if (const int dof = friction_->tangent_dof(static_cast<std::size_t>(i), j); dof >= 0) weight[dof] = 1 / c_.mu[i];
+    }
+    if (!K_->comm().any(any)) return;
+    rhs = weight.cwiseProduct(rhs);
+    C = [this, weight = std::move(weight), C = std::move(C)](const Vector& x, Vector& y) {
+      Vector Ax;
+      A_->mult(x, Ax);
+      C(x, y);
+      y = weight.cwiseProduct(Ax + y) - Ax;
+    };
   }
 
   /// Coulomb's bound in Newton's step (HSW's full linearization): at a slip row i in contact with
@@ -565,10 +597,10 @@ class PrimalActiveSetSolver final : public ContactSolver {
       const RotatedRow& row = rows_[i];
       const double gap = gap_left(w, i);
       if (compliant(i)) {  // λ = k (N u − g)₊: active where the row penetrates
-        lambda_local[i] = active[i] ? -gap / spring_[static_cast<std::size_t>(i)] : 0.0;
+        lambda_local[i] = !active[i] ? 0.0 : law_determines(i) ? law_normal_force(i, r) : -gap / spring_[static_cast<std::size_t>(i)];
         next[i] = gap < 0;
       } else {
-        lambda_local[i] = active[i] ? r[row.dof] / row.alpha : 0.0;
+        lambda_local[i] = !active[i] ? 0.0 : law_determines(i) ? law_normal_force(i, r) : r[row.dof] / row.alpha;
         next[i] = lambda_local[i] - scale_[i] * gap > 0;
         if (active[i] && lambda_local[i] < most_negative) {
           most_negative = lambda_local[i];
@@ -576,6 +608,25 @@ class PrimalActiveSetSolver final : public ContactSolver {
         }
       }
     }
+  }
+
+  /// Whether row i's λ_ν is the one its slip law's row gives rather than its reaction (or its
+  /// spring's force): at a row whose bound was coupled in the last solve (λ_τ = (tresca + μ λ_ν) n,
+  /// one of its equations) with μ > 1. Both are the same λ_ν up to the solve's residual, but the
+  /// reaction (b − K_rot w)_ν carries K w's round-off (the spring g − α w_ν's), which μ λ_ν multiplies
+  /// into the bound (μ = 1e8: 2e-8 of the force scale, above the friction tolerance whatever the
+  /// solve), while the law's row divides λ_τ's by μ.
+  bool law_determines(Eigen::Index i) const {
+    return friction_ && static_cast<std::size_t>(i) < coupled_.size() && coupled_[static_cast<std::size_t>(i)] &&
+           c_.mu[i] > 1;
+  }
+  /// λ_ν = (λ_τ · n − tresca)/μ with λ_τ the reaction r at the row's tangent dofs.
+  double law_normal_force(Eigen::Index i, const Vector& r) const {
+    const auto row = static_cast<std::size_t>(i);
+    double along = 0;
+    for (int j = 0; j < friction_->tangents(); ++j)
+      if (const int dof = friction_->tangent_dof(row, j); dof >= 0) along += friction_->direction(row)[j] * r[dof];
+    return (along - c_.tresca[i]) / c_.mu[i];
   }
 
   /// Monotone updates once a set came back: add every violated row, release only the row with
