@@ -391,7 +391,8 @@ class PrimalActiveSetSolver final : public ContactSolver {
       else
         fixed_values[rows_[i].dof] = c_.gap[e] / rows_[i].alpha;
     }
-    la::Perturbation C = friction_ ? coupling(active, b, rhs) : la::Perturbation();
+    Vector law_rhs = Vector::Zero(b.size());
+    const la::Perturbation C = friction_ ? coupling(active, b, rhs, law_rhs) : la::Perturbation();
     if (friction_) friction_->load(c_, coupled_, rhs, fixed_values);
     Vector coupling;
     K_rot_->mult(fixed_values, coupling);
@@ -401,12 +402,15 @@ class PrimalActiveSetSolver final : public ContactSolver {
         w[j] = fixed_values[j];
         rhs[j] = diagonal_[j] * fixed_values[j];
       }
+    if (weighted_) {  // D rhs, the law rows' own part already over μ (coupling())
+      weigh(rhs);
+      rhs += law_rhs;
+    }
     if (C || (friction_ && tight && factor_->iterative())) {
       // Solved for the correction, whose right-hand side is the residual (0 on the fixed rows):
       // with friction the fixed rows (stick dofs at h, which grows with the slip) can dominate
       // ‖rhs‖, against which an iterative solver's tolerance is relative (Cattaneo–Mindlin on
       // CG + GAMG: equilibrium residual 2.9e-8 above the tolerance 1e-8 without).
-      if (C) weigh_law_rows(rhs, C);
       Vector r, delta = Vector::Zero(w.size()), Cw;
       A_->residual(rhs, w, r);
       if (C) C(w, Cw), r -= Cw;
@@ -454,30 +458,6 @@ class PrimalActiveSetSolver final : public ContactSolver {
     factor_->solve(rhs, w);
   }
 
-  /// The coupled system with each law_determines row's tangent equations over μ: D (A + C) δ = D r
-  /// as A + C' with C' = (D − I) A + D C (`rhs` scaled by D here). Their equations −λ_τ(w) +
-  /// (tresca + μ λ_ν(w)) n = 0 carry μ times K w's round-off (μ = 1e8: a residual 5x the friction
-  /// tolerance, however far GMRES goes), the scaled ones λ_ν's own: the residual that is left is
-  /// then the normal equilibrium's at the force law_normal_force reports.
-  void weigh_law_rows(Vector& rhs, la::Perturbation& C) const {
-    Vector weight = Vector::Ones(rhs.size());
-    bool any = false;
-    for (Eigen::Index i = 0; i < static_cast<Eigen::Index>(rows_.size()); ++i) {
-      if (!law_determines(i)) continue;
-      any = true;
-      for (int j = 0; j < friction_->tangents(); ++j)
-        if (const int dof = friction_->tangent_dof(static_cast<std::size_t>(i), j); dof >= 0) weight[dof] = 1 / c_.mu[i];
-    }
-    if (!K_->comm().any(any)) return;
-    rhs = weight.cwiseProduct(rhs);
-    C = [this, weight = std::move(weight), C = std::move(C)](const Vector& x, Vector& y) {
-      Vector Ax;
-      A_->mult(x, Ax);
-      C(x, y);
-      y = weight.cwiseProduct(Ax + y) - Ax;
-    };
-  }
-
   /// Coulomb's bound in Newton's step (HSW's full linearization): at a slip row i in contact with
   /// μ_i > 0 and a direction n_i, the force on tangent dof j is tresca n_ij (PrimalFriction::load)
   /// plus μ_i n_ij λ_ν,i(w), λ_ν a reaction of w: on a Signorini row (b − K_rot w)_ν/α, on a compliant
@@ -485,10 +465,20 @@ class PrimalActiveSetSolver final : public ContactSolver {
   /// row j takes −μ n_j/α times K_rot's row ν), the rest goes to `rhs`. A direct solver's spring
   /// change since its factor (factorize_for) joins C, solved with it by GMRES. Empty: nothing
   /// to add on any rank (a plain solve). Sets coupled_.
-  la::Perturbation coupling(const std::vector<char>& active, const Vector& b, Vector& rhs) const {
+  ///
+  /// A law_determines row's equation along n_i (−λ_τ(w)·n + tresca + μ λ_ν(w) = 0) is solved over μ:
+  /// the system is D (A + C) δ = D r with D = I − (1 − 1/μ) n nᵀ on its tangent dofs (weigh()), its
+  /// coupling entries and right-hand side (`law_rhs`) made over μ here (μ n_j/α → n_j/α: D C without
+  /// forming μ K, 1e303 at μ = 1e300), and C' = (D − I) A + D (the spring change) + those entries.
+  /// That equation carries μ times K w's round-off (μ = 1e8: a residual 5x the friction tolerance,
+  /// however far GMRES goes), the scaled one λ_ν's own: the residual that is left is the normal
+  /// equilibrium's at the force law_normal_force reports. The equations across n (3D: λ_τ's spring
+  /// part) keep their scale.
+  la::Perturbation coupling(const std::vector<char>& active, const Vector& b, Vector& rhs, Vector& law_rhs) const {
     const int t = friction_->tangents();
     coupled_.assign(rows_.size(), 0);
     couplings_.clear();
+    law_rows_.clear();
     bool signorini = false;
     for (size_t i = 0; i < rows_.size(); ++i) {
       const auto e = static_cast<Eigen::Index>(i);
@@ -497,21 +487,30 @@ class PrimalActiveSetSolver final : public ContactSolver {
       if (c_.limit.size() > 0 && friction_->slip_force(i).norm() >= (1 - 1e-12) * c_.limit[e]) continue;
       coupled_[i] = 1;
       const RotatedRow& row = rows_[i];
+      const bool law = law_determines(e);
+      if (law) law_rows_.push_back({{}, Vector::Zero(t), 1 / c_.mu[e]});
       for (int j = 0; j < t; ++j) {
         const int dof = friction_->tangent_dof(i, j);
-        const double mu_n = c_.mu[e] * friction_->direction(i)[j];
+        if (law) {
+          law_rows_.back().dofs.push_back(dof);
+          if (dof >= 0) law_rows_.back().n[j] = friction_->direction(i)[j];
+        }
+        // μ n_j, over μ at a law row (D's factor along n; D n = n/μ)
+        const double mu_n = (law ? 1.0 : c_.mu[e]) * friction_->direction(i)[j];
         if (dof < 0 || mu_n == 0) continue;
+        Vector& load = law ? law_rhs : rhs;
         if (compliant(e)) {
           couplings_.push_back({dof, row.dof, mu_n * row.alpha / spring_[i], false});
-          rhs[dof] += mu_n * c_.gap[e] / spring_[i];
+          load[dof] += mu_n * c_.gap[e] / spring_[i];
         } else {
           couplings_.push_back({dof, row.dof, -mu_n / row.alpha, true});
-          rhs[dof] -= mu_n / row.alpha * b[row.dof];
+          load[dof] -= mu_n / row.alpha * b[row.dof];
           signorini = true;
         }
       }
     }
     const la::Comm& comm = K_->comm();
+    weighted_ = comm.any(!law_rows_.empty());
     if (!comm.any(!couplings_.empty() || spring_change_.nonZeros() > 0)) return {};
     // K_rot's normal rows at the coupled Signorini rows only (collective): with the whole product
     // a GMRES iteration cost 1.8 CG iterations (frictional foundation-3d n = 40, 2 ranks).
@@ -531,8 +530,31 @@ class PrimalActiveSetSolver final : public ContactSolver {
       Vector Kx;
       if (normal_rows) normal_rows(x, Kx);
       for (const Coupling& c : couplings_) y[c.tangent] += c.coefficient * (c.reaction ? Kx[c.normal] : x[c.normal]);
-      if (spring_change_.nonZeros() > 0) y += spring_change_ * x;
+      if (!weighted_) {
+        if (spring_change_.nonZeros() > 0) y += spring_change_ * x;
+        return;
+      }
+      Vector Ax, v;  // (D − I) A x + D (spring change) x (collective: A's product)
+      A_->mult(x, Ax);
+      v = spring_change_.nonZeros() > 0 ? Vector(Ax + spring_change_ * x) : Ax;
+      weigh(v);
+      y += v - Ax;
     };
+  }
+
+  /// y ← D y (coupling()): at each law row's tangent dofs the part along n over μ (as (y − (y·n) n) +
+  /// (y·n)/μ n: 1 − 1/μ is 1 in floating point at μ = 1e300, and D would be singular).
+  void weigh(Vector& y) const {
+    for (const LawRow& x : law_rows_) {
+      double along = 0;
+      for (std::size_t j = 0; j < x.dofs.size(); ++j)
+        if (x.dofs[j] >= 0) along += x.n[static_cast<Eigen::Index>(j)] * y[x.dofs[j]];
+      for (std::size_t j = 0; j < x.dofs.size(); ++j)
+        if (const int dof = x.dofs[j]; dof >= 0) {
+          const double n = x.n[static_cast<Eigen::Index>(j)];
+          y[dof] = (y[dof] - along * n) + x.inverse * along * n;
+        }
+    }
   }
 
   /// A loose solve stops at kLooseTolerance ‖rhs‖ or at kLooseReduction of its initial
@@ -664,6 +686,14 @@ class PrimalActiveSetSolver final : public ContactSolver {
   };
   mutable std::vector<Coupling> couplings_;
   mutable std::vector<char> coupled_;  // per local row: its μ λ_ν in the matrix (coupling())
+  /// coupling(): a law_determines row's tangent dofs (−1 where none), its direction n and 1/μ (weigh()).
+  struct LawRow {
+    std::vector<int> dofs;
+    Vector n;
+    double inverse;
+  };
+  mutable std::vector<LawRow> law_rows_;
+  mutable bool weighted_ = false;  // some rank has law rows (coupling())
   double force_scale_ = 0;             // the iteration's force scale (the direct solver's GMRES target)
   double newton_target_ = 0;           // the next coupled correction's residual (of the force scale), at least
   bool couple_ = true;                 // Coulomb's bound in Newton's step (else lagged one iterate)
