@@ -159,7 +159,7 @@ class PrimalActiveSetSolver final : public ContactSolver {
       if (monotone) release_one(active, next, most_negative, worst);
       tangential = friction_->forces(r);
       if (couple_) {
-        bound = hsw_bound(next, lambda_local, w);
+        bound = hsw_bound(next, lambda_local, w, active);
       }
       const double scale = std::max({b_scale, comm.max(lambda_local.size() ? lambda_local.cwiseAbs().maxCoeff() : 0.0),
                                      std::numeric_limits<double>::min()});
@@ -169,6 +169,7 @@ class PrimalActiveSetSolver final : public ContactSolver {
       friction_->secant(c_, w, tangential, comm, last_direction > kSecantUntil);
       PrimalFriction::Next up = friction_->next(c_, w, tangential, bound);
       if (monotone) friction_->slip_one(up, comm);
+      if (couple_) friction_->slip_before_leaving(c_, active, tangential, bound, next, up);
       if (!comm.all(next == active) || !comm.all(up.stick == friction_->stick())) {
         if (history->came_back(contact_sets(next, up.stick), comm) && !monotone) {
           monotone = true;
@@ -279,14 +280,20 @@ class PrimalActiveSetSolver final : public ContactSolver {
     return moved;
   }
   /// HSW: Coulomb's bound tresca + μ (λ_ν + c_ν (N u − g))₊ on the normal set `in_contact` (λ_ν
-  /// `normal` at the rows in contact; a row that enters gets its penetration's force).
-  Vector hsw_bound(const std::vector<char>& in_contact, const Vector& normal, const Vector& w) const {
+  /// `normal` at the rows in contact; a row that enters gets its penetration's force). `held`: the
+  /// normal set the iterate w was solved with (empty: none), whose rows have their λ_ν: a Signorini
+  /// row N u = g by its constraint, not the round-off of g − α (g/α) that μ would multiply (μ = 1e8:
+  /// 1e-8 of the bound), a compliant one its spring's force (or the law's, law_determines).
+  Vector hsw_bound(const std::vector<char>& in_contact, const Vector& normal, const Vector& w,
+                   const std::vector<char>& held = {}) const {
     Vector bound(normal.size());
     for (Eigen::Index i = 0; i < bound.size(); ++i) {
+      const auto k = static_cast<std::size_t>(i);
       const double gap = gap_left(w, i);
-      bound[i] = c_.bound(i, !in_contact[static_cast<std::size_t>(i)] ? 0.0
-                             : compliant(i)                         ? -gap / spring_[static_cast<std::size_t>(i)]
-                                                                    : normal[i] - scale_[i] * gap);
+      bound[i] = c_.bound(i, !in_contact[k]                   ? 0.0
+                             : !held.empty() && held[k] ? normal[i]
+                             : compliant(i)             ? -gap / spring_[k]
+                                                        : normal[i] - scale_[i] * gap);
     }
     return bound;
   }
@@ -384,7 +391,8 @@ class PrimalActiveSetSolver final : public ContactSolver {
       else
         fixed_values[rows_[i].dof] = c_.gap[e] / rows_[i].alpha;
     }
-    const la::Perturbation C = friction_ ? coupling(active, b, rhs) : la::Perturbation();
+    Vector law_rhs = Vector::Zero(b.size());
+    const la::Perturbation C = friction_ ? coupling(active, b, rhs, law_rhs) : la::Perturbation();
     if (friction_) friction_->load(c_, coupled_, rhs, fixed_values);
     Vector coupling;
     K_rot_->mult(fixed_values, coupling);
@@ -394,6 +402,10 @@ class PrimalActiveSetSolver final : public ContactSolver {
         w[j] = fixed_values[j];
         rhs[j] = diagonal_[j] * fixed_values[j];
       }
+    if (weighted_) {  // D rhs, the law rows' own part already over μ (coupling())
+      weigh(rhs);
+      rhs += law_rhs;
+    }
     if (C || (friction_ && tight && factor_->iterative())) {
       // Solved for the correction, whose right-hand side is the residual (0 on the fixed rows):
       // with friction the fixed rows (stick dofs at h, which grows with the slip) can dominate
@@ -453,10 +465,20 @@ class PrimalActiveSetSolver final : public ContactSolver {
   /// row j takes −μ n_j/α times K_rot's row ν), the rest goes to `rhs`. A direct solver's spring
   /// change since its factor (factorize_for) joins C, solved with it by GMRES. Empty: nothing
   /// to add on any rank (a plain solve). Sets coupled_.
-  la::Perturbation coupling(const std::vector<char>& active, const Vector& b, Vector& rhs) const {
+  ///
+  /// A law_determines row's equation along n_i (−λ_τ(w)·n + tresca + μ λ_ν(w) = 0) is solved over μ:
+  /// the system is D (A + C) δ = D r with D = I − (1 − 1/μ) n nᵀ on its tangent dofs (weigh()), its
+  /// coupling entries and right-hand side (`law_rhs`) made over μ here (μ n_j/α → n_j/α: D C without
+  /// forming μ K, 1e303 at μ = 1e300), and C' = (D − I) A + D (the spring change) + those entries.
+  /// That equation carries μ times K w's round-off (μ = 1e8: a residual 5x the friction tolerance,
+  /// however far GMRES goes), the scaled one λ_ν's own: the residual that is left is the normal
+  /// equilibrium's at the force law_normal_force reports. The equations across n (3D: λ_τ's spring
+  /// part) keep their scale.
+  la::Perturbation coupling(const std::vector<char>& active, const Vector& b, Vector& rhs, Vector& law_rhs) const {
     const int t = friction_->tangents();
     coupled_.assign(rows_.size(), 0);
     couplings_.clear();
+    law_rows_.clear();
     bool signorini = false;
     for (size_t i = 0; i < rows_.size(); ++i) {
       const auto e = static_cast<Eigen::Index>(i);
@@ -465,21 +487,30 @@ class PrimalActiveSetSolver final : public ContactSolver {
       if (c_.limit.size() > 0 && friction_->slip_force(i).norm() >= (1 - 1e-12) * c_.limit[e]) continue;
       coupled_[i] = 1;
       const RotatedRow& row = rows_[i];
+      const bool law = law_determines(e);
+      if (law) law_rows_.push_back({{}, Vector::Zero(t), 1 / c_.mu[e]});
       for (int j = 0; j < t; ++j) {
         const int dof = friction_->tangent_dof(i, j);
-        const double mu_n = c_.mu[e] * friction_->direction(i)[j];
+        if (law) {
+          law_rows_.back().dofs.push_back(dof);
+          if (dof >= 0) law_rows_.back().n[j] = friction_->direction(i)[j];
+        }
+        // μ n_j, over μ at a law row (D's factor along n; D n = n/μ)
+        const double mu_n = (law ? 1.0 : c_.mu[e]) * friction_->direction(i)[j];
         if (dof < 0 || mu_n == 0) continue;
+        Vector& load = law ? law_rhs : rhs;
         if (compliant(e)) {
           couplings_.push_back({dof, row.dof, mu_n * row.alpha / spring_[i], false});
-          rhs[dof] += mu_n * c_.gap[e] / spring_[i];
+          load[dof] += mu_n * c_.gap[e] / spring_[i];
         } else {
           couplings_.push_back({dof, row.dof, -mu_n / row.alpha, true});
-          rhs[dof] -= mu_n / row.alpha * b[row.dof];
+          load[dof] -= mu_n / row.alpha * b[row.dof];
           signorini = true;
         }
       }
     }
     const la::Comm& comm = K_->comm();
+    weighted_ = comm.any(!law_rows_.empty());
     if (!comm.any(!couplings_.empty() || spring_change_.nonZeros() > 0)) return {};
     // K_rot's normal rows at the coupled Signorini rows only (collective): with the whole product
     // a GMRES iteration cost 1.8 CG iterations (frictional foundation-3d n = 40, 2 ranks).
@@ -499,8 +530,31 @@ class PrimalActiveSetSolver final : public ContactSolver {
       Vector Kx;
       if (normal_rows) normal_rows(x, Kx);
       for (const Coupling& c : couplings_) y[c.tangent] += c.coefficient * (c.reaction ? Kx[c.normal] : x[c.normal]);
-      if (spring_change_.nonZeros() > 0) y += spring_change_ * x;
+      if (!weighted_) {
+        if (spring_change_.nonZeros() > 0) y += spring_change_ * x;
+        return;
+      }
+      Vector Ax, v;  // (D − I) A x + D (spring change) x (collective: A's product)
+      A_->mult(x, Ax);
+      v = spring_change_.nonZeros() > 0 ? Vector(Ax + spring_change_ * x) : Ax;
+      weigh(v);
+      y += v - Ax;
     };
+  }
+
+  /// y ← D y (coupling()): at each law row's tangent dofs the part along n over μ (as (y − (y·n) n) +
+  /// (y·n)/μ n: 1 − 1/μ is 1 in floating point at μ = 1e300, and D would be singular).
+  void weigh(Vector& y) const {
+    for (const LawRow& x : law_rows_) {
+      double along = 0;
+      for (std::size_t j = 0; j < x.dofs.size(); ++j)
+        if (x.dofs[j] >= 0) along += x.n[static_cast<Eigen::Index>(j)] * y[x.dofs[j]];
+      for (std::size_t j = 0; j < x.dofs.size(); ++j)
+        if (const int dof = x.dofs[j]; dof >= 0) {
+          const double n = x.n[static_cast<Eigen::Index>(j)];
+          y[dof] = (y[dof] - along * n) + x.inverse * along * n;
+        }
+    }
   }
 
   /// A loose solve stops at kLooseTolerance ‖rhs‖ or at kLooseReduction of its initial
@@ -565,10 +619,10 @@ class PrimalActiveSetSolver final : public ContactSolver {
       const RotatedRow& row = rows_[i];
       const double gap = gap_left(w, i);
       if (compliant(i)) {  // λ = k (N u − g)₊: active where the row penetrates
-        lambda_local[i] = active[i] ? -gap / spring_[static_cast<std::size_t>(i)] : 0.0;
+        lambda_local[i] = !active[i] ? 0.0 : law_determines(i) ? law_normal_force(i, r) : -gap / spring_[static_cast<std::size_t>(i)];
         next[i] = gap < 0;
       } else {
-        lambda_local[i] = active[i] ? r[row.dof] / row.alpha : 0.0;
+        lambda_local[i] = !active[i] ? 0.0 : law_determines(i) ? law_normal_force(i, r) : r[row.dof] / row.alpha;
         next[i] = lambda_local[i] - scale_[i] * gap > 0;
         if (active[i] && lambda_local[i] < most_negative) {
           most_negative = lambda_local[i];
@@ -576,6 +630,25 @@ class PrimalActiveSetSolver final : public ContactSolver {
         }
       }
     }
+  }
+
+  /// Whether row i's λ_ν is the one its slip law's row gives rather than its reaction (or its
+  /// spring's force): at a row whose bound was coupled in the last solve (λ_τ = (tresca + μ λ_ν) n,
+  /// one of its equations) with μ > 1. Both are the same λ_ν up to the solve's residual, but the
+  /// reaction (b − K_rot w)_ν carries K w's round-off (the spring g − α w_ν's), which μ λ_ν multiplies
+  /// into the bound (μ = 1e8: 2e-8 of the force scale, above the friction tolerance whatever the
+  /// solve), while the law's row divides λ_τ's by μ.
+  bool law_determines(Eigen::Index i) const {
+    return friction_ && static_cast<std::size_t>(i) < coupled_.size() && coupled_[static_cast<std::size_t>(i)] &&
+           c_.mu[i] > 1;
+  }
+  /// λ_ν = (λ_τ · n − tresca)/μ with λ_τ the reaction r at the row's tangent dofs.
+  double law_normal_force(Eigen::Index i, const Vector& r) const {
+    const auto row = static_cast<std::size_t>(i);
+    double along = 0;
+    for (int j = 0; j < friction_->tangents(); ++j)
+      if (const int dof = friction_->tangent_dof(row, j); dof >= 0) along += friction_->direction(row)[j] * r[dof];
+    return (along - c_.tresca[i]) / c_.mu[i];
   }
 
   /// Monotone updates once a set came back: add every violated row, release only the row with
@@ -613,6 +686,14 @@ class PrimalActiveSetSolver final : public ContactSolver {
   };
   mutable std::vector<Coupling> couplings_;
   mutable std::vector<char> coupled_;  // per local row: its μ λ_ν in the matrix (coupling())
+  /// coupling(): a law_determines row's tangent dofs (−1 where none), its direction n and 1/μ (weigh()).
+  struct LawRow {
+    std::vector<int> dofs;
+    Vector n;
+    double inverse;
+  };
+  mutable std::vector<LawRow> law_rows_;
+  mutable bool weighted_ = false;  // some rank has law rows (coupling())
   double force_scale_ = 0;             // the iteration's force scale (the direct solver's GMRES target)
   double newton_target_ = 0;           // the next coupled correction's residual (of the force scale), at least
   bool couple_ = true;                 // Coulomb's bound in Newton's step (else lagged one iterate)

@@ -186,6 +186,22 @@ PrimalFriction::Next PrimalFriction::next(const ContactConstraints& c, const Vec
   return n;
 }
 
+void PrimalFriction::slip_before_leaving(const ContactConstraints& c, const std::vector<char>& was_active,
+                                         const Vector& tangential, const Vector& bound, std::vector<char>& in_contact,
+                                         Next& next) const {
+  for (std::size_t i = 0; i < stick_.size(); ++i) {
+    const auto e = static_cast<Eigen::Index>(i);
+    if (!was_active[i] || !stick_[i] || in_contact[i] || next.stick[i] || !(c.mu[e] > 0)) continue;
+    const auto l = tangential.segment(e * t_, t_);
+    const double norm = l.norm();
+    if (!(norm > 0)) continue;  // no reaction: nothing pulls it off but its normal force, free is right
+    in_contact[i] = 1;
+    next.direction.segment(e * t_, t_) = l / norm;
+    next.force.segment(e * t_, t_) = bound[e] / norm * l;
+    next.spring[i] = 0;  // Newton's spring: s γ c / (|q| − s) with s = 0
+  }
+}
+
 void PrimalFriction::slip_one(Next& next, const la::Comm& comm) const {
   std::size_t worst = stick_.size();
   double most = -1;  // excess is ≥ 0 where a stick row would slip

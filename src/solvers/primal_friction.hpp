@@ -72,6 +72,17 @@ class PrimalFriction {
   };
   /// Newton's next linearization from the iterate (w, λ_τ) with the bound s_i of each row (`bound`; 0 off contact).
   Next next(const ContactConstraints& c, const Vector& w, const Vector& tangential, const Vector& bound) const;
+  /// HSW's rule releases a stick row whose normal force λ_ν + c (N u − g) turned negative twice in one
+  /// update: out of contact (`in_contact`'s row 0) and, its bound then 0, free. But that λ_ν is the
+  /// stick state's, whose own reaction λ_τ can pull the node off: free, it slides and presses in
+  /// again, sticks, and the two states alternate (a face's trailing node leaving contact under a large
+  /// μ, where the slip state between them, in contact with μ λ_ν = |λ_τ|, is the answer). So
+  /// the tangent is released first: such a row (μ > 0, its bound at λ_ν = 0 below its stick reaction)
+  /// stays in contact and slips along λ_τ, Coulomb's bound coupled (its λ_ν that of the slip state),
+  /// and leaves contact once its force is negative while it slips. `was_active`: the normal set
+  /// of the iterate; `bound`: the next bounds (at λ_ν = 0 for rows out of `in_contact`).
+  void slip_before_leaving(const ContactConstraints& c, const std::vector<char>& was_active, const Vector& tangential,
+                           const Vector& bound, std::vector<char>& in_contact, Next& next) const;
   /// Monotone (against cycling): of the stick rows that would slip, only the one with the largest
   /// excess over its bound (over every rank) does. Collective.
   void slip_one(Next& next, const la::Comm& comm) const;

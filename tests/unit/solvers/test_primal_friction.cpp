@@ -2,7 +2,8 @@
 // with hand-computed stick and slip answers; an elastic block pressed onto a rigid plane and
 // sheared by the obstacle's tangential motion (2D, 3D, tilted contact directions) checked against
 // independent answers: full slip carries μ × the normal force, a huge μ gives the bonded solution,
-// Coulomb equals the Tresca problem with its bound, slip in 3D follows a disc; and a case whose
+// Coulomb equals the Tresca problem with its bound, slip in 3D follows a disc, a stuck node pulled
+// off under a large μ slips in contact as the dual solver's does; and a case whose
 // solver short of iterations reports converged = false.
 #include "core/error.hpp"
 #include "solvers/contact_solver.hpp"
@@ -446,6 +447,45 @@ TEST(PrimalFriction, AgreesWithTheDualSolver) {
     std::printf("[ measure ] vs dual, %dD mu %.1f: primal %d iterations %d factorizations; dual %d iterations\n", k.dim,
                 k.mu, primal_answer.rep.iterations, primal_answer.rep.factorizations, rep.iterations);
   }
+}
+
+// Issue 48: the pressed 2D block, its face pushed in by 0.05, dragged by a slide of 1 under a large
+// μ. Every node sticks but the trailing two: one is pulled off by its own stick reaction and lifts,
+// the next, free, would press in again, so it slips in contact with λ_ν = |λ_τ|/μ. HSW's rule
+// released that node out of contact and free at once and the sets alternated (as on the reported
+// shear-2d slide from μ = 100): 75 solves at μ = 100 (the lagged fallback), no convergence in 500 at
+// μ = 1e8. The primal solver must give the dual's answer in a few solves, and at μ = 1e300 μ = 1e8's.
+TEST(PrimalFriction, AStuckNodePulledOffSlipsInContactUnderALargeMu) {
+  const Block b = make_block(2);
+  Vector u_large, lambda_large;
+  for (const double mu : {1e2, 1e5, 1e8}) {
+    SCOPED_TRACE(mu);
+    const ContactConstraints c = frictional(b.N, Vector::Constant(b.N.rows(), -0.05), 2, b.node_dofs, mu);
+    const Vector shift = Vector::Constant(c.m, 1.0);
+    auto K = std::make_shared<const la::SparseOperator>(b.K);
+    std::shared_ptr<la::LinearSolver> f = la::make_cholmod_factor("K");
+    f->factorize(*K, "K");
+    auto dual = make_contact_solver("active-set", K, f, c, la::make_cholmod_factor);
+    dual->set_friction(Vector::Zero(c.m), shift);
+    Vector u, lambda;
+    const ContactReport rep = dual->solve(b.F, u, lambda);
+    ASSERT_TRUE(rep.converged);
+    EXPECT_EQ(rep.n_slip, 1);
+    EXPECT_EQ(rep.n_active, c.m - 1);
+    const Solved primal_answer = solve(b.K, c, b.F, shift);
+    std::printf("[ measure ] mu %.0e: primal %d iterations, stick %d slip %d\n", mu, primal_answer.rep.iterations,
+                primal_answer.rep.n_stick, primal_answer.rep.n_slip);
+    EXPECT_LE(primal_answer.rep.iterations, 10);
+    EXPECT_EQ(primal_answer.rep.n_slip, 1);
+    EXPECT_LE(max_abs(primal_answer.u - u), 1e-9 * max_abs(u));
+    EXPECT_LE(max_abs(primal_answer.lambda - lambda), 1e-9 * max_abs(lambda));
+    u_large = u, lambda_large = lambda;
+  }
+  const ContactConstraints c = frictional(b.N, Vector::Constant(b.N.rows(), -0.05), 2, b.node_dofs, 1e300);
+  const Solved s = solve(b.K, c, b.F, Vector::Constant(c.m, 1.0));
+  EXPECT_EQ(s.rep.n_slip, 1);
+  EXPECT_LE(max_abs(s.u - u_large), 1e-7 * max_abs(u_large));  // the slipping node's λ_ν: O(1/μ)
+  EXPECT_LE(max_abs(s.lambda - lambda_large), 1e-7 * max_abs(lambda_large));
 }
 
 // Short of solves (a test's limit of 3; the production limit is kPrimalMaxIterations): the
