@@ -29,6 +29,7 @@ packages=(
 if [ "${1:-}" != "--serial" ]; then
   packages+=(
     libpetsc-real-dev        # PETSc 3.18 with MUMPS, hypre, PTScotch
+    libmumps-dev             # MUMPS itself (PETSc's): its Schur complements (la/mumps_schur.hpp)
     libopenmpi-dev openmpi-bin  # MPI and mpirun
   )
 fi
