@@ -114,18 +114,11 @@ Eigen::MatrixXd mumps_schur_complement(MPI_Comm comm, Mat A, const Eigen::Sparse
     break;
   }
 
-  // The Schur block of the factorization is 0 − B A⁻¹ Bᵀ. For a symmetric matrix MUMPS fills one
-  // triangle of it (the other is left as it was, zero): S is that triangle mirrored.
+  // The Schur block of the factorization is 0 − B A⁻¹ Bᵀ. For a symmetric matrix MUMPS returns its
+  // lower triangle by rows (ICNTL(19) = 1), the upper one of this column-major view; the rest of the
+  // array is its workspace, not zeros (dome-3d: entries 200x S's own).
   Eigen::MatrixXd S(m, m);
-  if (host) {
-    const Eigen::Map<const Eigen::MatrixXd> raw(schur.data(), m, m);
-    const bool lower = raw.triangularView<Eigen::StrictlyLower>().toDenseMatrix().cwiseAbs().sum() >=
-                       raw.triangularView<Eigen::StrictlyUpper>().toDenseMatrix().cwiseAbs().sum();
-    if (lower)
-      S = -Eigen::MatrixXd(raw.selfadjointView<Eigen::Lower>());
-    else
-      S = -Eigen::MatrixXd(raw.selfadjointView<Eigen::Upper>());
-  }
+  if (host) S = -Eigen::MatrixXd(Eigen::Map<const Eigen::MatrixXd>(schur.data(), m, m).selfadjointView<Eigen::Upper>());
   for (int j0 = 0; j0 < m; j0 += kBroadcastColumns)  // counts within MPI's int
     MPI_Bcast(S.col(j0).data(), static_cast<int>(m) * std::min(kBroadcastColumns, m - j0), MPI_DOUBLE, 0, comm);
   return S;
