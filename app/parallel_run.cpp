@@ -7,9 +7,27 @@
 #include <fmt/format.h>
 #include <omp.h>
 
+#include <chrono>
 #include <cstdio>
+#include <thread>
 
 namespace vpc {
+
+namespace {
+
+/// A barrier that sleeps: ranks waiting while rank 0 runs a case alone (alone_on_rank_zero) would
+/// otherwise spin in MPI's blocking calls, on a core rank 0's threads could use.
+void wait_for_every_rank(MPI_Comm comm) {
+  MPI_Request request;
+  MPI_Ibarrier(comm, &request);
+  for (int done = 0;;) {
+    MPI_Test(&request, &done, MPI_STATUS_IGNORE);
+    if (done) return;
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
+}
+
+}  // namespace
 
 int parallel_run(const RunOptions& o, const EngineTask& task) {
   if (PetscInitializeNoArguments() != 0) {
@@ -44,6 +62,7 @@ int parallel_run(const RunOptions& o, const EngineTask& task) {
     if (size > 1) MPI_Abort(comm, 1);
     rc = 1;
   }
+  wait_for_every_rank(comm);
   PetscFinalize();
   return rc;
 }

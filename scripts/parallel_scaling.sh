@@ -19,7 +19,7 @@ for r in $(seq "$REPEAT"); do
       if [ "$np" = serial ]; then
         "$VPC" run $c --engine serial --no-vtu -q -o "$dir" --checkpoint-every 0
       else
-        mpirun -np "$np" --bind-to core "$VPC" run $c --no-vtu -q -o "$dir"
+        mpirun -np "$np" --bind-to core "$VPC" run $c --engine petsc --no-vtu -q -o "$dir"
       fi
       /usr/bin/python3 - "$dir/summary.json" "$c" "$np" "$r" <<'PY'
 import json, sys

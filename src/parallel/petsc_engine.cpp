@@ -129,6 +129,50 @@ std::unique_ptr<Run> engine_on_ranks(MPI_Comm mpi_comm, Case c, const RunOptions
 
 const std::vector<std::string> kLinearSolvers = {"mumps", "cg-gamg", "cg-hypre"};
 
+/// A rank's part while rank 0 runs the case alone (alone_on_rank_zero): no steps, no output; the
+/// rank then waits for rank 0 (parallel_run's end, without spinning on a core).
+class WaitingRun final : public Run {
+ public:
+  bool done() const override { return true; }
+  StepReport step() override { return {}; }
+  int n_steps() const override { return 0; }
+  double final_time() const override { return 0; }
+  double tolerance() const override { return 0; }
+  void open_output() override {}
+  const std::filesystem::path& directory() const override { return directory_; }
+  void start() override {}
+  void record(const StepReport&) override {}
+  void finish(double) override {}
+  void checkpoint() override {}
+  std::optional<ResumedAt> resume(const std::filesystem::path&, std::vector<std::string>&) override {
+    return ResumedAt{};
+  }
+  bool root() const override { return false; }
+
+ private:
+  std::filesystem::path directory_;
+};
+
+/// --engine auto under mpirun: rank 0 alone where the case is small (alone_on_rank_zero), saying so;
+/// null to distribute. `c`: loaded by load_case_everywhere; `size`: its sizes summed over the blocks
+/// of a mesh built by blocks (rank 0 then builds the whole mesh, by `load`), else null. Collective.
+std::unique_ptr<Run> alone_if_small(const la::Comm& comm, Case& c, const ProblemSize* size, const CaseLoader& load,
+                                    const RunOptions& o) {
+  std::vector<double> alone(1, 0.0);
+  la::on_root(comm, [&] {
+    if (const std::optional<std::string> why =
+            alone_on_rank_zero(*c.problem, size ? *size : problem_size(*c.problem), comm.size())) {
+      alone[0] = 1;
+      if (!o.quiet) fmt::print("  {}\n", *why);
+    }
+  });
+  if (la::broadcast(comm, alone)[0] == 0) return nullptr;
+  if (comm.rank() != 0) return std::make_unique<WaitingRun>();
+  Case whole = size ? load({}) : std::move(c);
+  plan_run(whole, {.engine = "serial", .petsc_built = true}, o.quiet);  // CHOLMOD, if it fits
+  return set_up_on_one_process(std::move(whole), o);
+}
+
 }  // namespace
 
 std::unique_ptr<Run> set_up_petsc(MPI_Comm mpi_comm, const CaseLoader& load, const RunOptions& o) {
@@ -155,6 +199,8 @@ std::unique_ptr<Run> set_up_petsc(MPI_Comm mpi_comm, const CaseLoader& load, con
                           : std::string());
   }
   stop_if_interrupted_anywhere(comm);
+  if (o.alone_if_small && comm.size() > 1)
+    if (std::unique_ptr<Run> alone = alone_if_small(comm, c, size ? &*size : nullptr, load, o)) return alone;
   // Rank 0 (which holds the whole mesh, or the sizes summed over the blocks) chooses the linear
   // solver (or refuses) for every rank.
   const SolverRequest request{.engine = "petsc", .linear_solver = o.linear_solver, .ranks = comm.size(),

@@ -254,4 +254,14 @@ SolverPlan plan_solver(const Problem& p, const ProblemSize& s, const SolverChoic
           direct.total()};
 }
 
+std::optional<std::string> alone_on_rank_zero(const Problem& p, const ProblemSize& s, int ranks) {
+  const bool dual = s.power_law || s.contact_unknowns <= kDualContactRows;
+  const SolverCost cost = estimate_solver_cost(s.K, s.K_nonzeros, s.contact_unknowns, p.expected_steps(), dual);
+  if (cost.direct >= kDistributeAbove) return std::nullopt;
+  return fmt::format("auto under mpirun: rank 0 runs the case alone on CHOLMOD, the other {} rank{} waiting (one "
+                     "process is estimated at {:.3g} s, less than the {} s below which {} ranks cannot gain on their "
+                     "own costs; --engine petsc distributes it)",
+                     ranks - 1, ranks > 2 ? "s" : "", cost.direct, kDistributeAbove, ranks);
+}
+
 }  // namespace vpc

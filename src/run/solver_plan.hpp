@@ -12,6 +12,7 @@
 #include "la/memory_estimate.hpp"
 #include "scheme/time_stepper.hpp"
 
+#include <optional>
 #include <string>
 
 namespace vpc {
@@ -73,5 +74,16 @@ MemoryEstimate iterative_memory(const Problem& p, const ProblemSize& s, const st
 SolverPlan plan_solver(const Problem& p, const SolverChoice& solvers, const SolverRequest& request);
 SolverPlan plan_solver(const Problem& p, const ProblemSize& size, const SolverChoice& solvers,
                        const SolverRequest& request, const MemoryLimit& limit);
+
+/// --engine auto under mpirun (issue 48 item 18): why rank 0 runs `p` alone, the other ranks waiting,
+/// or nullopt to distribute it. Alone, on CHOLMOD, where that is estimated to take less than
+/// kDistributeAbove seconds (estimate_solver_cost's direct path): there the
+/// PETSc engine's own costs on P ranks (MUMPS' analysis and a message per solve, with every step's
+/// exchanges) outweigh what P ranks could save; 22 shipped cases on 2 ranks against one process
+/// (docs/parallel.md, "Two ranks against one process"): every case estimated below it was slower
+/// distributed (1.2-40x), most above it faster.
+/// `size`: p's (problem_size, or block_problem_size where no process holds its mesh whole).
+std::optional<std::string> alone_on_rank_zero(const Problem& p, const ProblemSize& size, int ranks);
+constexpr double kDistributeAbove = 1.0;
 
 }  // namespace vpc
