@@ -1,5 +1,6 @@
 #include "parallel_run.hpp"
 
+#include "core/mpi_start.hpp"
 #include "parallel/petsc_engine.hpp"
 #include "la/petsc.hpp"
 #include "la/blas.hpp"
@@ -30,10 +31,12 @@ void wait_for_every_rank(MPI_Comm comm) {
 }  // namespace
 
 int parallel_run(const RunOptions& o, const EngineTask& task) {
+  const auto before = std::chrono::steady_clock::now();
   if (PetscInitializeNoArguments() != 0) {
     fmt::print(stderr, "vpcontact: error: PETSc/MPI could not be initialized\n");
     return 2;
   }
+  mpi_start_seconds() = std::chrono::duration<double>(std::chrono::steady_clock::now() - before).count();
   // One thread per rank (pure MPI) unless OMP_NUM_THREADS says otherwise; the
   // BLAS inside MUMPS likewise.
   if (!std::getenv("OMP_NUM_THREADS")) omp_set_num_threads(1);

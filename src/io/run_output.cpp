@@ -1,6 +1,7 @@
 #include "io/run_output.hpp"
 
 #include "core/error.hpp"
+#include "core/mpi_start.hpp"
 #include "core/process_memory.hpp"
 #include "io/atomic_file.hpp"
 #include "io/build_info.hpp"
@@ -496,6 +497,7 @@ std::string summary_json(const Problem& p, const RunSummary& r, const OutputOpti
   j["timing_seconds"] = {{"wall", r.wall_seconds},       {"setup", r.setup.total},     {"sources", t.seconds_sources},
                          {"damage", t.seconds_damage},   {"contact", t.seconds_contact}, {"stress", t.seconds_stress},
                          {"output", t.seconds_output}};
+  if (mpi_start_seconds() > 0) j["timing_seconds"]["mpi_start"] = mpi_start_seconds();
   j["setup_seconds"] = {{"assembly", r.setup.assembly},
                         {"factor_K", r.setup.factor_K},
                         {"factor_H", r.setup.factor_H},
