@@ -124,7 +124,7 @@ vpc::RunOptions run_options(const Options& o, const vpc::CaseInfo& info, const f
 #ifdef VPCONTACT_WITH_PETSC
   r.petsc_built = true;
 #endif
-  r.alone_if_small = o.engine == "auto" && r.linear_solver.empty();  // mpirun without a choice (set_up_petsc)
+  r.auto_route = o.engine == "auto" && r.linear_solver.empty();  // mpirun without a choice (set_up_petsc)
   if (o.plot) r.after_run = [p = o.plot_options](const fs::path& dir) { vpc::draw_figures(dir, p, true); };
   return r;
 }

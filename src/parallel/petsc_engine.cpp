@@ -199,12 +199,12 @@ std::unique_ptr<Run> set_up_petsc(MPI_Comm mpi_comm, const CaseLoader& load, con
                           : std::string());
   }
   stop_if_interrupted_anywhere(comm);
-  if (o.alone_if_small && comm.size() > 1)
+  if (o.auto_route && comm.size() > 1)
     if (std::unique_ptr<Run> alone = alone_if_small(comm, c, size ? &*size : nullptr, load, o)) return alone;
   // Rank 0 (which holds the whole mesh, or the sizes summed over the blocks) chooses the linear
   // solver (or refuses) for every rank.
   const SolverRequest request{.engine = "petsc", .linear_solver = o.linear_solver, .ranks = comm.size(),
-                              .ranks_on_machine = ranks_on_machine(mpi_comm)};
+                              .ranks_on_machine = ranks_on_machine(mpi_comm), .choose_linear = o.auto_route};
   std::vector<double> chosen(2, 0.0);  // the linear solver's index in kLinearSolvers, products_row_by_row
   la::on_root(comm, [&] {
     const SolverPlan plan = plan_run(c, request, o.quiet, size ? &*size : nullptr);

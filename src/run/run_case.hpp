@@ -35,7 +35,9 @@ struct RunOptions {
   std::vector<std::string> argv;            // the command line, for the --resume command after a signal
   std::function<void(const std::filesystem::path&)> after_run;  // on the root, after a complete run (figures)
   bool petsc_built = false;  // the PETSc engine exists (a serial run's refusal names --engine auto)
-  bool alone_if_small = false;  // --engine auto under mpirun: rank 0 runs a small case alone (alone_on_rank_zero)
+  /// --engine auto and no --linear-solver: under mpirun, rank 0 runs a small case alone
+  /// (alone_on_rank_zero), and CG + GAMG replaces MUMPS where estimated faster (plan_solver).
+  bool auto_route = false;
   bool files = true;  // false: RunLoop only steps (no output, no checkpoints; the Python module without a directory)
   std::chrono::steady_clock::time_point started = std::chrono::steady_clock::now();  // for the wall time
 };

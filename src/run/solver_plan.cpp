@@ -213,6 +213,14 @@ SolverPlan plan_solver(const Problem& p, const ProblemSize& s, const SolverChoic
     const std::string asked = r.linear_solver.empty() ? "mumps" : r.linear_solver;
     const std::string on = fmt::format("on {} MPI rank{}", r.ranks, r.ranks > 1 ? "s" : "");
     if (asked != "mumps") return iterative_plan(asked, fmt::format("linear solver {} {} (as asked)", asked, on), asked);
+    if (r.choose_linear && solvers.contact == "auto" && !s.power_law && iterative.total() <= limit.bytes) {
+      const SolverCost cost = estimate_solver_cost(s.K, s.K_nonzeros, s.contact_unknowns, p.expected_steps(),
+                                                   s.contact_unknowns <= kDualContactRows);
+      if (iterative_is_faster(cost))
+        return go_iterative(fmt::format("linear solver CG + GAMG {}, estimated faster as on one process: {}; "
+                                        "--linear-solver mumps keeps MUMPS",
+                                        on, cost.detail));
+    }
     const MemoryEstimate mumps = mumps_memory(p, s, r.ranks, r.ranks_on_machine);
     if (mumps.total() <= limit.bytes)
       return {true, "mumps", fmt::format("linear solver MUMPS {}{}; {}", on,

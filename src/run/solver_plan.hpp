@@ -28,6 +28,10 @@ struct SolverRequest {
   int ranks = 1;              // the processes the run is spread over
   int ranks_on_machine = 1;   // of them, those sharing this machine's memory
   bool petsc_built = false;   // the PETSc engine exists in this build (one process, auto)
+  /// The PETSc engine under --engine auto without --linear-solver: CG + GAMG instead of MUMPS where
+  /// the cost model estimates it clearly faster, as on one process (hertz-3d on 2 ranks: MUMPS and
+  /// the dual 1.35x one process's CG + GAMG).
+  bool choose_linear = false;
 };
 
 /// The sizes the choice is made from, before any matrix is built.
