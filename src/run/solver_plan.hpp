@@ -83,9 +83,9 @@ SolverPlan plan_solver(const Problem& p, const ProblemSize& size, const SolverCh
 /// or nullopt to distribute it. Alone, on CHOLMOD, where that is estimated to take less than
 /// kDistributeAbove seconds (estimate_solver_cost's direct path): there the
 /// PETSc engine's own costs on P ranks (MUMPS' analysis and a message per solve, with every step's
-/// exchanges) outweigh what P ranks could save; 22 shipped cases on 2 ranks against one process
-/// (docs/parallel.md, "Two ranks against one process"): every case estimated below it was slower
-/// distributed (1.2-40x), most above it faster.
+/// exchanges) outweigh what P ranks could save: of 14 shipped cases estimated below it, 13 ran
+/// 1.1-40x slower distributed on 2 ranks than on one process, punch-3d 0.82x (docs/parallel.md,
+/// "Two ranks against one process").
 /// `size`: p's (problem_size, or block_problem_size where no process holds its mesh whole).
 std::optional<std::string> alone_on_rank_zero(const Problem& p, const ProblemSize& size, int ranks);
 constexpr double kDistributeAbove = 1.0;
