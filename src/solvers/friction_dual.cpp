@@ -42,12 +42,39 @@ const ContactLaw* force_law(const FrictionDualSets& f, int node) {
   return f.force_law.empty() ? nullptr : f.force_law[static_cast<std::size_t>(node)];
 }
 
+/// Coulomb's bound at node i for the normal force p_ν, capped by the shear limit (`capped`: the
+/// limit holds, and the bound does not move with λ_ν).
+double coulomb_bound(const FrictionDualSets& f, int i, double p_nu, bool& capped) {
+  const double coulomb = f.tresca[i] + f.mu[i] * std::max(p_nu, 0.0);
+  capped = f.limit.size() > 0 && coulomb >= f.limit[i];
+  return capped ? f.limit[i] : coulomb;
+}
+
+/// The radius of node i's disc that P uses: min(s, |z_τ|) (|z_τ|: z_τ inside the disc), but
+/// where z_ν's round-off dz_ν times μ leaves s unresolved (a node in contact with λ_ν ≈ 0 and μ
+/// huge, whose slip law μ λ_ν = |λ_τ| puts λ_ν below z_ν's round-off: a bonded face's trailing
+/// node), the radius among those s takes over [z_ν − dz_ν, z_ν + dz_ν] (at most |z_τ|) whose
+/// projection of z_τ lies nearest λ_τ: Φ is then measured to what the data resolve. dz empty, a
+/// capped bound or a force law's node: min(s, |z_τ|).
+double resolvable_radius(const FrictionDualSets& f, int i, const Vector& z, const Vector& lambda, const Vector& dz,
+                         Eigen::Index k, double s, double norm, bool keep) {
+  if (keep || f.mu[i] <= 0 || dz.size() == 0 || norm == 0) return std::min(s, norm);
+  bool capped = false;
+  const double lo = coulomb_bound(f, i, std::clamp(z[k] - dz[k], f.lo[i], f.hi[i]), capped);
+  if (norm <= lo) return norm;  // stick whatever z_ν's round-off
+  const double hi = coulomb_bound(f, i, std::clamp(z[k] + dz[k], f.lo[i], f.hi[i]), capped);
+  double along = 0;  // λ_τ · z_τ/|z_τ|
+  for (int j = 0; j < f.block - 1; ++j)
+    if (has_tangent(f, i, j)) along += lambda[k + 1 + j] * z[k + 1 + j] / norm;
+  return std::clamp(along, lo, std::min(hi, norm));
+}
+
 /// p = P(z), node by node, and where dP is given its derivative: row k holds ∂p_k/∂z over the
 /// d unknowns of k's node (the branch of λ's own value at a tie, as solve_compliance_dual). At a
 /// node with a force law p_ν = λ(d) at its penetration d = (z_ν − λ_ν)/ρ_ν = r_ν (λ: the iterate
 /// z was made from); dP holds its slope through z_ν, and newton_step adds λ_ν's own part.
-void project(const FrictionDualSets& f, const Vector& z, const Vector& lambda, const Vector& rho, Vector& p,
-             Eigen::MatrixXd* dP) {
+void project(const FrictionDualSets& f, const Vector& z, const Vector& lambda, const Vector& rho, const Vector& dz,
+             Vector& p, Eigen::MatrixXd* dP) {
   const int d = f.block, t = d - 1;
   p.setZero(z.size());
   if (dP) dP->setZero(z.size(), d);
@@ -63,24 +90,30 @@ void project(const FrictionDualSets& f, const Vector& z, const Vector& lambda, c
       slope = z[k] > f.lo[i] && z[k] < f.hi[i] ? 1.0 : 0.0;
     }
     if (dP) (*dP)(k, 0) = slope;
-    // Coulomb's bound, capped by the shear limit (where it holds the bound does not move with λ_ν).
-    const double coulomb = f.tresca[i] + f.mu[i] * std::max(p[k], 0.0);
-    const bool capped = f.limit.size() > 0 && coulomb >= f.limit[i];
-    const double s = capped ? f.limit[i] : coulomb;
+    bool capped = false;
+    const double s = coulomb_bound(f, i, p[k], capped);
     const double ds = !capped && p[k] > 0 ? f.mu[i] * slope : 0.0;  // ∂s/∂z_ν
     double norm2 = 0;
     for (int j = 0; j < t; ++j)
       if (has_tangent(f, i, j)) norm2 += z[k + 1 + j] * z[k + 1 + j];
     const double norm = std::sqrt(norm2);
+    const double radius = resolvable_radius(f, i, z, lambda, dz, k, s, norm, capped || force_law(f, i));
+    // Off s, λ_ν is the slip law's (radius − tresca)/μ, within p_ν's round-off: the bound it gives
+    // is the radius (as the primal solver's law_normal_force).
+    if (radius != std::min(s, norm)) p[k] = (radius - f.tresca[i]) / f.mu[i];
     for (int j = 0; j < t; ++j) {
       if (!has_tangent(f, i, j)) continue;
-      if (norm <= s) {  // stick: inside the disc
+      if (norm <= s && radius == norm) {  // stick: inside the disc
         p[k + 1 + j] = z[k + 1 + j];
         if (dP) (*dP)(k + 1 + j, 1 + j) = 1;
         continue;
       }
-      const double n_j = z[k + 1 + j] / norm;  // slip: on the circle of radius s, along z_τ
-      p[k + 1 + j] = s * n_j;
+      const double n_j = z[k + 1 + j] / norm;  // slip: on the circle of that radius, along z_τ
+      p[k + 1 + j] = radius * n_j;
+      if (norm <= s) {  // stick by s, on the circle by the radius s can have
+        if (dP) (*dP)(k + 1 + j, 1 + j) = 1;
+        continue;
+      }
       if (!dP) continue;
       (*dP)(k + 1 + j, 0) = ds * n_j;
       for (int l = 0; l < t; ++l)
@@ -89,10 +122,20 @@ void project(const FrictionDualSets& f, const Vector& z, const Vector& lambda, c
   }
 }
 
+/// A bound on the round-off of z_ν = λ_ν + ρ_ν (b − Sλ)_ν at each normal row (n ε times the sum of
+/// its terms' sizes; empty where no node has μ > 1, whose bound cannot turn it into a force).
+Vector z_roundoff(const Eigen::MatrixXd& S, const Vector& b, const FrictionDualSets& f, const Vector& rho,
+                  const Vector& lambda) {
+  if (!(f.mu.size() > 0 && f.mu.maxCoeff() > 1)) return {};
+  const double gamma = static_cast<double>(b.size() + 2) * std::numeric_limits<double>::epsilon();
+  const Vector terms = b.cwiseAbs() + S.cwiseAbs() * lambda.cwiseAbs();
+  return gamma * (lambda.cwiseAbs() + rho.cwiseProduct(terms));
+}
+
 /// Alart–Curnier's Φ(λ) = λ − P(λ + ρ(b − Sλ)); p = P(·).
 Vector alart_curnier(const Eigen::MatrixXd& S, const Vector& b, const FrictionDualSets& f, const Vector& rho,
                      const Vector& lambda, Vector& p, Eigen::MatrixXd* dP) {
-  project(f, Vector(lambda + rho.cwiseProduct(b - S * lambda)), lambda, rho, p, dP);
+  project(f, Vector(lambda + rho.cwiseProduct(b - S * lambda)), lambda, rho, z_roundoff(S, b, f, rho, lambda), p, dP);
   return lambda - p;
 }
 
@@ -132,6 +175,49 @@ Vector newton_step(const Eigen::MatrixXd& S, const FrictionDualSets& f, const Ve
   return step;
 }
 
+/// Where no step along Newton's direction decreases ½‖Φ‖²: a node that sticks in contact and would
+/// leave contact by the full `step` (z_ν ≤ 0 after it) with its tangential force above its Tresca
+/// part first slips in contact along z_τ, its bound coupled (Φ_τ = λ_τ − s n, ∂/∂z_ν = μ n); the
+/// step is solved again with those rows (false, `step` kept: no such node). Between sticking (whose
+/// step takes λ_ν < 0) and leaving (free, it presses in again) the answer can be that slip state,
+/// z_ν in (0, |z_τ|/μ): no wider than z_ν's round-off where μ is huge (a bonded face's trailing
+/// node), so the line search, stuck at the kink z_ν = 0, never lands in it.
+bool slip_before_leaving(const Eigen::MatrixXd& S, const Vector& b, const FrictionDualSets& f, const Vector& rho,
+                         const Vector& lambda, const Vector& phi, const Eigen::MatrixXd& dP, Vector& step) {
+  const int d = f.block, t = d - 1;
+  if (!f.coulomb() || !f.force_law.empty()) return false;
+  const Vector z = lambda + rho.cwiseProduct(b - S * lambda);
+  const Vector next = lambda + step;
+  const Vector z_next = next + rho.cwiseProduct(b - S * next);
+  Vector phi2 = phi;
+  Eigen::MatrixXd dP2 = dP;
+  bool any = false;
+  for (int i = 0; i < f.nodes(); ++i) {
+    const Eigen::Index k = static_cast<Eigen::Index>(i) * d;
+    if (f.mu[i] <= 0 || dP(k, 0) != 1 || z_next[k] > 0) continue;
+    double norm2 = 0;
+    bool stick = true;
+    for (int j = 0; j < t; ++j)
+      if (has_tangent(f, i, j)) norm2 += z[k + 1 + j] * z[k + 1 + j], stick = stick && dP(k + 1 + j, 1 + j) == 1 && dP(k + 1 + j, 0) == 0;
+    const double norm = std::sqrt(norm2);
+    if (!stick || norm <= f.tresca[i]) continue;
+    bool capped = false;
+    const double s = coulomb_bound(f, i, std::clamp(z[k], f.lo[i], f.hi[i]), capped);
+    if (capped) continue;  // its bound does not move with λ_ν: no slip law to couple
+    any = true;
+    for (int j = 0; j < t; ++j) {
+      if (!has_tangent(f, i, j)) continue;
+      const double n_j = z[k + 1 + j] / norm;
+      phi2[k + 1 + j] = lambda[k + 1 + j] - s * n_j;
+      dP2(k + 1 + j, 0) = f.mu[i] * n_j;
+      for (int l = 0; l < t; ++l)
+        if (has_tangent(f, i, l)) dP2(k + 1 + j, 1 + l) = (j == l ? 1.0 : 0.0) - n_j * z[k + 1 + l] / norm;
+    }
+  }
+  if (any) step = newton_step(S, f, rho, dP2, phi2);
+  return any;
+}
+
 /// The force scale of the tolerance besides ‖λ‖∞: the normal forces b_ν / S_νν would take
 /// alone, and the tangential ones b_τ / S_ττ up to the Tresca bound: a far slide (h large) makes
 /// b_τ any size, and the forces it gives are bounded by s; a bound far above the forces (1e8: a
@@ -165,20 +251,27 @@ BoxQpResult newton(const Eigen::MatrixXd& S, const Vector& b, const FrictionDual
       break;
     }
     if (r.iterations == max_iterations) break;
-    const Vector step = newton_step(S, f, rho, dP, phi);
+    Vector step = newton_step(S, f, rho, dP, phi);
     // Backtracking on ½‖Φ‖² (Armijo along the Newton direction, where its slope is −‖Φ‖²).
     const double merit = phi.squaredNorm();
-    double alpha = 1;
-    bool decreased = false;
-    for (int halving = 0; halving < 30 && !decreased; ++halving, alpha *= 0.5) {
-      trial = lambda + alpha * step;
-      decreased = alart_curnier(S, b, f, rho, trial, trial_p, nullptr).squaredNorm() <= (1 - 1e-4 * alpha) * merit;
-    }
+    auto decreases = [&] {
+      double alpha = 1;
+      for (int halving = 0; halving < 30; ++halving, alpha *= 0.5) {
+        trial = lambda + alpha * step;
+        if (alart_curnier(S, b, f, rho, trial, trial_p, nullptr).squaredNorm() <= (1 - 1e-4 * alpha) * merit) return true;
+      }
+      return false;
+    };
+    bool decreased = decreases();
     if (!decreased) {
       if (max_abs(phi) <= kStallFloor * scale()) {  // round-off of an ill-conditioned S
         r.converged = true;
         break;
       }
+      // Stuck at the kink between sticking and leaving contact: the slip state between them.
+      if (slip_before_leaving(S, b, f, rho, lambda, phi, dP, step)) decreased = decreases();
+    }
+    if (!decreased) {
       // No decrease along the direction (Coulomb's problem is not a minimization): the full
       // step leaves the region, a few times at most; then the step control retries.
       if (full_steps++ == kFullSteps) break;
