@@ -46,9 +46,12 @@ struct FrictionDualSets {
 ///   node for the tangents: the disc's normal cone is invariant only under a scalar). In 2D Φ
 ///   is piecewise linear and the Newton step is the primal–dual active set's (the slip rows
 ///   λ_τ = ±μ λ_ν are linear): exact once the sets repeat. A backtracking line search on ½‖Φ‖²
-///   globalizes; where it finds no decrease the full step is taken (counted in `cycles`,
-///   at most kFullSteps times), and converged = false after max_iterations lets the step
-///   control retry a smaller step. Converged when ‖Φ‖∞ ≤ 1e-13 max(‖λ‖∞, max_i |b_ν,i / S_νν,i|,
+///   globalizes; where it finds no decrease, a node that sticks and would leave contact by the
+///   step first slips in contact (its bound coupled) and the search is tried again; failing that
+///   the full step is taken (counted in `cycles`, at most kFullSteps times), and converged = false
+///   after max_iterations lets the step control retry a smaller step. Where μ > 1 and μ times
+///   z_ν's round-off leaves the disc's radius unresolved, P takes the radius in that range nearest
+///   λ_τ (and λ_ν = (radius − tresca)/μ, the slip law's). Converged when ‖Φ‖∞ ≤ 1e-13 max(‖λ‖∞, max_i |b_ν,i / S_νν,i|,
 ///   max tresca) (or, where no step decreases ½‖Φ‖², ≤ 1e-10: the round-off of an ill-conditioned
 ///   S); λ is then P(z), exactly in its set.
 /// `iterations` counts Newton steps (reduced solves for the box QP).
