@@ -16,7 +16,7 @@ namespace vpc {
 
 namespace {
 
-/// A barrier that sleeps: ranks waiting while rank 0 runs a case alone (alone_on_rank_zero) would
+/// A barrier that sleeps: ranks waiting while rank 0 runs a case alone (SolverRequest::auto_route) would
 /// otherwise spin in MPI's blocking calls, on a core rank 0's threads could use.
 void wait_for_every_rank(MPI_Comm comm) {
   MPI_Request request;

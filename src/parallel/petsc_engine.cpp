@@ -129,7 +129,7 @@ std::unique_ptr<Run> engine_on_ranks(MPI_Comm mpi_comm, Case c, const RunOptions
 
 const std::vector<std::string> kLinearSolvers = {"mumps", "cg-gamg", "cg-hypre"};
 
-/// A rank's part while rank 0 runs the case alone (alone_on_rank_zero): no steps, no output; the
+/// A rank's part while rank 0 runs the case alone (SolverRequest::auto_route): no steps, no output; the
 /// rank then waits for rank 0 (parallel_run's end, without spinning on a core).
 class WaitingRun final : public Run {
  public:
@@ -152,26 +152,6 @@ class WaitingRun final : public Run {
  private:
   std::filesystem::path directory_;
 };
-
-/// --engine auto under mpirun: rank 0 alone where the case is small (alone_on_rank_zero), saying so;
-/// null to distribute. `c`: loaded by load_case_everywhere; `size`: its sizes summed over the blocks
-/// of a mesh built by blocks (rank 0 then builds the whole mesh, by `load`), else null. Collective.
-std::unique_ptr<Run> alone_if_small(const la::Comm& comm, Case& c, const ProblemSize* size, const CaseLoader& load,
-                                    const RunOptions& o) {
-  std::vector<double> alone(1, 0.0);
-  la::on_root(comm, [&] {
-    if (const std::optional<std::string> why =
-            alone_on_rank_zero(*c.problem, size ? *size : problem_size(*c.problem), comm.size())) {
-      alone[0] = 1;
-      if (!o.quiet) fmt::print("  {}\n", *why);
-    }
-  });
-  if (la::broadcast(comm, alone)[0] == 0) return nullptr;
-  if (comm.rank() != 0) return std::make_unique<WaitingRun>();
-  Case whole = size ? load({}) : std::move(c);
-  plan_run(whole, {.engine = "serial", .petsc_built = true}, o.quiet);  // CHOLMOD, if it fits
-  return set_up_on_one_process(std::move(whole), o);
-}
 
 }  // namespace
 
@@ -199,19 +179,22 @@ std::unique_ptr<Run> set_up_petsc(MPI_Comm mpi_comm, const CaseLoader& load, con
                           : std::string());
   }
   stop_if_interrupted_anywhere(comm);
-  if (o.auto_route && comm.size() > 1)
-    if (std::unique_ptr<Run> alone = alone_if_small(comm, c, size ? &*size : nullptr, load, o)) return alone;
   // Rank 0 (which holds the whole mesh, or the sizes summed over the blocks) chooses the linear
   // solver (or refuses) for every rank.
   const SolverRequest request{.engine = "petsc", .linear_solver = o.linear_solver, .ranks = comm.size(),
-                              .ranks_on_machine = ranks_on_machine(mpi_comm), .choose_linear = o.auto_route};
-  std::vector<double> chosen(2, 0.0);  // the linear solver's index in kLinearSolvers, products_row_by_row
+                              .ranks_on_machine = ranks_on_machine(mpi_comm), .auto_route = o.auto_route};
+  // The linear solver's index in kLinearSolvers, products_row_by_row, and rank 0 alone (on CHOLMOD).
+  std::vector<double> chosen(3, 0.0);
   la::on_root(comm, [&] {
     const SolverPlan plan = plan_run(c, request, o.quiet, size ? &*size : nullptr);
     chosen = {static_cast<double>(std::ranges::find(kLinearSolvers, plan.linear_solver) - kLinearSolvers.begin()),
-              plan.products_row_by_row ? 1.0 : 0.0};
+              plan.products_row_by_row ? 1.0 : 0.0, plan.petsc ? 0.0 : 1.0};
   });
   chosen = la::broadcast(comm, chosen);
+  if (chosen[2] != 0) {  // a small case (SolverRequest::auto_route); a mesh built by blocks built whole
+    if (comm.rank() != 0) return std::make_unique<WaitingRun>();
+    return set_up_on_one_process(c.problem->block ? load({}) : std::move(c), o);
+  }
   SolverPlan plan;
   plan.linear_solver = kLinearSolvers.at(static_cast<std::size_t>(chosen[0]));
   plan.products_row_by_row = chosen[1] != 0;

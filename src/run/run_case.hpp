@@ -36,7 +36,7 @@ struct RunOptions {
   std::function<void(const std::filesystem::path&)> after_run;  // on the root, after a complete run (figures)
   bool petsc_built = false;  // the PETSc engine exists (a serial run's refusal names --engine auto)
   /// --engine auto and no --linear-solver: under mpirun, rank 0 runs a small case alone
-  /// (alone_on_rank_zero), and CG + GAMG replaces MUMPS where estimated faster (plan_solver).
+  /// (plan_solver, SolverRequest::auto_route), and CG + GAMG replaces MUMPS where estimated faster.
   bool auto_route = false;
   bool files = true;  // false: RunLoop only steps (no output, no checkpoints; the Python module without a directory)
   std::chrono::steady_clock::time_point started = std::chrono::steady_clock::now();  // for the wall time

@@ -209,18 +209,33 @@ SolverPlan plan_solver(const Problem& p, const ProblemSize& s, const SolverChoic
   };
   auto go_iterative = [&](const std::string& why) { return iterative_plan("cg-gamg", why, "CG + GAMG"); };
   const double cg_needs = iterative.total() <= limit.bytes ? iterative.total() : row_by_row.total();
+  // One process's times (solvers/solver_cost.hpp), its direct path on the dual where auto takes it.
+  const bool dual = s.power_law || s.contact_unknowns <= kDualContactRows;
+  const SolverCost cost = estimate_solver_cost(s.K, s.K_nonzeros, s.contact_unknowns, p.expected_steps(), dual);
+  // The estimate's CG run is the primal solver's, which needs no S; a power law takes the dual,
+  // whose S on CG is m solves of K (hertz-spheres-3d on the dual: 766 of them, minutes against
+  // CHOLMOD's 20 s), so it moves only when CHOLMOD does not fit.
+  // CHOLMOD fits here; CG + GAMG only with its default (faster) set-up.
+  const bool cg_clearly_faster =
+      solvers.contact == "auto" && !s.power_law && iterative_is_faster(cost) && iterative.total() <= limit.bytes;
+  const MemoryEstimate direct = cholmod_memory(p, s, solvers);
   if (r.engine == "petsc") {  // the PETSc engine: MUMPS (default or asked), or a Krylov solver as asked
     const std::string asked = r.linear_solver.empty() ? "mumps" : r.linear_solver;
     const std::string on = fmt::format("on {} MPI rank{}", r.ranks, r.ranks > 1 ? "s" : "");
     if (asked != "mumps") return iterative_plan(asked, fmt::format("linear solver {} {} (as asked)", asked, on), asked);
-    if (r.choose_linear && solvers.contact == "auto" && !s.power_law && iterative.total() <= limit.bytes) {
-      const SolverCost cost = estimate_solver_cost(s.K, s.K_nonzeros, s.contact_unknowns, p.expected_steps(),
-                                                   s.contact_unknowns <= kDualContactRows);
-      if (iterative_is_faster(cost))
-        return go_iterative(fmt::format("linear solver CG + GAMG {}, estimated faster as on one process: {}; "
-                                        "--linear-solver mumps keeps MUMPS",
-                                        on, cost.detail));
-    }
+    // --engine auto under mpirun: the route one process would take where several ranks cannot gain.
+    if (r.auto_route && r.ranks > 1 && cost.direct < kDistributeAbove && direct.total() <= limit.bytes)
+      return {false, "cholmod",
+              fmt::format("auto under mpirun: rank 0 runs the case alone on CHOLMOD, the other {} rank{} waiting (one "
+                          "process is estimated at {:.3g} s, less than the {} s below which {} ranks cannot gain on "
+                          "their own costs; --engine petsc distributes it); linear solver CHOLMOD on one process; {}",
+                          r.ranks - 1, r.ranks > 2 ? "s" : "", cost.direct, kDistributeAbove, r.ranks,
+                          memory(direct, "CG + GAMG", iterative, limit)),
+              direct.total()};
+    if (r.auto_route && cg_clearly_faster)
+      return go_iterative(fmt::format("linear solver CG + GAMG {}, estimated faster as on one process: {}; "
+                                      "--linear-solver mumps keeps MUMPS",
+                                      on, cost.detail));
     const MemoryEstimate mumps = mumps_memory(p, s, r.ranks, r.ranks_on_machine);
     if (mumps.total() <= limit.bytes)
       return {true, "mumps", fmt::format("linear solver MUMPS {}{}; {}", on,
@@ -235,7 +250,6 @@ SolverPlan plan_solver(const Problem& p, const ProblemSize& s, const SolverChoic
                                     limit.source));
   }
   // One process: CHOLMOD, or (auto) CG + GAMG where CHOLMOD does not fit or is clearly slower.
-  const MemoryEstimate direct = cholmod_memory(p, s, solvers);
   const bool can_switch = r.engine == "auto" && r.petsc_built;
   if (direct.total() > limit.bytes) {
     if (!can_switch) refuse(p, direct, limit, "the run", r.petsc_built ? "--engine auto would take CG + GAMG (about " +
@@ -245,14 +259,7 @@ SolverPlan plan_solver(const Problem& p, const ProblemSize& s, const SolverChoic
                                     format_bytes(direct.total()), direct.describe(), format_bytes(limit.bytes),
                                     limit.source));
   }
-  const bool dual = s.power_law || s.contact_unknowns <= kDualContactRows;
-  const SolverCost cost = estimate_solver_cost(s.K, s.K_nonzeros, s.contact_unknowns, p.expected_steps(), dual);
-  // The estimate's CG run is the primal solver's, which needs no S; a power law takes the dual,
-  // whose S on CG is m solves of K (hertz-spheres-3d on the dual: 766 of them, minutes against
-  // CHOLMOD's 20 s), so it moves only when CHOLMOD does not fit.
-  // CHOLMOD fits here; CG + GAMG only with its default (faster) set-up.
-  if (can_switch && solvers.contact == "auto" && !s.power_law && iterative_is_faster(cost) &&
-      iterative.total() <= limit.bytes)
+  if (can_switch && cg_clearly_faster)
     return go_iterative(fmt::format("CG + GAMG on one process (the PETSc engine), estimated faster: {}; --engine "
                                     "serial keeps CHOLMOD",
                                     cost.detail));
@@ -260,16 +267,6 @@ SolverPlan plan_solver(const Problem& p, const ProblemSize& s, const SolverChoic
           fmt::format("linear solver CHOLMOD on one process{}; {}", can_switch ? fmt::format(" ({})", cost.detail) : "",
                       memory(direct, "CG + GAMG", iterative, limit)),
           direct.total()};
-}
-
-std::optional<std::string> alone_on_rank_zero(const Problem& p, const ProblemSize& s, int ranks) {
-  const bool dual = s.power_law || s.contact_unknowns <= kDualContactRows;
-  const SolverCost cost = estimate_solver_cost(s.K, s.K_nonzeros, s.contact_unknowns, p.expected_steps(), dual);
-  if (cost.direct >= kDistributeAbove) return std::nullopt;
-  return fmt::format("auto under mpirun: rank 0 runs the case alone on CHOLMOD, the other {} rank{} waiting (one "
-                     "process is estimated at {:.3g} s, less than the {} s below which {} ranks cannot gain on their "
-                     "own costs; --engine petsc distributes it)",
-                     ranks - 1, ranks > 2 ? "s" : "", cost.direct, kDistributeAbove, ranks);
 }
 
 }  // namespace vpc

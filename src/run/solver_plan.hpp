@@ -12,7 +12,6 @@
 #include "la/memory_estimate.hpp"
 #include "scheme/time_stepper.hpp"
 
-#include <optional>
 #include <string>
 
 namespace vpc {
@@ -28,10 +27,12 @@ struct SolverRequest {
   int ranks = 1;              // the processes the run is spread over
   int ranks_on_machine = 1;   // of them, those sharing this machine's memory
   bool petsc_built = false;   // the PETSc engine exists in this build (one process, auto)
-  /// The PETSc engine under --engine auto without --linear-solver: CG + GAMG instead of MUMPS where
-  /// the cost model estimates it clearly faster, as on one process (hertz-3d on 2 ranks: MUMPS and
-  /// the dual 1.35x one process's CG + GAMG).
-  bool choose_linear = false;
+  /// The PETSc engine under --engine auto without --linear-solver (issue 48 item 18): the route one
+  /// process would take where several ranks cannot gain: rank 0 alone on CHOLMOD (SolverPlan::petsc
+  /// false) where one process is estimated below kDistributeAbove seconds, and CG + GAMG instead of
+  /// MUMPS where the cost model estimates it clearly faster (hertz-3d on 2 ranks: MUMPS and the dual
+  /// 1.35x one process's CG + GAMG).
+  bool auto_route = false;
 };
 
 /// The sizes the choice is made from, before any matrix is built.
@@ -79,15 +80,11 @@ SolverPlan plan_solver(const Problem& p, const SolverChoice& solvers, const Solv
 SolverPlan plan_solver(const Problem& p, const ProblemSize& size, const SolverChoice& solvers,
                        const SolverRequest& request, const MemoryLimit& limit);
 
-/// --engine auto under mpirun (issue 48 item 18): why rank 0 runs `p` alone, the other ranks waiting,
-/// or nullopt to distribute it. Alone, on CHOLMOD, where that is estimated to take less than
-/// kDistributeAbove seconds (estimate_solver_cost's direct path): there the
-/// PETSc engine's own costs on P ranks (MUMPS' analysis and a message per solve, with every step's
-/// exchanges) outweigh what P ranks could save: of 14 shipped cases estimated below it, 13 ran
-/// 1.1-40x slower distributed on 2 ranks than on one process, punch-3d 0.82x (docs/parallel.md,
-/// "Two ranks against one process").
-/// `size`: p's (problem_size, or block_problem_size where no process holds its mesh whole).
-std::optional<std::string> alone_on_rank_zero(const Problem& p, const ProblemSize& size, int ranks);
+/// SolverRequest::auto_route: below this estimate of one process's time (estimate_solver_cost's
+/// direct path) rank 0 runs the case alone. There the PETSc engine's own costs on P ranks (MUMPS'
+/// analysis and a message per solve, with every step's exchanges) outweigh what P ranks could save:
+/// of 14 shipped cases estimated below it, 13 ran 1.1-40x slower distributed on 2 ranks than on one
+/// process, punch-3d 0.82x (docs/parallel.md, "Two ranks against one process").
 constexpr double kDistributeAbove = 1.0;
 
 }  // namespace vpc

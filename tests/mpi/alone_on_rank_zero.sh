@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# --engine auto under mpirun (run/solver_plan.hpp alone_on_rank_zero): a small case is run by rank 0
+# --engine auto under mpirun (run/solver_plan.hpp SolverRequest::auto_route): a small case is run by rank 0
 # alone on CHOLMOD, which says so; its files are one process's (history.csv byte for byte, one
 # checkpoint file a step, no pieces); with --engine petsc the same case is distributed.
 #   alone_on_rank_zero.sh VPCONTACT MPIEXEC WORKDIR
