@@ -88,6 +88,33 @@ TrescaFriction::TrescaFriction(double bound)
   require(bound >= 0 && std::isfinite(bound), "a friction bound >= 0, got {}", bound);
 }
 
+double FrictionLaw::gauge(const double* l, int t) const {
+  double norm2 = 0;  // in order, as the solvers summed it before the law did
+  for (int j = 0; j < t; ++j) norm2 += l[j] * l[j];
+  return std::sqrt(norm2);
+}
+
+double FrictionLaw::dual_gauge(const double* d, int t) const { return FrictionLaw::gauge(d, t); }
+
+void FrictionLaw::project(const double* z, int t, double r, double* p) const {
+  const double norm = FrictionLaw::gauge(z, t);
+  for (int j = 0; j < t; ++j) p[j] = r * (z[j] / norm);  // on the circle of radius r, along z
+}
+
+void FrictionLaw::project_derivative(const double* z, int t, double s, double* dp_dz, double* dp_ds) const {
+  const double norm = FrictionLaw::gauge(z, t);
+  for (int j = 0; j < t; ++j) {  // (s/|z|)(I − n nᵀ) and n, n = z/|z|
+    const double n_j = z[j] / norm;
+    dp_ds[j] = n_j;
+    for (int l = 0; l < t; ++l) dp_dz[j * t + l] = s / norm * ((j == l ? 1.0 : 0.0) - n_j * z[l] / norm);
+  }
+}
+
+const FrictionLaw& disc_friction() {
+  static const TrescaFriction none(0.0);
+  return none;
+}
+
 bool register_friction_law(const std::string& name, FrictionLawFactory make) {
   auto& t = table();
   require(std::none_of(t.begin(), t.end(), [&](const auto& e) { return e.first == name; }),

@@ -1,14 +1,21 @@
 #pragma once
 // A friction law on Γ3 (SPEC §7): the bound of a contact node's tangential force,
-//     |λ_τ,i| ≤ s_i = g_τ(x_i, t) |Γ3|_i + μ(x_i) λ_ν,i,
+//     |λ_τ,i|_C ≤ s_i = min(g_τ(x_i, t) |Γ3|_i + μ(x_i) λ_ν,i, τ_max(x_i) |Γ3|_i),
 // Tresca (a given bound g_τ, a traction) or Coulomb (μ times the normal force of the same
-// step). Below the bound the node sticks (its slip increment Δu_τ vanishes), at it it slips
-// along λ_τ (the friction force on the body, −λ_τ, opposes the slip). The normal part is
-// the node's ContactLaw (Signorini or normal compliance). Registered by name in
-// contact/registry.cpp; [contact] friction = "coulomb" | "tresca" | "none".
+// step, capped by a shear limit τ_max where given). Below the bound the node sticks (its slip
+// increment Δu_τ vanishes), at it it slips along the normal of the law's set C_s = {|λ_τ|_C ≤ s}
+// (the friction force on the body, −λ_τ, opposes the slip; for Coulomb and Tresca C_s is the
+// disc |λ_τ| ≤ s and the slip is along λ_τ). The normal part is the node's ContactLaw.
+//
+// A law is a per-node block (../shared/STYLE.md, "contact laws"): the solvers ask it for its
+// set's gauge |·|_C, the dual gauge of a slip, and the Euclidean projection onto C_s with its
+// derivative (Alart–Curnier's λ_τ = P_{C_s}(λ_τ + ρ Δ)), and never which law it is. Registered
+// by name (friction_law.cpp's table, or register_friction_law); [contact] friction = "coulomb" |
+// "tresca" | "none".
 #include "contact/contact_law.hpp"
 #include "core/sym_tensor.hpp"
 
+#include <algorithm>
 #include <functional>
 #include <limits>
 #include <memory>
@@ -16,6 +23,21 @@
 #include <vector>
 
 namespace vpc {
+
+/// A contact node's bound, lumped at the node by its law: Tresca's g_τ(x_i, t_n) |Γ3|_i and the shear
+/// limit τ_max(x_i) |Γ3|_i as forces, Coulomb's μ(x_i).
+struct FrictionBound {
+  double tresca = 0, mu = 0;
+  double limit = std::numeric_limits<double>::infinity();  // +∞: none
+  /// s(λ_ν) = min(tresca + μ max(λ_ν, 0), limit): the one place the bound is written. `capped`
+  /// (where given): the limit holds, so that s does not move with λ_ν.
+  double at(double lambda_nu, bool* capped = nullptr) const {
+    const double coulomb = tresca + mu * std::max(lambda_nu, 0.0);
+    const bool at_limit = coulomb >= limit;
+    if (capped) *capped = at_limit;
+    return at_limit ? limit : coulomb;
+  }
+};
 
 /// A number or a formula of a case file's key, at a point and a time.
 using LawField = std::function<double(const Point& x, double t)>;
@@ -52,7 +74,26 @@ class FrictionLaw {
   /// Whether its bound acts where λ_ν = 0 (Tresca's given bound acts on all of Γ3, in or out of
   /// contact: the runs count those nodes, ContactStatus::Open, and warn).
   virtual bool acts_out_of_contact() const { return false; }
+
+  // The node's block: its set C_s = {λ_τ : |λ_τ|_C ≤ s} of tangential forces (t ≤ 2 numbers along the
+  // node's tangents, ContactConstraints::T), convex, with 0 inside. The default is the disc of Coulomb
+  // and Tresca (|·|_C the Euclidean norm); a law with another set overrides all five.
+  /// |l|_C, the gauge of the set (C_s is {|l|_C ≤ s}).
+  virtual double gauge(const double* l, int t) const;
+  /// The dual gauge of a slip d: max over |l|_C ≤ 1 of l·d, so that l·d ≤ |l|_C |d|_C* with equality
+  /// exactly where d lies in the normal cone of C_{|l|_C} at l (the slip-direction residual).
+  virtual double dual_gauge(const double* d, int t) const;
+  /// p = P(z), the Euclidean projection onto C_r of a z outside it (|z|_C > r ≥ 0).
+  virtual void project(const double* z, int t, double r, double* p) const;
+  /// P's derivative at a z outside C_s: ∂p/∂z (t × t, row-major: dp_dz[j t + l] = ∂p_j/∂z_l) and ∂p/∂s (t).
+  virtual void project_derivative(const double* z, int t, double s, double* dp_dz, double* dp_ds) const;
+  /// Whether C_s is the Euclidean disc (the default): the solvers' steps that use the disc's own geometry
+  /// (the primal solver's slip springs, the dual's slip before leaving contact and resolvable radius) need it.
+  virtual bool disc() const { return true; }
 };
+
+/// The disc's law (Coulomb's and Tresca's set) for a node without a friction law: s = 0 there.
+const FrictionLaw& disc_friction();
 
 /// Coulomb: s_i = μ(x_i) λ_ν,i; key mu (a number or a formula in x, y, z; ≥ 0); with the key
 /// shear_limit (τ_max > 0, a traction, a number or a formula in x, y, z) s_i = min(μ λ_ν,i,

@@ -7,6 +7,7 @@
 #include "mesh/node_cells.hpp"
 #include "mesh/refine.hpp"
 #include "scheme/part_cut.hpp"
+#include "solvers/contact_capabilities.hpp"
 
 #include <fmt/format.h>
 
@@ -173,15 +174,16 @@ ProblemSize block_problem_size(const la::Comm& comm, const Problem& p) {
   const DirichletDofs dirichlet = dirichlet_dofs(p);
   const std::vector<int> owner = node_owners(mesh, b.cell_rank);
   auto mine = [&](int v) { return owner[static_cast<std::size_t>(v)] == me; };  // exact: see node_owners
-  // Over the rank's own nodes: free dofs, contact rows, power-law rows, node graph entries (its rows).
+  // Over the rank's own nodes: free dofs, contact rows, rows only the dual solves, node graph entries (its rows).
   double own[4] = {0, 0, 0, 0};
   for (int v = 0; v < mesh.n_nodes(); ++v)
     if (mine(v)) own[0] += free_components(dirichlet, v, d);
   const auto laws = p.contact.laws();
+  const auto frictions = p.contact.frictions();
   for (const ContactRow& r : contact_rows(p, dirichlet.condition))
     if (mine(r.node)) {
       own[1] += 1;
-      own[2] += laws[static_cast<std::size_t>(r.law)]->linear() ? 0 : 1;
+      own[2] += dual_only(*laws[static_cast<std::size_t>(r.law)], frictions[static_cast<std::size_t>(r.law)].get());
     }
   // The node graph's entries in the rank's rows: each own node's distinct neighbours (itself too),
   // found through its cells (CSR, 4 bytes a cell's node) and marked, not as sorted pairs of every
@@ -205,7 +207,7 @@ ProblemSize block_problem_size(const la::Comm& comm, const Problem& p) {
   s.unknowns = own[0];
   s.contact_nodes = own[1];
   s.contact_unknowns = own[1] * p.contact.block_size(d);
-  s.power_law = own[2] > 0;
+  s.dual_only = own[2] > 0;
   s.node_nonzeros = own[3];
   const double free_share = s.nodes > 0 ? s.unknowns / (d * s.nodes) : 0;  // as problem_size
   s.K_nonzeros = d * d * s.node_nonzeros * free_share;

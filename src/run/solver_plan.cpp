@@ -4,6 +4,7 @@
 #include "scheme/discrete_system.hpp"
 #include "core/error.hpp"
 #include "fem/cell_geometry.hpp"
+#include "solvers/contact_capabilities.hpp"
 #include "solvers/contact_solver.hpp"
 #include "solvers/solver_cost.hpp"
 
@@ -122,7 +123,10 @@ ProblemSize problem_size(const Problem& p) {
   s.contact_nodes = static_cast<double>(rows.size());
   s.contact_unknowns = s.contact_nodes * p.contact.block_size(d);
   const auto laws = p.contact.laws();
-  s.power_law = std::ranges::any_of(rows, [&](const ContactRow& r) { return !laws[static_cast<std::size_t>(r.law)]->linear(); });
+  const auto frictions = p.contact.frictions();
+  s.dual_only = std::ranges::any_of(rows, [&](const ContactRow& r) {
+    return dual_only(*laws[static_cast<std::size_t>(r.law)], frictions[static_cast<std::size_t>(r.law)].get());
+  });
   const SparseMatrix G = node_graph(mesh);
   s.node_nonzeros = 2.0 * static_cast<double>(G.nonZeros()) - s.nodes;
   const double free_share = s.nodes > 0 ? s.unknowns / (d * s.nodes) : 0;  // of a node's d × d block
@@ -148,7 +152,7 @@ void scale_factors(ProblemSize& s, const Mesh& coarse, int d) {
 
 MemoryEstimate cholmod_memory(const Problem& p, const ProblemSize& s, const SolverChoice& solvers) {
   const bool dual = solvers.contact == "active-set" ||
-                    (solvers.contact == "auto" && (s.power_law || s.contact_unknowns <= kDualContactRows));
+                    (solvers.contact == "auto" && (s.dual_only || s.contact_unknowns <= kDualContactRows));
   return estimate_run_memory(mesh_bytes(s, p.mesh.dim()), matrix_bytes(s), s.K, s.H, solvers.damage == "active-set",
                              dual ? s.contact_unknowns : 0);
 }
@@ -210,14 +214,14 @@ SolverPlan plan_solver(const Problem& p, const ProblemSize& s, const SolverChoic
   auto go_iterative = [&](const std::string& why) { return iterative_plan("cg-gamg", why, "CG + GAMG"); };
   const double cg_needs = iterative.total() <= limit.bytes ? iterative.total() : row_by_row.total();
   // One process's times (solvers/solver_cost.hpp), its direct path on the dual where auto takes it.
-  const bool dual = s.power_law || s.contact_unknowns <= kDualContactRows;
+  const bool dual = s.dual_only || s.contact_unknowns <= kDualContactRows;
   const SolverCost cost = estimate_solver_cost(s.K, s.K_nonzeros, s.contact_unknowns, p.expected_steps(), dual);
   // The estimate's CG run is the primal solver's, which needs no S; a power law takes the dual,
   // whose S on CG is m solves of K (hertz-spheres-3d on the dual: 766 of them, minutes against
   // CHOLMOD's 20 s), so it moves only when CHOLMOD does not fit.
   // CHOLMOD fits here; CG + GAMG only with its default (faster) set-up.
   const bool cg_clearly_faster =
-      solvers.contact == "auto" && !s.power_law && iterative_is_faster(cost) && iterative.total() <= limit.bytes;
+      solvers.contact == "auto" && !s.dual_only && iterative_is_faster(cost) && iterative.total() <= limit.bytes;
   const MemoryEstimate direct = cholmod_memory(p, s, solvers);
   if (r.engine == "petsc") {  // the PETSc engine: MUMPS (default or asked), or a Krylov solver as asked
     const std::string asked = r.linear_solver.empty() ? "mumps" : r.linear_solver;

@@ -44,7 +44,7 @@ struct ProblemSize {
   double K_nonzeros = 0;     // both triangles
   double node_nonzeros = 0;  // of M, A, H (the node graph, both triangles)
   FactorEstimate K, H;       // CHOLMOD's factors (symbolic analysis of the node graph)
-  bool power_law = false;    // a law that is not linear, e.g. a power-law compliance (only the dual solver takes it)
+  bool dual_only = false;    // a row only the dual solver takes (dual_only: e.g. a power-law compliance)
 };
 
 /// The sizes of `p`'s run on one process: Dirichlet data, contact rows and the symbolic

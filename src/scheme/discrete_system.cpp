@@ -216,12 +216,10 @@ ContactConstraints contact_constraints(const DiscreteSystem& sys) {
   // lumped at the node (ContactRow).
   c.laws = sys.problem->contact.laws();
   c.block = sys.problem->contact.block_size(part.mesh().dim());
+  c.law = part.owned_contact_laws();
   std::vector<double> compliance;
   for (const PartContactNode& node : part.contact)
-    if (node.owned) {
-      c.law.push_back(node.law);
-      compliance.push_back(node.stiffness > 0 ? 1 / node.stiffness : 0.0);
-    }
+    if (node.owned) compliance.push_back(node.stiffness > 0 ? 1 / node.stiffness : 0.0);
   c.compliance = Eigen::Map<Vector>(compliance.data(), static_cast<Eigen::Index>(compliance.size()));
   if (!sys.problem->contact.pairs.empty()) {
     ContactMatrix rows = contact_matrix(part, ContactColumns::owned);
@@ -229,6 +227,7 @@ ContactConstraints contact_constraints(const DiscreteSystem& sys) {
     if (c.frictional()) c.master_mean = std::move(rows.master_mean);
   }
   if (c.frictional()) {
+    c.frictions = sys.problem->contact.frictions();
     c.T = sys.T;
     c.tangent_dof = sys.tangent_dof;
     c.mu = sys.mu;

@@ -77,10 +77,13 @@ Vector slip_shift(const DiscreteSystem& sys, const State& s, double t, const Vec
 
 void record_slip(const DiscreteSystem& sys, const Vector& tresca, const Vector& shift, const Vector& u_free,
                  double slack, State& s) {
-  // Only what stick_slip (the bounds) and replicate read: the rows, the block, μ and the step's data.
+  // Only what stick_slip (the bounds and the laws' sets) and replicate read: the rows, their laws, the
+  // block, μ and the step's data.
   ContactConstraints c;
   c.m = sys.part.n_contact;
   c.rows = sys.part.owned_contact_rows();
+  c.law = sys.part.owned_contact_laws();
+  c.frictions = sys.problem->contact.frictions();
   c.block = s.contact_block;
   c.mu = sys.mu;
   c.limit = sys.limit;

@@ -37,6 +37,13 @@ std::vector<int> MeshPart::owned_contact_rows() const {
   return rows;
 }
 
+std::vector<int> MeshPart::owned_contact_laws() const {
+  std::vector<int> laws;
+  for (const PartContactNode& node : contact)
+    if (node.owned) laws.push_back(node.law);
+  return laws;
+}
+
 MeshPart make_mesh_part(PartPieces pieces) {
   MeshPart part;
   static_cast<PartPieces&>(part) = std::move(pieces);

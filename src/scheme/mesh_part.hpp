@@ -82,6 +82,8 @@ struct MeshPart : PartPieces {
   int n_local_nodes() const { return mesh().n_nodes(); }
   /// The rows of N this process owns, in its contact nodes' order (ContactConstraints::rows).
   std::vector<int> owned_contact_rows() const;
+  /// Their laws' index (PartContactNode::law: in ContactSpec::laws() and frictions()), in that order.
+  std::vector<int> owned_contact_laws() const;
 };
 
 /// Makes the part of `pieces`: its free dofs (owned first: the owned nodes come

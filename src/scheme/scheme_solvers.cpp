@@ -71,16 +71,10 @@ SchemeSolvers set_up_solvers(DiscreteSystem& sys, const SolverChoice& choice, Se
                            sys.K->nonzeros(), sys.backend->describe()));
   auto t1 = Clock::now();
   ContactConstraints constraints = contact_constraints(sys);
-  const bool nonlinear_law = nonlinear_in_dual(part.comm, constraints);  // only the dual solves it
-  s.contact_pick =
-      pick_contact_solver(choice.contact, part.n_contact, sys.backend->linear_solver(), nonlinear_law, constraints.block);
-  if (s.contact_pick.name == "primal-active-set" && !part.comm.all(masters_apart_from_slaves(constraints.N, constraints.node_dofs, constraints.master_mean))) {
-    // A node on both sides of contact pairs: its dofs cannot be both a row's gap variable and a
-    // master of another (contact_basis).
-    require(choice.contact == "auto", "contact solver 'primal-active-set': a node is on the slave side of one contact "
-                                      "pair row and the master side of another; --contact-solver active-set solves it");
-    s.contact_pick = {"active-set", "auto: a node is on both sides of contact pairs (the primal needs them apart)"};
-  }
+  // What the problem asks of its solver, against the table of what each solves (auto's choice and the refusals).
+  const ContactNeeds needs = contact_needs(part.comm, constraints);
+  s.contact_pick = pick_contact_solver(choice.contact, part.n_contact, sys.backend->linear_solver(), needs, constraints.block);
+  if (const std::string why = cannot_solve(s.contact_pick.name, needs); !why.empty()) fail("{}", why);
   const bool primal = s.contact_pick.name == "primal-active-set";
   s.K_factor = sys.make_stiffness_factor();
   cost = check_before_factorizing(sys, *s.K_factor, choice, primal);

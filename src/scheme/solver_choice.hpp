@@ -2,6 +2,7 @@
 // How a run solves (the contact and damage solvers, tolerances, halving, memory) and where
 // its set-up time and memory go: the choices TimeStepper's set-up (scheme/scheme_solvers.hpp) acts on.
 #include "core/process_memory.hpp"
+#include "solvers/contact_capabilities.hpp"
 #include "solvers/contact_solver.hpp"
 #include "solvers/damage_solver.hpp"
 

@@ -1,5 +1,7 @@
 #include "solvers/contact_solver.hpp"
 
+#include "solvers/contact_capabilities.hpp"
+
 #include "core/error.hpp"
 #include "la/backend.hpp"
 #include "solvers/dual_active_set.hpp"
@@ -23,10 +25,6 @@ Vector local_rows(const ContactConstraints& c, const Vector& lambda) {
   Vector l(static_cast<Eigen::Index>(c.rows.size()));
   for (size_t k = 0; k < c.rows.size(); ++k) l[static_cast<Eigen::Index>(k)] = lambda[c.rows[k]];
   return l;
-}
-
-bool nonlinear_in_dual(const la::Comm& comm, const ContactConstraints& c) {
-  return comm.any(std::ranges::any_of(c.law, [&](int k) { return !c.laws[static_cast<std::size_t>(k)]->linear(); }));
 }
 
 double ContactResiduals::max() const {
@@ -118,19 +116,21 @@ ContactResiduals contact_residuals(const la::SpdOperator& K, const ContactConstr
     r.negative_force = std::max(r.negative_force, -lambda_local[i] / l_scale);
     r.complementarity = std::max(r.complementarity, std::abs(lambda_local[i] * s[i]) / (l_scale * u_scale));
   }
-  if (c.frictional()) {  // SPEC §7: |λ_τ| ≤ s; below it Δ = 0; at it Δ along λ_τ
+  if (c.frictional()) {  // SPEC §7: |λ_τ|_C ≤ s; below it Δ = 0; at it Δ in C_s's normal cone
     const int t = c.block - 1;
     const Vector slip = slip_increment(c, u);
     for (Eigen::Index i = 0; i < s.size(); ++i) {
       const auto l = tangential.segment(i * t, t);
       const auto d = slip.segment(i * t, t);
-      const double bound = c.bound(i, lambda_local[i]), ln = l.norm(), dn = d.norm();
+      const FrictionLaw& law = c.friction_of(i);
+      const double bound = c.bound(i, lambda_local[i]), ln = law.gauge(l.data(), t), dn = d.norm();
       r.friction_bound = std::max(r.friction_bound, (ln - bound) / l_scale);
       // Below the bound a node's slip is measured against the displacement scale, weighted by how far
       // below it is up to the force scale: a bound far above every force (μ or a Tresca bound of 1e8:
       // a stuck face) would otherwise multiply a sticking node's round-off slip into a failure.
       r.stick_slip = std::max(r.stick_slip, std::clamp(bound - ln, 0.0, l_scale) * dn / (l_scale * u_scale));
-      r.slip_direction = std::max(r.slip_direction, (ln * dn - l.dot(d)) / (l_scale * u_scale));
+      // λ_τ·Δ ≤ |λ_τ|_C |Δ|_C*, equal where Δ lies in the set's normal cone at λ_τ (along λ_τ on a disc).
+      r.slip_direction = std::max(r.slip_direction, (ln * law.dual_gauge(d.data(), t) - l.dot(d)) / (l_scale * u_scale));
     }
   }
   r.force_scale = l_scale;  // the same on every rank (λ is replicated, f_scale reduced)
@@ -219,22 +219,6 @@ Eigen::MatrixXd transposed_rows(const SparseMatrix& N, const std::vector<int>& r
   return B;
 }
 
-ContactSolverPick pick_contact_solver(const std::string& requested, int m, const std::string& linear_solver,
-                                      bool nonlinear_law, int block) {
-  if (requested != "auto") return {requested, "as asked"};
-  if (nonlinear_law) return {"active-set", "auto: a nonlinear compliance law is solved on the dual"};
-  // With friction the dual's unknowns are m × block (λ_ν and the tangential forces of each node).
-  const int n = m * block;
-  const std::string unknowns =
-      block == 1 ? fmt::format("{} contact nodes", m) : fmt::format("{} contact unknowns ({} nodes x {})", n, m, block);
-  if (!la::Backend::is_direct(linear_solver))
-    return {"primal-active-set", fmt::format("auto: {} is iterative (the dual's S would take {} solves)", linear_solver, n)};
-  if (n > kDualContactRows)
-    return {"primal-active-set", fmt::format("auto: {} > {} (the dual's S would be dense {} x {})", unknowns,
-                                             kDualContactRows, n, n)};
-  return {"active-set", fmt::format("auto: {} <= {} and a direct solver", unknowns, kDualContactRows)};
-}
-
 double friction_force_tolerance(double residual_tolerance) { return std::max(1e-1 * residual_tolerance, 1e-12); }
 
 std::unique_ptr<ContactSolver> make_contact_solver(const std::string& name, std::shared_ptr<const la::SpdOperator> K,
@@ -244,9 +228,6 @@ std::unique_ptr<ContactSolver> make_contact_solver(const std::string& name, std:
   require(K != nullptr, "contact solver: no stiffness matrix");
   require(constraints.m > 0, "contact solver: there are no contact unknowns (is the contact part empty?)");
   require(K_factor != nullptr, "contact solver: needs the factor of K");
-  require(name != "penalty-duality" || !constraints.frictional(),
-          "contact solver 'penalty-duality' solves frictionless contact only; friction needs 'active-set' (the dual) "
-          "or 'primal-active-set'");
   const auto rows = static_cast<Eigen::Index>(constraints.rows.size());
   require(constraints.N.rows() == rows && constraints.gap.size() == rows && constraints.N.cols() == K->n_owned(),
           "internal: contact constraints of {} rows x {} columns for {} rows, {} gaps and {} owned dofs",
@@ -255,13 +236,9 @@ std::unique_ptr<ContactSolver> make_contact_solver(const std::string& name, std:
               (constraints.compliance.size() == rows && constraints.law.size() == constraints.rows.size()),
           "internal: {} compliances and {} laws for {} contact rows", constraints.compliance.size(),
           constraints.law.size(), rows);
-  const bool compliant = std::ranges::any_of(constraints.law, [&](int k) {
-    return !constraints.laws[static_cast<std::size_t>(k)]->rigid();
-  });
+  if (const std::string why = cannot_solve(name, contact_needs(K->comm(), constraints)); !why.empty()) fail("{}", why);
   if (name == "active-set")
     return make_dual_active_set_solver(std::move(K), std::move(K_factor), std::move(constraints), opt.max_cached_share);
-  require(name != "penalty-duality" || !K->comm().any(compliant),
-          "contact solver 'penalty-duality' solves the Signorini conditions only; normal compliance needs 'active-set'");
   if (name == "penalty-duality")
     return make_penalty_duality_contact_solver(std::move(K), *K_factor, std::move(constraints), make_factor, opt);
   if (name == "primal-active-set") {

@@ -11,6 +11,7 @@
 // every rank): the dual QP with the dense S = N K⁻¹ Nᵀ is small and solved alike on
 // every rank. On one process the rows are 0..m−1 and N is the whole matrix.
 #include "contact/contact_law.hpp"
+#include "contact/friction_law.hpp"
 #include "la/linear_solver.hpp"
 
 #include <memory>
@@ -106,13 +107,24 @@ struct ContactConstraints {
   /// plus the obstacle's tangential displacement over the step.
   Vector shift;
   bool frictional() const { return block > 1; }
-  double bound(Eigen::Index i, double lambda_nu) const {
-    const double s = tresca[i] + mu[i] * std::max(lambda_nu, 0.0);
-    return i < limit.size() ? std::min(s, limit[i]) : s;
+  /// The friction laws (contact/friction_law.hpp), parallel to `laws` (nullptr: a frictionless law's
+  /// place; empty: none), indexed by the row's `law`: each row's block asks its law for its set.
+  std::vector<std::shared_ptr<const FrictionLaw>> frictions;
+  /// Row i's friction law (the disc where it has none: its bound is 0 there).
+  const FrictionLaw& friction_of(Eigen::Index i) const {
+    const FrictionLaw* f = frictions.empty() ? nullptr : frictions[static_cast<std::size_t>(law[static_cast<std::size_t>(i)])].get();
+    return f ? *f : disc_friction();
   }
+  /// Row i's bound's data, and its bound s_i at λ_ν (FrictionBound::at: written there once).
+  FrictionBound bound_of(Eigen::Index i) const {
+    return {tresca[i], mu[i], i < limit.size() ? limit[i] : std::numeric_limits<double>::infinity()};
+  }
+  double bound(Eigen::Index i, double lambda_nu) const { return bound_of(i).at(lambda_nu); }
   /// Whether row i's bound at λ_ν is its shear limit (then it does not move with λ_ν).
   bool at_limit(Eigen::Index i, double lambda_nu) const {
-    return i < limit.size() && tresca[i] + mu[i] * std::max(lambda_nu, 0.0) >= limit[i];
+    bool capped = false;
+    bound_of(i).at(lambda_nu, &capped);
+    return capped;
   }
 };
 
@@ -140,10 +152,6 @@ constexpr double kSlipShare = 1e-9;
 /// stick with the slip forces settled to 1e-11 or 1e-9 of the force scale; 287 with this slack).
 constexpr double kSlipForceShare = 1e-8;
 ContactStatus contact_status(double lambda_nu, double tangential_norm, double bound, double slack = 0);
-
-/// Some row's law is not linear (ContactLaw::linear; the same answer on every process): only the
-/// dual ("active-set") solves it, with solve_compliance_dual's Newton.
-bool nonlinear_in_dual(const la::Comm& comm, const ContactConstraints& c);
 
 /// Residuals of (3.9) at (u owned, λ replicated), reductions over K.comm(); with a compliant
 /// law the gap left is s = ContactLaw::gap_left(g − Nu, λ) = g − Nu + (λ/k)^{1/e} (≥ 0, ⟂ λ).
@@ -226,22 +234,6 @@ struct ContactSolverOptions {
 /// with 1e-2, 3,735 with 1e-1 (docs/performance.md, "Friction"). The stick/slip
 /// status of a row at its bound to within this accuracy is kSlipForceShare's.
 double friction_force_tolerance(double residual_tolerance);
-
-/// The contact solver for a problem (issue 14): `requested` unless it is "auto". "auto" takes
-/// the dual "active-set" while S = N K⁻¹Nᵀ is cheap (a direct solver and at most
-/// kDualContactRows contact unknowns, m × `block`: with friction S is [N; T] K⁻¹ [N; T]ᵀ), or
-/// for a law that is not linear (`nonlinear_law`: nonlinear_in_dual), which only the dual
-/// solves; else "primal-active-set". `why` says which rule decided, for the run's header.
-struct ContactSolverPick {
-  std::string name;
-  std::string why;
-};
-constexpr int kDualContactRows = 2000;
-/// The names a case file ([solver] contact) and --contact-solver accept; the first is the default.
-inline const std::vector<std::string> kContactSolverNames = {"auto", "active-set", "primal-active-set",
-                                                             "penalty-duality"};
-ContactSolverPick pick_contact_solver(const std::string& requested, int m, const std::string& linear_solver,
-                                      bool nonlinear_law, int block = 1);
 
 /// K (assembled, owned rows) and its factor; `make_factor` makes penalty–duality's factor of K + ωNᵀN.
 /// "active-set": primal–dual active set on the contact unknowns, the dual QP with

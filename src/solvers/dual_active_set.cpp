@@ -37,7 +37,11 @@ class ActiveSetContactSolver final : public ContactSolver {
     if (!c_.laws.empty()) {  // every row's law and compliance, the same on every rank
       const auto n = static_cast<Eigen::Index>(c_.law.size());
       const Vector all = replicate(comm(), c_, Eigen::Map<const Eigen::VectorXi>(c_.law.data(), n).cast<double>());
-      for (Eigen::Index j = 0; j < all.size(); ++j) row_laws_.push_back(c_.laws[static_cast<std::size_t>(all[j])].get());
+      for (Eigen::Index j = 0; j < all.size(); ++j) {
+        const auto law = static_cast<std::size_t>(all[j]);
+        row_laws_.push_back(c_.laws[law].get());
+        if (!c_.frictions.empty()) row_frictions_.push_back(c_.frictions[law].get());
+      }
       compliance_ = replicate(comm(), c_, c_.compliance);
       nonlinear_ = std::ranges::any_of(row_laws_, [](const ContactLaw* l) { return !l->linear(); });
     }
@@ -49,7 +53,7 @@ class ActiveSetContactSolver final : public ContactSolver {
       if (const ContactLaw* law = row_laws_[static_cast<std::size_t>(j)]; !law->rigid() && law->linear())
         S(j * b, j * b) += law->spring_compliance(compliance_[j]);
     if (c_.frictional()) {
-      sets_ = friction_sets(comm(), c_, row_laws_, S);
+      sets_ = friction_sets(comm(), c_, row_laws_, row_frictions_, S);
       if (nonlinear_) {  // friction_dual.hpp: those rows' λ_ν = λ(d) in the semismooth Newton
         for (const ContactLaw* law : row_laws_) sets_.force_law.push_back(law->linear() ? nullptr : law);
         sets_.compliance = compliance_;
@@ -212,6 +216,7 @@ class ActiveSetContactSolver final : public ContactSolver {
   std::unique_ptr<DenseBoxQpOperator> S_;
   Eigen::MatrixXd S_plain_;                  // S without diag(1/k), for a nonlinear law only
   std::vector<const ContactLaw*> row_laws_;  // every row's law (replicated); empty: Signorini
+  std::vector<const FrictionLaw*> row_frictions_;  // every row's friction law (replicated; nullptr: none); empty: discs
   Vector compliance_;                        // every row's 1/k_i (replicated), with row_laws_
   bool nonlinear_ = false;                   // some row's law is not linear
   SparseMatrix B_;              // with friction: [N; T] in λ's order (friction_rows)

@@ -45,9 +45,7 @@ const ContactLaw* force_law(const FrictionDualSets& f, int node) {
 /// Coulomb's bound at node i for the normal force p_ν, capped by the shear limit (`capped`: the
 /// limit holds, and the bound does not move with λ_ν).
 double coulomb_bound(const FrictionDualSets& f, int i, double p_nu, bool& capped) {
-  const double coulomb = f.tresca[i] + f.mu[i] * std::max(p_nu, 0.0);
-  capped = f.limit.size() > 0 && coulomb >= f.limit[i];
-  return capped ? f.limit[i] : coulomb;
+  return f.bound_of(i).at(p_nu, &capped);
 }
 
 /// The radius of node i's disc that P uses: min(s, |z_τ|) (|z_τ|: z_τ inside the disc), but
@@ -58,7 +56,7 @@ double coulomb_bound(const FrictionDualSets& f, int i, double p_nu, bool& capped
 /// capped bound or a force law's node: min(s, |z_τ|).
 double resolvable_radius(const FrictionDualSets& f, int i, const Vector& z, const Vector& lambda, const Vector& dz,
                          Eigen::Index k, double s, double norm, bool keep) {
-  if (keep || f.mu[i] <= 0 || dz.size() == 0 || norm == 0) return std::min(s, norm);
+  if (keep || f.mu[i] <= 0 || dz.size() == 0 || norm == 0 || !f.friction_of(i).disc()) return std::min(s, norm);
   bool capped = false;
   const double lo = coulomb_bound(f, i, std::clamp(z[k] - dz[k], f.lo[i], f.hi[i]), capped);
   if (norm <= lo) return norm;  // stick whatever z_ν's round-off
@@ -93,31 +91,36 @@ void project(const FrictionDualSets& f, const Vector& z, const Vector& lambda, c
     bool capped = false;
     const double s = coulomb_bound(f, i, p[k], capped);
     const double ds = !capped && p[k] > 0 ? f.mu[i] * slope : 0.0;  // ∂s/∂z_ν
-    double norm2 = 0;
+    // The node's tangents (a symmetry plane's missing one left out) and its law's set C_s.
+    const FrictionLaw& law = f.friction_of(i);
+    double zt[2], pt[2], dp_dz[4], dp_ds[2];
+    int tangent[2], nt = 0;
     for (int j = 0; j < t; ++j)
-      if (has_tangent(f, i, j)) norm2 += z[k + 1 + j] * z[k + 1 + j];
-    const double norm = std::sqrt(norm2);
+      if (has_tangent(f, i, j)) tangent[nt] = j, zt[nt++] = z[k + 1 + j];
+    const double norm = law.gauge(zt, nt);
     const double radius = resolvable_radius(f, i, z, lambda, dz, k, s, norm, capped || force_law(f, i));
     // Off s, λ_ν is the slip law's (radius − tresca)/μ, within p_ν's round-off: the bound it gives
     // is the radius (as the primal solver's law_normal_force).
     if (radius != std::min(s, norm)) p[k] = (radius - f.tresca[i]) / f.mu[i];
-    for (int j = 0; j < t; ++j) {
-      if (!has_tangent(f, i, j)) continue;
-      if (norm <= s && radius == norm) {  // stick: inside the disc
-        p[k + 1 + j] = z[k + 1 + j];
-        if (dP) (*dP)(k + 1 + j, 1 + j) = 1;
-        continue;
+    if (nt == 0) continue;
+    if (norm <= s && radius == norm) {  // stick: inside the set
+      for (int a = 0; a < nt; ++a) {
+        p[k + 1 + tangent[a]] = zt[a];
+        if (dP) (*dP)(k + 1 + tangent[a], 1 + tangent[a]) = 1;
       }
-      const double n_j = z[k + 1 + j] / norm;  // slip: on the circle of that radius, along z_τ
-      p[k + 1 + j] = radius * n_j;
-      if (norm <= s) {  // stick by s, on the circle by the radius s can have
-        if (dP) (*dP)(k + 1 + j, 1 + j) = 1;
-        continue;
-      }
-      if (!dP) continue;
-      (*dP)(k + 1 + j, 0) = ds * n_j;
-      for (int l = 0; l < t; ++l)
-        if (has_tangent(f, i, l)) (*dP)(k + 1 + j, 1 + l) = s / norm * ((j == l ? 1.0 : 0.0) - n_j * z[k + 1 + l] / norm);
+      continue;
+    }
+    law.project(zt, nt, radius, pt);  // slip: on the set's boundary of that radius
+    for (int a = 0; a < nt; ++a) p[k + 1 + tangent[a]] = pt[a];
+    if (!dP) continue;
+    if (norm <= s) {  // stick by s, on the boundary by the radius s can have
+      for (int a = 0; a < nt; ++a) (*dP)(k + 1 + tangent[a], 1 + tangent[a]) = 1;
+      continue;
+    }
+    law.project_derivative(zt, nt, s, dp_dz, dp_ds);
+    for (int a = 0; a < nt; ++a) {
+      (*dP)(k + 1 + tangent[a], 0) = ds * dp_ds[a];
+      for (int b = 0; b < nt; ++b) (*dP)(k + 1 + tangent[a], 1 + tangent[b]) = dp_dz[a * nt + b];
     }
   }
 }
@@ -194,7 +197,7 @@ bool slip_before_leaving(const Eigen::MatrixXd& S, const Vector& b, const Fricti
   bool any = false;
   for (int i = 0; i < f.nodes(); ++i) {
     const Eigen::Index k = static_cast<Eigen::Index>(i) * d;
-    if (f.mu[i] <= 0 || dP(k, 0) != 1 || z_next[k] > 0) continue;
+    if (f.mu[i] <= 0 || dP(k, 0) != 1 || z_next[k] > 0 || !f.friction_of(i).disc()) continue;
     double norm2 = 0;
     bool stick = true;
     for (int j = 0; j < t; ++j)
@@ -324,10 +327,12 @@ Vector friction_offsets(const ContactConstraints& c) {
 }
 
 FrictionDualSets friction_sets(const la::Comm& comm, const ContactConstraints& c,
-                               const std::vector<const ContactLaw*>& laws, Eigen::MatrixXd& S) {
+                               const std::vector<const ContactLaw*>& laws,
+                               const std::vector<const FrictionLaw*>& frictions, Eigen::MatrixXd& S) {
   const int m = c.m, b = c.block, t = b - 1;
   FrictionDualSets f;
   f.block = b;
+  for (const FrictionLaw* law : frictions) f.friction.push_back(law ? law : &disc_friction());
   f.lo = Vector::Zero(m);
   f.hi = Vector::Constant(m, std::numeric_limits<double>::infinity());
   for (std::size_t j = 0; j < laws.size(); ++j) {
@@ -358,6 +363,10 @@ FrictionDualSets friction_sets(const la::Comm& comm, const ContactConstraints& c
 
 bool FrictionDualSets::coulomb() const { return mu.size() > 0 && mu.maxCoeff() > 0; }
 
+bool FrictionDualSets::discs() const {
+  return std::ranges::all_of(friction, [](const FrictionLaw* law) { return law->disc(); });
+}
+
 void tresca_box(const FrictionDualSets& f, Vector& lo, Vector& hi) {
   const int d = f.block;
   lo.resize(static_cast<Eigen::Index>(f.nodes()) * d);
@@ -382,7 +391,8 @@ BoxQpResult solve_friction_dual(DenseBoxQpOperator& S, const Vector& b, const Fr
               (f.limit.size() == 0 || f.limit.size() == f.nodes()) &&
               (f.force_law.empty() || (f.force_law.size() == static_cast<std::size_t>(f.nodes()) &&
                                        f.compliance.size() == f.nodes())) &&
-              f.tangent.size() == static_cast<std::size_t>(f.nodes() * (d - 1)),
+              f.tangent.size() == static_cast<std::size_t>(f.nodes() * (d - 1)) &&
+              (f.friction.empty() || f.friction.size() == static_cast<std::size_t>(f.nodes())),
           "internal: friction dual of {} unknowns for {} nodes of block {}", n, f.nodes(), d);
   if (lambda.size() != n) lambda = Vector::Zero(n);
   if (!b.allFinite()) {  // NaN or Inf data: report, never "solve"
@@ -390,7 +400,7 @@ BoxQpResult solve_friction_dual(DenseBoxQpOperator& S, const Vector& b, const Fr
     r.kkt_residual = std::numeric_limits<double>::infinity();
     return r;
   }
-  if (d == 2 && !f.coulomb() && f.force_law.empty()) {
+  if (d == 2 && !f.coulomb() && f.force_law.empty() && f.discs()) {
     Vector lo, hi;
     tresca_box(f, lo, hi);
     return solve_box_qp(S, b, lo, hi, lambda, max_iterations);

@@ -33,7 +33,18 @@ struct FrictionDualSets {
   /// Per node × (block − 1): the tangent exists (else its row of T is zero, a symmetry plane:
   /// λ_τ,ij = 0, and S has 1 on that diagonal so that the problem stays definite).
   std::vector<char> tangent;
+  /// Per node its friction law (contact/friction_law.hpp: the set the projection P is onto); empty:
+  /// the disc everywhere (Coulomb, Tresca).
+  std::vector<const FrictionLaw*> friction;
   int nodes() const { return static_cast<int>(lo.size()); }
+  const FrictionLaw& friction_of(int node) const {
+    return friction.empty() ? disc_friction() : *friction[static_cast<std::size_t>(node)];
+  }
+  /// Node i's bound's data (FrictionBound::at gives s_i).
+  FrictionBound bound_of(int node) const {
+    return {tresca[node], mu[node], limit.size() > 0 ? limit[node] : std::numeric_limits<double>::infinity()};
+  }
+  bool discs() const;  // every node's set is the disc (no law overrides it)
   bool coulomb() const;  // some μ_i > 0 (then the bound moves with λ_ν)
 };
 
@@ -63,11 +74,13 @@ BoxQpResult solve_friction_dual(DenseBoxQpOperator& S, const Vector& b, const Fr
 SparseMatrix friction_rows(const ContactConstraints& c, std::vector<int>& places);
 /// [g; h] of those rows.
 Vector friction_offsets(const ContactConstraints& c);
-/// Each node's sets, replicated (collective); `laws`: every row's normal law (empty: Signorini).
+/// Each node's sets, replicated (collective); `laws`: every row's normal law (empty: Signorini);
+/// `frictions`: every row's friction law (empty: the disc everywhere).
 /// A missing tangent's row and column of S are zero (a zero row of T): 1 on its diagonal keeps
 /// S definite, and its λ_τ is held at 0.
 FrictionDualSets friction_sets(const la::Comm& comm, const ContactConstraints& c,
-                               const std::vector<const ContactLaw*>& laws, Eigen::MatrixXd& S);
+                               const std::vector<const ContactLaw*>& laws,
+                               const std::vector<const FrictionLaw*>& frictions, Eigen::MatrixXd& S);
 
 /// The box of 2D Tresca's QP (exposed for tests).
 void tresca_box(const FrictionDualSets& sets, Vector& lo, Vector& hi);

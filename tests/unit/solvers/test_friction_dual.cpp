@@ -4,6 +4,7 @@
 // Tresca with its bound, the 3D bound is a disc; every residual of SPEC §7 below 1e-10.
 #include "../error_of.hpp"
 #include "contact/normal_compliance.hpp"
+#include "solvers/contact_capabilities.hpp"
 #include "solvers/contact_solver.hpp"
 #include "solvers/friction_dual.hpp"
 
@@ -465,12 +466,12 @@ TEST(FrictionDual, PenaltyDualityRefusesFrictionNamingTheSolversThatCan) {
 
 // The automatic choice counts the dual's unknowns m × d with friction.
 TEST(FrictionDual, AutomaticChoiceCountsTheTangentialUnknowns) {
-  EXPECT_EQ(pick_contact_solver("auto", 600, "cholmod", false, 3).name, "active-set");
-  const ContactSolverPick p = pick_contact_solver("auto", 700, "cholmod", false, 3);
+  EXPECT_EQ(pick_contact_solver("auto", 600, "cholmod", ContactNeeds{}, 3).name, "active-set");
+  const ContactSolverPick p = pick_contact_solver("auto", 700, "cholmod", ContactNeeds{}, 3);
   EXPECT_EQ(p.name, "primal-active-set");
   EXPECT_NE(p.why.find("2100 contact unknowns (700 nodes x 3)"), std::string::npos) << p.why;
-  EXPECT_EQ(pick_contact_solver("auto", 700, "cholmod", false, 1).name, "active-set");
-  EXPECT_EQ(pick_contact_solver("auto", 100, "cg-gamg", false, 2).name, "primal-active-set");
+  EXPECT_EQ(pick_contact_solver("auto", 700, "cholmod", ContactNeeds{}, 1).name, "active-set");
+  EXPECT_EQ(pick_contact_solver("auto", 100, "cg-gamg", ContactNeeds{}, 2).name, "primal-active-set");
 }
 
 // The Alart–Curnier residual is zero exactly at the solution of a hand-sized problem and

@@ -5,6 +5,7 @@
 #include "../error_of.hpp"
 #include "contact/normal_compliance.hpp"
 #include "solvers/contact_frame.hpp"
+#include "solvers/contact_capabilities.hpp"
 #include "solvers/contact_solver.hpp"
 #include "solvers/primal_active_set.hpp"
 
@@ -264,12 +265,12 @@ TEST(PrimalActiveSet, TheCyclingGuardEndsACycleAtTheDualAnswer) {
 }
 
 TEST(PrimalActiveSet, AutomaticChoiceSaysWhy) {
-  EXPECT_EQ(pick_contact_solver("auto", 100, "cholmod", false).name, "active-set");
-  EXPECT_EQ(pick_contact_solver("auto", kDualContactRows + 1, "mumps", false).name, "primal-active-set");
-  EXPECT_EQ(pick_contact_solver("auto", 100, "cg-gamg", false).name, "primal-active-set");
-  EXPECT_EQ(pick_contact_solver("auto", 100000, "cg-gamg", true).name, "active-set");  // only the dual has it
-  EXPECT_EQ(pick_contact_solver("penalty-duality", 100000, "cg-gamg", false).name, "penalty-duality");
-  const ContactSolverPick p = pick_contact_solver("auto", 5041, "cholmod", false);
+  EXPECT_EQ(pick_contact_solver("auto", 100, "cholmod", ContactNeeds{}).name, "active-set");
+  EXPECT_EQ(pick_contact_solver("auto", kDualContactRows + 1, "mumps", ContactNeeds{}).name, "primal-active-set");
+  EXPECT_EQ(pick_contact_solver("auto", 100, "cg-gamg", ContactNeeds{}).name, "primal-active-set");
+  EXPECT_EQ(pick_contact_solver("auto", 100000, "cg-gamg", ContactNeeds{.nonlinear = "a power-law compliance"}).name, "active-set");  // only the dual has it
+  EXPECT_EQ(pick_contact_solver("penalty-duality", 100000, "cg-gamg", ContactNeeds{}).name, "penalty-duality");
+  const ContactSolverPick p = pick_contact_solver("auto", 5041, "cholmod", ContactNeeds{});
   EXPECT_NE(p.why.find("5041 contact nodes"), std::string::npos) << p.why;
 }
 

@@ -1,0 +1,92 @@
+#include "solvers/contact_capabilities.hpp"
+
+#include "la/backend.hpp"
+#include "solvers/contact_frame.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+
+namespace vpc {
+
+bool dual_only(const ContactLaw& law, const FrictionLaw* friction) {
+  return !law.linear() || (friction && !friction->disc());
+}
+
+ContactNeeds contact_needs(const la::Comm& comm, const ContactConstraints& c) {
+  ContactNeeds n;
+  n.friction = c.frictional();
+  for (const int k : c.law) {
+    const ContactLaw& law = *c.laws[static_cast<std::size_t>(k)];
+    n.compliant = n.compliant || !law.rigid();
+    if (!law.linear() && n.nonlinear.empty()) n.nonlinear = law.kind();
+  }
+  n.compliant = comm.any(n.compliant);
+  // The laws are the same list on every rank: a rank without such a row learns its name from the list.
+  if (comm.any(!n.nonlinear.empty()))
+    for (const auto& law : c.laws)
+      if (!law->linear()) {
+        n.nonlinear = law->kind();
+        break;
+      }
+  bool non_disc = false;
+  for (Eigen::Index i = 0; i < static_cast<Eigen::Index>(c.rows.size()) && n.friction; ++i)
+    non_disc = non_disc || !c.friction_of(i).disc();
+  if (comm.any(non_disc))
+    for (const auto& f : c.frictions)
+      if (f && !f->disc()) {
+        n.non_disc = f->name();
+        break;
+      }
+  n.pair_sides_mixed = !comm.all(masters_apart_from_slaves(c.N, c.node_dofs, c.master_mean));
+  return n;
+}
+
+std::string cannot_solve(const std::string& solver, const ContactNeeds& needs) {
+  if (solver == "primal-active-set") {
+    if (!needs.nonlinear.empty())
+      return fmt::format("contact solver 'primal-active-set' solves Signorini and linear normal compliance rows; a {} "
+                         "needs 'active-set'",
+                         needs.nonlinear);
+    if (!needs.non_disc.empty())
+      return fmt::format("contact solver 'primal-active-set' solves friction laws whose set is a disc (coulomb, "
+                         "tresca); friction = \"{}\" needs 'active-set'",
+                         needs.non_disc);
+    if (needs.pair_sides_mixed)
+      return "contact solver 'primal-active-set': a node is on the slave side of one contact pair row and the master "
+             "side of another; --contact-solver active-set solves it";
+  }
+  if (solver == "penalty-duality") {
+    if (needs.friction)
+      return "contact solver 'penalty-duality' solves frictionless contact only; friction needs 'active-set' (the "
+             "dual) or 'primal-active-set'";
+    if (needs.compliant)
+      return "contact solver 'penalty-duality' solves the Signorini conditions only; normal compliance needs "
+             "'active-set'";
+  }
+  return {};
+}
+
+ContactSolverPick pick_contact_solver(const std::string& requested, int m, const std::string& linear_solver,
+                                      const ContactNeeds& needs, int block) {
+  if (requested != "auto") return {requested, "as asked"};
+  // Where the primal cannot solve it, the dual does (the table's first row solves everything).
+  if (!needs.nonlinear.empty()) return {"active-set", "auto: a nonlinear compliance law is solved on the dual"};
+  if (!needs.non_disc.empty())
+    return {"active-set", fmt::format("auto: friction = \"{}\" (a set that is not a disc) is solved on the dual", needs.non_disc)};
+  // With friction the dual's unknowns are m × block (λ_ν and the tangential forces of each node).
+  const int n = m * block;
+  const std::string unknowns =
+      block == 1 ? fmt::format("{} contact nodes", m) : fmt::format("{} contact unknowns ({} nodes x {})", n, m, block);
+  ContactSolverPick pick{"active-set", fmt::format("auto: {} <= {} and a direct solver", unknowns, kDualContactRows)};
+  if (!la::Backend::is_direct(linear_solver))
+    pick = {"primal-active-set", fmt::format("auto: {} is iterative (the dual's S would take {} solves)", linear_solver, n)};
+  else if (n > kDualContactRows)
+    pick = {"primal-active-set", fmt::format("auto: {} > {} (the dual's S would be dense {} x {})", unknowns,
+                                             kDualContactRows, n, n)};
+  if (pick.name == "primal-active-set" && needs.pair_sides_mixed)
+    return {"active-set", "auto: a node is on both sides of contact pairs (the primal needs them apart)"};
+  return pick;
+}
+
+}  // namespace vpc

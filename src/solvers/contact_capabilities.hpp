@@ -1,0 +1,55 @@
+#pragma once
+// What each contact solver solves, in one table (issue 49): read by auto's choice
+// (pick_contact_solver) and by the refusals of a solver asked for what it cannot solve, so that a
+// new solver or law changes one row here instead of checks spread over the solvers.
+//
+//                        friction   compliance   a law that is     a friction set    a node on both
+//                                                not linear        not a disc        sides of pairs
+//   active-set (dual)    yes        yes          yes               yes               yes
+//   primal-active-set    yes        linear       no                no                no
+//   penalty-duality      no         no           no                no                yes
+#include "solvers/contact_solver.hpp"
+
+#include <string>
+#include <vector>
+
+namespace vpc {
+
+/// What a contact problem asks of its solver, the same on every rank (contact_needs reduces).
+struct ContactNeeds {
+  bool friction = false;         // a friction law on some row (λ has d numbers a node)
+  bool compliant = false;        // some row's normal law is not Signorini
+  std::string nonlinear;         // a normal law that is not linear: its kind ("a power-law compliance"); empty: none
+  std::string non_disc;          // a friction law whose set is not the disc: its name; empty: none
+  bool pair_sides_mixed = false; // a node on the slave side of one pair row and the master side of another
+};
+
+/// Whether a row with these laws can only be solved by the dual (the table's "no" of the primal for
+/// a law: a normal law that is not linear, a friction set that is not a disc; `friction` nullptr: none):
+/// what auto's plan before set-up asks of each row (run/solver_plan.hpp).
+bool dual_only(const ContactLaw& law, const FrictionLaw* friction);
+
+/// The needs of `c` (collective: every rank gets the same answer).
+ContactNeeds contact_needs(const la::Comm& comm, const ContactConstraints& c);
+
+/// Why `solver` cannot solve `needs`, as the error a user reads (naming the solver that can), or
+/// empty where it can. The one place the table above is written.
+std::string cannot_solve(const std::string& solver, const ContactNeeds& needs);
+
+/// The contact solver for a problem (issue 14): `requested` unless it is "auto" (a solver asked for
+/// what it cannot solve is refused: cannot_solve). "auto" takes the dual "active-set" while
+/// S = N K⁻¹Nᵀ is cheap (a direct solver and at most kDualContactRows contact unknowns, m × `block`:
+/// with friction S is [N; T] K⁻¹ [N; T]ᵀ) or where the primal cannot solve the problem (the table);
+/// else "primal-active-set". `why` says which rule decided, for the run's header.
+struct ContactSolverPick {
+  std::string name;
+  std::string why;
+};
+constexpr int kDualContactRows = 2000;
+/// The names a case file ([solver] contact) and --contact-solver accept; the first is the default.
+inline const std::vector<std::string> kContactSolverNames = {"auto", "active-set", "primal-active-set",
+                                                             "penalty-duality"};
+ContactSolverPick pick_contact_solver(const std::string& requested, int m, const std::string& linear_solver,
+                                      const ContactNeeds& needs, int block = 1);
+
+}  // namespace vpc
