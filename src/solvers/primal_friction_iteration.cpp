@@ -78,8 +78,7 @@ ContactReport PrimalFrictionIteration::solve(PrimalOperator& op, PrimalWarmStart
     const double scale = std::max({b_scale, comm.max(lambda_local.size() ? lambda_local.cwiseAbs().maxCoeff() : 0.0),
                                    std::numeric_limits<double>::min()});
     s_.force_scale = scale;
-    // c's secant step while the slip forces still move much; then fixed (a 3D block pressed,
-    // ν = 0.3: with it updated to the end, a step stalled near 1e-9).
+    // c's secant step while the slip forces still move much; then fixed (kSecantUntil).
     friction.secant(c, w, tangential, comm, last_direction > kSecantUntil);
     PrimalFriction::Next up = friction.next(c, w, tangential, bound);
     if (monotone) friction.slip_one(up, comm);
@@ -112,8 +111,7 @@ ContactReport PrimalFrictionIteration::solve(PrimalOperator& op, PrimalWarmStart
       continue;
     }
     // Lagged: within a Tresca problem the slip directions are iterated only to a share of the
-    // bound's last change (an inexact inner solve; 3D partial slip on the test block: 93 → 38
-    // solves, 3D full slip 47 → 19), to the friction tolerance at the end.
+    // bound's last change (an inexact inner solve, kInnerShare), to the friction tolerance at the end.
     if (!directions_held && direction_change > kInnerShare * bound_change) {
       friction.take(std::move(up));
       continue;

@@ -68,8 +68,7 @@ int PrimalOperator::factorize_for(const std::vector<char>& active, PrimalFrictio
     if (!factor_->iterative() && comm.all(friction->factored_serves(kLaggedSpringShare))) {
       // A direct solver keeps its factor while the sets hold (a numeric factorization costs some
       // twenty solves): the springs' change since it joins GMRES's operator, the factor its
-      // preconditioner (CoulombCoupling). Foundation-3d n = 20 on CHOLMOD, 100 steps: 720
-      // factorizations and 1,494 s with a factorization at every iterate.
+      // preconditioner (CoulombCoupling; measured: primal_tuning.hpp, kLaggedSpringShare).
       spring_change_ = owned_matrix(springs) - owned_matrix(factored);
       return 0;
     }
