@@ -27,7 +27,8 @@ ContactReport PrimalFrictionIteration::solve(PrimalOperator& op, PrimalWarmStart
   const bool warm = lambda.size() == static_cast<Eigen::Index>(c.m) * c.block;
   Vector normal_in = warm ? local_normal(c, lambda) : Vector(Vector::Zero(rows));
   Vector tangential_in = warm ? local_tangential(c, lambda) : Vector();
-  const bool extrapolated = warm && answers.continuing(comm, u) && forces_before_.size() == normal_in.size() + tangential_in.size();
+  const bool extrapolated =
+      warm && answers.continuing(comm, u) && forces_before_.size() == normal_in.size() + tangential_in.size();
   if (extrapolated) {
     // The forces extrapolated as w is (a step's load changes smoothly).
     const Vector forces = 2 * forces_last_ - forces_before_;
@@ -68,7 +69,8 @@ ContactReport PrimalFrictionIteration::solve(PrimalOperator& op, PrimalWarmStart
   s_.newton_target = 0;
   for (int it = 0; it < max_iterations && !converged; ++it) {
     if (s_.couple && it == kCoupledIterations) s_.couple = false;  // no convergence yet: lag the bound
-    auto [r, next, most_negative, worst, residual_left, failed] = op.iterate(active, b, w, tight, lambda_local, rep, &s_);
+    auto [r, next, most_negative, worst, residual_left, failed] =
+        op.iterate(active, b, w, tight, lambda_local, rep, &s_);
     if (failed) break;  // Coulomb's linearization singular: not converged
     if (monotone) op.release_one(active, next, most_negative, worst);
     tangential = friction.forces(r);

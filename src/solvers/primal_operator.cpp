@@ -227,7 +227,9 @@ void PrimalOperator::normal_update(const std::vector<char>& active, const Vector
     const RotatedRow& row = rows_[i];
     const double gap = gap_left(w, i);
     if (compliant(i)) {  // λ = k (N u − g)₊: active where the row penetrates
-      lambda_local[i] = !active[i] ? 0.0 : law_determines(i) ? law_normal_force(i) : -gap / spring_[static_cast<std::size_t>(i)];
+      lambda_local[i] = !active[i]           ? 0.0
+                        : law_determines(i) ? law_normal_force(i)
+                                            : -gap / spring_[static_cast<std::size_t>(i)];
       next[i] = gap < 0;
     } else {
       lambda_local[i] = !active[i] ? 0.0 : law_determines(i) ? law_normal_force(i) : r[row.dof] / row.alpha;
