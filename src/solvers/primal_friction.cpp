@@ -1,6 +1,7 @@
 #include "solvers/primal_friction.hpp"
 
 #include "core/error.hpp"
+#include "solvers/primal_tuning.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -179,7 +180,8 @@ PrimalFriction::Next PrimalFriction::next(const ContactConstraints& c, const Vec
     if (norm > 0 && bound > 0) n.force.segment(e * t_, t_) = bound / norm * q, n.direction.segment(e * t_, t_) = q / norm;
     // k = s c/(|q| − s), at most kMostSpring c: a row that only just slips is nearly stuck across
     // its direction; beyond that bound the spring only slows the operator's conditioning.
-    if (t_ > 1 && bound > 0) n.spring[i] = std::min(bound * gamma_ * scale_[i] / (norm - bound), kMostSpring * scale_[i]);
+    if (t_ > 1 && bound > 0)
+      n.spring[i] = std::min(bound * gamma_ * scale_[i] / (norm - bound), primal_tuning::kMostSpring * scale_[i]);
     if (stick_[i]) n.excess[i] = norm - bound;
     else n.change = std::max(n.change, (n.force.segment(e * t_, t_) - tangential.segment(e * t_, t_)).cwiseAbs().maxCoeff());
   }

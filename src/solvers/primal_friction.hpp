@@ -17,9 +17,11 @@
 // sliding: 49 solves a step, and none at n = 20 past step 71). Coulomb's bound s_i = tresca_i +
 // μ_i λ_ν,i(w) enters Newton's step too (HSW's full linearization): at a slip row in contact
 // the force s_i n_i is tresca_i n_i (load) plus μ_i n_i λ_ν,i(w), λ_ν a reaction of w, which the
-// caller (PrimalActiveSetSolver) puts in the matrix as a nonsymmetric coupling solved by GMRES
+// caller puts in the matrix (CoulombCoupling, primal_coupling.hpp) as a nonsymmetric coupling solved by GMRES
 // with K's factor or preconditioner (la::LinearSolver::solve_perturbed). Coulomb holds exactly
-// per step, not lagged from the last step, and no outer fixed point on s is needed.
+// per step, not lagged from the last step, and no outer fixed point on s is needed. The iteration
+// that drives these updates: primal_friction_iteration.hpp; Newton's spring is capped at
+// primal_tuning::kMostSpring c (primal_tuning.hpp).
 #include "solvers/contact_solver.hpp"
 
 #include <vector>
@@ -109,12 +111,6 @@ class PrimalFriction {
   const std::vector<char>& stick() const { return stick_; }
 
  private:
-  /// Newton's spring at most this many times c: a row that only just slips is nearly stuck across
-  /// its direction. Any spring has the same fixed points; a stiffer one is closer to Newton's, but
-  /// it slows the multigrid on the tangent dofs (frictional foundation-3d n = 40 on CG + GAMG, 2
-  /// ranks, 100 steps: 4,735 Krylov iterations with 1e4 c, 4,303 with 1e2 c, 3,735 with 10 c, and
-  /// 4,264 with 3 c and 7,096 with c, where Newton's rate is lost: 484 and 833 solves against 360).
-  static constexpr double kMostSpring = 10;
   /// Row i's spring k_i (I − n_i n_iᵀ) over its tangents (zero rows and columns where a tangent has no dof).
   Eigen::MatrixXd across(std::size_t i) const;
   Eigen::MatrixXd across(std::size_t i, double k, const Vector& force) const;

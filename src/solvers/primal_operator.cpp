@@ -1,0 +1,268 @@
+#include "solvers/primal_operator.hpp"
+
+#include "core/error.hpp"
+#include "solvers/primal_tuning.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace vpc {
+
+using namespace primal_tuning;
+
+namespace {
+
+bool same(const std::vector<Eigen::Triplet<double>>& a, const std::vector<Eigen::Triplet<double>>& b) {
+  return std::equal(a.begin(), a.end(), b.begin(), b.end(), [](const auto& x, const auto& y) {
+    return x.row() == y.row() && x.col() == y.col() && x.value() == y.value();
+  });
+}
+
+}  // namespace
+
+PrimalOperator::PrimalOperator(std::shared_ptr<const la::SpdOperator> K, std::shared_ptr<const la::SpdOperator> K_rot,
+                               std::shared_ptr<la::LinearSolver> factor, ContactConstraints c)
+    : K_(std::move(K)), K_rot_(K_rot ? std::move(K_rot) : K_), factor_(std::move(factor)), c_(std::move(c)),
+      basis_(contact_basis(c_.N, c_.node_dofs, c_.master_mean)), rows_(basis_.rows) {
+  for (Eigen::Index i = 0; i < static_cast<Eigen::Index>(rows_.size()) && !c_.laws.empty(); ++i) {
+    const ContactLaw& law = c_.law_of(i);
+    require(law.rigid() || law.linear(),
+            "contact solver 'primal-active-set' solves Signorini and linear normal compliance rows; a {} needs "
+            "'active-set'",
+            law.kind());
+    // An active compliant row is the spring of the law's linearization (exact for a linear law).
+    spring_.push_back(law.rigid() ? 0.0 : law.spring_compliance(c_.compliance[i]));
+  }
+  require(basis_.P.size() == 0 || K_rot_ != K_, "internal: the primal contact solver needs Pᵀ K P for rotated rows");
+  // c_i of the update rule λ_i + c_i (N_i u − g_i) > 0: K's stiffness at the row's dof, per unit of N_i u.
+  diagonal_ = K_rot_->diagonal();
+  const Vector& d = diagonal_;
+  for (const RotatedRow& r : rows_) scale_.push_back(d[r.dof] / (r.alpha * r.alpha));
+}
+
+PrimalOperator::Iterate PrimalOperator::iterate(const std::vector<char>& active, const Vector& b, Vector& w, bool tight,
+                                                Vector& lambda_local, ContactReport& rep, FrictionalSolve* friction) {
+  Iterate x;
+  rep.factorizations += factorize_for(active, friction ? &friction->friction : nullptr);
+  const Solved solved = solve_constrained(active, b, w, tight, friction);
+  x.residual_left = solved.residual_left;
+  x.failed = solved.failed;
+  K_rot_->residual(b, w, x.r);
+  normal_update(active, w, x.r, lambda_local, x.next, x.most_negative, x.worst, friction);
+  ++rep.iterations;
+  return x;
+}
+
+/// Factorizes K_rot with `active`'s constraints (and `friction`'s stick set and springs) unless the
+/// factor already holds them. Returns 1 if it did.
+int PrimalOperator::factorize_for(const std::vector<char>& active, PrimalFriction* friction) {
+  const la::Comm& comm = K_->comm();
+  std::vector<Eigen::Triplet<double>> springs;
+  if (friction) friction->springs(springs);  // Newton's springs across the slip directions
+  spring_change_ = SparseMatrix();
+  if (A_ && comm.all(active == factored_) && (!friction || comm.all(friction->stick() == factored_stick_))) {
+    std::vector<Eigen::Triplet<double>> factored;
+    if (friction) friction->factored_springs(factored);
+    if (!friction || comm.all(same(springs, factored))) return 0;
+    if (!factor_->iterative() && comm.all(friction->factored_serves(kLaggedSpringShare))) {
+      // A direct solver keeps its factor while the sets hold (a numeric factorization costs some
+      // twenty solves): the springs' change since it joins GMRES's operator, the factor its
+      // preconditioner (CoulombCoupling; measured: primal_tuning.hpp, kLaggedSpringShare).
+      spring_change_ = owned_matrix(springs) - owned_matrix(factored);
+      return 0;
+    }
+  }
+  std::vector<char> fixed(static_cast<size_t>(K_->n_owned()), 0);
+  if (friction) {
+    friction->fix(fixed);
+    friction->mark_factored();
+    factored_stick_ = friction->stick();
+  }
+  for (size_t i = 0; i < rows_.size(); ++i) {
+    if (!active[i]) continue;
+    if (compliant(static_cast<Eigen::Index>(i)))
+      springs.emplace_back(rows_[i].dof, rows_[i].dof, rows_[i].alpha * rows_[i].alpha / spring_[i]);
+    else
+      fixed[rows_[i].dof] = 1;
+  }
+  const bool with_springs = comm.any(!springs.empty());
+  // With friction the springs' pattern is every contact row's tangent block (zeros where a row
+  // does not slip), within K_rot's own (a node's dofs couple), so that A_ keeps K_rot's pattern
+  // as the slip set changes.
+  if (with_springs && friction) friction->spring_pattern(springs);
+  const SparseMatrix D = with_springs ? owned_matrix(springs) : SparseMatrix();
+  // A_ takes the new rows and springs in place where it has K_rot's pattern and the backend can;
+  // else a new operator, the old one living until it is in place (the factor or the
+  // preconditioner keeps a reference to its operator).
+  const char* what = "elastic stiffness K with the active contact rows";
+  if (A_ && A_->assign_with_fixed(*K_rot_, fixed, with_springs ? &D : nullptr)) {
+    factor_->refactorize(*A_, what);
+  } else {
+    const std::shared_ptr<const la::SpdOperator> base = with_springs ? K_rot_->plus(D) : K_rot_;
+    std::shared_ptr<la::SpdOperator> next = base->with_fixed(fixed);
+    if (A_)
+      factor_->refactorize(*next, what);
+    else
+      factor_->factorize(*next, what);
+    A_ = std::move(next);
+  }
+  factored_ = active;
+  fixed_ = std::move(fixed);
+  return 1;
+}
+
+SparseMatrix PrimalOperator::owned_matrix(const std::vector<Eigen::Triplet<double>>& entries) const {
+  SparseMatrix D(K_->n_owned(), K_->n_owned());
+  D.setFromTriplets(entries.begin(), entries.end());
+  return D;
+}
+
+/// w = the solution of K_rot w = b with the active rows: w_k = g/α on Signorini rows
+/// (the others moved to the right-hand side), springs on the compliance rows; with friction the
+/// stick and slip rows' conditions (PrimalFriction::load) and Coulomb's coupling (CoulombCoupling).
+PrimalOperator::Solved PrimalOperator::solve_constrained(const std::vector<char>& active, const Vector& b, Vector& w,
+                                                         bool tight, FrictionalSolve* friction) {
+  Vector fixed_values = Vector::Zero(b.size());
+  Vector rhs = b;
+  for (size_t i = 0; i < rows_.size(); ++i) {
+    if (!active[i]) continue;
+    const auto e = static_cast<Eigen::Index>(i);
+    if (compliant(e))
+      rhs[rows_[i].dof] += rows_[i].alpha * c_.gap[e] / spring_[i];
+    else
+      fixed_values[rows_[i].dof] = c_.gap[e] / rows_[i].alpha;
+  }
+  Vector law_rhs = Vector::Zero(b.size());
+  const la::Perturbation C =
+      friction ? friction->coupling.build(*this, friction->friction, friction->couple, active, b, rhs, law_rhs)
+               : la::Perturbation();
+  if (friction) friction->friction.load(c_, friction->coupling.coupled(), rhs, fixed_values);
+  Vector coupling;
+  K_rot_->mult(fixed_values, coupling);
+  rhs -= coupling;
+  for (Eigen::Index j = 0; j < rhs.size(); ++j)
+    if (fixed_[j]) {  // the fixed rows of A keep K_rot's diagonal (la::SpdOperator::with_fixed)
+      w[j] = fixed_values[j];
+      rhs[j] = diagonal_[j] * fixed_values[j];
+    }
+  if (friction && friction->coupling.weighted()) {  // D rhs, the law rows' own part already over μ
+    friction->coupling.weigh(rhs);
+    rhs += law_rhs;
+  }
+  if (C || (friction && tight && factor_->iterative())) {
+    // Solved for the correction, whose right-hand side is the residual (0 on the fixed rows):
+    // with friction the fixed rows (stick dofs at h, which grows with the slip) can dominate
+    // ‖rhs‖, against which an iterative solver's tolerance is relative (Cattaneo–Mindlin on
+    // CG + GAMG: equilibrium residual 2.9e-8 above the tolerance 1e-8 without).
+    Vector r, delta = Vector::Zero(w.size()), Cw;
+    A_->residual(rhs, w, r);
+    if (C) C(w, Cw), r -= Cw;
+    const double norm = std::sqrt(K_->comm().sum(r.squaredNorm()));
+    // Newton's step with Coulomb coupled goes to the friction tolerance, or to the square of the
+    // slip directions' last change where that is larger (Newton's quadratic rate: the next change
+    // is about that). A direct solver's GMRES (its iterations are solves with the factor) takes the
+    // same target, uncoupled the tolerance; an iterative one reduces each correction's residual
+    // by kLeastForcing to kForcing (inexact Newton; lagged: kForcing), or, finding the sets, stops
+    // where a loose solve would (loose_tolerance, of ‖rhs‖).
+    const double target = std::max(0.5 * friction->force_tolerance, friction->couple ? friction->newton_target : 0.0) *
+                          friction->force_scale;
+    const double to_target = target / std::max(norm, std::numeric_limits<double>::min());
+    double rtol = kForcing;
+    if (!factor_->iterative()) {
+      rtol = std::clamp(to_target, 1e-14, kForcing);
+    } else if (!tight) {
+      const double loose = loose_tolerance(rhs, w), rhs_norm = std::sqrt(K_->comm().sum(rhs.squaredNorm()));
+      rtol = loose > 0 && norm > 0 ? std::min(kLooseReduction, loose * rhs_norm / norm) : kForcing;
+    } else if (friction->couple) {
+      rtol = std::clamp(to_target, kLeastForcing, kForcing);
+    }
+    if (!C) {
+      factor_->set_relative_tolerance(rtol);
+      factor_->solve(r, delta);
+      w += delta;
+      return {rtol * norm, false};  // ‖r − Aδ‖₂ ≤ rtol ‖r‖₂
+    }
+    try {
+      factor_->solve_perturbed(*A_, C, r, delta, rtol > 0 ? rtol : 1e-12, "elastic stiffness K with Coulomb's coupling");
+    } catch (const Error&) {  // GMRES short of its tolerance: w stays, the caller stops
+      return {0.0, true};
+    }
+    w += delta;
+    A_->residual(rhs, w, r);  // the true residual (Eigen's GMRES stops on the preconditioned one)
+    C(w, Cw);
+    return {std::sqrt(K_->comm().sum((r - Cw).squaredNorm())), false};
+  }
+  factor_->set_relative_tolerance(tight ? 0.0 : loose_tolerance(rhs, w));
+  factor_->solve(rhs, w);
+  return {0.0, false};  // a direct solve (a loose one never ends the iteration: was_tight)
+}
+
+/// A loose solve stops at kLooseTolerance ‖rhs‖ or at kLooseReduction of its initial
+/// residual, whichever is smaller: a solve must answer a set change even when the guess
+/// already meets kLooseTolerance (else the set flips back and forth on an unchanged w).
+double PrimalOperator::loose_tolerance(const Vector& rhs, const Vector& w) const {
+  Vector r;
+  A_->residual(rhs, w, r);
+  double norms[2] = {r.squaredNorm(), rhs.squaredNorm()};
+  K_->comm().sum(norms, 2);
+  if (!(norms[1] > 0)) return 0.0;
+  const double rtol = std::min(kLooseTolerance, kLooseReduction * std::sqrt(norms[0] / norms[1]));
+  return rtol > kLooseFloor ? rtol : 0.0;  // that close to the answer, the solver's own tolerance
+}
+
+/// λ_ν of the iterate (reaction r = b − K_rot w at an active Signorini row, the spring's force
+/// at a compliant one, the slip law's at a row where CoulombCoupling::law_determines) and the next
+/// normal set by the update rule; `worst`: the active Signorini row with the most negative force
+/// (if below 0).
+void PrimalOperator::normal_update(const std::vector<char>& active, const Vector& w, const Vector& r,
+                                   Vector& lambda_local, std::vector<char>& next, double& most_negative,
+                                   Eigen::Index& worst, const FrictionalSolve* friction) const {
+  auto law_determines = [&](Eigen::Index i) { return friction && friction->coupling.law_determines(i, c_); };
+  auto law_normal_force = [&](Eigen::Index i) {
+    return CoulombCoupling::law_normal_force(i, r, friction->friction, c_);
+  };
+  next.assign(active.size(), 0);
+  for (Eigen::Index i = 0; i < static_cast<Eigen::Index>(rows_.size()); ++i) {
+    const RotatedRow& row = rows_[i];
+    const double gap = gap_left(w, i);
+    if (compliant(i)) {  // λ = k (N u − g)₊: active where the row penetrates
+      lambda_local[i] = !active[i]           ? 0.0
+                        : law_determines(i) ? law_normal_force(i)
+                                            : -gap / spring_[static_cast<std::size_t>(i)];
+      next[i] = gap < 0;
+    } else {
+      lambda_local[i] = !active[i] ? 0.0 : law_determines(i) ? law_normal_force(i) : r[row.dof] / row.alpha;
+      next[i] = lambda_local[i] - scale_[i] * gap > 0;
+      if (active[i] && lambda_local[i] < most_negative) {
+        most_negative = lambda_local[i];
+        worst = i;
+      }
+    }
+  }
+}
+
+void PrimalOperator::release_one(const std::vector<char>& active, std::vector<char>& next, double most_negative,
+                                 Eigen::Index worst) const {
+  const double global_worst = K_->comm().min(most_negative);
+  for (Eigen::Index i = 0; i < static_cast<Eigen::Index>(rows_.size()); ++i)
+    if (!compliant(i)) next[i] = active[i] ? !(i == worst && most_negative == global_worst) : next[i];
+}
+
+Vector PrimalWarmStart::start_point(const PrimalOperator& op, const Vector& F, const Vector& u) const {
+  Vector w = op.to_basis(u.size() == F.size() ? u : Vector(Vector::Zero(F.size())));
+  // (continuing is collective: called on every rank, also one that owns no dofs, where the
+  // sizes would agree trivially.)
+  const bool extrapolate = continuing(op.comm(), u) && w_before_.size() == w.size();
+  if (extrapolate) w = 2 * w_last_ - w_before_;
+  return w;
+}
+
+void PrimalWarmStart::keep_answer(const PrimalOperator& op, const Vector& w, Vector& u) {
+  w_before_ = std::move(w_last_);
+  w_last_ = w;
+  u = op.unrotate(w);
+  u_last_ = u;
+}
+
+}  // namespace vpc
