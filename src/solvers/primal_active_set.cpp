@@ -1,5 +1,8 @@
 #include "solvers/primal_active_set.hpp"
 
+#include "core/error.hpp"
+#include "solvers/contact_capabilities.hpp"
+
 #include "solvers/active_set_history.hpp"
 #include "solvers/primal_friction_iteration.hpp"
 #include "solvers/primal_operator.hpp"
@@ -95,6 +98,9 @@ std::unique_ptr<ContactSolver> make_primal_active_set_solver(std::shared_ptr<con
                                                              std::shared_ptr<la::LinearSolver> factor,
                                                              ContactConstraints constraints, int max_iterations,
                                                              double friction_tolerance) {
+  // What the primal cannot solve is refused before its basis is formed (the capability table).
+  if (const std::string why = cannot_solve("primal-active-set", contact_needs(K->comm(), constraints)); !why.empty())
+    fail("{}", why);
   return std::make_unique<PrimalActiveSetSolver>(std::move(K), std::move(K_rot), std::move(factor),
                                                  std::move(constraints), max_iterations, friction_tolerance);
 }

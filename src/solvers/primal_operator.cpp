@@ -26,11 +26,7 @@ PrimalOperator::PrimalOperator(std::shared_ptr<const la::SpdOperator> K, std::sh
     : K_(std::move(K)), K_rot_(K_rot ? std::move(K_rot) : K_), factor_(std::move(factor)), c_(std::move(c)),
       basis_(contact_basis(c_.N, c_.node_dofs, c_.master_mean)), rows_(basis_.rows) {
   for (Eigen::Index i = 0; i < static_cast<Eigen::Index>(rows_.size()) && !c_.laws.empty(); ++i) {
-    const ContactLaw& law = c_.law_of(i);
-    require(law.rigid() || law.linear(),
-            "contact solver 'primal-active-set' solves Signorini and linear normal compliance rows; a {} needs "
-            "'active-set'",
-            law.kind());
+    const ContactLaw& law = c_.law_of(i);  // rigid or linear (contact_capabilities.hpp: the primal's row)
     // An active compliant row is the spring of the law's linearization (exact for a linear law).
     spring_.push_back(law.rigid() ? 0.0 : law.spring_compliance(c_.compliance[i]));
   }

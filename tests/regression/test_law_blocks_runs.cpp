@@ -3,6 +3,7 @@
 // plane that then slides along (2, 1)): with equal axes it is Coulomb; with unequal axes the face's
 // full slip lies on the ellipse, |λ_τ|_C = μ λ_ν, and slips along its outward normal.
 #include "friction_runs.hpp"
+#include "solvers/contact_capabilities.hpp"
 #include "test_laws.hpp"
 
 #include <fmt/format.h>
@@ -82,6 +83,33 @@ TEST(LawBlocks, EllipticCoulombFullSlipLiesOnTheEllipseAlongItsNormal) {
   EXPECT_LE(on_ellipse, 1e-9);
   EXPECT_LE(normality, 1e-8);
   EXPECT_GT(against_coulomb, 1e-3);  // a law of its own, not the disc
+}
+
+}  // namespace
+}  // namespace vpc
+
+namespace vpc {
+namespace {
+
+/// The capability table (solvers/contact_capabilities.hpp): the primal solver's friction is the
+/// disc's (Hüeber–Stadler–Wohlmuth's slip springs), so it refuses another set by name, and auto
+/// takes the dual for it even where its cost rule would take the primal.
+TEST(LawBlocks, ThePrimalRefusesASetThatIsNotADiscAndAutoTakesTheDual) {
+  const Case primal = elliptic_shear(1, 0.5, "primal-active-set");
+  try {
+    TimeStepper s(primal.problem, primal.solvers);
+    ADD_FAILURE() << "the primal solver took an elliptic set";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("contact solver 'primal-active-set' solves friction laws whose set is a disc "
+                                         "(coulomb, tresca); friction = \"elliptic-coulomb\" needs 'active-set'"),
+              std::string::npos)
+        << e.what();
+  }
+  ContactNeeds needs;
+  needs.friction = true;
+  needs.non_disc = "elliptic-coulomb";
+  EXPECT_EQ(pick_contact_solver("auto", 100000, "cg-gamg", needs, 3).name, "active-set");
+  EXPECT_EQ(cannot_solve("active-set", needs), "");
 }
 
 }  // namespace

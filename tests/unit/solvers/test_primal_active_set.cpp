@@ -268,7 +268,9 @@ TEST(PrimalActiveSet, AutomaticChoiceSaysWhy) {
   EXPECT_EQ(pick_contact_solver("auto", 100, "cholmod", ContactNeeds{}).name, "active-set");
   EXPECT_EQ(pick_contact_solver("auto", kDualContactRows + 1, "mumps", ContactNeeds{}).name, "primal-active-set");
   EXPECT_EQ(pick_contact_solver("auto", 100, "cg-gamg", ContactNeeds{}).name, "primal-active-set");
-  EXPECT_EQ(pick_contact_solver("auto", 100000, "cg-gamg", ContactNeeds{.nonlinear = "a power-law compliance"}).name, "active-set");  // only the dual has it
+  ContactNeeds power_law;
+  power_law.nonlinear = "a power-law compliance";
+  EXPECT_EQ(pick_contact_solver("auto", 100000, "cg-gamg", power_law).name, "active-set");  // only the dual has it
   EXPECT_EQ(pick_contact_solver("penalty-duality", 100000, "cg-gamg", ContactNeeds{}).name, "penalty-duality");
   const ContactSolverPick p = pick_contact_solver("auto", 5041, "cholmod", ContactNeeds{});
   EXPECT_NE(p.why.find("5041 contact nodes"), std::string::npos) << p.why;
