@@ -1,3 +1,7 @@
+// Case files: parse_case reads the TOML (the command line's overrides applied), then the sections
+// in their order (the mesh first: the other sections' checks need it; [contact] before
+// [[obstacle]]; [time] before [output]). Each section's keys are read in a file of its own
+// (io/case_readers.hpp), with the shared machinery of io/case_section.hpp.
 #include "io/case_file.hpp"
 #include "io/case_readers.hpp"
 
@@ -14,9 +18,6 @@
 #include <cstdint>
 #include <cstring>
 #include <sstream>
-
-// A case is read section by section, in parse_case's order; each section's keys are read in its
-// own file (io/case_readers.hpp), with the shared machinery of io/case_section.hpp.
 
 namespace vpc {
 

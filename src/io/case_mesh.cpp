@@ -17,9 +17,9 @@
 #include <set>
 #include <tuple>
 
-namespace fs = std::filesystem;
-
 namespace vpc::case_file {
+
+namespace fs = std::filesystem;
 
 namespace {
 
@@ -250,6 +250,8 @@ Mesh read_mesh(Section m, const fs::path& base_dir, const Origins& origins, cons
   m.finish();
   return mesh;
 }
+
+// ---------------------------------------------------------------- [[body]]
 
 /// [[body]] (SPEC §8): each further body's name and [body.mesh] (as [mesh]), appended to
 /// p.mesh: its parts become "<name>.<part>" and its regions "<name>.<region>" for the rest
