@@ -2,6 +2,7 @@
 // (refined `refine` times), whole or a rank's block (MeshRequest::block), with [[mesh.part]].
 #include "io/case_readers.hpp"
 
+#include "io/case.hpp"
 #include "core/error.hpp"
 #include "core/quote.hpp"
 #include "la/memory_estimate.hpp"

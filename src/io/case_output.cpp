@@ -2,6 +2,8 @@
 // damage solvers, the residual tolerance).
 #include "io/case_readers.hpp"
 
+#include "io/run_output.hpp"
+#include "scheme/solver_choice.hpp"
 #include "core/error.hpp"
 #include "core/quote.hpp"
 #include "io/state_fields.hpp"

@@ -3,6 +3,7 @@
 // file's own would be, its messages naming the option (Origins).
 #include "io/case_readers.hpp"
 
+#include "io/case_file.hpp"
 #include "contact/friction_law.hpp"
 #include "core/error.hpp"
 #include "core/quote.hpp"

@@ -8,8 +8,8 @@
 // scheme/): a Section is TOML, which only io/ knows, and those modules sit below io/ in the
 // module graph (scripts/module_graph.py); the laws' own keys are read by the laws through
 // LawKeys (contact/contact_law.hpp) and Parameters (material/parameters.hpp) instead.
-#include "io/case_file.hpp"
 #include "io/case_section.hpp"
+#include "scheme/problem.hpp"
 
 #include <fmt/ranges.h>
 
@@ -18,6 +18,15 @@
 #include <optional>
 #include <string>
 #include <vector>
+
+namespace vpc {
+// Only named here (io/case_file.hpp, io/case.hpp, io/run_output.hpp, scheme/solver_choice.hpp),
+// so that a section's file compiles only the headers it needs.
+struct CaseOverrides;
+struct MeshRequest;
+struct OutputOptions;
+struct SolverChoice;
+}  // namespace vpc
 
 namespace vpc::case_file {
 
