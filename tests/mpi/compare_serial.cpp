@@ -2,12 +2,14 @@
 //   mpirun -np P vpcontact_mpi_compare CASE [--n N] [--steps S] [--kappa K] [--linear mumps|cg-gamg|cg-hypre]
 //                                           [--tolerance 1e-10] [--elasticity KIND] [--contact-solver NAME]
 //                                           [--damage-solver NAME] [--halvings H] [--reduced reduced-factor]
-//                                           [--max-cached-share S] [--residual-tolerance R]
+//                                           [--max-cached-share S] [--residual-tolerance R] [--set KEY=VALUE]...
+// The test-only contact laws (tests/support/test_laws.hpp) are registered, so that --set can name them.
 // Every rank checks that its step reports are ok (contact and damage KKT residuals
 // within the tolerance of SolverChoice) and equal on all ranks; rank 0 runs the
 // serial stepper beside the distributed one and compares u, β, λ (contact forces)
 // and σ after every step, relative to their max norms. Exit 0 only if all hold.
 #include "petsc_main.hpp"
+#include "test_laws.hpp"
 #include "cases/builtin_cases.hpp"
 #include "io/checkpoint.hpp"
 #include "la/petsc.hpp"
@@ -38,6 +40,7 @@ int run(int argc, char** argv) {
   const int rank = vpc::comm_rank(comm), size = vpc::comm_size(comm);
   vpc::require(argc >= 2, "usage: vpcontact_mpi_compare CASE [--n N] [--steps S] [--kappa K] [--linear KIND] [--elasticity KIND]");
   const std::string name = argv[1];
+  vpc::test::register_test_laws();
   vpc::CaseOverrides ov;
   vpc::MeshRequest mesh;
   vpc::PetscSolverOptions linear;
@@ -61,6 +64,7 @@ int run(int argc, char** argv) {
     else if (key == "--reduced") reduced = value;
     else if (key == "--max-cached-share") max_cached_share = std::stod(value);
     else if (key == "--residual-tolerance") residual_tolerance = std::stod(value);
+    else if (key == "--set") ov.sets.push_back(value);
     else vpc::fail("unknown option '{}'", key);
   }
   vpc::Case c = vpc::load_case(name, ov, mesh);
