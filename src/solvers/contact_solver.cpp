@@ -79,6 +79,42 @@ ContactStatus contact_status(double lambda_nu, double tangential_norm, double bo
   return tangential_norm >= std::min((1 - kSlipShare) * bound, bound - slack) ? ContactStatus::Slip : ContactStatus::Stick;
 }
 
+SparseMatrix block_rows(const ContactConstraints& c, std::vector<int>& places) {
+  const int b = c.block, t = b - 1;
+  const auto n_rows = static_cast<Eigen::Index>(c.rows.size());
+  require(!c.frictional() ||
+              (c.T.rows() == n_rows * t && c.T.cols() == c.N.cols() && c.mu.size() == n_rows && c.tresca.size() == n_rows &&
+               c.shift.size() == n_rows * t && c.tangent_dof.size() == static_cast<std::size_t>(n_rows * t)),
+          "internal: friction's tangents ({} x {}), {} mu, {} bounds, {} shifts, {} tangent dofs for {} contact rows "
+          "of {} tangents (set_tangents)",
+          c.T.rows(), c.T.cols(), c.mu.size(), c.tresca.size(), c.shift.size(), c.tangent_dof.size(), n_rows, t);
+  std::vector<Eigen::Triplet<double>> e;
+  for (int k = 0; k < c.N.outerSize(); ++k)
+    for (SparseMatrix::InnerIterator it(c.N, k); it; ++it)
+      e.emplace_back(static_cast<int>(it.row()) * b, static_cast<int>(it.col()), it.value());
+  for (int k = 0; k < c.T.outerSize(); ++k)
+    for (SparseMatrix::InnerIterator it(c.T, k); it; ++it) {
+      const auto r = static_cast<int>(it.row());
+      e.emplace_back(r / t * b + 1 + r % t, static_cast<int>(it.col()), it.value());
+    }
+  SparseMatrix B(n_rows * b, c.N.cols());
+  B.setFromTriplets(e.begin(), e.end());
+  places.clear();
+  for (const int row : c.rows)
+    for (int j = 0; j < b; ++j) places.push_back(row * b + j);
+  return B;
+}
+
+Vector block_offsets(const ContactConstraints& c) {
+  const int b = c.block, t = b - 1;
+  Vector o(c.gap.size() * b);
+  for (Eigen::Index k = 0; k < c.gap.size(); ++k) {
+    o[k * b] = c.gap[k];
+    for (int j = 0; j < t; ++j) o[k * b + 1 + j] = c.shift[k * t + j];
+  }
+  return o;
+}
+
 ContactResiduals contact_residuals(const la::SpdOperator& K, const ContactConstraints& c, const Vector& F,
                                    const Vector& u, const Vector& lambda) {
   const la::Comm& comm = K.comm();

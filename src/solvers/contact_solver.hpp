@@ -135,6 +135,13 @@ struct ContactConstraints {
 /// masters, t_ij·(I − M). Sets c.T, c.tangent_dof and zero shift and tresca (mu is the caller's).
 void set_tangents(ContactConstraints& c, const std::vector<std::vector<int>>& node_dofs);
 
+/// The constraint rows of this rank's contact unknowns, node by node in λ's order: N, or with friction
+/// B = [N; T] (per node its normal row, then its tangent rows), and each row's place in λ (`places`:
+/// rows[k] × block + j). Checks friction's data of `c`.
+SparseMatrix block_rows(const ContactConstraints& c, std::vector<int>& places);
+/// g, or with friction [g; h], of those rows.
+Vector block_offsets(const ContactConstraints& c);
+
 /// Δ = T u − shift, the slip increments of this rank's rows (rows × (b − 1)); empty without friction.
 Vector slip_increment(const ContactConstraints& c, const Vector& u);
 

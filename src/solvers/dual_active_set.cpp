@@ -30,7 +30,7 @@ class ActiveSetContactSolver final : public ContactSolver {
   ActiveSetContactSolver(std::shared_ptr<const la::SpdOperator> K, std::shared_ptr<const la::LinearSolver> factor,
                          ContactConstraints c, double max_cached_share)
       : K_(std::move(K)), c_(std::move(c)), factor_(std::move(factor)) {
-    if (c_.frictional()) B_ = friction_rows(c_, B_rows_);
+    B_ = block_rows(c_, B_rows_);
     Eigen::MatrixXd S = factor_->has_halves() ? dual_matrix_from_halves(max_cached_share)
                                               : dual_matrix_from_schur_or_solves(max_cached_share);
     S = 0.5 * (S + S.transpose()).eval();
@@ -62,7 +62,7 @@ class ActiveSetContactSolver final : public ContactSolver {
     S_ = std::make_unique<DenseBoxQpOperator>(std::move(S));
   }
 
-  // With friction N below is B = [N; T] and g is [g; h] (friction_rows), m is m × block.
+  // N below is B (N, or [N; T] with friction) and g is g (or [g; h]: block_rows), m is m × block.
   ContactReport solve(const Vector& F, Vector& u, Vector& lambda) override {
     const int m = unknowns();
     if (lambda.size() != m) lambda = Vector::Zero(m);
@@ -132,20 +132,18 @@ class ActiveSetContactSolver final : public ContactSolver {
 
   // The constraint rows: N, or B = [N; T] with friction, node by node in λ's order (λ_ν, λ_τ).
   int unknowns() const { return c_.m * c_.block; }
-  const SparseMatrix& B() const { return c_.frictional() ? B_ : c_.N; }
-  const std::vector<int>& rows() const { return c_.frictional() ? B_rows_ : c_.rows; }
+  const SparseMatrix& B() const { return B_; }
+  const std::vector<int>& rows() const { return B_rows_; }
   /// g (or [g; h]) of this rank's rows of B.
-  Vector offsets() const { return c_.frictional() ? friction_offsets(c_) : c_.gap; }
+  Vector offsets() const { return block_offsets(c_); }
   /// The unknowns of λ (all of them, the same on every rank) from this rank's rows' values, and back.
   Vector replicated(const Vector& local) const {
-    if (!c_.frictional()) return replicate(comm(), c_, local);
     Vector all = Vector::Zero(unknowns());  // one owner per row: the sum is exact
     for (std::size_t k = 0; k < B_rows_.size(); ++k) all[B_rows_[k]] = local[static_cast<Eigen::Index>(k)];
     comm().sum(all.data(), all.size());
     return all;
   }
   Vector local_of(const Vector& lambda) const {
-    if (!c_.frictional()) return local_rows(c_, lambda);
     Vector l(static_cast<Eigen::Index>(B_rows_.size()));
     for (std::size_t k = 0; k < B_rows_.size(); ++k) l[static_cast<Eigen::Index>(k)] = lambda[B_rows_[k]];
     return l;
@@ -219,7 +217,7 @@ class ActiveSetContactSolver final : public ContactSolver {
   std::vector<const FrictionLaw*> row_frictions_;  // every row's friction law (replicated; nullptr: none); empty: discs
   Vector compliance_;                        // every row's 1/k_i (replicated), with row_laws_
   bool nonlinear_ = false;                   // some row's law is not linear
-  SparseMatrix B_;              // with friction: [N; T] in λ's order (friction_rows)
+  SparseMatrix B_;              // N, or with friction [N; T], in λ's order (block_rows)
   std::vector<int> B_rows_;     // its rows' places in λ
   FrictionDualSets sets_;       // with friction: each node's sets, replicated
   SparseMatrix Y_;     // L⁻¹PNᵀ (factors with halves), or empty

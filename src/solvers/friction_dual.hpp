@@ -69,11 +69,6 @@ struct FrictionDualSets {
 BoxQpResult solve_friction_dual(DenseBoxQpOperator& S, const Vector& b, const FrictionDualSets& sets, Vector& lambda,
                                 int max_iterations = 100);
 
-/// B = [N; T] of this rank's rows, node by node in λ's order (the normal, then the tangents), and
-/// each row's place in λ (`places`: rows[k] × block + j). Checks friction's data of `c`.
-SparseMatrix friction_rows(const ContactConstraints& c, std::vector<int>& places);
-/// [g; h] of those rows.
-Vector friction_offsets(const ContactConstraints& c);
 /// Each node's sets, replicated (collective); `laws`: every row's normal law (empty: Signorini);
 /// `frictions`: every row's friction law (empty: the disc everywhere).
 /// A missing tangent's row and column of S are zero (a zero row of T): 1 on its diagonal keeps
