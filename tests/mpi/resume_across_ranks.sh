@@ -34,11 +34,17 @@ import csv, sys
 a = list(csv.reader(open(sys.argv[1]))); b = list(csv.reader(open(sys.argv[2])))
 n = int(sys.argv[4])
 assert a[0] == b[0] and len(a) == len(b) == n + 1, f"{sys.argv[3]}: {len(b) - 1} rows, expected {n}"
+# As tests/mpi/equivalence.py: the solvers' residuals and the error estimate are round-off-sized
+# numbers (each run checks its own against the tolerance: column ok), compared as |a - b| <= 1e-10;
+# relative to the 1e-3 floor they would be held to 1e-13 (refine-2d, 2 ranks -> serial:
+# contact_equilibrium 5e-14 apart, up to 1.05e-10 of the floor under load).
+residual = lambda c: ("residual" in c or c == "error_estimate" or c.startswith("friction_")
+                      or c.startswith("contact_") and c not in ("contact_iterations", "contact_area"))
 worst = 0.0
 for ra, rb in zip(a[1:], b[1:]):
-    for x, y in zip(ra, rb):
+    for c, x, y in zip(a[0], ra, rb):
         x, y = float(x), float(y)
-        worst = max(worst, abs(x - y) / max(abs(x), 1e-3))
+        worst = max(worst, abs(x - y) / (1.0 if residual(c) else max(abs(x), 1e-3)))
 assert worst < 1e-10, f"{sys.argv[3]}: history differs from the uninterrupted run by {worst:.2e}"
 print(f"{sys.argv[3]}: history equal to the uninterrupted run (largest relative difference {worst:.1e})")
 PY
