@@ -74,7 +74,7 @@ SchemeSolvers set_up_solvers(DiscreteSystem& sys, const SolverChoice& choice, Se
   // What the problem asks of its solver, against the table of what each solves (auto's choice and the refusals).
   const ContactNeeds needs = contact_needs(part.comm, constraints);
   s.contact_pick = pick_contact_solver(choice.contact, part.n_contact, sys.backend->linear_solver(), needs, constraints.block);
-  if (const std::string why = cannot_solve(s.contact_pick.name, needs); !why.empty()) fail("{}", why);
+  refuse_unsolvable(s.contact_pick.name, needs);
   const bool primal = s.contact_pick.name == "primal-active-set";
   s.K_factor = sys.make_stiffness_factor();
   cost = check_before_factorizing(sys, *s.K_factor, choice, primal);

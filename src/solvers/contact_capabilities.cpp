@@ -1,5 +1,6 @@
 #include "solvers/contact_capabilities.hpp"
 
+#include "core/error.hpp"
 #include "la/backend.hpp"
 #include "solvers/contact_frame.hpp"
 
@@ -65,6 +66,10 @@ std::string cannot_solve(const std::string& solver, const ContactNeeds& needs) {
              "'active-set'";
   }
   return {};
+}
+
+void refuse_unsolvable(const std::string& solver, const ContactNeeds& needs) {
+  if (std::string why = cannot_solve(solver, needs); !why.empty()) throw CollectiveError(why);
 }
 
 ContactSolverPick pick_contact_solver(const std::string& requested, int m, const std::string& linear_solver,

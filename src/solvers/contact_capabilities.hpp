@@ -35,6 +35,9 @@ ContactNeeds contact_needs(const la::Comm& comm, const ContactConstraints& c);
 /// Why `solver` cannot solve `needs`, as the error a user reads (naming the solver that can), or
 /// empty where it can. The one place the table above is written.
 std::string cannot_solve(const std::string& solver, const ContactNeeds& needs);
+/// Throws cannot_solve's message as a vpc::CollectiveError (needs are the same on every rank: the
+/// program reports it once and ends every process without an abort); nothing where `solver` can.
+void refuse_unsolvable(const std::string& solver, const ContactNeeds& needs);
 
 /// The contact solver for a problem (issue 14): `requested` unless it is "auto" (a solver asked for
 /// what it cannot solve is refused: cannot_solve). "auto" takes the dual "active-set" while

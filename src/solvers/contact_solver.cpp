@@ -272,7 +272,7 @@ std::unique_ptr<ContactSolver> make_contact_solver(const std::string& name, std:
               (constraints.compliance.size() == rows && constraints.law.size() == constraints.rows.size()),
           "internal: {} compliances and {} laws for {} contact rows", constraints.compliance.size(),
           constraints.law.size(), rows);
-  if (const std::string why = cannot_solve(name, contact_needs(K->comm(), constraints)); !why.empty()) fail("{}", why);
+  refuse_unsolvable(name, contact_needs(K->comm(), constraints));
   if (name == "active-set")
     return make_dual_active_set_solver(std::move(K), std::move(K_factor), std::move(constraints), opt.max_cached_share);
   if (name == "penalty-duality")

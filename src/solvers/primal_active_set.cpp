@@ -99,8 +99,7 @@ std::unique_ptr<ContactSolver> make_primal_active_set_solver(std::shared_ptr<con
                                                              ContactConstraints constraints, int max_iterations,
                                                              double friction_tolerance) {
   // What the primal cannot solve is refused before its basis is formed (the capability table).
-  if (const std::string why = cannot_solve("primal-active-set", contact_needs(K->comm(), constraints)); !why.empty())
-    fail("{}", why);
+  refuse_unsolvable("primal-active-set", contact_needs(K->comm(), constraints));
   return std::make_unique<PrimalActiveSetSolver>(std::move(K), std::move(K_rot), std::move(factor),
                                                  std::move(constraints), max_iterations, friction_tolerance);
 }
