@@ -47,7 +47,8 @@ la::Perturbation CoulombCoupling::build(const PrimalOperator& op, const PrimalFr
   }
   const la::Comm& comm = op.comm();
   weighted_ = comm.any(!law_rows_.empty());
-  if (!comm.any(!entries_.empty() || op.spring_change().nonZeros() > 0)) return {};
+  any_entries_ = comm.any(!entries_.empty());
+  if (!any_entries_ && !op.changed()) return {};
   // K_rot's normal rows at the coupled Signorini rows only (collective): with the whole product
   // a GMRES iteration cost 1.8 CG iterations (frictional foundation-3d n = 40, 2 ranks).
   la::RowProduct normal_rows;
@@ -68,14 +69,15 @@ la::Perturbation CoulombCoupling::build(const PrimalOperator& op, const PrimalFr
     if (normal_rows) normal_rows(x, Kx);
     for (const Entry& entry : entries_)
       y[entry.tangent] += entry.coefficient * (entry.reaction ? Kx[entry.normal] : x[entry.normal]);
-    const SparseMatrix& spring_change = op.spring_change();
+    Vector change;
+    if (op.changed()) op.change(x, change);
     if (!weighted_) {
-      if (spring_change.nonZeros() > 0) y += spring_change * x;
+      if (op.changed()) y += change;
       return;
     }
-    Vector Ax, v;  // (D − I) A x + D (spring change) x (collective: A's product)
+    Vector Ax, v;  // (D − I) A x + D (A now − A) x (collective: A's product)
     op.A().mult(x, Ax);
-    v = spring_change.nonZeros() > 0 ? Vector(Ax + spring_change * x) : Ax;
+    v = op.changed() ? Vector(Ax + change) : Ax;
     weigh(v);
     y += v - Ax;
   };

@@ -39,6 +39,8 @@ class CoulombCoupling {
   void weigh(Vector& y) const;
   /// Whether some rank has law rows (D is not the identity): the right-hand side is weighed too.
   bool weighted() const { return weighted_; }
+  /// Whether some rank's bound is in the matrix (the last build(); else C is only the kept factor's change).
+  bool any_coupled() const { return any_entries_; }
   /// Per local row: its μ λ_ν in the matrix (the last build()).
   const std::vector<char>& coupled() const { return coupled_; }
 
@@ -73,6 +75,7 @@ class CoulombCoupling {
   std::vector<char> coupled_;  // per local row: its μ λ_ν in the matrix
   std::vector<LawRow> law_rows_;
   bool weighted_ = false;  // some rank has law rows
+  bool any_entries_ = false;  // some rank has coupled rows
 };
 
 }  // namespace vpc

@@ -74,26 +74,7 @@ Eigen::MatrixXd PrimalFriction::across(std::size_t i, double k, const Vector& fo
   return P;
 }
 
-void PrimalFriction::mark_factored() {
-  factored_spring_ = spring_;
-  factored_force_ = force_;
-}
-
-bool PrimalFriction::factored_serves(double share) const {
-  if (factored_spring_.size() != spring_.size()) return false;
-  for (std::size_t i = 0; i < stick_.size(); ++i) {
-    if (stick_[i]) continue;
-    const double change = (across(i) - across(i, factored_spring_[i], factored_force_)).norm();
-    if (change > share * (scale_[i] + factored_spring_[i])) return false;
-  }
-  return true;
-}
-
 void PrimalFriction::springs(std::vector<Eigen::Triplet<double>>& out) const { add_springs(spring_, force_, out); }
-
-void PrimalFriction::factored_springs(std::vector<Eigen::Triplet<double>>& out) const {
-  if (factored_spring_.size() == spring_.size()) add_springs(factored_spring_, factored_force_, out);
-}
 
 void PrimalFriction::spring_pattern(std::vector<Eigen::Triplet<double>>& out) const {
   for (std::size_t i = 0; i < stick_.size(); ++i)
@@ -134,7 +115,7 @@ void PrimalFriction::load(const ContactConstraints& c, const std::vector<char>& 
 
 Vector PrimalFriction::forces(const Vector& r) const {
   // The reaction r = b − K_rot w at every row's tangent dofs: at a slip row that is s n + k (I − nnᵀ)Δ
-  // up to the solver's error (and a direct solver's lagged spring change, factored_serves): the force
+  // up to the solver's error: the force
   // the body's equilibrium holds, whatever the iteration did.
   // A row with no force (no friction law, or out of contact) carries exactly none: its free dofs'
   // reaction is round-off.

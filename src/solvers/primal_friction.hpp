@@ -41,10 +41,9 @@ class PrimalFriction {
 
   /// Fixes the tangent dofs of the stick rows.
   void fix(std::vector<char>& fixed) const;
-  /// The slip rows' springs k_i (I − n_i n_iᵀ) on their tangent dofs (owned numbering), appended
-  /// to `out`: those of this linearization, and those the factor holds (mark_factored; none before).
+  /// The slip rows' springs k_i (I − n_i n_iᵀ) of this linearization on their tangent dofs (owned
+  /// numbering), appended to `out`.
   void springs(std::vector<Eigen::Triplet<double>>& out) const;
-  void factored_springs(std::vector<Eigen::Triplet<double>>& out) const;
   /// Zeros on every row's tangent block (where a spring can be), appended to `out`.
   void spring_pattern(std::vector<Eigen::Triplet<double>>& out) const;
   /// Stick rows: w_j = h_ij into `fixed_values`; slip rows: −s_i n_i + k_i (I − n_i n_iᵀ) h_i into
@@ -90,13 +89,9 @@ class PrimalFriction {
   void slip_one(Next& next, const la::Comm& comm) const;
   /// The next linearization. (Its springs change the matrix. They cannot simply be kept from an
   /// earlier iterate: k (I − aaᵀ) with a ≠ n_i moves the fixed point off the law's solution, and the
-  /// 3D test block then never converged; a direct solver lags only their change, mark_factored.)
+  /// 3D test block then never converged; a direct solver keeps its factor and puts their change in
+  /// GMRES's operator, PrimalOperator::change.)
   void take(Next&& next);
-  /// The springs now are those of the factor (a direct solver's: solve_constrained puts their later
-  /// change on the right-hand side, lagged one iterate, while each row's change stays within
-  /// `share` of its stiffness c_i + k_i there, so that the lagged iteration contracts).
-  void mark_factored();
-  bool factored_serves(double share) const;
   /// Barzilai–Borwein's step for c (c_i γ): from the last two iterates (w, λ_τ `tangential`), γ = Σ |δλ_τ|²/c_i /
   /// (−Σ δλ_τ·δΔ) over the rows that slip in both (1/the Rayleigh quotient of their compliance),
   /// at most 1, also across a change of the sets; kept where `update` is false. Any c > 0 has the
@@ -124,8 +119,6 @@ class PrimalFriction {
   Vector direction_;            // per row × t_: n of the slip rows
   std::vector<double> spring_;  // per row: k of the slip rows (0 in 2D, at stick and free rows)
   double gamma_ = 1;            // c_i γ in the update rule (secant)
-  std::vector<double> factored_spring_;  // spring_ and force_ when the factor was made (mark_factored)
-  Vector factored_force_;
   Vector last_force_, last_slip_;
   bool have_last_ = false;
   std::vector<char> last_stick_;

@@ -58,7 +58,11 @@ ContactReport PrimalFrictionIteration::solve(PrimalOperator& op, PrimalWarmStart
   double last_direction = inf, last_bound = inf;  // the last changes after tight solves
   double bound_change = inf;                       // of the last Tresca problem's bound (lagged)
   const double b_scale = comm.max(b.size() ? b.cwiseAbs().maxCoeff() : 0.0);
-  s_.force_scale = std::max(b_scale, std::numeric_limits<double>::min());
+  // The first solve's scale is the iteration's own (b's and λ_ν's), λ_ν from the warm start: a case
+  // loaded only through its gap or obstacle has b = 0, and a scale of b alone asked that solve's
+  // GMRES for 1e-14 of an already small residual (shear-3d: 12-15 solves with the factor a step).
+  s_.force_scale = std::max({b_scale, comm.max(normal_in.size() ? normal_in.cwiseAbs().maxCoeff() : 0.0),
+                             std::numeric_limits<double>::min()});
   auto settled = [&](double change, double& last) {
     const bool yes = change <= s_.force_tolerance ||
                      (tight && op.iterative() && change <= kNoiseCeiling && change > 0.5 * last);

@@ -2,6 +2,7 @@
 
 #include "core/error.hpp"
 #include "solvers/primal_tuning.hpp"
+#include "solvers/solver_cost.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -12,6 +13,14 @@ namespace vpc {
 using namespace primal_tuning;
 
 namespace {
+
+/// A factorization's time in solves with the factor, from its analysis (CHOLMOD's flops and
+/// entries at this machine's rates, solver_cost.hpp); kFactorSolves where the backend has none.
+double factor_cost_in_solves(const std::optional<FactorEstimate>& e) {
+  if (!e || !(e->entries > 0)) return kFactorSolves;
+  const SolverRates rates = measured_rates();
+  return (e->flops / rates.factor_flops_per_second) / (e->entries * rates.solve_seconds_per_entry);
+}
 
 bool same(const std::vector<Eigen::Triplet<double>>& a, const std::vector<Eigen::Triplet<double>>& b) {
   return std::equal(a.begin(), a.end(), b.begin(), b.end(), [](const auto& x, const auto& y) {
@@ -41,7 +50,13 @@ PrimalOperator::Iterate PrimalOperator::iterate(const std::vector<char>& active,
                                                 Vector& lambda_local, ContactReport& rep, FrictionalSolve* friction) {
   Iterate x;
   rep.factorizations += factorize_for(active, friction ? &friction->friction : nullptr);
-  const Solved solved = solve_constrained(active, b, w, tight, friction);
+  Solved solved = solve_constrained(active, b, w, tight, friction);
+  if (solved.failed && changed_) {
+    // GMRES short of its tolerance on a kept factor: the factor for these sets, and the solve again.
+    excess_products_ = std::numeric_limits<double>::infinity();
+    rep.factorizations += factorize_for(active, friction ? &friction->friction : nullptr);
+    solved = solve_constrained(active, b, w, tight, friction);
+  }
   x.residual_left = solved.residual_left;
   x.failed = solved.failed;
   K_rot_->residual(b, w, x.r);
@@ -51,29 +66,15 @@ PrimalOperator::Iterate PrimalOperator::iterate(const std::vector<char>& active,
 }
 
 /// Factorizes K_rot with `active`'s constraints (and `friction`'s stick set and springs) unless the
-/// factor already holds them. Returns 1 if it did.
+/// factor already holds them, or, on a direct solver with friction, unless the factor still serves as
+/// GMRES's preconditioner for the operator with them (keep_factor). Returns 1 if it did.
 int PrimalOperator::factorize_for(const std::vector<char>& active, PrimalFriction* friction) {
   const la::Comm& comm = K_->comm();
   std::vector<Eigen::Triplet<double>> springs;
-  if (friction) friction->springs(springs);  // Newton's springs across the slip directions
-  spring_change_ = SparseMatrix();
-  if (A_ && comm.all(active == factored_) && (!friction || comm.all(friction->stick() == factored_stick_))) {
-    std::vector<Eigen::Triplet<double>> factored;
-    if (friction) friction->factored_springs(factored);
-    if (!friction || comm.all(same(springs, factored))) return 0;
-    if (!factor_->iterative() && comm.all(friction->factored_serves(kLaggedSpringShare))) {
-      // A direct solver keeps its factor while the sets hold (a numeric factorization costs some
-      // twenty solves): the springs' change since it joins GMRES's operator, the factor its
-      // preconditioner (CoulombCoupling; measured: primal_tuning.hpp, kLaggedSpringShare).
-      spring_change_ = owned_matrix(springs) - owned_matrix(factored);
-      return 0;
-    }
-  }
   std::vector<char> fixed(static_cast<size_t>(K_->n_owned()), 0);
   if (friction) {
+    friction->springs(springs);  // Newton's springs across the slip directions
     friction->fix(fixed);
-    friction->mark_factored();
-    factored_stick_ = friction->stick();
   }
   for (size_t i = 0; i < rows_.size(); ++i) {
     if (!active[i]) continue;
@@ -82,7 +83,22 @@ int PrimalOperator::factorize_for(const std::vector<char>& active, PrimalFrictio
     else
       fixed[rows_[i].dof] = 1;
   }
+  changed_ = false;
+  if (A_ && comm.all(fixed == factored_fixed_) && comm.all(same(springs, factored_springs_))) {
+    fixed_ = std::move(fixed);
+    return 0;
+  }
   const bool with_springs = comm.any(!springs.empty());
+  if (A_ && friction && !factor_->iterative() && keep_factor()) {
+    // A direct solver keeps its factor while it serves: the operator with the sets and springs now
+    // (A now) is applied by products, its change since the factor joins GMRES's operator
+    // (CoulombCoupling) and the factor is its preconditioner.
+    springs_now_ = with_springs ? owned_matrix(springs) : SparseMatrix();
+    fixed_ = std::move(fixed);
+    changed_ = true;
+    return 0;
+  }
+  factored_springs_ = springs;
   // With friction the springs' pattern is every contact row's tangent block (zeros where a row
   // does not slip), within K_rot's own (a node's dofs couple), so that A_ keeps K_rot's pattern
   // as the slip set changes.
@@ -97,15 +113,44 @@ int PrimalOperator::factorize_for(const std::vector<char>& active, PrimalFrictio
   } else {
     const std::shared_ptr<const la::SpdOperator> base = with_springs ? K_rot_->plus(D) : K_rot_;
     std::shared_ptr<la::SpdOperator> next = base->with_fixed(fixed);
-    if (A_)
+    if (A_) {
       factor_->refactorize(*next, what);
-    else
+    } else {
+      if (friction && !factor_->iterative()) factor_solves_ = factor_cost_in_solves(factor_->analyze(*next, what));
       factor_->factorize(*next, what);
+    }
     A_ = std::move(next);
   }
-  factored_ = active;
+  factored_fixed_ = fixed;
   fixed_ = std::move(fixed);
+  springs_now_ = SparseMatrix();
+  excess_products_ = 0;
   return 1;
+}
+
+bool PrimalOperator::keep_factor() const {
+  return excess_products_ < factor_solves_;
+}
+
+void PrimalOperator::count_perturbed(int products, double reduction) {
+  // What a fresh factor would have taken for that reduction, at most; the rest is the kept factor's.
+  const double decades = std::max(1.0, -std::log10(std::max(reduction, 1e-300)));
+  const double fresh = kFreshProductsPerDecade * decades + 1;
+  if (changed_) excess_products_ += std::max(0.0, products - fresh);
+}
+
+void PrimalOperator::change(const Vector& x, Vector& y) const {
+  // (A now − A) x: A now is (K_rot + springs now) with the fixed rows now reduced to their diagonal
+  // (la::SpdOperator::with_fixed; no spring lies on a fixed row, so the diagonal is K_rot's).
+  Vector free_x = x, Ax;
+  for (Eigen::Index j = 0; j < x.size(); ++j)
+    if (fixed_[static_cast<std::size_t>(j)]) free_x[j] = 0;
+  K_rot_->mult(free_x, y);
+  if (springs_now_.nonZeros() > 0) y += springs_now_ * free_x;
+  for (Eigen::Index j = 0; j < x.size(); ++j)
+    if (fixed_[static_cast<std::size_t>(j)]) y[j] = diagonal_[j] * x[j];
+  A_->mult(x, Ax);
+  y -= Ax;
 }
 
 SparseMatrix PrimalOperator::owned_matrix(const std::vector<Eigen::Triplet<double>>& entries) const {
@@ -161,8 +206,11 @@ PrimalOperator::Solved PrimalOperator::solve_constrained(const std::vector<char>
     // same target, uncoupled the tolerance; an iterative one reduces each correction's residual
     // by kLeastForcing to kForcing (inexact Newton; lagged: kForcing), or, finding the sets, stops
     // where a loose solve would (loose_tolerance, of ‖rhs‖).
-    const double target = std::max(0.5 * friction->force_tolerance, friction->couple ? friction->newton_target : 0.0) *
-                          friction->force_scale;
+    // (Without Coulomb's bound in the matrix, C is only a kept factor's change: the tolerance, as
+    // the exact solve with a fresh factor would be.)
+    const bool newton = friction->couple && friction->coupling.any_coupled();
+    const double target =
+        std::max(0.5 * friction->force_tolerance, newton ? friction->newton_target : 0.0) * friction->force_scale;
     const double to_target = target / std::max(norm, std::numeric_limits<double>::min());
     double rtol = kForcing;
     if (!factor_->iterative()) {
@@ -179,8 +227,12 @@ PrimalOperator::Solved PrimalOperator::solve_constrained(const std::vector<char>
       w += delta;
       return {rtol * norm, false};  // ‖r − Aδ‖₂ ≤ rtol ‖r‖₂
     }
+    if (!factor_->iterative() && norm <= target) return {norm, false};  // within the target already
+    int products = 0;
+    const la::Perturbation counted = [&](const Vector& x, Vector& y) { ++products, C(x, y); };
     try {
-      factor_->solve_perturbed(*A_, C, r, delta, rtol > 0 ? rtol : 1e-12, "elastic stiffness K with Coulomb's coupling");
+      factor_->solve_perturbed(*A_, counted, r, delta, rtol > 0 ? rtol : 1e-12, "elastic stiffness K with Coulomb's coupling");
+      count_perturbed(products, rtol);
     } catch (const Error&) {  // GMRES short of its tolerance: w stays, the caller stops
       return {0.0, true};
     }

@@ -45,9 +45,13 @@ class PrimalOperator {
   bool iterative() const { return factor_->iterative(); }
   /// K_rot's diagonal.
   const Vector& diagonal() const { return diagonal_; }
-  /// K_rot (+ springs) with the factored set's rows fixed; its springs' change since (a direct solver's).
+  /// K_rot (+ springs) with the factored set's rows fixed: what the factor holds.
   const la::SpdOperator& A() const { return *A_; }
-  const SparseMatrix& spring_change() const { return spring_change_; }
+  /// Whether the operator now (the sets and springs of the last iterate) differs from A (a direct
+  /// solver with friction keeps its factor while it serves); y = (A now − A) x (collective).
+  bool changed() const { return changed_; }
+  void change(const Vector& x, Vector& y) const;
+
 
   /// Each local row's dof k and α in w.
   const std::vector<RotatedRow>& rows() const { return rows_; }
@@ -107,9 +111,15 @@ class PrimalOperator {
   std::vector<double> spring_;     // per local row: 1/k of an active compliant row's spring, 0 for a rigid row
   Vector diagonal_;                // K_rot's
   std::shared_ptr<la::SpdOperator> A_;  // K_rot (+ springs) with the factored set's rows fixed
-  std::vector<char> factored_, fixed_;
-  std::vector<char> factored_stick_;  // with friction: the stick set the factor holds
-  SparseMatrix spring_change_;        // a direct solver's: the springs now less those in its factor
+  bool keep_factor() const;
+  std::vector<char> fixed_;           // the fixed dofs now
+  std::vector<char> factored_fixed_;  // ... and those the factor holds
+  std::vector<Eigen::Triplet<double>> factored_springs_;  // the springs the factor holds
+  SparseMatrix springs_now_;          // the springs now where they differ (changed_)
+  bool changed_ = false;              // A now differs from A (a direct solver's factor kept)
+  void count_perturbed(int products, double reduction);
+  double factor_solves_ = 0;          // a factorization's cost in solves (keep_factor)
+  double excess_products_ = 0;        // GMRES's products since the factor beyond a fresh one's
 };
 
 /// The first iterate of a solve from the solver's last answers (the warm start).

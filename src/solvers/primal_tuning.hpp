@@ -27,11 +27,15 @@ inline constexpr double kLooseFloor = 1e-9;
 /// kForcing every time, 3,457 to the friction tolerance, 3,370 to the square of the directions'
 /// last change (docs/scheme.md, "primal-active-set with friction").
 inline constexpr double kForcing = 1e-2, kLeastForcing = 1e-6;
-/// A direct solver keeps its factor while each slip row's spring moved by at most this share of c_i + k_i.
-/// (The lagged spring change then still contracts.) Measured: foundation-3d n = 20 on CHOLMOD, 100
-/// steps: 199 factorizations, against 720 and 1,494 s with one at every iterate (docs/scheme.md,
-/// "primal-active-set with friction"; docs/performance.md, "Friction", "On a direct solver").
-inline constexpr double kLaggedSpringShare = 0.5;
+/// A direct solver keeps its factor, as GMRES's preconditioner, until the products GMRES took beyond
+/// a fresh factor's add up to a factorization's cost (ski rental: at most twice the better of the
+/// two); a fresh factor's GMRES takes this many products a decade of residual reduction (plus one).
+/// Measured: shear-3d --n 16 on CHOLMOD, fresh factor: 7-12 products for 8-12 decades, 2-5 for 2;
+/// a kept one 10-130 (PrimalOperator::keep_factor; docs/performance.md, "Friction").
+inline constexpr double kFreshProductsPerDecade = 1.5;
+/// A factorization's cost in solves where the backend gives no analysis to estimate it (MUMPS).
+/// (CHOLMOD's: flops and entries at solver_cost.hpp's rates; shear-3d --n 16: 20.1.)
+inline constexpr double kFactorSolves = 20;
 
 // --- Newton's slip springs (primal_friction.cpp) ---
 

@@ -316,9 +316,11 @@ steps = 20
 }
 
 // Rollback and resume keep friction's state across a pair bit for bit: the dual's continuation is
-// the uninterrupted run's to the bit. The primal's to round-off only: it starts each step from the
-// last two answers' extrapolation (solver state, not the run's), and a Newton iteration stopped at
-// its tolerance ends where its path does.
+// the uninterrupted run's to the bit. The primal's to its friction tolerance only (1e-9 of the force
+// scale; 1e-8 here): it starts each step from the last two answers' extrapolation and keeps its
+// factor across steps as GMRES's preconditioner (solver state, not the run's), and a Newton
+// iteration stopped at its tolerance ends where its path does (issue 48 item 17: the kept factor's
+// GMRES stops at that tolerance, where a fresh factor's solve was exact; 1.5e-9 apart).
 TEST(PairFriction, RestoredRunContinuesAsBefore) {
   for (const char* solver : {"active-set", "primal-active-set"}) {
     const Case ca = shear_case(2, 0.3, solver), cb = shear_case(2, 0.3, solver);
@@ -331,7 +333,7 @@ TEST(PairFriction, RestoredRunContinuesAsBefore) {
       a.step();
       b.step();
     }
-    const double exact = std::string(solver) == "active-set" ? 0.0 : 1e-10;
+    const double exact = std::string(solver) == "active-set" ? 0.0 : 1e-8;
     EXPECT_LE((a.state().u - b.state().u).cwiseAbs().maxCoeff(), exact * a.state().u.cwiseAbs().maxCoeff()) << solver;
     EXPECT_LE((a.state().lambda - b.state().lambda).cwiseAbs().maxCoeff(), exact * a.state().lambda.cwiseAbs().maxCoeff())
         << solver;
