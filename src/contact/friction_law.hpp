@@ -37,6 +37,8 @@ struct FrictionBound {
     if (capped) *capped = at_limit;
     return at_limit ? limit : coulomb;
   }
+  /// The normal force at which the bound below the limit is s (μ > 0): at's inverse, (s − tresca)/μ.
+  double normal_force_at(double s) const { return (s - tresca) / mu; }
 };
 
 /// A number or a formula of a case file's key, at a point and a time.

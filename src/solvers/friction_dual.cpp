@@ -101,7 +101,7 @@ void project(const FrictionDualSets& f, const Vector& z, const Vector& lambda, c
     const double radius = resolvable_radius(f, i, z, lambda, dz, k, s, norm, capped || force_law(f, i));
     // Off s, λ_ν is the slip law's (radius − tresca)/μ, within p_ν's round-off: the bound it gives
     // is the radius (as the primal solver's law_normal_force).
-    if (radius != std::min(s, norm)) p[k] = (radius - f.tresca[i]) / f.mu[i];
+    if (radius != std::min(s, norm)) p[k] = f.bound_of(i).normal_force_at(radius);
     if (nt == 0) continue;
     if (norm <= s && radius == norm) {  // stick: inside the set
       for (int a = 0; a < nt; ++a) {

@@ -102,7 +102,7 @@ double CoulombCoupling::law_normal_force(Eigen::Index i, const Vector& r, const 
   double along = 0;
   for (int j = 0; j < friction.tangents(); ++j)
     if (const int dof = friction.tangent_dof(row, j); dof >= 0) along += friction.direction(row)[j] * r[dof];
-  return (along - c.tresca[i]) / c.mu[i];
+  return c.bound_of(i).normal_force_at(along);
 }
 
 }  // namespace vpc

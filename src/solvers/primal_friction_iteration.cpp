@@ -139,7 +139,7 @@ ContactReport PrimalFrictionIteration::solve(PrimalOperator& op, PrimalWarmStart
     // in Anderson's history it would be the one small residual and hold the bound near itself.
     bound = was_tight ? coulomb.next(comm, bound, coulomb_bound) : coulomb_bound;
     if (!was_tight) bound_change = inf;
-    for (Eigen::Index i = 0; i < rows; ++i) bound[i] = std::max(bound[i], c.tresca[i]);  // μ λ_ν ≥ 0
+    for (Eigen::Index i = 0; i < rows; ++i) bound[i] = std::max(bound[i], c.bound(i, 0.0));  // μ λ_ν ≥ 0
     friction.take(std::move(up));
     friction.rescale(bound);
     history = std::make_unique<ActiveSetHistory>();
