@@ -2,9 +2,20 @@
 
 #include "core/error.hpp"
 
+#include <atomic>
+
 namespace vpc {
 
+namespace {
+
+std::atomic<long long> builds{0};
+
+}  // namespace
+
+long long contact_matrix_builds() { return builds.load(); }
+
 ContactMatrix contact_matrix(const MeshPart& part, ContactColumns columns) {
+  ++builds;
   const DofMap& dofs = part.dofs;
   const int d = dofs.dim();
   ContactMatrix out;

@@ -30,4 +30,7 @@ struct ContactMatrix {
 
 ContactMatrix contact_matrix(const MeshPart& part, ContactColumns columns);
 
+/// How many times contact_matrix has run in this process: a set-up runs it once (tests count it).
+long long contact_matrix_builds();
+
 }  // namespace vpc

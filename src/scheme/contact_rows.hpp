@@ -36,6 +36,9 @@ struct ContactRow {
 /// node is left on Γ3.
 std::vector<ContactRow> contact_rows(const Problem& p, const std::vector<int>& condition);
 
+/// How many times contact_rows has run in this process: a set-up runs it once (tests count it).
+long long contact_rows_builds();
+
 /// contact_rows' error where Γ3 has no free node: every component of each of its nodes (of p.mesh)
 /// prescribed, naming the keys that prescribe them.
 [[noreturn]] void fail_no_free_contact_node(const Problem& p, const std::vector<int>& condition);
