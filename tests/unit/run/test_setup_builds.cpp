@@ -8,6 +8,7 @@
 #include "run/run_case.hpp"
 #include "scheme/contact_matrix.hpp"
 #include "scheme/contact_rows.hpp"
+#include "scheme/time_stepper.hpp"
 
 #include <gtest/gtest.h>
 
@@ -58,6 +59,16 @@ TEST(SetUpBuilds, ThePrimalSolverTakesItsReflectionsFromTheSameMatrix) {
   expect_once("shear-3d primal", set_up_builds("shear-3d", {.sets = {"solver.contact=\"primal-active-set\""}}), 0);
   expect_once("contact-patch-2d primal",
               set_up_builds("contact-patch-2d", {.sets = {"solver.contact=\"primal-active-set\""}}), 1);
+}
+
+// The library's stepper of a problem (Python, `converge`'s levels): its validation's rows cut its part.
+TEST(SetUpBuilds, AStepperOfAProblemBuildsItsContactDataOnce) {
+  const Case c = load_case("contact-patch-2d");
+  const Builds before = builds_so_far();
+  const TimeStepper stepper(c.problem);
+  const Builds after = builds_so_far();
+  expect_once("TimeStepper(contact-patch-2d)",
+              {after.rows - before.rows, after.mortar - before.mortar, after.matrix - before.matrix}, 1);
 }
 
 TEST(SetUpBuilds, ALargeSlidingPairBuildsItsRowsOnceAtSetUp) {
