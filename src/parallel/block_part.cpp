@@ -181,8 +181,7 @@ ProblemSize block_problem_size(const la::Comm& comm, const Problem& p, const Con
     if (mine(v)) own[0] += free_components(dirichlet, v, d);
   const auto laws = p.contact.laws();
   const auto frictions = p.contact.frictions();
-  const ContactRows rows = built ? built : std::make_shared<const std::vector<ContactRow>>(contact_rows(p, dirichlet.condition));
-  for (const ContactRow& r : *rows)
+  for (const ContactRow& r : *contact_rows_of(p, dirichlet.condition, built))
     if (mine(r.node)) {
       own[1] += 1;
       own[2] += dual_only(*laws[static_cast<std::size_t>(r.law)], frictions[static_cast<std::size_t>(r.law)].get());

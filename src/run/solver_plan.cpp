@@ -119,7 +119,7 @@ ProblemSize problem_size(const Problem& p, const ContactRows& built) {
   s.cells = mesh.n_cells();
   const DirichletDofs dirichlet = dirichlet_dofs(p);
   s.unknowns = static_cast<double>(std::ranges::count(dirichlet.condition, -1));
-  const ContactRows shared = built ? built : std::make_shared<const std::vector<ContactRow>>(contact_rows(p, dirichlet.condition));
+  const ContactRows shared = contact_rows_of(p, dirichlet.condition, built);
   const std::vector<ContactRow>& rows = *shared;
   s.contact_nodes = static_cast<double>(rows.size());
   s.contact_unknowns = s.contact_nodes * p.contact.block_size(d);

@@ -69,7 +69,8 @@ ContactMatrix owned_rows(const ContactMatrix& local, const MeshPart& part) {
   for (int k = 0; k < local.N.outerSize(); ++k)
     for (SparseMatrix::InnerIterator it(local.N, k); it; ++it)
       if (const int row = owned_row[static_cast<std::size_t>(it.row())]; row >= 0) {
-        require(k < n, "contact row {}: dof {} is not owned with the row (a bug)", part.contact[static_cast<std::size_t>(it.row())].row, k);
+        require(k < n, "contact row {}: dof {} is not owned with the row (a bug)",
+                part.contact[static_cast<std::size_t>(it.row())].row, k);
         entries.emplace_back(row, k, it.value());
       }
   out.N.resize(static_cast<Eigen::Index>(out.node_dofs.size()), n);

@@ -258,6 +258,10 @@ std::vector<ContactRow> contact_rows(const Problem& p, const std::vector<int>& c
 }
 
 
+ContactRows contact_rows_of(const Problem& p, const std::vector<int>& condition, const ContactRows& built) {
+  return built ? built : std::make_shared<const std::vector<ContactRow>>(contact_rows(p, condition));
+}
+
 std::vector<double> tributary_measures(const Mesh& mesh, const std::vector<std::string>& parts) {
   std::vector<double> m(static_cast<std::size_t>(mesh.n_nodes()), 0.0);
   const int nv = mesh.nodes_per_facet();

@@ -7,7 +7,6 @@
 #include <algorithm>
 #include <cstddef>
 #include <unordered_map>
-#include <utility>
 
 namespace vpc {
 
@@ -18,8 +17,7 @@ WholeMeshData::WholeMeshData(const Problem& p, ContactRows built)
       traction_facets(vpc::traction_facets(p)),
       pressure_facets(vpc::pressure_facets(p)),
       dirichlet(dirichlet_dofs(p)),
-      shared_rows(built ? std::move(built)
-                        : std::make_shared<const std::vector<ContactRow>>(contact_rows(p, dirichlet.condition))),
+      shared_rows(contact_rows_of(p, dirichlet.condition, built)),
       rows(*shared_rows),
       row_of(p.mesh.n_nodes(), -1),
       measure(tributary_measures(p.mesh, p.contact.parts)) {

@@ -55,7 +55,8 @@ int run(int argc, char** argv) {
   }
   std::fflush(stdout);
   failures = static_cast<int>(c.sum(static_cast<double>(failures)));
-  if (c.rank() == 0) fmt::print("{} on {} ranks{}: {}\n", name, c.size(), block ? " (blocks)" : "", failures ? "FAILED" : "PASSED");
+  if (c.rank() == 0)
+    fmt::print("{} on {} ranks{}: {}\n", name, c.size(), block ? " (blocks)" : "", failures ? "FAILED" : "PASSED");
   return failures ? 1 : 0;
 }
 

@@ -72,8 +72,8 @@ TEST(SetUpBuilds, AStepperOfAProblemBuildsItsContactDataOnce) {
 }
 
 TEST(SetUpBuilds, ALargeSlidingPairBuildsItsRowsOnceAtSetUp) {
-  expect_once("punch-3d", set_up_builds("punch-3d", {.sets = {"mesh.cells=[12, 6, 3]", "body[0].mesh.cells=[3, 3, 2]"}}),
-              1);
+  const CaseOverrides coarse{.sets = {"mesh.cells=[12, 6, 3]", "body[0].mesh.cells=[3, 3, 2]"}};
+  expect_once("punch-3d", set_up_builds("punch-3d", coarse), 1);
 }
 
 }  // namespace
