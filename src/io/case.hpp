@@ -50,6 +50,11 @@ struct Case {
   std::string name;
   std::string description;
   std::shared_ptr<Problem> problem;
+  /// The problem's contact rows on its whole mesh, built by its validation as it was read
+  /// (Problem::validate) and taken by its set-up (the solver plan, the cut into parts); null
+  /// where it was not validated here (a rank without the mesh, a block: validate_blocks). Built
+  /// from the problem as read: a caller that changes its mesh, boundary or contact data resets them.
+  ContactRows contact_rows;
   OutputOptions output;  // an empty directory means output/<name>
   SolverChoice solvers;
   /// Lines the program prints as warnings: data that is valid but likely to give a poor

@@ -180,16 +180,16 @@ Case parse_case(std::string_view text, const std::string& name, const fs::path& 
   // Without the mesh (a rank that did not build it): validated by the rank that has it; a
   // block: by all ranks together (validate_blocks, parallel/block_part.hpp).
   // A message that names a key of the file has its location already.
-  if (whole) validate_case(*p, name);
+  if (whole) c.contact_rows = validate_case(*p, name);
   if (p->block) p->block->source = name;
   c.problem = std::move(p);
   collect_keys(root, "", c.keys);
   return c;
 }
 
-void validate_case(const Problem& p, const std::string& name) {
+ContactRows validate_case(const Problem& p, const std::string& name) {
   try {
-    p.validate();
+    return p.validate();
   } catch (const Error& e) {
     if (std::string_view(e.what()).starts_with(name + ":")) throw;
     throw Error(name + ": " + e.what());

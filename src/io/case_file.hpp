@@ -48,7 +48,8 @@ std::string read_text_file(const std::filesystem::path& file, std::string_view w
 /// (no meshing); empty if there is none or the text is not valid TOML.
 std::string case_description(std::string_view text);
 
-/// Problem::validate, its error located in the case file `name` (as parse_case reports it).
-void validate_case(const Problem& p, const std::string& name);
+/// Problem::validate, its error located in the case file `name` (as parse_case reports it); returns
+/// the contact rows its checks built.
+ContactRows validate_case(const Problem& p, const std::string& name);
 
 }  // namespace vpc

@@ -6,6 +6,7 @@
 #include "mortar/segment_projection.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <string>
 #include <utility>
 
@@ -24,7 +25,11 @@ std::string facet_name(const Surface& s, int f) {
 
 Eigen::Vector2d xy(const Point& p) { return {p[0], p[1]}; }
 
+std::atomic<long long> builds{0};
+
 }  // namespace
+
+long long mortar_coupling_builds() { return builds.load(); }
 
 std::vector<FacetCover> facet_cover(const Surface& slave, const std::vector<Point>& slave_normals, int e,
                                     const Surface& master, std::span<const int> candidates, double tol) {
@@ -54,6 +59,7 @@ std::vector<FacetCover> facet_cover(const Surface& slave, const std::vector<Poin
 }
 
 MortarCoupling mortar_coupling(const Surface& slave, const Surface& master, const MortarOptions& options) {
+  ++builds;
   require(slave.dim() == master.dim(), "mortar: the slave surface is {}D and the master {}D", slave.dim(),
           master.dim());
   require(options.coefficient_bound >= 3, "mortar: coefficient_bound is {} (expected >= 3, a full triangle's)",

@@ -60,4 +60,8 @@ std::vector<FacetCover> facet_cover(const Surface& slave, const std::vector<Poin
 /// same way (one surface's facets are ordered with their normals into its body).
 MortarCoupling mortar_coupling(const Surface& slave, const Surface& master, const MortarOptions& options = {});
 
+/// How many times mortar_coupling has run in this process: a set-up runs it once per contact pair
+/// (tests count it; a large-sliding pair runs it again at every step).
+long long mortar_coupling_builds();
+
 }  // namespace vpc::mortar

@@ -71,7 +71,7 @@ std::uint64_t mesh_fingerprint(const Mesh& mesh) {
 
 }  // namespace
 
-void validate_blocks(const la::Comm& comm, const Problem& p) {
+ContactRows validate_blocks(const la::Comm& comm, const Problem& p) {
   const MeshBlock& b = *p.block;
   const Mesh& mesh = p.mesh;
   const int me = comm.rank(), d = mesh.dim();
@@ -136,7 +136,8 @@ void validate_blocks(const la::Comm& comm, const Problem& p) {
     for (const std::string& why : outside) require(why.empty(), "{}", why);
   });
 
-  la::collective(comm, [&] { validate_case(p, b.source); });  // each block's own checks (Problem::validate)
+  ContactRows rows;
+  la::collective(comm, [&] { rows = validate_case(p, b.source); });  // each block's own checks (Problem::validate)
 
   // A symmetry part lies in one plane x_i = const: each block has checked its share; the axes agree.
   std::vector<bool> one_axis;
@@ -147,9 +148,8 @@ void validate_blocks(const la::Comm& comm, const Problem& p) {
   const DirichletDofs dirichlet = dirichlet_dofs(p);
   const std::vector<int> owner = node_owners(mesh, b.cell_rank);
   const std::vector<int> own = PartNodes(mesh, b.cell_rank, owner, me).own;
-  const std::vector<ContactRow> rows = contact_rows(p, dirichlet.condition);
   long long own_rows = 0;
-  for (const ContactRow& r : rows) own_rows += owner[static_cast<std::size_t>(r.node)] == me;
+  for (const ContactRow& r : *rows) own_rows += owner[static_cast<std::size_t>(r.node)] == me;
   own_rows = comm.sum(own_rows);
   la::collective(comm, [&] {
     for (std::size_t k = 0; k < p.symmetry.size(); ++k)
@@ -165,9 +165,10 @@ void validate_blocks(const la::Comm& comm, const Problem& p) {
   la::collective(comm, [&] {
     check_block_held(p, dirichlet.condition, own, [&](double* v, int n) { comm.sum(v, n); });
   });
+  return rows;
 }
 
-ProblemSize block_problem_size(const la::Comm& comm, const Problem& p) {
+ProblemSize block_problem_size(const la::Comm& comm, const Problem& p, const ContactRows& built) {
   const MeshBlock& b = *p.block;
   const Mesh& mesh = p.mesh;
   const int me = comm.rank(), d = mesh.dim();
@@ -180,7 +181,7 @@ ProblemSize block_problem_size(const la::Comm& comm, const Problem& p) {
     if (mine(v)) own[0] += free_components(dirichlet, v, d);
   const auto laws = p.contact.laws();
   const auto frictions = p.contact.frictions();
-  for (const ContactRow& r : contact_rows(p, dirichlet.condition))
+  for (const ContactRow& r : *contact_rows_of(p, dirichlet.condition, built))
     if (mine(r.node)) {
       own[1] += 1;
       own[2] += dual_only(*laws[static_cast<std::size_t>(r.law)], frictions[static_cast<std::size_t>(r.law)].get());
@@ -227,13 +228,13 @@ ProblemSize block_problem_size(const la::Comm& comm, const Problem& p) {
   return s;
 }
 
-PartPieces block_part_pieces(MPI_Comm mpi_comm, const Problem& p) {
+PartPieces block_part_pieces(MPI_Comm mpi_comm, const Problem& p, ContactRows rows) {
   const la::Comm comm = la::make_mpi_comm(mpi_comm);
   const MeshBlock& b = *p.block;
   const Mesh& mesh = p.mesh;
   const int me = comm.rank(), ranks = comm.size(), d = mesh.dim(), n = mesh.n_nodes();
   require(b.ranks == ranks && b.rank == me, "internal: rank {} of {} holds block {} of {}", me, ranks, b.rank, b.ranks);
-  const WholeMeshData whole(p);  // on the block: its own nodes' values are the whole mesh's
+  const WholeMeshData whole(p, std::move(rows));  // on the block: its own nodes' values are the whole mesh's
   const std::vector<int> owner = node_owners(mesh, b.cell_rank);
   std::vector<int> cells;
   for (int c = 0; c < mesh.n_cells(); ++c)

@@ -18,16 +18,18 @@ namespace vpc {
 /// Problem::validate where the problem's mesh is a block (Problem::block), with the checks that
 /// need the whole mesh made on all blocks together: every block's own checks, the parts the case
 /// names have facets somewhere, a symmetry plane has one axis, Γ3 has a free node, the body is
-/// held. Collective; every rank throws the error of the lowest rank that found one.
-void validate_blocks(const la::Comm& comm, const Problem& p);
+/// held. Collective; every rank throws the error of the lowest rank that found one. Returns the
+/// block's contact rows, which the checks build (Problem::validate), for the sizes and the part.
+ContactRows validate_blocks(const la::Comm& comm, const Problem& p);
 
 /// The sizes the solver plan takes (problem_size on the whole mesh), summed over the blocks; the
 /// factor estimates (rank 0's only) from the generator's grid coarsened to at most about 30,000
-/// nodes (scale_factors; the whole grid below that, as problem_size). Collective.
-ProblemSize block_problem_size(const la::Comm& comm, const Problem& p);
+/// nodes (scale_factors; the whole grid below that, as problem_size). Collective. `rows`: the
+/// block's contact rows (validate_blocks'); null: built here.
+ProblemSize block_problem_size(const la::Comm& comm, const Problem& p, const ContactRows& rows = nullptr);
 
 /// The rank's part, from its block (Problem::block): the part distribute_mesh gives it for the
-/// cells per rank of MeshBlock::cell_rank. Collective.
-PartPieces block_part_pieces(MPI_Comm comm, const Problem& p);
+/// cells per rank of MeshBlock::cell_rank. Collective. `rows`: as block_problem_size.
+PartPieces block_part_pieces(MPI_Comm comm, const Problem& p, ContactRows rows = nullptr);
 
 }  // namespace vpc

@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <unordered_map>
+#include <utility>
 
 namespace vpc {
 
@@ -173,9 +174,9 @@ PartContactNode unpack_contact_node(const long long*& in, const double*& x) {
 
 constexpr int kHeader = 12;
 
-/// Rank 0: the part of every rank, cut from the whole problem (cut_part) and packed
+/// Rank 0: the part of every rank, cut from the whole problem (cut_part, with its contact `rows`) and packed
 /// with its mesh: its nodes, its cells and their loaded facets.
-std::vector<Message> pack_parts(const Problem& p, int n_parts, const std::vector<int>& cell_rank) {
+std::vector<Message> pack_parts(const Problem& p, int n_parts, const std::vector<int>& cell_rank, ContactRows rows) {
   const Mesh& mesh = p.mesh;
   const int d = mesh.dim(), npc = mesh.nodes_per_cell(), n_nodes = mesh.n_nodes();
   const NodeCells nc(mesh);
@@ -183,7 +184,7 @@ std::vector<Message> pack_parts(const Problem& p, int n_parts, const std::vector
   require(part.size() == static_cast<std::size_t>(mesh.n_cells()), "internal: {} cell ranks for {} cells", part.size(),
           mesh.n_cells());
 
-  const WholeMeshData whole(p);
+  const WholeMeshData whole(p, std::move(rows));
   // A node belongs to the lowest rank among its cells, except on contact pairs (own_pairs_together).
   std::vector<int> owner(n_nodes, 0);
   for (int i = 0; i < n_nodes; ++i) owner[i] = lowest_rank(nc, part, n_parts, i);
@@ -317,14 +318,14 @@ PartPieces unpack_part(MPI_Comm comm, const Message& m) {
 
 }  // namespace
 
-MeshPart distribute_mesh(MPI_Comm comm, const Problem& problem, const std::vector<int>& cell_rank) {
+MeshPart distribute_mesh(MPI_Comm comm, const Problem& problem, const std::vector<int>& cell_rank, ContactRows rows) {
   const int rank = comm_rank(comm), size = comm_size(comm);
   Message mine;
   // Rank 0 packs every part; a failure there (e.g. a bad gap) is every rank's.
   std::vector<Message> parts;
   la::on_root(la::make_mpi_comm(comm), [&] {
-    problem.validate();
-    parts = pack_parts(problem, size, cell_rank);
+    if (!rows) rows = problem.validate();
+    parts = pack_parts(problem, size, cell_rank, std::move(rows));
   });
   if (rank == 0) {
     for (int r = 1; r < size; ++r) {

@@ -25,7 +25,9 @@ namespace vpc {
 /// and Γ2 facets of the one-process part: rank 0 cuts every part from the whole problem
 /// (cut_part) and each rank finishes its own (make_mesh_part). Collective on comm.
 /// `cell_rank`: each cell's rank, instead of PTScotch's partition (rank 0's; the blocks of a
-/// generated mesh, block_part.hpp, cut the same parts from their blocks).
-MeshPart distribute_mesh(MPI_Comm comm, const Problem& problem, const std::vector<int>& cell_rank = {});
+/// generated mesh, block_part.hpp, cut the same parts from their blocks). `rows`: rank 0's problem
+/// validated, with the contact rows its validation built (Case::contact_rows); null: validated here.
+MeshPart distribute_mesh(MPI_Comm comm, const Problem& problem, const std::vector<int>& cell_rank = {},
+                         ContactRows rows = nullptr);
 
 }  // namespace vpc

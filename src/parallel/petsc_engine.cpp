@@ -62,9 +62,13 @@ Case load_case_everywhere(const CaseLoader& load, const la::Comm& comm) {
 
 namespace {
 
+/// `rows`: the problem's contact rows as its validation built them (Case::contact_rows); null: built
+/// with its validation here.
 std::unique_ptr<TimeStepper> distributed_stepper(MPI_Comm mpi_comm, std::shared_ptr<const Problem> problem,
-                                                 const SolverChoice& choice, PetscSolverOptions linear) {
-  MeshPart part = problem->block ? make_mesh_part(block_part_pieces(mpi_comm, *problem)) : distribute_mesh(mpi_comm, *problem);
+                                                 const SolverChoice& choice, PetscSolverOptions linear,
+                                                 ContactRows rows = nullptr) {
+  MeshPart part = problem->block ? make_mesh_part(block_part_pieces(mpi_comm, *problem, std::move(rows)))
+                                 : distribute_mesh(mpi_comm, *problem, {}, std::move(rows));
   // Iterative solves stop 100x under the relative residual a step accepts (solver.tolerance,
   // 1e-8): tighter only costs iterations (at 1e-12, a third more on foundation-3d).
   linear.rtol = 1e-2 * choice.residual_tolerance;
@@ -75,9 +79,10 @@ std::unique_ptr<TimeStepper> distributed_stepper(MPI_Comm mpi_comm, std::shared_
 }  // namespace
 
 std::unique_ptr<TimeStepper> petsc_stepper(MPI_Comm mpi_comm, Case& c, PetscSolverOptions linear) {
-  auto stepper = distributed_stepper(mpi_comm, c.problem, c.solvers, std::move(linear));
+  auto stepper = distributed_stepper(mpi_comm, c.problem, c.solvers, std::move(linear), c.contact_rows);
   // From here on, rank 0 too holds its part only; but it builds a large-sliding pair's rows again
   // from the whole mesh at every step (scheme/sliding_pairs.hpp; their nodes are all its own).
+  c.contact_rows.reset();
   if (!slides(*c.problem)) c.problem->mesh = Mesh();
   if (MeshBlock* b = c.problem->block.get()) {  // a block's numbers, not needed once the part is cut
     std::vector<int>().swap(b->node_id);
@@ -165,8 +170,8 @@ std::unique_ptr<Run> set_up_petsc(MPI_Comm mpi_comm, const CaseLoader& load, con
     const StageLog log(o.quiet || comm.rank() != 0);
     const auto t0 = std::chrono::steady_clock::now();
     log("checking the case on every rank's block and summing their sizes", -1);
-    validate_blocks(comm, *c.problem);
-    size = block_problem_size(comm, *c.problem);
+    c.contact_rows = validate_blocks(comm, *c.problem);
+    size = block_problem_size(comm, *c.problem, c.contact_rows);
     log("", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
     // What each rank built: its block, a part of the grid with a layer of cells around it.
     const double most = comm.max(static_cast<double>(c.problem->mesh.n_cells()));

@@ -111,7 +111,7 @@ std::string memory(const MemoryEstimate& e, const std::string& other, const Memo
 
 }  // namespace
 
-ProblemSize problem_size(const Problem& p) {
+ProblemSize problem_size(const Problem& p, const ContactRows& built) {
   const Mesh& mesh = p.mesh;
   const int d = mesh.dim();
   ProblemSize s;
@@ -119,7 +119,8 @@ ProblemSize problem_size(const Problem& p) {
   s.cells = mesh.n_cells();
   const DirichletDofs dirichlet = dirichlet_dofs(p);
   s.unknowns = static_cast<double>(std::ranges::count(dirichlet.condition, -1));
-  const std::vector<ContactRow> rows = contact_rows(p, dirichlet.condition);
+  const ContactRows shared = contact_rows_of(p, dirichlet.condition, built);
+  const std::vector<ContactRow>& rows = *shared;
   s.contact_nodes = static_cast<double>(rows.size());
   s.contact_unknowns = s.contact_nodes * p.contact.block_size(d);
   const auto laws = p.contact.laws();

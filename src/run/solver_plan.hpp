@@ -49,7 +49,8 @@ struct ProblemSize {
 
 /// The sizes of `p`'s run on one process: Dirichlet data, contact rows and the symbolic
 /// analysis of the node graph, K's factor scaled from it by d (blocks of d dofs a node).
-ProblemSize problem_size(const Problem& p);
+/// `rows`: p's contact rows as its validation built them (Case::contact_rows); null: built here.
+ProblemSize problem_size(const Problem& p, const ContactRows& rows = nullptr);
 
 /// CHOLMOD's factors of a node graph that no process holds whole (Problem::block: a generated
 /// mesh of `s.nodes` nodes): analysed on `coarse`, the same generator's grid with fewer cells,

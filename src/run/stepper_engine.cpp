@@ -185,8 +185,8 @@ SolverPlan plan_run(const Case& c, const SolverRequest& request, bool quiet, con
   log("choosing the linear solver (symbolic analysis of the node graph)", -1);
   SolverPlan plan;
   try {
-    plan = size ? plan_solver(*c.problem, *size, c.solvers, request, memory_limit(c.solvers.memory_limit))
-                : plan_solver(*c.problem, c.solvers, request);
+    plan = plan_solver(*c.problem, size ? *size : problem_size(*c.problem, c.contact_rows), c.solvers, request,
+                       memory_limit(c.solvers.memory_limit));
   } catch (const MemoryLimitError&) {
     if (!quiet) fmt::print(" refused\n");  // the stage's line closed before the error
     std::fflush(stdout);
@@ -205,7 +205,11 @@ std::unique_ptr<Run> set_up_on_one_process(Case c, const RunOptions& o) {
     log(stage, seconds);
     if (seconds >= 0) stop_if_interrupted();
   };
-  auto stepper = std::make_unique<TimeStepper>(c.problem, c.solvers);
+  // A case validated as it was read comes with its contact rows (Case::contact_rows): its part is
+  // cut with them, and not checked again.
+  auto stepper = c.contact_rows ? std::make_unique<TimeStepper>(c.problem, whole_mesh_part(c.problem, c.contact_rows),
+                                                                la::serial_backend(), c.solvers)
+                                : std::make_unique<TimeStepper>(c.problem, c.solvers);
   return make_run(std::move(c), std::move(stepper), o.quiet);
 }
 

@@ -2,16 +2,26 @@
 
 #include "core/error.hpp"
 
+#include <atomic>
+
 namespace vpc {
 
+namespace {
+
+std::atomic<long long> builds{0};
+
+}  // namespace
+
+long long contact_matrix_builds() { return builds.load(); }
+
 ContactMatrix contact_matrix(const MeshPart& part, ContactColumns columns) {
+  ++builds;
   const DofMap& dofs = part.dofs;
   const int d = dofs.dim();
   ContactMatrix out;
   std::vector<Eigen::Triplet<double>> entries, mean;
   int row = 0;
   for (const PartContactNode& node : part.contact) {
-    if (columns == ContactColumns::owned && !node.owned) continue;
     std::vector<int>& node_dofs = out.node_dofs.emplace_back();
     for (int i = 0; i < d; ++i) {
       int k = dofs.free_index(dofs.full_index(node.local_node, i));
@@ -35,15 +45,38 @@ ContactMatrix contact_matrix(const MeshPart& part, ContactColumns columns) {
       }
     ++row;
   }
-  const int n_columns = columns == ContactColumns::owned   ? part.n_owned_dofs
-                        : columns == ContactColumns::local ? dofs.n_free()
-                                                           : static_cast<int>(out.component.size());
+  const int n_columns = columns == ContactColumns::local ? dofs.n_free() : static_cast<int>(out.component.size());
   out.N.resize(row, n_columns);
   out.N.setFromTriplets(entries.begin(), entries.end());
   if (!mean.empty()) {
     out.master_mean.resize(n_columns, n_columns);
     out.master_mean.setFromTriplets(mean.begin(), mean.end());
   }
+  return out;
+}
+
+ContactMatrix owned_rows(const ContactMatrix& local, const MeshPart& part) {
+  const int n = part.n_owned_dofs;
+  std::vector<int> owned_row(part.contact.size(), -1);  // per row of `local`: its owned row, or −1
+  ContactMatrix out;
+  for (std::size_t k = 0; k < part.contact.size(); ++k)
+    if (part.contact[k].owned) {
+      owned_row[k] = static_cast<int>(out.node_dofs.size());
+      out.node_dofs.push_back(local.node_dofs[k]);
+    }
+  // An owned row's entries lie in owned columns (its node's and its masters' dofs: cut_part).
+  std::vector<Eigen::Triplet<double>> entries;
+  for (int k = 0; k < local.N.outerSize(); ++k)
+    for (SparseMatrix::InnerIterator it(local.N, k); it; ++it)
+      if (const int row = owned_row[static_cast<std::size_t>(it.row())]; row >= 0) {
+        require(k < n, "contact row {}: dof {} is not owned with the row (a bug)",
+                part.contact[static_cast<std::size_t>(it.row())].row, k);
+        entries.emplace_back(row, k, it.value());
+      }
+  out.N.resize(static_cast<Eigen::Index>(out.node_dofs.size()), n);
+  out.N.setFromTriplets(entries.begin(), entries.end());
+  // The masters' mean has entries in owned rows alone (a ghost row has no masters).
+  if (local.master_mean.size() > 0) out.master_mean = local.master_mean.topLeftCorner(n, n);
   return out;
 }
 

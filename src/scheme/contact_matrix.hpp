@@ -1,7 +1,8 @@
 #pragma once
 // N of (3.9) on a part: each contact node's free dofs and its row's entries ν_i on them. The
-// discrete system's N, the reflections of K_rot's local matrix and the outputs' tangents are
-// these rows over three numberings of the columns; set_tangents takes the nodes' dofs.
+// discrete system keeps them over the part's local dofs (the reflections of K_rot's local
+// matrix), its N is their owned rows (owned_rows), and the outputs' tangents take them over the
+// contact nodes' own dofs; set_tangents takes the nodes' dofs.
 #include "la/linear_solver.hpp"
 #include "scheme/mesh_part.hpp"
 
@@ -9,16 +10,15 @@
 
 namespace vpc {
 
-/// Which contact nodes of a part are rows, and which numbering the columns have.
+/// Which numbering the columns have (every contact node the part touches is a row, ghosts included).
 enum class ContactColumns {
-  owned,    // the owned nodes over the owned free dofs (DiscreteSystem::N, ContactConstraints::N)
-  local,    // every node the part touches, ghosts included, over its local free dofs (owned, then ghosts)
+  local,    // the part's local free dofs (owned, then ghosts)
   compact,  // every node the part touches over those nodes' free dofs alone, numbered node after
             // node in component order: O(contact nodes) however large the part (the outputs' tangents)
 };
 
 struct ContactMatrix {
-  SparseMatrix N;                           // a row per node, in part.contact order
+  SparseMatrix N;                           // a row per node, in part.contact order (owned_rows: the owned ones)
   std::vector<std::vector<int>> node_dofs;  // per row, its node's free dofs (columns of N) in component order
   std::vector<int> component;               // compact: per column, the component of its dof (else empty)
   /// A pair's slave node relative to its masters (friction on pairs; solvers/contact_frame.hpp):
@@ -29,5 +29,13 @@ struct ContactMatrix {
 };
 
 ContactMatrix contact_matrix(const MeshPart& part, ContactColumns columns);
+
+/// The owned nodes' rows of `local` (contact_matrix over ContactColumns::local) over the owned
+/// free dofs, which come first among the local ones: DiscreteSystem::N and ContactConstraints::N,
+/// with their rows' dofs and masters' mean, taken from the one matrix rather than built again.
+ContactMatrix owned_rows(const ContactMatrix& local, const MeshPart& part);
+
+/// How many times contact_matrix has run in this process: a set-up runs it once (tests count it).
+long long contact_matrix_builds();
 
 }  // namespace vpc

@@ -8,6 +8,7 @@
 #include <fmt/ranges.h>
 
 #include <algorithm>
+#include <atomic>
 #include <iterator>
 #include <cmath>
 #include <set>
@@ -138,7 +139,16 @@ void fail_no_free_contact_node(const Problem& p, const std::vector<int>& conditi
        p.where("boundary.contact"), fmt::join(by, " and "));
 }
 
+namespace {
+
+std::atomic<long long> builds{0};
+
+}  // namespace
+
+long long contact_rows_builds() { return builds.load(); }
+
 std::vector<ContactRow> contact_rows(const Problem& p, const std::vector<int>& condition) {
+  ++builds;
   const Mesh& mesh = p.mesh;
   const int d = mesh.dim();
   std::vector<Point> normal(mesh.n_nodes(), Point{0, 0, 0});
@@ -247,6 +257,10 @@ std::vector<ContactRow> contact_rows(const Problem& p, const std::vector<int>& c
   return merged;
 }
 
+
+ContactRows contact_rows_of(const Problem& p, const std::vector<int>& condition, const ContactRows& built) {
+  return built ? built : std::make_shared<const std::vector<ContactRow>>(contact_rows(p, condition));
+}
 
 std::vector<double> tributary_measures(const Mesh& mesh, const std::vector<std::string>& parts) {
   std::vector<double> m(static_cast<std::size_t>(mesh.n_nodes()), 0.0);

@@ -36,6 +36,13 @@ struct ContactRow {
 /// node is left on Γ3.
 std::vector<ContactRow> contact_rows(const Problem& p, const std::vector<int>& condition);
 
+/// How many times contact_rows has run in this process: a set-up runs it once (tests count it).
+long long contact_rows_builds();
+
+/// The rows a set-up hands over (`built`: Problem::validate's, Case::contact_rows), or where it
+/// hands none (null), p's built here for `condition` (contact_rows).
+ContactRows contact_rows_of(const Problem& p, const std::vector<int>& condition, const ContactRows& built);
+
 /// contact_rows' error where Γ3 has no free node: every component of each of its nodes (of p.mesh)
 /// prescribed, naming the keys that prescribe them.
 [[noreturn]] void fail_no_free_contact_node(const Problem& p, const std::vector<int>& condition);

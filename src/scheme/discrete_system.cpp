@@ -3,7 +3,6 @@
 #include "core/error.hpp"
 #include "fem/assembly.hpp"
 #include "la/memory_estimate.hpp"
-#include "scheme/contact_matrix.hpp"
 #include "scheme/sliding_pairs.hpp"
 #include "scheme/stability.hpp"
 #include "scheme/step_data.hpp"
@@ -146,12 +145,15 @@ std::vector<char> constant_damage_nodes(const Problem& p, const MeshPart& part, 
 }
 
 void DiscreteSystem::set_contact_rows() {
-  const ContactMatrix rows = contact_matrix(part, ContactColumns::owned);
-  N = rows.N;
-  if (problem->contact.frictional()) set_friction_frame(rows);
+  local_contact = contact_matrix(part, ContactColumns::local);
+  ContactMatrix owned = owned_rows(local_contact, part);
+  N = std::move(owned.N);
+  contact_dofs = std::move(owned.node_dofs);
+  master_mean = std::move(owned.master_mean);
+  if (problem->contact.frictional()) set_friction_frame();
 }
 
-void DiscreteSystem::set_friction_frame(const ContactMatrix& rows) {
+void DiscreteSystem::set_friction_frame() {
   const Problem& p = *problem;
   const Mesh& mesh = part.mesh();
   const int d = mesh.dim();
@@ -180,8 +182,8 @@ void DiscreteSystem::set_friction_frame(const ContactMatrix& rows) {
   }
   c.mu = Eigen::Map<Vector>(mus.data(), static_cast<Eigen::Index>(mus.size()));
   limit = Eigen::Map<Vector>(limits.data(), static_cast<Eigen::Index>(limits.size()));
-  c.master_mean = rows.master_mean;
-  set_tangents(c, rows.node_dofs);
+  c.master_mean = master_mean;
+  set_tangents(c, contact_dofs);
   T = std::move(c.T);
   tangent_dof = std::move(c.tangent_dof);
   mu = std::move(c.mu);
@@ -222,9 +224,8 @@ ContactConstraints contact_constraints(const DiscreteSystem& sys) {
     if (node.owned) compliance.push_back(node.stiffness > 0 ? 1 / node.stiffness : 0.0);
   c.compliance = Eigen::Map<Vector>(compliance.data(), static_cast<Eigen::Index>(compliance.size()));
   if (!sys.problem->contact.pairs.empty()) {
-    ContactMatrix rows = contact_matrix(part, ContactColumns::owned);
-    c.node_dofs = std::move(rows.node_dofs);
-    if (c.frictional()) c.master_mean = std::move(rows.master_mean);
+    c.node_dofs = sys.contact_dofs;
+    if (c.frictional()) c.master_mean = sys.master_mean;
   }
   if (c.frictional()) {
     c.frictions = sys.problem->contact.frictions();

@@ -66,9 +66,9 @@ MeshPart make_mesh_part(PartPieces pieces) {
   return part;
 }
 
-MeshPart whole_mesh_part(std::shared_ptr<const Problem> problem) {
+MeshPart whole_mesh_part(std::shared_ptr<const Problem> problem, ContactRows rows) {
   const Problem& p = *problem;
-  const WholeMeshData whole(p);
+  const WholeMeshData whole(p, std::move(rows));
   std::vector<int> all(p.mesh.n_nodes()), cells(p.mesh.n_cells());
   std::iota(all.begin(), all.end(), 0);
   std::iota(cells.begin(), cells.end(), 0);

@@ -12,6 +12,7 @@
 #include "la/layout.hpp"
 #include "mesh/mesh.hpp"
 #include "scheme/obstacle.hpp"
+#include "scheme/shared_contact_rows.hpp"
 
 #include <cstdint>
 #include <memory>
@@ -92,8 +93,9 @@ struct MeshPart : PartPieces {
 MeshPart make_mesh_part(PartPieces pieces);
 
 /// One process: the problem's mesh as it is (shared, not copied), every node
-/// owned, Γ2 and the contact rows of the problem. Throws vpc::Error for a contact
-/// direction into the body or a Γ3 without a free node (contact_rows).
-MeshPart whole_mesh_part(std::shared_ptr<const Problem> problem);
+/// owned, Γ2 and the contact rows of the problem: `rows`, as its validation built them
+/// (Problem::validate), or built here (null). Throws vpc::Error for a contact direction into the
+/// body or a Γ3 without a free node (contact_rows).
+MeshPart whole_mesh_part(std::shared_ptr<const Problem> problem, ContactRows rows = nullptr);
 
 }  // namespace vpc

@@ -11,13 +11,14 @@
 namespace vpc {
 
 // The order of the calls is the order of their checks (the first error is the one reported).
-WholeMeshData::WholeMeshData(const Problem& p)
+WholeMeshData::WholeMeshData(const Problem& p, ContactRows built)
     : cell_material(cell_materials(p)),
       cell_body(cell_bodies(p.mesh)),
       traction_facets(vpc::traction_facets(p)),
       pressure_facets(vpc::pressure_facets(p)),
       dirichlet(dirichlet_dofs(p)),
-      rows(contact_rows(p, dirichlet.condition)),
+      shared_rows(contact_rows_of(p, dirichlet.condition, built)),
+      rows(*shared_rows),
       row_of(p.mesh.n_nodes(), -1),
       measure(tributary_measures(p.mesh, p.contact.parts)) {
   for (std::size_t k = 0; k < rows.size(); ++k) {

@@ -19,11 +19,13 @@ struct WholeMeshData {
   std::vector<int> traction_facets;
   std::vector<std::vector<int>> pressure_facets;
   DirichletDofs dirichlet;
-  std::vector<ContactRow> rows;
+  ContactRows shared_rows;              // the contact rows, shared with the set-up that built them
+  const std::vector<ContactRow>& rows;  // *shared_rows
   std::vector<int> row_of;       // per node: its contact row, −1 off Γ3
   std::vector<double> measure;   // per node: tributary measure on Γ3 (the output's contact pressure)
-  /// Throws vpc::Error as the functions of scheme/problem.hpp it calls.
-  explicit WholeMeshData(const Problem& p);
+  /// Throws vpc::Error as the functions of scheme/problem.hpp it calls. `rows`: the problem's
+  /// contact rows as its validation built them (Problem::validate); null: built here.
+  explicit WholeMeshData(const Problem& p, ContactRows rows = nullptr);
 };
 
 /// The free components of `node` (DirichletDofs::condition −1).

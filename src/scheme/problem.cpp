@@ -286,7 +286,7 @@ void check_block_held(const Problem& p, const std::vector<int>& condition, const
   check_body_held(p, condition, nodes, "the body", p.block->lo, p.block->hi, sum);
 }
 
-void Problem::validate() const {
+ContactRows Problem::validate() const {
   const std::string where = name.empty() ? "problem" : name;
   require(mesh.n_cells() > 0, "{}: the mesh has no cells", where);
   require(elasticity.dim() == mesh.dim(),
@@ -362,7 +362,8 @@ void Problem::validate() const {
               part, fmt::join(contact.parts, ", "));
   }
   located(where, [&] { check_gap(mesh, contact, block.get()); });
-  contact_rows(*this, dirichlet.condition);  // directions against prescribed components; obstacles' gaps
+  // Directions against prescribed components, obstacles' gaps, the pairs' coverage and overlap.
+  auto rows = std::make_shared<const std::vector<ContactRow>>(contact_rows(*this, dirichlet.condition));
   located(where, [&] { check_beta0(mesh, beta0, bodies.empty() ? -1 : 0, block.get()); });
   for (std::size_t b = 0; b < bodies.size(); ++b) {
     const std::string at = fmt::format("{}: body '{}'", where, bodies[b].name);
@@ -374,6 +375,7 @@ void Problem::validate() const {
     require(std::hypot(v[0], v[1], v[2]) > 0, "{}: the contact direction must be a non-zero vector", where);
   }
   check_step_stability(*this, cell_material);  // the explicit G of (3.6): k L <= 2
+  return rows;
 }
 
 std::vector<std::vector<int>> pressure_facets(const Problem& p) {

@@ -11,6 +11,7 @@
 #include "mesh/mesh.hpp"
 #include "mesh/mesh_block.hpp"
 #include "scheme/obstacle.hpp"
+#include "scheme/shared_contact_rows.hpp"
 #include "scheme/time_grid.hpp"
 
 #include <array>
@@ -191,8 +192,10 @@ struct Problem {
   /// each node takes its body's β0 (a node lies in one body).
   Vector initial_damage(const Mesh& mesh, const std::vector<int>& cell_body) const;
   /// Throws vpc::Error describing the first invalid datum (the checks below and
-  /// the parts, the law, the source). The one place each datum is checked.
-  void validate() const;
+  /// the parts, the law, the source). The one place each datum is checked. Returns the whole
+  /// mesh's contact rows, which its checks build (contact_rows; a block's own, Problem::block):
+  /// a set-up keeps them (Case::contact_rows) rather than building them again.
+  ContactRows validate() const;
 };
 
 // The checks of Problem::validate that concern one datum, for a reader that knows

@@ -12,16 +12,14 @@ namespace vpc {
 
 namespace {
 
-/// The problem, after Problem::validate (which throws for a bad datum).
-std::shared_ptr<const Problem> validated(std::shared_ptr<const Problem> p) {
-  p->validate();
-  return p;
-}
+/// The problem's one-process part, after Problem::validate (which throws for a bad datum), cut with
+/// the contact rows its checks built.
+MeshPart validated_whole_part(const std::shared_ptr<const Problem>& p) { return whole_mesh_part(p, p->validate()); }
 
 }  // namespace
 
 TimeStepper::TimeStepper(std::shared_ptr<const Problem> problem, SolverChoice choice)
-    : TimeStepper(problem, whole_mesh_part(validated(problem)), la::serial_backend(), std::move(choice)) {}
+    : TimeStepper(problem, validated_whole_part(problem), la::serial_backend(), std::move(choice)) {}
 
 TimeStepper::TimeStepper(std::shared_ptr<const Problem> problem_in, MeshPart part_in,
                          std::shared_ptr<const la::Backend> backend_in, SolverChoice choice)
