@@ -17,22 +17,21 @@ bool dual_only(const ContactLaw& law, const FrictionLaw* friction) {
 ContactNeeds contact_needs(const la::Comm& comm, const ContactConstraints& c) {
   ContactNeeds n;
   n.friction = c.frictional();
-  for (const int k : c.law) {
-    const ContactLaw& law = *c.laws[static_cast<std::size_t>(k)];
-    n.compliant = n.compliant || !law.rigid();
-    if (!law.linear() && n.nonlinear.empty()) n.nonlinear = law.kind();
+  bool compliant = false, nonlinear = false, non_disc = false;  // on this rank's rows
+  for (Eigen::Index i = 0; i < static_cast<Eigen::Index>(c.law.size()); ++i) {
+    const ContactLaw& law = c.law_of(i);
+    compliant = compliant || !law.rigid();
+    nonlinear = nonlinear || !law.linear();
+    non_disc = non_disc || (n.friction && !c.friction_of(i).disc());
   }
-  n.compliant = comm.any(n.compliant);
-  // The laws are the same list on every rank: a rank without such a row learns its name from the list.
-  if (comm.any(!n.nonlinear.empty()))
+  n.compliant = comm.any(compliant);
+  // The laws are the same list on every rank: each names the law from the list, whether or not it has such a row.
+  if (comm.any(nonlinear))
     for (const auto& law : c.laws)
       if (!law->linear()) {
         n.nonlinear = law->kind();
         break;
       }
-  bool non_disc = false;
-  for (Eigen::Index i = 0; i < static_cast<Eigen::Index>(c.rows.size()) && n.friction; ++i)
-    non_disc = non_disc || !c.friction_of(i).disc();
   if (comm.any(non_disc))
     for (const auto& f : c.frictions)
       if (f && !f->disc()) {
