@@ -401,6 +401,20 @@ void bind_simulation(py::module_& m) {
         return out;
       }), doc.c_str());
   }
+  // The contact laws' per-node state (State::surface, contact/surface_state.hpp): one read-only view
+  // per declared variable, by name, in the rows' order (width > 1: one row per contact node).
+  cls.def_property_readonly("surface", reads("surface", [sim](py::handle self) {
+    const S& s = sim(self);
+    py::dict d;
+    for (const SurfaceField& f : s.state().surface) {
+      const auto nodes = static_cast<py::ssize_t>(f.values.size() / f.width);
+      d[py::str(f.name)] = view(f.values.data(),
+                                f.width == 1 ? std::vector<py::ssize_t>{nodes} : std::vector<py::ssize_t>{nodes, f.width},
+                                self);
+    }
+    return d;
+  }), "The contact laws' per-node state (a law that keeps some declares it; empty otherwise): a dict of read-only "
+      "views by name, one value (or row of values) per contact node in the rows' order, as contact_force");
   m.def("_state_fields", &field_table, "The table of the state's fields (io/state_fields.hpp).");
   m.def("_history_column_table", &column_table, "The table of history.csv's columns (io/history_columns.hpp).");
 }

@@ -9,6 +9,8 @@
 // node they are lumped by the law itself (lumped(): c |facet| / its nodes, summed over the
 // node's facets: k_i = c |Γ3|_i), and the solvers get the node's compliance 1/k_i
 // (0 for a rigid law). Registered by name in contact/registry.cpp.
+#include "contact/surface_state.hpp"
+
 #include <limits>
 #include <memory>
 #include <string>
@@ -28,7 +30,7 @@ class LawKeys {
   virtual std::string where(const std::string& key) = 0;
 };
 
-class ContactLaw {
+class ContactLaw : public SurfaceHistory {
  public:
   virtual ~ContactLaw() = default;
   /// Its registry name ("signorini") and one line for the run's header ("normal compliance c = 100").

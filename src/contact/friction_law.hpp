@@ -55,7 +55,7 @@ class FrictionKeys : public LawKeys {
   virtual bool uses_time(const std::string& key) = 0;
 };
 
-class FrictionLaw {
+class FrictionLaw : public SurfaceHistory {
  public:
   virtual ~FrictionLaw() = default;
   /// Its registry name ("coulomb") and one line for the run's header ("Coulomb friction mu = 0.3").

@@ -7,6 +7,7 @@
 #include "core/error.hpp"
 #include "core/quote.hpp"
 #include "io/state_fields.hpp"
+#include "scheme/surface_state.hpp"
 
 #include <fmt/ranges.h>
 
@@ -17,12 +18,30 @@ namespace vpc::case_file {
 
 namespace {
 
-std::vector<std::string> read_fields(Section& out) {
+/// The names of the contact laws' per-node state (SurfaceVariable), each checked not to be one of the
+/// state's own fields (a VTU array or a stored field of io/state_fields.hpp), located at [contact].
+std::vector<std::string> surface_names(const Problem& p) {
+  std::vector<std::string> names;
+  for (const SurfaceVariable& v : declared_surface_state(p.contact)) {
+    const bool taken = std::ranges::any_of(state_fields(), [&](const StateField& f) {
+      return f.name == v.name || f.vtu == v.name || f.python == v.name;
+    });
+    if (taken || v.name == "damage")
+      fail("{}: a contact law declares the per-node state '{}', the name of one of the state's own fields; a law's "
+           "state needs a name of its own",
+           p.where("contact"), v.name);
+    names.push_back(v.name);
+  }
+  return names;
+}
+
+std::vector<std::string> read_fields(Section& out, const std::vector<std::string>& surface) {
   std::vector<std::string> fields = out.strings("fields");
   for (auto& f : fields) {
-    const std::string field = OutputOptions::field(f);  // "damage": the old name of "beta"
+    const std::string field = OutputOptions::field(f, surface);  // "damage": the old name of "beta"
     if (field.empty()) {
-      const auto& names = OutputOptions::field_names();
+      std::vector<std::string> names = OutputOptions::field_names();
+      names.insert(names.end(), surface.begin(), surface.end());
       fail("{}: unknown field {}; expected some of: {}{}", out.where("fields"), quote(f), fmt::join(names, ", "),
            did_you_mean(f, std::set<std::string>(names.begin(), names.end())));
     }
@@ -125,7 +144,8 @@ OutputOptions read_output(Section out, Problem& p) {
   // Error-controlled steps end exactly at the output times.
   if (controlled) p.step_control->landings.insert(p.step_control->landings.end(), o.times.begin(), o.times.end());
   o.vtu = out.boolean("vtu", true);
-  if (out.has("fields")) o.fields = read_fields(out);
+  const std::vector<std::string> surface = surface_names(p);
+  if (out.has("fields")) o.fields = read_fields(out, surface);
   check_fields_written(out, o.fields, p);
   o.encoding.compression = vtu_compression(out.choice("compression", {"zlib", "none"}, "zlib"));
   if (out.has("probes")) o.probes = read_probes(out, p.mesh.dim());

@@ -30,6 +30,20 @@ void append(Vector& v, const Vector& more) {
   v.tail(more.size()) = more;
 }
 
+/// Whether two lists of per-node state have the same fields (names and sizes).
+bool same_surface(const std::vector<SurfaceField>& a, const std::vector<SurfaceField>& b) {
+  return std::ranges::equal(a, b, [](const SurfaceField& x, const SurfaceField& y) {
+    return x.name == y.name && x.width == y.width && x.values.size() == y.values.size();
+  });
+}
+
+std::string surface_names(const std::vector<SurfaceField>& s) {
+  if (s.empty()) return "(none)";
+  std::string out;
+  for (const SurfaceField& f : s) out += (out.empty() ? "" : ", ") + f.name;
+  return out;
+}
+
 /// The whole state of a version-4 file or of a version-5 checkpoint (piece 0 and its pieces).
 Checkpoint read_whole(CheckpointFile& f) {
   require(f.head().index == 0, "checkpoint '{}': piece {} of {}, not a checkpoint's first file", f.name(),
@@ -49,6 +63,7 @@ Checkpoint read_whole(CheckpointFile& f) {
   c.snapshot.contact_warm = f.read(kContactWarm);
   c.pvd = f.pvd;
   c.totals = f.totals;
+  s.surface = f.surface;
   // The stored fields: those of contact nodes from piece 0, those of nodes and cells
   // piece after piece.
   std::array<Vector, kArrays> field;
@@ -429,6 +444,7 @@ Snapshot gather_snapshot(const TimeStepper& stepper) {
   for (const StateField& f : state_fields())
     if (f.stored() && f.location == FieldLocation::contact_node)  // every process holds all of them
       f.assign(g.state, f.values(st));
+  g.state.surface = st.surface;  // replicated too
   g.contact_warm = contact_warm;
   return g;
 }
@@ -462,6 +478,7 @@ void write_checkpoint(const TimeStepper& stepper, const fs::path& dir, const std
     f.t = st.t;
     f.grid = grid;
     f.contact_block = st.contact_block;
+    f.surface = &st.surface;
     if (pieces > 1)
       f.head = PieceHead{static_cast<std::uint64_t>(q), static_cast<std::uint64_t>(pieces),
                          static_cast<std::uint64_t>(node_split.begin(q)), static_cast<std::uint64_t>(node_split.end(q)),
@@ -551,6 +568,10 @@ std::optional<ResumePoint> resume_from_checkpoint(TimeStepper& stepper, const fs
               "checkpoint '{}': written by a run with {} contact unknowns per contact node, this problem has {} "
               "(another contact law): it cannot continue it",
               f.name(), f.contact_block(), block);
+      require(same_surface(f.surface, now.surface),
+              "checkpoint '{}': written by a run whose contact laws keep the per-node state {}, this problem's keep "
+              "{} (other contact laws): it cannot continue it",
+              f.name(), surface_names(f.surface), surface_names(now.surface));
       require(static_cast<long long>(f.count(kLambda)) == part.n_contact * block,
               "checkpoint '{}': does not fit this problem ({} contact forces for {} contact nodes)", f.name(),
               f.count(kLambda), part.n_contact * block);
@@ -632,6 +653,7 @@ std::optional<ResumePoint> resume_from_checkpoint(TimeStepper& stepper, const fs
   };
   for (const StateField& f : state_fields())
     if (f.stored() && f.location == FieldLocation::contact_node) f.assign(s.state, from_root(file_array(f.name)));
+  s.state.surface = first->surface;  // every process read piece 0's
   const std::vector<double> contact_warm = from_root(kContactWarm), control = from_root(kStepControl);
   la::on_root(comm, [&] {
     at.pvd = first->pvd;
@@ -658,6 +680,7 @@ fs::path write_checkpoint(const fs::path& dir, const Checkpoint& c, int keep) {
   f.t = s.t;
   f.grid = c.grid;
   f.contact_block = s.contact_block;
+  f.surface = &s.surface;
   for (const StateField& sf : state_fields())
     if (sf.stored()) f.arrays[file_array(sf.name)] = sf.values(s);
   f.arrays[kUFree] = values(c.snapshot.u_free);

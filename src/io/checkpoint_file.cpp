@@ -89,7 +89,8 @@ FileWriter::FileWriter(const fs::path& path, const FileContent& f) : file_(path)
   // The header's second u32: the contact block where it is above 1, else 0, so that the
   // checkpoints of a normal law are those of earlier versions.
   const std::uint32_t version = f.head ? kPiece : kWhole;
-  const auto block = static_cast<std::uint32_t>(f.contact_block == 1 ? 0 : f.contact_block);
+  const auto block = static_cast<std::uint32_t>(f.contact_block == 1 ? 0 : f.contact_block) |
+                     (f.surface && !f.surface->empty() ? kSurfaceFlag : 0u);
   const std::uint64_t unknown = 0;  // the payload's size and checksum: commit() writes them
   out.write(reinterpret_cast<const char*>(&version), sizeof version);
   out.write(reinterpret_cast<const char*>(&block), sizeof block);
@@ -127,6 +128,15 @@ PieceSum FileWriter::commit(const std::vector<PieceSum>& others) {
   require(next_ == arrays_in_file(f_.contact_block), "internal: a checkpoint file committed after {} of its {} arrays",
           next_, arrays_in_file(f_.contact_block));
   if (f_.whole_or_first()) {
+    if (f_.surface && !f_.surface->empty()) {  // by name: each field's name, width and values
+      pod<std::uint64_t>(f_.surface->size());
+      for (const SurfaceField& s : *f_.surface) {
+        string(s.name);
+        pod<std::uint64_t>(static_cast<std::uint64_t>(s.width));
+        pod<std::uint64_t>(static_cast<std::uint64_t>(s.values.size()));
+        bytes(s.values.data(), static_cast<std::size_t>(s.values.size()) * sizeof(double));
+      }
+    }
     pod<std::uint64_t>(f_.pvd->size());
     for (const auto& [t, file] : *f_.pvd) {
       pod(t);
@@ -205,6 +215,8 @@ CheckpointFile::CheckpointFile(const fs::path& file, bool verify) : path_(file),
           kPiece);
   require(bytes - kHeaderBytes == sum_.size, "checkpoint '{}': {} payload bytes, the header says {} (truncated?)",
           name(), bytes - kHeaderBytes, sum_.size);
+  has_surface = (block & kSurfaceFlag) != 0;
+  block &= ~kSurfaceFlag;
   require(block < 1024, "checkpoint '{}': a contact block of {} numbers per contact node (damaged header?)", name(),
           block);
   contact_block_ = block == 0 ? 1 : static_cast<int>(block);
@@ -293,6 +305,25 @@ void CheckpointFile::parse() {
           "checkpoint '{}': its arrays do not match its blocks (nodes [{}, {}), cells [{}, {}))", name(),
           head_.node_begin, head_.node_end, head_.cell_begin, head_.cell_end);
   if (head_.index == 0) {
+    if (has_surface) {
+      const auto n_fields = pod<std::uint64_t>();
+      need_items(n_fields, 3 * sizeof(std::uint64_t));
+      const std::uint64_t nodes = count_[kLambda] / static_cast<std::uint64_t>(contact_block_);
+      for (std::uint64_t i = 0; i < n_fields; ++i) {
+        SurfaceField f;
+        f.name = string();
+        const auto width = pod<std::uint64_t>(), size = pod<std::uint64_t>();
+        require(width >= 1 && width < 1024 && size == width * nodes,
+                "checkpoint '{}': the per-node state '{}' has {} values of width {} for {} contact nodes (damaged?)",
+                name(), f.name, size, width, nodes);
+        need_items(size, sizeof(double));
+        f.width = static_cast<int>(width);
+        f.values.resize(static_cast<Eigen::Index>(size));
+        in_.read(reinterpret_cast<char*>(f.values.data()), static_cast<std::streamsize>(size * sizeof(double)));
+        at_ += size * sizeof(double);
+        surface.push_back(std::move(f));
+      }
+    }
     const auto n_pvd = pod<std::uint64_t>();
     require(n_pvd < (1u << 30), "checkpoint '{}': implausible PVD entry count", name());
     for (std::uint64_t i = 0; i < n_pvd; ++i) {

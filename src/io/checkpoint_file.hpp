@@ -33,6 +33,9 @@ namespace fs = std::filesystem;
 // before the problem key, the time levels and the step-size state.
 constexpr std::uint32_t kWhole = 6, kPiece = 7, kWholeV4 = 4, kPieceV5 = 5;
 constexpr std::size_t kHeaderBytes = 8 + 2 * sizeof(std::uint32_t) + 2 * sizeof(std::uint64_t);
+/// In the header's contact-block word: the file (piece 0) holds the contact laws' per-node state
+/// (State::surface) after its arrays; files of a run without such state are those of before.
+constexpr std::uint32_t kSurfaceFlag = 1u << 16;
 
 // File names: checkpoint_NNNNN.bin (the whole state, or piece 0) and
 // checkpoint_NNNNN.pRRRR-of-PPPP.bin (piece r ≥ 1 of P).
@@ -102,6 +105,9 @@ struct FileContent {
   std::optional<PieceHead> head;
   int contact_block = 1;  // State::contact_block: λ's numbers per contact node
   std::array<Values, kArrays> arrays;
+  /// The contact laws' per-node state (State::surface; written in version 6 and piece 0, flagged in
+  /// every piece's header); null or empty: none.
+  const std::vector<SurfaceField>* surface = nullptr;
   const std::vector<std::pair<double, std::string>>* pvd = nullptr;  // version 6 and piece 0
   const RunTotals* totals = nullptr;
   std::vector<PieceSum> others;  // piece 0: pieces 1 … P − 1
@@ -181,6 +187,9 @@ class CheckpointFile {
   std::vector<std::pair<double, std::string>> pvd;  // the whole state's file or piece 0
   RunTotals totals;
   std::vector<PieceSum> others;  // piece 0 of several
+  /// Whether the run kept the contact laws' per-node state (kSurfaceFlag), and piece 0's copy of it.
+  bool has_surface = false;
+  std::vector<SurfaceField> surface;
 
   /// t_0 … t_n: kTimes, or the grid's levels (UniformGrid::levels). Piece 0 only.
   std::vector<double> times();

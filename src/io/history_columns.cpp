@@ -1,5 +1,7 @@
 #include "io/history_columns.hpp"
 
+#include "scheme/surface_state.hpp"
+
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
@@ -92,6 +94,8 @@ std::vector<std::string> history_column_names(const Problem& p, const MeshPart& 
   for (std::size_t j = 0; j < parts.size(); ++j)
     for (int i = 0; i < part.dofs.dim(); ++i)
       if (part.dirichlet_components[j] >> i & 1) names.push_back(fmt::format("reaction_{}_{}", parts[j], "xyz"[i]));
+  for (const SurfaceVariable& v : declared_surface_state(p.contact))  // the laws' per-node state, ∫_Γ3
+    if (!v.history.empty()) names.push_back(v.history);
   const int d = part.dofs.dim();
   if (p.contact.block_size(d) == 1) return names;
   for (const HistoryColumn& c : kFrictionColumns) names.emplace_back(c.name);
@@ -129,6 +133,7 @@ std::vector<HistoryValue> history_values(const StepReport& r) {
   for (double f : r.obstacle_force) row.push_back({f, F::exact});
   for (double f : r.pair_force) row.push_back({f, F::exact});
   for (double f : r.reaction) row.push_back({f, F::exact});
+  for (double f : r.surface_integral) row.push_back({f, F::exact});
   if (r.tangential_force.empty()) return row;  // no friction
   for (const HistoryColumn& c : kFrictionColumns) row.push_back({c.value(r), c.format});
   if (r.contact.n_open >= 0)  // a run with Tresca's bound (contact_totals)

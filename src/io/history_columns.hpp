@@ -35,7 +35,8 @@ std::span<const HistoryColumn> open_friction_columns();
 /// After history_columns, per case (totals over the case's nodes, never per contact node):
 /// the force on each obstacle (force_<name>, Problem::contact.obstacles order), then the
 /// reaction of each Dirichlet part (dirichlet_parts) in each component it prescribes
-/// (reaction_<part>_<x|y|z>; MeshPart::dirichlet_components: every process has them).
+/// (reaction_<part>_<x|y|z>; MeshPart::dirichlet_components: every process has them), then
+/// ∫_Γ3 of each contact law's per-node state variable that names a column (SurfaceVariable::history).
 /// With friction (only: a frictionless run's file is that of before) then
 /// friction_columns, the total tangential force (tangential_force_<x|y|z>, d components),
 /// that on each obstacle (tangential_force_<name>_<x|y|z>) and, with [[contact.part]]

@@ -69,18 +69,20 @@ const std::vector<std::string>& OutputOptions::field_names() {
   return names;
 }
 
-std::string OutputOptions::field(const std::string& name) {
+std::string OutputOptions::field(const std::string& name, const std::vector<std::string>& surface) {
   if (name == "damage") return "beta";  // β's field name in earlier versions: old case files keep working
   const auto& n = field_names();
-  return std::find(n.begin(), n.end(), name) != n.end() ? name : std::string();
+  return std::find(n.begin(), n.end(), name) != n.end() || std::ranges::find(surface, name) != surface.end()
+             ? name
+             : std::string();
 }
 
-void prepare_output_options(OutputOptions& o, const std::string& case_name) {
+void prepare_output_options(OutputOptions& o, const std::string& case_name, const std::vector<std::string>& surface) {
   if (o.directory.empty()) o.directory = fs::path("output") / case_name;
   for (auto& f : o.fields) {
-    const std::string field = OutputOptions::field(f);
-    require(!field.empty(), "output: unknown field '{}'; expected one of: {}", f,
-            fmt::join(OutputOptions::field_names(), ", "));
+    const std::string field = OutputOptions::field(f, surface);
+    require(!field.empty(), "output: unknown field '{}'; expected one of: {}{}{}", f,
+            fmt::join(OutputOptions::field_names(), ", "), surface.empty() ? "" : ", ", fmt::join(surface, ", "));
     f = field;
   }
   require(o.every >= 0, "output: 'every' must be >= 0 (got {})", o.every);
@@ -89,7 +91,9 @@ void prepare_output_options(OutputOptions& o, const std::string& case_name) {
 
 RunOutput::RunOutput(const TimeStepper& stepper, OutputOptions options)
     : stepper_(stepper), options_(std::move(options)) {
-  prepare_output_options(options_, stepper_.problem().name);
+  std::vector<std::string> surface;
+  for (const SurfaceField& f : stepper_.state().surface) surface.push_back(f.name);
+  prepare_output_options(options_, stepper_.problem().name, surface);
   for (const auto& x : options_.probes) probes_.push_back(locate_probe(x));
 }
 

@@ -45,8 +45,9 @@ struct OutputOptions {
   /// The names accepted in `fields`.
   static const std::vector<std::string>& field_names();
   /// The field a name in `fields` stands for: the name itself, or the field an
-  /// old name is kept for (damage: beta); empty when it names no field.
-  static std::string field(const std::string& name);
+  /// old name is kept for (damage: beta), or one of the contact laws' per-node state
+  /// (`surface`, State::surface's names); empty when it names no field.
+  static std::string field(const std::string& name, const std::vector<std::string>& surface = {});
 };
 
 /// A probe: the cell containing the point and the point's barycentric coordinates.
@@ -149,8 +150,10 @@ std::string summary_json(const Problem& problem, const RunSummary& summary, cons
 std::string iso8601_utc(std::chrono::system_clock::time_point t);
 
 /// Checks `options` and completes them for the case `case_name`: the default
-/// directory, the fields by their current names, the start time. Throws vpc::Error.
-void prepare_output_options(OutputOptions& options, const std::string& case_name);
+/// directory, the fields by their current names (`surface`: the contact laws' per-node state's,
+/// fields too), the start time. Throws vpc::Error.
+void prepare_output_options(OutputOptions& options, const std::string& case_name,
+                            const std::vector<std::string>& surface = {});
 
 /// The one writer of a run's files, for every backend and process count. Every
 /// member is collective (each process writes its piece; rank 0 the shared files).

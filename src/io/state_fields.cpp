@@ -288,6 +288,13 @@ void make_vtu_fields(const FieldContext& c, const std::vector<std::string>& want
     if (!wanted.empty() && std::find(wanted.begin(), wanted.end(), f.vtu) == wanted.end()) continue;
     (f.point_data() ? point_data : cell_data).push_back(f.vtu_field(c));
   }
+  for (const SurfaceField& f : c.state.surface) {  // the contact laws' declared state, after the table's
+    if (!wanted.empty() && std::find(wanted.begin(), wanted.end(), f.name) == wanted.end()) continue;
+    point_data.push_back(node_field(c, f.name, f.width, [&](double* out) {
+      for (const PartContactNode& n : c.part.contact)
+        for (int j = 0; j < f.width; ++j) out[n.local_node * f.width + j] = f.values[n.row * f.width + j];
+    }));
+  }
 }
 
 }  // namespace vpc

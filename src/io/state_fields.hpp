@@ -66,7 +66,8 @@ const StateField& state_field(std::string_view name);
 std::vector<std::string> vtu_field_names();
 
 /// The VTU point and cell arrays of the fields `wanted` (by VTU name; empty: all) that
-/// the state has.
+/// the state has, the contact laws' per-node state (State::surface, by its name; zero off Γ3)
+/// after the table's point arrays.
 void make_vtu_fields(const FieldContext& c, const std::vector<std::string>& wanted, std::vector<VtuField>& point_data,
                      std::vector<VtuField>& cell_data);
 

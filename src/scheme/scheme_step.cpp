@@ -3,6 +3,7 @@
 #include "fem/assembly.hpp"
 #include "scheme/contact_gap.hpp"
 #include "scheme/friction_data.hpp"
+#include "scheme/surface_state.hpp"
 
 #include <chrono>
 #include <utility>
@@ -39,6 +40,7 @@ StepTaken SchemeStep::take(const DiscreteSystem& sys, SchemeSolvers& solvers, co
   timed(rep.seconds_contact, [&] {
     out.data = step_data(sys, t_end);
     rep.contact = solve_contact(sys, *solvers.contact, s, u_free, out.data);
+    update_surface_state(sys, out.data.gap, u_free, k, s);  // the laws' per-node state at t_n
   });
   // Step 5, (3.6): ε_n, σ_n.
   timed(rep.seconds_stress, [&] { rep.max_von_mises = update_stress(sys, s); });

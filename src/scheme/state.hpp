@@ -4,9 +4,19 @@
 #include "core/sym_tensor.hpp"
 
 #include <Eigen/Dense>
+#include <string>
+#include <string_view>
 #include <vector>
 
 namespace vpc {
+
+/// One per-node state variable the contact laws declared (contact/surface_state.hpp), replicated
+/// like λ: `width` numbers per contact node, node after node in the rows' order.
+struct SurfaceField {
+  std::string name;
+  int width = 1;
+  Eigen::VectorXd values;
+};
 
 struct State {
   int n = 0;        // time index
@@ -31,6 +41,15 @@ struct State {
   /// With contact pairs (empty without), per contact node (replicated, like λ): the gap left,
   /// g(t_n) − N u_n (scheme/contact_gap.hpp); recomputed from u on a restore, not checkpointed.
   Eigen::VectorXd gap;
+  /// The contact laws' per-node state (SurfaceVariable), in the order of declared_surface_state
+  /// (scheme/surface_state.hpp); empty where no law keeps any.
+  std::vector<SurfaceField> surface;
+  /// The field of this name (nullptr: none).
+  const SurfaceField* surface_field(std::string_view name) const {
+    for (const SurfaceField& f : surface)
+      if (f.name == name) return &f;
+    return nullptr;
+  }
 };
 
 }  // namespace vpc

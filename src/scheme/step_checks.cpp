@@ -4,6 +4,7 @@
 #include "fem/assembly.hpp"
 #include "scheme/contact_tangents.hpp"
 #include "scheme/stability.hpp"
+#include "scheme/surface_state.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -156,8 +157,22 @@ void beta_range(const DiscreteSystem& sys, const State& s, StepReport& rep) {
   rep.beta_max = sys.part.comm.max(n ? s.beta.head(static_cast<Eigen::Index>(n)).maxCoeff() : -INFINITY);
 }
 
+/// ∫_Γ3 v of each per-node state variable with a history column (its owned nodes', summed).
+void surface_integrals(const DiscreteSystem& sys, const State& s, StepReport& rep) {
+  rep.surface_integral.clear();
+  for (const SurfaceVariable& v : declared_surface_state(sys.problem->contact)) {
+    if (v.history.empty()) continue;
+    const SurfaceField& f = *s.surface_field(v.name);
+    double sum = 0;
+    for (const PartContactNode& node : sys.part.contact)
+      if (node.owned) sum += f.values[node.row] * node.measure;
+    rep.surface_integral.push_back(sys.part.comm.sum(sum));
+  }
+}
+
 void report_step(const DiscreteSystem& sys, const State& s, const Vector& F, StepReport& rep) {
   contact_totals(sys, s, rep);
+  surface_integrals(sys, s, rep);
   reactions(sys, s, F, rep);
   beta_range(sys, s, rep);
 }

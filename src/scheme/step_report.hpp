@@ -55,6 +55,9 @@ struct StepReport {
   /// [[contact.part]]s', as ContactSpec::laws() begins; each node counted for its law), the normal
   /// force and the tangential force (d after d). A pair's rows count for their pair only.
   std::vector<double> part_force, part_tangential_force;
+  /// Per variable of the contact laws' per-node state that asks for a history column
+  /// (SurfaceVariable::history, in declared order): ∫_Γ3 v = Σ_i v_i |Γ3|_i.
+  std::vector<double> surface_integral;
   /// The reaction force on each Dirichlet part (dirichlet_parts order): the force its
   /// supports exert on the body, Σ over the part's nodes of (σ_n, ε(φ)) − F_n, in each
   /// component the part prescribes (DirichletDofs::components), in increasing order. A

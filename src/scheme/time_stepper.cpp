@@ -4,6 +4,7 @@
 #include "scheme/contact_gap.hpp"
 #include "scheme/sliding_pairs.hpp"
 #include "scheme/step_data.hpp"
+#include "scheme/surface_state.hpp"
 
 #include <chrono>
 #include <utility>
@@ -49,6 +50,7 @@ TimeStepper::TimeStepper(std::shared_ptr<const Problem> problem_in, MeshPart par
     state_.slip = Vector::Zero(part.n_contact);
     state_.contact_status = Vector::Zero(part.n_contact);
   }
+  state_.surface = initial_surface_state(p.contact, part.n_contact);
   u_free_ = Vector::Zero(part.n_owned_dofs);
   if (records_gap(sys_)) record_gap(sys_, checked_contact_gap(sys_, 0.0), u_free_, state_);
   const auto owned_beta = state_.beta.head(part.n_owned_nodes).array();

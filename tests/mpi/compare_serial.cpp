@@ -97,6 +97,7 @@ int run(int argc, char** argv) {
 
   bool ok = true;
   double worst[4] = {0, 0, 0, 0};  // u, β, λ, σ
+  double worst_surface = 0;        // the contact laws' per-node state
   int rank_failures = 0;
   while (!dist.done()) {
     const vpc::StepReport r = dist.step();
@@ -126,7 +127,15 @@ int run(int argc, char** argv) {
       const double e[4] = {rel_diff(u, st.u), rel_diff(beta, st.beta), rel_diff(dist.state().lambda, st.lambda, kForceFloor),
                            rel_diff(sigma, sigma_serial)};
       for (int j = 0; j < 4; ++j) worst[j] = std::max(worst[j], e[j]);
-      if (std::max({e[0], e[1], e[2], e[3]}) > tolerance || rs.contact.n_active != r.contact.n_active) {
+      // The contact laws' per-node state (State::surface), replicated like λ: the same fields, values within the tolerance.
+      bool surface = dist.state().surface.size() == st.surface.size();
+      for (std::size_t f = 0; surface && f < st.surface.size(); ++f) {
+        const double d = rel_diff(dist.state().surface[f].values, st.surface[f].values, kForceFloor);
+        worst_surface = std::max(worst_surface, d);
+        surface = dist.state().surface[f].name == st.surface[f].name && d <= tolerance;
+      }
+      if (!surface) fmt::print("  step {}: the per-node state differs from the serial run's\n", r.n);
+      if (std::max({e[0], e[1], e[2], e[3]}) > tolerance || rs.contact.n_active != r.contact.n_active || !surface) {
         fmt::print("  step {}: differs from the serial run: u {:.2e}, beta {:.2e}, lambda {:.2e}, sigma {:.2e}; active "
                    "{} vs {}\n",
                    r.n, e[0], e[1], e[2], e[3], r.contact.n_active, rs.contact.n_active);
@@ -142,8 +151,10 @@ int run(int argc, char** argv) {
   ok = vpc::allreduce_and(comm, ok && rank_failures == 0);
   if (rank == 0)
     fmt::print("{}: largest relative differences from the serial run over all steps: u {:.2e}, beta {:.2e}, "
-               "lambda {:.2e}, sigma {:.2e} (tolerance {:.0e}); checks on every rank: {}\n{}\n",
-               name, worst[0], worst[1], worst[2], worst[3], tolerance, rank_failures == 0 ? "ok" : "FAILED",
+               "lambda {:.2e}, sigma {:.2e}{} (tolerance {:.0e}); checks on every rank: {}\n{}\n",
+               name, worst[0], worst[1], worst[2], worst[3],
+               serial && !serial->state().surface.empty() ? fmt::format(", per-node state {:.2e}", worst_surface) : "",
+               tolerance, rank_failures == 0 ? "ok" : "FAILED",
                ok ? "PASSED" : "FAILED");
   return ok ? 0 : 1;
 }

@@ -90,10 +90,36 @@ void EllipticCoulomb::project_derivative(const double* z, int t, double s, doubl
   }
 }
 
+WornCoulomb::WornCoulomb(double mu, double wear) : mu_(mu), wear_(wear) {
+  require(mu >= 0 && wear >= 0 && std::isfinite(mu) && std::isfinite(wear), "worn-coulomb: mu >= 0 and wear >= 0");
+}
+
+WornCoulomb::WornCoulomb(FrictionKeys& keys) : WornCoulomb(keys.number("mu"), keys.number("wear", 1.0)) {}
+
+std::string WornCoulomb::describe() const { return fmt::format("Coulomb friction mu = {} with wear {}", mu_, wear_); }
+
+std::vector<SurfaceVariable> WornCoulomb::surface_state() const {
+  return {{"worn", 1, 0.0, "Archard's worn depth Σ wear λ_ν / |Γ3| |Δ| (test law)", "worn_volume"},
+          {"slip_path", 2, 0.0, "the slip path Σ |Δ| and the steps that updated it (test law)", ""}};
+}
+
+void WornCoulomb::update_surface(const SurfaceNode& node, std::span<double* const> values) const {
+  double slip = 0;
+  for (double d : node.slip_step) slip += d * d;
+  slip = std::sqrt(slip);
+  *values[0] += wear_ * std::max(node.lambda_nu, 0.0) / node.measure * slip;
+  values[1][0] += slip;
+  values[1][1] += 1;
+}
+
 void register_test_laws() {
-  static const bool registered = register_friction_law(
-      "elliptic-coulomb", [](FrictionKeys& keys) -> std::shared_ptr<const FrictionLaw> {
-        return std::make_shared<const EllipticCoulomb>(keys);
+  static const bool registered =
+      register_friction_law("elliptic-coulomb",
+                            [](FrictionKeys& keys) -> std::shared_ptr<const FrictionLaw> {
+                              return std::make_shared<const EllipticCoulomb>(keys);
+                            }) &&
+      register_friction_law("worn-coulomb", [](FrictionKeys& keys) -> std::shared_ptr<const FrictionLaw> {
+        return std::make_shared<const WornCoulomb>(keys);
       });
   (void)registered;
 }

@@ -28,6 +28,26 @@ class EllipticCoulomb final : public FrictionLaw {
   double mu_, a1_, a2_;
 };
 
+/// "worn-coulomb": Coulomb friction (key mu) that keeps Archard's worn depth as per-node state
+/// (contact/surface_state.hpp), with no effect on the step: "worn" += wear λ_ν / |Γ3|_i |Δ_i| after each
+/// step (key wear ≥ 0, default 1), ∫_Γ3 worn in history.csv as worn_volume, and "slip_path" += |Δ_i|
+/// (2 numbers per node: the path and the number of updates, one per accepted step), which must equal friction's own
+/// State::slip. It shows that a law's state reaches checkpoints, rollback, VTU, Python and history.csv
+/// with no code outside the law.
+class WornCoulomb final : public FrictionLaw {
+ public:
+  WornCoulomb(double mu, double wear);
+  explicit WornCoulomb(FrictionKeys& keys);
+  std::string name() const override { return "worn-coulomb"; }
+  std::string describe() const override;
+  double coefficient(const Point&) const override { return mu_; }
+  std::vector<SurfaceVariable> surface_state() const override;
+  void update_surface(const SurfaceNode& node, std::span<double* const> values) const override;
+
+ private:
+  double mu_, wear_;
+};
+
 /// Registers the test-only laws (once; every later call does nothing).
 void register_test_laws();
 

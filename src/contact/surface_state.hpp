@@ -1,0 +1,47 @@
+#pragma once
+// Per-node state a contact law keeps on Γ3 (issue 49; SPEC §9's bonding field α and worn depth ω
+// are such state). A normal or friction law declares its variables (name, numbers per node,
+// initial value) and updates its own nodes' values once a step is solved, from what the step
+// gave at the node. The rest is done once for every law: the values are replicated on every
+// process like λ (one value per contact node, in the rows' order), copied with the state so
+// that a rejected step rolls them back, checkpointed by name, written to the VTU files, viewed
+// from Python and, where the law asks, integrated over Γ3 in history.csv (scheme/surface_state.hpp,
+// io/state_fields.hpp, io/checkpoint.cpp).
+#include <span>
+#include <string>
+#include <vector>
+
+namespace vpc {
+
+/// One per-node state variable a law declares.
+struct SurfaceVariable {
+  std::string name;       // its VTU array, Python attribute and checkpoint array: [a-z][a-z0-9_]*
+  int width = 1;          // numbers per contact node
+  double initial = 0;     // every contact node's value at t_0
+  std::string meaning;    // one line for the docs and vpcontact.Fields
+  /// history.csv's column of ∫_Γ3 v = Σ_i v_i |Γ3|_i (width 1; "": none).
+  std::string history;
+};
+
+/// What a law's update sees at one of its nodes once the step is solved (forces as the solvers
+/// hold them: λ_ν ≥ 0 presses; the gap left g − N u ≥ 0 opens).
+struct SurfaceNode {
+  double lambda_nu = 0;
+  std::span<const double> lambda_tau;  // d − 1 tangential forces (empty without friction)
+  std::span<const double> slip_step;   // the step's slip increment along the tangents (empty without)
+  double gap_left = 0;
+  double measure = 0;  // |Γ3|_i
+  double k = 0;        // the step's size
+};
+
+/// The part of a law that keeps per-node state: none by default.
+class SurfaceHistory {
+ public:
+  virtual ~SurfaceHistory() = default;
+  virtual std::vector<SurfaceVariable> surface_state() const { return {}; }
+  /// A node's values after the step: values[v] holds the node's numbers of the v-th variable
+  /// surface_state() declared (in, its values at t_{n−1}; out, at t_n).
+  virtual void update_surface(const SurfaceNode& /*node*/, std::span<double* const> /*values*/) const {}
+};
+
+}  // namespace vpc

@@ -1,0 +1,25 @@
+#pragma once
+// The contact laws' per-node state (contact/surface_state.hpp) in the scheme: declared once per
+// problem, set to its initial values at t_0 and updated after each solved step by each node's own
+// laws. A rejected step restores the state it was taken from, surface fields included.
+#include "scheme/discrete_system.hpp"
+#include "scheme/state.hpp"
+
+#include <vector>
+
+namespace vpc {
+
+/// Every variable the problem's normal and friction laws declare, once by name, in the order of
+/// ContactSpec::laws() (each law's normal law, then its friction law). A name declared by two laws
+/// must be declared alike (width, initial value); a located vpc::Error otherwise.
+std::vector<SurfaceVariable> declared_surface_state(const ContactSpec& contact);
+
+/// State::surface at t_0: each declared variable at its initial value on every contact node.
+std::vector<SurfaceField> initial_surface_state(const ContactSpec& contact, int n_contact);
+
+/// After step n is solved (u_free, λ and the slip increments in s; `gap`: g(t_n) per owned row):
+/// each owned node's laws update their variables (SurfaceHistory::update_surface), and the values
+/// are replicated again. Collective; nothing where no law declares state.
+void update_surface_state(const DiscreteSystem& sys, const Vector& gap, const Vector& u_free, double k, State& s);
+
+}  // namespace vpc
