@@ -2,11 +2,12 @@
 // Per-node state a contact law keeps on Γ3 (issue 49; SPEC §9's bonding field α and worn depth ω
 // are such state). A normal or friction law declares its variables (name, numbers per node,
 // initial value) and updates its own nodes' values once a step is solved, from what the step
-// gave at the node. The rest is done once for every law: the values are replicated on every
-// process like λ (one value per contact node, in the rows' order), copied with the state so
-// that a rejected step rolls them back, checkpointed by name, written to the VTU files, viewed
-// from Python and, where the law asks, integrated over Γ3 in history.csv (scheme/surface_state.hpp,
-// io/state_fields.hpp, io/checkpoint.cpp).
+// gave at the node; the values may move the node's gap in the next step (gap_shift). The rest
+// is done once for every law: the values are replicated on every process like λ (one value per
+// contact node, in the rows' order), copied with the state so that a rejected step rolls them
+// back, checkpointed by name, written to the VTU files, viewed from Python and, where the law
+// asks, integrated over Γ3 in history.csv (scheme/surface_state.hpp, io/state_fields.hpp,
+// io/checkpoint.cpp).
 #include <span>
 #include <string>
 #include <vector>
@@ -42,6 +43,9 @@ class SurfaceHistory {
   /// A node's values after the step: values[v] holds the node's numbers of the v-th variable
   /// surface_state() declared (in, its values at t_{n−1}; out, at t_n).
   virtual void update_surface(const SurfaceNode& /*node*/, std::span<double* const> /*values*/) const {}
+  /// What the node's state adds to its gap g(t_n) (SPEC §9's worn depth: u_ν ≤ g + ω): step n solves
+  /// with the values at t_{n−1}, lagged as the scheme lags the damage source. 0 by default.
+  virtual double gap_shift(std::span<const double* const> /*values*/) const { return 0; }
 };
 
 }  // namespace vpc

@@ -39,8 +39,14 @@ StepTaken SchemeStep::take(const DiscreteSystem& sys, SchemeSolvers& solvers, co
   // Step 4, (3.9): u_n and λ_n, with the data of t_n.
   timed(rep.seconds_contact, [&] {
     out.data = step_data(sys, t_end);
+    out.data.gap_shift = surface_gap_shift(sys, s);  // the laws' per-node state at t_{n−1} moves g
+    if (out.data.gap_shift.size() > 0) out.data.gap += out.data.gap_shift;
     rep.contact = solve_contact(sys, *solvers.contact, s, u_free, out.data);
     update_surface_state(sys, out.data.gap, u_free, k, s);  // the laws' per-node state at t_n
+    // The gap left after the step (pairs' VTU "gap"): g(t_n) with the state at t_n, as a restore computes it.
+    record_gap(sys, out.data.gap_shift.size() > 0 ? Vector(out.data.gap - out.data.gap_shift + surface_gap_shift(sys, s))
+                                                  : out.data.gap,
+               u_free, s);
   });
   // Step 5, (3.6): ε_n, σ_n.
   timed(rep.seconds_stress, [&] { rep.max_von_mises = update_stress(sys, s); });
@@ -120,7 +126,6 @@ ContactReport SchemeStep::solve_contact(const DiscreteSystem& sys, ContactSolver
   }
   const ContactReport rep = contact.solve(f_.owned(), u_free, s.lambda);
   if (s.contact_block > 1) record_slip(sys, data.tresca, shift, u_free, kSlipForceShare * rep.residuals.force_scale, s);
-  record_gap(sys, data.gap, u_free, s);
   u_.owned() = u_free;
   u_.update_ghosts();
   // Into u's own storage (a moved temporary would replace it): the Python module's views

@@ -13,7 +13,9 @@ struct StepData {
   double t = 0;
   Vector F;    // the loads f0, f2 and the pressures at t (the part's full dofs)
   Vector u_D;  // the prescribed values at t, zero elsewhere; empty when every prescribed value is zero
-  Vector gap;  // g(t) at the owned contact rows, in row order
+  Vector gap;  // g(t) at the owned contact rows, in row order (with gap_shift)
+  /// What the contact laws' per-node state adds to g (surface_gap_shift; empty: nothing).
+  Vector gap_shift;
   Vector tresca;  // friction only: the Tresca bounds g_τ(x_i, t)|Γ3|_i at the owned rows (friction_bounds)
 };
 

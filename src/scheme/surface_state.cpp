@@ -55,13 +55,10 @@ std::vector<SurfaceField> initial_surface_state(const ContactSpec& contact, int 
   return fields;
 }
 
-void update_surface_state(const DiscreteSystem& sys, const Vector& gap, const Vector& u_free, double k, State& s) {
-  if (s.surface.empty()) return;
-  const MeshPart& part = sys.part;
-  const ContactSpec& contact = sys.problem->contact;
-  const int b = s.contact_block, t = b - 1;
-  const Vector left = gap - sys.N * u_free;  // g − N u per owned row
-  // Each law's declared variables as fields of s.surface, per laws() entry.
+namespace {
+
+/// Per laws() entry and per law of it (laws_of), the indices in s.surface of the variables it declared.
+std::vector<std::vector<std::vector<std::size_t>>> fields_of(const ContactSpec& contact, const State& s) {
   std::vector<std::vector<std::vector<std::size_t>>> field_of(contact.laws().size());
   for (std::size_t e = 0; e < field_of.size(); ++e)
     for (const SurfaceHistory* law : laws_of(contact, e)) {
@@ -70,6 +67,38 @@ void update_surface_state(const DiscreteSystem& sys, const Vector& gap, const Ve
         f.push_back(static_cast<std::size_t>(std::ranges::find(s.surface, v.name, &SurfaceField::name) - s.surface.begin()));
       field_of[e].push_back(std::move(f));
     }
+  return field_of;
+}
+
+}  // namespace
+
+Vector surface_gap_shift(const DiscreteSystem& sys, const State& s) {
+  if (s.surface.empty()) return {};
+  const ContactSpec& contact = sys.problem->contact;
+  const auto field_of = fields_of(contact, s);
+  std::vector<double> shift;
+  for (const PartContactNode& node : sys.part.contact) {
+    if (!node.owned) continue;
+    const auto e = static_cast<std::size_t>(node.law);
+    const auto laws = laws_of(contact, e);
+    double sum = 0;
+    for (std::size_t l = 0; l < laws.size(); ++l) {
+      std::vector<const double*> values;
+      for (std::size_t f : field_of[e][l]) values.push_back(s.surface[f].values.data() + node.row * s.surface[f].width);
+      if (!values.empty()) sum += laws[l]->gap_shift(values);
+    }
+    shift.push_back(sum);
+  }
+  return Eigen::Map<Vector>(shift.data(), static_cast<Eigen::Index>(shift.size()));
+}
+
+void update_surface_state(const DiscreteSystem& sys, const Vector& gap, const Vector& u_free, double k, State& s) {
+  if (s.surface.empty()) return;
+  const MeshPart& part = sys.part;
+  const ContactSpec& contact = sys.problem->contact;
+  const int b = s.contact_block, t = b - 1;
+  const Vector left = gap - sys.N * u_free;  // g − N u per owned row
+  const auto field_of = fields_of(contact, s);
   // This rank's rows updated in a copy that holds only them (zero elsewhere), then summed: one owner per row.
   std::vector<Vector> mine;
   for (const SurfaceField& f : s.surface) mine.push_back(Vector::Zero(f.values.size()));

@@ -17,7 +17,12 @@ std::vector<SurfaceVariable> declared_surface_state(const ContactSpec& contact);
 /// State::surface at t_0: each declared variable at its initial value on every contact node.
 std::vector<SurfaceField> initial_surface_state(const ContactSpec& contact, int n_contact);
 
-/// After step n is solved (u_free, λ and the slip increments in s; `gap`: g(t_n) per owned row):
+/// What the laws' state at t_{n−1} adds to the gap of step n (SurfaceHistory::gap_shift), per owned
+/// row in row order; empty where no law keeps state.
+Vector surface_gap_shift(const DiscreteSystem& sys, const State& s);
+
+/// After step n is solved (u_free, λ and the slip increments in s; `gap`: the gap it solved with per
+/// owned row, g(t_n) and the shift):
 /// each owned node's laws update their variables (SurfaceHistory::update_surface), and the values
 /// are replicated again. Collective; nothing where no law declares state.
 void update_surface_state(const DiscreteSystem& sys, const Vector& gap, const Vector& u_free, double k, State& s);

@@ -23,10 +23,11 @@ using namespace friction_test;
 const std::string kCoulomb = "friction = \"coulomb\"\nmu = 0.3";
 constexpr double kWear = 2e-3;
 
-Case worn_shear(const std::string& solver = "active-set") {
+Case worn_shear(const std::string& solver = "active-set", double gap_share = 0) {
   test::register_test_laws();
   Case c = case_of("shear-2d", replaced(shipped_text("shear-2d"), kCoulomb,
-                                        fmt::format("friction = \"worn-coulomb\"\nmu = 0.3\nwear = {}", kWear)));
+                                        fmt::format("friction = \"worn-coulomb\"\nmu = 0.3\nwear = {}\ngap_share = {}",
+                                                    kWear, gap_share)));
   c.solvers.contact = solver;
   return c;
 }
@@ -83,6 +84,42 @@ TEST(SurfaceState, TheLawsStateIsUpdatedEveryStepFromTheStepsForcesAndSlip) {
   EXPECT_LE(off_path, 1e-14);
   EXPECT_LE(off_volume, 1e-14);
   EXPECT_EQ(steps_off, 0);
+}
+
+// shear-2d's plane rises to y = 0.005 min(t, 1) under the face y = 0 (ν = −e_y): a node in contact has
+// u_y = p(t_n) − ω_{n−1} once the worn depth of the step before opens its gap, on both solvers.
+TEST(SurfaceState, StateThatMovesTheGapActsOnTheNextStep) {
+  for (const std::string solver : {"active-set", "primal-active-set"}) {
+    const Case c = worn_shear(solver, 1.0);
+    Vector before;
+    double off = 0, worn_max = 0, against_plain = 0;
+    int in_contact = 0;
+    Case coulomb = case_of("shear-2d", shipped_text("shear-2d"));
+    TimeStepper plain(coulomb.problem, coulomb.solvers);
+    run_to_end(c, [&](const TimeStepper& s, const StepReport& r) {
+      const State& st = s.state();
+      plain.step();
+      against_plain = std::max(against_plain, relative_difference(st.u, plain.state().u));
+      const Vector& worn = field(st, "worn").values;
+      if (before.size() == 0) before = Vector::Zero(worn.size());
+      const double p = 0.005 * std::min(r.t, 1.0);
+      for (const PartContactNode& node : s.part().contact) {
+        if (!(st.lambda[node.row * 2] > 0)) continue;
+        ++in_contact;
+        off = std::max(off, std::abs(st.u[node.local_node * 2 + 1] - (p - before[node.row])) / 0.005);
+      }
+      worn_max = std::max(worn_max, worn.maxCoeff());
+      before = worn;
+    });
+    std::printf("  %s: worn depth up to %.3g opens the gap: |u_y - (p - w_(n-1))| / 0.005 <= %.3g over %d node-steps "
+                "in contact; u against Coulomb's run %.3g\n",
+                solver.c_str(), worn_max, off, in_contact, against_plain);
+    EXPECT_GT(in_contact, 100);
+    // The dual meets an active row's gap to round-off; the primal's frictional iteration stops at its
+    // slip-force tolerance (a tenth of the step's residual tolerance), which leaves 1.5e-11 here.
+    EXPECT_LE(off, solver == "active-set" ? 1e-12 : 1e-10);
+    EXPECT_GT(against_plain, 1e-3);  // the worn face carries the plane's push differently
+  }
 }
 
 TEST(SurfaceState, ARejectedStepRollsTheStateBack) {

@@ -90,11 +90,13 @@ void EllipticCoulomb::project_derivative(const double* z, int t, double s, doubl
   }
 }
 
-WornCoulomb::WornCoulomb(double mu, double wear) : mu_(mu), wear_(wear) {
-  require(mu >= 0 && wear >= 0 && std::isfinite(mu) && std::isfinite(wear), "worn-coulomb: mu >= 0 and wear >= 0");
+WornCoulomb::WornCoulomb(double mu, double wear, double gap_share) : mu_(mu), wear_(wear), gap_share_(gap_share) {
+  require(mu >= 0 && wear >= 0 && gap_share >= 0 && std::isfinite(mu) && std::isfinite(wear) && std::isfinite(gap_share),
+          "worn-coulomb: mu >= 0, wear >= 0 and gap_share >= 0");
 }
 
-WornCoulomb::WornCoulomb(FrictionKeys& keys) : WornCoulomb(keys.number("mu"), keys.number("wear", 1.0)) {}
+WornCoulomb::WornCoulomb(FrictionKeys& keys)
+    : WornCoulomb(keys.number("mu"), keys.number("wear", 1.0), keys.number("gap_share", 0.0)) {}
 
 std::string WornCoulomb::describe() const { return fmt::format("Coulomb friction mu = {} with wear {}", mu_, wear_); }
 

@@ -33,19 +33,21 @@ class EllipticCoulomb final : public FrictionLaw {
 /// step (key wear ≥ 0, default 1), ∫_Γ3 worn in history.csv as worn_volume, and "slip_path" += |Δ_i|
 /// (2 numbers per node: the path and the number of updates, one per accepted step), which must equal friction's own
 /// State::slip. It shows that a law's state reaches checkpoints, rollback, VTU, Python and history.csv
-/// with no code outside the law.
+/// with no code outside the law. With gap_share > 0 (default 0) the worn depth opens the gap of the
+/// next step, u_ν ≤ g + gap_share ω (SPEC §9's lagged wear), showing state that acts on the step.
 class WornCoulomb final : public FrictionLaw {
  public:
-  WornCoulomb(double mu, double wear);
+  WornCoulomb(double mu, double wear, double gap_share = 0);
   explicit WornCoulomb(FrictionKeys& keys);
   std::string name() const override { return "worn-coulomb"; }
   std::string describe() const override;
   double coefficient(const Point&) const override { return mu_; }
   std::vector<SurfaceVariable> surface_state() const override;
   void update_surface(const SurfaceNode& node, std::span<double* const> values) const override;
+  double gap_shift(std::span<const double* const> values) const override { return gap_share_ * *values[0]; }
 
  private:
-  double mu_, wear_;
+  double mu_, wear_, gap_share_;
 };
 
 /// Registers the test-only laws (once; every later call does nothing).
