@@ -89,8 +89,8 @@ class FrictionLaw : public SurfaceHistory {
   virtual void project(const double* z, int t, double r, double* p) const;
   /// P's derivative at a z outside C_s: ∂p/∂z (t × t, row-major: dp_dz[j t + l] = ∂p_j/∂z_l) and ∂p/∂s (t).
   virtual void project_derivative(const double* z, int t, double s, double* dp_dz, double* dp_ds) const;
-  /// Whether C_s is the Euclidean disc (the default): the solvers' steps that use the disc's own geometry
-  /// (the primal solver's slip springs, the dual's slip before leaving contact and resolvable radius) need it.
+  /// Whether C_s is the Euclidean disc (the default): its rows keep the solvers' own arithmetic (the primal's
+  /// springs k(I − nnᵀ)) and the steps that use its geometry (the dual's slip before leaving contact, its radius).
   virtual bool disc() const { return true; }
 };
 

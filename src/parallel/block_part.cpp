@@ -180,11 +180,10 @@ ProblemSize block_problem_size(const la::Comm& comm, const Problem& p, const Con
   for (int v = 0; v < mesh.n_nodes(); ++v)
     if (mine(v)) own[0] += free_components(dirichlet, v, d);
   const auto laws = p.contact.laws();
-  const auto frictions = p.contact.frictions();
   for (const ContactRow& r : *contact_rows_of(p, dirichlet.condition, built))
     if (mine(r.node)) {
       own[1] += 1;
-      own[2] += dual_only(*laws[static_cast<std::size_t>(r.law)], frictions[static_cast<std::size_t>(r.law)].get());
+      own[2] += dual_only(*laws[static_cast<std::size_t>(r.law)]);
     }
   // The node graph's entries in the rank's rows: each own node's distinct neighbours (itself too),
   // found through its cells (CSR, 4 bytes a cell's node) and marked, not as sorted pairs of every

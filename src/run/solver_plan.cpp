@@ -124,9 +124,8 @@ ProblemSize problem_size(const Problem& p, const ContactRows& built) {
   s.contact_nodes = static_cast<double>(rows.size());
   s.contact_unknowns = s.contact_nodes * p.contact.block_size(d);
   const auto laws = p.contact.laws();
-  const auto frictions = p.contact.frictions();
   s.dual_only = std::ranges::any_of(rows, [&](const ContactRow& r) {
-    return dual_only(*laws[static_cast<std::size_t>(r.law)], frictions[static_cast<std::size_t>(r.law)].get());
+    return dual_only(*laws[static_cast<std::size_t>(r.law)]);
   });
   const SparseMatrix G = node_graph(mesh);
   s.node_nonzeros = 2.0 * static_cast<double>(G.nonZeros()) - s.nodes;

@@ -10,19 +10,16 @@
 
 namespace vpc {
 
-bool dual_only(const ContactLaw& law, const FrictionLaw* friction) {
-  return !law.linear() || (friction && !friction->disc());
-}
+bool dual_only(const ContactLaw& law) { return !law.linear(); }
 
 ContactNeeds contact_needs(const la::Comm& comm, const ContactConstraints& c) {
   ContactNeeds n;
   n.friction = c.frictional();
-  bool compliant = false, nonlinear = false, non_disc = false;  // on this rank's rows
+  bool compliant = false, nonlinear = false;  // on this rank's rows
   for (Eigen::Index i = 0; i < static_cast<Eigen::Index>(c.law.size()); ++i) {
     const ContactLaw& law = c.law_of(i);
     compliant = compliant || !law.rigid();
     nonlinear = nonlinear || !law.linear();
-    non_disc = non_disc || (n.friction && !c.friction_of(i).disc());
   }
   n.compliant = comm.any(compliant);
   // The laws are the same list on every rank: each names the law from the list, whether or not it has such a row.
@@ -30,12 +27,6 @@ ContactNeeds contact_needs(const la::Comm& comm, const ContactConstraints& c) {
     for (const auto& law : c.laws)
       if (!law->linear()) {
         n.nonlinear = law->kind();
-        break;
-      }
-  if (comm.any(non_disc))
-    for (const auto& f : c.frictions)
-      if (f && !f->disc()) {
-        n.non_disc = f->name();
         break;
       }
   n.pair_sides_mixed = !comm.all(masters_apart_from_slaves(c.N, c.node_dofs, c.master_mean));
@@ -48,10 +39,6 @@ std::string cannot_solve(const std::string& solver, const ContactNeeds& needs) {
       return fmt::format("contact solver 'primal-active-set' solves Signorini and linear normal compliance rows; a {} "
                          "needs 'active-set'",
                          needs.nonlinear);
-    if (!needs.non_disc.empty())
-      return fmt::format("contact solver 'primal-active-set' solves friction laws whose set is a disc (coulomb, "
-                         "tresca); friction = \"{}\" needs 'active-set'",
-                         needs.non_disc);
     if (needs.pair_sides_mixed)
       return "contact solver 'primal-active-set': a node is on the slave side of one contact pair row and the master "
              "side of another; --contact-solver active-set solves it";
@@ -76,8 +63,6 @@ ContactSolverPick pick_contact_solver(const std::string& requested, int m, const
   if (requested != "auto") return {requested, "as asked"};
   // Where the primal cannot solve it, the dual does (the table's first row solves everything).
   if (!needs.nonlinear.empty()) return {"active-set", "auto: a nonlinear compliance law is solved on the dual"};
-  if (!needs.non_disc.empty())
-    return {"active-set", fmt::format("auto: friction = \"{}\" (a set that is not a disc) is solved on the dual", needs.non_disc)};
   // With friction the dual's unknowns are m × block (λ_ν and the tangential forces of each node).
   const int n = m * block;
   const std::string unknowns =

@@ -6,8 +6,10 @@
 //                        friction   compliance   a law that is     a friction set    a node on both
 //                                                not linear        not a disc        sides of pairs
 //   active-set (dual)    yes        yes          yes               yes               yes
-//   primal-active-set    yes        linear       no                no                no
+//   primal-active-set    yes        linear       no                yes               no
 //   penalty-duality      no         no           no                no                yes
+// (Both frictional solvers ask each node's friction law for its set: the dual's Alart–Curnier
+// projection, the primal's Hüeber–Stadler–Wohlmuth linearization; primal_friction.hpp.)
 #include "solvers/contact_solver.hpp"
 
 #include <string>
@@ -20,14 +22,13 @@ struct ContactNeeds {
   bool friction = false;         // a friction law on some row (λ has d numbers a node)
   bool compliant = false;        // some row's normal law is not Signorini
   std::string nonlinear;         // a normal law that is not linear: its kind ("a power-law compliance"); empty: none
-  std::string non_disc;          // a friction law whose set is not the disc: its name; empty: none
   bool pair_sides_mixed = false; // a node on the slave side of one pair row and the master side of another
 };
 
-/// Whether a row with these laws can only be solved by the dual (the table's "no" of the primal for
-/// a law: a normal law that is not linear, a friction set that is not a disc; `friction` nullptr: none):
-/// what auto's plan before set-up asks of each row (run/solver_plan.hpp).
-bool dual_only(const ContactLaw& law, const FrictionLaw* friction);
+/// Whether a row with this normal law can only be solved by the dual (the table's "no" of the primal
+/// for a law: a normal law that is not linear; every friction law is solved by both): what auto's
+/// plan before set-up asks of each row (run/solver_plan.hpp).
+bool dual_only(const ContactLaw& law);
 
 /// The needs of `c` (collective: every rank gets the same answer).
 ContactNeeds contact_needs(const la::Comm& comm, const ContactConstraints& c);

@@ -19,12 +19,13 @@ la::Perturbation CoulombCoupling::build(const PrimalOperator& op, const PrimalFr
   for (size_t i = 0; i < rows.size(); ++i) {
     const auto e = static_cast<Eigen::Index>(i);
     if (!couple || !active[i] || friction.stick()[i] || !(c.mu[e] > 0) || friction.direction(i).isZero(0.0)) continue;
-    // At its shear limit the bound does not move with λ_ν: the force s n stays a load.
-    if (c.limit.size() > 0 && friction.slip_force(i).norm() >= (1 - 1e-12) * c.limit[e]) continue;
+    // At its shear limit the bound does not move with λ_ν: the force s n stays a load (its size
+    // |s n|_C = s to s's rounding).
+    if (force_size(c.friction_of(e), friction.slip_force(i)) >= (1 - 1e-12) * c.bound_of(e).limit) continue;
     coupled_[i] = 1;
     const RotatedRow& row = rows[i];
     const bool law = law_determines(e, c);
-    if (law) law_rows_.push_back({{}, Vector::Zero(t), 1 / c.mu[e]});
+    if (law) law_rows_.push_back({{}, Vector::Zero(t), friction.along(i), 1 / c.mu[e]});
     for (int j = 0; j < t; ++j) {
       const int dof = friction.tangent_dof(i, j);
       if (law) {
@@ -87,7 +88,7 @@ void CoulombCoupling::weigh(Vector& y) const {
   for (const LawRow& x : law_rows_) {
     double along = 0;
     for (std::size_t j = 0; j < x.dofs.size(); ++j)
-      if (x.dofs[j] >= 0) along += x.n[static_cast<Eigen::Index>(j)] * y[x.dofs[j]];
+      if (x.dofs[j] >= 0) along += x.v[static_cast<Eigen::Index>(j)] * y[x.dofs[j]];
     for (std::size_t j = 0; j < x.dofs.size(); ++j)
       if (const int dof = x.dofs[j]; dof >= 0) {
         const double n = x.n[static_cast<Eigen::Index>(j)];
@@ -99,9 +100,10 @@ void CoulombCoupling::weigh(Vector& y) const {
 double CoulombCoupling::law_normal_force(Eigen::Index i, const Vector& r, const PrimalFriction& friction,
                                          const ContactConstraints& c) {
   const auto row = static_cast<std::size_t>(i);
+  const Vector v = friction.along(row);
   double along = 0;
   for (int j = 0; j < friction.tangents(); ++j)
-    if (const int dof = friction.tangent_dof(row, j); dof >= 0) along += friction.direction(row)[j] * r[dof];
+    if (const int dof = friction.tangent_dof(row, j); dof >= 0) along += v[j] * r[dof];
   return c.bound_of(i).normal_force_at(along);
 }
 

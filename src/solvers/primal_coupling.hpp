@@ -23,8 +23,9 @@ class CoulombCoupling {
   /// `rhs`. A direct solver's spring change since its factor (PrimalOperator::spring_change) joins
   /// C, solved with it by GMRES. Empty: nothing to add on any rank (a plain solve). Sets coupled().
   ///
-  /// A law_determines row's equation along n_i (−λ_τ(w)·n + tresca + μ λ_ν(w) = 0) is solved over μ:
-  /// the system is D (A + C) δ = D r with D = I − (1 − 1/μ) n nᵀ on its tangent dofs (weigh()), its
+  /// A law_determines row's equation along n_i (−λ_τ(w)·v + tresca + μ λ_ν(w) = 0, v = the row's
+  /// PrimalFriction::along: n on the disc) is solved over μ: the system is D (A + C) δ = D r with
+  /// D = I − (1 − 1/μ) n vᵀ on its tangent dofs (weigh(); v·n = 1, vᵀ the spring = 0), its
   /// coupling entries and right-hand side (`law_rhs`) made over μ here (μ n_j/α → n_j/α: D C without
   /// forming μ K, 1e303 at μ = 1e300), and C' = (D − I) A + D (the spring change) + those entries.
   /// That equation carries μ times K w's round-off (μ = 1e8: a residual 5x the friction tolerance,
@@ -34,8 +35,8 @@ class CoulombCoupling {
   la::Perturbation build(const PrimalOperator& op, const PrimalFriction& friction, bool couple,
                          const std::vector<char>& active, const Vector& b, Vector& rhs, Vector& law_rhs);
 
-  /// y ← D y (build()): at each law row's tangent dofs the part along n over μ (as (y − (y·n) n) +
-  /// (y·n)/μ n: 1 − 1/μ is 1 in floating point at μ = 1e300, and D would be singular).
+  /// y ← D y (build()): at each law row's tangent dofs the part along n over μ (as (y − (y·v) n) +
+  /// (y·v)/μ n: 1 − 1/μ is 1 in floating point at μ = 1e300, and D would be singular).
   void weigh(Vector& y) const;
   /// Whether some rank has law rows (D is not the identity): the right-hand side is weighed too.
   bool weighted() const { return weighted_; }
@@ -53,7 +54,7 @@ class CoulombCoupling {
   bool law_determines(Eigen::Index i, const ContactConstraints& c) const {
     return static_cast<std::size_t>(i) < coupled_.size() && coupled_[static_cast<std::size_t>(i)] && c.mu[i] > 1;
   }
-  /// λ_ν = (λ_τ · n − tresca)/μ with λ_τ the reaction r at the row's tangent dofs.
+  /// λ_ν = (λ_τ · v − tresca)/μ with λ_τ the reaction r at the row's tangent dofs (v: PrimalFriction::along).
   static double law_normal_force(Eigen::Index i, const Vector& r, const PrimalFriction& friction,
                                  const ContactConstraints& c);
 
@@ -65,10 +66,10 @@ class CoulombCoupling {
     double coefficient;
     bool reaction;
   };
-  /// A law_determines row's tangent dofs (−1 where none), its direction n and 1/μ (weigh()).
+  /// A law_determines row's tangent dofs (−1 where none), its direction n, its v and 1/μ (weigh()).
   struct LawRow {
     std::vector<int> dofs;
-    Vector n;
+    Vector n, v;
     double inverse;
   };
   std::vector<Entry> entries_;

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace vpc {
 
@@ -27,6 +28,71 @@ PrimalFriction::PrimalFriction(const ContactConstraints& c, const Vector& diagon
   spring_.assign(rows, 0.0);
   force_ = Vector::Zero(static_cast<Eigen::Index>(dof_.size()));
   direction_ = force_;
+  normal_ = force_;
+  for (std::size_t i = 0; i < rows; ++i) disc_.push_back(c.friction_of(static_cast<Eigen::Index>(i)).disc());
+}
+
+namespace {
+
+/// ν̂ at a point p of ∂C_1 of a law with two tangents: the unit ν whose support point (∂P/∂s at s = 0,
+/// the point of C_1 where ν·x is largest) lies along p, by the secant method on its angle from `guess`'s
+/// (on the disc, and an ellipse of equal axes, one step gives p/|p|).
+Vector normal_at(const FrictionLaw& law, const Vector& p, const Vector& guess) {
+  auto off = [&](double phi) {  // the angle from the support point of ν(φ) to p
+    const double nu[2] = {std::cos(phi), std::sin(phi)};
+    double D[4], g[2];
+    law.project_derivative(nu, 2, 0.0, D, g);
+    return std::atan2(g[0] * p[1] - g[1] * p[0], g[0] * p[0] + g[1] * p[1]);
+  };
+  double a = std::atan2(guess[1], guess[0]), fa = off(a), b = a + fa, fb = off(b);
+  for (int it = 0; it < 50 && fb != 0 && fb != fa && std::abs(b - a) > 1e-15; ++it) {
+    const double c = b - fb * (b - a) / (fb - fa);
+    a = b, fa = fb, b = c, fb = off(b);
+  }
+  Vector nu(2);
+  nu << std::cos(b), std::sin(b);
+  return nu;
+}
+
+}  // namespace
+
+double force_size(const FrictionLaw& law, Eigen::Ref<const Vector> l) {
+  return law.disc() ? l.norm() : law.gauge(l.data(), static_cast<int>(l.size()));
+}
+
+PrimalFriction::Slip PrimalFriction::slip(const FrictionLaw& law, std::size_t i, const Vector& z, double s) const {
+  Slip out;
+  if (law.disc()) {  // n = ν̂ = z/|z|, k = s γ c/(|z| − s), as the disc's rows were computed before the laws
+    const double norm = z.norm();
+    out.force = s / norm * z;
+    out.direction = z / norm;
+    out.normal = out.direction;
+    out.spring = s * gamma_ * scale_[i] / (norm - s);
+    return out;
+  }
+  // The law's P, D = ∂P/∂z and p_s = ∂P/∂s at (z, s): n = (I − D)⁻¹ p_s, ν̂ ∥ z − P, k = γ c d/(1 − d).
+  const int t = t_;
+  Vector p(t), dp_ds(t);
+  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> D(t, t);
+  law.project(z.data(), t, s, p.data());
+  law.project_derivative(z.data(), t, s, D.data(), dp_ds.data());
+  out.direction = (Eigen::MatrixXd::Identity(t, t) - D).partialPivLu().solve(dp_ds);
+  out.force = s * out.direction;
+  out.normal = z - p;
+  out.normal /= out.normal.norm();  // z outside C_s: z ≠ P(z)
+  if (t == 2) {
+    const Eigen::Vector2d across(-out.normal[1], out.normal[0]);
+    const double d = across.dot(D * across);  // D's eigenvalue across ν̂, in [0, 1) outside C_s
+    out.spring = d <= 0 ? 0.0 : d < 1 ? gamma_ * scale_[i] * d / (1 - d) : std::numeric_limits<double>::infinity();
+  }
+  return out;
+}
+
+Vector PrimalFriction::along(std::size_t i) const {
+  if (disc_[i]) return direction(i);
+  const auto seg = normal_.segment(static_cast<Eigen::Index>(i) * t_, t_);
+  const double dot = seg.dot(direction(i));
+  return dot != 0 ? Vector(seg / dot) : Vector(Vector::Zero(t_));
 }
 
 void PrimalFriction::start(const ContactConstraints& c, const std::vector<char>& active, const Vector& normal,
@@ -41,9 +107,16 @@ void PrimalFriction::start(const ContactConstraints& c, const std::vector<char>&
     stick_[i] = 0;
     if (active[i] && tangential.size() == force_.size() && normal[e] > 0) {
       const auto l = tangential.segment(e * t_, t_);
-      const double bound = c.bound(e, normal[e]), norm = l.norm();
+      const FrictionLaw& law = c.friction_of(e);
+      const double bound = c.bound(e, normal[e]), norm = force_size(law, l);
       if (contact_status(normal[e], norm, bound) == ContactStatus::Slip) {
         if (norm > 0) force_.segment(e * t_, t_) = bound / norm * l, direction_.segment(e * t_, t_) = l / norm;
+        // (Another set's: l/|l|_C on ∂C_1, its spring across the set's normal there, as the disc's.)
+        if (!disc_[i] && norm > 0) {
+          auto nu = normal_.segment(e * t_, t_);
+          const Vector n = l / norm;
+          nu = t_ == 1 ? Vector(n.cwiseSign()) : normal_at(law, n, nu.isZero(0.0) ? n : Vector(nu));
+        }
         if (!slipped) spring_[i] = 0;  // else the last solve's spring: Newton's from the first iterate
         continue;
       }
@@ -60,38 +133,34 @@ void PrimalFriction::fix(std::vector<char>& fixed) const {
         if (const int dof = dof_[i * t_ + j]; dof >= 0) fixed[dof] = 1;
 }
 
-Eigen::MatrixXd PrimalFriction::across(std::size_t i) const { return across(i, spring_[i], force_); }
-
-Eigen::MatrixXd PrimalFriction::across(std::size_t i, double k, const Vector& force) const {
-  // k (I − nnᵀ) over the row's tangents that have a dof (n = the slip force's direction).
+Eigen::MatrixXd PrimalFriction::across(std::size_t i) const {
+  // k (I − ν̂ν̂ᵀ) over the row's tangents that have a dof (on the disc ν̂ = the slip force's direction).
+  const double k = spring_[i];
   Eigen::MatrixXd P = Eigen::MatrixXd::Zero(t_, t_);
-  const auto f = force.segment(static_cast<Eigen::Index>(i) * t_, t_);
+  const auto f = force_.segment(static_cast<Eigen::Index>(i) * t_, t_);
   if (stick_[i] || !(k > 0) || !(f.norm() > 0)) return P;
-  const Vector n = f / f.norm();
+  const Vector n = disc_[i] ? Vector(f / f.norm()) : Vector(normal_.segment(static_cast<Eigen::Index>(i) * t_, t_));
   P = k * (Eigen::MatrixXd::Identity(t_, t_) - n * n.transpose());
   for (int j = 0; j < t_; ++j)
     if (dof_[i * t_ + j] < 0) P.row(j).setZero(), P.col(j).setZero();
   return P;
 }
 
-void PrimalFriction::springs(std::vector<Eigen::Triplet<double>>& out) const { add_springs(spring_, force_, out); }
+void PrimalFriction::springs(std::vector<Eigen::Triplet<double>>& out) const {
+  for (std::size_t i = 0; i < stick_.size(); ++i) {
+    if (stick_[i] || !(spring_[i] > 0)) continue;
+    const Eigen::MatrixXd P = across(i);
+    for (int a = 0; a < t_; ++a)
+      for (int b = 0; b < t_; ++b)
+        if (P(a, b) != 0) out.emplace_back(dof_[i * t_ + a], dof_[i * t_ + b], P(a, b));
+  }
+}
 
 void PrimalFriction::spring_pattern(std::vector<Eigen::Triplet<double>>& out) const {
   for (std::size_t i = 0; i < stick_.size(); ++i)
     for (int a = 0; a < t_; ++a)
       for (int b = 0; b < t_; ++b)
         if (dof_[i * t_ + a] >= 0 && dof_[i * t_ + b] >= 0) out.emplace_back(dof_[i * t_ + a], dof_[i * t_ + b], 0.0);
-}
-
-void PrimalFriction::add_springs(const std::vector<double>& spring, const Vector& force,
-                                 std::vector<Eigen::Triplet<double>>& out) const {
-  for (std::size_t i = 0; i < stick_.size(); ++i) {
-    if (stick_[i] || !(spring[i] > 0)) continue;
-    const Eigen::MatrixXd P = across(i, spring[i], force);
-    for (int a = 0; a < t_; ++a)
-      for (int b = 0; b < t_; ++b)
-        if (P(a, b) != 0) out.emplace_back(dof_[i * t_ + a], dof_[i * t_ + b], P(a, b));
-  }
 }
 
 void PrimalFriction::load(const ContactConstraints& c, const std::vector<char>& coupled, Vector& rhs,
@@ -135,6 +204,7 @@ PrimalFriction::Next PrimalFriction::next(const ContactConstraints& c, const Vec
   n.stick.assign(stick_.size(), 0);
   n.force = Vector::Zero(force_.size());
   n.direction = n.force;
+  n.normal = n.force;
   n.spring.assign(stick_.size(), 0.0);
   n.excess.assign(stick_.size(), -1.0);
   Vector q(t_);
@@ -146,7 +216,8 @@ PrimalFriction::Next PrimalFriction::next(const ContactConstraints& c, const Vec
       if (const int dof = dof_[static_cast<std::size_t>(k)]; dof >= 0)
         q[j] = tangential[k] + gamma_ * scale_[i] * (w[dof] - c.shift[k]);
     }
-    const double bound = bound_of[e], norm = q.norm();
+    const FrictionLaw& law = c.friction_of(e);
+    const double bound = bound_of[e], norm = force_size(law, q);
     // A zero bound (no friction law, or no normal force yet) is slip with no force. In 2D a slip
     // row that slid against its force (Δ·λ_τ < 0: no slip state has that) sticks rather than turn
     // round: q flips with the overshoot of a force that the body's stiffness cannot take, and the
@@ -157,12 +228,16 @@ PrimalFriction::Next PrimalFriction::next(const ContactConstraints& c, const Vec
     const bool reversed = t_ == 1 && !stick_[i] && (q - used).dot(used) < 0;
     n.stick[i] = bound > 0 && (norm <= bound || reversed);
     if (n.stick[i]) continue;
-    // (A direction only where the bound acts: a frictionless row, or one out of contact, has none.)
-    if (norm > 0 && bound > 0) n.force.segment(e * t_, t_) = bound / norm * q, n.direction.segment(e * t_, t_) = q / norm;
-    // k = s c/(|q| − s), at most kMostSpring c: a row that only just slips is nearly stuck across
-    // its direction; beyond that bound the spring only slows the operator's conditioning.
-    if (t_ > 1 && bound > 0)
-      n.spring[i] = std::min(bound * gamma_ * scale_[i] / (norm - bound), primal_tuning::kMostSpring * scale_[i]);
+    // (A direction only where the bound acts: a frictionless row, or one out of contact, has none;
+    // not stick, a row with a bound has |q|_C > s > 0.)
+    if (norm > 0 && bound > 0) {
+      const Slip at = slip(law, i, q, bound);
+      n.force.segment(e * t_, t_) = at.force, n.direction.segment(e * t_, t_) = at.direction;
+      if (!disc_[i]) n.normal.segment(e * t_, t_) = at.normal;
+      // k = s γ c/(|q| − s) on the disc, at most kMostSpring c: a row that only just slips is nearly
+      // stuck across its direction; beyond that bound the spring only slows the operator's conditioning.
+      if (t_ > 1) n.spring[i] = std::min(at.spring, primal_tuning::kMostSpring * scale_[i]);
+    }
     if (stick_[i]) n.excess[i] = norm - bound;
     else n.change = std::max(n.change, (n.force.segment(e * t_, t_) - tangential.segment(e * t_, t_)).cwiseAbs().maxCoeff());
   }
@@ -175,12 +250,13 @@ void PrimalFriction::slip_before_leaving(const ContactConstraints& c, const std:
   for (std::size_t i = 0; i < stick_.size(); ++i) {
     const auto e = static_cast<Eigen::Index>(i);
     if (!was_active[i] || !stick_[i] || in_contact[i] || next.stick[i] || !(c.mu[e] > 0)) continue;
-    const auto l = tangential.segment(e * t_, t_);
-    const double norm = l.norm();
-    if (!(norm > 0)) continue;  // no reaction: nothing pulls it off but its normal force, free is right
+    const Vector l = tangential.segment(e * t_, t_);
+    if (l.isZero(0.0)) continue;  // no reaction: nothing pulls it off but its normal force, free is right
     in_contact[i] = 1;
-    next.direction.segment(e * t_, t_) = l / norm;
-    next.force.segment(e * t_, t_) = bound[e] / norm * l;
+    const Slip at = slip(c.friction_of(e), i, l, bound[e]);  // (its q is l: a stick row's Δ is 0)
+    next.direction.segment(e * t_, t_) = at.direction;
+    next.force.segment(e * t_, t_) = at.force;
+    if (!disc_[i]) next.normal.segment(e * t_, t_) = at.normal;
     next.spring[i] = 0;  // Newton's spring: s γ c / (|q| − s) with s = 0
   }
 }
@@ -231,7 +307,11 @@ void PrimalFriction::secant(const ContactConstraints& c, const Vector& w, const 
 void PrimalFriction::rescale(const Vector& bound) {
   for (Eigen::Index i = 0; i < static_cast<Eigen::Index>(stick_.size()); ++i) {
     auto f = force_.segment(i * t_, t_);
-    if (const double norm = f.norm(); norm > 0) f *= bound[i] / norm;
+    if (!disc_[static_cast<std::size_t>(i)]) {
+      if (!f.isZero(0.0)) f = bound[i] * direction(static_cast<std::size_t>(i));  // s n, n on ∂C_1
+    } else if (const double norm = f.norm(); norm > 0) {
+      f *= bound[i] / norm;
+    }
   }
 }
 
@@ -239,6 +319,7 @@ void PrimalFriction::take(Next&& next) {
   stick_ = std::move(next.stick);
   force_ = std::move(next.force);
   direction_ = std::move(next.direction);
+  normal_ = std::move(next.normal);
   spring_ = std::move(next.spring);
 }
 

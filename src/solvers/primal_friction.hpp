@@ -6,7 +6,8 @@
 // In w = Qu each tangent j of a contact row i is one dof (ContactConstraints::tangent_dof) and the
 // slip increment is Δ_ij = w_j − h_ij. With q_i = λ_τ,i + γ c_i Δ_i (c_i = K_rot's diagonal at the
 // row's tangent dofs, their mean; γ ≤ 1 by secant()) and the bound s_i, the friction law is
-// λ_τ,i = P_{s_i}(q_i), the projection onto the disc |λ| ≤ s_i. Newton's step linearizes P at the last iterate:
+// λ_τ,i = P_{s_i}(q_i), the projection onto the row's law's set C_{s_i}; for Coulomb and Tresca the
+// disc |λ| ≤ s_i, where Newton's step linearizes P at the last iterate as:
 //   STICK (|q_i| ≤ s_i): Δ_i = 0, the tangent dofs fixed at h_i (λ_τ their reaction);
 //   SLIP (|q_i| > s_i, n_i = q_i/|q_i|): λ_τ,i = s_i n_i + k_i (I − n_i n_iᵀ) Δ_i with
 //     k_i = s_i γ c_i / (|q_i| − s_i) (P's derivative (s/|q|)(I − nnᵀ) solved for the new λ_τ,i):
@@ -22,6 +23,15 @@
 // per step, not lagged from the last step, and no outer fixed point on s is needed. The iteration
 // that drives these updates: primal_friction_iteration.hpp; Newton's spring is capped at
 // primal_tuning::kMostSpring c (primal_tuning.hpp).
+//
+// Any law's set C_s = s C_1 (contact/friction_law.hpp) linearizes the same way with its projection
+// P(q, s) and P's derivatives D = ∂P/∂q, p_s = ∂P/∂s at the iterate's q: Newton's λ_τ = P + D δq + p_s δs
+// with P = D q + p_s s (Euler's identity: P is homogeneous of degree 1 in (q, s)) is
+// (I − D) λ_τ = p_s s + γ c D Δ, i.e. λ_τ = s n + K Δ with n = (I − D)⁻¹ p_s (the point P/s of ∂C_1)
+// and K = γ c (I − D)⁻¹ D. D is symmetric (a projection's derivative) with the set's outward normal
+// ν̂ ∥ q − P in its kernel, so with two tangents D = d ττᵀ (τ ⊥ ν̂) and K = k (I − ν̂ν̂ᵀ),
+// k = γ c d/(1 − d): a force along n and a spring across ν̂ again. On the disc n = ν̂ = q/|q|,
+// d = s/|q| and k = s γ c/(|q| − s): the formulas above, which the disc keeps computing as they are.
 #include "solvers/contact_solver.hpp"
 
 #include <vector>
@@ -41,18 +51,22 @@ class PrimalFriction {
 
   /// Fixes the tangent dofs of the stick rows.
   void fix(std::vector<char>& fixed) const;
-  /// The slip rows' springs k_i (I − n_i n_iᵀ) of this linearization on their tangent dofs (owned
+  /// The slip rows' springs k_i (I − ν̂_i ν̂_iᵀ) of this linearization on their tangent dofs (owned
   /// numbering), appended to `out`.
   void springs(std::vector<Eigen::Triplet<double>>& out) const;
   /// Zeros on every row's tangent block (where a spring can be), appended to `out`.
   void spring_pattern(std::vector<Eigen::Triplet<double>>& out) const;
-  /// Stick rows: w_j = h_ij into `fixed_values`; slip rows: −s_i n_i + k_i (I − n_i n_iᵀ) h_i into
+  /// Stick rows: w_j = h_ij into `fixed_values`; slip rows: −s_i n_i + k_i (I − ν̂_i ν̂_iᵀ) h_i into
   /// `rhs`, with s_i = tresca_i at the `coupled` rows (their μ λ_ν part is the caller's).
   void load(const ContactConstraints& c, const std::vector<char>& coupled, Vector& rhs, Vector& fixed_values) const;
-  /// n_i of a slip row (unit; zero where it has no direction yet, and at stick rows).
+  /// n_i of a slip row (on the boundary of its law's C_1: a unit vector on the disc; zero where it has no
+  /// direction yet, and at stick rows).
   Eigen::Ref<const Vector> direction(std::size_t i) const {
     return direction_.segment(static_cast<Eigen::Index>(i) * t_, t_);
   }
+  /// v_i of a slip row: v·n_i = 1 and v ⊥ its spring's range, so that v·λ_τ,i = s_i whatever the slip
+  /// (ν̂/(ν̂·n) with ν̂ its set's normal; n_i on the disc). Zero where n_i is.
+  Vector along(std::size_t i) const;
   /// s_i n_i of a slip row (the bound of its linearization along n_i; zero at stick rows).
   Eigen::Ref<const Vector> slip_force(std::size_t i) const {
     return force_.segment(static_cast<Eigen::Index>(i) * t_, t_);
@@ -67,9 +81,10 @@ class PrimalFriction {
     std::vector<char> stick;  // per row
     Vector force;             // s_i n_i per slip row (0 at stick and free rows)
     Vector direction;         // n_i per slip row (0 where q_i = 0 and at stick rows)
+    Vector normal;            // ν̂_i per slip row of a law that is not the disc (its spring's axis)
     std::vector<double> spring;
     double change = 0;           // max over rows that slip before and after of |new s n − this iterate's λ_τ|
-    std::vector<double> excess;  // per row: |q_i| − s_i for stick rows the rule would let slip, else −1
+    std::vector<double> excess;  // per row: |q_i|_C − s_i for stick rows the rule would let slip, else −1
   };
   /// Newton's next linearization from the iterate (w, λ_τ) with the bound s_i of each row (`bound`; 0 off contact).
   Next next(const ContactConstraints& c, const Vector& w, const Vector& tangential, const Vector& bound) const;
@@ -106,10 +121,16 @@ class PrimalFriction {
   const std::vector<char>& stick() const { return stick_; }
 
  private:
-  /// Row i's spring k_i (I − n_i n_iᵀ) over its tangents (zero rows and columns where a tangent has no dof).
+  /// Row i slipping at the trial force z (q_i, or λ_τ,i) outside C_s (or s = 0): its force s n, n, the
+  /// set's normal ν̂ and Newton's spring k (uncapped), from its law's projection (the header's comment).
+  struct Slip {
+    Vector force, direction, normal;
+    double spring = 0;
+  };
+  Slip slip(const FrictionLaw& law, std::size_t i, const Vector& z, double s) const;
+  /// Row i's spring k_i (I − ν̂_i ν̂_iᵀ) over its tangents (zero rows and columns where a tangent has no
+  /// dof); ν̂ = n on the disc.
   Eigen::MatrixXd across(std::size_t i) const;
-  Eigen::MatrixXd across(std::size_t i, double k, const Vector& force) const;
-  void add_springs(const std::vector<double>& spring, const Vector& force, std::vector<Eigen::Triplet<double>>& out) const;
 
   int t_ = 0;                   // tangents per row
   std::vector<int> dof_;        // per row × t_: the tangent dof, −1 where none
@@ -117,12 +138,18 @@ class PrimalFriction {
   std::vector<char> stick_;     // per row
   Vector force_;                // per row × t_: s n of the slip rows
   Vector direction_;            // per row × t_: n of the slip rows
+  Vector normal_;               // per row × t_: ν̂ of the slip rows whose law's set is not the disc
+  std::vector<char> disc_;      // per row: its law's set is the disc
   std::vector<double> spring_;  // per row: k of the slip rows (0 in 2D, at stick and free rows)
   double gamma_ = 1;            // c_i γ in the update rule (secant)
   Vector last_force_, last_slip_;
   bool have_last_ = false;
   std::vector<char> last_stick_;
 };
+
+/// |l|_C, the size of a tangential force in its law's gauge (on the disc Eigen's norm, as the primal
+/// solver computed it before the laws).
+double force_size(const FrictionLaw& law, Eigen::Ref<const Vector> l);
 
 /// The rows' states packed for ActiveSetHistory: normal set and stick set together.
 std::vector<char> contact_sets(const std::vector<char>& active, const std::vector<char>& stick);

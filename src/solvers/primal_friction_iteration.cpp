@@ -163,7 +163,8 @@ double PrimalFrictionIteration::bound_moved(const ContactConstraints& c, const V
   double moved = 0;
   for (Eigen::Index i = 0; i < coulomb_bound.size(); ++i) {
     const double d = std::abs(coulomb_bound[i] - bound[i]);
-    if (s_.friction.stick()[static_cast<std::size_t>(i)] && bound[i] - tangential.segment(i * t, t).norm() > d) continue;
+    if (s_.friction.stick()[static_cast<std::size_t>(i)] && bound[i] - force_size(c.friction_of(i), tangential.segment(i * t, t)) > d)
+      continue;
     moved = std::max(moved, d);
   }
   return moved;

@@ -39,8 +39,8 @@ class PrimalFrictionIteration {
 
  private:
   /// How far Coulomb's bound moved (|G(s) − s|, largest) over the rows where it acts: the slip
-  /// rows (their force is s n), and the stick rows that it could turn to slip (their |λ_τ| closer
-  /// to s than the move). A stick row further inside its disc sticks under either bound, and the
+  /// rows (their force is s n), and the stick rows that it could turn to slip (their |λ_τ|_C closer
+  /// to s than the move). A stick row further inside its set sticks under either bound, and the
   /// Tresca problem's answer is then Coulomb's there whatever its s (frictional foundation-3d
   /// n = 10 on CG + GAMG, 100 steps, lagged bound: 5.1 → 4.8 solves a step while pressed).
   double bound_moved(const ContactConstraints& c, const Vector& coulomb_bound, const Vector& bound,

@@ -1,9 +1,9 @@
 // Issue 49: a friction law the solvers never heard of runs through them by its block alone. The
 // test-only elliptic Coulomb law (tests/support/test_laws.hpp) on shear-3d (a block pressed onto a
 // plane that then slides along (2, 1)): with equal axes it is Coulomb; with unequal axes the face's
-// full slip lies on the ellipse, |λ_τ|_C = μ λ_ν, and slips along its outward normal.
+// full slip lies on the ellipse, |λ_τ|_C = μ λ_ν, and slips along its outward normal; on the dual and
+// on the primal.
 #include "friction_runs.hpp"
-#include "solvers/contact_capabilities.hpp"
 #include "test_laws.hpp"
 
 #include <fmt/format.h>
@@ -31,6 +31,22 @@ std::vector<std::pair<Vector, Vector>> history(const Case& c) {
   std::vector<std::pair<Vector, Vector>> out;
   run_to_end(c, [&](const TimeStepper& s, const StepReport&) { out.emplace_back(s.state().u, s.state().lambda); });
   return out;
+}
+
+/// Over the slipping nodes, 1 − cos of the angle between the slip increment and the ellipse's outward
+/// normal at λ_τ (∇|λ_τ|_C's direction, (λ_1/a_1², λ_2/a_2²)).
+double slip_off_normal(const TimeStepper& s, double a1, double a2) {
+  const State& st = s.state();
+  double off = 0;
+  for (const PartContactNode& node : s.part().contact) {
+    if (st.contact_status[node.row] != 2) continue;
+    const double l0 = st.lambda[node.row * 3 + 1], l1 = st.lambda[node.row * 3 + 2];
+    const double d0 = st.slip_step[node.row * 2], d1 = st.slip_step[node.row * 2 + 1];
+    const double g0 = l0 / (a1 * a1), g1 = l1 / (a2 * a2);
+    const double dn = std::hypot(d0, d1), gn = std::hypot(g0, g1);
+    if (dn > 0) off = std::max(off, (dn * gn - (d0 * g0 + d1 * g1)) / (dn * gn));
+  }
+  return off;
 }
 
 TEST(LawBlocks, EllipticCoulombWithEqualAxesIsCoulombOnTheDual) {
@@ -62,19 +78,11 @@ TEST(LawBlocks, EllipticCoulombFullSlipLiesOnTheEllipseAlongItsNormal) {
     against_coulomb = relative_difference(s.state().u, plain[n++].first);
     if (!(r.contact.n_stick == 0 && r.contact.n_slip > 0)) return;
     ++sliding;
-    const State& st = s.state();
     for (const NodeForces& f : node_forces(s)) {
       if (f.status != 2) continue;
       on_ellipse = std::max(on_ellipse, std::abs(law.gauge(f.tangential.data(), 2) - kMu * f.normal) / (kMu * f.normal));
     }
-    for (const PartContactNode& node : s.part().contact) {
-      if (st.contact_status[node.row] != 2) continue;
-      const double l0 = st.lambda[node.row * 3 + 1], l1 = st.lambda[node.row * 3 + 2];
-      const double d0 = st.slip_step[node.row * 2], d1 = st.slip_step[node.row * 2 + 1];
-      const double g0 = l0 / (a1 * a1), g1 = l1 / (a2 * a2);  // ∇|λ_τ|_C's direction
-      const double dn = std::hypot(d0, d1), gn = std::hypot(g0, g1);
-      if (dn > 0) normality = std::max(normality, (dn * gn - (d0 * g0 + d1 * g1)) / (dn * gn));
-    }
+    normality = std::max(normality, slip_off_normal(s, a1, a2));
   });
   std::printf("  elliptic-coulomb axes %g, %g: %d steps of full slip; | |lambda_t|_C / (mu lambda_n) - 1 | %.3g, "
               "slip off the ellipse's normal %.3g; u against coulomb at the end %.3g\n",
@@ -91,25 +99,82 @@ TEST(LawBlocks, EllipticCoulombFullSlipLiesOnTheEllipseAlongItsNormal) {
 namespace vpc {
 namespace {
 
-/// The capability table (solvers/contact_capabilities.hpp): the primal solver's friction is the
-/// disc's (Hüeber–Stadler–Wohlmuth's slip springs), so it refuses another set by name, and auto
-/// takes the dual for it even where its cost rule would take the primal.
-TEST(LawBlocks, ThePrimalRefusesASetThatIsNotADiscAndAutoTakesTheDual) {
-  const Case primal = elliptic_shear(1, 0.5, "primal-active-set");
-  try {
-    TimeStepper s(primal.problem, primal.solvers);
-    ADD_FAILURE() << "the primal solver took an elliptic set";
-  } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find("contact solver 'primal-active-set' solves friction laws whose set is a disc "
-                                         "(coulomb, tresca); friction = \"elliptic-coulomb\" needs 'active-set'"),
-              std::string::npos)
-        << e.what();
+/// The steps' u and λ of `c`, and its contact iterations summed over the steps.
+struct Steps {
+  std::vector<std::pair<Vector, Vector>> steps;
+  int iterations = 0;
+};
+Steps run_of(const Case& c) {
+  Steps out;
+  run_to_end(c, [&](const TimeStepper& s, const StepReport& r) {
+    out.steps.emplace_back(s.state().u, s.state().lambda);
+    out.iterations += r.contact.iterations;
+  });
+  return out;
+}
+
+/// max over the steps of the relative differences of u and of λ.
+std::pair<double, double> differences(const Steps& a, const Steps& b) {
+  EXPECT_EQ(a.steps.size(), b.steps.size());
+  double du = 0, dl = 0;
+  for (std::size_t n = 0; n < std::min(a.steps.size(), b.steps.size()); ++n) {
+    du = std::max(du, relative_difference(a.steps[n].first, b.steps[n].first));
+    dl = std::max(dl, relative_difference(a.steps[n].second, b.steps[n].second));
   }
-  ContactNeeds needs;
-  needs.friction = true;
-  needs.non_disc = "elliptic-coulomb";
-  EXPECT_EQ(pick_contact_solver("auto", 100000, "cg-gamg", needs, 3).name, "active-set");
-  EXPECT_EQ(cannot_solve("active-set", needs), "");
+  return {du, dl};
+}
+
+/// The primal solver's Hüeber–Stadler–Wohlmuth step linearizes each node's law through its block
+/// (solvers/primal_friction.hpp: n = (I − D)⁻¹ ∂P/∂s, springs γ c (I − D)⁻¹ D): with equal axes the
+/// elliptic law's general path is Coulomb's disc path in other arithmetic.
+TEST(LawBlocks, EllipticCoulombWithEqualAxesIsCoulombOnThePrimal) {
+  Case coulomb = case_of("shear-3d", shipped_text("shear-3d"));
+  coulomb.solvers.contact = "primal-active-set";
+  const Steps a = run_of(coulomb), b = run_of(elliptic_shear(1, 1, "primal-active-set"));
+  const auto [du, dl] = differences(b, a);
+  std::printf("  primal: elliptic-coulomb with axes 1, 1 against coulomb, %zu steps: u %.3g, lambda %.3g; "
+              "%d and %d contact iterations\n",
+              a.steps.size(), du, dl, b.iterations, a.iterations);
+  EXPECT_LE(du, 1e-12);
+  EXPECT_LE(dl, 1e-12);
+}
+
+/// With axes 1 and 0.5 the primal's full slip lies on the ellipse and its answer is the dual's, both
+/// solved to a residual tolerance of 1e-12. The primal's λ_τ is its reaction, whose slip forces s n settle
+/// to a tenth of that tolerance of its force scale (friction_force_tolerance), so |λ_τ|_C = μ λ_ν holds
+/// to 1e-12 of the face's largest normal force (a node with a small one: 2e-10 of its own).
+TEST(LawBlocks, EllipticCoulombOnThePrimalLiesOnTheEllipseAndIsTheDuals) {
+  const double a1 = 1.0, a2 = 0.5;
+  const test::EllipticCoulomb law(kMu, a1, a2);
+  Case primal = elliptic_shear(a1, a2, "primal-active-set"), dual = elliptic_shear(a1, a2, "active-set");
+  primal.solvers.residual_tolerance = dual.solvers.residual_tolerance = 1e-12;
+  double on_ellipse = 0, normality = 0;
+  int sliding = 0;
+  Steps p;
+  run_to_end(primal, [&](const TimeStepper& s, const StepReport& r) {
+    p.steps.emplace_back(s.state().u, s.state().lambda);
+    p.iterations += r.contact.iterations;
+    if (!(r.contact.n_stick == 0 && r.contact.n_slip > 0)) return;
+    ++sliding;
+    double off = 0, largest = 0;
+    for (const NodeForces& f : node_forces(s)) {
+      largest = std::max(largest, f.normal);
+      if (f.status == 2) off = std::max(off, std::abs(law.gauge(f.tangential.data(), 2) - kMu * f.normal));
+    }
+    on_ellipse = std::max(on_ellipse, off / largest);
+    normality = std::max(normality, slip_off_normal(s, a1, a2));
+  });
+  const Steps d = run_of(dual);
+  const auto [du, dl] = differences(p, d);
+  std::printf("  primal: elliptic-coulomb axes %g, %g: %d steps of full slip; | |lambda_t|_C - mu lambda_n | / max lambda_n "
+              "%.3g, slip off the ellipse's normal %.3g; against the dual: u %.3g, lambda %.3g; %d contact iterations "
+              "(the dual: %d)\n",
+              a1, a2, sliding, on_ellipse, normality, du, dl, p.iterations, d.iterations);
+  EXPECT_GE(sliding, 3);
+  EXPECT_LE(on_ellipse, 1e-12);
+  EXPECT_LE(normality, 1e-8);
+  EXPECT_LE(du, 1e-10);
+  EXPECT_LE(dl, 1e-10);
 }
 
 }  // namespace

@@ -9,6 +9,7 @@
 #include "solvers/contact_solver.hpp"
 #include "solvers/primal_active_set.hpp"
 #include "solvers/stick_slip.hpp"
+#include "test_laws.hpp"
 
 #include "fem/assembly.hpp"
 #include "material/elasticity.hpp"
@@ -486,6 +487,41 @@ TEST(PrimalFriction, AStuckNodePulledOffSlipsInContactUnderALargeMu) {
   EXPECT_EQ(s.rep.n_slip, 1);
   EXPECT_LE(max_abs(s.u - u_large), 1e-7 * max_abs(u_large));  // the slipping node's λ_ν: O(1/μ)
   EXPECT_LE(max_abs(s.lambda - lambda_large), 1e-7 * max_abs(lambda_large));
+}
+
+// Issue 49: a friction law whose set is not the disc on the primal (its step from the law's projection,
+// PrimalFriction::slip) under μ > 1, where a coupled row's λ_ν is its slip law's (λ_τ·v − tresca)/μ and
+// GMRES weighs its equation along n over μ (v = ν̂/(ν̂·n): CoulombCoupling's law rows): the test-only
+// elliptic law (axes 1 and 0.5) at μ = 2 on the 3D block sheared unevenly, part of it slipping: the
+// primal's answer is the dual's, in Newton's few iterations (8; 68 with n for v, the coupling's
+// equations then not Newton's).
+TEST(PrimalFriction, AnEllipticSetUnderALargeMuAgreesWithTheDualSolver) {
+  const Block b = make_block(3);
+  const double mu = 2;
+  ContactConstraints c = frictional(b.N, Vector::Zero(b.N.rows()), 3, b.node_dofs, mu);
+  c.laws = {signorini_law()};  // (the dual reads the friction laws along the normal laws' list)
+  c.law.assign(static_cast<std::size_t>(c.m), 0);
+  c.compliance = Vector::Zero(c.m);
+  c.frictions = {std::make_shared<const test::EllipticCoulomb>(mu, 1.0, 0.5)};
+  Vector shift(c.T.rows());
+  for (Eigen::Index j = 0; j < shift.size(); ++j) shift[j] = (j % 2 ? -1.0 : 2.0) * static_cast<double>(j) / static_cast<double>(shift.size());
+  const Solved primal_answer = solve(b.K, c, b.F, shift);
+  EXPECT_GT(primal_answer.rep.n_slip, 0);
+  EXPECT_GT(primal_answer.rep.n_stick, 0);
+  auto K = std::make_shared<const la::SparseOperator>(b.K);
+  std::shared_ptr<la::LinearSolver> f = la::make_cholmod_factor("K");
+  f->factorize(*K, "K");
+  auto dual = make_contact_solver("active-set", K, f, c, la::make_cholmod_factor);
+  dual->set_friction(Vector::Zero(c.m), shift);
+  Vector u, lambda;
+  const ContactReport rep = dual->solve(b.F, u, lambda);
+  ASSERT_TRUE(rep.converged);
+  EXPECT_LE(max_abs(primal_answer.u - u), 1e-9 * max_abs(u));
+  EXPECT_LE(max_abs(primal_answer.lambda - lambda), 1e-9 * max_abs(lambda));
+  EXPECT_LE(primal_answer.rep.iterations, 15);
+  std::printf("[ measure ] elliptic mu 2 vs dual: primal %d iterations (stick %d, slip %d), dual %d; u %.3g, lambda %.3g\n",
+              primal_answer.rep.iterations, primal_answer.rep.n_stick, primal_answer.rep.n_slip, rep.iterations,
+              max_abs(primal_answer.u - u) / max_abs(u), max_abs(primal_answer.lambda - lambda) / max_abs(lambda));
 }
 
 // Short of solves (a test's limit of 3; the production limit is kPrimalMaxIterations): the
