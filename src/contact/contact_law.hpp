@@ -54,8 +54,9 @@ class ContactLaw {
   /// empty when it can (then the datum sums both shares and the node takes this law). Asked
   /// both ways, of two compliant laws or of two rigid ones (a rigid one wins over a compliant one).
   virtual std::string conflict(const ContactLaw& /*other*/) const { return {}; }
-  /// A compliant node's compliance 1/k_i from its datum (0: none, a rigid law's).
-  virtual double compliance(double /*datum*/) const { return 0; }
+  /// A node's compliance 1/k_i from its datum: by default a compliant law's datum is its k_i; a
+  /// rigid law has none (0).
+  virtual double compliance(double datum) const { return !rigid() && datum > 0 ? 1 / datum : 0.0; }
 
   /// The gap left s from s0 = g − N u at the force λ, for a node of compliance 1/k: s0 + δ(λ),
   /// δ the penetration the law gives at λ (the contact residuals' complementarity, λ ⟂ s ≥ 0).

@@ -18,8 +18,6 @@ class NormalComplianceLaw final : public ContactLaw {
   std::string kind() const override { return e_ == 1 ? "linear normal compliance" : "power-law compliance"; }
   bool linear() const override { return e_ == 1; }
   double lumped(double facet_measure, int nodes) const override { return c_ * facet_measure / nodes; }
-  /// The datum is k_i = c |Γ3|_i.
-  double compliance(double datum) const override { return datum > 0 ? 1 / datum : 0.0; }
   std::string conflict(const ContactLaw& other) const override;
   double gap_left(double s0, double lambda, double compliance) const override;
   double force(double d, double compliance) const override;

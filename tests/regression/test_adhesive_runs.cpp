@@ -171,7 +171,9 @@ TEST(AdhesiveLaw, StrengthZeroIsSignorini) {
       }
       EXPECT_LE(du, 1e-12) << (push ? "pushed" : "pulled");
       EXPECT_LE(dl, 1e-12) << (push ? "pushed" : "pulled");
-      if (push) EXPECT_GT(y.back().lambda.maxCoeff(), 1.0);  // in contact: forces to compare
+      if (push) {
+        EXPECT_GT(y.back().lambda.maxCoeff(), 1.0);  // in contact: forces to compare
+      }
     }
   }
 }

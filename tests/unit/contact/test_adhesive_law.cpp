@@ -5,7 +5,10 @@
 
 #include "../case_text.hpp"
 #include "contact/registry.hpp"
+#include "contact/normal_compliance.hpp"
 #include "scheme/contact_rows.hpp"
+#include "solvers/box_qp.hpp"
+#include "solvers/compliance_dual.hpp"
 
 #include <fmt/format.h>
 #include <gtest/gtest.h>
@@ -113,6 +116,40 @@ TEST(AdhesiveLaw, ItCannotShareANodeWithAnotherRigidLaw) {
     EXPECT_NE(m.find("lies on contact parts whose laws are an adhesive Signorini law and a Signorini"), std::string::npos)
         << m;
   }
+}
+
+// The dual's Newton for a nonlinear law elsewhere (solve_compliance_dual) takes an adhesive row's
+// bound −a_i: on rows of the adhesive law alone it is the box QP over λ ≥ −a, and with a power-law
+// row beside them the adhesive rows still hold λ_i ≥ −a_i ⟂ the gap left.
+TEST(AdhesiveLaw, TheDualsNewtonTakesItsLowerBound) {
+  const test::AdhesiveSignorini glue(1.0);
+  const NormalComplianceLaw power(1.0, 2.0);
+  Eigen::MatrixXd S(3, 3);
+  S << 2, -1, 0, -1, 2, -1, 0, -1, 2;
+  const Vector b = (Vector(3) << -3, 0.5, 1).finished();  // row 0 pulled apart, rows 1 and 2 pressed
+  const Vector lower = (Vector(3) << -0.5, -0.5, 0).finished();
+  Vector box = Vector::Zero(3);
+  DenseBoxQpOperator H(S);
+  ASSERT_TRUE(solve_box_qp(H, b, lower, Vector::Constant(3, std::numeric_limits<double>::infinity()), box).converged);
+  Vector newton = Vector::Zero(3);
+  const std::vector<const ContactLaw*> glued = {&glue, &glue, &glue};
+  ASSERT_TRUE(solve_compliance_dual(S, b, glued, Vector::Zero(3), newton, kComplianceDualIterations, lower).converged);
+  EXPECT_EQ(box[0], -0.5);  // let go: exactly −a
+  EXPECT_EQ(newton[0], -0.5);
+  EXPECT_NEAR((newton - box).cwiseAbs().maxCoeff(), 0.0, 1e-13);
+  // Row 2 a power law λ = k d₊², k = 1/compliance = 4.
+  const std::vector<const ContactLaw*> mixed = {&glue, &glue, &power};
+  Vector lambda = Vector::Zero(3);
+  ASSERT_TRUE(solve_compliance_dual(S, b, mixed, (Vector(3) << 0, 0, 0.25).finished(), lambda, kComplianceDualIterations,
+                                    lower).converged);
+  const Vector d = b - S * lambda;  // the penetration
+  for (int i = 0; i < 2; ++i) {
+    EXPECT_GE(lambda[i] - lower[i], -1e-14) << i;
+    EXPECT_LE(d[i], 1e-13) << i;
+    EXPECT_NEAR((lambda[i] - lower[i]) * d[i], 0.0, 1e-13) << i;
+  }
+  EXPECT_EQ(lambda[0], -0.5);
+  EXPECT_NEAR(lambda[2], 4 * std::pow(std::max(d[2], 0.0), 2), 1e-12);
 }
 
 }  // namespace

@@ -350,7 +350,6 @@ class LinearAsNonlinear final : public ContactLaw {
   std::string describe() const override { return law_.describe(); }
   std::string kind() const override { return "a power-law compliance of exponent 1"; }
   bool linear() const override { return false; }
-  double compliance(double datum) const override { return law_.compliance(datum); }
   double gap_left(double s0, double l, double compliance) const override { return law_.gap_left(s0, l, compliance); }
   double force(double d, double compliance) const override { return law_.force(d, compliance); }
   double force_slope(double d, double compliance) const override { return law_.force_slope(d, compliance); }
