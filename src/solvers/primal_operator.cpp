@@ -42,7 +42,7 @@ PrimalOperator::PrimalOperator(std::shared_ptr<const la::SpdOperator> K, std::sh
     spring_.push_back(law.rigid() ? 0.0 : law.spring_compliance(c_.compliance_of(i)));
   }
   require(basis_.P.size() == 0 || K_rot_ != K_, "internal: the primal contact solver needs Pᵀ K P for rotated rows");
-  // c_i of the update rule λ_i + c_i (N_i u − g_i) > 0: K's stiffness at the row's dof, per unit of N_i u.
+  // c_i of the update rule λ_i − lower_i + c_i (N_i u − g_i) > 0: K's stiffness at the row's dof, per unit of N_i u.
   diagonal_ = K_rot_->diagonal();
   const Vector& d = diagonal_;
   for (const RotatedRow& r : rows_) scale_.push_back(d[r.dof] / (r.alpha * r.alpha));
