@@ -6,9 +6,10 @@
 // dual Newton and its linearization for the primal semismooth Newton, and its dual set.
 //
 // A law's parameters are per unit of Γ3 (c: a pressure per unit of penetration^e); at a
-// node they are lumped by the law itself (lumped(): c |facet| / its nodes, summed over the
-// node's facets: k_i = c |Γ3|_i), and the solvers get the node's compliance 1/k_i
-// (0 for a rigid law). Registered by name in contact/registry.cpp.
+// node they are lumped by the law itself into the law's per-node datum (lumped(): its share of
+// one facet, summed over the node's facets; k_i = c |Γ3|_i for normal compliance, nothing for
+// Signorini), whose meaning the law alone knows: the solvers ask it for the node's compliance
+// and dual bound at the datum. Registered by name in contact/registry.cpp.
 #include "contact/surface_state.hpp"
 
 #include <limits>
@@ -48,12 +49,16 @@ class ContactLaw : public SurfaceHistory {
   /// the dual solves it with solve_compliance_dual's Newton, the primal refuses it.
   virtual bool linear() const { return true; }
 
-  /// k_i's share of one facet of Γ3 (measure |f|, `nodes` nodes): c |f| / nodes (0 for a rigid law).
+  /// The per-node datum's share of one facet of Γ3 (measure |f|, `nodes` nodes), summed over the
+  /// node's facets (ContactRow::datum): c |f| / nodes for normal compliance (k_i), 0 for Signorini.
   virtual double lumped(double /*facet_measure*/, int /*nodes*/) const { return 0; }
   /// Why a node cannot carry this law and `other` together (facets of both meet there), or
-  /// empty when it can (then k_i sums both shares and the node takes this law). Called for
-  /// two compliant laws only (a rigid one wins).
+  /// empty when it can (then the datum sums both shares and the node takes this law). Asked
+  /// both ways, of two compliant laws or of two rigid ones (a rigid one wins over a compliant one).
   virtual std::string conflict(const ContactLaw& /*other*/) const { return {}; }
+  /// A node's compliance 1/k_i from its datum: by default a compliant law's datum is its k_i; a
+  /// rigid law has none (0).
+  virtual double compliance(double datum) const { return !rigid() && datum > 0 ? 1 / datum : 0.0; }
 
   /// The gap left s from s0 = g − N u at the force λ, for a node of compliance 1/k: s0 + δ(λ),
   /// δ the penetration the law gives at λ (the contact residuals' complementarity, λ ⟂ s ≥ 0).
@@ -66,9 +71,10 @@ class ContactLaw : public SurfaceHistory {
   /// Newton: λ = (N u − g) / it where the node penetrates) and the diagonal it adds to the dual's S.
   virtual double spring_compliance(double compliance) const { return compliance; }
 
-  /// The dual set of the node's force: λ ≥ lower (0 for every normal law; a friction law's
-  /// disc is a block's set, issue 28).
-  virtual double dual_lower() const { return 0; }
+  /// The dual set of the node's force at its datum: λ ≥ lower (0 for the shipped normal laws; an
+  /// adhesive law's −a_i lets a node carry a tension; a friction law's disc is a block's set, issue 28).
+  /// The complementarity is then (λ − lower) ⟂ s ≥ 0.
+  virtual double dual_lower(double /*datum*/) const { return 0; }
   virtual double dual_upper() const { return std::numeric_limits<double>::infinity(); }
 };
 

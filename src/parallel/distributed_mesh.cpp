@@ -147,7 +147,7 @@ struct Message {
 void pack_contact_node(const PartContactNode& c, Message& m) {
   m.ints.insert(m.ints.end(), {c.row, c.local_node, c.owned ? 1 : 0, static_cast<long long>(c.obstacles), c.law, c.pair,
                                static_cast<long long>(c.masters.size())});
-  m.reals.insert(m.reals.end(), {c.direction[0], c.direction[1], c.direction[2], c.gap, c.measure, c.stiffness});
+  m.reals.insert(m.reals.end(), {c.direction[0], c.direction[1], c.direction[2], c.gap, c.measure, c.datum});
   for (const auto& [k, w] : c.masters) {
     m.ints.push_back(k);
     m.reals.push_back(w);
@@ -166,7 +166,7 @@ PartContactNode unpack_contact_node(const long long*& in, const double*& x) {
   c.direction = {x[0], x[1], x[2]};
   c.gap = x[3];
   c.measure = x[4];
-  c.stiffness = x[5];
+  c.datum = x[5];
   x += 6;
   for (long long a = 0; a < n_masters; ++a) c.masters.emplace_back(static_cast<int>(*in++), *x++);
   return c;

@@ -107,9 +107,9 @@ std::vector<ContactRow> pair_rows(const Problem& p, const std::vector<int>& cond
              where, s.id, x[0], x[1], x[2], pair.slave, -row.gap, pair.master);
       }
       row.pair = static_cast<int>(q);
-      // The pair's law, lumped at the node over its covered measure D_jj (k_j = c D_jj for a compliance).
+      // The pair's law, its datum lumped at the node over its covered measure D_jj (k_j = c D_jj for a compliance).
       row.law = p.contact.pair_law_index(q);
-      row.stiffness = law.lumped(s.d, 1);
+      row.datum = law.lumped(s.d, 1);
       row.obstacles = 0;
       // A master node's prescribed components leave N (its free dofs alone) and, where they move,
       // move the bound instead (step_data.cpp: add_master_motion).

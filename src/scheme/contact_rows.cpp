@@ -161,10 +161,10 @@ std::vector<ContactRow> contact_rows(const Problem& p, const std::vector<int>& c
   const auto [lo, hi] = p.block ? std::pair{p.block->lo, p.block->hi} : mesh.bounding_box();  // the whole mesh's
   const double miss = contact_miss_gap(lo, hi);
   // Per node: its law (a rigid one where any of its Γ3 facets has one; else the compliant law
-  // of its facets, which must agree: ContactLaw::conflict), k_i (their shares, lumped by the
-  // law) and the obstacles acting on its parts.
+  // of its facets; the laws of one kind must agree: ContactLaw::conflict), its datum (the shares
+  // of that kind's facets, lumped by the law: k_i for a compliance) and the obstacles acting on its parts.
   const std::vector<std::shared_ptr<const ContactLaw>> laws = p.contact.laws();
-  std::vector<double> stiffness(mesh.n_nodes(), 0.0);
+  std::vector<double> rigid_datum(mesh.n_nodes(), 0.0), compliant_datum(mesh.n_nodes(), 0.0);
   std::vector<int> compliant_law(mesh.n_nodes(), -1), rigid_law(mesh.n_nodes(), -1);
   std::vector<ObstacleMask> obstacles(mesh.n_nodes(), 0);
   // Per node with obstacles: its Γ3 facets and the obstacles acting on each (check_body_outside_obstacles).
@@ -178,16 +178,15 @@ std::vector<ContactRow> contact_rows(const Problem& p, const std::vector<int>& c
       const int i = mesh.facet(f)[a];
       obstacles[i] |= acting;
       if (!facets_at.empty()) facets_at[static_cast<std::size_t>(i)].emplace_back(f, acting);
-      if (law.rigid()) {
-        if (rigid_law[i] < 0) rigid_law[i] = k;
-        continue;
-      }
-      if (compliant_law[i] < 0) compliant_law[i] = k;
-      const std::string why = laws[static_cast<std::size_t>(compliant_law[i])]->conflict(law);
+      int& first = law.rigid() ? rigid_law[i] : compliant_law[i];
+      if (first < 0) first = k;
+      const ContactLaw& node_law = *laws[static_cast<std::size_t>(first)];
+      std::string why = node_law.conflict(law);
+      if (why.empty()) why = law.conflict(node_law);
       const Point& x = mesh.node(i);
       require(why.empty(), "{}: contact node {} ({}, {}, {}) lies on contact parts whose {}", p.name, p.node_number(i), x[0], x[1], x[2],
               why);
-      stiffness[i] += law.lumped(mesh.facet_measure(f), mesh.nodes_per_facet());
+      (law.rigid() ? rigid_datum : compliant_datum)[i] += law.lumped(mesh.facet_measure(f), mesh.nodes_per_facet());
     }
   }
   std::vector<ContactRow> rows;
@@ -228,7 +227,8 @@ std::vector<ContactRow> contact_rows(const Problem& p, const std::vector<int>& c
            k < 0 ? p.where("contact.gap") : obstacle_where(p, k), g, p.node_number(node), x[0], x[1], x[2]);
     }
     const bool rigid = rigid_law[node] >= 0;
-    rows.push_back({node, v, g, rigid ? rigid_law[node] : compliant_law[node], rigid ? 0.0 : stiffness[node],
+    rows.push_back({node, v, g, rigid ? rigid_law[node] : compliant_law[node],
+                    rigid ? rigid_datum[node] : compliant_datum[node],
                     obstacles[node], {}, -1, 0.0});  // Γ3's row: no masters, no pair
   }
   // Every contact node has every component prescribed (a block may have no contact node: the

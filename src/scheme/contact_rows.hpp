@@ -14,9 +14,11 @@ struct ContactRow {
   Point direction{0, 0, 0};
   double gap = 0;
   /// The law at the node (its index in ContactSpec::laws(): a rigid one where any of its Γ3
-  /// facets has one) and k_i = Σ ContactLaw::lumped over its Γ3 facets (0 for a rigid law).
+  /// facets has one) and its per-node datum, Σ ContactLaw::lumped over the node's Γ3 facets of
+  /// that kind (rigid or compliant), whose meaning the law defines (k_i = c |Γ3|_i for normal
+  /// compliance, 0 for Signorini).
   int law = 0;
-  double stiffness = 0;
+  double datum = 0;
   ObstacleMask obstacles = kAllObstacles;  // the obstacles acting on the node's parts
   /// A contact pair's row (SPEC §8): its master nodes k and weights w_k = M_jk / D_jj, the row
   /// ν·u_j − Σ_k w_k ν·u_k ≤ g (g = g̃_j / D_jj: a gap, λ a nodal force as on Γ3). Empty on Γ3.
@@ -32,7 +34,7 @@ struct ContactRow {
 /// one is refused. Throws vpc::Error for that, for a fixed direction at 90° or more
 /// from the outward normal at some node (it would point into the body), for a gap
 /// below 0 at t = 0, for a node where parts of laws that cannot share it meet
-/// (ContactLaw::conflict: compliance laws of different exponents) and when no free
+/// (ContactLaw::conflict: e.g. compliance laws of different exponents) and when no free
 /// node is left on Γ3.
 std::vector<ContactRow> contact_rows(const Problem& p, const std::vector<int>& condition);
 

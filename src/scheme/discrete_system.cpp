@@ -214,15 +214,14 @@ ContactConstraints contact_constraints(const DiscreteSystem& sys) {
   c.rows = part.owned_contact_rows();
   c.N = sys.N;
   c.gap = checked_contact_gap(sys, 0.0);
-  // Each row's law (contact/contact_law.hpp) and its compliance 1/k_i, k_i = c |Γ3|_i: the law
-  // lumped at the node (ContactRow).
+  // Each row's law (contact/contact_law.hpp) and its per-node datum, lumped at the node (ContactRow).
   c.laws = sys.problem->contact.laws();
   c.block = sys.problem->contact.block_size(part.mesh().dim());
   c.law = part.owned_contact_laws();
-  std::vector<double> compliance;
+  std::vector<double> datum;
   for (const PartContactNode& node : part.contact)
-    if (node.owned) compliance.push_back(node.stiffness > 0 ? 1 / node.stiffness : 0.0);
-  c.compliance = Eigen::Map<Vector>(compliance.data(), static_cast<Eigen::Index>(compliance.size()));
+    if (node.owned) datum.push_back(node.datum);
+  c.datum = Eigen::Map<Vector>(datum.data(), static_cast<Eigen::Index>(datum.size()));
   if (!sys.problem->contact.pairs.empty()) {
     c.node_dofs = sys.contact_dofs;
     if (c.frictional()) c.master_mean = sys.master_mean;

@@ -32,7 +32,7 @@ struct PartContactNode {
   double gap = 0;      // g at the node
   double measure = 0;  // its tributary measure on Γ3 (for the contact pressure)
   int law = 0;           // ContactRow::law: its index in ContactSpec::laws()
-  double stiffness = 0;  // ContactRow::stiffness: k_i, the law's parameter lumped at the node (0: a rigid law)
+  double datum = 0;      // ContactRow::datum: the law's per-node datum (k_i for normal compliance)
   ObstacleMask obstacles = kAllObstacles;
   /// A contact pair's row (ContactRow::masters): its master nodes, local to the part, and weights;
   /// on an owned row, whose rank owns its master nodes too (cut_part), else empty.

@@ -50,7 +50,7 @@ WholeNumbering::WholeNumbering(const std::vector<std::vector<int>>& owned, const
 }
 
 PartContactNode part_contact_node(int k, const ContactRow& row, int local_node, bool owned, double measure) {
-  return {k, local_node, owned, row.direction, row.gap, measure, row.law, row.stiffness, row.obstacles, {}, row.pair};
+  return {k, local_node, owned, row.direction, row.gap, measure, row.law, row.datum, row.obstacles, {}, row.pair};
 }
 
 void add_loaded_facet(PartPieces& pieces, Mesh& mesh, const int* nodes, int load) {

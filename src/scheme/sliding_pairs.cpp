@@ -48,7 +48,7 @@ void slide_pairs(DiscreteSystem& sys, const Vector& u) {
     const ContactRow& r = *it->second;
     node.direction = r.direction;
     node.measure = r.measure;
-    node.stiffness = r.stiffness;
+    node.datum = r.datum;
     node.masters.clear();
     // The bound of N u_n: g(x + u) + ν·u_j − Σ_k w_k ν·u_k (all components: a master's prescribed
     // ones join at t_n in step_data.cpp, so their increment is what moves the bound).

@@ -13,17 +13,17 @@ namespace {
 
 /// Φ(λ) and, when J is given, its generalized Jacobian (rows as in the header).
 Vector residual(const Eigen::MatrixXd& S, const Vector& b, const std::vector<const ContactLaw*>& laws,
-                const Vector& compliance, const Vector& lambda, Eigen::MatrixXd* J) {
+                const Vector& compliance, const Vector& lower, const Vector& lambda, Eigen::MatrixXd* J) {
   const Eigen::Index m = lambda.size();
   const Vector d = b - S * lambda;
   Vector phi(m);
   if (J) J->setZero(m, m);
   for (Eigen::Index i = 0; i < m; ++i) {
     const ContactLaw& law = *laws[static_cast<std::size_t>(i)];
-    if (law.rigid()) {  // Signorini, −d scaled to a force by S_ii
-      const double gap = -d[i] / S(i, i);
-      if (lambda[i] <= gap) {
-        phi[i] = lambda[i];
+    if (law.rigid()) {  // Signorini (λ above its lower bound), −d scaled to a force by S_ii
+      const double gap = -d[i] / S(i, i), above = lambda[i] - lower[i];
+      if (above <= gap) {
+        phi[i] = above;
         if (J) (*J)(i, i) = 1;
       } else {
         phi[i] = gap;
@@ -43,13 +43,15 @@ Vector residual(const Eigen::MatrixXd& S, const Vector& b, const std::vector<con
 }  // namespace
 
 BoxQpResult solve_compliance_dual(const Eigen::MatrixXd& S, const Vector& b, const std::vector<const ContactLaw*>& laws,
-                                  const Vector& compliance, Vector& lambda, int max_iterations) {
+                                  const Vector& compliance, Vector& lambda, int max_iterations,
+                                  const Vector& lower_or_empty) {
   const Eigen::Index m = b.size();
   require(S.rows() == m && S.cols() == m && compliance.size() == m && static_cast<Eigen::Index>(laws.size()) == m,
           "internal: compliance dual of size {} with S {} x {}, {} compliances, {} laws", m, S.rows(), S.cols(),
           compliance.size(), laws.size());
+  const Vector lower = lower_or_empty.size() ? lower_or_empty : Vector(Vector::Zero(m));
   if (lambda.size() != m) lambda = Vector::Zero(m);
-  lambda = lambda.cwiseMax(0.0);
+  lambda = lambda.cwiseMax(lower);
   BoxQpResult r;
   if (m == 0) {
     r.converged = true;
@@ -60,7 +62,7 @@ BoxQpResult solve_compliance_dual(const Eigen::MatrixXd& S, const Vector& b, con
   // Rows are weighted by 1/J_ii: a stiff law's row λ − k d₊^e carries round-off of d
   // times k e d^{e−1}, which the weight brings back to a force of the size of λ's error.
   Eigen::MatrixXd J;
-  Vector phi = residual(S, b, laws, compliance, lambda, &J);
+  Vector phi = residual(S, b, laws, compliance, lower, lambda, &J);
   Vector w = J.diagonal().cwiseInverse();
   for (r.iterations = 0; r.iterations < max_iterations; ++r.iterations) {
     if (w.cwiseProduct(phi).cwiseAbs().maxCoeff() <= 1e-13 * scale()) {
@@ -74,18 +76,18 @@ BoxQpResult solve_compliance_dual(const Eigen::MatrixXd& S, const Vector& b, con
     Vector trial;
     for (int halving = 0; halving < 40; ++halving, alpha *= 0.5) {
       trial = lambda + alpha * step;
-      trial_merit = w.cwiseProduct(residual(S, b, laws, compliance, trial, nullptr)).squaredNorm();
+      trial_merit = w.cwiseProduct(residual(S, b, laws, compliance, lower, trial, nullptr)).squaredNorm();
       if (trial_merit <= (1 - 1e-4 * alpha) * merit) break;
     }
     if (!(trial_merit < merit)) break;  // no decrease at all: round-off, or a stall
     lambda = trial;
-    phi = residual(S, b, laws, compliance, lambda, &J);
+    phi = residual(S, b, laws, compliance, lower, lambda, &J);
     w = J.diagonal().cwiseInverse();
   }
   r.kkt_residual = w.cwiseProduct(phi).cwiseAbs().maxCoeff() / scale();
   r.converged = r.converged || r.kkt_residual <= 1e-13;
-  lambda = lambda.cwiseMax(0.0);  // a round-off below 0 (λ_i = k d₊^e and min(λ, ·) = 0 give λ ≥ 0)
-  r.n_lower = static_cast<int>((lambda.array() == 0).count());
+  lambda = lambda.cwiseMax(lower);  // a round-off below it (λ_i = k d₊^e and min(λ − lower, ·) = 0 give λ ≥ lower)
+  r.n_lower = static_cast<int>((lambda.array() == lower.array()).count());
   return r;
 }
 

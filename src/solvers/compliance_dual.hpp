@@ -16,13 +16,18 @@
 
 namespace vpc {
 
+/// Newton steps before solve_compliance_dual gives up (converged = false).
+constexpr int kComplianceDualIterations = 100;
+
 /// Semismooth Newton on Φ(λ) = 0 (the rows above; the generalized Jacobian J takes the
 /// λ branch of min at ties), with a backtracking line search on ½‖WΦ‖², W = diag(1/J_ii),
 /// warm-started from `lambda`. `laws`: each row's law; `compliance`: 1/k_i per row (unused on a
-/// rigid row). Converged when
+/// rigid row); `lower`: a rigid row's lower bound of λ_i (ContactLaw::dual_lower; empty: 0), its
+/// row then min(λ_i − lower_i, −d_i / S_ii) = 0. Converged when
 /// ‖Φ_i / J_ii‖∞ ≤ 1e-13 · max(‖λ‖∞, ‖b ⊘ diag S‖∞) (each row in units of λ's error);
 /// kkt_residual is that norm relative to the same scale.
 BoxQpResult solve_compliance_dual(const Eigen::MatrixXd& S, const Vector& b, const std::vector<const ContactLaw*>& laws,
-                                  const Vector& compliance, Vector& lambda, int max_iterations = 100);
+                                  const Vector& compliance, Vector& lambda, int max_iterations = kComplianceDualIterations,
+                                  const Vector& lower = Vector());
 
 }  // namespace vpc

@@ -15,12 +15,15 @@ bool dual_only(const ContactLaw& law) { return !law.linear(); }
 ContactNeeds contact_needs(const la::Comm& comm, const ContactConstraints& c) {
   ContactNeeds n;
   n.friction = c.frictional();
-  bool compliant = false, nonlinear = false;  // on this rank's rows
+  bool compliant = false, nonlinear = false;            // on this rank's rows
+  double tension = static_cast<double>(c.laws.size());  // the first law with a row below 0
   for (Eigen::Index i = 0; i < static_cast<Eigen::Index>(c.law.size()); ++i) {
     const ContactLaw& law = c.law_of(i);
     compliant = compliant || !law.rigid();
     nonlinear = nonlinear || !law.linear();
+    if (c.lower_of(i) < 0) tension = std::min(tension, static_cast<double>(c.law[static_cast<std::size_t>(i)]));
   }
+  if (const auto k = static_cast<std::size_t>(comm.min(tension)); k < c.laws.size()) n.tension = c.laws[k]->name();
   n.compliant = comm.any(compliant);
   // The laws are the same list on every rank: each names the law from the list, whether or not it has such a row.
   if (comm.any(nonlinear))
@@ -34,6 +37,11 @@ ContactNeeds contact_needs(const la::Comm& comm, const ContactConstraints& c) {
 }
 
 std::string cannot_solve(const std::string& solver, const ContactNeeds& needs) {
+  // Coulomb's and Tresca's bounds are of a pressing force; with a tension they are not defined.
+  if (needs.friction && !needs.tension.empty())
+    return fmt::format("contact solver '{}': law = \"{}\" lets a node carry a tension, and friction's bound is not "
+                       "defined there; no contact solver solves it with friction (remove friction)",
+                       solver, needs.tension);
   if (solver == "primal-active-set") {
     if (!needs.nonlinear.empty())
       return fmt::format("contact solver 'primal-active-set' solves Signorini and linear normal compliance rows; a {} "
@@ -50,6 +58,10 @@ std::string cannot_solve(const std::string& solver, const ContactNeeds& needs) {
     if (needs.compliant)
       return "contact solver 'penalty-duality' solves the Signorini conditions only; normal compliance needs "
              "'active-set'";
+    if (!needs.tension.empty())
+      return fmt::format("contact solver 'penalty-duality' solves the Signorini conditions only (a force >= 0); law = "
+                         "\"{}\" (a force down to a tension) needs 'active-set' or 'primal-active-set'",
+                         needs.tension);
   }
   return {};
 }

@@ -3,11 +3,11 @@
 // (pick_contact_solver) and by the refusals of a solver asked for what it cannot solve, so that a
 // new solver or law changes one row here instead of checks spread over the solvers.
 //
-//                        friction   compliance   a law that is     a friction set    a node on both
-//                                                not linear        not a disc        sides of pairs
-//   active-set (dual)    yes        yes          yes               yes               yes
-//   primal-active-set    yes        linear       no                yes               no
-//   penalty-duality      no         no           no                no                yes
+//                        friction   compliance   a law that is     a friction set    a node on both    tension (a law's
+//                                                not linear        not a disc        sides of pairs    lower bound < 0)
+//   active-set (dual)    yes        yes          yes               yes               yes               yes, frictionless
+//   primal-active-set    yes        linear       no                yes               no                yes, frictionless
+//   penalty-duality      no         no           no                no                yes               no
 // (Both frictional solvers ask each node's friction law for its set: the dual's Alart–Curnier
 // projection, the primal's Hüeber–Stadler–Wohlmuth linearization; primal_friction.hpp.)
 #include "solvers/contact_solver.hpp"
@@ -23,6 +23,7 @@ struct ContactNeeds {
   bool compliant = false;        // some row's normal law is not Signorini
   std::string nonlinear;         // a normal law that is not linear: its kind ("a power-law compliance"); empty: none
   bool pair_sides_mixed = false; // a node on the slave side of one pair row and the master side of another
+  std::string tension;           // a normal law whose force goes below 0 at some row (ContactLaw::dual_lower): its name
 };
 
 /// Whether a row with this normal law can only be solved by the dual (the table's "no" of the primal

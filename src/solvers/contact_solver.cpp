@@ -128,7 +128,7 @@ ContactResiduals contact_residuals(const la::SpdOperator& K, const ContactConstr
   const Vector lambda_local = local_normal(c, lambda);
   Vector s = c.gap - c.N * u;  // the gap left: ≥ 0, plus the penetration a compliant law gives at λ
   for (Eigen::Index i = 0; i < s.size() && !c.laws.empty(); ++i)
-    if (const ContactLaw& law = c.law_of(i); !law.rigid()) s[i] = law.gap_left(s[i], lambda_local[i], c.compliance[i]);
+    if (const ContactLaw& law = c.law_of(i); !law.rigid()) s[i] = law.gap_left(s[i], lambda_local[i], c.compliance_of(i));
   auto inf = [&](const Vector& v) { return comm.max(v.size() ? v.cwiseAbs().maxCoeff() : 0.0); };
   const double f_scale = std::max({inf(F), inf(Ku), 1e-300});
   Vector stationarity = Ku - F + c.N.transpose() * lambda_local;
@@ -147,10 +147,11 @@ ContactResiduals contact_residuals(const la::SpdOperator& K, const ContactConstr
   const Vector K_diag = K.diagonal();
   const double k_max = comm.max(K_diag.size() ? K_diag.maxCoeff() : 0.0);
   const double u_scale = std::max({inf(u), inf(c.gap), k_max > 0 ? l_scale / k_max : 0.0, 1e-300});
-  for (int i = 0; i < s.size(); ++i) {
+  for (int i = 0; i < s.size(); ++i) {  // against the row's dual bound: (λ − lower) ⟂ s ≥ 0
+    const double above = lambda_local[i] - c.lower_of(i);
     r.penetration = std::max(r.penetration, -s[i] / u_scale);
-    r.negative_force = std::max(r.negative_force, -lambda_local[i] / l_scale);
-    r.complementarity = std::max(r.complementarity, std::abs(lambda_local[i] * s[i]) / (l_scale * u_scale));
+    r.negative_force = std::max(r.negative_force, -above / l_scale);
+    r.complementarity = std::max(r.complementarity, std::abs(above * s[i]) / (l_scale * u_scale));
   }
   if (c.frictional()) {  // SPEC §7: |λ_τ|_C ≤ s; below it Δ = 0; at it Δ in C_s's normal cone
     const int t = c.block - 1;
@@ -269,8 +270,8 @@ std::unique_ptr<ContactSolver> make_contact_solver(const std::string& name, std:
           "internal: contact constraints of {} rows x {} columns for {} rows, {} gaps and {} owned dofs",
           constraints.N.rows(), constraints.N.cols(), rows, constraints.gap.size(), K->n_owned());
   require(constraints.laws.empty() ||
-              (constraints.compliance.size() == rows && constraints.law.size() == constraints.rows.size()),
-          "internal: {} compliances and {} laws for {} contact rows", constraints.compliance.size(),
+              (constraints.datum.size() == rows && constraints.law.size() == constraints.rows.size()),
+          "internal: {} law data and {} laws for {} contact rows", constraints.datum.size(),
           constraints.law.size(), rows);
   refuse_unsolvable(name, contact_needs(K->comm(), constraints));
   if (name == "active-set")

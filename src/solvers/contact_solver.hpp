@@ -24,8 +24,8 @@ namespace vpc {
 struct ContactResiduals {
   double equilibrium = 0;           // ‖Ku − F + Nᵀλ‖∞ / max(‖F‖∞, ‖Ku‖∞)
   double penetration = 0;           // max(0, max(Nu − g)) / scale_u
-  double negative_force = 0;        // max(0, −min λ) / scale_λ
-  double complementarity = 0;       // max |λ_i (g − Nu)_i| / (scale_λ scale_u)
+  double negative_force = 0;        // max(0, −min(λ − lower)) / scale_λ (lower: ContactConstraints::lower_of, mostly 0)
+  double complementarity = 0;       // max |(λ_i − lower_i) (g − Nu)_i| / (scale_λ scale_u)
   // Friction (SPEC §7; 0 without): with Δ_i = T_i u − h_i the slip increment and s_i the bound
   // (ContactConstraints::bound) of node i,
   double friction_bound = 0;        // max(0, max_i |λ_τ,i| − s_i) / scale_λ: |λ_τ| ≤ s
@@ -66,13 +66,13 @@ struct ContactConstraints {
   SparseMatrix N;         // local rows × owned free dofs
   Vector gap;             // g of each local row
   /// The contact laws (contact/contact_law.hpp), the same list on every process, and per
-  /// local row the index of its law in it and its compliance 1/k_i (k_i = the law lumped at the
-  /// node, ContactRow::stiffness; 0 for a rigid law). No laws: Signorini on every row. The
-  /// solvers ask the law: linear laws give the dual QP with S + diag(1/k); a law that is not
-  /// linear, solve_compliance_dual's Newton (active-set only).
+  /// local row the index of its law in it and the law's per-node datum (ContactRow::datum: k_i
+  /// for normal compliance), whose meaning the solvers ask the law (compliance_of, lower_of).
+  /// No laws: Signorini on every row. Linear laws give the dual QP with S + diag(1/k); a law that
+  /// is not linear, solve_compliance_dual's Newton (active-set only).
   std::vector<std::shared_ptr<const ContactLaw>> laws;
   std::vector<int> law;  // per local row
-  Vector compliance;     // per local row
+  Vector datum;          // per local row
   /// Contact pairs (SPEC §8): per local row, its own node's free dofs (owned numbering); a pair
   /// row's other entries are its master nodes'. Empty where no row has masters (a row's entries are
   /// all its node's). The primal solver's basis needs them (contact_basis, solvers/contact_frame.hpp).
@@ -90,6 +90,10 @@ struct ContactConstraints {
   const ContactLaw& law_of(Eigen::Index i) const {
     return laws.empty() ? *signorini_law() : *laws[static_cast<std::size_t>(law[static_cast<std::size_t>(i)])];
   }
+  /// Local row i's compliance 1/k_i (0: rigid) and the lower bound of its force, λ_i ≥ lower_i
+  /// (0 but for a law that lets a node carry a tension), from its law at its datum.
+  double compliance_of(Eigen::Index i) const { return laws.empty() ? 0.0 : law_of(i).compliance(datum[i]); }
+  double lower_of(Eigen::Index i) const { return laws.empty() ? 0.0 : law_of(i).dual_lower(datum[i]); }
 
   // Friction (block > 1; SPEC §7), per local row i and its tangents j < block − 1:
   /// T: row i(b−1) + j is the unit tangent t_ij on the owned free dofs (set_tangents: the columns

@@ -34,15 +34,19 @@ class ActiveSetContactSolver final : public ContactSolver {
     Eigen::MatrixXd S = factor_->has_halves() ? dual_matrix_from_halves(max_cached_share)
                                               : dual_matrix_from_schur_or_solves(max_cached_share);
     S = 0.5 * (S + S.transpose()).eval();
-    if (!c_.laws.empty()) {  // every row's law and compliance, the same on every rank
+    if (!c_.laws.empty()) {  // every row's law, compliance and lower bound, the same on every rank
       const auto n = static_cast<Eigen::Index>(c_.law.size());
       const Vector all = replicate(comm(), c_, Eigen::Map<const Eigen::VectorXi>(c_.law.data(), n).cast<double>());
+      const Vector datum = replicate(comm(), c_, c_.datum);
+      compliance_.resize(all.size());
+      lower_.resize(all.size());
       for (Eigen::Index j = 0; j < all.size(); ++j) {
         const auto law = static_cast<std::size_t>(all[j]);
         row_laws_.push_back(c_.laws[law].get());
         if (!c_.frictions.empty()) row_frictions_.push_back(c_.frictions[law].get());
+        compliance_[j] = row_laws_.back()->compliance(datum[j]);
+        lower_[j] = row_laws_.back()->dual_lower(datum[j]);
       }
-      compliance_ = replicate(comm(), c_, c_.compliance);
       nonlinear_ = std::ranges::any_of(row_laws_, [](const ContactLaw* l) { return !l->linear(); });
     }
     if (nonlinear_) S_plain_ = S;  // the nonlinear law's dual (solve_compliance_dual) on S itself
@@ -53,7 +57,7 @@ class ActiveSetContactSolver final : public ContactSolver {
       if (const ContactLaw* law = row_laws_[static_cast<std::size_t>(j)]; !law->rigid() && law->linear())
         S(j * b, j * b) += law->spring_compliance(compliance_[j]);
     if (c_.frictional()) {
-      sets_ = friction_sets(comm(), c_, row_laws_, row_frictions_, S);
+      sets_ = friction_sets(comm(), c_, row_laws_, lower_, row_frictions_, S);
       if (nonlinear_) {  // friction_dual.hpp: those rows' λ_ν = λ(d) in the semismooth Newton
         for (const ContactLaw* law : row_laws_) sets_.force_law.push_back(law->linear() ? nullptr : law);
         sets_.compliance = compliance_;
@@ -107,17 +111,18 @@ class ActiveSetContactSolver final : public ContactSolver {
 
  private:
   /// The dual problem for b = N K⁻¹F − g (replicated): the box QP with S (+ diag(1/k)) over
-  /// each row's dual set (λ ≥ 0), or, for a law that is not linear on some row, solve_compliance_dual.
+  /// each row's dual set (λ ≥ lower: 0 but for a law that carries a tension), or, for a law that is not
+  /// linear on some row, solve_compliance_dual.
   BoxQpResult dual(const Vector& b, Vector& lambda) {
     if (c_.frictional()) {  // friction_dual.hpp; the bounds of this step
       sets_.tresca = replicate(comm(), c_, c_.tresca);
       return solve_friction_dual(*S_, b, sets_, lambda);
     }
-    if (nonlinear_) return solve_compliance_dual(S_plain_, b, row_laws_, compliance_, lambda);
+    if (nonlinear_) return solve_compliance_dual(S_plain_, b, row_laws_, compliance_, lambda, kComplianceDualIterations, lower_);
     const int m = c_.m;
     Vector lo = Vector::Zero(m), hi = Vector::Constant(m, std::numeric_limits<double>::infinity());
     for (std::size_t j = 0; j < row_laws_.size(); ++j) {
-      lo[static_cast<Eigen::Index>(j)] = row_laws_[j]->dual_lower();
+      lo[static_cast<Eigen::Index>(j)] = lower_[static_cast<Eigen::Index>(j)];
       hi[static_cast<Eigen::Index>(j)] = row_laws_[j]->dual_upper();
     }
     return solve_box_qp(*S_, b, lo, hi, lambda);
@@ -215,7 +220,8 @@ class ActiveSetContactSolver final : public ContactSolver {
   Eigen::MatrixXd S_plain_;                  // S without diag(1/k), for a nonlinear law only
   std::vector<const ContactLaw*> row_laws_;  // every row's law (replicated); empty: Signorini
   std::vector<const FrictionLaw*> row_frictions_;  // every row's friction law (replicated; nullptr: none); empty: discs
-  Vector compliance_;                        // every row's 1/k_i (replicated), with row_laws_
+  Vector compliance_;                        // every row's 1/k_i (replicated; 0: rigid), with row_laws_
+  Vector lower_;                             // every row's λ_i ≥ lower_i (replicated), with row_laws_
   bool nonlinear_ = false;                   // some row's law is not linear
   SparseMatrix B_;              // N, or with friction [N; T], in λ's order (block_rows)
   std::vector<int> B_rows_;     // its rows' places in λ

@@ -292,7 +292,7 @@ BoxQpResult newton(const Eigen::MatrixXd& S, const Vector& b, const FrictionDual
 }  // namespace
 
 FrictionDualSets friction_sets(const la::Comm& comm, const ContactConstraints& c,
-                               const std::vector<const ContactLaw*>& laws,
+                               const std::vector<const ContactLaw*>& laws, const Vector& lower,
                                const std::vector<const FrictionLaw*>& frictions, Eigen::MatrixXd& S) {
   const int m = c.m, b = c.block, t = b - 1;
   FrictionDualSets f;
@@ -301,7 +301,7 @@ FrictionDualSets friction_sets(const la::Comm& comm, const ContactConstraints& c
   f.lo = Vector::Zero(m);
   f.hi = Vector::Constant(m, std::numeric_limits<double>::infinity());
   for (std::size_t j = 0; j < laws.size(); ++j) {
-    f.lo[static_cast<Eigen::Index>(j)] = laws[j]->dual_lower();
+    f.lo[static_cast<Eigen::Index>(j)] = lower.size() ? lower[static_cast<Eigen::Index>(j)] : 0.0;
     f.hi[static_cast<Eigen::Index>(j)] = laws[j]->dual_upper();
   }
   Vector has(c.T.rows());

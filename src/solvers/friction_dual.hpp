@@ -21,7 +21,7 @@ namespace vpc {
 /// Each node's sets, replicated (i < m; λ has m × block entries).
 struct FrictionDualSets {
   int block = 2;          // d: λ_ν and d − 1 tangential forces per node
-  Vector lo, hi;          // the normal force's bounds (ContactLaw::dual_lower, dual_upper)
+  Vector lo, hi;          // the normal force's bounds (ContactLaw::dual_lower at the row's datum, dual_upper)
   Vector tresca, mu;      // the bound s_i = min(tresca_i + μ_i max(λ_ν,i, 0), limit_i)
   Vector limit;           // Coulomb's shear limit as a force (+∞: none; empty: none anywhere)
   /// A normal law that is not linear (ContactLaw::linear; e.g. a power-law compliance): per node
@@ -70,11 +70,12 @@ BoxQpResult solve_friction_dual(DenseBoxQpOperator& S, const Vector& b, const Fr
                                 int max_iterations = 100);
 
 /// Each node's sets, replicated (collective); `laws`: every row's normal law (empty: Signorini);
+/// `lower`: every row's lower bound of λ_ν (ContactConstraints::lower_of; empty: 0);
 /// `frictions`: every row's friction law (empty: the disc everywhere).
 /// A missing tangent's row and column of S are zero (a zero row of T): 1 on its diagonal keeps
 /// S definite, and its λ_τ is held at 0.
 FrictionDualSets friction_sets(const la::Comm& comm, const ContactConstraints& c,
-                               const std::vector<const ContactLaw*>& laws,
+                               const std::vector<const ContactLaw*>& laws, const Vector& lower,
                                const std::vector<const FrictionLaw*>& frictions, Eigen::MatrixXd& S);
 
 /// The box of 2D Tresca's QP (exposed for tests).

@@ -37,7 +37,7 @@ class PrimalActiveSetSolver final : public ContactSolver {
     Vector w = answers_.start_point(op_, F, u);
     const Vector lambda_in = lambda.size() == c.m ? local_rows(c, lambda) : Vector(Vector::Zero(rows));
     std::vector<char> active(static_cast<size_t>(rows));
-    for (Eigen::Index i = 0; i < rows; ++i) active[i] = lambda_in[i] > 0 || op_.gap_left(w, i) < 0;
+    for (Eigen::Index i = 0; i < rows; ++i) active[i] = lambda_in[i] > op_.lower(i) || op_.gap_left(w, i) < 0;
     Vector lambda_local = Vector::Zero(rows);
     ActiveSetHistory history;  // the active sets met in this solve
     ContactReport rep;

@@ -34,13 +34,15 @@ PrimalOperator::PrimalOperator(std::shared_ptr<const la::SpdOperator> K, std::sh
                                std::shared_ptr<la::LinearSolver> factor, ContactConstraints c)
     : K_(std::move(K)), K_rot_(K_rot ? std::move(K_rot) : K_), factor_(std::move(factor)), c_(std::move(c)),
       basis_(contact_basis(c_.N, c_.node_dofs, c_.master_mean)), rows_(basis_.rows) {
-  for (Eigen::Index i = 0; i < static_cast<Eigen::Index>(rows_.size()) && !c_.laws.empty(); ++i) {
+  for (Eigen::Index i = 0; i < static_cast<Eigen::Index>(rows_.size()); ++i) {
+    lower_.push_back(c_.lower_of(i));
+    if (c_.laws.empty()) continue;
     const ContactLaw& law = c_.law_of(i);  // rigid or linear (contact_capabilities.hpp: the primal's row)
     // An active compliant row is the spring of the law's linearization (exact for a linear law).
-    spring_.push_back(law.rigid() ? 0.0 : law.spring_compliance(c_.compliance[i]));
+    spring_.push_back(law.rigid() ? 0.0 : law.spring_compliance(c_.compliance_of(i)));
   }
   require(basis_.P.size() == 0 || K_rot_ != K_, "internal: the primal contact solver needs Pᵀ K P for rotated rows");
-  // c_i of the update rule λ_i + c_i (N_i u − g_i) > 0: K's stiffness at the row's dof, per unit of N_i u.
+  // c_i of the update rule λ_i − lower_i + c_i (N_i u − g_i) > 0: K's stiffness at the row's dof, per unit of N_i u.
   diagonal_ = K_rot_->diagonal();
   const Vector& d = diagonal_;
   for (const RotatedRow& r : rows_) scale_.push_back(d[r.dof] / (r.alpha * r.alpha));
@@ -160,14 +162,18 @@ SparseMatrix PrimalOperator::owned_matrix(const std::vector<Eigen::Triplet<doubl
 }
 
 /// w = the solution of K_rot w = b with the active rows: w_k = g/α on Signorini rows
-/// (the others moved to the right-hand side), springs on the compliance rows; with friction the
+/// (the others moved to the right-hand side), springs on the compliance rows, an inactive row's
+/// force at its lower bound where that is not 0 (the load −N_iᵀ lower_i); with friction the
 /// stick and slip rows' conditions (PrimalFriction::load) and Coulomb's coupling (CoulombCoupling).
 PrimalOperator::Solved PrimalOperator::solve_constrained(const std::vector<char>& active, const Vector& b, Vector& w,
                                                          bool tight, FrictionalSolve* friction) {
   Vector fixed_values = Vector::Zero(b.size());
   Vector rhs = b;
   for (size_t i = 0; i < rows_.size(); ++i) {
-    if (!active[i]) continue;
+    if (!active[i]) {
+      if (lower_[i] != 0) rhs[rows_[i].dof] -= rows_[i].alpha * lower_[i];
+      continue;
+    }
     const auto e = static_cast<Eigen::Index>(i);
     if (compliant(e))
       rhs[rows_[i].dof] += rows_[i].alpha * c_.gap[e] / spring_[i];
@@ -260,9 +266,10 @@ double PrimalOperator::loose_tolerance(const Vector& rhs, const Vector& w) const
 }
 
 /// λ_ν of the iterate (reaction r = b − K_rot w at an active Signorini row, the spring's force
-/// at a compliant one, the slip law's at a row where CoulombCoupling::law_determines) and the next
-/// normal set by the update rule; `worst`: the active Signorini row with the most negative force
-/// (if below 0).
+/// at a compliant one, the slip law's at a row where CoulombCoupling::law_determines, the lower
+/// bound at an inactive one) and the next normal set by the update rule
+/// λ_i − lower_i + c_i (N_i u − g_i) > 0; `worst`: the active Signorini row whose force is the most
+/// below its lower bound (if below it).
 void PrimalOperator::normal_update(const std::vector<char>& active, const Vector& w, const Vector& r,
                                    Vector& lambda_local, std::vector<char>& next, double& most_negative,
                                    Eigen::Index& worst, const FrictionalSolve* friction) const {
@@ -280,10 +287,12 @@ void PrimalOperator::normal_update(const std::vector<char>& active, const Vector
                                             : -gap / spring_[static_cast<std::size_t>(i)];
       next[i] = gap < 0;
     } else {
-      lambda_local[i] = !active[i] ? 0.0 : law_determines(i) ? law_normal_force(i) : r[row.dof] / row.alpha;
-      next[i] = lambda_local[i] - scale_[i] * gap > 0;
-      if (active[i] && lambda_local[i] < most_negative) {
-        most_negative = lambda_local[i];
+      const double lower = lower_[static_cast<std::size_t>(i)];
+      lambda_local[i] = !active[i] ? lower : law_determines(i) ? law_normal_force(i) : r[row.dof] / row.alpha;
+      const double above = lambda_local[i] - lower;
+      next[i] = above - scale_[i] * gap > 0;
+      if (active[i] && above < most_negative) {
+        most_negative = above;
         worst = i;
       }
     }

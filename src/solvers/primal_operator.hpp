@@ -56,8 +56,10 @@ class PrimalOperator {
   /// Each local row's dof k and α in w.
   const std::vector<RotatedRow>& rows() const { return rows_; }
   Eigen::Index n_rows() const { return static_cast<Eigen::Index>(rows_.size()); }
-  /// c_i of the update rule λ_i + c_i (N_i u − g_i) > 0.
+  /// c_i of the update rule λ_i − lower_i + c_i (N_i u − g_i) > 0.
   double scale(Eigen::Index i) const { return scale_[static_cast<std::size_t>(i)]; }
+  /// The lower bound of row i's force (ContactConstraints::lower_of): an inactive row's force.
+  double lower(Eigen::Index i) const { return lower_[static_cast<std::size_t>(i)]; }
   /// 1/k of an active compliant row's spring, 0 for a rigid row.
   double spring(std::size_t i) const { return spring_[i]; }
   bool compliant(Eigen::Index i) const { return !spring_.empty() && spring_[static_cast<std::size_t>(i)] > 0; }
@@ -109,6 +111,7 @@ class PrimalOperator {
   std::vector<RotatedRow> rows_;   // per local row
   std::vector<double> scale_;      // c_i of the update rule
   std::vector<double> spring_;     // per local row: 1/k of an active compliant row's spring, 0 for a rigid row
+  std::vector<double> lower_;      // per local row: its force's lower bound (0 but for a law with tension)
   Vector diagonal_;                // K_rot's
   std::shared_ptr<la::SpdOperator> A_;  // K_rot (+ springs) with the factored set's rows fixed
   bool keep_factor() const;

@@ -48,7 +48,7 @@ void compare(int rank, const vpc::MeshPart& a, const vpc::MeshPart& b) {
   for (std::size_t k = 0; k < std::min(a.contact.size(), b.contact.size()); ++k) {
     const vpc::PartContactNode &x = a.contact[k], &y = b.contact[k];
     const bool same = x.row == y.row && x.local_node == y.local_node && x.owned == y.owned && x.direction == y.direction &&
-                      x.gap == y.gap && x.measure == y.measure && x.law == y.law && x.stiffness == y.stiffness &&
+                      x.gap == y.gap && x.measure == y.measure && x.law == y.law && x.datum == y.datum &&
                       x.obstacles == y.obstacles && x.masters == y.masters && x.pair == y.pair;
     if (!same) {
       ++differences;

@@ -1,5 +1,6 @@
 #include "test_laws.hpp"
 
+#include "contact/registry.hpp"
 #include "core/error.hpp"
 
 #include <fmt/format.h>
@@ -114,14 +115,34 @@ void WornCoulomb::update_surface(const SurfaceNode& node, std::span<double* cons
   values[1][1] += 1;
 }
 
+AdhesiveSignorini::AdhesiveSignorini(double strength) : strength_(strength) {
+  require(strength >= 0 && std::isfinite(strength), "test-adhesive: strength >= 0");
+}
+
+AdhesiveSignorini::AdhesiveSignorini(LawKeys& keys) : strength_(keys.number("strength")) {
+  if (!(strength_ >= 0 && std::isfinite(strength_)))
+    fail("{}: expected a strength >= 0 (an adhesive traction), got {}", keys.where("strength"), strength_);
+}
+
+std::string AdhesiveSignorini::describe() const { return fmt::format("adhesive Signorini, strength = {}", strength_); }
+
+std::string AdhesiveSignorini::conflict(const ContactLaw& other) const {
+  if (dynamic_cast<const AdhesiveSignorini*>(&other)) return {};
+  return fmt::format("laws are an {} and a {}; parts with different laws cannot share a node", kind(), other.kind());
+}
+
 void register_test_laws() {
   static const bool registered =
       register_friction_law("elliptic-coulomb",
                             [](FrictionKeys& keys) -> std::shared_ptr<const FrictionLaw> {
                               return std::make_shared<const EllipticCoulomb>(keys);
                             }) &&
-      register_friction_law("worn-coulomb", [](FrictionKeys& keys) -> std::shared_ptr<const FrictionLaw> {
-        return std::make_shared<const WornCoulomb>(keys);
+      register_friction_law("worn-coulomb",
+                            [](FrictionKeys& keys) -> std::shared_ptr<const FrictionLaw> {
+                              return std::make_shared<const WornCoulomb>(keys);
+                            }) &&
+      register_contact_law("test-adhesive", [](LawKeys& keys) -> std::shared_ptr<const ContactLaw> {
+        return std::make_shared<const AdhesiveSignorini>(keys);
       });
   (void)registered;
 }

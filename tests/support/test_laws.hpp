@@ -4,6 +4,11 @@
 //   "elliptic-coulomb": Coulomb's bound s = μ λ_ν with an elliptic set of tangential forces,
 //     C_s = {(λ_1/a_1)² + (λ_2/a_2)² ≤ s²} along the node's tangents (keys mu, axis_1, axis_2;
 //     axes 1 and 1 are Coulomb's disc): anisotropic friction by the maximum dissipation principle.
+//   "test-adhesive": Signorini with adhesion, a normal law with its own per-node datum: the force
+//     may go down to the tension −a_i, a_i = strength |Γ3|_i (lumped like the compliance's k_i; key
+//     strength >= 0): (λ_i + a_i) ⟂ (g_i − N_i u) ≥ 0, λ_i + a_i ≥ 0. A node that separates carries
+//     exactly −a_i; strength 0 is Signorini.
+#include "contact/contact_law.hpp"
 #include "contact/friction_law.hpp"
 
 namespace vpc::test {
@@ -48,6 +53,25 @@ class WornCoulomb final : public FrictionLaw {
 
  private:
   double mu_, wear_, gap_share_;
+};
+
+class AdhesiveSignorini final : public ContactLaw {
+ public:
+  explicit AdhesiveSignorini(double strength);
+  explicit AdhesiveSignorini(LawKeys& keys);
+  std::string name() const override { return "test-adhesive"; }
+  std::string describe() const override;
+  std::string kind() const override { return "adhesive Signorini law"; }
+  bool rigid() const override { return true; }
+  /// a_i's share of one facet: strength |f| / nodes.
+  double lumped(double facet_measure, int nodes) const override { return strength_ * facet_measure / nodes; }
+  /// Another law's facets may not meet this one's at a node (the datum would mix two meanings).
+  std::string conflict(const ContactLaw& other) const override;
+  double dual_lower(double datum) const override { return -datum; }
+  double strength() const { return strength_; }
+
+ private:
+  double strength_;
 };
 
 /// Registers the test-only laws (once; every later call does nothing).

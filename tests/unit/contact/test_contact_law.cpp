@@ -61,7 +61,8 @@ TEST(ContactLaw, Signorini) {
   EXPECT_EQ(s->block_size(3), 1);
   EXPECT_EQ(s->lumped(2.0, 2), 0.0);
   EXPECT_EQ(s->gap_left(0.25, 7.0, 0.0), 0.25);  // λ ⟂ g − N u: nothing added
-  EXPECT_EQ(s->dual_lower(), 0.0);
+  EXPECT_EQ(s->dual_lower(1.0), 0.0);
+  EXPECT_EQ(s->compliance(1.0), 0.0);
   EXPECT_TRUE(std::isinf(s->dual_upper()));
   EXPECT_TRUE(signorini_law()->rigid());
 }
@@ -75,6 +76,8 @@ TEST(ContactLaw, LinearNormalCompliance) {
   EXPECT_EQ(l->kind(), "linear normal compliance");
   EXPECT_DOUBLE_EQ(l->lumped(0.5, 2), 25.0);
   const double compliance = 0.04;  // k = 25
+  EXPECT_EQ(l->compliance(25.0), compliance);  // the datum is k_i
+  EXPECT_EQ(l->dual_lower(25.0), 0.0);
   EXPECT_DOUBLE_EQ(l->force(0.2, compliance), 5.0);
   EXPECT_EQ(l->force(-0.2, compliance), 0.0);
   EXPECT_DOUBLE_EQ(l->force_slope(0.2, compliance), 25.0);

@@ -54,7 +54,7 @@ void expect_same(const PartContactNode& a, const PartContactNode& b) {
   EXPECT_EQ(a.direction, b.direction);
   EXPECT_EQ(a.gap, b.gap);
   EXPECT_EQ(a.measure, b.measure);
-  EXPECT_EQ(a.stiffness, b.stiffness);
+  EXPECT_EQ(a.datum, b.datum);
   EXPECT_EQ(a.law, b.law);
   EXPECT_EQ(a.obstacles, b.obstacles);
 }

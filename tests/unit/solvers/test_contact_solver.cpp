@@ -22,11 +22,11 @@
 namespace vpc {
 namespace {
 
-/// One law on every row of `cc`, with the compliance 1/k of each row.
-void set_law(ContactConstraints& cc, std::shared_ptr<const ContactLaw> law, const Vector& compliance) {
+/// One law on every row of `cc`, with the datum k of each row (its compliance is 1/k).
+void set_law(ContactConstraints& cc, std::shared_ptr<const ContactLaw> law, const Vector& datum) {
   cc.laws = {std::move(law)};
-  cc.law.assign(static_cast<std::size_t>(compliance.size()), 0);
-  cc.compliance = compliance;
+  cc.law.assign(static_cast<std::size_t>(datum.size()), 0);
+  cc.datum = datum;
 }
 
 /// x = A⁻¹b with a factor of A.
@@ -144,7 +144,7 @@ TEST(ContactSolver, NormalComplianceSprings) {
     cc.rows = {0};
     cc.N = s.N;
     cc.gap = Vector::Constant(1, s.g);
-    set_law(cc, std::make_shared<const NormalComplianceLaw>(c, 1.0), Vector::Constant(1, 1 / c));
+    set_law(cc, std::make_shared<const NormalComplianceLaw>(c, 1.0), Vector::Constant(1, c));
     auto solver = make_contact_solver("active-set", K, factor, cc, la::make_cholmod_factor);
     Vector u, lambda;
     const ContactReport rep = solver->solve(F, u, lambda);
@@ -187,7 +187,7 @@ TEST(ContactSolver, PowerLawComplianceSprings) {
       cc.rows = {0};
       cc.N = s.N;
       cc.gap = Vector::Constant(1, s.g);
-      set_law(cc, std::make_shared<const NormalComplianceLaw>(c, e), Vector::Constant(1, 1 / c));
+      set_law(cc, std::make_shared<const NormalComplianceLaw>(c, e), Vector::Constant(1, c));
       auto solver = make_contact_solver("active-set", K, factor, cc, la::make_cholmod_factor);
       EXPECT_NE(solver->describe().find("semismooth Newton"), std::string::npos);
       Vector u, lambda;

@@ -329,7 +329,7 @@ TEST(FrictionDual, LinearComplianceWithCoulomb) {
     FrictionBlock b = make_friction_block(dim, 0.3);
     b.c.laws = {std::make_shared<NormalComplianceLaw>(10.0, 1.0)};
     b.c.law.assign(static_cast<std::size_t>(b.m()), 0);
-    b.c.compliance = Vector::Constant(b.m(), 0.05);
+    b.c.datum = Vector::Constant(b.m(), 1 / 0.05);
     std::vector<double> along(static_cast<std::size_t>(dim - 1), 0.003);
     const Solved s = solve(b, Vector::Zero(b.m()), slide_shift(b, along));
     EXPECT_GT(s.rep.n_active, 0);
@@ -373,7 +373,7 @@ TEST(FrictionDual, PowerLawAtExponentOneIsTheLinearCompliance) {
           b.c.law.assign(static_cast<std::size_t>(b.m()), 0);
           if (mixed)
             for (int i = 0; i < b.m(); i += 2) b.c.law[static_cast<std::size_t>(i)] = 1;
-          b.c.compliance = Vector::Constant(b.m(), 0.05);
+          b.c.datum = Vector::Constant(b.m(), 1 / 0.05);
           std::vector<double> along(static_cast<std::size_t>(dim - 1), slide);
           const Vector h = slide_shift(b, along);
           const Vector g = Vector::Constant(b.m(), tresca ? 0.002 : 0.0);

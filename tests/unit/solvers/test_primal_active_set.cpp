@@ -138,10 +138,10 @@ TEST(PrimalActiveSet, AgreesWithTheDualSolverOnSlantedRows) {
     if (compliance) {
       c.laws = {signorini_law(), std::make_shared<const NormalComplianceLaw>(1 / 0.05, 1.0)};
       c.law.assign(static_cast<std::size_t>(m), 0);
-      c.compliance = Vector::Zero(m);
+      c.datum = Vector::Zero(m);
       for (int i = 0; i < m; i += 3) {
         c.law[static_cast<std::size_t>(i)] = 1;
-        c.compliance[i] = 0.05;
+        c.datum[i] = 1 / 0.05;
       }
     }
     const BothSolvers r = solve_both(b.K, b.F, c, SparseMatrix(Q * b.K * Q));
@@ -285,7 +285,7 @@ TEST(PrimalActiveSet, RefusesAPowerLaw) {
   for (int i = 0; i < c.m; ++i) c.rows.push_back(i);
   c.laws = {std::make_shared<const NormalComplianceLaw>(10.0, 2.0)};
   c.law.assign(static_cast<std::size_t>(c.m), 0);
-  c.compliance = Vector::Constant(c.m, 0.1);
+  c.datum = Vector::Constant(c.m, 10.0);
   auto K = std::make_shared<const la::SparseOperator>(b.K);
   const SparseMatrix Q = contact_reflections(b.N);
   auto K_rot = std::make_shared<const la::SparseOperator>(SparseMatrix(Q * b.K * Q));
