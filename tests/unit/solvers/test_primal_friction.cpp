@@ -501,7 +501,7 @@ TEST(PrimalFriction, AnEllipticSetUnderALargeMuAgreesWithTheDualSolver) {
   ContactConstraints c = frictional(b.N, Vector::Zero(b.N.rows()), 3, b.node_dofs, mu);
   c.laws = {signorini_law()};  // (the dual reads the friction laws along the normal laws' list)
   c.law.assign(static_cast<std::size_t>(c.m), 0);
-  c.compliance = Vector::Zero(c.m);
+  c.datum = Vector::Zero(c.m);
   c.frictions = {std::make_shared<const test::EllipticCoulomb>(mu, 1.0, 0.5)};
   Vector shift(c.T.rows());
   for (Eigen::Index j = 0; j < shift.size(); ++j) shift[j] = (j % 2 ? -1.0 : 2.0) * static_cast<double>(j) / static_cast<double>(shift.size());
