@@ -162,3 +162,11 @@ def test_fields_and_columns_come_from_the_library_tables(sim):
     assert "n_stick" in friction and not set(friction) & set(sim.history_columns)  # none without friction
     sim.step()
     assert isinstance(sim.report["n_active"], int) and isinstance(sim.report["contact_equilibrium"], float)
+
+
+def test_surface_state_is_empty_where_no_law_keeps_any(sim):
+    # The contact laws' per-node state (docs/scheme.md "A law may keep per-node state"): a dict of
+    # views by declared name; the shipped laws declare none.
+    assert sim.surface == {}
+    sim.step(1)
+    assert sim.surface == {}
