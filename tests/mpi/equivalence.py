@@ -438,10 +438,14 @@ def main():
                     help="the PETSc runs use an iterative solver stopped at a relative residual r: numbers agree "
                          "to the given relative tolerance (about cond(K) r), residuals to 1e-8 (the runs' "
                          "tolerance), iteration counts are not compared")
+    ap.add_argument("--tolerance", type=float, default=0,
+                    help="numbers agree to this relative tolerance instead of 1e-10 (everything else as without it)")
     ap.add_argument("case", nargs=argparse.REMAINDER)
     a = ap.parse_args()
     if a.iterative > 0:
         REL, RESIDUAL_ABS, ITERATIVE = a.iterative, 1e-8, True
+    if a.tolerance > 0:
+        REL = a.tolerance
     case = [x for x in a.case if x != "--"]
     env = dict(os.environ, OMP_NUM_THREADS="1")
     shutil.rmtree(a.work, ignore_errors=True)
