@@ -75,21 +75,9 @@ Vector slip_shift(const DiscreteSystem& sys, const State& s, double t, const Vec
   return h;
 }
 
-void record_slip(const DiscreteSystem& sys, const Vector& tresca, const Vector& shift, const Vector& u_free,
-                 double slack, State& s) {
-  // Only what stick_slip (the bounds and the laws' sets) and replicate read: the rows, their laws, the
-  // block, μ and the step's data.
-  ContactConstraints c;
-  c.m = sys.part.n_contact;
-  c.rows = sys.part.owned_contact_rows();
-  c.law = sys.part.owned_contact_laws();
-  c.frictions = sys.problem->contact.frictions();
-  c.block = s.contact_block;
-  c.mu = sys.mu;
-  c.limit = sys.limit;
-  c.tresca = tresca;
+void record_slip(const DiscreteSystem& sys, const ContactConstraints& c, const Vector& u_free, double slack, State& s) {
   const int t = c.block - 1;
-  const Vector slip = sys.T * u_free - shift;
+  const Vector slip = c.T * u_free - c.shift;
   const std::vector<ContactStatus> stick_or_slip = stick_slip(c, s.lambda, slack);
   const auto rows = static_cast<Eigen::Index>(c.rows.size());
   Vector status(rows), length(rows);
@@ -103,7 +91,6 @@ void record_slip(const DiscreteSystem& sys, const Vector& tresca, const Vector& 
     s.slip[i] += blocks[i * c.block];
     s.slip_step.segment(i * t, t) = blocks.segment(i * c.block + 1, t);
   }
-  c.block = 1;
   s.contact_status.noalias() = replicate(sys.part.comm, c, status);  // in place: Python's views of it stay valid
 }
 

@@ -22,10 +22,9 @@ Vector friction_bounds(const DiscreteSystem& sys, double t, std::string& bad);
 /// displacement at t, over the part's dofs; empty where none is prescribed).
 Vector slip_shift(const DiscreteSystem& sys, const State& s, double t, const Vector& u_D);
 
-/// After the step's contact solve (u_free: the owned free dofs, λ in s.lambda), with the step's
-/// `tresca` and `shift`: s.slip_step = Δ, s.slip += |Δ|, s.contact_status (stick_slip with
-/// `slack`, the contact report's). Collective.
-void record_slip(const DiscreteSystem& sys, const Vector& tresca, const Vector& shift, const Vector& u_free,
-                 double slack, State& s);
+/// After the step's contact solve (u_free: the owned free dofs, λ in s.lambda), with the constraints
+/// it solved (ContactSolver::constraints: T, the step's bounds and shift): s.slip_step = Δ = T u − h,
+/// s.slip += |Δ|, s.contact_status (stick_slip with `slack`, the contact report's). Collective.
+void record_slip(const DiscreteSystem& sys, const ContactConstraints& c, const Vector& u_free, double slack, State& s);
 
 }  // namespace vpc

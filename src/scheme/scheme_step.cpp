@@ -119,13 +119,10 @@ ContactReport SchemeStep::solve_contact(const DiscreteSystem& sys, ContactSolver
   f_.local() = restrict_to_free(sys.part.dofs, data.F - assemble_stress_divergence(mesh, sys.geo, u_D.size() > 0 ? lifted : s.z));
   f_.add_ghosts_to_owners();
   contact.set_gap(data.gap);
-  Vector shift;
-  if (s.contact_block > 1) {  // friction (SPEC §7): Δ = T u_n − h, h from u_{n−1} and the obstacle's motion
-    shift = slip_shift(sys, s, data.t, data.u_D);
-    contact.set_friction(data.tresca, shift);
-  }
+  if (s.contact_block > 1)  // friction (SPEC §7): Δ = T u_n − h, h from u_{n−1} and the obstacle's motion
+    contact.set_friction(data.tresca, slip_shift(sys, s, data.t, data.u_D));
   const ContactReport rep = contact.solve(f_.owned(), u_free, s.lambda);
-  if (s.contact_block > 1) record_slip(sys, data.tresca, shift, u_free, kSlipForceShare * rep.residuals.force_scale, s);
+  if (s.contact_block > 1) record_slip(sys, contact.constraints(), u_free, kSlipForceShare * rep.residuals.force_scale, s);
   u_.owned() = u_free;
   u_.update_ghosts();
   // Into u's own storage (a moved temporary would replace it): the Python module's views

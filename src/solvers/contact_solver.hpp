@@ -212,6 +212,9 @@ class ContactSolver {
   /// Friction's data of step n for this process's rows (ContactConstraints::tresca, shift), before
   /// its solve; only for frictional constraints.
   virtual void set_friction(const Vector& tresca, const Vector& shift) = 0;
+  /// The constraints it solves, with the step's data (gap, friction's bounds and shift): what the
+  /// step reads again after the solve (record_slip: each row's stick/slip status and slip).
+  virtual const ContactConstraints& constraints() const = 0;
   virtual std::string name() const = 0;
   /// One line for the run's description, e.g. "one solve per step (K's halves)" / "two solves per step".
   virtual std::string describe() const = 0;

@@ -96,6 +96,7 @@ class ActiveSetContactSolver final : public ContactSolver {
   }
   void set_gap(const Vector& gap) override { c_.gap = checked_gap(c_, gap); }
   void set_friction(const Vector& tresca, const Vector& shift) override { set_friction_data(c_, tresca, shift); }
+  const ContactConstraints& constraints() const override { return c_; }
   std::string name() const override { return "active-set"; }
   std::string describe() const override {
     if (nonlinear_ && !c_.frictional()) return describe_solves() + "; semismooth Newton for the nonlinear compliance law";

@@ -78,6 +78,7 @@ class PrimalActiveSetSolver final : public ContactSolver {
 
   void set_gap(const Vector& gap) override { op_.set_gap(gap); }
   void set_friction(const Vector& tresca, const Vector& shift) override { op_.set_friction(tresca, shift); }
+  const ContactConstraints& constraints() const override { return op_.constraints(); }
   const la::LinearSolver* own_factor() const override { return op_.factor(); }
   std::string name() const override { return "primal-active-set"; }
   std::string describe() const override {
