@@ -30,13 +30,6 @@ void append(Vector& v, const Vector& more) {
   v.tail(more.size()) = more;
 }
 
-/// Whether two lists of per-node state have the same fields (names and sizes).
-bool same_surface(const std::vector<SurfaceField>& a, const std::vector<SurfaceField>& b) {
-  return std::ranges::equal(a, b, [](const SurfaceField& x, const SurfaceField& y) {
-    return x.name == y.name && x.width == y.width && x.values.size() == y.values.size();
-  });
-}
-
 std::string surface_names(const std::vector<SurfaceField>& s) {
   if (s.empty()) return "(none)";
   std::string out;
@@ -568,7 +561,7 @@ std::optional<ResumePoint> resume_from_checkpoint(TimeStepper& stepper, const fs
               "checkpoint '{}': written by a run with {} contact unknowns per contact node, this problem has {} "
               "(another contact law): it cannot continue it",
               f.name(), f.contact_block(), block);
-      require(same_surface(f.surface, now.surface),
+      require(same_fields(f.surface, now.surface),
               "checkpoint '{}': written by a run whose contact laws keep the per-node state {}, this problem's keep "
               "{} (other contact laws): it cannot continue it",
               f.name(), surface_names(f.surface), surface_names(now.surface));

@@ -43,10 +43,8 @@ StepTaken SchemeStep::take(const DiscreteSystem& sys, SchemeSolvers& solvers, co
     if (out.data.gap_shift.size() > 0) out.data.gap += out.data.gap_shift;
     rep.contact = solve_contact(sys, *solvers.contact, s, u_free, out.data);
     update_surface_state(sys, out.data.gap, u_free, k, s);  // the laws' per-node state at t_n
-    // The gap left after the step (pairs' VTU "gap"): g(t_n) with the state at t_n, as a restore computes it.
-    record_gap(sys, out.data.gap_shift.size() > 0 ? Vector(out.data.gap - out.data.gap_shift + surface_gap_shift(sys, s))
-                                                  : out.data.gap,
-               u_free, s);
+    record_gap_left(sys, out.data.gap_shift.size() > 0 ? Vector(out.data.gap - out.data.gap_shift) : out.data.gap,
+                    u_free, s);
   });
   // Step 5, (3.6): ε_n, σ_n.
   timed(rep.seconds_stress, [&] { rep.max_von_mises = update_stress(sys, s); });

@@ -4,6 +4,7 @@
 #include "core/sym_tensor.hpp"
 
 #include <Eigen/Dense>
+#include <algorithm>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -17,6 +18,14 @@ struct SurfaceField {
   int width = 1;
   Eigen::VectorXd values;
 };
+
+/// Whether two lists of per-node state have the same fields: names, widths and sizes (a snapshot
+/// or a checkpoint that fits the state).
+inline bool same_fields(const std::vector<SurfaceField>& a, const std::vector<SurfaceField>& b) {
+  return std::ranges::equal(a, b, [](const SurfaceField& x, const SurfaceField& y) {
+    return x.name == y.name && x.width == y.width && x.values.size() == y.values.size();
+  });
+}
 
 struct State {
   int n = 0;        // time index

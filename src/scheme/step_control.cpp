@@ -14,10 +14,7 @@ bool snapshot_fits(const Snapshot& s, const State& now, Eigen::Index n_u_free, c
          s.state.z.size() == now.z.size() && s.state.lambda.size() == now.lambda.size() &&
          s.state.slip.size() == now.slip.size() && s.state.slip_step.size() == now.slip_step.size() &&
          s.state.contact_status.size() == now.contact_status.size() &&
-         std::ranges::equal(s.state.surface, now.surface,
-                            [](const SurfaceField& a, const SurfaceField& b) {
-                              return a.name == b.name && a.values.size() == b.values.size();
-                            }) &&
+         same_fields(s.state.surface, now.surface) &&
          s.u_free.size() == n_u_free && s.state.n >= 0 &&
          (problem.step_control ? s.state.t <= problem.final_time : s.state.n <= problem.n_steps);
 }

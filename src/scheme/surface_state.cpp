@@ -1,6 +1,7 @@
 #include "scheme/surface_state.hpp"
 
 #include "core/error.hpp"
+#include "scheme/contact_gap.hpp"
 
 #include <algorithm>
 #include <cctype>
@@ -57,48 +58,64 @@ std::vector<SurfaceField> initial_surface_state(const ContactSpec& contact, int 
 
 namespace {
 
-/// Per laws() entry and per law of it (laws_of), the indices in s.surface of the variables it declared.
-std::vector<std::vector<std::vector<std::size_t>>> fields_of(const ContactSpec& contact, const State& s) {
-  std::vector<std::vector<std::vector<std::size_t>>> field_of(contact.laws().size());
-  for (std::size_t e = 0; e < field_of.size(); ++e)
+/// A law that keeps state and where its variables are in State::surface (in its declared order).
+struct LawFields {
+  const SurfaceHistory* law;
+  std::vector<std::size_t> fields;
+};
+
+/// Per laws() entry, its laws that declare variables: built once per call, then indexed by each
+/// node's law (no lists of laws made per node).
+std::vector<std::vector<LawFields>> laws_with_fields(const ContactSpec& contact, const State& s) {
+  std::vector<std::vector<LawFields>> table(contact.laws().size());
+  for (std::size_t e = 0; e < table.size(); ++e)
     for (const SurfaceHistory* law : laws_of(contact, e)) {
-      std::vector<std::size_t> f;
+      LawFields lf{law, {}};
       for (const SurfaceVariable& v : law->surface_state())
-        f.push_back(static_cast<std::size_t>(std::ranges::find(s.surface, v.name, &SurfaceField::name) - s.surface.begin()));
-      field_of[e].push_back(std::move(f));
+        lf.fields.push_back(static_cast<std::size_t>(s.surface_field(v.name) - s.surface.data()));
+      if (!lf.fields.empty()) table[e].push_back(std::move(lf));
     }
-  return field_of;
+  return table;
+}
+
+/// Pointers to node `row`'s numbers of `lf`'s variables, field f's numbers starting at data(f)
+/// (State::surface's values or a copy of them), `width` per node.
+template <typename T, typename Data>
+std::vector<T*> node_values(const LawFields& lf, const std::vector<SurfaceField>& surface, int row, Data data) {
+  std::vector<T*> out;
+  for (std::size_t f : lf.fields) out.push_back(data(f) + static_cast<Eigen::Index>(row) * surface[f].width);
+  return out;
 }
 
 }  // namespace
 
 Vector surface_gap_shift(const DiscreteSystem& sys, const State& s) {
   if (s.surface.empty()) return {};
-  const ContactSpec& contact = sys.problem->contact;
-  const auto field_of = fields_of(contact, s);
+  const auto table = laws_with_fields(sys.problem->contact, s);
+  const auto values = [&](std::size_t f) { return s.surface[f].values.data(); };
   std::vector<double> shift;
   for (const PartContactNode& node : sys.part.contact) {
     if (!node.owned) continue;
-    const auto e = static_cast<std::size_t>(node.law);
-    const auto laws = laws_of(contact, e);
     double sum = 0;
-    for (std::size_t l = 0; l < laws.size(); ++l) {
-      std::vector<const double*> values;
-      for (std::size_t f : field_of[e][l]) values.push_back(s.surface[f].values.data() + node.row * s.surface[f].width);
-      if (!values.empty()) sum += laws[l]->gap_shift(values);
-    }
+    for (const LawFields& lf : table[static_cast<std::size_t>(node.law)])
+      sum += lf.law->gap_shift(node_values<const double>(lf, s.surface, node.row, values));
     shift.push_back(sum);
   }
   return Eigen::Map<Vector>(shift.data(), static_cast<Eigen::Index>(shift.size()));
 }
 
+void record_gap_left(const DiscreteSystem& sys, const Vector& g, const Vector& u_free, State& s) {
+  if (!records_gap(sys)) return;
+  const Vector shift = surface_gap_shift(sys, s);
+  record_gap(sys, shift.size() > 0 ? Vector(g + shift) : g, u_free, s);
+}
+
 void update_surface_state(const DiscreteSystem& sys, const Vector& gap, const Vector& u_free, double k, State& s) {
   if (s.surface.empty()) return;
   const MeshPart& part = sys.part;
-  const ContactSpec& contact = sys.problem->contact;
   const int b = s.contact_block, t = b - 1;
   const Vector left = gap - sys.N * u_free;  // g − N u per owned row
-  const auto field_of = fields_of(contact, s);
+  const auto table = laws_with_fields(sys.problem->contact, s);
   // This rank's rows updated in a copy that holds only them (zero elsewhere), then summed: one owner per row.
   std::vector<Vector> mine;
   for (const SurfaceField& f : s.surface) mine.push_back(Vector::Zero(f.values.size()));
@@ -120,13 +137,8 @@ void update_surface_state(const DiscreteSystem& sys, const Vector& gap, const Ve
     view.gap_left = left[owned++];
     view.measure = node.measure;
     view.k = k;
-    const auto e = static_cast<std::size_t>(node.law);
-    const std::vector<const SurfaceHistory*> laws = laws_of(contact, e);
-    for (std::size_t l = 0; l < laws.size(); ++l) {
-      std::vector<double*> values;
-      for (std::size_t f : field_of[e][l]) values.push_back(mine[f].data() + i * s.surface[f].width);
-      if (!values.empty()) laws[l]->update_surface(view, values);
-    }
+    for (const LawFields& lf : table[static_cast<std::size_t>(node.law)])
+      lf.law->update_surface(view, node_values<double>(lf, s.surface, node.row, [&](std::size_t f) { return mine[f].data(); }));
   }
   for (std::size_t f = 0; f < s.surface.size(); ++f) {
     part.comm.sum(mine[f].data(), mine[f].size());

@@ -13,18 +13,6 @@ namespace vpc {
 
 namespace {
 
-/// State::gap (pairs only) at t_n, as the step records it: g(t_n) with the laws' state at t_n.
-void record_gap_left(const DiscreteSystem& sys, const Vector& u_free, State& s) {
-  if (!records_gap(sys)) return;
-  Vector g = checked_contact_gap(sys, s.t);
-  if (const Vector shift = surface_gap_shift(sys, s); shift.size() > 0) g += shift;
-  record_gap(sys, g, u_free, s);
-}
-
-}  // namespace
-
-namespace {
-
 /// The problem's one-process part, after Problem::validate (which throws for a bad datum), cut with
 /// the contact rows its checks built.
 MeshPart validated_whole_part(const std::shared_ptr<const Problem>& p) { return whole_mesh_part(p, p->validate()); }
@@ -64,7 +52,7 @@ TimeStepper::TimeStepper(std::shared_ptr<const Problem> problem_in, MeshPart par
   }
   state_.surface = initial_surface_state(p.contact, part.n_contact);
   u_free_ = Vector::Zero(part.n_owned_dofs);
-  record_gap_left(sys_, u_free_, state_);
+  if (records_gap(sys_)) record_gap_left(sys_, checked_contact_gap(sys_, state_.t), u_free_, state_);
   const auto owned_beta = state_.beta.head(part.n_owned_nodes).array();
   control_state_.n_beta_zero = part.comm.sum(static_cast<double>((owned_beta <= 0).count()));
   control_state_.n_beta_one = part.comm.sum(static_cast<double>((owned_beta >= 1).count()));
@@ -161,7 +149,7 @@ void TimeStepper::restore(const Snapshot& s) {
   state_ = s.state;
   u_free_ = s.u_free;
   slide();
-  record_gap_left(sys_, u_free_, state_);
+  if (records_gap(sys_)) record_gap_left(sys_, checked_contact_gap(sys_, state_.t), u_free_, state_);
   solvers_.contact->set_warm_state(s.contact_warm);
   solvers_.damage.current().set_warm_state(s.damage_warm);
   step_.forget_rates();  // recomputed from the restored state: the same values
