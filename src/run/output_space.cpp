@@ -29,17 +29,18 @@ double digits(long long n) { return n < 10 ? 1 : 1 + std::floor(std::log10(stati
 /// nodes; the per-case totals (forces, reactions) are exact numbers.
 double history_row_bytes(const TimeStepper& s, long long last_step) {
   const MeshPart& part = s.part();
-  auto width = [&](const HistoryColumn& c) {
-    if (c.format == ColumnFormat::integer) return digits(c.name == "step" ? last_step : part.n_global_nodes) + 1;
-    return c.format == ColumnFormat::residual ? kResidualChars : kExactChars;
+  auto width = [&](std::string_view name) {
+    for (const auto table : {history_columns(), friction_columns(), open_friction_columns()})
+      for (const HistoryColumn& c : table)
+        if (c.name == name) {
+          if (c.format == ColumnFormat::integer) return digits(name == "step" ? last_step : part.n_global_nodes) + 1;
+          return c.format == ColumnFormat::residual ? kResidualChars : kExactChars;
+        }
+    return kExactChars;  // a per-case total
   };
   double row = 0;
-  std::size_t known = 0;
-  for (const HistoryColumn& c : history_columns()) row += width(c), ++known;
-  if (s.state().contact_block > 1)
-    for (const HistoryColumn& c : friction_columns()) row += width(c), ++known;
-  const std::size_t all = history_column_names(s.problem(), part).size();
-  return row + static_cast<double>(all > known ? all - known : 0) * kExactChars;
+  for (const std::string& name : history_column_names(s.problem(), part)) row += width(name);
+  return row;
 }
 
 /// The VTU files written from step `from` on (step 0's with a fresh run; the last step's always).

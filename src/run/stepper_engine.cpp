@@ -146,22 +146,7 @@ void describe_data(const Problem& p, const SolverChoice& solvers, double setup_s
       if (d.value[i]) comps += fmt::format("{}u{}", comps.empty() ? "" : ", ", "xyz"[i]);
     held += fmt::format("{} prescribed on {}; ", comps, fmt::join(d.parts, ", "));
   }
-  // Γ3's laws ([contact]'s, each [[contact.part]]'s) after its parts; each pair's normal law,
-  // friction and sliding after the pair (its law and friction are [contact]'s unless it gives its own).
-  std::string laws = p.contact.law->describe();
-  if (p.contact.friction) laws += ", " + p.contact.friction->describe();
-  for (const PartContactLaw& pl : p.contact.part_laws)
-    laws += fmt::format("; on {}: {}{}", fmt::join(pl.parts, ", "), pl.law->describe(),
-                        pl.friction ? ", " + pl.friction->describe() : "");
-  std::vector<std::string> contact;
-  if (!p.contact.parts.empty())
-    contact.push_back(fmt::format("Γ3 (contact): {} ({})", fmt::join(p.contact.parts, ", "), laws));
-  for (const ContactPair& pair : p.contact.pairs)
-    contact.push_back(fmt::format("pair: slave {}, master {} ({}, {}, {} sliding)", pair.slave, pair.master,
-                                  (pair.law ? pair.law : p.contact.law)->describe(),
-                                  pair.friction ? pair.friction->describe() : "frictionless",
-                                  pair.large_sliding ? "large" : "small"));
-  fmt::print("  {}{}\n", held, fmt::join(contact, "; "));
+  fmt::print("  {}{}\n", held, fmt::join(p.contact.describe(), "; "));
   fmt::print("  elasticity: {} (E = {}, nu = {}); G: {}; phi: {}\n", p.elasticity.name(), p.elasticity.young(),
              p.elasticity.poisson(), p.law->describe(), printable(p.source->describe(), 200));
   for (const Material& m : p.materials)

@@ -3,7 +3,7 @@
 #include "core/error.hpp"
 #include "fem/assembly.hpp"
 #include "la/memory_estimate.hpp"
-#include "scheme/sliding_pairs.hpp"
+#include "contact/sliding_pairs.hpp"
 #include "scheme/stability.hpp"
 #include "scheme/step_data.hpp"
 
@@ -74,7 +74,7 @@ DiscreteSystem::DiscreteSystem(std::shared_ptr<const Problem> problem_in, MeshPa
   if (p.f2 && p.f2_uniform) basis_integral_traction = basis_integral(nullptr, unit);
 
   // The body's bounding box, over every process's nodes: the gap of a node that no obstacle (nor a
-  // sliding pair's master, scheme/sliding_pairs.hpp) lies ahead of.
+  // sliding pair's master, contact/sliding_pairs.hpp) lies ahead of.
   if (!p.contact.obstacles.empty() || slides(p)) {
     Point lo{0, 0, 0}, hi{0, 0, 0};
     for (int j = 0; j < 3; ++j) {

@@ -8,7 +8,7 @@
 #include "fem/cell_geometry.hpp"
 #include "la/backend.hpp"
 #include "la/vector.hpp"
-#include "scheme/contact_matrix.hpp"
+#include "contact/contact_matrix.hpp"
 #include "scheme/mesh_part.hpp"
 #include "scheme/problem.hpp"
 #include "scheme/solver_choice.hpp"
@@ -83,7 +83,7 @@ struct DiscreteSystem {
 
   /// local_contact, N, contact_dofs, master_mean and, with friction, T, tangent_dof, mu and
   /// row_friction from part.contact (the constructor; again where large-sliding pairs move their
-  /// rows, scheme/sliding_pairs.hpp).
+  /// rows, contact/sliding_pairs.hpp).
   void set_contact_rows();
   /// T, tangent_dof, mu and row_friction from N, contact_dofs, master_mean and the problem's friction laws.
   void set_friction_frame();

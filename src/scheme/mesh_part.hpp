@@ -11,8 +11,8 @@
 #include "fem/dof_map.hpp"
 #include "la/layout.hpp"
 #include "mesh/mesh.hpp"
-#include "scheme/obstacle.hpp"
-#include "scheme/shared_contact_rows.hpp"
+#include "contact/obstacle.hpp"
+#include "contact/shared_contact_rows.hpp"
 
 #include <cstdint>
 #include <memory>

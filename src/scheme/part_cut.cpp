@@ -79,18 +79,17 @@ PartPieces cut_part(const Problem& p, const WholeMeshData& whole, const WholeNum
   // An owned pair row's master nodes in the part's numbering: they are owned with the row
   // (own_pairs_together in parallel/distributed_mesh.cpp; on one process every node is). A ghost
   // row, another rank's, needs none: its master nodes may lie outside the part.
-  if (std::any_of(whole.rows.begin(), whole.rows.end(), [](const ContactRow& r) { return !r.masters.empty(); })) {
-    std::unordered_map<int, int> local;
-    for (int a = 0; a < n_owned; ++a) local.emplace(nodes[static_cast<std::size_t>(a)], a);
-    for (PartContactNode& c : part.contact)
-      for (const auto& [k, w] : whole.rows[static_cast<std::size_t>(c.row)].masters) {
-        if (!c.owned) break;
-        const auto it = local.find(k);
-        require(it != local.end(), "contact pair row {}: master node {} is not owned with its slave node {} (a bug: "
-                "parts must own a pair row's nodes together)", c.row, k, nodes[static_cast<std::size_t>(c.local_node)]);
-        c.masters.emplace_back(it->second, w);
-      }
-  }
+  std::unordered_map<int, int> local;  // owned node (whole mesh) -> the part's, at the first master met
+  for (PartContactNode& c : part.contact)
+    for (const auto& [k, w] : whole.rows[static_cast<std::size_t>(c.row)].masters) {
+      if (!c.owned) break;
+      if (local.empty())
+        for (int a = 0; a < n_owned; ++a) local.emplace(nodes[static_cast<std::size_t>(a)], a);
+      const auto it = local.find(k);
+      require(it != local.end(), "contact pair row {}: master node {} is not owned with its slave node {} (a bug: "
+              "parts must own a pair row's nodes together)", c.row, k, nodes[static_cast<std::size_t>(c.local_node)]);
+      c.masters.emplace_back(it->second, w);
+    }
   part.original_cell = cells;
   for (int c : cells) {
     part.cell_material.push_back(whole.cell_material[c]);

@@ -1,6 +1,6 @@
 #include "scheme/problem.hpp"
 
-#include "scheme/contact_rows.hpp"
+#include "contact/contact_rows.hpp"
 #include "core/error.hpp"
 #include "core/expression.hpp"
 #include "scheme/stability.hpp"
@@ -104,56 +104,6 @@ void check_beta0(const Mesh& mesh, const ScalarField& beta0, int body, const Mes
     const double b = beta0(x, 0.0);
     require(std::isfinite(b) && b >= 0 && b <= 1, "initial damage beta0 must lie in [0, 1]; it is {} at node {} ({}, {}, {})",
             b, node_number(block, i), x[0], x[1], x[2]);
-  }
-}
-
-double contact_gap_at(const ContactSpec& contact, const Point& x, const Point& nu, double t, double miss,
-                      ObstacleMask obstacles) {
-  return contact.obstacles.empty() ? contact.gap(x, t) : obstacle_gap(contact.obstacles, x, nu, t, miss, obstacles);
-}
-
-std::vector<std::shared_ptr<const ContactLaw>> ContactSpec::laws() const {
-  std::vector<std::shared_ptr<const ContactLaw>> all = {law};
-  for (const PartContactLaw& p : part_laws) all.push_back(p.law);
-  for (const ContactPair& p : pairs) all.push_back(p.law ? p.law : law);
-  return all;
-}
-
-int ContactSpec::law_index(const std::string& part) const {
-  for (std::size_t k = 0; k < part_laws.size(); ++k)
-    if (std::ranges::find(part_laws[k].parts, part) != part_laws[k].parts.end()) return static_cast<int>(k) + 1;
-  return 0;
-}
-
-std::vector<std::shared_ptr<const FrictionLaw>> ContactSpec::frictions() const {
-  std::vector<std::shared_ptr<const FrictionLaw>> all = {friction};
-  for (const PartContactLaw& p : part_laws) all.push_back(p.friction);
-  for (const ContactPair& p : pairs) all.push_back(p.friction);
-  return all;
-}
-
-bool ContactSpec::frictional() const {
-  return std::ranges::any_of(frictions(), [](const auto& f) { return f != nullptr; });
-}
-
-int ContactSpec::block_size(int dim) const {
-  int block = frictional() ? dim : 1;
-  for (const auto& l : laws()) block = std::max(block, l->block_size(dim));
-  return block;
-}
-
-double contact_miss_gap(const Point& lo, const Point& hi) { return std::hypot(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]); }
-
-void check_gap(const Mesh& mesh, const ContactSpec& contact, const MeshBlock* block) {
-  if (!contact.obstacles.empty()) return;  // needs the directions: checked by contact_rows
-  for (int i : mesh.nodes_of_parts(contact.parts)) {
-    const Point& x = mesh.node(i);
-    const double g = contact.gap(x, 0.0);
-    // NaN compares false with everything: test finiteness first so that it is not called negative.
-    require(std::isfinite(g), "the gap g is not finite ({}) at contact node {} ({}, {}, {})", g, node_number(block, i), x[0],
-            x[1], x[2]);
-    require(g >= 0, "the gap g must be >= 0; it is {} at contact node {} ({}, {}, {})", g, node_number(block, i), x[0], x[1],
-            x[2]);
   }
 }
 

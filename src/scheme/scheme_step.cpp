@@ -1,9 +1,9 @@
 #include "scheme/scheme_step.hpp"
 
 #include "fem/assembly.hpp"
-#include "scheme/contact_gap.hpp"
-#include "scheme/friction_data.hpp"
-#include "scheme/surface_state.hpp"
+#include "contact/contact_gap.hpp"
+#include "contact/friction_data.hpp"
+#include "contact/surface_fields.hpp"
 
 #include <chrono>
 #include <utility>

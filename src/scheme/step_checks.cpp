@@ -2,9 +2,9 @@
 
 #include "core/error.hpp"
 #include "fem/assembly.hpp"
-#include "scheme/contact_tangents.hpp"
+#include "contact/contact_tangents.hpp"
 #include "scheme/stability.hpp"
-#include "scheme/surface_state.hpp"
+#include "contact/surface_fields.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -42,13 +42,14 @@ bool acts_out_of_contact(const FrictionLaw* f) { return f && f->acts_out_of_cont
 std::string open_friction_warning(const Problem& p, const StepReport& rep) {
   if (rep.contact.n_open <= 0) return {};
   const ContactSpec& c = p.contact;
-  std::string where = p.where("contact.friction");  // [contact]'s, or a [[contact.part]]'s
-  if (!acts_out_of_contact(c.friction.get()))
-    for (std::size_t k = 0; k < c.pairs.size(); ++k)
-      if (acts_out_of_contact(c.pairs[k].friction.get())) {
-        where = p.where(fmt::format("contact.pair[{}]", k));
-        break;
-      }
+  // The first entry whose bound acts out of contact (laws() order): a pair's key, else
+  // [contact]'s friction (or a [[contact.part]]'s, which p.where finds there).
+  const auto frictions = c.frictions();
+  const auto first = std::ranges::find_if(frictions, [](const auto& f) { return acts_out_of_contact(f.get()); });
+  const auto entry = static_cast<std::size_t>(first - frictions.begin()), first_pair = 1 + c.part_laws.size();
+  const std::string where = entry >= first_pair && entry < frictions.size()
+                                ? p.where(fmt::format("contact.pair[{}]", entry - first_pair))
+                                : p.where("contact.friction");
   return fmt::format(
       "{}: Tresca friction acts through {} contact node(s) not in contact at step {} (t = {:.6g}): its given bound "
       "acts on all of Γ3, in contact or not (history.csv n_tresca_open; contact_status 3). For friction only where "
@@ -60,64 +61,60 @@ void contact_totals(const DiscreteSystem& sys, const State& s, StepReport& rep) 
   // n_tresca_open only where some bound acts out of contact (history.csv's column is there only then).
   if (std::ranges::none_of(sys.problem->contact.frictions(), [](const auto& f) { return acts_out_of_contact(f.get()); }))
     rep.contact.n_open = -1;
-  const auto& obstacles = sys.problem->contact.obstacles;
-  const int b = s.contact_block, d = sys.part.mesh().dim();
-  const std::size_t n_obstacles = obstacles.size(), du = static_cast<std::size_t>(d);
+  const auto& c = sys.problem->contact;
+  const int b = s.contact_block;
+  // The tangential force's components: the dimension with friction, none without (every tangential
+  // slot below is then empty, and so are the report's tangential totals: history.csv has no columns).
+  const std::size_t dt = b > 1 ? static_cast<std::size_t>(sys.part.mesh().dim()) : 0;
   // With friction and several laws: each law entry's normal and tangential forces (Γ3's entries:
   // [contact]'s and the [[contact.part]]s'; the pairs' are counted per pair).
-  const auto& c = sys.problem->contact;
-  const std::size_t n_parts = b > 1 && !c.part_laws.empty() ? 1 + c.part_laws.size() : 0, n_pairs = c.pairs.size();
-  // area, the obstacles' forces, then with friction the tangential force (d), its share on
-  // each obstacle (obstacles × d) and the law entries' forces (parts × (1 + d)); then each contact
-  // pair's normal force and with friction its tangential force (pairs × d)
-  const std::size_t on_total = n_obstacles + 1, on_obstacles = on_total + du, on_parts = on_obstacles + du * n_obstacles;
-  std::vector<double> sums(b > 1 ? on_parts + n_parts * (1 + du) : n_obstacles + 1, 0.0);
-  const std::size_t on_pairs = sums.size(), on_pair_tangents = on_pairs + n_pairs;
-  sums.resize(on_pair_tangents + (b > 1 ? n_pairs * du : 0), 0.0);
+  const std::size_t n_obstacles = c.obstacles.size(), n_pairs = c.pairs.size();
+  const std::size_t n_parts = dt > 0 && !c.part_laws.empty() ? 1 + c.part_laws.size() : 0;
+  // area, the obstacles' forces, the tangential force (dt), its share on each obstacle (obstacles ×
+  // dt) and the law entries' forces (parts × (1 + dt)); then each contact pair's normal force and its
+  // tangential force (pairs × dt)
+  const std::size_t on_total = n_obstacles + 1, on_obstacles = on_total + dt, on_parts = on_obstacles + dt * n_obstacles;
+  const std::size_t on_pairs = on_parts + n_parts * (1 + dt), on_pair_tangents = on_pairs + n_pairs;
+  std::vector<double> sums(on_pair_tangents + n_pairs * dt, 0.0);
   const std::vector<Point> tangents = contact_tangents(sys.part, b);
   for (std::size_t k = 0; k < sys.part.contact.size(); ++k) {
     const PartContactNode& node = sys.part.contact[k];
     if (!node.owned) continue;
     const double lambda = s.lambda[node.row * b];
     if (lambda > rep.contact.active_threshold) sums[0] += node.measure;
-    if (node.pair >= 0) sums[on_pairs + static_cast<std::size_t>(node.pair)] += lambda;
-    Point tangential{0, 0, 0};
-    if (b > 1) {
-      tangential = along_tangents(tangents, k, b, s.lambda.data() + node.row * b + 1);
-      for (std::size_t i = 0; i < du; ++i) sums[on_total + i] += tangential[i];
-      if (node.pair >= 0)
-        for (std::size_t i = 0; i < du; ++i) sums[on_pair_tangents + du * static_cast<std::size_t>(node.pair) + i] += tangential[i];
-      else if (n_parts > 0) {
-        const std::size_t at = on_parts + static_cast<std::size_t>(node.law) * (1 + du);
-        sums[at] += lambda;
-        for (std::size_t i = 0; i < du; ++i) sums[at + 1 + i] += tangential[i];
-      }
+    const Point tangential = along_tangents(tangents, k, b, s.lambda.data() + node.row * b + 1);
+    for (std::size_t i = 0; i < dt; ++i) sums[on_total + i] += tangential[i];
+    if (node.pair >= 0) {
+      const auto q = static_cast<std::size_t>(node.pair);
+      sums[on_pairs + q] += lambda;
+      for (std::size_t i = 0; i < dt; ++i) sums[on_pair_tangents + dt * q + i] += tangential[i];
+    } else if (n_parts > 0) {
+      const std::size_t at = on_parts + static_cast<std::size_t>(node.law) * (1 + dt);
+      sums[at] += lambda;
+      for (std::size_t i = 0; i < dt; ++i) sums[at + 1 + i] += tangential[i];
     }
-    if (obstacles.empty() || (lambda == 0 && tangential == Point{0, 0, 0})) continue;
-    const int nearest = nearest_obstacle(obstacles, sys.part.mesh().node(node.local_node), node.direction, rep.t,
+    if (c.obstacles.empty() || (lambda == 0 && tangential == Point{0, 0, 0})) continue;
+    const int nearest = nearest_obstacle(c.obstacles, sys.part.mesh().node(node.local_node), node.direction, rep.t,
                                          node.obstacles);
     if (nearest < 0) continue;
     sums[static_cast<std::size_t>(nearest) + 1] += lambda;
-    for (std::size_t i = 0; i < du && b > 1; ++i) sums[on_obstacles + du * static_cast<std::size_t>(nearest) + i] += tangential[i];
+    for (std::size_t i = 0; i < dt; ++i) sums[on_obstacles + dt * static_cast<std::size_t>(nearest) + i] += tangential[i];
   }
   sys.part.comm.sum(sums.data(), static_cast<int>(sums.size()));
   rep.contact_area = sums[0];
   auto at = [&](std::size_t i) { return sums.begin() + static_cast<std::ptrdiff_t>(i); };
-  rep.obstacle_force.assign(at(1), at(n_obstacles + 1));
-  rep.pair_force.assign(at(on_pairs), at(on_pair_tangents));
-  rep.pair_tangential_force.assign(at(on_pair_tangents), sums.end());
-  rep.tangential_force.clear();
-  rep.obstacle_tangential_force.clear();
-  rep.part_force.clear();
-  rep.part_tangential_force.clear();
-  if (b == 1) return;
+  rep.obstacle_force.assign(at(1), at(on_total));
   rep.tangential_force.assign(at(on_total), at(on_obstacles));
   rep.obstacle_tangential_force.assign(at(on_obstacles), at(on_parts));
+  rep.part_force.clear();
+  rep.part_tangential_force.clear();
   for (std::size_t j = 0; j < n_parts; ++j) {
-    rep.part_force.push_back(sums[on_parts + j * (1 + du)]);
-    rep.part_tangential_force.insert(rep.part_tangential_force.end(), at(on_parts + j * (1 + du) + 1),
-                                     at(on_parts + (j + 1) * (1 + du)));
+    rep.part_force.push_back(sums[on_parts + j * (1 + dt)]);
+    rep.part_tangential_force.insert(rep.part_tangential_force.end(), at(on_parts + j * (1 + dt) + 1),
+                                     at(on_parts + (j + 1) * (1 + dt)));
   }
+  rep.pair_force.assign(at(on_pairs), at(on_pair_tangents));
+  rep.pair_tangential_force.assign(at(on_pair_tangents), sums.end());
 }
 
 void reactions(const DiscreteSystem& sys, const State& s, const Vector& F, StepReport& rep) {

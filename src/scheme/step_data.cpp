@@ -2,7 +2,7 @@
 
 #include "core/error.hpp"
 #include "fem/assembly.hpp"
-#include "scheme/friction_data.hpp"
+#include "contact/friction_data.hpp"
 
 #include <cmath>
 #include <tuple>
@@ -49,7 +49,7 @@ void check_step_data(const DiscreteSystem& sys, const std::string& bad) {
 Vector checked_contact_gap(const DiscreteSystem& sys, double t) {
   std::string bad;
   Vector gap = contact_gap(sys, t, bad);
-  if (!sys.problem->contact.pairs.empty()) add_master_motion(sys, prescribed_displacement(sys, t), gap);
+  add_master_motion(sys, prescribed_displacement(sys, t), gap);  // a pair's moving masters
   check_step_data(sys, bad);
   return gap;
 }

@@ -2,7 +2,7 @@
 // the distance along its direction ν to the nearest obstacle's surface.
 #include "io/case_file.hpp"
 #include "io/run_output.hpp"
-#include "scheme/obstacle.hpp"
+#include "contact/obstacle.hpp"
 #include "scheme/time_stepper.hpp"
 
 #include <gtest/gtest.h>

@@ -1,4 +1,4 @@
-#include "scheme/friction_data.hpp"
+#include "contact/friction_data.hpp"
 
 #include "fem/assembly.hpp"
 #include "solvers/stick_slip.hpp"
@@ -71,7 +71,7 @@ Vector slip_shift(const DiscreteSystem& sys, const State& s, double t, const Vec
           at[j] += now[i] - before[i];
     }
   Vector h = sys.T * at;
-  if (u_D.size() > 0 && !spec.pairs.empty()) add_master_slip(sys, s.u, u_D, h);
+  if (u_D.size() > 0) add_master_slip(sys, s.u, u_D, h);  // a pair's moving masters
   return h;
 }
 

@@ -1,4 +1,4 @@
-#include "scheme/contact_gap.hpp"
+#include "contact/contact_gap.hpp"
 
 #include "solvers/contact_solver.hpp"
 

@@ -1,7 +1,7 @@
-#include "scheme/sliding_pairs.hpp"
+#include "contact/sliding_pairs.hpp"
 
 #include "core/error.hpp"
-#include "scheme/contact_pairs.hpp"
+#include "contact/contact_pairs.hpp"
 
 #include <algorithm>
 #include <cmath>

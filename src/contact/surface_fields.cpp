@@ -1,7 +1,7 @@
-#include "scheme/surface_state.hpp"
+#include "contact/surface_fields.hpp"
 
 #include "core/error.hpp"
-#include "scheme/contact_gap.hpp"
+#include "contact/contact_gap.hpp"
 
 #include <algorithm>
 #include <cctype>

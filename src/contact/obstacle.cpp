@@ -1,4 +1,4 @@
-#include "scheme/obstacle.hpp"
+#include "contact/obstacle.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,0 +1,85 @@
+#include "contact/contact_spec.hpp"
+
+#include "core/error.hpp"
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace vpc {
+
+double contact_gap_at(const ContactSpec& contact, const Point& x, const Point& nu, double t, double miss,
+                      ObstacleMask obstacles) {
+  return contact.obstacles.empty() ? contact.gap(x, t) : obstacle_gap(contact.obstacles, x, nu, t, miss, obstacles);
+}
+
+std::vector<std::shared_ptr<const ContactLaw>> ContactSpec::laws() const {
+  std::vector<std::shared_ptr<const ContactLaw>> all = {law};
+  for (const PartContactLaw& p : part_laws) all.push_back(p.law);
+  for (const ContactPair& p : pairs) all.push_back(p.law ? p.law : law);
+  return all;
+}
+
+int ContactSpec::law_index(const std::string& part) const {
+  for (std::size_t k = 0; k < part_laws.size(); ++k)
+    if (std::ranges::find(part_laws[k].parts, part) != part_laws[k].parts.end()) return static_cast<int>(k) + 1;
+  return 0;
+}
+
+std::vector<std::shared_ptr<const FrictionLaw>> ContactSpec::frictions() const {
+  std::vector<std::shared_ptr<const FrictionLaw>> all = {friction};
+  for (const PartContactLaw& p : part_laws) all.push_back(p.friction);
+  for (const ContactPair& p : pairs) all.push_back(p.friction);
+  return all;
+}
+
+bool ContactSpec::frictional() const {
+  return std::ranges::any_of(frictions(), [](const auto& f) { return f != nullptr; });
+}
+
+int ContactSpec::block_size(int dim) const {
+  int block = frictional() ? dim : 1;
+  for (const auto& l : laws()) block = std::max(block, l->block_size(dim));
+  return block;
+}
+
+namespace {
+
+/// A law entry's normal law and friction ("signorini, coulomb (mu = 0.3)"); `none` for no friction.
+std::string entry_laws(const ContactLaw& law, const FrictionLaw* friction, std::string_view none) {
+  return law.describe() + (friction ? ", " + friction->describe() : std::string(none));
+}
+
+}  // namespace
+
+std::vector<std::string> ContactSpec::describe() const {
+  std::string laws = entry_laws(*law, friction.get(), "");
+  for (const PartContactLaw& pl : part_laws)
+    laws += fmt::format("; on {}: {}", fmt::join(pl.parts, ", "), entry_laws(*pl.law, pl.friction.get(), ""));
+  std::vector<std::string> all;
+  if (!parts.empty()) all.push_back(fmt::format("Γ3 (contact): {} ({})", fmt::join(parts, ", "), laws));
+  for (const ContactPair& pair : pairs)
+    all.push_back(fmt::format("pair: slave {}, master {} ({}, {} sliding)", pair.slave, pair.master,
+                              entry_laws(pair.law ? *pair.law : *law, pair.friction.get(), ", frictionless"),
+                              pair.large_sliding ? "large" : "small"));
+  return all;
+}
+
+double contact_miss_gap(const Point& lo, const Point& hi) { return std::hypot(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]); }
+
+void check_gap(const Mesh& mesh, const ContactSpec& contact, const MeshBlock* block) {
+  if (!contact.obstacles.empty()) return;  // needs the directions: checked by contact_rows
+  for (int i : mesh.nodes_of_parts(contact.parts)) {
+    const Point& x = mesh.node(i);
+    const double g = contact.gap(x, 0.0);
+    // NaN compares false with everything: test finiteness first so that it is not called negative.
+    require(std::isfinite(g), "the gap g is not finite ({}) at contact node {} ({}, {}, {})", g, node_number(block, i), x[0],
+            x[1], x[2]);
+    require(g >= 0, "the gap g must be >= 0; it is {} at contact node {} ({}, {}, {})", g, node_number(block, i), x[0], x[1],
+            x[2]);
+  }
+}
+
+}  // namespace vpc
