@@ -11,7 +11,7 @@ void record_gap(const DiscreteSystem& sys, const Vector& g, const Vector& u_free
   ContactConstraints c;  // what replicate reads: the rows and their number
   c.m = sys.part.n_contact;
   c.rows = sys.part.owned_contact_rows();
-  s.gap = replicate(sys.part.comm, c, g - sys.N * u_free);
+  s.gap = replicate(sys.part.comm, c, g - sys.contact.N * u_free);
 }
 
 }  // namespace vpc

@@ -189,6 +189,7 @@ std::vector<ContactRow> contact_rows(const Problem& p, const std::vector<int>& c
       (law.rigid() ? rigid_datum : compliant_datum)[i] += law.lumped(mesh.facet_measure(f), mesh.nodes_per_facet());
     }
   }
+  const std::vector<double> measure = tributary_measures(mesh, p.contact.parts);
   std::vector<ContactRow> rows;
   for (int node : mesh.nodes_of_parts(p.contact.parts)) {
     const int* fixed = condition.data() + static_cast<std::size_t>(node) * d;
@@ -227,9 +228,14 @@ std::vector<ContactRow> contact_rows(const Problem& p, const std::vector<int>& c
            k < 0 ? p.where("contact.gap") : obstacle_where(p, k), g, p.node_number(node), x[0], x[1], x[2]);
     }
     const bool rigid = rigid_law[node] >= 0;
-    rows.push_back({node, v, g, rigid ? rigid_law[node] : compliant_law[node],
-                    rigid ? rigid_datum[node] : compliant_datum[node],
-                    obstacles[node], {}, -1, 0.0});  // Γ3's row: no masters, no pair
+    ContactRow& row = rows.emplace_back();  // Γ3's row: no masters, no pair
+    row.node = node;
+    row.direction = v;
+    row.gap = g;
+    row.measure = measure[static_cast<std::size_t>(node)];
+    row.law = rigid ? rigid_law[node] : compliant_law[node];
+    row.datum = rigid ? rigid_datum[node] : compliant_datum[node];
+    row.obstacles = obstacles[node];
   }
   // Every contact node has every component prescribed (a block may have no contact node: the
   // ranks check the whole mesh's together, validate_blocks).

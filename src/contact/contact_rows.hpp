@@ -1,30 +1,16 @@
 #pragma once
 // The contact rows of (3.9), from the problem: per node of Γ3 its direction, gap and law.
+#include "contact/contact_node.hpp"
 #include "scheme/problem.hpp"
 
 #include <vector>
 
 namespace vpc {
 
-/// A row of the contact matrix N of (3.9): a node of Γ3 that is not clamped, its
-/// unit direction ν (the given one, or the measure-weighted mean of the outward
-/// normals of its Γ3 facets), its gap g, its contact law and its obstacles.
-struct ContactRow {
+/// A row of the contact matrix N of (3.9) on the whole mesh: a node of Γ3 that is not clamped,
+/// or a pair's covered slave node, with its block; masters are numbered as the mesh's nodes.
+struct ContactRow : ContactNode {
   int node = 0;
-  Point direction{0, 0, 0};
-  double gap = 0;
-  /// The law at the node (its index in ContactSpec::laws(): a rigid one where any of its Γ3
-  /// facets has one) and its per-node datum, Σ ContactLaw::lumped over the node's Γ3 facets of
-  /// that kind (rigid or compliant), whose meaning the law defines (k_i = c |Γ3|_i for normal
-  /// compliance, 0 for Signorini).
-  int law = 0;
-  double datum = 0;
-  ObstacleMask obstacles = kAllObstacles;  // the obstacles acting on the node's parts
-  /// A contact pair's row (SPEC §8): its master nodes k and weights w_k = M_jk / D_jj, the row
-  /// ν·u_j − Σ_k w_k ν·u_k ≤ g (g = g̃_j / D_jj: a gap, λ a nodal force as on Γ3). Empty on Γ3.
-  std::vector<std::pair<int, double>> masters;
-  int pair = -1;       // its index in ContactSpec::pairs (−1: Γ3)
-  double measure = 0;  // a pair's row: D_jj, its tributary measure on the covered slave (Γ3's: tributary_measures)
 };
 
 /// The contact rows in increasing node order, for the nodes of Γ3 with a free

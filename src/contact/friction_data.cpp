@@ -13,7 +13,7 @@ Vector friction_bounds(const DiscreteSystem& sys, double t, std::string& bad) {
   std::size_t row = 0;
   for (const PartContactNode& node : part.contact) {
     if (!node.owned) continue;
-    const FrictionLaw* law = sys.row_friction[row++];
+    const FrictionLaw* law = sys.contact.row_friction[row++];
     const Point& x = part.mesh().node(node.local_node);
     const double g = law ? law->bound(x, t) : 0.0;
     if (!(std::isfinite(g) && g >= 0) && bad.empty())
@@ -46,7 +46,7 @@ void add_master_slip(const DiscreteSystem& sys, const Vector& u_before, const Ve
       for (Eigen::Index j = k * t; j < (k + 1) * t; ++j)
         for (int i = 0; i < d; ++i)
           if (const int own = dofs.free_index(dofs.full_index(node.local_node, i)); own >= 0)
-            shift[j] += sys.T.coeff(j, own) * moved[i];  // t_ij's component i (T's entry at the slave's dof)
+            shift[j] += sys.contact.T.coeff(j, own) * moved[i];  // t_ij's component i (T's entry at the slave's dof)
     ++k;
   }
 }
@@ -70,7 +70,7 @@ Vector slip_shift(const DiscreteSystem& sys, const State& s, double t, const Vec
         if (const int j = part.dofs.free_index(part.dofs.full_index(node.local_node, i)); j >= 0)
           at[j] += now[i] - before[i];
     }
-  Vector h = sys.T * at;
+  Vector h = sys.contact.T * at;
   if (u_D.size() > 0) add_master_slip(sys, s.u, u_D, h);  // a pair's moving masters
   return h;
 }

@@ -41,14 +41,12 @@ void slide_pairs(DiscreteSystem& sys, const Vector& u) {
     const auto it = row_of.find(o);
     if (it == row_of.end()) {  // no master facet within reach: the node cannot touch this step
       node.masters.clear();
-      node.gap = sys.miss_gap;
+      node.gap = sys.contact.miss_gap;
       for (int i = 0; i < d; ++i) node.gap += node.direction[static_cast<std::size_t>(i)] * u[node.local_node * d + i];
       continue;
     }
     const ContactRow& r = *it->second;
-    node.direction = r.direction;
-    node.measure = r.measure;
-    node.datum = r.datum;
+    static_cast<ContactNode&>(node) = r;  // the pair's law, its obstacles (none) and index are the node's already
     node.masters.clear();
     // The bound of N u_n: g(x + u) + ν·u_j − Σ_k w_k ν·u_k (all components: a master's prescribed
     // ones join at t_n in step_data.cpp, so their increment is what moves the bound).
@@ -61,7 +59,7 @@ void slide_pairs(DiscreteSystem& sys, const Vector& u) {
     }
     node.gap = bound;
   }
-  sys.set_contact_rows();
+  sys.contact.set_rows(p, part);
 }
 
 namespace {

@@ -15,9 +15,9 @@ bool slides(const Problem& p);
 
 /// The large-sliding pairs' rows of sys.part.contact in the configuration x + u (u: a state's
 /// displacement over the part's dofs, prescribed components included), then sys's N and friction
-/// frame (DiscreteSystem::set_contact_rows). The rows, and λ with them, are the slave nodes that had
+/// frame (ContactSet::set_rows). The rows, and λ with them, are the slave nodes that had
 /// one at t = 0 (the pair's `search` must reach every slave node that may touch): one that no
-/// master facet covers within reach now gets no masters and the gap sys.miss_gap (it cannot touch
+/// master facet covers within reach now gets no masters and the gap sys.contact.miss_gap (it cannot touch
 /// this step); a node without a row at t = 0 gets none. Under MPI rank 0 owns every node of a
 /// sliding pair's parts and holds the whole mesh; other ranks only renew N and T.
 void slide_pairs(DiscreteSystem& sys, const Vector& u);

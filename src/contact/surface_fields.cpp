@@ -114,7 +114,7 @@ void update_surface_state(const DiscreteSystem& sys, const Vector& gap, const Ve
   if (s.surface.empty()) return;
   const MeshPart& part = sys.part;
   const int b = s.contact_block, t = b - 1;
-  const Vector left = gap - sys.N * u_free;  // g − N u per owned row
+  const Vector left = gap - sys.contact.N * u_free;  // g − N u per owned row
   const auto table = laws_with_fields(sys.problem->contact, s);
   // This rank's rows updated in a copy that holds only them (zero elsewhere), then summed: one owner per row.
   std::vector<Vector> mine;

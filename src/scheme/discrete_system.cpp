@@ -3,7 +3,6 @@
 #include "core/error.hpp"
 #include "fem/assembly.hpp"
 #include "la/memory_estimate.hpp"
-#include "contact/sliding_pairs.hpp"
 #include "scheme/stability.hpp"
 #include "scheme/step_data.hpp"
 
@@ -73,21 +72,7 @@ DiscreteSystem::DiscreteSystem(std::shared_ptr<const Problem> problem_in, MeshPa
   if (p.f0 && p.f0_uniform) basis_integral_cells = basis_integral(unit, nullptr);
   if (p.f2 && p.f2_uniform) basis_integral_traction = basis_integral(nullptr, unit);
 
-  // The body's bounding box, over every process's nodes: the gap of a node that no obstacle (nor a
-  // sliding pair's master, contact/sliding_pairs.hpp) lies ahead of.
-  if (!p.contact.obstacles.empty() || slides(p)) {
-    Point lo{0, 0, 0}, hi{0, 0, 0};
-    for (int j = 0; j < 3; ++j) {
-      double l = INFINITY, h = -INFINITY;
-      for (int i = 0; i < mesh.n_nodes(); ++i) {
-        l = std::min(l, mesh.node(i)[j]);
-        h = std::max(h, mesh.node(i)[j]);
-      }
-      lo[j] = part.comm.min(l);
-      hi[j] = part.comm.max(h);
-    }
-    miss_gap = contact_miss_gap(lo, hi);
-  }
+  contact = ContactSet(p, part);
   for (int c = 0; c < mesh.n_cells() && !part.dirichlet_nodes.empty(); ++c)
     for (int a = 0; a <= d; ++a)
       if (std::ranges::any_of(part.dirichlet.begin() + mesh.cell(c)[a] * d,
@@ -95,7 +80,6 @@ DiscreteSystem::DiscreteSystem(std::shared_ptr<const Problem> problem_in, MeshPa
         dirichlet_cells.push_back(c);
         break;
       }
-  set_contact_rows();
 
   // Constant matrices: K of (3.9), factorized once; H = M + kκA of (3.8). Each
   // process assembles its cells; the backend sums the parts.
@@ -144,51 +128,6 @@ std::vector<char> constant_damage_nodes(const Problem& p, const MeshPart& part, 
   return held;
 }
 
-void DiscreteSystem::set_contact_rows() {
-  local_contact = contact_matrix(part, ContactColumns::local);
-  ContactMatrix owned = owned_rows(local_contact, part);
-  N = std::move(owned.N);
-  contact_dofs = std::move(owned.node_dofs);
-  master_mean = std::move(owned.master_mean);
-  if (problem->contact.frictional()) set_friction_frame();
-}
-
-void DiscreteSystem::set_friction_frame() {
-  const Problem& p = *problem;
-  const Mesh& mesh = part.mesh();
-  const int d = mesh.dim();
-  ContactConstraints c;
-  c.N = N;
-  c.block = p.contact.block_size(d);
-  c.rows = part.owned_contact_rows();
-  const auto frictions = p.contact.frictions();
-  row_friction.clear();
-  std::vector<double> mus, limits;
-  for (const PartContactNode& node : part.contact) {
-    if (!node.owned) continue;
-    const FrictionLaw* law = frictions[static_cast<std::size_t>(node.law)].get();
-    row_friction.push_back(law);
-    const Point& x = mesh.node(node.local_node);
-    const double mu_i = law ? law->coefficient(x) : 0.0;
-    if (!(std::isfinite(mu_i) && mu_i >= 0))
-      fail("{}: the friction coefficient mu is {} at contact node ({}, {}, {}) ({}); expected a number >= 0",
-           p.where("contact.mu"), mu_i, x[0], x[1], x[2], law->describe());
-    mus.push_back(mu_i);
-    const double tau = law ? law->limit(x) : std::numeric_limits<double>::infinity();
-    if (!(tau > 0))  // +∞ (none) passes; NaN and ≤ 0 do not
-      fail("{}: the shear limit is {} at contact node ({}, {}, {}) ({}); expected a traction > 0",
-           p.where("contact.shear_limit"), tau, x[0], x[1], x[2], law->describe());
-    limits.push_back(std::isfinite(tau) ? tau * node.measure : tau);
-  }
-  c.mu = Eigen::Map<Vector>(mus.data(), static_cast<Eigen::Index>(mus.size()));
-  limit = Eigen::Map<Vector>(limits.data(), static_cast<Eigen::Index>(limits.size()));
-  c.master_mean = master_mean;
-  set_tangents(c, contact_dofs);
-  T = std::move(c.T);
-  tangent_dof = std::move(c.tangent_dof);
-  mu = std::move(c.mu);
-}
-
 std::shared_ptr<la::LinearSolver> DiscreteSystem::make_stiffness_factor() const {
   const Mesh& mesh = part.mesh();
   const int d = mesh.dim();
@@ -208,34 +147,7 @@ std::shared_ptr<la::LinearSolver> DiscreteSystem::make_stiffness_factor() const 
 }
 
 ContactConstraints contact_constraints(const DiscreteSystem& sys) {
-  const MeshPart& part = sys.part;
-  ContactConstraints c;
-  c.m = part.n_contact;
-  c.rows = part.owned_contact_rows();
-  c.N = sys.N;
-  c.gap = checked_contact_gap(sys, 0.0);
-  // Each row's law (contact/contact_law.hpp) and its per-node datum, lumped at the node (ContactRow).
-  c.laws = sys.problem->contact.laws();
-  c.block = sys.problem->contact.block_size(part.mesh().dim());
-  c.law = part.owned_contact_laws();
-  std::vector<double> datum;
-  for (const PartContactNode& node : part.contact)
-    if (node.owned) datum.push_back(node.datum);
-  c.datum = Eigen::Map<Vector>(datum.data(), static_cast<Eigen::Index>(datum.size()));
-  if (!sys.problem->contact.pairs.empty()) {
-    c.node_dofs = sys.contact_dofs;
-    if (c.frictional()) c.master_mean = sys.master_mean;
-  }
-  if (c.frictional()) {
-    c.frictions = sys.problem->contact.frictions();
-    c.T = sys.T;
-    c.tangent_dof = sys.tangent_dof;
-    c.mu = sys.mu;
-    c.limit = sys.limit;
-    c.tresca = Vector::Zero(static_cast<Eigen::Index>(c.rows.size()));
-    c.shift = Vector::Zero(static_cast<Eigen::Index>(c.rows.size()) * (c.block - 1));
-  }
-  return c;
+  return sys.contact.constraints(*sys.problem, sys.part, checked_contact_gap(sys, 0.0));
 }
 
 double mesh_and_state_bytes(double nodes, double cell_entries, double cells) {

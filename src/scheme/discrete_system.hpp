@@ -8,7 +8,7 @@
 #include "fem/cell_geometry.hpp"
 #include "la/backend.hpp"
 #include "la/vector.hpp"
-#include "contact/contact_matrix.hpp"
+#include "contact/contact_set.hpp"
 #include "scheme/mesh_part.hpp"
 #include "scheme/problem.hpp"
 #include "scheme/solver_choice.hpp"
@@ -61,32 +61,12 @@ struct DiscreteSystem {
   Vector lumped_mass;  // the row sums of M (owned nodes): the error estimate's M_L
   Vector basis_integral_cells, basis_integral_traction;  // ∫ψ_a over Ω and Γ2 (for uniform f0, f2; else empty)
   std::vector<int> dirichlet_cells;  // the part's cells with a prescribed dof: u_D's lifting, the reactions
-  double miss_gap = 0;  // the gap where no obstacle lies ahead (contact_miss_gap)
-  /// The part's contact rows, ghost rows included, over its local free dofs (ContactColumns::local):
-  /// built once (set_contact_rows), read by the primal solver's reflections (scheme/scheme_solvers.cpp).
-  ContactMatrix local_contact;
-  /// N: one row per owned contact node, in part.contact order, over the owned free dofs
-  /// (ContactConstraints::N); each row's free dofs (columns of N) in component order and, with pairs,
-  /// the masters' mean (ContactConstraints::node_dofs and master_mean): local_contact's owned rows.
-  SparseMatrix N;
-  std::vector<std::vector<int>> contact_dofs;
-  SparseMatrix master_mean;
-  /// Friction (SPEC §7; empty without): T, tangent_dof, Coulomb's μ_i and shear limit
-  /// τ_max |Γ3|_i (+∞: none) of the owned rows (ContactConstraints; set_tangents), and each owned
-  /// row's friction law (nullptr: none).
-  SparseMatrix T;
-  std::vector<int> tangent_dof;
-  Vector mu, limit;
-  std::vector<const FrictionLaw*> row_friction;
+  /// The contact rows and friction's frame (contact/contact_set.hpp): built once by the
+  /// constructor, again where large-sliding pairs move the rows (contact/sliding_pairs.hpp).
+  ContactSet contact;
   double assembly_seconds = 0, build_seconds = 0;
   ProcessMemory mesh_memory, assembly_memory;  // this process's as the construction starts and ends
 
-  /// local_contact, N, contact_dofs, master_mean and, with friction, T, tangent_dof, mu and
-  /// row_friction from part.contact (the constructor; again where large-sliding pairs move their
-  /// rows, contact/sliding_pairs.hpp).
-  void set_contact_rows();
-  /// T, tangent_dof, mu and row_friction from N, contact_dofs, master_mean and the problem's friction laws.
-  void set_friction_frame();
   /// A factor of K's kind (name "K"), its coordinates set for multigrid's rigid-body modes.
   std::shared_ptr<la::LinearSolver> make_stiffness_factor() const;
 };
@@ -99,7 +79,7 @@ struct DiscreteSystem {
 /// Collective.
 std::vector<char> constant_damage_nodes(const Problem& p, const MeshPart& part, const std::vector<Material>& materials);
 
-/// The contact solver's data: N, g(0) and the compliance law of each owned contact row. Collective.
+/// The contact solver's data: N, g(0) and the law of each owned contact row (ContactSet::constraints). Collective.
 ContactConstraints contact_constraints(const DiscreteSystem& sys);
 
 /// The memory of a mesh (coordinates and cell array: `cell_entries` node numbers) and of the

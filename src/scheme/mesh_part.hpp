@@ -11,7 +11,7 @@
 #include "fem/dof_map.hpp"
 #include "la/layout.hpp"
 #include "mesh/mesh.hpp"
-#include "contact/obstacle.hpp"
+#include "contact/contact_node.hpp"
 #include "contact/shared_contact_rows.hpp"
 
 #include <cstdint>
@@ -23,21 +23,13 @@ namespace vpc {
 
 struct Problem;
 
-/// A contact node (a row of N) that the part touches (made by part_contact_node).
-struct PartContactNode {
+/// A contact node (a row of N) that the part touches (made by part_contact_node): the row's
+/// block, its masters numbered as the part's nodes (on an owned row, whose rank owns its master
+/// nodes too: cut_part; else empty).
+struct PartContactNode : ContactNode {
   int row = 0;         // the row of N, in the numbering of the whole mesh (increasing node order)
   int local_node = 0;  // in the part's mesh
   bool owned = false;  // the row lives on this process (its node is owned)
-  Point direction{};   // ν, unit
-  double gap = 0;      // g at the node
-  double measure = 0;  // its tributary measure on Γ3 (for the contact pressure)
-  int law = 0;           // ContactRow::law: its index in ContactSpec::laws()
-  double datum = 0;      // ContactRow::datum: the law's per-node datum (k_i for normal compliance)
-  ObstacleMask obstacles = kAllObstacles;
-  /// A contact pair's row (ContactRow::masters): its master nodes, local to the part, and weights;
-  /// on an owned row, whose rank owns its master nodes too (cut_part), else empty.
-  std::vector<std::pair<int, double>> masters;
-  int pair = -1;  // ContactRow::pair
 };
 
 /// What a part takes from the whole mesh and problem, which it cannot compute from

@@ -19,12 +19,8 @@ WholeMeshData::WholeMeshData(const Problem& p, ContactRows built)
       dirichlet(dirichlet_dofs(p)),
       shared_rows(contact_rows_of(p, dirichlet.condition, built)),
       rows(*shared_rows),
-      row_of(p.mesh.n_nodes(), -1),
-      measure(tributary_measures(p.mesh, p.contact.parts)) {
-  for (std::size_t k = 0; k < rows.size(); ++k) {
-    row_of[rows[k].node] = static_cast<int>(k);
-    if (!rows[k].masters.empty()) measure[rows[k].node] = rows[k].measure;  // a pair's slave node: D_jj
-  }
+      row_of(p.mesh.n_nodes(), -1) {
+  for (std::size_t k = 0; k < rows.size(); ++k) row_of[rows[k].node] = static_cast<int>(k);
 }
 
 int free_components(const DirichletDofs& dirichlet, int node, int dim) {
@@ -49,8 +45,14 @@ WholeNumbering::WholeNumbering(const std::vector<std::vector<int>>& owned, const
     }
 }
 
-PartContactNode part_contact_node(int k, const ContactRow& row, int local_node, bool owned, double measure) {
-  return {k, local_node, owned, row.direction, row.gap, measure, row.law, row.datum, row.obstacles, {}, row.pair};
+PartContactNode part_contact_node(int k, const ContactRow& row, int local_node, bool owned) {
+  PartContactNode node;
+  static_cast<ContactNode&>(node) = row;
+  node.masters.clear();  // numbered as the part's nodes by cut_part
+  node.row = k;
+  node.local_node = local_node;
+  node.owned = owned;
+  return node;
 }
 
 void add_loaded_facet(PartPieces& pieces, Mesh& mesh, const int* nodes, int load) {
@@ -73,8 +75,7 @@ PartPieces cut_part(const Problem& p, const WholeMeshData& whole, const WholeNum
     const auto begin = dirichlet.condition.begin() + static_cast<std::ptrdiff_t>(v) * d;
     part.dirichlet.insert(part.dirichlet.end(), begin, begin + d);
     if (const int k = whole.row_of[v]; k >= 0)
-      part.contact.push_back(part_contact_node(k, whole.rows[k], static_cast<int>(a), a < static_cast<std::size_t>(n_owned),
-                                               whole.measure[v]));
+      part.contact.push_back(part_contact_node(k, whole.rows[k], static_cast<int>(a), a < static_cast<std::size_t>(n_owned)));
   }
   // An owned pair row's master nodes in the part's numbering: they are owned with the row
   // (own_pairs_together in parallel/distributed_mesh.cpp; on one process every node is). A ghost

@@ -22,7 +22,6 @@ struct WholeMeshData {
   ContactRows shared_rows;              // the contact rows, shared with the set-up that built them
   const std::vector<ContactRow>& rows;  // *shared_rows
   std::vector<int> row_of;       // per node: its contact row, −1 off Γ3
-  std::vector<double> measure;   // per node: tributary measure on Γ3 (the output's contact pressure)
   /// Throws vpc::Error as the functions of scheme/problem.hpp it calls. `rows`: the problem's
   /// contact rows as its validation built them (Problem::validate); null: built here.
   explicit WholeMeshData(const Problem& p, ContactRows rows = nullptr);
@@ -45,7 +44,7 @@ struct WholeNumbering {
 
 /// The contact node of `row` (the row numbered `k`) in a part, at its local node.
 /// The one place a contact row's law and geometry reach the scheme.
-PartContactNode part_contact_node(int k, const ContactRow& row, int local_node, bool owned, double measure);
+PartContactNode part_contact_node(int k, const ContactRow& row, int local_node, bool owned);
 
 /// Adds a loaded facet of the part (its nodes in `mesh`, the part's): `load` 0 on Γ2, k under
 /// pressure load k − 1, into pieces.traction_facets or pieces.pressure_facets[k − 1].

@@ -36,7 +36,7 @@ std::unique_ptr<ContactSolver> contact_solver(const DiscreteSystem& sys, const S
     std::shared_ptr<const la::SpdOperator> K_rot;
     const bool pairs = !constraints.node_dofs.empty();
     if (part.comm.any(pairs || contact_reflections(constraints.N).size() > 0)) {
-      const ContactMatrix& local = sys.local_contact;
+      const ContactMatrix& local = sys.contact.local;
       for (const PartContactNode& node : part.contact)
         require(node.owned || node.pair < 0, "internal: contact pair row {} is a ghost on this rank", node.row);
       const ContactBasis basis =

@@ -98,7 +98,7 @@ Vector contact_gap(const DiscreteSystem& sys, double t, std::string& bad) {
     // back (N u ≤ g < 0 is still a feasible constraint); a value that is not a number
     // is an error, reported by every process.
     const Point& x = part.mesh().node(node.local_node);
-    gaps.push_back(contact_gap_at(spec, x, node.direction, t, sys.miss_gap, node.obstacles));
+    gaps.push_back(contact_gap_at(spec, x, node.direction, t, sys.contact.miss_gap, node.obstacles));
     if (!std::isfinite(gaps.back()) && bad.empty())
       bad = fmt::format("the gap g is not finite ({}) at t = {} at contact node {} ({}, {}, {})", gaps.back(), t,
                         part.original_node[node.local_node], x[0], x[1], x[2]);

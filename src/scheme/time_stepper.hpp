@@ -88,7 +88,7 @@ class TimeStepper {
   const la::SpdOperator& stiffness_operator() const { return *sys_.K; }
   const SparseMatrix& mass_matrix() const { return sys_.M_local; }
   const SparseMatrix& laplacian_matrix() const { return sys_.A_local; }
-  SparseMatrix contact_rows() const { return sys_.N; }
+  SparseMatrix contact_rows() const { return sys_.contact.N; }
   int n_factorizations() const;
   /// Krylov iterations of K's and the contact solver's iterative solves so far (0 on direct solvers).
   long long n_linear_iterations() const;

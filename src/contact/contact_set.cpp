@@ -1,0 +1,108 @@
+#include "contact/contact_set.hpp"
+
+#include "core/error.hpp"
+#include "solvers/contact_frame.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace vpc {
+
+namespace {
+
+/// The diagonal of the bodies' bounding box, over every process's nodes (contact_miss_gap). Collective.
+double miss_gap_of(const MeshPart& part) {
+  const Mesh& mesh = part.mesh();
+  Point lo{0, 0, 0}, hi{0, 0, 0};
+  for (int j = 0; j < 3; ++j) {
+    double l = INFINITY, h = -INFINITY;
+    for (int i = 0; i < mesh.n_nodes(); ++i) {
+      l = std::min(l, mesh.node(i)[j]);
+      h = std::max(h, mesh.node(i)[j]);
+    }
+    lo[j] = part.comm.min(l);
+    hi[j] = part.comm.max(h);
+  }
+  return contact_miss_gap(lo, hi);
+}
+
+}  // namespace
+
+ContactSet::ContactSet(const Problem& p, const MeshPart& part) : miss_gap(miss_gap_of(part)) { set_rows(p, part); }
+
+void ContactSet::set_rows(const Problem& p, const MeshPart& part) {
+  local = contact_matrix(part, ContactColumns::local);
+  ContactMatrix owned = owned_rows(local, part);
+  N = std::move(owned.N);
+  dofs = std::move(owned.node_dofs);
+  master_mean = std::move(owned.master_mean);
+  if (p.contact.frictional()) set_friction_frame(p, part);
+}
+
+void ContactSet::set_friction_frame(const Problem& p, const MeshPart& part) {
+  const Mesh& mesh = part.mesh();
+  const int d = mesh.dim();
+  ContactConstraints c;
+  c.N = N;
+  c.block = p.contact.block_size(d);
+  c.rows = part.owned_contact_rows();
+  const auto frictions = p.contact.frictions();
+  row_friction.clear();
+  std::vector<double> mus, limits;
+  for (const PartContactNode& node : part.contact) {
+    if (!node.owned) continue;
+    const FrictionLaw* law = frictions[static_cast<std::size_t>(node.law)].get();
+    row_friction.push_back(law);
+    const Point& x = mesh.node(node.local_node);
+    const double mu_i = law ? law->coefficient(x) : 0.0;
+    if (!(std::isfinite(mu_i) && mu_i >= 0))
+      fail("{}: the friction coefficient mu is {} at contact node ({}, {}, {}) ({}); expected a number >= 0",
+           p.where("contact.mu"), mu_i, x[0], x[1], x[2], law->describe());
+    mus.push_back(mu_i);
+    const double tau = law ? law->limit(x) : std::numeric_limits<double>::infinity();
+    if (!(tau > 0))  // +∞ (none) passes; NaN and ≤ 0 do not
+      fail("{}: the shear limit is {} at contact node ({}, {}, {}) ({}); expected a traction > 0",
+           p.where("contact.shear_limit"), tau, x[0], x[1], x[2], law->describe());
+    limits.push_back(std::isfinite(tau) ? tau * node.measure : tau);
+  }
+  c.mu = Eigen::Map<Vector>(mus.data(), static_cast<Eigen::Index>(mus.size()));
+  limit = Eigen::Map<Vector>(limits.data(), static_cast<Eigen::Index>(limits.size()));
+  c.master_mean = master_mean;
+  set_tangents(c, dofs);
+  T = std::move(c.T);
+  tangent_dof = std::move(c.tangent_dof);
+  mu = std::move(c.mu);
+}
+
+ContactConstraints ContactSet::constraints(const Problem& p, const MeshPart& part, Vector gap) const {
+  ContactConstraints c;
+  c.m = part.n_contact;
+  c.rows = part.owned_contact_rows();
+  c.N = N;
+  c.gap = std::move(gap);
+  // Each row's law (contact/contact_law.hpp) and its per-node datum, lumped at the node (ContactNode).
+  c.laws = p.contact.laws();
+  c.block = p.contact.block_size(part.mesh().dim());
+  c.law = part.owned_contact_laws();
+  std::vector<double> datum;
+  for (const PartContactNode& node : part.contact)
+    if (node.owned) datum.push_back(node.datum);
+  c.datum = Eigen::Map<Vector>(datum.data(), static_cast<Eigen::Index>(datum.size()));
+  if (!p.contact.pairs.empty()) {
+    c.node_dofs = dofs;
+    if (c.frictional()) c.master_mean = master_mean;
+  }
+  if (c.frictional()) {
+    c.frictions = p.contact.frictions();
+    c.T = T;
+    c.tangent_dof = tangent_dof;
+    c.mu = mu;
+    c.limit = limit;
+    c.tresca = Vector::Zero(static_cast<Eigen::Index>(c.rows.size()));
+    c.shift = Vector::Zero(static_cast<Eigen::Index>(c.rows.size()) * (c.block - 1));
+  }
+  return c;
+}
+
+}  // namespace vpc

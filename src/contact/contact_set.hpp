@@ -1,0 +1,49 @@
+#pragma once
+// The contact set of a part: its contact rows over the part's free dofs (N of (3.9)) and friction's
+// frame on them (SPEC §7), built from the part's contact nodes (scheme/mesh_part.hpp) once at
+// set-up, and again where large-sliding pairs move the nodes (contact/sliding_pairs.hpp). The
+// solvers' constraints (ContactConstraints) are made from it; the step's data (gap, friction
+// bounds, slip shift) read it.
+#include "contact/contact_matrix.hpp"
+#include "scheme/problem.hpp"
+#include "solvers/contact_solver.hpp"
+
+#include <vector>
+
+namespace vpc {
+
+struct ContactSet {
+  /// The part's contact rows, ghost rows included, over its local free dofs (ContactColumns::local):
+  /// the primal solver's reflections (scheme/scheme_solvers.cpp).
+  ContactMatrix local;
+  /// N: one row per owned contact node, in part.contact order, over the owned free dofs
+  /// (ContactConstraints::N); each row's free dofs (columns of N) in component order and, with pairs,
+  /// the masters' mean (ContactConstraints::node_dofs and master_mean): local's owned rows.
+  SparseMatrix N;
+  std::vector<std::vector<int>> dofs;
+  SparseMatrix master_mean;
+  /// Friction (SPEC §7; empty without): T, tangent_dof, Coulomb's μ_i and shear limit
+  /// τ_max |Γ3|_i (+∞: none) of the owned rows (ContactConstraints; set_tangents), and each owned
+  /// row's friction law (nullptr: none).
+  SparseMatrix T;
+  std::vector<int> tangent_dof;
+  Vector mu, limit;
+  std::vector<const FrictionLaw*> row_friction;
+  /// The gap where no obstacle (nor a sliding pair's master) lies ahead: the diagonal of the
+  /// bodies' bounding box over every process (contact_miss_gap).
+  double miss_gap = 0;
+
+  ContactSet() = default;
+  /// The set of `part`'s contact nodes under p's laws. Collective.
+  ContactSet(const Problem& p, const MeshPart& part);
+  /// The rows and frame again from part.contact (its nodes moved: contact/sliding_pairs.hpp).
+  void set_rows(const Problem& p, const MeshPart& part);
+  /// The solvers' constraints: N, the gap g(0) `gap`, each row's law and datum and, with friction,
+  /// its frame (the bounds and shift zero until the first step's).
+  ContactConstraints constraints(const Problem& p, const MeshPart& part, Vector gap) const;
+
+ private:
+  void set_friction_frame(const Problem& p, const MeshPart& part);
+};
+
+}  // namespace vpc
