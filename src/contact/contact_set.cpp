@@ -37,23 +37,24 @@ void ContactSet::set_rows(const Problem& p, const MeshPart& part) {
   N = std::move(owned.N);
   dofs = std::move(owned.node_dofs);
   master_mean = std::move(owned.master_mean);
-  if (p.contact.frictional()) set_friction_frame(p, part);
+  if (p.contact.frictional()) set_friction_frame(p, part);  // SPEC §7
 }
 
 void ContactSet::set_friction_frame(const Problem& p, const MeshPart& part) {
   const Mesh& mesh = part.mesh();
   const int d = mesh.dim();
+  FrictionFrame& f = friction;
   ContactConstraints c;
   c.N = N;
   c.block = p.contact.block_size(d);
   c.rows = part.owned_contact_rows();
-  const auto frictions = p.contact.frictions();
-  row_friction.clear();
+  f.laws = p.contact.frictions();
+  f.row_friction.clear();
   std::vector<double> mus, limits;
   for (const PartContactNode& node : part.contact) {
     if (!node.owned) continue;
-    const FrictionLaw* law = frictions[static_cast<std::size_t>(node.law)].get();
-    row_friction.push_back(law);
+    const FrictionLaw* law = f.laws[static_cast<std::size_t>(node.law)].get();
+    f.row_friction.push_back(law);
     const Point& x = mesh.node(node.local_node);
     const double mu_i = law ? law->coefficient(x) : 0.0;
     if (!(std::isfinite(mu_i) && mu_i >= 0))
@@ -67,12 +68,14 @@ void ContactSet::set_friction_frame(const Problem& p, const MeshPart& part) {
     limits.push_back(std::isfinite(tau) ? tau * node.measure : tau);
   }
   c.mu = Eigen::Map<Vector>(mus.data(), static_cast<Eigen::Index>(mus.size()));
-  limit = Eigen::Map<Vector>(limits.data(), static_cast<Eigen::Index>(limits.size()));
+  f.limit = Eigen::Map<Vector>(limits.data(), static_cast<Eigen::Index>(limits.size()));
+  f.master_mean = master_mean;
+  f.local_master_mean = local.master_mean;
   c.master_mean = master_mean;
   set_tangents(c, dofs);
-  T = std::move(c.T);
-  tangent_dof = std::move(c.tangent_dof);
-  mu = std::move(c.mu);
+  f.T = std::move(c.T);
+  f.tangent_dof = std::move(c.tangent_dof);
+  f.mu = std::move(c.mu);
 }
 
 ContactConstraints ContactSet::constraints(const Problem& p, const MeshPart& part, Vector gap) const {
@@ -89,19 +92,16 @@ ContactConstraints ContactSet::constraints(const Problem& p, const MeshPart& par
   for (const PartContactNode& node : part.contact)
     if (node.owned) datum.push_back(node.datum);
   c.datum = Eigen::Map<Vector>(datum.data(), static_cast<Eigen::Index>(datum.size()));
-  if (!p.contact.pairs.empty()) {
-    c.node_dofs = dofs;
-    if (c.frictional()) c.master_mean = master_mean;
-  }
-  if (c.frictional()) {
-    c.frictions = p.contact.frictions();
-    c.T = T;
-    c.tangent_dof = tangent_dof;
-    c.mu = mu;
-    c.limit = limit;
-    c.tresca = Vector::Zero(static_cast<Eigen::Index>(c.rows.size()));
-    c.shift = Vector::Zero(static_cast<Eigen::Index>(c.rows.size()) * (c.block - 1));
-  }
+  if (!p.contact.pairs.empty()) c.node_dofs = dofs;
+  // Friction's frame (empty without): the bounds and the shift are the steps' (set_friction).
+  c.frictions = friction.laws;
+  c.master_mean = friction.master_mean;
+  c.T = friction.T;
+  c.tangent_dof = friction.tangent_dof;
+  c.mu = friction.mu;
+  c.limit = friction.limit;
+  c.tresca = Vector::Zero(friction.mu.size());
+  c.shift = Vector::Zero(friction.T.rows());
   return c;
 }
 

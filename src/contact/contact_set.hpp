@@ -22,13 +22,19 @@ struct ContactSet {
   SparseMatrix N;
   std::vector<std::vector<int>> dofs;
   SparseMatrix master_mean;
-  /// Friction (SPEC §7; empty without): T, tangent_dof, Coulomb's μ_i and shear limit
-  /// τ_max |Γ3|_i (+∞: none) of the owned rows (ContactConstraints; set_tangents), and each owned
-  /// row's friction law (nullptr: none).
-  SparseMatrix T;
-  std::vector<int> tangent_dof;
-  Vector mu, limit;
-  std::vector<const FrictionLaw*> row_friction;
+  /// Friction's frame on the owned rows (SPEC §7), built where some entry has friction; every
+  /// field empty without.
+  struct FrictionFrame {
+    /// T, tangent_dof, Coulomb's μ_i and shear limit τ_max |Γ3|_i (+∞: none) (ContactConstraints; set_tangents)
+    SparseMatrix T;
+    std::vector<int> tangent_dof;
+    Vector mu, limit;
+    std::vector<const FrictionLaw*> row_friction;  // per owned row (nullptr: a frictionless entry's)
+    std::vector<std::shared_ptr<const FrictionLaw>> laws;  // ContactSpec::frictions()
+    /// The pairs' masters' mean, owned and local (ContactMatrix::master_mean): friction's slip on a
+    /// pair is the slave's relative to it.
+    SparseMatrix master_mean, local_master_mean;
+  } friction;
   /// The gap where no obstacle (nor a sliding pair's master) lies ahead: the diagonal of the
   /// bodies' bounding box over every process (contact_miss_gap).
   double miss_gap = 0;

@@ -13,7 +13,7 @@ Vector friction_bounds(const DiscreteSystem& sys, double t, std::string& bad) {
   std::size_t row = 0;
   for (const PartContactNode& node : part.contact) {
     if (!node.owned) continue;
-    const FrictionLaw* law = sys.contact.row_friction[row++];
+    const FrictionLaw* law = sys.contact.friction.row_friction[row++];
     const Point& x = part.mesh().node(node.local_node);
     const double g = law ? law->bound(x, t) : 0.0;
     if (!(std::isfinite(g) && g >= 0) && bad.empty())
@@ -46,7 +46,7 @@ void add_master_slip(const DiscreteSystem& sys, const Vector& u_before, const Ve
       for (Eigen::Index j = k * t; j < (k + 1) * t; ++j)
         for (int i = 0; i < d; ++i)
           if (const int own = dofs.free_index(dofs.full_index(node.local_node, i)); own >= 0)
-            shift[j] += sys.contact.T.coeff(j, own) * moved[i];  // t_ij's component i (T's entry at the slave's dof)
+            shift[j] += sys.contact.friction.T.coeff(j, own) * moved[i];  // t_ij's component i (T's entry at the slave's dof)
     ++k;
   }
 }
@@ -70,7 +70,7 @@ Vector slip_shift(const DiscreteSystem& sys, const State& s, double t, const Vec
         if (const int j = part.dofs.free_index(part.dofs.full_index(node.local_node, i)); j >= 0)
           at[j] += now[i] - before[i];
     }
-  Vector h = sys.contact.T * at;
+  Vector h = sys.contact.friction.T * at;
   if (u_D.size() > 0) add_master_slip(sys, s.u, u_D, h);  // a pair's moving masters
   return h;
 }
@@ -92,6 +92,35 @@ void record_slip(const DiscreteSystem& sys, const ContactConstraints& c, const V
     s.slip_step.segment(i * t, t) = blocks.segment(i * c.block + 1, t);
   }
   s.contact_status.noalias() = replicate(sys.part.comm, c, status);  // in place: Python's views of it stay valid
+}
+
+namespace {
+
+class Frictionless final : public StepFriction {
+ public:
+  void before_solve(const DiscreteSystem&, const State&, const StepData&, ContactSolver&) const override {}
+  void after_solve(const DiscreteSystem&, const ContactSolver&, const Vector&, const ContactReport&, State&) const override {}
+};
+
+class Frictional final : public StepFriction {
+ public:
+  void before_solve(const DiscreteSystem& sys, const State& s, const StepData& data, ContactSolver& contact) const override {
+    std::string bad;
+    Vector bounds = friction_bounds(sys, data.t, bad);
+    check_step_data(sys, bad);
+    contact.set_friction(bounds, slip_shift(sys, s, data.t, data.u_D));
+  }
+  void after_solve(const DiscreteSystem& sys, const ContactSolver& contact, const Vector& u_free, const ContactReport& rep,
+                   State& s) const override {
+    record_slip(sys, contact.constraints(), u_free, kSlipForceShare * rep.residuals.force_scale, s);
+  }
+};
+
+}  // namespace
+
+std::unique_ptr<const StepFriction> step_friction(const ContactSpec& spec) {
+  if (spec.frictional()) return std::make_unique<Frictional>();
+  return std::make_unique<Frictionless>();
 }
 
 }  // namespace vpc

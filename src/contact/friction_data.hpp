@@ -5,6 +5,9 @@
 // accumulated slip and each node's stick/slip/free status.
 #include "scheme/discrete_system.hpp"
 #include "scheme/state.hpp"
+#include "scheme/step_data.hpp"
+
+#include <memory>
 
 #include <string>
 
@@ -26,5 +29,22 @@ Vector slip_shift(const DiscreteSystem& sys, const State& s, double t, const Vec
 /// it solved (ContactSolver::constraints: T, the step's bounds and shift): s.slip_step = Δ = T u − h,
 /// s.slip += |Δ|, s.contact_status (stick_slip with `slack`, the contact report's). Collective.
 void record_slip(const DiscreteSystem& sys, const ContactConstraints& c, const Vector& u_free, double slack, State& s);
+
+/// Friction's part of a contact step (SPEC §7), chosen once for the run (step_friction): before
+/// the solve, the step's Tresca bounds and slip shift to the solver; after it, the slip and the
+/// stick/slip statuses into the state (record_slip). Frictionless contact's part does nothing.
+class StepFriction {
+ public:
+  virtual ~StepFriction() = default;
+  /// The bounds at data.t (friction_bounds, a bad one refused with the step's data: check_step_data)
+  /// and h from s at t_{n−1} (slip_shift) to `contact`. Collective.
+  virtual void before_solve(const DiscreteSystem& sys, const State& s, const StepData& data, ContactSolver& contact) const = 0;
+  /// record_slip with the constraints `contact` solved and its report's slack. Collective.
+  virtual void after_solve(const DiscreteSystem& sys, const ContactSolver& contact, const Vector& u_free,
+                           const ContactReport& rep, State& s) const = 0;
+};
+
+/// The step's friction for `spec`: Coulomb's or Tresca's on some entry, else none.
+std::unique_ptr<const StepFriction> step_friction(const ContactSpec& spec);
 
 }  // namespace vpc

@@ -40,7 +40,7 @@ std::unique_ptr<ContactSolver> contact_solver(const DiscreteSystem& sys, const S
       for (const PartContactNode& node : part.contact)
         require(node.owned || node.pair < 0, "internal: contact pair row {} is a ghost on this rank", node.row);
       const ContactBasis basis =
-          pairs ? contact_basis(local.N, local.node_dofs, constraints.frictional() ? local.master_mean : SparseMatrix())
+          pairs ? contact_basis(local.N, local.node_dofs, sys.contact.friction.local_master_mean)
                 : contact_basis(local.N, {});
       const SparseMatrix& P = basis.P;
       K_rot = sys.backend->assemble(basis.pairs()     ? SparseMatrix(P.transpose() * sys.K_local * P)

@@ -2,7 +2,6 @@
 
 #include "fem/assembly.hpp"
 #include "contact/contact_gap.hpp"
-#include "contact/friction_data.hpp"
 #include "contact/surface_fields.hpp"
 
 #include <chrono>
@@ -68,8 +67,9 @@ LaggedRates lagged_rates(const DiscreteSystem& sys, const State& s) {
   return r;
 }
 
-SchemeStep::SchemeStep(const MeshPart& part)
-    : f_(part.dof_layout), phi_(part.node_layout), u_(part.dof_layout), beta_(part.node_layout) {}
+SchemeStep::SchemeStep(const MeshPart& part, const ContactSpec& contact)
+    : f_(part.dof_layout), phi_(part.node_layout), u_(part.dof_layout), beta_(part.node_layout),
+      friction_(step_friction(contact)) {}
 
 const LaggedRates& SchemeStep::rates(const DiscreteSystem& sys, const State& s) {
   if (!rates_) rates_ = lagged_rates(sys, s);
@@ -117,10 +117,9 @@ ContactReport SchemeStep::solve_contact(const DiscreteSystem& sys, ContactSolver
   f_.local() = restrict_to_free(sys.part.dofs, data.F - assemble_stress_divergence(mesh, sys.geo, u_D.size() > 0 ? lifted : s.z));
   f_.add_ghosts_to_owners();
   contact.set_gap(data.gap);
-  if (s.contact_block > 1)  // friction (SPEC §7): Δ = T u_n − h, h from u_{n−1} and the obstacle's motion
-    contact.set_friction(data.tresca, slip_shift(sys, s, data.t, data.u_D));
+  friction_->before_solve(sys, s, data, contact);  // SPEC §7: Δ = T u_n − h, h from u_{n−1} and the obstacle's motion
   const ContactReport rep = contact.solve(f_.owned(), u_free, s.lambda);
-  if (s.contact_block > 1) record_slip(sys, contact.constraints(), u_free, kSlipForceShare * rep.residuals.force_scale, s);
+  friction_->after_solve(sys, contact, u_free, rep, s);
   u_.owned() = u_free;
   u_.update_ghosts();
   // Into u's own storage (a moved temporary would replace it): the Python module's views

@@ -3,6 +3,7 @@
 // t_{n−1} to t_n with the step k, steps 1–5 in order, over the discrete system and its solvers.
 // Like MFEM's ODESolver::Step: it advances the state and knows nothing of how k was chosen
 // (scheme/step_control.hpp) or what is reported and checked (scheme/step_checks.hpp).
+#include "contact/friction_data.hpp"
 #include "la/vector.hpp"
 #include "scheme/discrete_system.hpp"
 #include "scheme/scheme_solvers.hpp"
@@ -10,6 +11,7 @@
 #include "scheme/step_data.hpp"
 #include "scheme/step_report.hpp"
 
+#include <memory>
 #include <optional>
 #include <vector>
 
@@ -37,8 +39,8 @@ struct StepTaken {
 
 class SchemeStep {
  public:
-  /// The work vectors on the part's layouts.
-  explicit SchemeStep(const MeshPart& part);
+  /// The work vectors on the part's layouts; friction's part of the step for `contact`.
+  SchemeStep(const MeshPart& part, const ContactSpec& contact);
   /// Steps 1–5 from the state s at t_{n−1} to t_end = t_n with the step k (s.n is left to the
   /// caller: it counts accepted steps). u_free: the owned free dofs of u, the contact solver's
   /// warm start. Collective.
@@ -61,6 +63,7 @@ class SchemeStep {
                               const StepData& data);
 
   la::Vector f_, phi_, u_, beta_;  // ghosted work vectors: the load, F_φ, u_free, β
+  std::unique_ptr<const StepFriction> friction_;
   std::optional<LaggedRates> rates_;
 };
 

@@ -2,7 +2,6 @@
 
 #include "core/error.hpp"
 #include "fem/assembly.hpp"
-#include "contact/friction_data.hpp"
 
 #include <cmath>
 #include <tuple>
@@ -30,11 +29,10 @@ void add_master_motion(const DiscreteSystem& sys, const Vector& u_D, Vector& gap
 }  // namespace
 
 StepData step_data(const DiscreteSystem& sys, double t) {
-  StepData data{t, load(sys, t), prescribed_displacement(sys, t), {}, {}, {}};
+  StepData data{t, load(sys, t), prescribed_displacement(sys, t), {}, {}};
   std::string bad;
   data.gap = contact_gap(sys, t, bad);
   add_master_motion(sys, data.u_D, data.gap);
-  if (sys.problem->contact.frictional()) data.tresca = friction_bounds(sys, t, bad);
   check_step_data(sys, bad);
   return data;
 }

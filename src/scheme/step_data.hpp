@@ -16,7 +16,6 @@ struct StepData {
   Vector gap;  // g(t) at the owned contact rows, in row order (with gap_shift)
   /// What the contact laws' per-node state adds to g (surface_gap_shift; empty: nothing).
   Vector gap_shift;
-  Vector tresca;  // friction only: the Tresca bounds g_τ(x_i, t)|Γ3|_i at the owned rows (friction_bounds)
 };
 
 /// F_n, u_D and g at t, then check_step_data. Collective.

@@ -27,7 +27,7 @@ TimeStepper::TimeStepper(std::shared_ptr<const Problem> problem_in, MeshPart par
     : choice_(std::move(choice)),
       sys_(std::move(problem_in), std::move(part_in), std::move(backend_in), choice_),
       solvers_(set_up_solvers(sys_, choice_, setup_timing_, solver_cost_)),
-      step_(sys_.part) {
+      step_(sys_.part, sys_.problem->contact) {
   const auto t0 = std::chrono::steady_clock::now();
   const Problem& p = *sys_.problem;
   const MeshPart& part = sys_.part;

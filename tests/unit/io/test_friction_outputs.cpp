@@ -91,9 +91,9 @@ TEST(ContactTangents, AreTheRowsOfTheSystemsT) {
   p->contact.direction = Point{0.3 / n, -1.0 / n, 0.0};
   const DiscreteSystem sys(p, whole_mesh_part(p), la::serial_backend(), SolverChoice{});
   const MeshPart& part = sys.part;
-  ASSERT_EQ(sys.contact.T.rows(), static_cast<Eigen::Index>(part.contact.size()));
+  ASSERT_EQ(sys.contact.friction.T.rows(), static_cast<Eigen::Index>(part.contact.size()));
   const std::vector<Point> t = contact_tangents(part, 2);
-  const SparseMatrix Tt = sys.contact.T.transpose();
+  const SparseMatrix Tt = sys.contact.friction.T.transpose();
   Eigen::Index row = 0;
   for (std::size_t k = 0; k < part.contact.size(); ++k) {
     const PartContactNode& node = part.contact[k];
