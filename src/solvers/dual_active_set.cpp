@@ -79,7 +79,8 @@ class FrictionDual final : public DualProblem {
     return friction_report(K, c, F, u, lambda, qp.converged, qp.iterations);
   }
   std::string describe() const override {
-    if (!sets_.force_law.empty()) return "; friction and the nonlinear compliance law by semismooth Newton (Alart-Curnier) on the dual";
+    if (!sets_.force_law.empty())
+      return "; friction and the nonlinear compliance law by semismooth Newton (Alart-Curnier) on the dual";
     if (sets_.coulomb()) return "; Coulomb friction by semismooth Newton (Alart-Curnier) on the dual";
     if (sets_.block == 2) return "; Tresca friction as a box QP";
     return "; Tresca friction by semismooth Newton (Alart-Curnier) on the dual";
@@ -273,7 +274,7 @@ class ActiveSetContactSolver final : public ContactSolver {
   ContactConstraints c_;
   std::shared_ptr<const la::LinearSolver> factor_;
   std::vector<const ContactLaw*> row_laws_;  // every row's law (replicated); empty: Signorini
-  std::vector<const FrictionLaw*> row_frictions_;  // every row's friction law (replicated; nullptr: none), with row_laws_
+  std::vector<const FrictionLaw*> row_frictions_;  // every row's friction law (replicated; nullptr: none)
   Vector compliance_;                        // every row's 1/k_i (replicated; 0: rigid), with row_laws_
   Vector lower_;                             // every row's λ_i ≥ lower_i (replicated), with row_laws_
   bool nonlinear_ = false;                   // some row's law is not linear

@@ -32,7 +32,8 @@ void FrictionalSolve::weigh(Vector& rhs) const {
   rhs += law_rhs_;
 }
 
-std::optional<TangentialPart::Correction> FrictionalSolve::correction(bool perturbed, bool tight, bool iterative) const {
+std::optional<TangentialPart::Correction> FrictionalSolve::correction(bool perturbed, bool tight,
+                                                                      bool iterative) const {
   // Also without C on a tight iterative solve: the fixed rows (stick dofs at h, which grows with the
   // slip) can dominate ‖rhs‖, against which an iterative solver's tolerance is relative.
   if (!perturbed && !(tight && iterative)) return std::nullopt;

@@ -115,7 +115,8 @@ int PrimalOperator::factorize_for(const std::vector<char>& active, const Tangent
     if (A_) {
       factor_->refactorize(*next, what);
     } else {
-      if (tangents.keeps_factor() && !factor_->iterative()) factor_solves_ = factor_cost_in_solves(factor_->analyze(*next, what));
+      if (tangents.keeps_factor() && !factor_->iterative())
+        factor_solves_ = factor_cost_in_solves(factor_->analyze(*next, what));
       factor_->factorize(*next, what);
     }
     A_ = std::move(next);
@@ -187,7 +188,7 @@ PrimalOperator::Solved PrimalOperator::solve_constrained(const std::vector<char>
       rhs[j] = diagonal_[j] * fixed_values[j];
     }
   tangents.weigh(rhs);
-  if (const std::optional<TangentialPart::Correction> goal = tangents.correction(bool(C), tight, factor_->iterative())) {
+  if (const auto goal = tangents.correction(static_cast<bool>(C), tight, factor_->iterative())) {
     // Solved for the correction, whose right-hand side is the residual (0 on the fixed rows):
     // with friction the fixed rows (stick dofs at h, which grows with the slip) can dominate
     // ‖rhs‖, against which an iterative solver's tolerance is relative (Cattaneo–Mindlin on
