@@ -69,10 +69,18 @@ void set_friction_data(ContactConstraints& c, const Vector& tresca, const Vector
   c.shift = shift;
 }
 
-Vector slip_increment(const ContactConstraints& c, const Vector& u) {
-  if (!c.frictional()) return {};
-  return c.T * u - c.shift;
+// (T covers N's columns; a set without tangents may leave it unset, 0 × 0: the products below then
+// cover no dofs, as 0 × n would.)
+Vector slip_increment(const ContactConstraints& c, const Vector& u) { return c.T * u.head(c.T.cols()) - c.shift; }
+
+namespace {
+
+/// y += Tᵀλ_τ: the tangential forces' load on the owned free dofs.
+void add_tangential_load(const ContactConstraints& c, const Vector& tangential, Vector& y) {
+  y.head(c.T.cols()) += c.T.transpose() * tangential;
 }
+
+}  // namespace
 
 ContactStatus contact_status(double lambda_nu, double tangential_norm, double bound, double slack) {
   if (!(lambda_nu > 0)) return ContactStatus::Free;
@@ -132,11 +140,8 @@ ContactResiduals contact_residuals(const la::SpdOperator& K, const ContactConstr
   auto inf = [&](const Vector& v) { return comm.max(v.size() ? v.cwiseAbs().maxCoeff() : 0.0); };
   const double f_scale = std::max({inf(F), inf(Ku), 1e-300});
   Vector stationarity = Ku - F + c.N.transpose() * lambda_local;
-  Vector tangential;
-  if (c.frictional()) {
-    tangential = local_tangential(c, lambda);
-    stationarity += c.T.transpose() * tangential;
-  }
+  const Vector tangential = local_tangential(c, lambda);  // rows × (b − 1): none without friction
+  add_tangential_load(c, tangential, stationarity);
   r.equilibrium = inf(stationarity) / f_scale;
   const double l_scale = std::max({lambda.size() ? lambda.cwiseAbs().maxCoeff() : 0.0, f_scale});
   // Not max(‖u‖, ‖g‖) alone: where every free dof is held by contact at a zero gap the exact
@@ -153,27 +158,27 @@ ContactResiduals contact_residuals(const la::SpdOperator& K, const ContactConstr
     r.negative_force = std::max(r.negative_force, -above / l_scale);
     r.complementarity = std::max(r.complementarity, std::abs(above * s[i]) / (l_scale * u_scale));
   }
-  if (c.frictional()) {  // SPEC §7: |λ_τ|_C ≤ s; below it Δ = 0; at it Δ in C_s's normal cone
-    const int t = c.block - 1;
-    const Vector slip = slip_increment(c, u);
-    for (Eigen::Index i = 0; i < s.size(); ++i) {
-      const auto l = tangential.segment(i * t, t);
-      const auto d = slip.segment(i * t, t);
-      const FrictionLaw& law = c.friction_of(i);
-      const double bound = c.bound(i, lambda_local[i]), ln = law.gauge(l.data(), t), dn = d.norm();
-      r.friction_bound = std::max(r.friction_bound, (ln - bound) / l_scale);
-      // Below the bound a node's slip is measured against the displacement scale, weighted by how far
-      // below it is up to the force scale: a bound far above every force (μ or a Tresca bound of 1e8:
-      // a stuck face) would otherwise multiply a sticking node's round-off slip into a failure.
-      r.stick_slip = std::max(r.stick_slip, std::clamp(bound - ln, 0.0, l_scale) * dn / (l_scale * u_scale));
-      // λ_τ·Δ ≤ |λ_τ|_C |Δ|_C*, equal where Δ lies in the set's normal cone at λ_τ (along λ_τ on a disc).
-      r.slip_direction = std::max(r.slip_direction, (ln * law.dual_gauge(d.data(), t) - l.dot(d)) / (l_scale * u_scale));
-    }
+  // SPEC §7 over each row's b − 1 tangents: |λ_τ|_C ≤ s; below it Δ = 0; at it Δ in C_s's normal
+  // cone. Without friction a row has no tangents and its bound is 0: each of these is 0 there.
+  const int t = c.block - 1;
+  const Vector slip = slip_increment(c, u);
+  for (Eigen::Index i = 0; i < s.size(); ++i) {
+    const auto l = tangential.segment(i * t, t);
+    const auto d = slip.segment(i * t, t);
+    const FrictionLaw& law = c.friction_of(i);
+    const double bound = c.bound(i, lambda_local[i]), ln = law.gauge(l.data(), t), dn = d.norm();
+    r.friction_bound = std::max(r.friction_bound, (ln - bound) / l_scale);
+    // Below the bound a node's slip is measured against the displacement scale, weighted by how far
+    // below it is up to the force scale: a bound far above every force (μ or a Tresca bound of 1e8:
+    // a stuck face) would otherwise multiply a sticking node's round-off slip into a failure.
+    r.stick_slip = std::max(r.stick_slip, std::clamp(bound - ln, 0.0, l_scale) * dn / (l_scale * u_scale));
+    // λ_τ·Δ ≤ |λ_τ|_C |Δ|_C*, equal where Δ lies in the set's normal cone at λ_τ (along λ_τ on a disc).
+    r.slip_direction = std::max(r.slip_direction, (ln * law.dual_gauge(d.data(), t) - l.dot(d)) / (l_scale * u_scale));
   }
   r.force_scale = l_scale;  // the same on every rank (λ is replicated, f_scale reduced)
-  for (double* x : {&r.penetration, &r.negative_force, &r.complementarity}) *x = comm.max(*x);
-  if (c.frictional())
-    for (double* x : {&r.friction_bound, &r.stick_slip, &r.slip_direction}) *x = comm.max(*x);
+  for (double* x : {&r.penetration, &r.negative_force, &r.complementarity, &r.friction_bound, &r.stick_slip,
+                    &r.slip_direction})
+    *x = comm.max(*x);
   return r;
 }
 
@@ -195,18 +200,33 @@ std::string contact_failure(const ContactReport& r, double tolerance) {
                         above.empty() ? "" : fmt::format("{} above the tolerance {:.1e}", fmt::join(above, ", "), tolerance));
 }
 
-ContactReport contact_report(const la::SpdOperator& K, const ContactConstraints& c, const Vector& F, const Vector& u,
-                             const Vector& lambda, bool converged, int iterations, double active_threshold) {
+namespace {
+
+/// What every report has: the solve's outcome and its residuals.
+ContactReport solve_report(const la::SpdOperator& K, const ContactConstraints& c, const Vector& F, const Vector& u,
+                           const Vector& lambda, bool converged, int iterations, double active_threshold) {
   ContactReport rep;
   rep.converged = converged;
   rep.iterations = iterations;
   rep.active_threshold = active_threshold;
   rep.residuals = contact_residuals(K, c, F, u, lambda);
-  if (!c.frictional()) {
-    rep.n_active = static_cast<int>((lambda.array() > active_threshold).count());
-    rep.total_force = lambda.sum();
-    return rep;
-  }
+  return rep;
+}
+
+}  // namespace
+
+ContactReport contact_report(const la::SpdOperator& K, const ContactConstraints& c, const Vector& F, const Vector& u,
+                             const Vector& lambda, bool converged, int iterations, double active_threshold) {
+  require(lambda.size() == c.m, "internal: a report of {} normal forces for {} contact rows", lambda.size(), c.m);
+  ContactReport rep = solve_report(K, c, F, u, lambda, converged, iterations, active_threshold);
+  rep.n_active = static_cast<int>((lambda.array() > active_threshold).count());
+  rep.total_force = lambda.sum();
+  return rep;
+}
+
+ContactReport friction_report(const la::SpdOperator& K, const ContactConstraints& c, const Vector& F, const Vector& u,
+                              const Vector& lambda, bool converged, int iterations, double active_threshold) {
+  ContactReport rep = solve_report(K, c, F, u, lambda, converged, iterations, active_threshold);
   const int b = c.block, t = b - 1;
   for (int i = 0; i < c.m; ++i) {
     rep.n_active += lambda[i * b] > active_threshold;

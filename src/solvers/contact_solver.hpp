@@ -86,9 +86,21 @@ struct ContactConstraints {
   /// the normal force first. 1 for a normal law; d with friction (SPEC §7): λ_ν then the
   /// d − 1 tangential forces λ_τ along the node's tangents.
   int block = 1;
+  /// Law k's entry in a list parallel to `laws` (laws, frictions): nullptr where the list has none
+  /// (empty: none given) or the entry is nullptr (a frictionless law's place in frictions); and local
+  /// row i's (its law's; none where no laws are given, `law` then empty too).
+  template <class Law>
+  static const Law* entry(const std::vector<std::shared_ptr<const Law>>& list, std::size_t k) {
+    return k < list.size() ? list[k].get() : nullptr;
+  }
+  template <class Law>
+  const Law* entry_of(const std::vector<std::shared_ptr<const Law>>& list, Eigen::Index i) const {
+    return list.empty() ? nullptr : entry(list, static_cast<std::size_t>(law[static_cast<std::size_t>(i)]));
+  }
   /// The law of local row i (Signorini where there are no laws).
   const ContactLaw& law_of(Eigen::Index i) const {
-    return laws.empty() ? *signorini_law() : *laws[static_cast<std::size_t>(law[static_cast<std::size_t>(i)])];
+    const ContactLaw* l = entry_of(laws, i);
+    return l ? *l : *signorini_law();
   }
   /// Local row i's compliance 1/k_i (0: rigid) and the lower bound of its force, λ_i ≥ lower_i
   /// (0 but for a law that lets a node carry a tension), from its law at its datum.
@@ -99,7 +111,8 @@ struct ContactConstraints {
   /// T: row i(b−1) + j is the unit tangent t_ij on the owned free dofs (set_tangents: the columns
   /// of the node-local reflection Q of contact_reflections other than ν's, so that in w = Qu the
   /// tangential coordinate is one dof, tangent_dof). A node with fewer free tangents (a symmetry
-  /// plane) has zero rows and tangent_dof −1 there; its λ_τ,ij is 0.
+  /// plane) has zero rows and tangent_dof −1 there; its λ_τ,ij is 0. Without friction (b = 1) a row
+  /// has no tangents: T has no rows (a builder may leave it 0 × 0) and the loops over them are empty.
   SparseMatrix T;
   std::vector<int> tangent_dof;  // per local row × (b − 1): owned free dof, −1 where none
   /// The bound of the tangential force, s_i = min(tresca_i + μ_i λ_ν,i, limit_i) (|λ_τ,i| ≤ s_i,
@@ -116,12 +129,14 @@ struct ContactConstraints {
   std::vector<std::shared_ptr<const FrictionLaw>> frictions;
   /// Row i's friction law (the disc where it has none: its bound is 0 there).
   const FrictionLaw& friction_of(Eigen::Index i) const {
-    const FrictionLaw* f = frictions.empty() ? nullptr : frictions[static_cast<std::size_t>(law[static_cast<std::size_t>(i)])].get();
+    const FrictionLaw* f = entry_of(frictions, i);
     return f ? *f : disc_friction();
   }
-  /// Row i's bound's data, and its bound s_i at λ_ν (FrictionBound::at: written there once).
+  /// Row i's bound's data, and its bound s_i at λ_ν (FrictionBound::at: written there once). A set
+  /// without tangents may leave tresca and mu empty, as limit: 0 (its bound is 0, over no tangents).
   FrictionBound bound_of(Eigen::Index i) const {
-    return {tresca[i], mu[i], i < limit.size() ? limit[i] : std::numeric_limits<double>::infinity()};
+    const auto at = [i](const Vector& v, double none) { return i < v.size() ? v[i] : none; };
+    return {at(tresca, 0.0), at(mu, 0.0), at(limit, std::numeric_limits<double>::infinity())};
   }
   double bound(Eigen::Index i, double lambda_nu) const { return bound_of(i).at(lambda_nu); }
   /// Whether row i's bound at λ_ν is its shear limit (then it does not move with λ_ν).
@@ -146,7 +161,7 @@ SparseMatrix block_rows(const ContactConstraints& c, std::vector<int>& places);
 /// g, or with friction [g; h], of those rows.
 Vector block_offsets(const ContactConstraints& c);
 
-/// Δ = T u − shift, the slip increments of this rank's rows (rows × (b − 1)); empty without friction.
+/// Δ = T u − shift, the slip increments of this rank's rows (rows × (b − 1)): none without friction.
 Vector slip_increment(const ContactConstraints& c, const Vector& u);
 
 /// A contact node's state after a step, for friction's outputs: not in contact (λ_ν = 0),
@@ -194,8 +209,13 @@ Vector replicate_blocks(const la::Comm& comm, const ContactConstraints& c, const
 /// Checks friction's data of a step (sizes, finite, tresca ≥ 0) and stores it in c (set_friction).
 void set_friction_data(ContactConstraints& c, const Vector& tresca, const Vector& shift);
 const Vector& checked_gap(const ContactConstraints& c, const Vector& gap);
+/// The report of a solve whose unknowns are the normal forces alone (λ: m numbers; a solver of a set
+/// without tangents), and of one with the tangential forces too (λ: m × block; friction's stick and
+/// slip counts and dissipation as well). The solver that knows its unknowns calls its own.
 ContactReport contact_report(const la::SpdOperator& K, const ContactConstraints& c, const Vector& F, const Vector& u,
                              const Vector& lambda, bool converged, int iterations, double active_threshold = 0);
+ContactReport friction_report(const la::SpdOperator& K, const ContactConstraints& c, const Vector& F, const Vector& u,
+                              const Vector& lambda, bool converged, int iterations, double active_threshold = 0);
 /// The columns j0 .. j0+nb−1 of Nᵀ (or of [N; T]ᵀ with friction: `rows` places each local row
 /// in λ), owned rows: each rank fills the columns of its own constraint rows (zero elsewhere),
 /// so a block solve with it is collective.

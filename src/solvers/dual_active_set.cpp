@@ -13,17 +13,83 @@ namespace vpc {
 
 namespace {
 
-ContactReport make_report(const la::SpdOperator& K, const ContactConstraints& c, const Vector& F, const Vector& u,
-                          const Vector& lambda, const BoxQpResult& qp, double active_threshold = 0) {
-  ContactReport rep = contact_report(K, c, F, u, lambda, qp.converged, qp.iterations, active_threshold);
-  rep.cycles = qp.cycles;
-  return rep;
-}
-
 /// The same block size on every rank (block solves are collective).
 int common_block_columns(const la::Comm& comm, Eigen::Index n_owned, int most) {
   return static_cast<int>(comm.min(rhs_block_columns(n_owned, most)));
 }
+
+/// The dual problem of a step for b = B K⁻¹F − [g; h] (replicated), chosen once where the solver is
+/// built (ActiveSetContactSolver::dual_problem): the box QP, the nonlinear compliance law's Newton,
+/// or friction's dual over each node's block.
+class DualProblem {
+ public:
+  virtual ~DualProblem() = default;
+  /// Solves it for λ (warm-started from it); `c`: the constraints with the step's data.
+  virtual BoxQpResult solve(const la::Comm& comm, const ContactConstraints& c, const Vector& b, Vector& lambda) = 0;
+  /// The report of its λ (contact_report or friction_report).
+  virtual ContactReport report(const la::SpdOperator& K, const ContactConstraints& c, const Vector& F, const Vector& u,
+                               const Vector& lambda, const BoxQpResult& qp) const {
+    return contact_report(K, c, F, u, lambda, qp.converged, qp.iterations);
+  }
+  /// How it is solved, for describe() ("" for the box QP).
+  virtual std::string describe() const = 0;
+};
+
+/// The box QP with S + diag(1/k) over each row's dual set: λ ≥ lower (0 but for a law that carries
+/// a tension), λ ≤ the law's dual_upper.
+class BoxDual final : public DualProblem {
+ public:
+  BoxDual(Eigen::MatrixXd S, Vector lo, Vector hi) : S_(std::move(S)), lo_(std::move(lo)), hi_(std::move(hi)) {}
+  BoxQpResult solve(const la::Comm&, const ContactConstraints&, const Vector& b, Vector& lambda) override {
+    return solve_box_qp(S_, b, lo_, hi_, lambda);
+  }
+  std::string describe() const override { return ""; }
+
+ private:
+  DenseBoxQpOperator S_;
+  Vector lo_, hi_;
+};
+
+/// A normal law that is not linear on some row: solve_compliance_dual on S itself.
+class ComplianceDual final : public DualProblem {
+ public:
+  ComplianceDual(Eigen::MatrixXd S, std::vector<const ContactLaw*> laws, Vector compliance, Vector lower)
+      : S_(std::move(S)), laws_(std::move(laws)), compliance_(std::move(compliance)), lower_(std::move(lower)) {}
+  BoxQpResult solve(const la::Comm&, const ContactConstraints&, const Vector& b, Vector& lambda) override {
+    return solve_compliance_dual(S_, b, laws_, compliance_, lambda, kComplianceDualIterations, lower_);
+  }
+  std::string describe() const override { return "; semismooth Newton for the nonlinear compliance law"; }
+
+ private:
+  Eigen::MatrixXd S_;
+  std::vector<const ContactLaw*> laws_;
+  Vector compliance_, lower_;
+};
+
+/// Friction (friction_dual.hpp): each node's block λ_ν, λ_τ over its sets, with the step's bounds.
+class FrictionDual final : public DualProblem {
+ public:
+  FrictionDual(Eigen::MatrixXd S, FrictionDualSets sets) : S_(std::move(S)), sets_(std::move(sets)) {}
+  BoxQpResult solve(const la::Comm& comm, const ContactConstraints& c, const Vector& b, Vector& lambda) override {
+    sets_.tresca = replicate(comm, c, c.tresca);
+    return solve_friction_dual(S_, b, sets_, lambda);
+  }
+  ContactReport report(const la::SpdOperator& K, const ContactConstraints& c, const Vector& F, const Vector& u,
+                       const Vector& lambda, const BoxQpResult& qp) const override {
+    return friction_report(K, c, F, u, lambda, qp.converged, qp.iterations);
+  }
+  std::string describe() const override {
+    if (!sets_.force_law.empty())
+      return "; friction and the nonlinear compliance law by semismooth Newton (Alart-Curnier) on the dual";
+    if (sets_.coulomb()) return "; Coulomb friction by semismooth Newton (Alart-Curnier) on the dual";
+    if (sets_.block == 2) return "; Tresca friction as a box QP";
+    return "; Tresca friction by semismooth Newton (Alart-Curnier) on the dual";
+  }
+
+ private:
+  DenseBoxQpOperator S_;
+  FrictionDualSets sets_;
+};
 
 class ActiveSetContactSolver final : public ContactSolver {
  public:
@@ -43,27 +109,13 @@ class ActiveSetContactSolver final : public ContactSolver {
       for (Eigen::Index j = 0; j < all.size(); ++j) {
         const auto law = static_cast<std::size_t>(all[j]);
         row_laws_.push_back(c_.laws[law].get());
-        if (!c_.frictions.empty()) row_frictions_.push_back(c_.frictions[law].get());
+        row_frictions_.push_back(ContactConstraints::entry(c_.frictions, law));
         compliance_[j] = row_laws_.back()->compliance(datum[j]);
         lower_[j] = row_laws_.back()->dual_lower(datum[j]);
       }
       nonlinear_ = std::ranges::any_of(row_laws_, [](const ContactLaw* l) { return !l->linear(); });
     }
-    if (nonlinear_) S_plain_ = S;  // the nonlinear law's dual (solve_compliance_dual) on S itself
-    // A linear law's λ_i = k_i d₊ adds its spring's compliance 1/k_i to S_ii (the box QP of S + diag(1/k)),
-    // on the normal rows (j × block); a law that is not linear has λ_i = λ(d) on S itself.
-    const Eigen::Index b = c_.block;
-    for (Eigen::Index j = 0; j < compliance_.size(); ++j)
-      if (const ContactLaw* law = row_laws_[static_cast<std::size_t>(j)]; !law->rigid() && law->linear())
-        S(j * b, j * b) += law->spring_compliance(compliance_[j]);
-    if (c_.frictional()) {
-      sets_ = friction_sets(comm(), c_, row_laws_, lower_, row_frictions_, S);
-      if (nonlinear_) {  // friction_dual.hpp: those rows' λ_ν = λ(d) in the semismooth Newton
-        for (const ContactLaw* law : row_laws_) sets_.force_law.push_back(law->linear() ? nullptr : law);
-        sets_.compliance = compliance_;
-      }
-    }
-    S_ = std::make_unique<DenseBoxQpOperator>(std::move(S));
+    problem_ = dual_problem(std::move(S));
   }
 
   // N below is B (N, or [N; T] with friction) and g is g (or [g; h]: block_rows), m is m × block.
@@ -75,12 +127,12 @@ class ActiveSetContactSolver final : public ContactSolver {
       // One solve in two halves: y = L⁻¹PF; the dual QP min ½λᵀSλ − (N K⁻¹F − g)ᵀλ,
       // λ ≥ 0, with N K⁻¹F = Yᵀy; then u = PᵀL⁻ᵀ(y − Yλ) = K⁻¹(F − Nᵀλ).
       const Vector y = factor_->forward(F);
-      r = dual(Vector(Y_.transpose() * y - replicated(offsets())), lambda);
+      r = problem_->solve(comm(), c_, Vector(Y_.transpose() * y - replicated(offsets())), lambda);
       u = factor_->backward(Vector(y - Y_ * lambda));
     } else {
       Vector u_free = u;  // the solution without contact (u: an iterative solver's initial guess)
       factor_->solve(F, u_free);
-      r = dual(replicated(Vector(B() * u_free - offsets())), lambda);
+      r = problem_->solve(comm(), c_, replicated(Vector(B() * u_free - offsets())), lambda);
       if (W_.cols() == m) {
         // u = u_free − Wλ over the active rows only (λ_j = 0 elsewhere): the
         // active set is usually a part of Γ3, and each column is n_owned long.
@@ -92,41 +144,45 @@ class ActiveSetContactSolver final : public ContactSolver {
         factor_->solve(Vector(F - B().transpose() * local_of(lambda)), u);
       }
     }
-    return make_report(*K_, c_, F, u, lambda, r);
+    ContactReport rep = problem_->report(*K_, c_, F, u, lambda, r);
+    rep.cycles = r.cycles;
+    return rep;
   }
   void set_gap(const Vector& gap) override { c_.gap = checked_gap(c_, gap); }
   void set_friction(const Vector& tresca, const Vector& shift) override { set_friction_data(c_, tresca, shift); }
   const ContactConstraints& constraints() const override { return c_; }
   std::string name() const override { return "active-set"; }
-  std::string describe() const override {
-    if (nonlinear_ && !c_.frictional()) return describe_solves() + "; semismooth Newton for the nonlinear compliance law";
-    if (c_.frictional()) {
-      if (nonlinear_)
-        return describe_solves() + "; friction and the nonlinear compliance law by semismooth Newton (Alart-Curnier) on the dual";
-      if (sets_.coulomb()) return describe_solves() + "; Coulomb friction by semismooth Newton (Alart-Curnier) on the dual";
-      if (c_.block == 2) return describe_solves() + "; Tresca friction as a box QP";
-      return describe_solves() + "; Tresca friction by semismooth Newton (Alart-Curnier) on the dual";
-    }
-    return describe_solves();
-  }
+  std::string describe() const override { return describe_solves() + problem_->describe(); }
 
  private:
-  /// The dual problem for b = N K⁻¹F − g (replicated): the box QP with S (+ diag(1/k)) over
-  /// each row's dual set (λ ≥ lower: 0 but for a law that carries a tension), or, for a law that is not
-  /// linear on some row, solve_compliance_dual.
-  BoxQpResult dual(const Vector& b, Vector& lambda) {
-    if (c_.frictional()) {  // friction_dual.hpp; the bounds of this step
-      sets_.tresca = replicate(comm(), c_, c_.tresca);
-      return solve_friction_dual(*S_, b, sets_, lambda);
+  /// The step's dual problem, chosen here once: with friction its blocks' (friction_sets), else the box
+  /// QP, or solve_compliance_dual where some row's law is not linear. A linear law's λ_i = k_i d₊ adds
+  /// its spring's compliance 1/k_i to S_ii (the box QP of S + diag(1/k)) on the normal rows (j × block);
+  /// a law that is not linear has λ_i = λ(d) on S itself.
+  std::unique_ptr<DualProblem> dual_problem(Eigen::MatrixXd S) const {
+    auto with_springs = [&] {
+      const Eigen::Index b = c_.block;
+      for (Eigen::Index j = 0; j < compliance_.size(); ++j)
+        if (const ContactLaw* law = row_laws_[static_cast<std::size_t>(j)]; !law->rigid() && law->linear())
+          S(j * b, j * b) += law->spring_compliance(compliance_[j]);
+    };
+    if (c_.frictional()) {
+      with_springs();
+      FrictionDualSets sets = friction_sets(comm(), c_, row_laws_, lower_, row_frictions_, S);
+      if (nonlinear_) {  // friction_dual.hpp: those rows' λ_ν = λ(d) in the semismooth Newton
+        for (const ContactLaw* law : row_laws_) sets.force_law.push_back(law->linear() ? nullptr : law);
+        sets.compliance = compliance_;
+      }
+      return std::make_unique<FrictionDual>(std::move(S), std::move(sets));
     }
-    if (nonlinear_) return solve_compliance_dual(S_plain_, b, row_laws_, compliance_, lambda, kComplianceDualIterations, lower_);
-    const int m = c_.m;
-    Vector lo = Vector::Zero(m), hi = Vector::Constant(m, std::numeric_limits<double>::infinity());
+    if (nonlinear_) return std::make_unique<ComplianceDual>(std::move(S), row_laws_, compliance_, lower_);
+    with_springs();
+    Vector lo = Vector::Zero(c_.m), hi = Vector::Constant(c_.m, std::numeric_limits<double>::infinity());
     for (std::size_t j = 0; j < row_laws_.size(); ++j) {
       lo[static_cast<Eigen::Index>(j)] = lower_[static_cast<Eigen::Index>(j)];
       hi[static_cast<Eigen::Index>(j)] = row_laws_[j]->dual_upper();
     }
-    return solve_box_qp(*S_, b, lo, hi, lambda);
+    return std::make_unique<BoxDual>(std::move(S), std::move(lo), std::move(hi));
   }
   std::string describe_solves() const {
     if (Y_.cols() > 0) return "one solve per step (K's halves)";
@@ -217,16 +273,14 @@ class ActiveSetContactSolver final : public ContactSolver {
   std::shared_ptr<const la::SpdOperator> K_;  // for the reported residuals
   ContactConstraints c_;
   std::shared_ptr<const la::LinearSolver> factor_;
-  std::unique_ptr<DenseBoxQpOperator> S_;
-  Eigen::MatrixXd S_plain_;                  // S without diag(1/k), for a nonlinear law only
   std::vector<const ContactLaw*> row_laws_;  // every row's law (replicated); empty: Signorini
-  std::vector<const FrictionLaw*> row_frictions_;  // every row's friction law (replicated; nullptr: none); empty: discs
+  std::vector<const FrictionLaw*> row_frictions_;  // every row's friction law (replicated; nullptr: none)
   Vector compliance_;                        // every row's 1/k_i (replicated; 0: rigid), with row_laws_
   Vector lower_;                             // every row's λ_i ≥ lower_i (replicated), with row_laws_
   bool nonlinear_ = false;                   // some row's law is not linear
   SparseMatrix B_;              // N, or with friction [N; T], in λ's order (block_rows)
   std::vector<int> B_rows_;     // its rows' places in λ
-  FrictionDualSets sets_;       // with friction: each node's sets, replicated
+  std::unique_ptr<DualProblem> problem_;  // the step's dual (dual_problem), with its S
   SparseMatrix Y_;     // L⁻¹PNᵀ (factors with halves), or empty
   Eigen::MatrixXd W_;  // K⁻¹Nᵀ on the owned rows (factors without halves), or empty
   bool schur_ = false;  // S came from the backend's Schur complement (no W)

@@ -7,37 +7,25 @@
 #include "solvers/primal_friction_iteration.hpp"
 #include "solvers/primal_operator.hpp"
 
-#include <optional>
+#include <memory>
 
 namespace vpc {
 
 namespace {
 
-/// The primal active-set solver: the frictionless active-set Newton method here, over the operator
-/// it keeps (PrimalOperator: K_rot with the active rows, its factor, the constrained solve); with
-/// friction, HSW's iteration (PrimalFrictionIteration) over the same operator.
-class PrimalActiveSetSolver final : public ContactSolver {
+/// The frictionless active-set Newton method over the operator: the rows have no tangents.
+class PrimalNormalIteration final : public PrimalIteration {
  public:
-  PrimalActiveSetSolver(std::shared_ptr<const la::SpdOperator> K, std::shared_ptr<const la::SpdOperator> K_rot,
-                        std::shared_ptr<la::LinearSolver> factor, ContactConstraints c, int max_iterations,
-                        double friction_tolerance)
-      : max_iterations_(max_iterations > 0 ? max_iterations
-                        : c.frictional()  ? kPrimalFrictionMaxIterations
-                                          : kPrimalMaxIterations),
-        op_(std::move(K), std::move(K_rot), std::move(factor), std::move(c)) {
-    if (op_.constraints().frictional()) friction_.emplace(op_, friction_tolerance);
-  }
-
-  ContactReport solve(const Vector& F, Vector& u, Vector& lambda) override {
-    if (friction_) return friction_->solve(op_, answers_, max_iterations_, F, u, lambda);
-    const ContactConstraints& c = op_.constraints();
-    const auto rows = op_.n_rows();
-    const la::Comm& comm = op_.comm();
-    const Vector b = op_.rotate(F);
-    Vector w = answers_.start_point(op_, F, u);
+  ContactReport solve(PrimalOperator& op, PrimalWarmStart& answers, int max_iterations, const Vector& F, Vector& u,
+                      Vector& lambda) override {
+    const ContactConstraints& c = op.constraints();
+    const auto rows = op.n_rows();
+    const la::Comm& comm = op.comm();
+    const Vector b = op.rotate(F);
+    Vector w = answers.start_point(op, F, u);
     const Vector lambda_in = lambda.size() == c.m ? local_rows(c, lambda) : Vector(Vector::Zero(rows));
     std::vector<char> active(static_cast<size_t>(rows));
-    for (Eigen::Index i = 0; i < rows; ++i) active[i] = lambda_in[i] > op_.lower(i) || op_.gap_left(w, i) < 0;
+    for (Eigen::Index i = 0; i < rows; ++i) active[i] = lambda_in[i] > op.lower(i) || op.gap_left(w, i) < 0;
     Vector lambda_local = Vector::Zero(rows);
     ActiveSetHistory history;  // the active sets met in this solve
     ContactReport rep;
@@ -45,9 +33,9 @@ class PrimalActiveSetSolver final : public ContactSolver {
     // An iterative solver finds the set with loose solves (the set decides by signs, not
     // digits), then confirms it with one at its own tolerance (an inexact semismooth Newton
     // method); a direct one is exact every time.
-    bool tight = !op_.iterative();
-    for (int it = 0; it < max_iterations_ && !converged; ++it) {
-      PrimalOperator::Iterate x = op_.iterate(active, b, w, tight, lambda_local, rep, nullptr);
+    bool tight = !op.iterative();
+    for (int it = 0; it < max_iterations && !converged; ++it) {
+      PrimalOperator::Iterate x = op.iterate(active, b, w, tight, lambda_local, rep, none_);
       std::vector<char>& next = x.next;
       if (comm.all(next == active)) {
         converged = tight;
@@ -55,7 +43,7 @@ class PrimalActiveSetSolver final : public ContactSolver {
         continue;
       }
       if (monotone) {
-        op_.release_one(active, next, x.most_negative, x.worst);
+        op.release_one(active, next, x.most_negative, x.worst);
         if (comm.all(next == active)) {  // what the rule would still release has λ = 0: KKT holds
           converged = tight;
           tight = true;
@@ -68,12 +56,38 @@ class PrimalActiveSetSolver final : public ContactSolver {
       }
       active = std::move(next);
     }
-    answers_.keep_answer(op_, w, u);
+    answers.keep_answer(op, w, u);
     lambda = replicate(comm, c, lambda_local);
-    ContactReport out = contact_report(op_.K(), c, F, u, lambda, converged, rep.iterations);
+    ContactReport out = contact_report(op.K(), c, F, u, lambda, converged, rep.iterations);
     out.factorizations = rep.factorizations;
     out.cycles = rep.cycles;
     return out;
+  }
+  int most_iterations() const override { return kPrimalMaxIterations; }
+
+ private:
+  NoTangents none_;
+};
+
+/// The solver's iteration, chosen once: HSW's with friction (the rows' tangents), else the frictionless one.
+std::unique_ptr<PrimalIteration> primal_iteration(const PrimalOperator& op, double friction_tolerance) {
+  if (op.constraints().frictional()) return std::make_unique<PrimalFrictionIteration>(op, friction_tolerance);
+  return std::make_unique<PrimalNormalIteration>();
+}
+
+/// The primal active-set solver: the operator it keeps (PrimalOperator: K_rot with the active rows,
+/// its factor, the constrained solve) and the iteration over it (PrimalIteration).
+class PrimalActiveSetSolver final : public ContactSolver {
+ public:
+  PrimalActiveSetSolver(std::shared_ptr<const la::SpdOperator> K, std::shared_ptr<const la::SpdOperator> K_rot,
+                        std::shared_ptr<la::LinearSolver> factor, ContactConstraints c, int max_iterations,
+                        double friction_tolerance)
+      : op_(std::move(K), std::move(K_rot), std::move(factor), std::move(c)),
+        iteration_(primal_iteration(op_, friction_tolerance)),
+        max_iterations_(max_iterations > 0 ? max_iterations : iteration_->most_iterations()) {}
+
+  ContactReport solve(const Vector& F, Vector& u, Vector& lambda) override {
+    return iteration_->solve(op_, answers_, max_iterations_, F, u, lambda);
   }
 
   void set_gap(const Vector& gap) override { op_.set_gap(gap); }
@@ -86,10 +100,10 @@ class PrimalActiveSetSolver final : public ContactSolver {
   }
 
  private:
-  const int max_iterations_;
   PrimalOperator op_;
-  PrimalWarmStart answers_;                          // the last answers: the next solve's first iterate
-  std::optional<PrimalFrictionIteration> friction_;  // with friction (block > 1)
+  std::unique_ptr<PrimalIteration> iteration_;
+  const int max_iterations_;
+  PrimalWarmStart answers_;  // the last answers: the next solve's first iterate
 };
 
 }  // namespace

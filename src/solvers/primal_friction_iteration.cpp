@@ -13,6 +13,34 @@ namespace vpc {
 
 using namespace primal_tuning;
 
+void FrictionalSolve::constrain(std::vector<char>& fixed, std::vector<Eigen::Triplet<double>>& springs) const {
+  friction.springs(springs);  // Newton's springs across the slip directions
+  friction.fix(fixed);
+}
+
+la::Perturbation FrictionalSolve::load(const PrimalOperator& op, const std::vector<char>& active, const Vector& b,
+                                       Vector& rhs, Vector& fixed_values) {
+  law_rhs_ = Vector::Zero(b.size());
+  la::Perturbation C = coupling.build(op, friction, couple, active, b, rhs, law_rhs_);
+  friction.load(op.constraints(), coupling.coupled(), rhs, fixed_values);
+  return C;
+}
+
+void FrictionalSolve::weigh(Vector& rhs) const {
+  if (!coupling.weighted()) return;
+  coupling.weigh(rhs);  // D rhs, the law rows' own part already over μ
+  rhs += law_rhs_;
+}
+
+std::optional<TangentialPart::Correction> FrictionalSolve::correction(bool perturbed, bool tight,
+                                                                      bool iterative) const {
+  // Also without C on a tight iterative solve: the fixed rows (stick dofs at h, which grows with the
+  // slip) can dominate ‖rhs‖, against which an iterative solver's tolerance is relative.
+  if (!perturbed && !(tight && iterative)) return std::nullopt;
+  const bool newton = couple && coupling.any_coupled();
+  return Correction{std::max(0.5 * force_tolerance, newton ? newton_target : 0.0) * force_scale, couple};
+}
+
 PrimalFrictionIteration::PrimalFrictionIteration(const PrimalOperator& op, double force_tolerance)
     : s_(op.constraints(), op.diagonal(), force_tolerance) {}
 
@@ -74,7 +102,7 @@ ContactReport PrimalFrictionIteration::solve(PrimalOperator& op, PrimalWarmStart
   for (int it = 0; it < max_iterations && !converged; ++it) {
     if (s_.couple && it == kCoupledIterations) s_.couple = false;  // no convergence yet: lag the bound
     auto [r, next, most_negative, worst, residual_left, failed] =
-        op.iterate(active, b, w, tight, lambda_local, rep, &s_);
+        op.iterate(active, b, w, tight, lambda_local, rep, s_);
     if (failed) break;  // Coulomb's linearization singular: not converged
     if (monotone) op.release_one(active, next, most_negative, worst);
     tangential = friction.forces(r);
@@ -151,7 +179,7 @@ ContactReport PrimalFrictionIteration::solve(PrimalOperator& op, PrimalWarmStart
   forces_last_.resize(rows + tangential.size());
   forces_last_ << lambda_local, tangential;
   lambda = replicate_blocks(comm, c, lambda_local, tangential);
-  ContactReport out = contact_report(op.K(), c, F, u, lambda, converged, rep.iterations);
+  ContactReport out = friction_report(op.K(), c, F, u, lambda, converged, rep.iterations);
   out.factorizations = rep.factorizations;
   out.cycles = rep.cycles;
   return out;

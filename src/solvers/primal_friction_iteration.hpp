@@ -5,13 +5,45 @@
 // Coulomb's bound in the matrix (CoulombCoupling), with the fallbacks that make it converge: monotone
 // updates against cycling, the lagged bound with Anderson mixing, the secant step for c. Its tuning
 // constants: primal_tuning.hpp.
+#include "solvers/primal_active_set.hpp"
+#include "solvers/primal_coupling.hpp"
+#include "solvers/primal_friction.hpp"
 #include "solvers/primal_operator.hpp"
 
 #include <vector>
 
 namespace vpc {
 
-class PrimalFrictionIteration {
+/// What friction adds to the operator's solves (its TangentialPart), owned by the frictional iteration.
+struct FrictionalSolve final : TangentialPart {
+  FrictionalSolve(const ContactConstraints& c, const Vector& diagonal, double force_tolerance)
+      : friction(c, diagonal), force_tolerance(force_tolerance) {}
+  PrimalFriction friction;   // the tangential linearization: stick set, slip forces and springs
+  CoulombCoupling coupling;  // Coulomb's bound in the matrix, made at each solve
+  const double force_tolerance;  // ContactSolverOptions::friction_tolerance
+  double force_scale = 0;        // the iteration's force scale (the direct solver's GMRES target)
+  double newton_target = 0;      // the next coupled correction's residual (of the force scale), at least
+  bool couple = true;            // Coulomb's bound in Newton's step (else lagged one iterate)
+
+  void constrain(std::vector<char>& fixed, std::vector<Eigen::Triplet<double>>& springs) const override;
+  void spring_pattern(std::vector<Eigen::Triplet<double>>& springs) const override { friction.spring_pattern(springs); }
+  bool keeps_factor() const override { return true; }
+  la::Perturbation load(const PrimalOperator& op, const std::vector<char>& active, const Vector& b, Vector& rhs,
+                        Vector& fixed_values) override;
+  void weigh(Vector& rhs) const override;
+  std::optional<Correction> correction(bool perturbed, bool tight, bool iterative) const override;
+  bool law_determines(Eigen::Index i, const ContactConstraints& c) const override {
+    return coupling.law_determines(i, c);
+  }
+  double law_normal_force(Eigen::Index i, const Vector& r, const ContactConstraints& c) const override {
+    return CoulombCoupling::law_normal_force(i, r, friction, c);
+  }
+
+ private:
+  Vector law_rhs_;  // the law rows' right-hand side, already over μ (CoulombCoupling::build)
+};
+
+class PrimalFrictionIteration final : public PrimalIteration {
  public:
   /// `force_tolerance`: ContactSolverOptions::friction_tolerance.
   PrimalFrictionIteration(const PrimalOperator& op, double force_tolerance);
@@ -35,7 +67,8 @@ class PrimalFrictionIteration {
   /// converged = false, the step fails (contact_failure) and the step control retries a smaller step.
   /// The arguments as ContactSolver::solve's; `warm`: the solver's last answers.
   ContactReport solve(PrimalOperator& op, PrimalWarmStart& warm, int max_iterations, const Vector& F, Vector& u,
-                      Vector& lambda);
+                      Vector& lambda) override;
+  int most_iterations() const override { return kPrimalFrictionMaxIterations; }
 
  private:
   /// How far Coulomb's bound moved (|G(s) − s|, largest) over the rows where it acts: the slip

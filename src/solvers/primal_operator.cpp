@@ -49,35 +49,32 @@ PrimalOperator::PrimalOperator(std::shared_ptr<const la::SpdOperator> K, std::sh
 }
 
 PrimalOperator::Iterate PrimalOperator::iterate(const std::vector<char>& active, const Vector& b, Vector& w, bool tight,
-                                                Vector& lambda_local, ContactReport& rep, FrictionalSolve* friction) {
+                                                Vector& lambda_local, ContactReport& rep, TangentialPart& tangents) {
   Iterate x;
-  rep.factorizations += factorize_for(active, friction ? &friction->friction : nullptr);
-  Solved solved = solve_constrained(active, b, w, tight, friction);
+  rep.factorizations += factorize_for(active, tangents);
+  Solved solved = solve_constrained(active, b, w, tight, tangents);
   if (solved.failed && changed_) {
     // GMRES short of its tolerance on a kept factor: the factor for these sets, and the solve again.
     excess_products_ = std::numeric_limits<double>::infinity();
-    rep.factorizations += factorize_for(active, friction ? &friction->friction : nullptr);
-    solved = solve_constrained(active, b, w, tight, friction);
+    rep.factorizations += factorize_for(active, tangents);
+    solved = solve_constrained(active, b, w, tight, tangents);
   }
   x.residual_left = solved.residual_left;
   x.failed = solved.failed;
   K_rot_->residual(b, w, x.r);
-  normal_update(active, w, x.r, lambda_local, x.next, x.most_negative, x.worst, friction);
+  normal_update(active, w, x.r, lambda_local, x.next, x.most_negative, x.worst, tangents);
   ++rep.iterations;
   return x;
 }
 
-/// Factorizes K_rot with `active`'s constraints (and `friction`'s stick set and springs) unless the
-/// factor already holds them, or, on a direct solver with friction, unless the factor still serves as
-/// GMRES's preconditioner for the operator with them (keep_factor). Returns 1 if it did.
-int PrimalOperator::factorize_for(const std::vector<char>& active, PrimalFriction* friction) {
+/// Factorizes K_rot with `active`'s constraints (and the tangents' fixed dofs and springs) unless the
+/// factor already holds them, or, on a direct solver whose tangents keep it, unless the factor still
+/// serves as GMRES's preconditioner for the operator with them (keep_factor). Returns 1 if it did.
+int PrimalOperator::factorize_for(const std::vector<char>& active, const TangentialPart& tangents) {
   const la::Comm& comm = K_->comm();
   std::vector<Eigen::Triplet<double>> springs;
   std::vector<char> fixed(static_cast<size_t>(K_->n_owned()), 0);
-  if (friction) {
-    friction->springs(springs);  // Newton's springs across the slip directions
-    friction->fix(fixed);
-  }
+  tangents.constrain(fixed, springs);  // friction: the stick rows' dofs, Newton's springs across the slip directions
   for (size_t i = 0; i < rows_.size(); ++i) {
     if (!active[i]) continue;
     if (compliant(static_cast<Eigen::Index>(i)))
@@ -91,7 +88,7 @@ int PrimalOperator::factorize_for(const std::vector<char>& active, PrimalFrictio
     return 0;
   }
   const bool with_springs = comm.any(!springs.empty());
-  if (A_ && friction && !factor_->iterative() && keep_factor()) {
+  if (A_ && tangents.keeps_factor() && !factor_->iterative() && keep_factor()) {
     // A direct solver keeps its factor while it serves: the operator with the sets and springs now
     // (A now) is applied by products, its change since the factor joins GMRES's operator
     // (CoulombCoupling) and the factor is its preconditioner.
@@ -104,7 +101,7 @@ int PrimalOperator::factorize_for(const std::vector<char>& active, PrimalFrictio
   // With friction the springs' pattern is every contact row's tangent block (zeros where a row
   // does not slip), within K_rot's own (a node's dofs couple), so that A_ keeps K_rot's pattern
   // as the slip set changes.
-  if (with_springs && friction) friction->spring_pattern(springs);
+  if (with_springs) tangents.spring_pattern(springs);
   const SparseMatrix D = with_springs ? owned_matrix(springs) : SparseMatrix();
   // A_ takes the new rows and springs in place where it has K_rot's pattern and the backend can;
   // else a new operator, the old one living until it is in place (the factor or the
@@ -118,7 +115,8 @@ int PrimalOperator::factorize_for(const std::vector<char>& active, PrimalFrictio
     if (A_) {
       factor_->refactorize(*next, what);
     } else {
-      if (friction && !factor_->iterative()) factor_solves_ = factor_cost_in_solves(factor_->analyze(*next, what));
+      if (tangents.keeps_factor() && !factor_->iterative())
+        factor_solves_ = factor_cost_in_solves(factor_->analyze(*next, what));
       factor_->factorize(*next, what);
     }
     A_ = std::move(next);
@@ -163,10 +161,10 @@ SparseMatrix PrimalOperator::owned_matrix(const std::vector<Eigen::Triplet<doubl
 
 /// w = the solution of K_rot w = b with the active rows: w_k = g/α on Signorini rows
 /// (the others moved to the right-hand side), springs on the compliance rows, an inactive row's
-/// force at its lower bound where that is not 0 (the load −N_iᵀ lower_i); with friction the
-/// stick and slip rows' conditions (PrimalFriction::load) and Coulomb's coupling (CoulombCoupling).
+/// force at its lower bound where that is not 0 (the load −N_iᵀ lower_i); the tangents' (with friction
+/// the stick and slip rows' conditions, PrimalFriction::load, and Coulomb's coupling, CoulombCoupling).
 PrimalOperator::Solved PrimalOperator::solve_constrained(const std::vector<char>& active, const Vector& b, Vector& w,
-                                                         bool tight, FrictionalSolve* friction) {
+                                                         bool tight, TangentialPart& tangents) {
   Vector fixed_values = Vector::Zero(b.size());
   Vector rhs = b;
   for (size_t i = 0; i < rows_.size(); ++i) {
@@ -180,11 +178,7 @@ PrimalOperator::Solved PrimalOperator::solve_constrained(const std::vector<char>
     else
       fixed_values[rows_[i].dof] = c_.gap[e] / rows_[i].alpha;
   }
-  Vector law_rhs = Vector::Zero(b.size());
-  const la::Perturbation C =
-      friction ? friction->coupling.build(*this, friction->friction, friction->couple, active, b, rhs, law_rhs)
-               : la::Perturbation();
-  if (friction) friction->friction.load(c_, friction->coupling.coupled(), rhs, fixed_values);
+  const la::Perturbation C = tangents.load(*this, active, b, rhs, fixed_values);
   Vector coupling;
   K_rot_->mult(fixed_values, coupling);
   rhs -= coupling;
@@ -193,11 +187,8 @@ PrimalOperator::Solved PrimalOperator::solve_constrained(const std::vector<char>
       w[j] = fixed_values[j];
       rhs[j] = diagonal_[j] * fixed_values[j];
     }
-  if (friction && friction->coupling.weighted()) {  // D rhs, the law rows' own part already over μ
-    friction->coupling.weigh(rhs);
-    rhs += law_rhs;
-  }
-  if (C || (friction && tight && factor_->iterative())) {
+  tangents.weigh(rhs);
+  if (const auto goal = tangents.correction(static_cast<bool>(C), tight, factor_->iterative())) {
     // Solved for the correction, whose right-hand side is the residual (0 on the fixed rows):
     // with friction the fixed rows (stick dofs at h, which grows with the slip) can dominate
     // ‖rhs‖, against which an iterative solver's tolerance is relative (Cattaneo–Mindlin on
@@ -214,9 +205,7 @@ PrimalOperator::Solved PrimalOperator::solve_constrained(const std::vector<char>
     // where a loose solve would (loose_tolerance, of ‖rhs‖).
     // (Without Coulomb's bound in the matrix, C is only a kept factor's change: the tolerance, as
     // the exact solve with a fresh factor would be.)
-    const bool newton = friction->couple && friction->coupling.any_coupled();
-    const double target =
-        std::max(0.5 * friction->force_tolerance, newton ? friction->newton_target : 0.0) * friction->force_scale;
+    const double target = goal->target;
     const double to_target = target / std::max(norm, std::numeric_limits<double>::min());
     double rtol = kForcing;
     if (!factor_->iterative()) {
@@ -224,7 +213,7 @@ PrimalOperator::Solved PrimalOperator::solve_constrained(const std::vector<char>
     } else if (!tight) {
       const double loose = loose_tolerance(rhs, w), rhs_norm = std::sqrt(K_->comm().sum(rhs.squaredNorm()));
       rtol = loose > 0 && norm > 0 ? std::min(kLooseReduction, loose * rhs_norm / norm) : kForcing;
-    } else if (friction->couple) {
+    } else if (goal->follow) {
       rtol = std::clamp(to_target, kLeastForcing, kForcing);
     }
     if (!C) {
@@ -272,11 +261,9 @@ double PrimalOperator::loose_tolerance(const Vector& rhs, const Vector& w) const
 /// below its lower bound (if below it).
 void PrimalOperator::normal_update(const std::vector<char>& active, const Vector& w, const Vector& r,
                                    Vector& lambda_local, std::vector<char>& next, double& most_negative,
-                                   Eigen::Index& worst, const FrictionalSolve* friction) const {
-  auto law_determines = [&](Eigen::Index i) { return friction && friction->coupling.law_determines(i, c_); };
-  auto law_normal_force = [&](Eigen::Index i) {
-    return CoulombCoupling::law_normal_force(i, r, friction->friction, c_);
-  };
+                                   Eigen::Index& worst, const TangentialPart& tangents) const {
+  auto law_determines = [&](Eigen::Index i) { return tangents.law_determines(i, c_); };
+  auto law_normal_force = [&](Eigen::Index i) { return tangents.law_normal_force(i, r, c_); };
   next.assign(active.size(), 0);
   for (Eigen::Index i = 0; i < static_cast<Eigen::Index>(rows_.size()); ++i) {
     const RotatedRow& row = rows_[i];

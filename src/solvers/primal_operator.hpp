@@ -1,31 +1,69 @@
 #pragma once
 // The operator the primal contact solver keeps (issue 14; split out of primal_active_set.cpp in
 // issue 49): K_rot = Pᵀ K P (contact_basis, primal_active_set.hpp) with the active Signorini rows
-// fixed, springs on the active compliant rows and, with friction, the stick rows' tangent dofs
-// fixed and the slip rows' springs (PrimalFriction); its factorization, kept while the sets hold;
-// and one iterate of the active-set Newton method on it: the constrained solve (with Coulomb's
-// coupling, CoulombCoupling, by GMRES) and the normal set's update.
+// fixed, springs on the active compliant rows and what the rows' tangents add (TangentialPart: with
+// friction the stick rows' tangent dofs fixed and the slip rows' springs); its factorization, kept
+// while the sets hold; and one iterate of the active-set Newton method on it: the constrained solve
+// (with Coulomb's coupling, CoulombCoupling, by GMRES) and the normal set's update.
+#include "la/linear_solver.hpp"
 #include "solvers/contact_frame.hpp"
 #include "solvers/contact_solver.hpp"
-#include "solvers/primal_coupling.hpp"
-#include "solvers/primal_friction.hpp"
 
 #include <memory>
+#include <optional>
 #include <vector>
 
 namespace vpc {
 
-/// What friction adds to the operator's solves, owned by the frictional iteration
-/// (PrimalFrictionIteration); the operator takes it as a pointer, nullptr without friction.
-struct FrictionalSolve {
-  FrictionalSolve(const ContactConstraints& c, const Vector& diagonal, double force_tolerance)
-      : friction(c, diagonal), force_tolerance(force_tolerance) {}
-  PrimalFriction friction;   // the tangential linearization: stick set, slip forces and springs
-  CoulombCoupling coupling;  // Coulomb's bound in the matrix, made at each solve
-  const double force_tolerance;  // ContactSolverOptions::friction_tolerance
-  double force_scale = 0;        // the iteration's force scale (the direct solver's GMRES target)
-  double newton_target = 0;      // the next coupled correction's residual (of the force scale), at least
-  bool couple = true;            // Coulomb's bound in Newton's step (else lagged one iterate)
+class PrimalOperator;
+
+/// What the contact rows' tangents add to the operator's solves, the iteration's part (so that the
+/// operator never asks whether there is friction): the stick rows' fixed dofs, the slip rows' springs
+/// and loads, Coulomb's coupling. Without friction the rows have no tangents and it adds nothing
+/// (NoTangents); with it FrictionalSolve (primal_friction_iteration.hpp).
+class TangentialPart {
+ public:
+  virtual ~TangentialPart() = default;
+  /// The fixed tangent dofs and the springs of this linearization, into the operator's.
+  virtual void constrain(std::vector<char>& fixed, std::vector<Eigen::Triplet<double>>& springs) const = 0;
+  /// Zeros wherever a spring can be, so that the factored matrix keeps its pattern as they change.
+  virtual void spring_pattern(std::vector<Eigen::Triplet<double>>& springs) const = 0;
+  /// Whether a direct solver keeps its factor while it serves as GMRES's preconditioner (keep_factor):
+  /// where the operator changes from iterate to iterate (the slip rows' springs), not only with the sets.
+  virtual bool keeps_factor() const = 0;
+  /// Adds the tangential rows' load to `rhs` and their fixed values to `fixed_values` for the normal
+  /// set `active` (b: the rotated load); returns the perturbation C of the matrix (Coulomb's coupling;
+  /// empty: none).
+  virtual la::Perturbation load(const PrimalOperator& op, const std::vector<char>& active, const Vector& b,
+                                Vector& rhs, Vector& fixed_values) = 0;
+  /// The right-hand side once the fixed rows are set: weighed where C is (CoulombCoupling::weigh).
+  virtual void weigh(Vector& rhs) const = 0;
+  /// Where the iterate is solved for its correction (the residual as the right-hand side) rather than
+  /// for w itself (`perturbed`: C is not empty; `tight`, `iterative`: the solve's and the solver's):
+  /// the target of its residual, and whether an iterative solver's forcing follows that target.
+  struct Correction {
+    double target = 0;
+    bool follow = false;
+  };
+  virtual std::optional<Correction> correction(bool perturbed, bool tight, bool iterative) const = 0;
+  /// Whether row i's λ_ν is its slip law's (CoulombCoupling::law_determines), and that force.
+  virtual bool law_determines(Eigen::Index i, const ContactConstraints& c) const = 0;
+  virtual double law_normal_force(Eigen::Index i, const Vector& r, const ContactConstraints& c) const = 0;
+};
+
+/// Rows without tangents (frictionless contact): nothing to add.
+class NoTangents final : public TangentialPart {
+ public:
+  void constrain(std::vector<char>&, std::vector<Eigen::Triplet<double>>&) const override {}
+  void spring_pattern(std::vector<Eigen::Triplet<double>>&) const override {}
+  bool keeps_factor() const override { return false; }
+  la::Perturbation load(const PrimalOperator&, const std::vector<char>&, const Vector&, Vector&, Vector&) override {
+    return {};
+  }
+  void weigh(Vector&) const override {}
+  std::optional<Correction> correction(bool, bool, bool) const override { return std::nullopt; }
+  bool law_determines(Eigen::Index, const ContactConstraints&) const override { return false; }
+  double law_normal_force(Eigen::Index, const Vector&, const ContactConstraints&) const override { return 0; }
 };
 
 class PrimalOperator {
@@ -84,7 +122,7 @@ class PrimalOperator {
     bool failed = false;       // the coupled solve's GMRES failed: w unchanged, the iteration stops
   };
   Iterate iterate(const std::vector<char>& active, const Vector& b, Vector& w, bool tight, Vector& lambda_local,
-                  ContactReport& rep, FrictionalSolve* friction);
+                  ContactReport& rep, TangentialPart& tangents);
   /// Monotone updates once a set came back: add every violated row, release only the row with
   /// the most negative force (the classical active-set step, which cannot cycle). Collective.
   void release_one(const std::vector<char>& active, std::vector<char>& next, double most_negative,
@@ -95,13 +133,13 @@ class PrimalOperator {
     double residual_left = 0;
     bool failed = false;
   };
-  int factorize_for(const std::vector<char>& active, PrimalFriction* friction);
+  int factorize_for(const std::vector<char>& active, const TangentialPart& tangents);
   Solved solve_constrained(const std::vector<char>& active, const Vector& b, Vector& w, bool tight,
-                           FrictionalSolve* friction);
+                           TangentialPart& tangents);
   double loose_tolerance(const Vector& rhs, const Vector& w) const;
   void normal_update(const std::vector<char>& active, const Vector& w, const Vector& r, Vector& lambda_local,
                      std::vector<char>& next, double& most_negative, Eigen::Index& worst,
-                     const FrictionalSolve* friction) const;
+                     const TangentialPart& tangents) const;
   SparseMatrix owned_matrix(const std::vector<Eigen::Triplet<double>>& entries) const;
 
   std::shared_ptr<const la::SpdOperator> K_, K_rot_;
@@ -123,6 +161,22 @@ class PrimalOperator {
   void count_perturbed(int products, double reduction);
   double factor_solves_ = 0;          // a factorization's cost in solves (keep_factor)
   double excess_products_ = 0;        // GMRES's products since the factor beyond a fresh one's
+};
+
+class PrimalWarmStart;
+
+/// One solve of the primal contact problem over the operator, chosen once where the solver is built
+/// (make_primal_active_set_solver): the frictionless active-set Newton method (primal_active_set.cpp)
+/// or HSW's frictional one (PrimalFrictionIteration).
+class PrimalIteration {
+ public:
+  virtual ~PrimalIteration() = default;
+  /// The arguments as ContactSolver::solve's; `warm`: the solver's last answers; `max_iterations`: solves
+  /// before it gives up (converged = false).
+  virtual ContactReport solve(PrimalOperator& op, PrimalWarmStart& warm, int max_iterations, const Vector& F,
+                              Vector& u, Vector& lambda) = 0;
+  /// Its max_iterations unless the caller gives one (kPrimalMaxIterations, kPrimalFrictionMaxIterations).
+  virtual int most_iterations() const = 0;
 };
 
 /// The first iterate of a solve from the solver's last answers (the warm start).
