@@ -55,15 +55,17 @@ std::string entry_laws(const ContactLaw& law, const FrictionLaw* friction, std::
 }  // namespace
 
 std::vector<std::string> ContactSpec::describe() const {
-  std::string laws = entry_laws(*law, friction.get(), "");
+  std::string on_gamma3 = entry_laws(*law, friction.get(), "");
   for (const PartContactLaw& pl : part_laws)
-    laws += fmt::format("; on {}: {}", fmt::join(pl.parts, ", "), entry_laws(*pl.law, pl.friction.get(), ""));
+    on_gamma3 += fmt::format("; on {}: {}", fmt::join(pl.parts, ", "), entry_laws(*pl.law, pl.friction.get(), ""));
   std::vector<std::string> all;
-  if (!parts.empty()) all.push_back(fmt::format("Γ3 (contact): {} ({})", fmt::join(parts, ", "), laws));
-  for (const ContactPair& pair : pairs)
-    all.push_back(fmt::format("pair: slave {}, master {} ({}, {} sliding)", pair.slave, pair.master,
-                              entry_laws(pair.law ? *pair.law : *law, pair.friction.get(), ", frictionless"),
-                              pair.large_sliding ? "large" : "small"));
+  if (!parts.empty()) all.push_back(fmt::format("Γ3 (contact): {} ({})", fmt::join(parts, ", "), on_gamma3));
+  const auto entries = laws();  // a pair's own law or [contact]'s
+  for (std::size_t q = 0; q < pairs.size(); ++q)
+    all.push_back(fmt::format("pair: slave {}, master {} ({}, {} sliding)", pairs[q].slave, pairs[q].master,
+                              entry_laws(*entries[static_cast<std::size_t>(pair_law_index(q))], pairs[q].friction.get(),
+                                         ", frictionless"),
+                              pairs[q].large_sliding ? "large" : "small"));
   return all;
 }
 

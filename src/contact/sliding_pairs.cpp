@@ -97,6 +97,7 @@ double slide_at(const MeshPart& part, const PartContactNode& j, const Vector& u)
 }  // namespace
 
 std::vector<PairSlide> small_slides(const Problem& p, const MeshPart& part, const State& state) {
+  if (std::ranges::all_of(p.contact.pairs, [](const ContactPair& q) { return q.large_sliding; })) return {};
   const la::Comm& comm = part.comm;
   std::vector<PairSlide> slides(p.contact.pairs.size());
   for (std::size_t q = 0; q < slides.size(); ++q) {

@@ -40,7 +40,8 @@ inline constexpr double kSmallSlideLimit = 0.5;
 /// its distance, and it is measured again once it touches) of the slide across ν_j relative to the masters' mortar
 /// mean, |(I − ν_j ν_jᵀ)(u_j − Σ_k w_k u_k)|, over the size of a master facet at j (PairSlide::facet),
 /// from the rows alone (the same on every engine; under MPI the whole mesh is gone), in state s
-/// (its u over the part's dofs, as slide_pairs', and its replicated λ). Collective.
+/// (its u over the part's dofs, as slide_pairs', and its replicated λ); empty where no pair
+/// slides small (none, or all large). Collective.
 std::vector<PairSlide> small_slides(const Problem& p, const MeshPart& part, const State& s);
 
 }  // namespace vpc

@@ -351,8 +351,7 @@ void RunOutput::record_untimed(const StepReport& r) {
 /// masters), so say it once, at the pair's table, with the remedy.
 void RunOutput::warn_small_sliding(const StepReport& r) {
   const Problem& p = stepper_.problem();
-  const auto large = [](const ContactPair& q) { return q.large_sliding; };
-  if (warned_small_sliding_ || std::ranges::all_of(p.contact.pairs, large)) return;
+  if (warned_small_sliding_) return;
   const std::vector<PairSlide> slides = small_slides(p, stepper_.part(), stepper_.state());
   for (std::size_t q = 0; q < slides.size() && !warned_small_sliding_; ++q) {
     const PairSlide& s = slides[q];
@@ -607,8 +606,7 @@ RunSummary RunOutput::summary(double wall_seconds) const {
         break;
       }
   }
-  if (!std::ranges::all_of(stepper_.problem().contact.pairs, [](const ContactPair& q) { return q.large_sliding; }))
-    r.pair_slides = small_slides(stepper_.problem(), part, s);
+  r.pair_slides = small_slides(stepper_.problem(), part, s);
   for (const auto& [t, file] : pvd_) r.output_times.push_back(t);
   if (r.output_times.empty() || r.output_times.back() != s.t) r.output_times.push_back(s.t);
   if (stepper_.backend().engine() == "petsc") {  // on one rank too

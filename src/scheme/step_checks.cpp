@@ -66,16 +66,15 @@ void contact_totals(const DiscreteSystem& sys, const State& s, StepReport& rep) 
   // The tangential force's components: the dimension with friction, none without (every tangential
   // slot below is then empty, and so are the report's tangential totals: history.csv has no columns).
   const std::size_t dt = b > 1 ? static_cast<std::size_t>(sys.part.mesh().dim()) : 0;
-  // With friction and several laws: each law entry's normal and tangential forces (Γ3's entries:
-  // [contact]'s and the [[contact.part]]s'; the pairs' are counted per pair).
-  const std::size_t n_obstacles = c.obstacles.size(), n_pairs = c.pairs.size();
-  const std::size_t n_parts = dt > 0 && !c.part_laws.empty() ? 1 + c.part_laws.size() : 0;
+  // Each law entry's normal and tangential forces (ContactSpec::laws() order: [contact]'s, the
+  // [[contact.part]]s', then each pair's); history.csv has the pairs' always and, with friction and
+  // several laws on Γ3, Γ3's entries'.
+  const std::size_t n_obstacles = c.obstacles.size(), n_entries = 1 + c.part_laws.size() + c.pairs.size();
+  const std::size_t first_pair = 1 + c.part_laws.size();
   // area, the obstacles' forces, the tangential force (dt), its share on each obstacle (obstacles ×
-  // dt) and the law entries' forces (parts × (1 + dt)); then each contact pair's normal force and its
-  // tangential force (pairs × dt)
-  const std::size_t on_total = n_obstacles + 1, on_obstacles = on_total + dt, on_parts = on_obstacles + dt * n_obstacles;
-  const std::size_t on_pairs = on_parts + n_parts * (1 + dt), on_pair_tangents = on_pairs + n_pairs;
-  std::vector<double> sums(on_pair_tangents + n_pairs * dt, 0.0);
+  // dt), then the entries' forces (entries × (1 + dt))
+  const std::size_t on_total = n_obstacles + 1, on_obstacles = on_total + dt, on_entries = on_obstacles + dt * n_obstacles;
+  std::vector<double> sums(on_entries + n_entries * (1 + dt), 0.0);
   const std::vector<Point> tangents = contact_tangents(sys.part, b);
   for (std::size_t k = 0; k < sys.part.contact.size(); ++k) {
     const PartContactNode& node = sys.part.contact[k];
@@ -84,15 +83,9 @@ void contact_totals(const DiscreteSystem& sys, const State& s, StepReport& rep) 
     if (lambda > rep.contact.active_threshold) sums[0] += node.measure;
     const Point tangential = along_tangents(tangents, k, b, s.lambda.data() + node.row * b + 1);
     for (std::size_t i = 0; i < dt; ++i) sums[on_total + i] += tangential[i];
-    if (node.pair >= 0) {
-      const auto q = static_cast<std::size_t>(node.pair);
-      sums[on_pairs + q] += lambda;
-      for (std::size_t i = 0; i < dt; ++i) sums[on_pair_tangents + dt * q + i] += tangential[i];
-    } else if (n_parts > 0) {
-      const std::size_t at = on_parts + static_cast<std::size_t>(node.law) * (1 + dt);
-      sums[at] += lambda;
-      for (std::size_t i = 0; i < dt; ++i) sums[at + 1 + i] += tangential[i];
-    }
+    const std::size_t entry = on_entries + static_cast<std::size_t>(node.law) * (1 + dt);
+    sums[entry] += lambda;
+    for (std::size_t i = 0; i < dt; ++i) sums[entry + 1 + i] += tangential[i];
     if (c.obstacles.empty() || (lambda == 0 && tangential == Point{0, 0, 0})) continue;
     const int nearest = nearest_obstacle(c.obstacles, sys.part.mesh().node(node.local_node), node.direction, rep.t,
                                          node.obstacles);
@@ -105,16 +98,22 @@ void contact_totals(const DiscreteSystem& sys, const State& s, StepReport& rep) 
   auto at = [&](std::size_t i) { return sums.begin() + static_cast<std::ptrdiff_t>(i); };
   rep.obstacle_force.assign(at(1), at(on_total));
   rep.tangential_force.assign(at(on_total), at(on_obstacles));
-  rep.obstacle_tangential_force.assign(at(on_obstacles), at(on_parts));
+  rep.obstacle_tangential_force.assign(at(on_obstacles), at(on_entries));
   rep.part_force.clear();
   rep.part_tangential_force.clear();
-  for (std::size_t j = 0; j < n_parts; ++j) {
-    rep.part_force.push_back(sums[on_parts + j * (1 + dt)]);
-    rep.part_tangential_force.insert(rep.part_tangential_force.end(), at(on_parts + j * (1 + dt) + 1),
-                                     at(on_parts + (j + 1) * (1 + dt)));
+  rep.pair_force.clear();
+  rep.pair_tangential_force.clear();
+  const std::size_t n_parts = dt > 0 && !c.part_laws.empty() ? first_pair : 0;
+  for (std::size_t e = 0; e < n_entries; ++e) {
+    const auto entry = on_entries + e * (1 + dt);
+    if (e >= first_pair) {
+      rep.pair_force.push_back(sums[entry]);
+      rep.pair_tangential_force.insert(rep.pair_tangential_force.end(), at(entry + 1), at(entry + 1 + dt));
+    } else if (e < n_parts) {
+      rep.part_force.push_back(sums[entry]);
+      rep.part_tangential_force.insert(rep.part_tangential_force.end(), at(entry + 1), at(entry + 1 + dt));
+    }
   }
-  rep.pair_force.assign(at(on_pairs), at(on_pair_tangents));
-  rep.pair_tangential_force.assign(at(on_pair_tangents), sums.end());
 }
 
 void reactions(const DiscreteSystem& sys, const State& s, const Vector& F, StepReport& rep) {

@@ -321,7 +321,7 @@ TEST(SlidingPairs, SmallSlidingMeasuresTheSlideFromItsMasters) {
     EXPECT_EQ(slides[0].x[1], 0.5);
     c = parse_case(blocks_slid("large", ux, 2.0, 20), "large.toml", ".", {});
     const auto large = run_to_end(c);
-    EXPECT_EQ(small_slides(*c.problem, large->part(), large->state())[0].ratio, 0.0);  // rows follow the motion
+    EXPECT_TRUE(small_slides(*c.problem, large->part(), large->state()).empty());  // rows follow the motion
   }
 }
 
