@@ -1,5 +1,5 @@
 #pragma once
-// A contact node's block: what the contact rows of the whole mesh (contact/contact_rows.hpp) and
+// A contact node's block: what the contact rows of the whole mesh (scheme/contact_rows.hpp) and
 // a part's contact nodes (scheme/mesh_part.hpp) carry, each in its own numbering.
 #include "contact/obstacle.hpp"
 #include "mesh/mesh.hpp"
@@ -31,6 +31,13 @@ struct ContactNode {
   /// ν·u_j − Σ_k w_k ν·u_k ≤ g (g = g̃_j / D_jj: a gap, λ a nodal force as on Γ3). Empty on Γ3.
   std::vector<std::pair<int, double>> masters;
   int pair = -1;  // its index in ContactSpec::pairs (−1: Γ3)
+};
+
+/// A row of the contact matrix N of (3.9) on the whole mesh (scheme/contact_rows.hpp builds them):
+/// a node of Γ3 that is not clamped, or a pair's covered slave node, with its block; masters are
+/// numbered as the mesh's nodes.
+struct ContactRow : ContactNode {
+  int node = 0;
 };
 
 }  // namespace vpc

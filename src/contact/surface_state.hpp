@@ -6,7 +6,7 @@
 // is done once for every law: the values are replicated on every process like λ (one value per
 // contact node, in the rows' order), copied with the state so that a rejected step rolls them
 // back, checkpointed by name, written to the VTU files, viewed from Python and, where the law
-// asks, integrated over Γ3 in history.csv (contact/surface_fields.hpp, io/state_fields.hpp,
+// asks, integrated over Γ3 in history.csv (scheme/surface_fields.hpp, io/state_fields.hpp,
 // io/checkpoint.cpp).
 #include <span>
 #include <string>

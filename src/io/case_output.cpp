@@ -7,7 +7,7 @@
 #include "core/error.hpp"
 #include "core/quote.hpp"
 #include "io/state_fields.hpp"
-#include "contact/surface_fields.hpp"
+#include "scheme/surface_fields.hpp"
 
 #include <fmt/ranges.h>
 

@@ -1,6 +1,6 @@
 #include "io/history_columns.hpp"
 
-#include "contact/surface_fields.hpp"
+#include "scheme/surface_fields.hpp"
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>

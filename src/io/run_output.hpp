@@ -15,7 +15,7 @@
 //                                      what made it (version, commit, command line, date)
 // The shared files (CSV, .pvd, .pvtu, summary.json) are written by rank 0.
 #include "io/vtu_writer.hpp"
-#include "contact/sliding_pairs.hpp"
+#include "scheme/sliding_pairs.hpp"
 #include "scheme/time_stepper.hpp"
 
 #include <chrono>
@@ -139,7 +139,7 @@ struct RunSummary {
   };
   std::vector<SymmetryPlane> symmetry_planes;
   /// Per contact pair: how far its slave nodes have slid from their t = 0 masters at the last step
-  /// (contact/sliding_pairs.hpp; summary.json "small_sliding", for the small-sliding pairs).
+  /// (scheme/sliding_pairs.hpp; summary.json "small_sliding", for the small-sliding pairs).
   std::vector<PairSlide> pair_slides;
 };
 

@@ -75,7 +75,7 @@ int lowest_rank(const NodeCells& nc, const std::vector<int>& part, int n_parts, 
   return o == n_parts ? 0 : o;
 }
 
-/// A contact pair's row (contact/contact_pairs.hpp) is ν·u_j − Σ_k w_k ν·u_k on its slave node j
+/// A contact pair's row (scheme/contact_pairs.hpp) is ν·u_j − Σ_k w_k ν·u_k on its slave node j
 /// and master nodes k. The solvers take each rank's rows of N over that rank's own dofs (so that
 /// Nᵀλ and S = N K⁻¹Nᵀ sum over the ranks exactly, with no ghost columns): every node of a row
 /// must have the row's owner. Rows sharing a master node chain along the interface, so each
@@ -188,7 +188,7 @@ std::vector<Message> pack_parts(const Problem& p, int n_parts, const std::vector
   // A node belongs to the lowest rank among its cells, except on contact pairs (own_pairs_together).
   std::vector<int> owner(n_nodes, 0);
   for (int i = 0; i < n_nodes; ++i) owner[i] = lowest_rank(nc, part, n_parts, i);
-  // Large-sliding pairs (contact/sliding_pairs.hpp) couple a slave node to whichever master facets
+  // Large-sliding pairs (scheme/sliding_pairs.hpp) couple a slave node to whichever master facets
   // it reaches: every node of their slave and master parts on rank 0, which keeps the whole mesh to
   // build their rows again at every step.
   std::vector<int> sliding;

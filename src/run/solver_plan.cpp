@@ -1,6 +1,6 @@
 #include "run/solver_plan.hpp"
 
-#include "contact/contact_rows.hpp"
+#include "scheme/contact_rows.hpp"
 #include "scheme/discrete_system.hpp"
 #include "core/error.hpp"
 #include "fem/cell_geometry.hpp"

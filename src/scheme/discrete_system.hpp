@@ -8,7 +8,7 @@
 #include "fem/cell_geometry.hpp"
 #include "la/backend.hpp"
 #include "la/vector.hpp"
-#include "contact/contact_set.hpp"
+#include "scheme/contact_set.hpp"
 #include "scheme/mesh_part.hpp"
 #include "scheme/problem.hpp"
 #include "scheme/solver_choice.hpp"
@@ -61,8 +61,8 @@ struct DiscreteSystem {
   Vector lumped_mass;  // the row sums of M (owned nodes): the error estimate's M_L
   Vector basis_integral_cells, basis_integral_traction;  // ∫ψ_a over Ω and Γ2 (for uniform f0, f2; else empty)
   std::vector<int> dirichlet_cells;  // the part's cells with a prescribed dof: u_D's lifting, the reactions
-  /// The contact rows and friction's frame (contact/contact_set.hpp): built once by the
-  /// constructor, again where large-sliding pairs move the rows (contact/sliding_pairs.hpp).
+  /// The contact rows and friction's frame (scheme/contact_set.hpp): built once by the
+  /// constructor, again where large-sliding pairs move the rows (scheme/sliding_pairs.hpp).
   ContactSet contact;
   double assembly_seconds = 0, build_seconds = 0;
   ProcessMemory mesh_memory, assembly_memory;  // this process's as the construction starts and ends

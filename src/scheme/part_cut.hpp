@@ -4,7 +4,7 @@
 // the global numbering of nodes and free dofs, and the share of one part. One
 // process cuts one part, the whole mesh (whole_mesh_part); under MPI rank 0 cuts
 // one per rank and sends it (parallel/distributed_mesh.cpp).
-#include "contact/contact_rows.hpp"
+#include "scheme/contact_rows.hpp"
 #include "scheme/mesh_part.hpp"
 #include "scheme/problem.hpp"
 

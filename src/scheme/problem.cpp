@@ -1,6 +1,6 @@
 #include "scheme/problem.hpp"
 
-#include "contact/contact_rows.hpp"
+#include "scheme/contact_rows.hpp"
 #include "core/error.hpp"
 #include "core/expression.hpp"
 #include "scheme/stability.hpp"

@@ -1,7 +1,7 @@
 #include "scheme/scheme_solvers.hpp"
 
-#include "contact/contact_matrix.hpp"
-#include "contact/sliding_pairs.hpp"
+#include "scheme/contact_matrix.hpp"
+#include "scheme/sliding_pairs.hpp"
 #include "solvers/contact_frame.hpp"
 #include "solvers/primal_active_set.hpp"
 

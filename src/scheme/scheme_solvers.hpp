@@ -56,7 +56,7 @@ SchemeSolvers set_up_solvers(DiscreteSystem& sys, const SolverChoice& choice, Se
                              std::optional<SolverCost>& cost);
 
 /// The contact solver again, of the same kind, for the rows part.contact has now (large-sliding
-/// pairs, contact/sliding_pairs.hpp), its warm state carried over. Needs sys.K_local (set_up_solvers
+/// pairs, scheme/sliding_pairs.hpp), its warm state carried over. Needs sys.K_local (set_up_solvers
 /// keeps it where a pair slides).
 void remake_contact_solver(const DiscreteSystem& sys, const SolverChoice& choice, SchemeSolvers& s);
 

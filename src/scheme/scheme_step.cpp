@@ -1,8 +1,8 @@
 #include "scheme/scheme_step.hpp"
 
 #include "fem/assembly.hpp"
-#include "contact/contact_gap.hpp"
-#include "contact/surface_fields.hpp"
+#include "scheme/contact_gap.hpp"
+#include "scheme/surface_fields.hpp"
 
 #include <chrono>
 #include <utility>

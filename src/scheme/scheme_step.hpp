@@ -3,7 +3,7 @@
 // t_{n−1} to t_n with the step k, steps 1–5 in order, over the discrete system and its solvers.
 // Like MFEM's ODESolver::Step: it advances the state and knows nothing of how k was chosen
 // (scheme/step_control.hpp) or what is reported and checked (scheme/step_checks.hpp).
-#include "contact/friction_data.hpp"
+#include "scheme/friction_data.hpp"
 #include "la/vector.hpp"
 #include "scheme/discrete_system.hpp"
 #include "scheme/scheme_solvers.hpp"

@@ -48,10 +48,10 @@ struct State {
   Eigen::VectorXd slip;
   Eigen::VectorXd contact_status;
   /// With contact pairs (empty without), per contact node (replicated, like λ): the gap left,
-  /// g(t_n) − N u_n (contact/contact_gap.hpp); recomputed from u on a restore, not checkpointed.
+  /// g(t_n) − N u_n (scheme/contact_gap.hpp); recomputed from u on a restore, not checkpointed.
   Eigen::VectorXd gap;
   /// The contact laws' per-node state (SurfaceVariable), in the order of declared_surface_state
-  /// (contact/surface_fields.hpp); empty where no law keeps any.
+  /// (scheme/surface_fields.hpp); empty where no law keeps any.
   std::vector<SurfaceField> surface;
   /// The field of this name (nullptr: none).
   const SurfaceField* surface_field(std::string_view name) const {

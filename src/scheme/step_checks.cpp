@@ -2,9 +2,9 @@
 
 #include "core/error.hpp"
 #include "fem/assembly.hpp"
-#include "contact/contact_tangents.hpp"
+#include "scheme/contact_tangents.hpp"
 #include "scheme/stability.hpp"
-#include "contact/surface_fields.hpp"
+#include "scheme/surface_fields.hpp"
 
 #include <algorithm>
 #include <cmath>

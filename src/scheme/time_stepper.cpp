@@ -1,10 +1,10 @@
 #include "scheme/time_stepper.hpp"
 
 #include "core/error.hpp"
-#include "contact/contact_gap.hpp"
-#include "contact/sliding_pairs.hpp"
+#include "scheme/contact_gap.hpp"
+#include "scheme/sliding_pairs.hpp"
 #include "scheme/step_data.hpp"
-#include "contact/surface_fields.hpp"
+#include "scheme/surface_fields.hpp"
 
 #include <chrono>
 #include <utility>

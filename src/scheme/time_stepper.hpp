@@ -116,7 +116,7 @@ class TimeStepper {
   /// One attempt from the current state to t_end with the step k: the step, its report, its
   /// error estimate and whether it is accepted.
   StepReport advance(double k, double t_end);
-  /// Large-sliding pairs (contact/sliding_pairs.hpp): their rows, and the contact solver, in the
+  /// Large-sliding pairs (scheme/sliding_pairs.hpp): their rows, and the contact solver, in the
   /// configuration of the state the next step starts from; nothing without them, or where they were
   /// built at that state already (set-up at u = 0, a rejected attempt restored then retried).
   void slide();

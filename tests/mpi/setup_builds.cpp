@@ -11,8 +11,8 @@
 #include "la/comm.hpp"
 #include "mortar/mortar_coupling.hpp"
 #include "parallel/petsc_engine.hpp"
-#include "contact/contact_matrix.hpp"
-#include "contact/contact_rows.hpp"
+#include "scheme/contact_matrix.hpp"
+#include "scheme/contact_rows.hpp"
 
 #include <fmt/format.h>
 

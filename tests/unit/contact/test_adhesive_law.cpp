@@ -6,7 +6,7 @@
 #include "../case_text.hpp"
 #include "contact/registry.hpp"
 #include "contact/normal_compliance.hpp"
-#include "contact/contact_rows.hpp"
+#include "scheme/contact_rows.hpp"
 #include "solvers/box_qp.hpp"
 #include "solvers/compliance_dual.hpp"
 

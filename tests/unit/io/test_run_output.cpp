@@ -2,7 +2,7 @@
 // values; both encodings hold the same arrays), summary.json (valid JSON
 // whatever the case name, paths and command line hold), and the contact fields
 // (contact_pressure is the pressure a uniformly pressed face feels).
-#include "contact/contact_rows.hpp"
+#include "scheme/contact_rows.hpp"
 #include "core/error.hpp"
 #include "io/case_file.hpp"
 #include "io/run_output.hpp"

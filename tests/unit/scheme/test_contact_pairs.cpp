@@ -1,5 +1,5 @@
 // Issue 29, second part: contact pairs between bodies by dual mortar (SPEC §8,
-// `[[contact.pair]]`, contact/contact_pairs.hpp), on the serial engine and the dual solver.
+// `[[contact.pair]]`, scheme/contact_pairs.hpp), on the serial engine and the dual solver.
 // The contact patch test: two blocks of different stiffness, meshed without matching nodes,
 // pressed together: the stress is uniform in both to round-off (node-to-segment fails it).
 #include "cases/builtin_cases.hpp"

@@ -1,6 +1,6 @@
-#include "contact/contact_tangents.hpp"
+#include "scheme/contact_tangents.hpp"
 
-#include "contact/contact_matrix.hpp"
+#include "scheme/contact_matrix.hpp"
 #include "solvers/contact_solver.hpp"
 
 #include <utility>

@@ -1,4 +1,4 @@
-#include "contact/contact_gap.hpp"
+#include "scheme/contact_gap.hpp"
 
 #include "solvers/contact_solver.hpp"
 

@@ -1,4 +1,4 @@
-#include "contact/contact_matrix.hpp"
+#include "scheme/contact_matrix.hpp"
 
 #include "core/error.hpp"
 
@@ -33,7 +33,7 @@ ContactMatrix contact_matrix(const MeshPart& part, ContactColumns columns) {
       node_dofs.push_back(k);
       if (node.direction[i] != 0) entries.emplace_back(row, k, node.direction[i]);
     }
-    // A pair's row: −w_k ν on each master node's free dofs (contact/contact_pairs.hpp), which the
+    // A pair's row: −w_k ν on each master node's free dofs (scheme/contact_pairs.hpp), which the
     // row's rank owns (cut_part).
     for (const auto& [master, w] : node.masters)
       for (int i = 0; i < d && columns != ContactColumns::compact; ++i) {

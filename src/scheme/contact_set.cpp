@@ -1,4 +1,4 @@
-#include "contact/contact_set.hpp"
+#include "scheme/contact_set.hpp"
 
 #include "core/error.hpp"
 #include "solvers/contact_frame.hpp"

@@ -1,7 +1,7 @@
-#include "contact/sliding_pairs.hpp"
+#include "scheme/sliding_pairs.hpp"
 
 #include "core/error.hpp"
-#include "contact/contact_pairs.hpp"
+#include "scheme/contact_pairs.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -7,12 +7,6 @@
 
 namespace vpc {
 
-/// A row of the contact matrix N of (3.9) on the whole mesh: a node of Γ3 that is not clamped,
-/// or a pair's covered slave node, with its block; masters are numbered as the mesh's nodes.
-struct ContactRow : ContactNode {
-  int node = 0;
-};
-
 /// The contact rows in increasing node order, for the nodes of Γ3 with a free
 /// component (`condition`: DirichletDofs::condition). At a node on a symmetry plane
 /// the outward normal loses its component across the plane (the mirrored half's

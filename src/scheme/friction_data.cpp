@@ -1,4 +1,4 @@
-#include "contact/friction_data.hpp"
+#include "scheme/friction_data.hpp"
 
 #include "fem/assembly.hpp"
 #include "solvers/stick_slip.hpp"

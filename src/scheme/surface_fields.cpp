@@ -1,7 +1,7 @@
-#include "contact/surface_fields.hpp"
+#include "scheme/surface_fields.hpp"
 
 #include "core/error.hpp"
-#include "contact/contact_gap.hpp"
+#include "scheme/contact_gap.hpp"
 
 #include <algorithm>
 #include <cctype>

@@ -5,7 +5,7 @@
 // gap and λ_j a nodal force on the slave (D_jj = ∫ N_j over the covered slave: its tributary
 // measure), as a row of Γ3 is; the master takes −Σ_j w_jk λ_j ν_j.
 #include "mortar/surface.hpp"
-#include "contact/contact_rows.hpp"
+#include "scheme/contact_rows.hpp"
 
 #include <string>
 #include <vector>
@@ -23,7 +23,7 @@ mortar::Surface part_surface(const Mesh& mesh, const std::string& part);
 /// and, where they move, move the row's bound (step_data.cpp). Throws vpc::Error naming the pair
 /// for a master part that covers no slave node, or a slave node inside the master at t = 0.
 /// `moved`: p.mesh displaced (x + u): the rows of the large-sliding pairs alone, in that
-/// configuration (contact/sliding_pairs.hpp; no overlap check: the last step's answer may
+/// configuration (scheme/sliding_pairs.hpp; no overlap check: the last step's answer may
 /// penetrate the moved surfaces by its linearization's error, and no coverage check: a slave slid
 /// off its master has no rows then).
 std::vector<ContactRow> pair_rows(const Problem& p, const std::vector<int>& condition, const Mesh* moved = nullptr);
