@@ -36,11 +36,10 @@ void ContactSet::set_rows(const Problem& p, const MeshPart& part) {
   ContactMatrix owned = owned_rows(local, part);
   N = std::move(owned.N);
   dofs = std::move(owned.node_dofs);
-  master_mean = std::move(owned.master_mean);
-  if (p.contact.frictional()) set_friction_frame(p, part);  // SPEC §7
+  if (p.contact.frictional()) set_friction_frame(p, part, std::move(owned.master_mean));  // SPEC §7
 }
 
-void ContactSet::set_friction_frame(const Problem& p, const MeshPart& part) {
+void ContactSet::set_friction_frame(const Problem& p, const MeshPart& part, SparseMatrix owned_mean) {
   const Mesh& mesh = part.mesh();
   const int d = mesh.dim();
   FrictionFrame& f = friction;
@@ -69,9 +68,9 @@ void ContactSet::set_friction_frame(const Problem& p, const MeshPart& part) {
   }
   c.mu = Eigen::Map<Vector>(mus.data(), static_cast<Eigen::Index>(mus.size()));
   f.limit = Eigen::Map<Vector>(limits.data(), static_cast<Eigen::Index>(limits.size()));
-  f.master_mean = master_mean;
-  f.local_master_mean = local.master_mean;
-  c.master_mean = master_mean;
+  f.master_mean = std::move(owned_mean);
+  f.local_master_mean = std::move(local.master_mean);
+  c.master_mean = f.master_mean;
   set_tangents(c, dofs);
   f.T = std::move(c.T);
   f.tangent_dof = std::move(c.tangent_dof);

@@ -17,11 +17,10 @@ struct ContactSet {
   /// the primal solver's reflections (scheme/scheme_solvers.cpp).
   ContactMatrix local;
   /// N: one row per owned contact node, in part.contact order, over the owned free dofs
-  /// (ContactConstraints::N); each row's free dofs (columns of N) in component order and, with pairs,
-  /// the masters' mean (ContactConstraints::node_dofs and master_mean): local's owned rows.
+  /// (ContactConstraints::N), and each row's free dofs (columns of N) in component order
+  /// (ContactConstraints::node_dofs): local's owned rows.
   SparseMatrix N;
   std::vector<std::vector<int>> dofs;
-  SparseMatrix master_mean;
   /// Friction's frame on the owned rows (SPEC §7), built where some entry has friction; every
   /// field empty without.
   struct FrictionFrame {
@@ -31,7 +30,8 @@ struct ContactSet {
     Vector mu, limit;
     std::vector<const FrictionLaw*> row_friction;  // per owned row (nullptr: a frictionless entry's)
     std::vector<std::shared_ptr<const FrictionLaw>> laws;  // ContactSpec::frictions()
-    /// The pairs' masters' mean, owned and local (ContactMatrix::master_mean): friction's slip on a
+    /// The pairs' masters' mean over the owned dofs and the local ones (ContactMatrix::master_mean,
+    /// taken from the owned rows and from `local`: friction alone reads it): friction's slip on a
     /// pair is the slave's relative to it.
     SparseMatrix master_mean, local_master_mean;
   } friction;
@@ -49,7 +49,9 @@ struct ContactSet {
   ContactConstraints constraints(const Problem& p, const MeshPart& part, Vector gap) const;
 
  private:
-  void set_friction_frame(const Problem& p, const MeshPart& part);
+  /// The frame from N, the rows' dofs and the owned rows' masters' mean `owned_mean` (taken), with
+  /// local's (taken too).
+  void set_friction_frame(const Problem& p, const MeshPart& part, SparseMatrix owned_mean);
 };
 
 }  // namespace vpc
