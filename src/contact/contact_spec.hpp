@@ -37,7 +37,7 @@ struct ContactPair {
   /// mortar mean); nullptr frictionless. A pair without a friction key takes [contact]'s.
   std::shared_ptr<const FrictionLaw> friction;
   /// `sliding = "large"`: the pair's rows rebuilt at the start of every step in the configuration
-  /// x + u_{n−1} (scheme/sliding_pairs.hpp); "small" (the default): once, in the reference one.
+  /// x + u_{n−1} (scheme/pair_slider.hpp); "small" (the default): once, in the reference one.
   bool large_sliding = false;
 };
 

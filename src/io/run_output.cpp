@@ -353,9 +353,9 @@ void RunOutput::warn_small_sliding(const StepReport& r) {
   const Problem& p = stepper_.problem();
   if (warned_small_sliding_) return;
   const std::vector<PairSlide> slides = small_slides(p, stepper_.part(), stepper_.state());
-  for (std::size_t q = 0; q < slides.size() && !warned_small_sliding_; ++q) {
-    const PairSlide& s = slides[q];
+  for (const PairSlide& s : slides) {
     if (!(s.ratio > kSmallSlideLimit)) continue;
+    const std::size_t q = s.pair;
     warned_small_sliding_ = true;
     if (root())
       fmt::print(stderr,
@@ -365,6 +365,7 @@ void RunOutput::warn_small_sliding(const StepReport& r) {
                  "while it slides less than {} of a master facet: set sliding = \"large\" in this [[contact.pair]]\n",
                  p.where(fmt::format("contact.pair[{}]", q)), r.n, r.t, p.node_number(s.node), s.x[0], s.x[1], s.x[2],
                  p.contact.pairs[q].slave, s.slide, s.ratio, s.facet, kSmallSlideLimit);
+    break;  // once
   }
 }
 
@@ -484,10 +485,8 @@ std::string summary_json(const Problem& p, const RunSummary& r, const OutputOpti
   // warn_small_sliding warns past the limit).
   if (!r.pair_slides.empty()) {
     j["small_sliding"] = Json::array();
-    for (std::size_t q = 0; q < r.pair_slides.size(); ++q) {
-      const PairSlide& s = r.pair_slides[q];
-      if (p.contact.pairs[q].large_sliding) continue;
-      j["small_sliding"].push_back({{"slave", p.contact.pairs[q].slave},
+    for (const PairSlide& s : r.pair_slides) {
+      j["small_sliding"].push_back({{"slave", p.contact.pairs[s.pair].slave},
                                     {"slide", s.slide},
                                     {"master_facet", s.facet},
                                     {"slide_per_facet", s.ratio},

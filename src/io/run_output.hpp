@@ -138,8 +138,8 @@ struct RunSummary {
     double coordinate = 0;
   };
   std::vector<SymmetryPlane> symmetry_planes;
-  /// Per contact pair: how far its slave nodes have slid from their t = 0 masters at the last step
-  /// (scheme/sliding_pairs.hpp; summary.json "small_sliding", for the small-sliding pairs).
+  /// Per small-sliding contact pair: how far its slave nodes have slid from their t = 0 masters at
+  /// the last step (scheme/sliding_pairs.hpp; summary.json "small_sliding").
   std::vector<PairSlide> pair_slides;
 };
 

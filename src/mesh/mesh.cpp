@@ -114,15 +114,14 @@ void for_each_cell_facet(const Mesh& mesh, Visit visit) {
     }
 }
 
-/// The mean of the points x[v[0]], ..., x[v[n − 1]].
+}  // namespace
+
 Point centroid(const std::vector<Point>& x, const int* v, int n) {
   Point m{0, 0, 0};
   for (int i = 0; i < n; ++i)
     for (int j = 0; j < 3; ++j) m[j] += x[v[i]][j] / n;
   return m;
 }
-
-}  // namespace
 
 void Mesh::build_boundary(const std::function<bool(const Point&)>& keep) {
   std::unordered_map<FacetKey, std::pair<int, int>, FacetKeyHash> count;  // key -> (uses, cell*local)

@@ -120,6 +120,10 @@ class Mesh {
   int n_bodies_ = 1;
 };
 
+/// The mean of the points x[v[0]], ..., x[v[n − 1]] (Mesh::cell_centroid's; a moved surface's cells
+/// take theirs the same way: scheme/pair_slider.cpp).
+Point centroid(const std::vector<Point>& x, const int* v, int n);
+
 /// Measure (length, area, volume) of the simplex with vertices x[0..dim]:
 /// |det J| / dim! with J = [x1 − x0, ..., xd − x0]; the element geometry of
 /// fem/cell_geometry.hpp uses it, so a reader's degeneracy check sees the same value.

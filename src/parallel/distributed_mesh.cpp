@@ -188,8 +188,8 @@ std::vector<Message> pack_parts(const Problem& p, int n_parts, const std::vector
   // A node belongs to the lowest rank among its cells, except on contact pairs (own_pairs_together).
   std::vector<int> owner(n_nodes, 0);
   for (int i = 0; i < n_nodes; ++i) owner[i] = lowest_rank(nc, part, n_parts, i);
-  // Large-sliding pairs (scheme/sliding_pairs.hpp) couple a slave node to whichever master facets
-  // it reaches: every node of their slave and master parts on rank 0, which keeps the whole mesh to
+  // Large-sliding pairs (scheme/pair_slider.hpp) couple a slave node to whichever master facets
+  // it reaches: every node of their slave and master parts on rank 0, whose slider keeps their surfaces to
   // build their rows again at every step.
   std::vector<int> sliding;
   for (const ContactPair& q : p.contact.pairs)

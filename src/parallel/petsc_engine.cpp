@@ -6,7 +6,6 @@
 #include "parallel/distributed_mesh.hpp"
 #include "run/progress.hpp"
 #include "run/solver_plan.hpp"
-#include "scheme/sliding_pairs.hpp"
 
 #include <fmt/format.h>
 
@@ -80,10 +79,10 @@ std::unique_ptr<TimeStepper> distributed_stepper(MPI_Comm mpi_comm, std::shared_
 
 std::unique_ptr<TimeStepper> petsc_stepper(MPI_Comm mpi_comm, Case& c, PetscSolverOptions linear) {
   auto stepper = distributed_stepper(mpi_comm, c.problem, c.solvers, std::move(linear), c.contact_rows);
-  // From here on, rank 0 too holds its part only; but it builds a large-sliding pair's rows again
-  // from the whole mesh at every step (scheme/sliding_pairs.hpp; their nodes are all its own).
+  // From here on, rank 0 too holds its part only (a large-sliding pair's slider keeps its surfaces:
+  // scheme/pair_slider.hpp).
   c.contact_rows.reset();
-  if (!slides(*c.problem)) c.problem->mesh = Mesh();
+  c.problem->mesh = Mesh();
   if (MeshBlock* b = c.problem->block.get()) {  // a block's numbers, not needed once the part is cut
     std::vector<int>().swap(b->node_id);
     std::vector<int>().swap(b->cell_id);

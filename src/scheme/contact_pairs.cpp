@@ -10,26 +10,34 @@
 
 namespace vpc {
 
-mortar::Surface part_surface(const Mesh& mesh, const std::string& part) {
+SurfaceFacets surface_facets(const Mesh& mesh, const std::string& part) {
   const int d = mesh.dim();
   require(d == 2 || d == 3, "contact pairs need a mesh of dimension 2 or 3 (part '{}')", part);
   std::map<int, int> local;  // mesh node -> surface node
-  std::vector<Point> x, inside;
-  std::vector<int> ids, facets;
+  SurfaceFacets s;
   for (int f : mesh.facets_of_parts({part})) {
     for (int a = 0; a < d; ++a) {
-      const int node = mesh.facet(f)[a];
-      const auto [it, fresh] = local.emplace(node, static_cast<int>(x.size()));
-      if (fresh) {
-        x.push_back(mesh.node(node));
-        ids.push_back(node);
-      }
-      facets.push_back(it->second);
+      const auto [it, fresh] = local.emplace(mesh.facet(f)[a], static_cast<int>(s.ids.size()));
+      if (fresh) s.ids.push_back(mesh.facet(f)[a]);
+      s.facets.push_back(it->second);
     }
-    inside.push_back(mesh.cell_centroid(mesh.facet_cell(f)));
+    s.cells.push_back(mesh.facet_cell(f));
   }
+  return s;
+}
+
+mortar::Surface oriented_surface(int d, const SurfaceFacets& s, std::vector<Point> x, const std::vector<Point>& inside) {
+  std::vector<int> facets = s.facets;
   mortar::orient_away_from(d, x, facets, inside);
-  return mortar::Surface(d, std::move(x), std::move(ids), std::move(facets), mortar::FacetOrder::Outward);
+  return mortar::Surface(d, std::move(x), s.ids, std::move(facets), mortar::FacetOrder::Outward);
+}
+
+mortar::Surface part_surface(const Mesh& mesh, const std::string& part) {
+  const SurfaceFacets s = surface_facets(mesh, part);
+  std::vector<Point> x, inside;
+  for (int node : s.ids) x.push_back(mesh.node(node));
+  for (int c : s.cells) inside.push_back(mesh.cell_centroid(c));
+  return oriented_surface(mesh.dim(), s, std::move(x), inside);
 }
 
 namespace {
@@ -63,66 +71,78 @@ void check_slave_motion(const Problem& p, std::size_t q, int node, const Point& 
 
 }  // namespace
 
-std::vector<ContactRow> pair_rows(const Problem& p, const std::vector<int>& condition, const Mesh* moved) {
-  const Mesh& mesh = moved ? *moved : p.mesh;
-  const int d = mesh.dim();
+void add_pair_rows(const Problem& p, std::size_t q, const mortar::Surface& slave, const mortar::Surface& master,
+                   const FixedAt& fixed_at, const Mesh* reference, std::vector<ContactRow>& rows) {
+  const bool moved = reference == nullptr;
+  const int d = slave.dim();
+  const ContactPair& pair = p.contact.pairs[q];
+  const std::string where = p.where(fmt::format("contact.pair[{}]", q));
+  mortar::MortarOptions options;
+  options.search_margin = pair.search > 0 ? pair.search : slave.longest_edge();
+  const mortar::MortarCoupling c = located(where, [&] { return mortar::mortar_coupling(slave, master, options); });
+  const ContactLaw& law = *p.contact.laws()[static_cast<std::size_t>(p.contact.pair_law_index(q))];
+  std::map<int, std::vector<std::pair<int, double>>> masters;  // slave node -> (master node, M_jk)
+  for (const auto& t : c.m) masters[t.row()].emplace_back(t.col(), t.value());
+  std::size_t covered = 0;
+  for (const mortar::SlaveNodeCoupling& s : c.nodes) {
+    if (!(s.d > 0)) continue;  // no master facet covers it: no constraint
+    ++covered;
+    const int* fixed = fixed_at(s.id);
+    if (std::all_of(fixed, fixed + d, [](int k) { return k >= 0; })) continue;  // u prescribed there
+    ContactRow row;
+    row.node = s.id;
+    row.direction = s.normal;
+    if (!moved) check_slave_motion(p, q, s.id, s.normal, fixed);
+    // A component prescribed zero at the slave node (a symmetry plane) leaves the normal, as on Γ3.
+    for (int i = 0; i < d; ++i)
+      if (fixed[i] >= 0) row.direction[i] = 0;
+    const double l = std::hypot(row.direction[0], row.direction[1], row.direction[2]);
+    require(l > 0, "{}: slave node {} has every component of its normal prescribed", where, s.id);
+    for (double& v : row.direction) v /= l;
+    row.gap = s.gap / s.d;
+    row.measure = s.d;
+    // At t = 0 the bodies must not overlap, as a body and an obstacle must not (docs/cases.md): the
+    // solver would push them apart by the overlap, a force nothing asked for. A gap above −1 % of
+    // the node's mesh size (D_jj^(1/(d−1))) is the round-off of curved surfaces meshed apart.
+    if (!moved && row.gap < -1e-2 * std::pow(s.d, 1.0 / (d - 1))) {
+      const Point& x = reference->node(s.id);
+      fail("{}: slave node {} ({}, {}, {}) of '{}' lies {:.6g} inside the master part '{}' at t = 0 (its weighted "
+           "gap); at t = 0 the bodies of a pair must not overlap: move one of them apart",
+           where, s.id, x[0], x[1], x[2], pair.slave, -row.gap, pair.master);
+    }
+    row.pair = static_cast<int>(q);
+    // The pair's law, its datum lumped at the node over its covered measure D_jj (k_j = c D_jj for a compliance).
+    row.law = p.contact.pair_law_index(q);
+    row.datum = law.lumped(s.d, 1);
+    row.obstacles = 0;
+    // A master node's prescribed components leave N (its free dofs alone) and, where they move,
+    // move the bound instead (step_data.cpp: add_master_motion).
+    for (const auto& [k, m] : masters[s.id]) row.masters.emplace_back(k, m / s.d);
+    rows.push_back(std::move(row));
+  }
+  // At t = 0 a pair whose master covers nothing is a mistake; in a large-sliding step the slave may
+  // have slid off its master, and then its nodes are simply inactive (PairSlider).
+  require(covered > 0 || moved, "{}: master part '{}' covers no node of slave part '{}' (their facets must face "
+          "each other within the search distance {:.6g}: [[contact.pair]] search)", where, pair.master, pair.slave,
+          options.search_margin);
+}
+
+void sort_rows_by_node(std::vector<ContactRow>& rows) {
+  std::sort(rows.begin(), rows.end(), [](const ContactRow& a, const ContactRow& b) { return a.node < b.node; });
+}
+
+std::vector<ContactRow> pair_rows(const Problem& p, const std::vector<int>& condition) {
+  const int d = p.mesh.dim();
+  const FixedAt fixed_at = [&](int node) { return condition.data() + static_cast<std::size_t>(node) * d; };
   std::vector<ContactRow> rows;
   for (std::size_t q = 0; q < p.contact.pairs.size(); ++q) {
     const ContactPair& pair = p.contact.pairs[q];
-    if (moved && !pair.large_sliding) continue;
     const std::string where = p.where(fmt::format("contact.pair[{}]", q));
-    const mortar::Surface slave = located(where, [&] { return part_surface(mesh, pair.slave); });
-    const mortar::Surface master = located(where, [&] { return part_surface(mesh, pair.master); });
-    mortar::MortarOptions options;
-    options.search_margin = pair.search > 0 ? pair.search : slave.longest_edge();
-    const mortar::MortarCoupling c = located(where, [&] { return mortar::mortar_coupling(slave, master, options); });
-    const ContactLaw& law = *p.contact.laws()[static_cast<std::size_t>(p.contact.pair_law_index(q))];
-    std::map<int, std::vector<std::pair<int, double>>> masters;  // slave node -> (master node, M_jk)
-    for (const auto& t : c.m) masters[t.row()].emplace_back(t.col(), t.value());
-    std::size_t covered = 0;
-    for (const mortar::SlaveNodeCoupling& s : c.nodes) {
-      if (!(s.d > 0)) continue;  // no master facet covers it: no constraint
-      ++covered;
-      const int* fixed = condition.data() + static_cast<std::size_t>(s.id) * d;
-      if (std::all_of(fixed, fixed + d, [](int k) { return k >= 0; })) continue;  // u prescribed there
-      ContactRow row;
-      row.node = s.id;
-      row.direction = s.normal;
-      if (!moved) check_slave_motion(p, q, s.id, s.normal, fixed);
-      // A component prescribed zero at the slave node (a symmetry plane) leaves the normal, as on Γ3.
-      for (int i = 0; i < d; ++i)
-        if (fixed[i] >= 0) row.direction[i] = 0;
-      const double l = std::hypot(row.direction[0], row.direction[1], row.direction[2]);
-      require(l > 0, "{}: slave node {} has every component of its normal prescribed", where, s.id);
-      for (double& v : row.direction) v /= l;
-      row.gap = s.gap / s.d;
-      row.measure = s.d;
-      // At t = 0 the bodies must not overlap, as a body and an obstacle must not (docs/cases.md): the
-      // solver would push them apart by the overlap, a force nothing asked for. A gap above −1 % of
-      // the node's mesh size (D_jj^(1/(d−1))) is the round-off of curved surfaces meshed apart.
-      if (!moved && row.gap < -1e-2 * std::pow(s.d, 1.0 / (d - 1))) {
-        const Point& x = mesh.node(s.id);
-        fail("{}: slave node {} ({}, {}, {}) of '{}' lies {:.6g} inside the master part '{}' at t = 0 (its weighted "
-             "gap); at t = 0 the bodies of a pair must not overlap: move one of them apart",
-             where, s.id, x[0], x[1], x[2], pair.slave, -row.gap, pair.master);
-      }
-      row.pair = static_cast<int>(q);
-      // The pair's law, its datum lumped at the node over its covered measure D_jj (k_j = c D_jj for a compliance).
-      row.law = p.contact.pair_law_index(q);
-      row.datum = law.lumped(s.d, 1);
-      row.obstacles = 0;
-      // A master node's prescribed components leave N (its free dofs alone) and, where they move,
-      // move the bound instead (step_data.cpp: add_master_motion).
-      for (const auto& [k, m] : masters[s.id]) row.masters.emplace_back(k, m / s.d);
-      rows.push_back(std::move(row));
-    }
-    // At t = 0 a pair whose master covers nothing is a mistake; in a large-sliding step the slave may
-    // have slid off its master, and then its nodes are simply inactive (slide_pairs).
-    require(covered > 0 || moved, "{}: master part '{}' covers no node of slave part '{}' (their facets must face "
-            "each other within the search distance {:.6g}: [[contact.pair]] search)", where, pair.master, pair.slave,
-            options.search_margin);
+    const mortar::Surface slave = located(where, [&] { return part_surface(p.mesh, pair.slave); });
+    const mortar::Surface master = located(where, [&] { return part_surface(p.mesh, pair.master); });
+    add_pair_rows(p, q, slave, master, fixed_at, &p.mesh, rows);
   }
-  std::sort(rows.begin(), rows.end(), [](const ContactRow& a, const ContactRow& b) { return a.node < b.node; });
+  sort_rows_by_node(rows);
   return rows;
 }
 

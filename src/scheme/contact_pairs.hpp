@@ -7,25 +7,50 @@
 #include "mortar/surface.hpp"
 #include "scheme/contact_rows.hpp"
 
+#include <functional>
 #include <string>
 #include <vector>
 
 namespace vpc {
 
-/// The mortar surface of a boundary part: its facets (ordered so that their normals point out
-/// of the body, from the cells they bound) and their nodes, whose ids are the mesh's node numbers.
+/// A boundary part's facets as a mortar surface takes them, before its nodes' positions: its nodes
+/// (ids: the mesh's numbers, in order of first appearance), each facet's d nodes (indices into ids,
+/// in the mesh's order) and the cell behind each facet (its inside, for the orientation).
+struct SurfaceFacets {
+  std::vector<int> ids, facets, cells;
+};
+SurfaceFacets surface_facets(const Mesh& mesh, const std::string& part);
+
+/// The surface of `s` with its nodes at x (one per id), each facet ordered so that its normal
+/// points away from inside[f] (a point of the body behind facet f: its cell's centroid).
+mortar::Surface oriented_surface(int d, const SurfaceFacets& s, std::vector<Point> x, const std::vector<Point>& inside);
+
+/// The mortar surface of a boundary part in the mesh's configuration: its facets (ordered so that
+/// their normals point out of the body, from the cells they bound) and their nodes, whose ids are
+/// the mesh's node numbers.
 mortar::Surface part_surface(const Mesh& mesh, const std::string& part);
 
-/// The rows of every pair of p.contact.pairs, in increasing slave node order within a pair, each
-/// with its pair's law lumped over D_jj. A slave node with every component prescribed has no row;
-/// a component prescribed at a slave node drops out of the row where it is zero (a clamped part, a
-/// symmetry plane) and is refused where it moves; a master node's prescribed components leave N
-/// and, where they move, move the row's bound (step_data.cpp). Throws vpc::Error naming the pair
-/// for a master part that covers no slave node, or a slave node inside the master at t = 0.
-/// `moved`: p.mesh displaced (x + u): the rows of the large-sliding pairs alone, in that
-/// configuration (scheme/sliding_pairs.hpp; no overlap check: the last step's answer may
-/// penetrate the moved surfaces by its linearization's error, and no coverage check: a slave slid
-/// off its master has no rows then).
-std::vector<ContactRow> pair_rows(const Problem& p, const std::vector<int>& condition, const Mesh* moved = nullptr);
+/// The prescribed-dof condition of a node (d entries, DirichletDofs::condition's: < 0 free).
+using FixedAt = std::function<const int*(int node)>;
+
+/// Appends the rows of pair q of p.contact.pairs between its surfaces `slave` and `master`, in the
+/// coupling's slave node order, each with the pair's law lumped over D_jj. A slave node with every
+/// component prescribed has no row; a component prescribed at a slave node drops out of the row
+/// where it is zero (a clamped part, a symmetry plane) and is refused where it moves; a master
+/// node's prescribed components leave N and, where they move, move the row's bound (step_data.cpp).
+/// `reference`: the mesh, at t = 0, whose surfaces these are; there a master part that covers no
+/// slave node, or a slave node inside the master, is an error naming the pair. Null: surfaces
+/// moved by a large-sliding pair's displacement (scheme/pair_slider.hpp), where neither is checked:
+/// the last step's answer may penetrate the moved surfaces by its linearization's error, and a
+/// slave slid off its master has no rows then.
+void add_pair_rows(const Problem& p, std::size_t q, const mortar::Surface& slave, const mortar::Surface& master,
+                   const FixedAt& fixed_at, const Mesh* reference, std::vector<ContactRow>& rows);
+
+/// Rows in increasing node order.
+void sort_rows_by_node(std::vector<ContactRow>& rows);
+
+/// The rows of every pair of p.contact.pairs in the reference configuration (add_pair_rows),
+/// sorted by node. `condition`: dirichlet_dofs(p).condition.
+std::vector<ContactRow> pair_rows(const Problem& p, const std::vector<int>& condition);
 
 }  // namespace vpc

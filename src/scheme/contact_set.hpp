@@ -1,7 +1,7 @@
 #pragma once
 // The contact set of a part: its contact rows over the part's free dofs (N of (3.9)) and friction's
 // frame on them (SPEC §7), built from the part's contact nodes (scheme/mesh_part.hpp) once at
-// set-up, and again where large-sliding pairs move the nodes (scheme/sliding_pairs.hpp). The
+// set-up, and again where large-sliding pairs move the nodes (scheme/pair_slider.hpp). The
 // solvers' constraints (ContactConstraints) are made from it; the step's data (gap, friction
 // bounds, slip shift) read it.
 #include "scheme/contact_matrix.hpp"
@@ -42,7 +42,7 @@ struct ContactSet {
   ContactSet() = default;
   /// The set of `part`'s contact nodes under p's laws. Collective.
   ContactSet(const Problem& p, const MeshPart& part);
-  /// The rows and frame again from part.contact (its nodes moved: scheme/sliding_pairs.hpp).
+  /// The rows and frame again from part.contact (its nodes moved: scheme/pair_slider.hpp).
   void set_rows(const Problem& p, const MeshPart& part);
   /// The solvers' constraints: N, the gap g(0) `gap`, each row's law and datum and, with friction,
   /// its frame (the bounds and shift zero until the first step's).

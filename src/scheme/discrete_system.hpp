@@ -62,7 +62,7 @@ struct DiscreteSystem {
   Vector basis_integral_cells, basis_integral_traction;  // ∫ψ_a over Ω and Γ2 (for uniform f0, f2; else empty)
   std::vector<int> dirichlet_cells;  // the part's cells with a prescribed dof: u_D's lifting, the reactions
   /// The contact rows and friction's frame (scheme/contact_set.hpp): built once by the
-  /// constructor, again where large-sliding pairs move the rows (scheme/sliding_pairs.hpp).
+  /// constructor, again where large-sliding pairs move the rows (scheme/pair_slider.hpp).
   ContactSet contact;
   double assembly_seconds = 0, build_seconds = 0;
   ProcessMemory mesh_memory, assembly_memory;  // this process's as the construction starts and ends

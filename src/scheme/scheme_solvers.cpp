@@ -1,7 +1,7 @@
 #include "scheme/scheme_solvers.hpp"
 
 #include "scheme/contact_matrix.hpp"
-#include "scheme/sliding_pairs.hpp"
+#include "scheme/pair_slider.hpp"
 #include "solvers/contact_frame.hpp"
 #include "solvers/primal_active_set.hpp"
 
@@ -21,9 +21,9 @@ double seconds_since(Clock::time_point t0) { return std::chrono::duration<double
 constexpr std::size_t kDamageSolversKept = 4;
 
 /// The contact solver of s.contact_pick for `constraints` (the primal takes s.K_factor and forms its
-/// K_rot from sys.K_local).
+/// K_rot from K_local, the part's K).
 std::unique_ptr<ContactSolver> contact_solver(const DiscreteSystem& sys, const SolverChoice& choice, SchemeSolvers& s,
-                                              ContactConstraints constraints) {
+                                              ContactConstraints constraints, const SparseMatrix& K_local) {
   const MeshPart& part = sys.part;
   ContactSolverOptions options = choice.contact_options;
   options.friction_tolerance = friction_force_tolerance(choice.residual_tolerance);
@@ -43,9 +43,9 @@ std::unique_ptr<ContactSolver> contact_solver(const DiscreteSystem& sys, const S
           pairs ? contact_basis(local.N, local.node_dofs, sys.contact.friction.local_master_mean)
                 : contact_basis(local.N, {});
       const SparseMatrix& P = basis.P;
-      K_rot = sys.backend->assemble(basis.pairs()     ? SparseMatrix(P.transpose() * sys.K_local * P)
-                                    : P.size() > 0 ? SparseMatrix(P * sys.K_local * P)
-                                                   : sys.K_local,  // no row of this rank's cells needs it
+      K_rot = sys.backend->assemble(basis.pairs()     ? SparseMatrix(P.transpose() * K_local * P)
+                                    : P.size() > 0 ? SparseMatrix(P * K_local * P)
+                                                   : K_local,  // no row of this rank's cells needs it
                                     *part.dof_layout, sys.K_block);
     }
     return make_primal_active_set_solver(sys.K, std::move(K_rot), std::exchange(s.K_factor, nullptr),
@@ -63,8 +63,8 @@ std::string kappa_location(const Problem& p) {
 
 }  // namespace
 
-SchemeSolvers set_up_solvers(DiscreteSystem& sys, const SolverChoice& choice, SetupTiming& timing,
-                             std::optional<SolverCost>& cost) {
+SchemeSolvers set_up_solvers(DiscreteSystem& sys, const SolverChoice& choice, PairSlider& slider,
+                             SetupTiming& timing, std::optional<SolverCost>& cost) {
   const MeshPart& part = sys.part;
   SchemeSolvers s;
   choice.stage(fmt::format("factorization of K ({} x {}, {} nonzeros; {})", part.n_global_dofs, part.n_global_dofs,
@@ -94,20 +94,19 @@ SchemeSolvers set_up_solvers(DiscreteSystem& sys, const SolverChoice& choice, Se
 
   choice.stage("contact set-up");
   t1 = Clock::now();
-  s.contact = contact_solver(sys, choice, s, std::move(constraints));
-  // A sliding pair's K_rot is made again. Swapped out, not assigned an empty matrix: Eigen keeps a
-  // sparse matrix's storage through assignment (0.29 GB a rank at foundation-3d n = 70).
-  if (!slides(*sys.problem)) SparseMatrix().swap(sys.K_local);
+  s.contact = contact_solver(sys, choice, s, std::move(constraints), sys.K_local);
+  slider.keep_stiffness(sys.K_local);  // a large-sliding pair's K_rot is made again
   timing.contact = seconds_since(t1);
   timing.contact_ready = process_memory();
   choice.stage("contact set-up", timing.contact);
   return s;
 }
 
-void remake_contact_solver(const DiscreteSystem& sys, const SolverChoice& choice, SchemeSolvers& s) {
+void remake_contact_solver(const DiscreteSystem& sys, const SolverChoice& choice, SchemeSolvers& s,
+                           const SparseMatrix& K_local) {
   const Vector warm = s.contact->warm_state();
   if (s.contact_pick.name == "primal-active-set") s.K_factor = sys.make_stiffness_factor();  // the last went with it
-  s.contact = contact_solver(sys, choice, s, contact_constraints(sys));
+  s.contact = contact_solver(sys, choice, s, contact_constraints(sys), K_local);
   s.contact->set_warm_state(warm);
 }
 

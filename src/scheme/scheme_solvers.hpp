@@ -49,15 +49,19 @@ struct SchemeSolvers {
   DamageSolvers damage;
 };
 
+class PairSlider;
+
 /// Factorizes K (after check_before_factorizing) and H of the first step, and sets up the
 /// contact solver, telling each stage to choice.on_setup_stage and timing it in `timing`;
-/// releases sys.K_local (unless a pair slides) and sys.H_first. `cost`: check_before_factorizing's estimate. Collective.
-SchemeSolvers set_up_solvers(DiscreteSystem& sys, const SolverChoice& choice, SetupTiming& timing,
-                             std::optional<SolverCost>& cost);
+/// hands sys.K_local to the slider (PairSlider::keep_stiffness: kept where a pair slides large,
+/// else released) and releases sys.H_first. `cost`: check_before_factorizing's estimate. Collective.
+SchemeSolvers set_up_solvers(DiscreteSystem& sys, const SolverChoice& choice, PairSlider& slider,
+                             SetupTiming& timing, std::optional<SolverCost>& cost);
 
-/// The contact solver again, of the same kind, for the rows part.contact has now (large-sliding
-/// pairs, scheme/sliding_pairs.hpp), its warm state carried over. Needs sys.K_local (set_up_solvers
-/// keeps it where a pair slides).
-void remake_contact_solver(const DiscreteSystem& sys, const SolverChoice& choice, SchemeSolvers& s);
+/// The contact solver again, of the same kind, for the rows sys.contact has now (large-sliding
+/// pairs, scheme/pair_slider.hpp), its warm state carried over; the primal's K_rot from K_local
+/// (the part's K, which the slider keeps).
+void remake_contact_solver(const DiscreteSystem& sys, const SolverChoice& choice, SchemeSolvers& s,
+                           const SparseMatrix& K_local);
 
 }  // namespace vpc

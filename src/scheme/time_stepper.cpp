@@ -2,7 +2,7 @@
 
 #include "core/error.hpp"
 #include "scheme/contact_gap.hpp"
-#include "scheme/sliding_pairs.hpp"
+#include "scheme/pair_slider.hpp"
 #include "scheme/step_data.hpp"
 #include "scheme/surface_fields.hpp"
 
@@ -26,7 +26,8 @@ TimeStepper::TimeStepper(std::shared_ptr<const Problem> problem_in, MeshPart par
                          std::shared_ptr<const la::Backend> backend_in, SolverChoice choice)
     : choice_(std::move(choice)),
       sys_(std::move(problem_in), std::move(part_in), std::move(backend_in), choice_),
-      solvers_(set_up_solvers(sys_, choice_, setup_timing_, solver_cost_)),
+      slider_(make_pair_slider(sys_)),
+      solvers_(set_up_solvers(sys_, choice_, *slider_, setup_timing_, solver_cost_)),
       step_(sys_.part, sys_.problem->contact) {
   const auto t0 = std::chrono::steady_clock::now();
   const Problem& p = *sys_.problem;
@@ -38,7 +39,6 @@ TimeStepper::TimeStepper(std::shared_ptr<const Problem> problem_in, MeshPart par
   // Initial state (3.4): u0 = 0, σ0 = 0 (so z0 = σ0 − ℰε(u0) = 0), β0 = P1 interpolant
   // (in [0, 1]: Problem::validate).
   state_.u = Vector::Zero(part.dofs.n_full());
-  slid_at_ = state_.u;  // the set-up's rows are the reference configuration's
   state_.beta = p.initial_damage(mesh, part.cell_body);
   state_.sigma.assign(mesh.n_cells(), SymTensor{});
   state_.eps.assign(mesh.n_cells(), SymTensor{});
@@ -74,7 +74,7 @@ StepReport TimeStepper::step() {
 }
 
 StepReport TimeStepper::advance(double k, double t_end) {
-  slide();
+  slider_->slide(sys_, state_.u, choice_, solvers_);  // large sliding: the rows at x + u_{n−1}
   StepTaken taken = step_.take(sys_, solvers_, choice_, state_, u_free_, k, t_end);  // SPEC §2's steps 1–5
   StepReport& rep = taken.report;
   auto t0 = std::chrono::steady_clock::now();
@@ -148,19 +148,11 @@ void TimeStepper::restore(const Snapshot& s) {
           "{}: the saved state does not fit this problem (a different mesh, case or step count?)", problem().name);
   state_ = s.state;
   u_free_ = s.u_free;
-  slide();
+  slider_->slide(sys_, state_.u, choice_, solvers_);  // the rows at x + u_{n−1} of the restored state
   if (records_gap(sys_)) record_gap_left(sys_, checked_contact_gap(sys_, state_.t), u_free_, state_);
   solvers_.contact->set_warm_state(s.contact_warm);
   solvers_.damage.current().set_warm_state(s.damage_warm);
   step_.forget_rates();  // recomputed from the restored state: the same values
-}
-
-void TimeStepper::slide() {
-  // Collective: every rank decides alike (a rank's own u may not have moved where another's has).
-  if (!slides(problem()) || comm().all(slid_at_ == state_.u)) return;
-  slide_pairs(sys_, state_.u);  // the rows at x + u_{n−1} (docs/scheme.md, "Large sliding")
-  remake_contact_solver(sys_, choice_, solvers_);
-  slid_at_ = state_.u;
 }
 
 void TimeStepper::set_step_history(std::vector<double> times, const StepControlState& c) {

@@ -14,6 +14,7 @@
 #include "la/vector.hpp"
 #include "scheme/discrete_system.hpp"
 #include "scheme/mesh_part.hpp"
+#include "scheme/pair_slider.hpp"
 #include "scheme/problem.hpp"
 #include "scheme/scheme_solvers.hpp"
 #include "scheme/scheme_step.hpp"
@@ -116,16 +117,15 @@ class TimeStepper {
   /// One attempt from the current state to t_end with the step k: the step, its report, its
   /// error estimate and whether it is accepted.
   StepReport advance(double k, double t_end);
-  /// Large-sliding pairs (scheme/sliding_pairs.hpp): their rows, and the contact solver, in the
-  /// configuration of the state the next step starts from; nothing without them, or where they were
-  /// built at that state already (set-up at u = 0, a rejected attempt restored then retried).
-  void slide();
   StepAttempts attempts();
 
   SolverChoice choice_;
   SetupTiming setup_timing_;
   std::optional<SolverCost> solver_cost_;
   DiscreteSystem sys_;
+  /// Large-sliding pairs' rows in the configuration each step starts from (scheme/pair_slider.hpp;
+  /// does nothing without them). Made before solvers_, which hand it K_local.
+  std::unique_ptr<PairSlider> slider_;
   SchemeSolvers solvers_;
   SchemeStep step_;
   LaggedStepBackstop backstop_;
@@ -133,7 +133,6 @@ class TimeStepper {
   std::vector<double> times_{0.0};      // t_0 … t_n
   State state_;
   Vector u_free_;  // owned free dofs: the contact solver's warm start
-  Vector slid_at_;  // the displacement the large-sliding pairs' rows were built at (slide())
 };
 
 }  // namespace vpc

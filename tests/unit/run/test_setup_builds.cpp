@@ -2,7 +2,7 @@
 // each pair's mortar coupling and the part's contact matrix (contact_matrix), counted from the case
 // file to the stepper ready (set_up_serial: the case read and checked, the solver plan, the
 // stepper's assembly and the contact solver's set-up). A large-sliding pair builds its rows again
-// at every step (scheme/sliding_pairs.hpp), its set-up once.
+// at every step (scheme/pair_slider.hpp), its set-up once.
 #include "cases/builtin_cases.hpp"
 #include "mortar/mortar_coupling.hpp"
 #include "run/run_case.hpp"

@@ -1,5 +1,5 @@
 // Issue 29: large sliding between bodies (`[[contact.pair]] sliding = "large"`,
-// scheme/sliding_pairs.hpp): the pair's rows rebuilt at every step in the configuration the step
+// scheme/pair_slider.hpp): the pair's rows rebuilt at every step in the configuration the step
 // starts from. An elastic half-disc (R = 1) pressed into a block by 0.02 and then slid along it by
 // 0.2 (24 of the block's elements near the contact): the contact goes with the disc, as it would
 // with the block translated, where rows fixed in the reference configuration lose it.

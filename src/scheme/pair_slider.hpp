@@ -1,0 +1,46 @@
+#pragma once
+// Large sliding between bodies (SPEC §8) as the run's own object, chosen once: a `sliding = "large"`
+// pair's rows rebuilt at the start of every step by dual mortar between its surfaces moved by the
+// displacement the step starts from, x + u_{n−1}: masters, weights, normals, measures and gaps of
+// that configuration. The step's constraint is the gap's linearization about it,
+// N_n (u_n − u_{n−1}) ≤ g(x + u_{n−1}), written on u_n as N_n u_n ≤ g(x + u_{n−1}) + N_n u_{n−1}
+// (a master's prescribed components move the bound by their motion over the step, step_data.cpp);
+// friction's slip is T_n (u_n − u_{n−1}).
+//
+// The slider owns what sliding needs and nothing else keeps for it: the sliding surfaces with the
+// cells behind them in the reference configuration (not the whole mesh), the slave nodes'
+// prescribed dofs, the part's K for the primal solver's K_rot, and the displacement its rows were
+// built at. Without a large-sliding pair the slider does nothing and keeps nothing.
+#include "scheme/discrete_system.hpp"
+#include "scheme/scheme_solvers.hpp"
+#include "scheme/solver_choice.hpp"
+
+#include <memory>
+
+namespace vpc {
+
+class PairSlider {
+ public:
+  virtual ~PairSlider() = default;
+  /// Takes the part's K once the contact solver's set-up has used it (leaving K_local empty): kept
+  /// where the contact solver is made again at each slide, else released.
+  virtual void keep_stiffness(SparseMatrix& K_local) = 0;
+  /// The large-sliding pairs' rows of sys.part.contact in the configuration x + u (u: a state's
+  /// displacement over the part's dofs, prescribed components included), then sys's N and friction
+  /// frame (ContactSet::set_rows) and the contact solver of `solvers` for them, its warm state
+  /// carried over. Nothing where the rows were built at u already (the set-up's at u = 0, a
+  /// rejected attempt restored then retried). The rows, and λ with them, are the slave nodes that
+  /// had one at t = 0 (the pair's `search` must reach every slave node that may touch): one that no
+  /// master facet covers within reach now gets no masters and the gap sys.contact.miss_gap (it
+  /// cannot touch this step); a node without a row at t = 0 gets none. Under MPI the rank that
+  /// owns a sliding pair's nodes (rank 0: own_pairs_together) rebuilds their rows; every rank
+  /// renews its solver. Collective.
+  virtual void slide(DiscreteSystem& sys, const Vector& u, const SolverChoice& choice, SchemeSolvers& solvers) = 0;
+};
+
+/// The slider of sys's problem: one that slides where some pair has `sliding = "large"`, else one
+/// that does nothing. Reads the problem's whole mesh where this process holds a sliding pair's
+/// rows (before the engine lets it go). Collective.
+std::unique_ptr<PairSlider> make_pair_slider(const DiscreteSystem& sys);
+
+}  // namespace vpc
