@@ -4,7 +4,9 @@
 // TimeDependentOperator: the cells' geometry and materials, K of (3.9), M and A of (3.8),
 // the lumped mass of the error estimate, the basis integrals of uniform loads, the cells
 // that u_D's lifting touches, the contact rows N and |Ω|. Built once by TimeStepper's
-// set-up; the step (scheme/scheme_step.hpp) and its checks only read it.
+// set-up; the step (scheme/scheme_step.hpp) and its checks only read it. The one exception is
+// large sliding: the run's PairSlider (scheme/pair_slider.hpp), and nothing else, renews the
+// sliding pairs' nodes of part.contact and the contact set at the start of a step.
 #include "fem/cell_geometry.hpp"
 #include "la/backend.hpp"
 #include "la/vector.hpp"
@@ -45,8 +47,9 @@ struct DiscreteSystem {
   std::shared_ptr<la::SpdOperator> K;
   int K_block = 1;
   double K_local_nonzeros = 0;  // for model_bytes
-  /// The part's K: kept until the contact solver's set-up has made the reflections of the
-  /// primal solver from it (scheme/scheme_solvers.hpp), then released.
+  /// The part's K: kept until the contact solver's set-up has made the primal solver's K_rot from
+  /// it (scheme/scheme_solvers.hpp), then handed to the run's PairSlider (kept where a pair slides
+  /// large, else released): empty after set-up.
   SparseMatrix K_local;
   std::unique_ptr<la::SpdOperator> M;
   SparseMatrix M_local, A_local;  // the part's mass and Laplacian (H for other step sizes)

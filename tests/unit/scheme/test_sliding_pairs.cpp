@@ -8,6 +8,7 @@
 #include "io/checkpoint.hpp"
 #include "io/state_fields.hpp"
 #include "run/run_case.hpp"
+#include "scheme/contact_pairs.hpp"
 #include "scheme/sliding_pairs.hpp"
 #include "scheme/time_stepper.hpp"
 #include "../io/test_files.hpp"
@@ -18,6 +19,7 @@
 
 #include <cstdio>
 #include <fstream>
+#include <map>
 #include <string>
 
 #include "../error_of.hpp"
@@ -134,6 +136,49 @@ TEST(SlidingPairs, TheContactGoesWithTheSlidingDisc) {
   StepReport r;
   run_to_end(slide_case("small", "active-set"), &r);
   EXPECT_GT(r.pair_force[0], 2.0 * 4.7);
+}
+
+// The slider keeps only the two surfaces and the cells behind them (scheme/pair_slider.hpp), not the
+// whole mesh: a step's rows, built from them, are bit for bit those of the pair's rows on the whole
+// mesh moved by the displacement the step started from (masters, weights, normals, measures, gaps).
+TEST(SlidingPairs, TheSlidersSurfacesGiveTheWholeMovedMeshsRows) {
+  Case c = slide_case("large", "active-set");
+  TimeStepper s(c.problem, c.solvers);
+  const int d = 2;
+  int compared = 0;
+  while (!s.done()) {
+    const Vector u = s.state().u;  // the configuration the next step starts from
+    ASSERT_TRUE(s.step().ok);
+    Problem moved = *c.problem;
+    for (int i = 0; i < moved.mesh.n_nodes(); ++i)
+      for (int j = 0; j < d; ++j) moved.mesh.nodes()[static_cast<std::size_t>(i)][static_cast<std::size_t>(j)] += u[i * d + j];
+    const std::vector<ContactRow> rows = pair_rows(moved, dirichlet_dofs(*c.problem).condition);
+    std::map<int, const ContactRow*> row_of;
+    for (const ContactRow& r : rows) row_of[r.node] = &r;
+    for (const PartContactNode& node : s.part().contact) {
+      const int o = s.part().original_node[static_cast<std::size_t>(node.local_node)];
+      const auto it = row_of.find(o);
+      if (it == row_of.end()) {  // no master within reach: no masters this step
+        EXPECT_TRUE(node.masters.empty()) << "t = " << s.state().t << ", node " << o;
+        continue;
+      }
+      const ContactRow& r = *it->second;
+      EXPECT_EQ(node.direction, r.direction);
+      EXPECT_EQ(node.measure, r.measure);
+      ASSERT_EQ(node.masters.size(), r.masters.size());
+      double bound = r.gap;  // the bound of N u_n (PairSlider::slide)
+      for (int i = 0; i < d; ++i) bound += r.direction[static_cast<std::size_t>(i)] * u[node.local_node * d + i];
+      for (std::size_t k = 0; k < r.masters.size(); ++k) {
+        const auto [l, w] = node.masters[k];
+        EXPECT_EQ(s.part().original_node[static_cast<std::size_t>(l)], r.masters[k].first);
+        EXPECT_EQ(w, r.masters[k].second);
+        for (int i = 0; i < d; ++i) bound -= w * r.direction[static_cast<std::size_t>(i)] * u[l * d + i];
+      }
+      EXPECT_EQ(node.gap, bound);
+      ++compared;
+    }
+  }
+  EXPECT_GT(compared, 100);
 }
 
 // Coulomb across the sliding pair (μ = 0.3): the disc dragged in full slip, Σ|λ_τ| = μ Σλ_ν, the
