@@ -99,8 +99,9 @@ Vector times(const SparseMatrix& A, const Vector& u) { return A * u.head(A.cols(
 
 }  // namespace
 
-Vector rows_times(const la::Comm& comm, const ContactConstraints& c, const Vector& u) {
-  return with_pieces(comm, c, c.N * u, times(c.remote.N, u), 1);
+// (g − N u in one expression, as Eigen evaluates it: the gap less each entry's term in turn.)
+Vector gap_left(const la::Comm& comm, const ContactConstraints& c, const Vector& u) {
+  return with_pieces(comm, c, c.gap - c.N * u, -times(c.remote.N, u), 1);
 }
 
 // (T covers N's columns; a set without tangents may leave it unset, 0 × 0: the products below then
@@ -115,9 +116,7 @@ Vector slip_increment(const la::Comm& comm, const ContactConstraints& c, const V
   return with_pieces(comm, c, times(c.T, u), times(c.remote.T, u), c.block - 1) - c.shift;
 }
 
-void add_contact_load(const ContactConstraints& c, const Vector& lambda, Vector& y) {
-  y += c.N.transpose() * local_normal(c, lambda);
-  y.head(c.T.cols()) += c.T.transpose() * local_tangential(c, lambda);  // none without friction
+void add_piece_loads(const ContactConstraints& c, const Vector& lambda, Vector& y) {
   const RemoteRows& r = c.remote;
   if (r.rows.empty()) return;
   const int b = c.block, t = b - 1;

@@ -85,14 +85,15 @@ ContactResiduals contact_residuals(const la::SpdOperator& K, const ContactConstr
   Vector Ku;
   K.mult_threaded(u, Ku);
   const Vector lambda_local = local_normal(c, lambda);
-  Vector s = c.gap - rows_times(comm, c, u);  // the gap left: ≥ 0, plus the penetration a compliant law gives at λ
+  Vector s = gap_left(comm, c, u);  // the gap left: ≥ 0, plus the penetration a compliant law gives at λ
   for (Eigen::Index i = 0; i < s.size() && !c.laws.empty(); ++i)
     if (const ContactLaw& law = c.law_of(i); !law.rigid()) s[i] = law.gap_left(s[i], lambda_local[i], c.compliance_of(i));
   auto inf = [&](const Vector& v) { return comm.max(v.size() ? v.cwiseAbs().maxCoeff() : 0.0); };
   const double f_scale = std::max({inf(F), inf(Ku), 1e-300});
-  Vector stationarity = Ku - F;
-  add_contact_load(c, lambda, stationarity);
+  Vector stationarity = Ku - F + c.N.transpose() * lambda_local;
   const Vector tangential = local_tangential(c, lambda);  // rows × (b − 1): none without friction
+  stationarity.head(c.T.cols()) += c.T.transpose() * tangential;
+  add_piece_loads(c, lambda, stationarity);
   r.equilibrium = inf(stationarity) / f_scale;
   const double l_scale = std::max({lambda.size() ? lambda.cwiseAbs().maxCoeff() : 0.0, f_scale});
   // Not max(‖u‖, ‖g‖) alone: where every free dof is held by contact at a zero gap the exact

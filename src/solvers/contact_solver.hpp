@@ -62,11 +62,12 @@ struct ContactReport {
 
 /// Pieces of other ranks' rows (a contact pair's row whose masters another rank owns): over this
 /// rank's owned free dofs, the entries of those rows there, with no gap, law or datum (those stay
-/// with the row's owner). A row's N u is its owner's part plus every piece's (rows_times); its load
-/// Nᵀλ adds each piece's transpose times the row's λ. Numbered as ContactConstraints' own rows:
-/// `rows[k]` is piece k's global row (0..m−1; its λ at rows[k] × block + j), increasing, none of them
-/// this rank's own; N's row k is that row's normal part; with friction T's row k(b − 1) + j is its
-/// tangent j's part (T's layout), else T is 0 × 0. Empty in serial and where no row is spread.
+/// with the row's owner). A row's N u is its owner's part plus every piece's (gap_left); its load
+/// Nᵀλ adds each piece's transpose times the row's λ (add_piece_loads). Numbered as
+/// ContactConstraints' own rows: `rows[k]` is piece k's global row (0..m−1; its λ at rows[k] × block
+/// + j), increasing, none of them this rank's own; N's row k is that row's normal part; with friction
+/// T's row k(b − 1) + j is its tangent j's part (T's layout), else T is 0 × 0. Empty in serial and
+/// where no row is spread.
 struct RemoteRows {
   std::vector<int> rows;
   SparseMatrix N;  // pieces × owned free dofs
@@ -183,16 +184,17 @@ Vector block_offsets(const ContactConstraints& c);
 
 /// Whether some rank holds remote pieces (collective: the same answer on every rank).
 bool spread_rows(const la::Comm& comm, const ContactConstraints& c);
-/// N u of this rank's rows, each with the other ranks' pieces of it added (collective where spread).
-Vector rows_times(const la::Comm& comm, const ContactConstraints& c, const Vector& u);
+/// g − N u of this rank's rows (the gap left by u), each with the other ranks' pieces of it
+/// (collective where spread).
+Vector gap_left(const la::Comm& comm, const ContactConstraints& c, const Vector& u);
 /// Δ = T u − shift, the slip increments of this rank's rows (rows × (b − 1)): none without friction.
 /// The first reads this rank's entries alone (exact where nothing is spread: it requires so); the
 /// second adds the other ranks' pieces (collective where spread).
 Vector slip_increment(const ContactConstraints& c, const Vector& u);
 Vector slip_increment(const la::Comm& comm, const ContactConstraints& c, const Vector& u);
-/// y += Nᵀλ_ν + Tᵀλ_τ (λ: m × block, replicated): the contact forces' load on the owned free dofs,
-/// from this rank's rows and its pieces of other ranks' rows (no communication).
-void add_contact_load(const ContactConstraints& c, const Vector& lambda, Vector& y);
+/// y += N_rᵀλ_ν + T_rᵀλ_τ of this rank's pieces of other ranks' rows (λ: m × block, replicated; no
+/// communication): with its own rows' Nᵀλ_ν + Tᵀλ_τ, the contact forces' load on its owned free dofs.
+void add_piece_loads(const ContactConstraints& c, const Vector& lambda, Vector& y);
 
 /// A contact node's state after a step, for friction's outputs: not in contact (λ_ν = 0),
 /// sticking (|λ_τ| below the bound by more than kSlipShare of it and more than `slack`),
