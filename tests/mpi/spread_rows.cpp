@@ -55,11 +55,12 @@ struct SplitChain {
     const int k = far ? (r + R / 2) % R : std::min(r + 1, R - 1);
     return {{3 * r + 1, 1.0}, {3 * k, -0.6}, {3 * k + 2, -0.4}};
   }
-  /// K: per element (i, i+1) a spring and a mass, coupled x–y by [1 0.3; 0.3 2] (SPD, well
-  /// conditioned: eigenvalues within [2, 20]), over the nodes first .. first + n − 1.
+  /// K: per element (i, i+1) a spring [1 −1; −1 1] plus a mass [1 0.5; 0.5 1], its dofs coupled x–y
+  /// by [1 0.3; 0.3 2] (SPD and well conditioned: eigenvalues within [1, 11]), over the nodes
+  /// first .. first + n − 1.
   SparseMatrix elements(int first, int n) const {
     const double C[2][2] = {{1, 0.3}, {0.3, 2}};
-    const double E[2][2] = {{1 + 2, -1 + 1}, {-1 + 1, 1 + 2}};  // spring [1 −1; −1 1] plus mass [2 1; 1 2]
+    const double E[2][2] = {{2, -0.5}, {-0.5, 2}};
     std::vector<Eigen::Triplet<double>> t;
     for (int e = first; e + 1 < first + n; ++e)
       for (int a = 0; a < 2; ++a)
