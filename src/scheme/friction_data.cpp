@@ -77,7 +77,7 @@ Vector slip_shift(const DiscreteSystem& sys, const State& s, double t, const Vec
 
 void record_slip(const DiscreteSystem& sys, const ContactConstraints& c, const Vector& u_free, double slack, State& s) {
   const int t = c.block - 1;
-  const Vector slip = c.T * u_free - c.shift;
+  const Vector slip = slip_increment(sys.part.comm, c, u_free);  // with other ranks' pieces of its rows
   const std::vector<ContactStatus> stick_or_slip = stick_slip(c, s.lambda, slack);
   const auto rows = static_cast<Eigen::Index>(c.rows.size());
   Vector status(rows), length(rows);

@@ -33,6 +33,7 @@ ContactNeeds contact_needs(const la::Comm& comm, const ContactConstraints& c) {
         break;
       }
   n.pair_sides_mixed = !comm.all(masters_apart_from_slaves(c.N, c.node_dofs, c.master_mean));
+  n.spread_pairs = spread_rows(comm, c);
   return n;
 }
 
@@ -50,6 +51,9 @@ std::string cannot_solve(const std::string& solver, const ContactNeeds& needs) {
     if (needs.pair_sides_mixed)
       return "contact solver 'primal-active-set': a node is on the slave side of one contact pair row and the master "
              "side of another; --contact-solver active-set solves it";
+    if (needs.spread_pairs)
+      return "contact solver 'primal-active-set': the rows of a large-sliding contact pair are spread over the ranks "
+             "(slave and master nodes owned apart); --contact-solver active-set solves it";
   }
   if (solver == "penalty-duality") {
     if (needs.friction)
@@ -62,6 +66,9 @@ std::string cannot_solve(const std::string& solver, const ContactNeeds& needs) {
       return fmt::format("contact solver 'penalty-duality' solves the Signorini conditions only (a force >= 0); law = "
                          "\"{}\" (a force down to a tension) needs 'active-set' or 'primal-active-set'",
                          needs.tension);
+    if (needs.spread_pairs)
+      return "contact solver 'penalty-duality': the rows of a large-sliding contact pair are spread over the ranks "
+             "(slave and master nodes owned apart); --contact-solver active-set solves it";
   }
   return {};
 }
@@ -87,6 +94,8 @@ ContactSolverPick pick_contact_solver(const std::string& requested, int m, const
                                              kDualContactRows, n, n)};
   if (pick.name == "primal-active-set" && needs.pair_sides_mixed)
     return {"active-set", "auto: a node is on both sides of contact pairs (the primal needs them apart)"};
+  if (pick.name == "primal-active-set" && needs.spread_pairs)
+    return {"active-set", "auto: a contact pair's rows are spread over the ranks (the primal needs a row's dofs on its rank)"};
   return pick;
 }
 

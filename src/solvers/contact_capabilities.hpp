@@ -3,13 +3,15 @@
 // (pick_contact_solver) and by the refusals of a solver asked for what it cannot solve, so that a
 // new solver or law changes one row here instead of checks spread over the solvers.
 //
-//                        friction   compliance   a law that is     a friction set    a node on both    tension (a law's
-//                                                not linear        not a disc        sides of pairs    lower bound < 0)
-//   active-set (dual)    yes        yes          yes               yes               yes               yes, frictionless
-//   primal-active-set    yes        linear       no                yes               no                yes, frictionless
-//   penalty-duality      no         no           no                no                yes               no
+//                        friction   compliance   a law that is     a friction set    a node on both    tension (a law's    rows spread
+//                                                not linear        not a disc        sides of pairs    lower bound < 0)    over ranks
+//   active-set (dual)    yes        yes          yes               yes               yes               yes, frictionless   yes
+//   primal-active-set    yes        linear       no                yes               no                yes, frictionless   no
+//   penalty-duality      no         no           no                no                yes               no                  no
 // (Both frictional solvers ask each node's friction law for its set: the dual's Alart–Curnier
-// projection, the primal's Hüeber–Stadler–Wohlmuth linearization; primal_friction.hpp.)
+// projection, the primal's Hüeber–Stadler–Wohlmuth linearization; primal_friction.hpp. Rows spread
+// over ranks: a pair row whose masters other ranks own, given as their remote pieces,
+// ContactConstraints::remote; the primal's basis and penalty–duality's NᵀN need a row's dofs on its rank.)
 #include "solvers/contact_solver.hpp"
 
 #include <string>
@@ -24,6 +26,7 @@ struct ContactNeeds {
   std::string nonlinear;         // a normal law that is not linear: its kind ("a power-law compliance"); empty: none
   bool pair_sides_mixed = false; // a node on the slave side of one pair row and the master side of another
   std::string tension;           // a normal law whose force goes below 0 at some row (ContactLaw::dual_lower): its name
+  bool spread_pairs = false;     // some rank holds remote pieces of other ranks' rows (spread_rows)
 };
 
 /// Whether a row with this normal law can only be solved by the dual (the table's "no" of the primal

@@ -69,58 +69,9 @@ void set_friction_data(ContactConstraints& c, const Vector& tresca, const Vector
   c.shift = shift;
 }
 
-// (T covers N's columns; a set without tangents may leave it unset, 0 × 0: the products below then
-// cover no dofs, as 0 × n would.)
-Vector slip_increment(const ContactConstraints& c, const Vector& u) { return c.T * u.head(c.T.cols()) - c.shift; }
-
-namespace {
-
-/// y += Tᵀλ_τ: the tangential forces' load on the owned free dofs.
-void add_tangential_load(const ContactConstraints& c, const Vector& tangential, Vector& y) {
-  y.head(c.T.cols()) += c.T.transpose() * tangential;
-}
-
-}  // namespace
-
 ContactStatus contact_status(double lambda_nu, double tangential_norm, double bound, double slack) {
   if (!(lambda_nu > 0)) return ContactStatus::Free;
   return tangential_norm >= std::min((1 - kSlipShare) * bound, bound - slack) ? ContactStatus::Slip : ContactStatus::Stick;
-}
-
-SparseMatrix block_rows(const ContactConstraints& c, std::vector<int>& places) {
-  const int b = c.block, t = b - 1;
-  const auto n_rows = static_cast<Eigen::Index>(c.rows.size());
-  require(!c.frictional() ||
-              (c.T.rows() == n_rows * t && c.T.cols() == c.N.cols() && c.mu.size() == n_rows && c.tresca.size() == n_rows &&
-               c.shift.size() == n_rows * t && c.tangent_dof.size() == static_cast<std::size_t>(n_rows * t)),
-          "internal: friction's tangents ({} x {}), {} mu, {} bounds, {} shifts, {} tangent dofs for {} contact rows "
-          "of {} tangents (set_tangents)",
-          c.T.rows(), c.T.cols(), c.mu.size(), c.tresca.size(), c.shift.size(), c.tangent_dof.size(), n_rows, t);
-  std::vector<Eigen::Triplet<double>> e;
-  for (int k = 0; k < c.N.outerSize(); ++k)
-    for (SparseMatrix::InnerIterator it(c.N, k); it; ++it)
-      e.emplace_back(static_cast<int>(it.row()) * b, static_cast<int>(it.col()), it.value());
-  for (int k = 0; k < c.T.outerSize(); ++k)
-    for (SparseMatrix::InnerIterator it(c.T, k); it; ++it) {
-      const auto r = static_cast<int>(it.row());
-      e.emplace_back(r / t * b + 1 + r % t, static_cast<int>(it.col()), it.value());
-    }
-  SparseMatrix B(n_rows * b, c.N.cols());
-  B.setFromTriplets(e.begin(), e.end());
-  places.clear();
-  for (const int row : c.rows)
-    for (int j = 0; j < b; ++j) places.push_back(row * b + j);
-  return B;
-}
-
-Vector block_offsets(const ContactConstraints& c) {
-  const int b = c.block, t = b - 1;
-  Vector o(c.gap.size() * b);
-  for (Eigen::Index k = 0; k < c.gap.size(); ++k) {
-    o[k * b] = c.gap[k];
-    for (int j = 0; j < t; ++j) o[k * b + 1 + j] = c.shift[k * t + j];
-  }
-  return o;
 }
 
 ContactResiduals contact_residuals(const la::SpdOperator& K, const ContactConstraints& c, const Vector& F,
@@ -134,14 +85,15 @@ ContactResiduals contact_residuals(const la::SpdOperator& K, const ContactConstr
   Vector Ku;
   K.mult_threaded(u, Ku);
   const Vector lambda_local = local_normal(c, lambda);
-  Vector s = c.gap - c.N * u;  // the gap left: ≥ 0, plus the penetration a compliant law gives at λ
+  Vector s = gap_left(comm, c, u);  // the gap left: ≥ 0, plus the penetration a compliant law gives at λ
   for (Eigen::Index i = 0; i < s.size() && !c.laws.empty(); ++i)
     if (const ContactLaw& law = c.law_of(i); !law.rigid()) s[i] = law.gap_left(s[i], lambda_local[i], c.compliance_of(i));
   auto inf = [&](const Vector& v) { return comm.max(v.size() ? v.cwiseAbs().maxCoeff() : 0.0); };
   const double f_scale = std::max({inf(F), inf(Ku), 1e-300});
   Vector stationarity = Ku - F + c.N.transpose() * lambda_local;
   const Vector tangential = local_tangential(c, lambda);  // rows × (b − 1): none without friction
-  add_tangential_load(c, tangential, stationarity);
+  stationarity.head(c.T.cols()) += c.T.transpose() * tangential;
+  add_piece_loads(c, lambda, stationarity);
   r.equilibrium = inf(stationarity) / f_scale;
   const double l_scale = std::max({lambda.size() ? lambda.cwiseAbs().maxCoeff() : 0.0, f_scale});
   // Not max(‖u‖, ‖g‖) alone: where every free dof is held by contact at a zero gap the exact
@@ -161,7 +113,7 @@ ContactResiduals contact_residuals(const la::SpdOperator& K, const ContactConstr
   // SPEC §7 over each row's b − 1 tangents: |λ_τ|_C ≤ s; below it Δ = 0; at it Δ in C_s's normal
   // cone. Without friction a row has no tangents and its bound is 0: each of these is 0 there.
   const int t = c.block - 1;
-  const Vector slip = slip_increment(c, u);
+  const Vector slip = slip_increment(comm, c, u);
   for (Eigen::Index i = 0; i < s.size(); ++i) {
     const auto l = tangential.segment(i * t, t);
     const auto d = slip.segment(i * t, t);
@@ -234,7 +186,7 @@ ContactReport friction_report(const la::SpdOperator& K, const ContactConstraints
   }
   // Stick and slip counts and the dissipation from this rank's rows.
   const std::vector<ContactStatus> status = stick_slip(c, lambda, kSlipForceShare * rep.residuals.force_scale, active_threshold);
-  const Vector tangential = local_tangential(c, lambda), slip = slip_increment(c, u);
+  const Vector tangential = local_tangential(c, lambda), slip = slip_increment(K.comm(), c, u);
   double sums[4] = {0, 0, 0, 0};
   for (std::size_t i = 0; i < status.size(); ++i) {
     const auto k = static_cast<Eigen::Index>(i);

@@ -7,9 +7,10 @@
 //
 // Written once over la/ for one process and for many: u, F are this rank's owned
 // free dofs; the rows of N are distributed by contact node (a row lives on the rank
-// that owns its node, with all its dofs); λ is replicated (m numbers, the same on
-// every rank): the dual QP with the dense S = N K⁻¹ Nᵀ is small and solved alike on
-// every rank. On one process the rows are 0..m−1 and N is the whole matrix.
+// that owns its node, over its owned dofs; entries in dofs another rank owns are that
+// rank's remote pieces of the row, ContactConstraints::remote); λ is replicated (m
+// numbers, the same on every rank): the dual QP with the dense S = N K⁻¹ Nᵀ is small and
+// solved alike on every rank. On one process the rows are 0..m−1 and N is the whole matrix.
 #include "contact/contact_law.hpp"
 #include "contact/friction_law.hpp"
 #include "la/linear_solver.hpp"
@@ -57,6 +58,23 @@ struct ContactReport {
   int n_open = 0;
   double dissipation = 0;
   ContactResiduals residuals;
+};
+
+/// Pieces of other ranks' rows (a contact pair's row whose masters another rank owns): over this
+/// rank's owned free dofs, the entries of those rows there, with no gap, law or datum (those stay
+/// with the row's owner). A row's N u is its owner's part plus every piece's (gap_left); its load
+/// Nᵀλ adds each piece's transpose times the row's λ (add_piece_loads). Numbered as
+/// ContactConstraints' own rows: `rows[k]` is piece k's global row (0..m−1; its λ at rows[k] × block
+/// + j), increasing, none of them this rank's own; N's row k is that row's normal part; with friction
+/// T's row k(b − 1) + j is its tangent j's part (T's layout), else T is 0 × 0. Empty in serial and
+/// where no row is spread.
+struct RemoteRows {
+  std::vector<int> rows;
+  SparseMatrix N;  // pieces × owned free dofs
+  SparseMatrix T;  // pieces × (b − 1) rows × owned free dofs (friction), else 0 × 0
+  /// Some rank holds pieces, the same on every rank (spread_rows, set by the dual where it is
+  /// made): the products with pieces then sum over the ranks; without, they read own rows alone.
+  bool spread = false;
 };
 
 /// This process's rows of N (3.9): the contact nodes it owns.
@@ -124,6 +142,8 @@ struct ContactConstraints {
   /// plus the obstacle's tangential displacement over the step.
   Vector shift;
   bool frictional() const { return block > 1; }
+  /// Other ranks' rows' entries in this rank's owned dofs (RemoteRows; empty in serial).
+  RemoteRows remote;
   /// The friction laws (contact/friction_law.hpp), parallel to `laws` (nullptr: a frictionless law's
   /// place; empty: none), indexed by the row's `law`: each row's block asks its law for its set.
   std::vector<std::shared_ptr<const FrictionLaw>> frictions;
@@ -155,14 +175,26 @@ struct ContactConstraints {
 void set_tangents(ContactConstraints& c, const std::vector<std::vector<int>>& node_dofs);
 
 /// The constraint rows of this rank's contact unknowns, node by node in λ's order: N, or with friction
-/// B = [N; T] (per node its normal row, then its tangent rows), and each row's place in λ (`places`:
-/// rows[k] × block + j). Checks friction's data of `c`.
+/// B = [N; T] (per node its normal row, then its tangent rows), then the same of its remote pieces,
+/// and each row's place in λ (`places`: rows[k] × block + j, then remote.rows[k] × block + j). Checks
+/// friction's data and the pieces of `c`.
 SparseMatrix block_rows(const ContactConstraints& c, std::vector<int>& places);
-/// g, or with friction [g; h], of those rows.
+/// g, or with friction [g; h], of those rows (0 on the pieces: the offsets are their owners').
 Vector block_offsets(const ContactConstraints& c);
 
+/// Whether some rank holds remote pieces (collective: the same answer on every rank).
+bool spread_rows(const la::Comm& comm, const ContactConstraints& c);
+/// g − N u of this rank's rows (the gap left by u), each with the other ranks' pieces of it
+/// (collective where spread).
+Vector gap_left(const la::Comm& comm, const ContactConstraints& c, const Vector& u);
 /// Δ = T u − shift, the slip increments of this rank's rows (rows × (b − 1)): none without friction.
+/// The first reads this rank's entries alone (exact where nothing is spread: it requires so); the
+/// second adds the other ranks' pieces (collective where spread).
 Vector slip_increment(const ContactConstraints& c, const Vector& u);
+Vector slip_increment(const la::Comm& comm, const ContactConstraints& c, const Vector& u);
+/// y += N_rᵀλ_ν + T_rᵀλ_τ of this rank's pieces of other ranks' rows (λ: m × block, replicated; no
+/// communication): with its own rows' Nᵀλ_ν + Tᵀλ_τ, the contact forces' load on its owned free dofs.
+void add_piece_loads(const ContactConstraints& c, const Vector& lambda, Vector& y);
 
 /// A contact node's state after a step, for friction's outputs: not in contact (λ_ν = 0),
 /// sticking (|λ_τ| below the bound by more than kSlipShare of it and more than `slack`),

@@ -96,6 +96,7 @@ class ActiveSetContactSolver final : public ContactSolver {
   ActiveSetContactSolver(std::shared_ptr<const la::SpdOperator> K, std::shared_ptr<const la::LinearSolver> factor,
                          ContactConstraints c, double max_cached_share)
       : K_(std::move(K)), c_(std::move(c)), factor_(std::move(factor)) {
+    c_.remote.spread = spread_rows(comm(), c_);  // the products with pieces sum over the ranks
     B_ = block_rows(c_, B_rows_);
     Eigen::MatrixXd S = factor_->has_halves() ? dual_matrix_from_halves(max_cached_share)
                                               : dual_matrix_from_schur_or_solves(max_cached_share);
@@ -192,15 +193,19 @@ class ActiveSetContactSolver final : public ContactSolver {
 
   const la::Comm& comm() const { return K_->comm(); }
 
-  // The constraint rows: N, or B = [N; T] with friction, node by node in λ's order (λ_ν, λ_τ).
+  // The constraint rows: N, or B = [N; T] with friction, node by node in λ's order (λ_ν, λ_τ), then this
+  // rank's pieces of other ranks' rows (ContactConstraints::remote) alike: S, the solves and Nᵀλ see
+  // whole rows as the sums of their parts over the ranks.
   int unknowns() const { return c_.m * c_.block; }
   const SparseMatrix& B() const { return B_; }
   const std::vector<int>& rows() const { return B_rows_; }
-  /// g (or [g; h]) of this rank's rows of B.
+  /// g (or [g; h]) of this rank's rows of B (0 on its pieces: the owner gives a row's offset).
   Vector offsets() const { return block_offsets(c_); }
   /// The unknowns of λ (all of them, the same on every rank) from this rank's rows' values, and back.
+  /// A place is once on a rank (a piece is never of its own rank's row): a row's value is its owner's
+  /// plus its pieces' (exact without pieces: one value a row).
   Vector replicated(const Vector& local) const {
-    Vector all = Vector::Zero(unknowns());  // one owner per row: the sum is exact
+    Vector all = Vector::Zero(unknowns());
     for (std::size_t k = 0; k < B_rows_.size(); ++k) all[B_rows_[k]] = local[static_cast<Eigen::Index>(k)];
     comm().sum(all.data(), all.size());
     return all;
@@ -214,7 +219,7 @@ class ActiveSetContactSolver final : public ContactSolver {
   /// With K = PᵀLLᵀP: Y = L⁻¹PNᵀ (the forward half of K⁻¹Nᵀ) and S = N K⁻¹Nᵀ = YᵀY,
   /// formed once (K and N never change). A column of Y is nonzero only on the
   /// elimination-tree path of its contact dof, so Y is small and kept sparse.
-  /// A factor with halves is one process's (CHOLMOD): N is whole here.
+  /// A factor with halves is one process's (CHOLMOD): N is whole here (no pieces).
   Eigen::MatrixXd dual_matrix_from_halves(double max_cached_share) {
     const int m = unknowns();
     const double max_bytes = std::min(kMaxCachedBytes, max_cached_share * factor_->factor_bytes());
@@ -236,7 +241,8 @@ class ActiveSetContactSolver final : public ContactSolver {
   }
 
   /// S = N K⁻¹Nᵀ as the backend's Schur complement where it has one cheaper than m solves (MUMPS:
-  /// one factorization of [K Nᵀ; N 0]; a step then takes two solves), else by block solves.
+  /// one factorization of [K Nᵀ; N 0], which sums a row's entries given by several ranks, its pieces';
+  /// a step then takes two solves), else by block solves.
   Eigen::MatrixXd dual_matrix_from_schur_or_solves(double max_cached_share) {
     if (std::optional<Eigen::MatrixXd> S = factor_->schur_complement(B(), rows(), unknowns())) {
       schur_ = true;
@@ -246,9 +252,10 @@ class ActiveSetContactSolver final : public ContactSolver {
   }
 
   /// S = N K⁻¹Nᵀ by block solves X = K⁻¹Nᵀ (collective: every rank solves the same
-  /// blocks); S's rows are computed where N's rows live, then summed over the ranks
-  /// (one owner per row: exact, the same S everywhere). X is kept as W when it fits
-  /// on every rank (a step is then one solve: u = u_free − Wλ).
+  /// blocks; Nᵀ's columns from each row's owner and pieces); S's rows are computed where
+  /// N's rows and pieces live, then summed over the ranks (one owner per row: exact; with
+  /// pieces their partial rows added, the same S everywhere for a given partition). X is
+  /// kept as W when it fits on every rank (a step is then one solve: u = u_free − Wλ).
   Eigen::MatrixXd dual_matrix_from_solves(double max_cached_share) {
     const int m = unknowns();
     const auto n_owned = c_.N.cols();
@@ -278,7 +285,7 @@ class ActiveSetContactSolver final : public ContactSolver {
   Vector compliance_;                        // every row's 1/k_i (replicated; 0: rigid), with row_laws_
   Vector lower_;                             // every row's λ_i ≥ lower_i (replicated), with row_laws_
   bool nonlinear_ = false;                   // some row's law is not linear
-  SparseMatrix B_;              // N, or with friction [N; T], in λ's order (block_rows)
+  SparseMatrix B_;              // N, or with friction [N; T], in λ's order, then the pieces (block_rows)
   std::vector<int> B_rows_;     // its rows' places in λ
   std::unique_ptr<DualProblem> problem_;  // the step's dual (dual_problem), with its S
   SparseMatrix Y_;     // L⁻¹PNᵀ (factors with halves), or empty

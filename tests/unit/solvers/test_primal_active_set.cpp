@@ -276,6 +276,23 @@ TEST(PrimalActiveSet, AutomaticChoiceSaysWhy) {
   EXPECT_NE(p.why.find("5041 contact nodes"), std::string::npos) << p.why;
 }
 
+// Rows spread over the ranks (remote pieces of a pair row at its masters' owners): the dual alone;
+// on several ranks: mpi.spread_rows.
+TEST(PrimalActiveSet, RefusesRowsSpreadOverRanks) {
+  ContactNeeds spread;
+  spread.spread_pairs = true;
+  for (const std::string name : {"primal-active-set", "penalty-duality"}) {
+    const std::string why = cannot_solve(name, spread);
+    EXPECT_NE(why.find("contact solver '" + name + "': the rows of a large-sliding contact pair are spread over the "
+                       "ranks"), std::string::npos) << why;
+    EXPECT_NE(why.find("--contact-solver active-set solves it"), std::string::npos) << why;
+  }
+  EXPECT_EQ(cannot_solve("active-set", spread), "");
+  const ContactSolverPick p = pick_contact_solver("auto", 100000, "cg-gamg", spread);
+  EXPECT_EQ(p.name, "active-set");
+  EXPECT_NE(p.why.find("spread over the ranks"), std::string::npos) << p.why;
+}
+
 TEST(PrimalActiveSet, RefusesAPowerLaw) {
   const SlantedBlock b = make_slanted_block();
   ContactConstraints c;
