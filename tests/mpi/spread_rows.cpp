@@ -6,6 +6,7 @@
 // friction's counts agree to 1e-12. The primal and penalty–duality refuse such rows; auto takes the dual.
 // Prints PASSED or FAILED (on rank 0).
 #include "la/petsc.hpp"
+#include "mpi_check.hpp"
 #include "petsc_main.hpp"
 #include "solvers/contact_capabilities.hpp"
 #include "solvers/contact_solver.hpp"
@@ -17,14 +18,8 @@
 namespace {
 
 using namespace vpc;
-int failures = 0;
-
-void check(bool ok, const std::string& what, const la::Comm& comm) {
-  if (!comm.all(ok)) {
-    ++failures;
-    if (comm.rank() == 0) fmt::print("FAILED: {}\n", what);
-  }
-}
+using test::check;
+using test::failures;
 
 /// ‖a − b‖∞ ≤ tol ‖b‖∞ over the ranks (b: the one-process solution's entries).
 bool close(const la::Comm& comm, const Vector& a, const Vector& b, double tol) {

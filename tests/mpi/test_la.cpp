@@ -12,6 +12,7 @@
 #include "la/petsc.hpp"
 #include "la/petsc_segregated.hpp"
 #include "la/vector.hpp"
+#include "mpi_check.hpp"
 #include "solvers/box_qp.hpp"
 #include "solvers/contact_solver.hpp"
 #include "solvers/damage_solver.hpp"
@@ -23,14 +24,8 @@
 namespace {
 
 using namespace vpc;
-int failures = 0;
-
-void check(bool ok, const std::string& what, const la::Comm& comm) {
-  if (!comm.all(ok)) {
-    ++failures;
-    if (comm.rank() == 0) fmt::print("FAILED: {}\n", what);
-  }
-}
+using test::check;
+using test::failures;
 
 /// The 1D chain of N nodes, cut into contiguous owned ranges; each rank ghosts
 /// the node after its range (the element between them is its own).
