@@ -1,11 +1,8 @@
 #include "scheme/sliding_pairs.hpp"
 
-#include "core/error.hpp"
-
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <map>
 
 namespace vpc {
 
