@@ -172,6 +172,33 @@ PartContactNode unpack_contact_node(const long long*& in, const double*& x) {
   return c;
 }
 
+// A large-sliding pair's piece travels as its pair, then each side's three arrays, each after its size.
+void pack_sliding(const std::vector<SlidingPairPiece>& pieces, Message& m) {
+  m.ints.push_back(static_cast<long long>(pieces.size()));
+  for (const SlidingPairPiece& s : pieces) {
+    m.ints.push_back(s.pair);
+    for (const SlidingSurface* side : {&s.slave, &s.master})
+      for (const std::vector<int>* a : {&side->nodes, &side->facets, &side->cell_nodes}) {
+        m.ints.push_back(static_cast<long long>(a->size()));
+        m.ints.insert(m.ints.end(), a->begin(), a->end());
+      }
+  }
+}
+
+std::vector<SlidingPairPiece> unpack_sliding(const long long*& in) {
+  std::vector<SlidingPairPiece> pieces(static_cast<std::size_t>(*in++));
+  for (SlidingPairPiece& s : pieces) {
+    s.pair = static_cast<int>(*in++);
+    for (SlidingSurface* side : {&s.slave, &s.master})
+      for (std::vector<int>* a : {&side->nodes, &side->facets, &side->cell_nodes}) {
+        const long long n = *in++;
+        a->assign(in, in + n);
+        in += n;
+      }
+  }
+  return pieces;
+}
+
 constexpr int kHeader = 12;
 
 /// Rank 0: the part of every rank, cut from the whole problem (cut_part, with its contact `rows`) and packed
@@ -258,6 +285,7 @@ std::vector<Message> pack_parts(const Problem& p, int n_parts, const std::vector
       m.ints.push_back(load);
     }
     for (const PartContactNode& c : piece.contact) pack_contact_node(c, m);
+    pack_sliding(piece.sliding, m);
     for (int v : nodes) local[v] = -1;
   }
   return out;
@@ -313,6 +341,7 @@ PartPieces unpack_part(MPI_Comm comm, const Message& m) {
   }
   dm.mesh_ptr = std::move(mesh);
   for (int k = 0; k < n_contacts; ++k) dm.contact.push_back(unpack_contact_node(in, x));
+  dm.sliding = unpack_sliding(in);
   return dm;
 }
 

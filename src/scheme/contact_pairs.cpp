@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <numeric>
 
 namespace vpc {
 
@@ -26,10 +27,24 @@ SurfaceFacets surface_facets(const Mesh& mesh, const std::string& part) {
   return s;
 }
 
-mortar::Surface oriented_surface(int d, const SurfaceFacets& s, std::vector<Point> x, const std::vector<Point>& inside) {
-  std::vector<int> facets = s.facets;
+mortar::Surface oriented_surface(int d, const std::vector<int>& ids, std::vector<int> facets, std::vector<Point> x,
+                                 const std::vector<Point>& inside) {
   mortar::orient_away_from(d, x, facets, inside);
-  return mortar::Surface(d, std::move(x), s.ids, std::move(facets), mortar::FacetOrder::Outward);
+  return mortar::Surface(d, std::move(x), ids, std::move(facets), mortar::FacetOrder::Outward);
+}
+
+mortar::Surface sliding_surface(int d, int nodes_per_cell, const SlidingSurface& s, const std::function<Point(int)>& x) {
+  std::vector<Point> nodes, inside;
+  for (int l : s.nodes) nodes.push_back(x(l));
+  const auto npc = static_cast<std::size_t>(nodes_per_cell);
+  std::vector<Point> cell(npc);
+  std::vector<int> order(npc);
+  std::iota(order.begin(), order.end(), 0);
+  for (std::size_t f = 0; f < s.cell_nodes.size() / npc; ++f) {
+    for (std::size_t a = 0; a < npc; ++a) cell[a] = x(s.cell_nodes[f * npc + a]);
+    inside.push_back(centroid(cell, order.data(), nodes_per_cell));
+  }
+  return oriented_surface(d, s.nodes, s.facets, std::move(nodes), inside);
 }
 
 mortar::Surface part_surface(const Mesh& mesh, const std::string& part) {
@@ -37,7 +52,7 @@ mortar::Surface part_surface(const Mesh& mesh, const std::string& part) {
   std::vector<Point> x, inside;
   for (int node : s.ids) x.push_back(mesh.node(node));
   for (int c : s.cells) inside.push_back(mesh.cell_centroid(c));
-  return oriented_surface(mesh.dim(), s, std::move(x), inside);
+  return oriented_surface(mesh.dim(), s.ids, s.facets, std::move(x), inside);
 }
 
 namespace {
@@ -72,13 +87,13 @@ void check_slave_motion(const Problem& p, std::size_t q, int node, const Point& 
 }  // namespace
 
 void add_pair_rows(const Problem& p, std::size_t q, const mortar::Surface& slave, const mortar::Surface& master,
-                   const FixedAt& fixed_at, const Mesh* reference, std::vector<ContactRow>& rows) {
+                   const FixedAt& fixed_at, const Mesh* reference, double search, std::vector<ContactRow>& rows) {
   const bool moved = reference == nullptr;
   const int d = slave.dim();
   const ContactPair& pair = p.contact.pairs[q];
   const std::string where = p.where(fmt::format("contact.pair[{}]", q));
   mortar::MortarOptions options;
-  options.search_margin = pair.search > 0 ? pair.search : slave.longest_edge();
+  options.search_margin = search;
   const mortar::MortarCoupling c = located(where, [&] { return mortar::mortar_coupling(slave, master, options); });
   const ContactLaw& law = *p.contact.laws()[static_cast<std::size_t>(p.contact.pair_law_index(q))];
   std::map<int, std::vector<std::pair<int, double>>> masters;  // slave node -> (master node, M_jk)
@@ -127,6 +142,10 @@ void add_pair_rows(const Problem& p, std::size_t q, const mortar::Surface& slave
           options.search_margin);
 }
 
+double search_margin(const ContactPair& pair, double slave_longest_edge) {
+  return pair.search > 0 ? pair.search : slave_longest_edge;
+}
+
 void sort_rows_by_node(std::vector<ContactRow>& rows) {
   std::sort(rows.begin(), rows.end(), [](const ContactRow& a, const ContactRow& b) { return a.node < b.node; });
 }
@@ -140,7 +159,7 @@ std::vector<ContactRow> pair_rows(const Problem& p, const std::vector<int>& cond
     const std::string where = p.where(fmt::format("contact.pair[{}]", q));
     const mortar::Surface slave = located(where, [&] { return part_surface(p.mesh, pair.slave); });
     const mortar::Surface master = located(where, [&] { return part_surface(p.mesh, pair.master); });
-    add_pair_rows(p, q, slave, master, fixed_at, &p.mesh, rows);
+    add_pair_rows(p, q, slave, master, fixed_at, &p.mesh, search_margin(pair, slave.longest_edge()), rows);
   }
   sort_rows_by_node(rows);
   return rows;

@@ -6,6 +6,7 @@
 // measure), as a row of Γ3 is; the master takes −Σ_j w_jk λ_j ν_j.
 #include "mortar/surface.hpp"
 #include "scheme/contact_rows.hpp"
+#include "scheme/mesh_part.hpp"
 
 #include <functional>
 #include <string>
@@ -21,9 +22,15 @@ struct SurfaceFacets {
 };
 SurfaceFacets surface_facets(const Mesh& mesh, const std::string& part);
 
-/// The surface of `s` with its nodes at x (one per id), each facet ordered so that its normal
-/// points away from inside[f] (a point of the body behind facet f: its cell's centroid).
-mortar::Surface oriented_surface(int d, const SurfaceFacets& s, std::vector<Point> x, const std::vector<Point>& inside);
+/// The surface of nodes `ids` (at x, one per id) and facets `facets` (d indices into ids each), each
+/// facet ordered so that its normal points away from inside[f] (a point of the body behind facet f:
+/// its cell's centroid).
+mortar::Surface oriented_surface(int d, const std::vector<int>& ids, std::vector<int> facets, std::vector<Point> x,
+                                 const std::vector<Point>& inside);
+
+/// A large-sliding pair's side (MeshPart::sliding) with the part's node l at x(l): a mortar surface
+/// whose ids are the part's nodes, oriented away from its cells moved alike.
+mortar::Surface sliding_surface(int d, int nodes_per_cell, const SlidingSurface& s, const std::function<Point(int)>& x);
 
 /// The mortar surface of a boundary part in the mesh's configuration: its facets (ordered so that
 /// their normals point out of the body, from the cells they bound) and their nodes, whose ids are
@@ -43,8 +50,13 @@ using FixedAt = std::function<const int*(int node)>;
 /// moved by a large-sliding pair's displacement (scheme/pair_slider.hpp), where neither is checked:
 /// the last step's answer may penetrate the moved surfaces by its linearization's error, and a
 /// slave slid off its master has no rows then.
+/// `search`: the distance within which a master facet covers a slave node (search_margin).
 void add_pair_rows(const Problem& p, std::size_t q, const mortar::Surface& slave, const mortar::Surface& master,
-                   const FixedAt& fixed_at, const Mesh* reference, std::vector<ContactRow>& rows);
+                   const FixedAt& fixed_at, const Mesh* reference, double search, std::vector<ContactRow>& rows);
+
+/// The pair's search distance: its `search`, or else the longest edge of its slave surface (a
+/// large-sliding pair's over every process's piece of it: PairSlider).
+double search_margin(const ContactPair& pair, double slave_longest_edge);
 
 /// Rows in increasing node order.
 void sort_rows_by_node(std::vector<ContactRow>& rows);

@@ -32,6 +32,22 @@ struct PartContactNode : ContactNode {
   bool owned = false;  // the row lives on this process (its node is owned)
 };
 
+/// One side of a `sliding = "large"` contact pair as a part holds it for its slider
+/// (scheme/pair_slider.hpp), over the part's nodes in the reference configuration.
+struct SlidingSurface {
+  std::vector<int> nodes;       // the side's nodes (the part's), in order of first appearance
+  std::vector<int> facets;      // d per facet: indices into nodes, in the mesh's order
+  std::vector<int> cell_nodes;  // per facet, the nodes (the part's) of the cell behind it: its inside
+};
+
+/// A large-sliding pair's surfaces on a part that owns some of its slave nodes: the slave facets at
+/// those nodes (a row needs the facets at its node alone) and the whole master side (a slave node
+/// may slide to any of it).
+struct SlidingPairPiece {
+  int pair = 0;  // in ContactSpec::pairs
+  SlidingSurface slave, master;
+};
+
 /// What a part takes from the whole mesh and problem, which it cannot compute from
 /// its own cells: its numbering in the whole, its share of the problem's data and
 /// the global sizes. On many processes this is what rank 0 sends each rank.
@@ -57,6 +73,7 @@ struct PartPieces {
   /// Per Dirichlet part, the components it prescribes (DirichletDofs::components).
   std::vector<unsigned> dirichlet_components;
   std::vector<PartContactNode> contact;  // owned and ghost contact nodes, by row
+  std::vector<SlidingPairPiece> sliding;  // the large-sliding pairs' surfaces (none without owned slave nodes)
   int n_contact = 0;                     // m: rows of N over all processes
   long long n_global_nodes = 0, n_global_dofs = 0, n_global_cells = 0;
 };

@@ -7,10 +7,11 @@
 // (a master's prescribed components move the bound by their motion over the step, step_data.cpp);
 // friction's slip is T_n (u_n − u_{n−1}).
 //
-// The slider owns what sliding needs and nothing else keeps for it: the sliding surfaces with the
-// cells behind them in the reference configuration (not the whole mesh), the slave nodes'
-// prescribed dofs, the part's K for the primal solver's K_rot, and the displacement its rows were
-// built at. Without a large-sliding pair the slider does nothing and keeps nothing.
+// Each part holds its piece of the sliding surfaces (MeshPart::sliding, cut with the part: the
+// slave facets at its owned slave nodes and the whole master side, with the cells behind them, over
+// its own nodes), so a rank rebuilds its owned slave nodes' rows from its own nodes, at x + u. The
+// slider keeps the part's K for the primal solver's K_rot and the displacement its rows were built
+// at. Without a large-sliding pair the slider does nothing and keeps nothing.
 #include "scheme/discrete_system.hpp"
 #include "scheme/scheme_solvers.hpp"
 #include "scheme/solver_choice.hpp"
@@ -32,15 +33,13 @@ class PairSlider {
   /// rejected attempt restored then retried). The rows, and λ with them, are the slave nodes that
   /// had one at t = 0 (the pair's `search` must reach every slave node that may touch): one that no
   /// master facet covers within reach now gets no masters and the gap sys.contact.miss_gap (it
-  /// cannot touch this step); a node without a row at t = 0 gets none. Under MPI the rank that
-  /// owns a sliding pair's nodes (rank 0: own_pairs_together) rebuilds their rows; every rank
-  /// renews its solver. Collective.
+  /// cannot touch this step); a node without a row at t = 0 gets none. Each rank moves the rows
+  /// of its owned slave nodes and renews its solver. Collective.
   virtual void slide(DiscreteSystem& sys, const Vector& u, const SolverChoice& choice, SchemeSolvers& solvers) = 0;
 };
 
 /// The slider of sys's problem: one that slides where some pair has `sliding = "large"`, else one
-/// that does nothing. Reads the problem's whole mesh where this process holds a sliding pair's
-/// rows (before the engine lets it go). Collective.
+/// that does nothing.
 std::unique_ptr<PairSlider> make_pair_slider(const DiscreteSystem& sys);
 
 }  // namespace vpc

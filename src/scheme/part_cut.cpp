@@ -6,6 +6,9 @@
 
 #include <algorithm>
 #include <cstddef>
+#include <functional>
+#include <optional>
+#include <span>
 #include <unordered_map>
 
 namespace vpc {
@@ -21,6 +24,13 @@ WholeMeshData::WholeMeshData(const Problem& p, ContactRows built)
       rows(*shared_rows),
       row_of(p.mesh.n_nodes(), -1) {
   for (std::size_t k = 0; k < rows.size(); ++k) row_of[rows[k].node] = static_cast<int>(k);
+  for (std::size_t q = 0; q < p.contact.pairs.size(); ++q) {
+    const ContactPair& pair = p.contact.pairs[q];
+    if (!pair.large_sliding) continue;
+    located(p.where(fmt::format("contact.pair[{}]", q)), [&] {
+      sliding.push_back({static_cast<int>(q), surface_facets(p.mesh, pair.slave), surface_facets(p.mesh, pair.master)});
+    });
+  }
 }
 
 int free_components(const DirichletDofs& dirichlet, int node, int dim) {
@@ -60,6 +70,79 @@ void add_loaded_facet(PartPieces& pieces, Mesh& mesh, const int* nodes, int load
   (load == 0 ? pieces.traction_facets : pieces.pressure_facets[static_cast<std::size_t>(load) - 1]).push_back(mesh.n_facets() - 1);
 }
 
+namespace {
+
+/// The facets of a large-sliding pair's side that a part takes (MeshPart::sliding): every master
+/// facet, and on the slave side those that touch a facet at a node it owns (`owns`, a whole-mesh
+/// node): a row's weights integrate over the facets at its node, whose normals are interpolated
+/// from nodal normals averaged over the facets at their nodes. Calls f(facet).
+template <typename Owns, typename F>
+void piece_facets(const SurfaceFacets& side, int d, bool slave, const Owns& owns, F&& f) {
+  const std::size_t n = side.cells.size();
+  auto nodes = [&](std::size_t k) { return std::span(side.facets.data() + k * static_cast<std::size_t>(d), d); };
+  std::vector<char> near(slave ? side.ids.size() : 0, 0);  // per side node: on a facet at an owned node
+  for (std::size_t k = 0; k < n && slave; ++k)
+    if (std::ranges::any_of(nodes(k), [&](int i) { return owns(side.ids[static_cast<std::size_t>(i)]); }))
+      for (int i : nodes(k)) near[static_cast<std::size_t>(i)] = 1;
+  for (std::size_t k = 0; k < n; ++k)
+    if (!slave || std::ranges::any_of(nodes(k), [&](int i) { return near[static_cast<std::size_t>(i)] != 0; })) f(k);
+}
+
+/// The part's piece of a large-sliding pair `s` (WholeMeshData::sliding); none where it owns no
+/// slave node. `local`: the whole mesh's node -> the part's; `n_owned`: the part's owned nodes.
+std::optional<SlidingPairPiece> sliding_piece(const Mesh& mesh, const WholeMeshData::SlidingPair& s,
+                                              const std::unordered_map<int, int>& local, int n_owned) {
+  const int d = mesh.dim(), npc = mesh.nodes_per_cell();
+  auto part_node = [&](int v) {
+    const auto it = local.find(v);
+    require(it != local.end(), "internal: node {} of sliding contact pair {}'s surfaces is not in the part", v, s.pair);
+    return it->second;
+  };
+  const auto owns = [&](int v) {
+    const auto it = local.find(v);
+    return it != local.end() && it->second < n_owned;
+  };
+  auto side = [&](const SurfaceFacets& from, bool slave) {
+    SlidingSurface to;
+    std::unordered_map<int, int> index;  // the part's node -> its index in to.nodes
+    piece_facets(from, d, slave, owns, [&](std::size_t f) {
+      for (int a = 0; a < d; ++a) {
+        const int l = part_node(from.ids[static_cast<std::size_t>(from.facets[f * d + a])]);
+        const auto [it, fresh] = index.emplace(l, static_cast<int>(to.nodes.size()));
+        if (fresh) to.nodes.push_back(l);
+        to.facets.push_back(it->second);
+      }
+      for (int a = 0; a < npc; ++a) to.cell_nodes.push_back(part_node(mesh.cell(from.cells[f])[a]));
+    });
+    return to;
+  };
+  SlidingPairPiece piece;
+  piece.pair = s.pair;
+  piece.slave = side(s.slave, true);
+  if (piece.slave.facets.empty()) return std::nullopt;
+  piece.master = side(s.master, false);
+  return piece;
+}
+
+}  // namespace
+
+std::vector<int> sliding_band(const Mesh& mesh, const WholeMeshData& whole, const std::function<bool(int)>& owns) {
+  const int d = mesh.dim(), npc = mesh.nodes_per_cell();
+  std::vector<int> band;
+  for (const WholeMeshData::SlidingPair& s : whole.sliding) {
+    bool any = false;
+    piece_facets(s.slave, d, true, owns, [&](std::size_t) { any = true; });
+    if (!any) continue;
+    for (const SurfaceFacets* side : {&s.slave, &s.master})
+      piece_facets(*side, d, side == &s.slave, owns, [&](std::size_t f) {
+        for (int a = 0; a < npc; ++a) band.push_back(mesh.cell(side->cells[f])[a]);  // its facet's nodes among them
+      });
+  }
+  std::sort(band.begin(), band.end());
+  band.erase(std::unique(band.begin(), band.end()), band.end());
+  return band;
+}
+
 PartPieces cut_part(const Problem& p, const WholeMeshData& whole, const WholeNumbering& numbering,
                     const std::vector<int>& nodes, int n_owned, const std::vector<int>& cells) {
   const int d = p.mesh.dim();
@@ -91,6 +174,12 @@ PartPieces cut_part(const Problem& p, const WholeMeshData& whole, const WholeNum
               "parts must own a pair row's nodes together)", c.row, k, nodes[static_cast<std::size_t>(c.local_node)]);
       c.masters.emplace_back(it->second, w);
     }
+  if (!whole.sliding.empty()) {
+    std::unordered_map<int, int> part_node;  // whole mesh -> the part's, every node
+    for (std::size_t a = 0; a < nodes.size(); ++a) part_node.emplace(nodes[a], static_cast<int>(a));
+    for (const WholeMeshData::SlidingPair& s : whole.sliding)
+      if (auto piece = sliding_piece(p.mesh, s, part_node, n_owned)) part.sliding.push_back(std::move(*piece));
+  }
   part.original_cell = cells;
   for (int c : cells) {
     part.cell_material.push_back(whole.cell_material[c]);

@@ -4,10 +4,12 @@
 // the global numbering of nodes and free dofs, and the share of one part. One
 // process cuts one part, the whole mesh (whole_mesh_part); under MPI rank 0 cuts
 // one per rank and sends it (parallel/distributed_mesh.cpp).
+#include "scheme/contact_pairs.hpp"
 #include "scheme/contact_rows.hpp"
 #include "scheme/mesh_part.hpp"
 #include "scheme/problem.hpp"
 
+#include <functional>
 #include <vector>
 
 namespace vpc {
@@ -22,6 +24,12 @@ struct WholeMeshData {
   ContactRows shared_rows;              // the contact rows, shared with the set-up that built them
   const std::vector<ContactRow>& rows;  // *shared_rows
   std::vector<int> row_of;       // per node: its contact row, −1 off Γ3
+  /// The large-sliding pairs' sides (surface_facets), from which each part takes its piece.
+  struct SlidingPair {
+    int pair = 0;
+    SurfaceFacets slave, master;
+  };
+  std::vector<SlidingPair> sliding;
   /// Throws vpc::Error as the functions of scheme/problem.hpp it calls. `rows`: the problem's
   /// contact rows as its validation built them (Problem::validate); null: built here.
   explicit WholeMeshData(const Problem& p, ContactRows rows = nullptr);
@@ -49,6 +57,12 @@ PartContactNode part_contact_node(int k, const ContactRow& row, int local_node, 
 /// Adds a loaded facet of the part (its nodes in `mesh`, the part's): `load` 0 on Γ2, k under
 /// pressure load k − 1, into pieces.traction_facets or pieces.pressure_facets[k − 1].
 void add_loaded_facet(PartPieces& pieces, Mesh& mesh, const int* nodes, int load);
+
+/// The nodes (the whole mesh's, sorted) that a part owning the nodes `owns` accepts needs for its
+/// pieces of the large-sliding pairs (MeshPart::sliding): those of the cells behind the slave facets
+/// with a node it owns and behind every master facet, where it owns a slave node. Under MPI they
+/// join the part, as ghosts where it does not own them (distribute_mesh).
+std::vector<int> sliding_band(const Mesh& mesh, const WholeMeshData& whole, const std::function<bool(int)>& owns);
 
 /// The pieces of the part whose local nodes are `nodes` (numbers of the whole mesh:
 /// its `n_owned` owned nodes first, then the ghosts) and whose cells are `cells`:

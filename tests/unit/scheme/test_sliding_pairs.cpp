@@ -9,6 +9,7 @@
 #include "io/state_fields.hpp"
 #include "run/run_case.hpp"
 #include "scheme/contact_pairs.hpp"
+#include "scheme/part_cut.hpp"
 #include "scheme/sliding_pairs.hpp"
 #include "scheme/time_stepper.hpp"
 #include "../io/test_files.hpp"
@@ -20,6 +21,7 @@
 #include <cstdio>
 #include <fstream>
 #include <map>
+#include <numeric>
 #include <string>
 
 #include "../error_of.hpp"
@@ -180,6 +182,81 @@ TEST(SlidingPairs, TheSlidersSurfacesGiveTheWholeMovedMeshsRows) {
   }
   std::printf("  %d sliding rows compared with the whole moved mesh's\n", compared);
   EXPECT_GT(compared, 100);
+}
+
+// Under MPI each rank moves the rows of its own slave nodes from its piece of the surfaces
+// (MeshPart::sliding: the slave facets at those nodes, the whole master side): cut here for a part
+// that owns the nodes left of the disc's middle, the piece's rows at a slid configuration are bit
+// for bit the whole surfaces' rows at those nodes, with the search distance of the whole slave side.
+TEST(SlidingPairs, APartsPieceGivesItsOwnSlaveNodesRowsBitForBit) {
+  Case c = slide_case("large", "active-set");
+  TimeStepper s(c.problem, c.solvers);
+  while (s.state().t < 1.45) ASSERT_TRUE(s.step().ok);  // pressed, then slid by 0.09
+  const Problem& p = *c.problem;
+  const Mesh& mesh = p.mesh;
+  const int d = 2;
+  const Vector& u = s.state().u;
+  const WholeMeshData whole(p);
+  ASSERT_EQ(whole.sliding.size(), 1u);
+  std::vector<double> xs;  // the slave side's nodes' x, for its median
+  for (int v : whole.sliding[0].slave.ids) xs.push_back(mesh.node(v)[0]);
+  std::nth_element(xs.begin(), xs.begin() + static_cast<std::ptrdiff_t>(xs.size() / 2), xs.end());
+  const double middle = xs[xs.size() / 2];
+  std::vector<int> cells(static_cast<std::size_t>(mesh.n_cells()));
+  std::iota(cells.begin(), cells.end(), 0);
+  // A part over every node (owned: left of the middle and the master side's, whose nodes the set-up's
+  // rows need, then the others) and the whole one.
+  std::vector<char> master(static_cast<std::size_t>(mesh.n_nodes()), 0);
+  for (int v : whole.sliding[0].master.ids) master[static_cast<std::size_t>(v)] = 1;
+  std::vector<int> left, right;
+  for (int v = 0; v < mesh.n_nodes(); ++v)
+    (mesh.node(v)[0] < middle || master[static_cast<std::size_t>(v)] ? left : right).push_back(v);
+  std::vector<int> nodes = left, all(static_cast<std::size_t>(mesh.n_nodes()));
+  nodes.insert(nodes.end(), right.begin(), right.end());
+  std::iota(all.begin(), all.end(), 0);
+  const PartPieces part = cut_part(p, whole, WholeNumbering({left, right}, whole.dirichlet, d), nodes,
+                                   static_cast<int>(left.size()), cells);
+  const PartPieces one = cut_part(p, whole, WholeNumbering({all}, whole.dirichlet, d), all, mesh.n_nodes(), cells);
+  ASSERT_EQ(part.sliding.size(), 1u);
+  ASSERT_LT(part.sliding[0].slave.facets.size(), one.sliding[0].slave.facets.size());  // a piece, not the side
+  EXPECT_EQ(part.sliding[0].master.facets.size(), one.sliding[0].master.facets.size());
+  // Each part's rows at x + u, its nodes numbered as the part's (`nodes`: the part's -> the mesh's).
+  auto rows_of = [&](const PartPieces& q, const std::vector<int>& original, double search) {
+    const auto x = [&](int l) {
+      const int v = original[static_cast<std::size_t>(l)];
+      Point y = mesh.node(v);
+      for (int i = 0; i < d; ++i) y[static_cast<std::size_t>(i)] += u[v * d + i];
+      return y;
+    };
+    const SlidingPairPiece& piece = q.sliding[0];
+    const mortar::Surface slave = sliding_surface(d, 3, piece.slave, x), master = sliding_surface(d, 3, piece.master, x);
+    const FixedAt fixed_at = [&](int l) { return q.dirichlet.data() + static_cast<std::size_t>(l) * d; };
+    std::vector<ContactRow> rows;
+    add_pair_rows(p, 0, slave, master, fixed_at, nullptr, search > 0 ? search : slave.longest_edge(), rows);
+    std::map<int, ContactRow> by_node;  // by the mesh's node, masters too
+    for (ContactRow& r : rows) {
+      for (auto& [k, w] : r.masters) k = original[static_cast<std::size_t>(k)];
+      by_node[original[static_cast<std::size_t>(r.node)]] = std::move(r);
+    }
+    return by_node;
+  };
+  // The piece's own longest edge is not the side's: the rows need the side's (PairSlider's comm.max).
+  const double search = search_margin(p.contact.pairs[0], 0.0);
+  const std::map<int, ContactRow> whole_rows = rows_of(one, all, search), piece_rows = rows_of(part, nodes, search);
+  int compared = 0;
+  for (std::size_t l = 0; l < left.size(); ++l) {
+    const auto w = whole_rows.find(left[l]);
+    const auto r = piece_rows.find(left[l]);
+    ASSERT_EQ(w == whole_rows.end(), r == piece_rows.end()) << "node " << left[l];
+    if (w == whole_rows.end()) continue;
+    EXPECT_EQ(r->second.direction, w->second.direction);
+    EXPECT_EQ(r->second.measure, w->second.measure);
+    EXPECT_EQ(r->second.gap, w->second.gap);
+    EXPECT_EQ(r->second.masters, w->second.masters);
+    ++compared;
+  }
+  std::printf("  %d rows of a part's own slave nodes compared with the whole side's\n", compared);
+  EXPECT_GT(compared, 20);
 }
 
 // Coulomb across the sliding pair (μ = 0.3): the disc dragged in full slip, Σ|λ_τ| = μ Σλ_ν, the
