@@ -39,6 +39,13 @@ bool ContactSpec::frictional() const {
   return std::ranges::any_of(frictions(), [](const auto& f) { return f != nullptr; });
 }
 
+std::vector<std::size_t> ContactSpec::sliding_pairs(bool large) const {
+  std::vector<std::size_t> out;
+  for (std::size_t q = 0; q < pairs.size(); ++q)
+    if (pairs[q].large_sliding == large) out.push_back(q);
+  return out;
+}
+
 int ContactSpec::block_size(int dim) const {
   int block = frictional() ? dim : 1;
   for (const auto& l : laws()) block = std::max(block, l->block_size(dim));

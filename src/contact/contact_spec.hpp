@@ -59,6 +59,9 @@ struct ContactSpec {
   bool frictional() const;
   /// The index in laws() of the law on one part of Γ3.
   int law_index(const std::string& part) const;
+  /// The indices in `pairs` of those with `sliding = "large"` (true) or "small" (false): the one
+  /// place that tells them apart.
+  std::vector<std::size_t> sliding_pairs(bool large) const;
   /// The index in laws() of pair q's law.
   int pair_law_index(std::size_t q) const { return static_cast<int>(1 + part_laws.size() + q); }
   /// Contact unknowns per node (State::contact_block): the largest ContactLaw::block_size, or

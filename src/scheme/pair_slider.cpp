@@ -58,8 +58,7 @@ class LargeSliding final : public PairSlider {
     };
     std::vector<std::pair<mortar::Surface, mortar::Surface>> moved;  // per piece: slave, master
     std::map<int, double> longest;                                    // per large-sliding pair
-    for (std::size_t q = 0; q < p.contact.pairs.size(); ++q)
-      if (p.contact.pairs[q].large_sliding) longest[static_cast<int>(q)] = 0;
+    for (const std::size_t q : p.contact.sliding_pairs(true)) longest[static_cast<int>(q)] = 0;
     la::collective(part.comm, [&] {
       for (const SlidingPairPiece& s : part.sliding)
         located(p.where(fmt::format("contact.pair[{}]", s.pair)), [&] {
@@ -120,8 +119,7 @@ class LargeSliding final : public PairSlider {
 }  // namespace
 
 std::unique_ptr<PairSlider> make_pair_slider(const DiscreteSystem& sys) {
-  if (std::ranges::any_of(sys.problem->contact.pairs, [](const ContactPair& q) { return q.large_sliding; }))
-    return std::make_unique<LargeSliding>(sys);
+  if (!sys.problem->contact.sliding_pairs(true).empty()) return std::make_unique<LargeSliding>(sys);
   return std::make_unique<FixedPairs>();
 }
 

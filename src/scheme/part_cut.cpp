@@ -24,9 +24,8 @@ WholeMeshData::WholeMeshData(const Problem& p, ContactRows built)
       rows(*shared_rows),
       row_of(p.mesh.n_nodes(), -1) {
   for (std::size_t k = 0; k < rows.size(); ++k) row_of[rows[k].node] = static_cast<int>(k);
-  for (std::size_t q = 0; q < p.contact.pairs.size(); ++q) {
+  for (const std::size_t q : p.contact.sliding_pairs(true)) {
     const ContactPair& pair = p.contact.pairs[q];
-    if (!pair.large_sliding) continue;
     located(p.where(fmt::format("contact.pair[{}]", q)), [&] {
       sliding.push_back({static_cast<int>(q), surface_facets(p.mesh, pair.slave), surface_facets(p.mesh, pair.master)});
     });

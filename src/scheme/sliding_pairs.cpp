@@ -43,8 +43,7 @@ double slide_at(const MeshPart& part, const PartContactNode& j, const Vector& u)
 std::vector<PairSlide> small_slides(const Problem& p, const MeshPart& part, const State& state) {
   const la::Comm& comm = part.comm;
   std::vector<PairSlide> slides;
-  for (std::size_t q = 0; q < p.contact.pairs.size(); ++q) {
-    if (p.contact.pairs[q].large_sliding) continue;
+  for (const std::size_t q : p.contact.sliding_pairs(false)) {
     PairSlide& s = slides.emplace_back();
     for (const PartContactNode& node : part.contact) {
       if (!node.owned || node.pair != static_cast<int>(q)) continue;
