@@ -99,6 +99,7 @@ void add_pair_rows(const Problem& p, std::size_t q, const mortar::Surface& slave
   std::map<int, std::vector<std::pair<int, double>>> masters;  // slave node -> (master node, M_jk)
   for (const auto& t : c.m) masters[t.row()].emplace_back(t.col(), t.value());
   std::size_t covered = 0;
+  const std::size_t first = rows.size();
   for (const mortar::SlaveNodeCoupling& s : c.nodes) {
     if (!(s.d > 0)) continue;  // no master facet covers it: no constraint
     ++covered;
@@ -140,6 +141,8 @@ void add_pair_rows(const Problem& p, std::size_t q, const mortar::Surface& slave
   require(covered > 0 || moved, "{}: master part '{}' covers no node of slave part '{}' (their facets must face "
           "each other within the search distance {:.6g}: [[contact.pair]] search)", where, pair.master, pair.slave,
           options.search_margin);
+  require(rows.size() > first || moved, "{}: every node of slave part '{}' that the master part '{}' covers has "
+          "every component prescribed ([boundary]): the pair would constrain nothing", where, pair.slave, pair.master);
 }
 
 double search_margin(const ContactPair& pair, double slave_longest_edge) {

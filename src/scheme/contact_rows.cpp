@@ -240,8 +240,8 @@ std::vector<ContactRow> contact_rows(const Problem& p, const std::vector<int>& c
   // Every contact node has every component prescribed (a block may have no contact node: the
   // ranks check the whole mesh's together, validate_blocks).
   if (rows.empty() && !p.contact.parts.empty() && !p.block) fail_no_free_contact_node(p, condition);
-  if (p.contact.pairs.empty()) return rows;
-  // Pairs between bodies (SPEC §8): their slave nodes' rows, among Γ3's in node order.
+  // Pairs between bodies (SPEC §8): their slave nodes' rows, among Γ3's in node order (a pair with
+  // none is refused: add_pair_rows).
   std::vector<ContactRow> pairs = pair_rows(p, condition);
   for (std::size_t a = 0, b = 0; a < rows.size() && b < pairs.size();) {
     if (rows[a].node == pairs[b].node) {
@@ -258,8 +258,6 @@ std::vector<ContactRow> contact_rows(const Problem& p, const std::vector<int>& c
   std::merge(std::make_move_iterator(rows.begin()), std::make_move_iterator(rows.end()),
              std::make_move_iterator(pairs.begin()), std::make_move_iterator(pairs.end()), std::back_inserter(merged),
              [](const ContactRow& a, const ContactRow& b) { return a.node < b.node; });
-  require(!merged.empty(), "{}: no contact row: every node of the contact pairs' slave parts is prescribed",
-          p.where("contact.pair"));
   return merged;
 }
 

@@ -328,6 +328,11 @@ TEST(ContactPairs, BadPairsAreRefusedNamingTheKey) {
   // Overlapping at t = 0 by 0.01 (a fifth of a cell): refused, as a body inside an obstacle is.
   const std::string overlap = error_of([] { blocks_apart(-0.01); });
   EXPECT_NE(overlap.find("lies 0.01 inside the master part 'top' at t = 0"), std::string::npos) << overlap;
+  // A slave side with every node clamped would constrain nothing: refused, not left out.
+  std::string clamped = blocks(2);
+  clamped.replace(clamped.find("[boundary]\n"), 11, "[boundary]\nclamped = [\"upper.bottom\"]\n");
+  EXPECT_NE(error(clamped).find("every node of slave part 'upper.bottom' that the master part 'top' "
+                                "covers has every component prescribed"), std::string::npos) << error(clamped);
   std::string no_law = blocks(2);
   no_law.replace(no_law.find("master = \"top\""), 14, "master = \"top\"\nstiffness = 5000.0");
   EXPECT_NE(error(no_law).find("stiffness needs law = \"normal-compliance\" in the same table"), std::string::npos)
