@@ -8,7 +8,7 @@
 //   comparison below is not of rows that were never spread);
 // - every row of N (and of T with friction) is the same row: its owner's entries plus the other
 //   ranks' pieces, keyed by (row, node as read, component), bit for bit;
-// - the ghost masters have no cell of their part.
+// - the only nodes of a part with no cell of its own are ghost masters.
 // Prints each rank's rows, rows with ghost masters and pieces, then PASSED or FAILED (rank 0).
 #include "cases/builtin_cases.hpp"
 #include "la/petsc.hpp"
@@ -85,24 +85,33 @@ std::vector<Entry> whole_rows(const la::Comm& comm, const MeshPart& part, const 
   return all;
 }
 
-/// The part's pair rows whose masters include a ghost, and whether every such ghost has no cell here.
-std::pair<int, bool> rows_with_ghost_masters(const MeshPart& part) {
-  std::vector<char> in_cell(static_cast<std::size_t>(part.n_local_nodes()), 0);
+/// The part's pair rows whose masters include a ghost; its nodes with no cell of the part, and how
+/// many of those are not such a ghost master (the band adds none else).
+struct GhostMasters {
+  int rows = 0, cell_less = 0, cell_less_other = 0;
+};
+
+GhostMasters ghost_masters(const MeshPart& part) {
+  std::vector<char> in_cell(static_cast<std::size_t>(part.n_local_nodes()), 0), master(in_cell.size(), 0);
   const Mesh& mesh = part.mesh();
   for (int c = 0; c < mesh.n_cells(); ++c)
     for (int a = 0; a < mesh.nodes_per_cell(); ++a) in_cell[static_cast<std::size_t>(mesh.cell(c)[a])] = 1;
-  int rows = 0;
-  bool cell_less = true;
+  GhostMasters g;
   for (const PartContactNode& node : part.contact) {
     bool ghost = false;
     for (const auto& [k, w] : node.masters)
       if (k >= part.n_owned_nodes) {
         ghost = true;
-        cell_less = cell_less && !in_cell[static_cast<std::size_t>(k)];
+        master[static_cast<std::size_t>(k)] = 1;
       }
-    rows += ghost ? 1 : 0;
+    g.rows += ghost ? 1 : 0;
   }
-  return {rows, cell_less};
+  for (std::size_t i = 0; i < in_cell.size(); ++i)
+    if (!in_cell[i]) {
+      ++g.cell_less;
+      g.cell_less_other += master[i] ? 0 : 1;
+    }
+  return g;
 }
 
 ContactConstraints constraints_of(const Problem& p, const MeshPart& part) {
@@ -123,17 +132,20 @@ int run(int argc, char** argv) {
   const MeshPart together = distribute_mesh(PETSC_COMM_WORLD, p, {}, c.contact_rows, false);
   const ContactConstraints cs = constraints_of(p, spread), ct = constraints_of(p, together);
 
-  const auto [ghost_rows, cell_less] = rows_with_ghost_masters(spread);
-  fmt::print("rank {}: {} nodes owned, {} ghosts; {} rows owned, {} with ghost masters; {} remote pieces\n", comm.rank(),
-             spread.n_owned_nodes, spread.n_local_nodes() - spread.n_owned_nodes, cs.rows.size(), ghost_rows,
-             cs.remote.rows.size());
+  const GhostMasters g = ghost_masters(spread);
+  fmt::print("rank {}: {} nodes owned, {} ghosts ({} with no cell here); {} rows owned, {} with ghost masters; {} remote "
+             "pieces\n",
+             comm.rank(), spread.n_owned_nodes, spread.n_local_nodes() - spread.n_owned_nodes, g.cell_less,
+             cs.rows.size(), g.rows, cs.remote.rows.size());
   std::fflush(stdout);
   check(spread.pairs_spread && !together.pairs_spread, "the parts say whether their pairs are spread", comm);
-  check(comm.any(ghost_rows > 0), "some rank owns a pair row with a ghost master", comm);
+  check(comm.any(g.rows > 0), "some rank owns a pair row with a ghost master", comm);
   check(comm.any(!cs.remote.rows.empty()) && cs.remote.spread, "some rank holds remote pieces, marked spread", comm);
-  check(cell_less, "a row's ghost masters have no cell of the part", comm);
-  check(rows_with_ghost_masters(together).first == 0 && ct.remote.rows.empty() && !ct.remote.spread,
-        "owned together: no ghost master, no piece", comm);
+  check(g.cell_less_other == 0 && comm.any(g.cell_less > 0),
+        "the nodes with no cell of their part are ghost masters (and some rank has them)", comm);
+  const GhostMasters h = ghost_masters(together);
+  check(h.rows == 0 && h.cell_less == 0 && ct.remote.rows.empty() && !ct.remote.spread,
+        "owned together: no ghost master, no cell-less node, no piece", comm);
   check(cs.m == ct.m && comm.sum(static_cast<long long>(cs.rows.size())) == cs.m, "every row owned once", comm);
   const std::vector<Entry> a = whole_rows(comm, spread, cs), b = whole_rows(comm, together, ct);
   check(comm.all(a == b), fmt::format("the rows with their pieces are the rows owned together ({} entries, {} tangential)",
