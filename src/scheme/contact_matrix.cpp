@@ -79,7 +79,7 @@ ContactMatrix owned_rows(const ContactMatrix& local, const MeshPart& part) {
 }
 
 SparseMatrix owned_columns(const SparseMatrix& A, const MeshPart& part) {
-  return A.size() == 0 ? A : SparseMatrix(A.leftCols(part.n_owned_dofs));
+  return A.cols() == 0 ? A : SparseMatrix(A.leftCols(part.n_owned_dofs));  // (0 rows: still the owned columns)
 }
 
 namespace {

@@ -39,7 +39,7 @@ ContactMatrix contact_matrix(const MeshPart& part, ContactColumns columns);
 ContactMatrix owned_rows(const ContactMatrix& local, const MeshPart& part);
 
 /// A's columns of the owned free dofs (the first ones): ContactConstraints::N (and T) of whole rows.
-/// A 0 × 0 matrix (no tangents) as it is.
+/// A 0 × 0 matrix (no tangents) as it is; one with no rows (a rank without contact rows) 0 × owned.
 SparseMatrix owned_columns(const SparseMatrix& A, const MeshPart& part);
 
 /// Other ranks' pieces of their rows in this rank's owned dofs (ContactConstraints::remote), from each
