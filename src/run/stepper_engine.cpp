@@ -96,7 +96,9 @@ class StepperRun final : public Run {
     if (petsc())
       fmt::print("  PETSc engine on {} MPI rank{}: linear solver {}; {}{}\n", comm().size(), comm().size() > 1 ? "s" : "",
                  stepper_->backend().linear_solver(), stepper_->contact_method(),
-                 part.pairs_spread ? "; contact pairs' rows spread over the ranks (--spread-pairs)" : "");
+                 part.pairs_spread               ? "; contact pairs' rows spread over the ranks (--spread-pairs)"
+                 : case_.solvers.spread_pairs ? "; --spread-pairs: no small-sliding contact pair to spread"
+                                              : "");
     fmt::print("  mesh: d = {}, {} nodes, {} cells, h in [{:.3g}, {:.3g}]; {} free displacement dofs, {} contact "
                "nodes\n",
                part.dofs.dim(), part.n_global_nodes, part.n_global_cells, h_min, h_max, part.n_global_dofs,
