@@ -1,8 +1,10 @@
 #pragma once
 // N of (3.9) on a part: each contact node's free dofs and its row's entries ν_i on them. The
 // discrete system keeps them over the part's local dofs (the reflections of K_rot's local
-// matrix), its N is their owned rows (owned_rows), and the outputs' tangents take them over the
-// contact nodes' own dofs; set_tangents takes the nodes' dofs.
+// matrix), its N is their owned rows (owned_rows) over the owned dofs, with, where the pairs are
+// spread over the ranks, the rows' entries at ghost masters sent to their owners (remote_pieces),
+// and the outputs' tangents take them over the contact nodes' own dofs; set_tangents takes the
+// nodes' dofs.
 #include "la/linear_solver.hpp"
 #include "scheme/mesh_part.hpp"
 #include "solvers/contact_solver.hpp"
