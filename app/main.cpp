@@ -45,6 +45,7 @@ struct Options {
   bool no_vtu = false, plot = false;
   vpc::PlotOptions plot_options;
   std::string contact_solver, damage_solver;
+  bool spread_pairs = false;  // SolverChoice::spread_pairs
   double tolerance = -1;
   std::string engine = "auto";  // docs/parallel.md
   std::string show_case;        // cases --show NAME
@@ -87,6 +88,7 @@ vpc::Case load_case(const Options& o, const CLI::App& cmd, const vpc::CaseSource
   if (o.no_vtu) c.output.vtu = false;
   if (!o.contact_solver.empty()) c.solvers.contact = o.contact_solver;
   if (!o.damage_solver.empty()) c.solvers.damage = o.damage_solver;
+  c.solvers.spread_pairs = o.spread_pairs;
   c.solvers.memory_limit = o.memory_limit;
   if (given(cmd, "--tolerance")) {
     vpc::require(o.tolerance > 0, "--tolerance must be > 0 (got {})", o.tolerance);
@@ -226,6 +228,12 @@ void add_case_options(CLI::App* cmd, Options& o) {
                   "be faster; chosen before set-up and printed), serial or petsc");
   cmd->add_option("--linear-solver", o.run.linear_solver, "PETSc engine: mumps (default; CG + GAMG instead, saying so, "
                   "where MUMPS's factors would not fit in memory), cg-gamg or cg-hypre");
+  cmd->add_flag("--spread-pairs", o.spread_pairs,
+               "PETSc engine: spread each contact pair's rows over the ranks (a row goes with its slave node's owner, its "
+               "master nodes, and a large-sliding pair's whole master side, become ghosts there) instead of owning "
+               "each pair's nodes together (a large-sliding pair's on rank 0); "
+               "the dual contact solver (active-set) alone solves such rows, auto takes it; nothing to spread on one "
+               "process");
   cmd->add_flag("-q,--quiet", o.run.quiet, "print nothing but errors");
 }
 

@@ -24,6 +24,46 @@ namespace vpc {
 
 namespace fs = std::filesystem;
 
+namespace {
+
+/// A parallel piece without the nodes no cell of its part touches (a spread pair row's masters,
+/// ghosts with no cell: PartPieces::pairs_spread; their owners' pieces show them): its mesh over the
+/// nodes its cells use, renumbered in order, and those nodes' point fields alone. The caller writes
+/// the part's mesh as it is where the pairs are not spread (every node there is in a cell).
+struct TrimmedPiece {
+  Mesh mesh;
+  std::vector<VtuField> point_data;
+};
+
+TrimmedPiece trimmed_piece(const Mesh& mesh, const std::vector<VtuField>& point_data) {
+  const int npc = mesh.nodes_per_cell();
+  std::vector<int> number(static_cast<std::size_t>(mesh.n_nodes()), -1);
+  for (int c = 0; c < mesh.n_cells(); ++c)
+    for (int a = 0; a < npc; ++a) number[static_cast<std::size_t>(mesh.cell(c)[a])] = 0;
+  TrimmedPiece t{Mesh(mesh.dim()), {}};
+  std::vector<int> kept;
+  for (int i = 0; i < mesh.n_nodes(); ++i)
+    if (number[static_cast<std::size_t>(i)] == 0) {
+      number[static_cast<std::size_t>(i)] = t.mesh.add_node(mesh.node(i));
+      kept.push_back(i);
+    }
+  std::vector<int> nodes(static_cast<std::size_t>(npc));
+  for (int c = 0; c < mesh.n_cells(); ++c) {
+    for (int a = 0; a < npc; ++a) nodes[static_cast<std::size_t>(a)] = number[static_cast<std::size_t>(mesh.cell(c)[a])];
+    t.mesh.add_cell(nodes.data());
+  }
+  for (const VtuField& f : point_data) {
+    VtuField& g = t.point_data.emplace_back(VtuField{f.name, f.n_components, {}, f.integer});
+    const auto w = static_cast<std::size_t>(f.n_components);
+    for (const int i : kept)
+      g.values.insert(g.values.end(), f.values.begin() + static_cast<std::ptrdiff_t>(i * w),
+                      f.values.begin() + static_cast<std::ptrdiff_t>((i + 1) * w));
+  }
+  return t;
+}
+
+}  // namespace
+
 ProbeLocation locate_point(const Mesh& mesh, const Point& x) {
   const int d = mesh.dim();
   ProbeLocation best;
@@ -316,8 +356,13 @@ void RunOutput::write_fields() {
     // Each process its piece, with the partition as a field (to look at it in ParaView).
     cell_data.push_back({"rank", 1, std::vector<double>(mesh.n_cells(), static_cast<double>(comm.rank())), true});
     la::collective(comm, [&] {
-      write_vtu(options_.directory / fmt::format("{}_p{:04d}.vtu", stem, comm.rank()), mesh, point_data, cell_data,
-                options_.encoding);
+      const fs::path piece = options_.directory / fmt::format("{}_p{:04d}.vtu", stem, comm.rank());
+      if (!stepper_.part().pairs_spread) {
+        write_vtu(piece, mesh, point_data, cell_data, options_.encoding);
+        return;
+      }
+      const TrimmedPiece t = trimmed_piece(mesh, point_data);
+      write_vtu(piece, t.mesh, t.point_data, cell_data, options_.encoding);
     });
     file = stem + ".pvtu";
     std::vector<std::string> pieces;

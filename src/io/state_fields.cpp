@@ -45,9 +45,10 @@ VtuField node_field(const FieldContext& c, std::string_view name, int width, Fil
 double normal_force(const State& s, const PartContactNode& c) { return s.lambda[c.row * s.contact_block]; }
 
 /// Per local node, `width` numbers: Σ_j w_jk x_j over the contact pairs' slave rows j with master
-/// node k (x_j: `of(row, component)`). A row's rank owns its masters (cut_part) and sums there; the
-/// ranks that show a master node as a ghost get the owner's sum. Empty without pairs. Collective on
-/// the part's communicator.
+/// node k (x_j: `of(row, component)`). A row's rank sums at its masters: it owns them (cut_part) or,
+/// where the pairs are spread (PartPieces::pairs_spread), may hold them as ghosts, whose sums it then
+/// adds to their owners'; the ranks that show a master node as a ghost get the owner's sum. Empty
+/// without pairs. Collective on the part's communicator.
 template <typename Of>
 std::vector<double> master_sums(const FieldContext& c, int width, Of of) {
   const bool pairs = std::ranges::any_of(c.part.contact, [](const PartContactNode& n) { return n.pair >= 0; });
@@ -57,6 +58,7 @@ std::vector<double> master_sums(const FieldContext& c, int width, Of of) {
     la::Vector r(c.part.node_layout);
     for (const PartContactNode& n : c.part.contact)
       for (const auto& [k, w] : n.masters) r.local()[k] += w * of(n, j);
+    if (c.part.pairs_spread) r.add_ghosts_to_owners();
     r.update_ghosts();
     for (std::size_t i = 0; i < n_nodes(c); ++i) out[width * i + j] = r.local()[static_cast<Eigen::Index>(i)];
   }

@@ -88,10 +88,14 @@ int lowest_rank(const NodeCells& nc, const std::vector<int>& part, int n_parts, 
 /// and so its β0 and whether its β can change) would be missing otherwise. Pair nodes sharing a cell
 /// join one set, so no cell has two owners. The other nodes of a moved cell are owned as before
 /// (the lowest rank among their cells, now). `on_rank_0`: nodes that join one set owned by rank 0
-/// (a large-sliding pair's parts, whose rows rank 0 builds again at every step).
+/// (a large-sliding pair's parts, whose rows rank 0 builds again at every step). `spread`: per pair,
+/// whether its rows are left out (--spread-pairs: a row goes with its slave node's owner, which holds
+/// its masters as ghosts, pack_parts; its nodes are owned as any other).
 void own_pairs_together(const std::vector<ContactRow>& rows, const Mesh& mesh, const NodeCells& nc, int n_parts,
-                        const std::vector<int>& on_rank_0, std::vector<int>& part, std::vector<int>& owner) {
-  if (std::ranges::none_of(rows, [](const ContactRow& r) { return r.pair >= 0; })) return;
+                        const std::vector<int>& on_rank_0, const std::vector<bool>& spread, std::vector<int>& part,
+                        std::vector<int>& owner) {
+  const auto together = [&](const ContactRow& r) { return r.pair >= 0 && !spread[static_cast<std::size_t>(r.pair)]; };
+  if (std::ranges::none_of(rows, together)) return;
   std::vector<int> root(owner.size(), -1);  // union–find over the pair rows' nodes
   auto find = [&](int i) {
     while (root[i] != i) i = root[i] = root[root[i]];
@@ -104,7 +108,7 @@ void own_pairs_together(const std::vector<ContactRow>& rows, const Mesh& mesh, c
     if (a != b) root[std::max(a, b)] = std::min(a, b);
   };
   for (const ContactRow& r : rows)
-    if (r.pair >= 0) {
+    if (together(r)) {
       join(r.node, r.node);  // a slave node with no master (off the master side) too
       for (const auto& [k, w] : r.masters) join(r.node, k);
     }
@@ -199,11 +203,28 @@ std::vector<SlidingPairPiece> unpack_sliding(const long long*& in) {
   return pieces;
 }
 
-constexpr int kHeader = 12;
+constexpr int kHeader = 13;
+
+/// The master nodes of rank r's spread pair rows (`spread`: per pair; the rows of its `owned` slave
+/// nodes) that another rank owns, into r's `ghosts`: ghosts with no cell of r's, which give r's rows
+/// their masters' u (u's ghost update) and their columns, whose entries go to the masters' owners as
+/// remote pieces (remote_pieces, scheme/contact_matrix.hpp).
+void add_master_ghosts(const WholeMeshData& whole, const std::vector<bool>& spread, const std::vector<int>& owned,
+                       const std::vector<int>& owner, int r, std::vector<int>& ghosts) {
+  if (std::ranges::none_of(spread, [](bool s) { return s; })) return;
+  for (const int v : owned)
+    if (const int k = whole.row_of[static_cast<std::size_t>(v)]; k >= 0) {
+      const ContactRow& row = whole.rows[static_cast<std::size_t>(k)];
+      if (row.pair < 0 || !spread[static_cast<std::size_t>(row.pair)]) continue;
+      for (const auto& [m, w] : row.masters)
+        if (owner[static_cast<std::size_t>(m)] != r) ghosts.push_back(m);
+    }
+}
 
 /// Rank 0: the part of every rank, cut from the whole problem (cut_part, with its contact `rows`) and packed
 /// with its mesh: its nodes, its cells and their loaded facets.
-std::vector<Message> pack_parts(const Problem& p, int n_parts, const std::vector<int>& cell_rank, ContactRows rows) {
+std::vector<Message> pack_parts(const Problem& p, int n_parts, const std::vector<int>& cell_rank, ContactRows rows,
+                                bool spread_pairs) {
   const Mesh& mesh = p.mesh;
   const int d = mesh.dim(), npc = mesh.nodes_per_cell(), n_nodes = mesh.n_nodes();
   const NodeCells nc(mesh);
@@ -215,15 +236,18 @@ std::vector<Message> pack_parts(const Problem& p, int n_parts, const std::vector
   // A node belongs to the lowest rank among its cells, except on contact pairs (own_pairs_together).
   std::vector<int> owner(n_nodes, 0);
   for (int i = 0; i < n_nodes; ++i) owner[i] = lowest_rank(nc, part, n_parts, i);
-  // Large-sliding pairs (scheme/pair_slider.hpp) couple a slave node to whichever master facets
-  // it reaches: every node of their slave and master parts on rank 0, whose slider keeps their surfaces to
-  // build their rows again at every step.
+  // Large-sliding pairs (scheme/pair_slider.hpp) couple a slave node to whichever master facets it
+  // reaches. Kept together, every node of their slave and master parts is rank 0's, which moves all
+  // their rows. Spread (--spread-pairs), each slave node's owner moves its row, from the slave facets
+  // near its nodes and the whole master side, which it holds as ghosts where it does not own them
+  // (sliding_band, cut_part's MeshPart::sliding).
   std::vector<int> sliding;
-  for (const ContactPair& q : p.contact.pairs)
-    if (q.large_sliding)
-      for (const std::string& side : {q.slave, q.master})
+  const std::vector<bool> spread(p.contact.pairs.size(), spread_pairs);  // per pair: its rows spread
+  if (!spread_pairs)
+    for (const std::size_t q : p.contact.sliding_pairs(true))
+      for (const std::string& side : {p.contact.pairs[q].slave, p.contact.pairs[q].master})
         for (const int v : mesh.nodes_of_parts({side})) sliding.push_back(v);
-  own_pairs_together(whole.rows, mesh, nc, n_parts, sliding, part, owner);
+  own_pairs_together(whole.rows, mesh, nc, n_parts, sliding, spread, part, owner);
   std::vector<std::vector<int>> owned(n_parts);
   for (int i = 0; i < n_nodes; ++i) owned[owner[i]].push_back(i);
   // Global numbers: the nodes of rank 0, then of rank 1, ...; each in its original order.
@@ -246,6 +270,10 @@ std::vector<Message> pack_parts(const Problem& p, int n_parts, const std::vector
         const int v = mesh.cell(c)[a];
         if (owner[v] != r) ghosts.push_back(v);
       }
+    add_master_ghosts(whole, spread, owned[r], owner, r, ghosts);
+    if (spread_pairs)
+      for (const int v : sliding_band(mesh, whole, [&](int v) { return owner[static_cast<std::size_t>(v)] == r; }))
+        if (owner[static_cast<std::size_t>(v)] != r) ghosts.push_back(v);
     std::sort(ghosts.begin(), ghosts.end(), [&](int a, int b) { return numbering.node[a] < numbering.node[b]; });
     ghosts.erase(std::unique(ghosts.begin(), ghosts.end()), ghosts.end());
     nodes.insert(nodes.end(), ghosts.begin(), ghosts.end());
@@ -264,7 +292,8 @@ std::vector<Message> pack_parts(const Problem& p, int n_parts, const std::vector
               piece.n_global_dofs,
               piece.n_global_cells,
               static_cast<long long>(piece.dirichlet_components.size()),
-              static_cast<long long>(whole.pressure_facets.size())};
+              static_cast<long long>(whole.pressure_facets.size()),
+              std::ranges::any_of(spread, [](bool s) { return s; }) ? 1 : 0};
     m.ints.insert(m.ints.end(), piece.dirichlet_components.begin(), piece.dirichlet_components.end());
     m.ints.reserve(m.ints.size() + (4 + d) * nodes.size() + (npc + 3) * cells_of[r].size() +
                    (d + 1) * facets_of[r].size() + 7 * piece.contact.size());
@@ -308,6 +337,7 @@ PartPieces unpack_part(MPI_Comm comm, const Message& m) {
   dm.dirichlet_components.assign(in, in + h[10]);  // per Dirichlet part
   in += h[10];
   dm.pressure_facets.resize(h[11]);  // every load, even one with no facet in this part
+  dm.pairs_spread = h[12] != 0;
   const double* x = m.reals.data();
   *mesh = Mesh(d);
   dm.dirichlet.resize(static_cast<std::size_t>(n_local) * d);
@@ -347,14 +377,15 @@ PartPieces unpack_part(MPI_Comm comm, const Message& m) {
 
 }  // namespace
 
-MeshPart distribute_mesh(MPI_Comm comm, const Problem& problem, const std::vector<int>& cell_rank, ContactRows rows) {
+MeshPart distribute_mesh(MPI_Comm comm, const Problem& problem, const std::vector<int>& cell_rank, ContactRows rows,
+                         bool spread_pairs) {
   const int rank = comm_rank(comm), size = comm_size(comm);
   Message mine;
   // Rank 0 packs every part; a failure there (e.g. a bad gap) is every rank's.
   std::vector<Message> parts;
   la::on_root(la::make_mpi_comm(comm), [&] {
     if (!rows) rows = problem.validate();
-    parts = pack_parts(problem, size, cell_rank, std::move(rows));
+    parts = pack_parts(problem, size, cell_rank, std::move(rows), spread_pairs);
   });
   if (rank == 0) {
     for (int r = 1; r < size; ++r) {

@@ -6,7 +6,8 @@
 // nodes so that each rank owns a contiguous range (a node belongs to the lowest
 // rank among its cells; the nodes of contact pairs' rows are owned together:
 // own_pairs_together), and sends each rank its cells and every node they touch.
-// The nodes a rank does not own form its ghost layer. The free displacement dofs
+// The nodes a rank does not own form its ghost layer; with spread_pairs, the masters of its
+// spread pair rows join it too, cell-less. The free displacement dofs
 // (V^h: clamped nodes dropped, (2.4)) are numbered node by node in that order, so
 // each rank's owned dofs are contiguous too.
 //
@@ -27,7 +28,11 @@ namespace vpc {
 /// `cell_rank`: each cell's rank, instead of PTScotch's partition (rank 0's; the blocks of a
 /// generated mesh, block_part.hpp, cut the same parts from their blocks). `rows`: rank 0's problem
 /// validated, with the contact rows its validation built (Case::contact_rows); null: validated here.
+/// `spread_pairs` (--spread-pairs, SolverChoice::spread_pairs): the pairs' rows are not owned
+/// together with their masters; each goes with its slave node's owner, which holds the row's master
+/// nodes it does not own as ghosts with no cell (PartPieces::pairs_spread), and for a large-sliding
+/// pair every node of its piece of the surfaces (sliding_band, PartPieces::sliding).
 MeshPart distribute_mesh(MPI_Comm comm, const Problem& problem, const std::vector<int>& cell_rank = {},
-                         ContactRows rows = nullptr);
+                         ContactRows rows = nullptr, bool spread_pairs = false);
 
 }  // namespace vpc

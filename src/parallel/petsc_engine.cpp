@@ -67,7 +67,7 @@ std::unique_ptr<TimeStepper> distributed_stepper(MPI_Comm mpi_comm, std::shared_
                                                  const SolverChoice& choice, PetscSolverOptions linear,
                                                  ContactRows rows = nullptr) {
   MeshPart part = problem->block ? make_mesh_part(block_part_pieces(mpi_comm, *problem, std::move(rows)))
-                                 : distribute_mesh(mpi_comm, *problem, {}, std::move(rows));
+                                 : distribute_mesh(mpi_comm, *problem, {}, std::move(rows), choice.spread_pairs);
   // Iterative solves stop 100x under the relative residual a step accepts (solver.tolerance,
   // 1e-8): tighter only costs iterations (at 1e-12, a third more on foundation-3d).
   linear.rtol = 1e-2 * choice.residual_tolerance;

@@ -94,8 +94,11 @@ class StepperRun final : public Run {
     h_max = comm().max(h_max);
     if (!root()) return;
     if (petsc())
-      fmt::print("  PETSc engine on {} MPI rank{}: linear solver {}; {}\n", comm().size(), comm().size() > 1 ? "s" : "",
-                 stepper_->backend().linear_solver(), stepper_->contact_method());
+      fmt::print("  PETSc engine on {} MPI rank{}: linear solver {}; {}{}\n", comm().size(), comm().size() > 1 ? "s" : "",
+                 stepper_->backend().linear_solver(), stepper_->contact_method(),
+                 part.pairs_spread               ? "; contact pairs' rows spread over the ranks (--spread-pairs)"
+                 : case_.solvers.spread_pairs ? "; --spread-pairs: no contact pair to spread"
+                                              : "");
     fmt::print("  mesh: d = {}, {} nodes, {} cells, h in [{:.3g}, {:.3g}]; {} free displacement dofs, {} contact "
                "nodes\n",
                part.dofs.dim(), part.n_global_nodes, part.n_global_cells, h_min, h_max, part.n_global_dofs,
@@ -190,6 +193,9 @@ std::unique_ptr<Run> set_up_on_one_process(Case c, const RunOptions& o) {
     log(stage, seconds);
     if (seconds >= 0) stop_if_interrupted();
   };
+  // --spread-pairs acts on the PETSc engine's ranks: said, not silently passed over.
+  if (c.solvers.spread_pairs && !o.quiet)
+    fmt::print("  --spread-pairs: one process, nothing to spread (every contact pair row is this process's)\n");
   // A case validated as it was read comes with its contact rows (Case::contact_rows): its part is
   // cut with them, and not checked again.
   auto stepper = c.contact_rows ? std::make_unique<TimeStepper>(c.problem, whole_mesh_part(c.problem, c.contact_rows),

@@ -2,7 +2,11 @@
 
 #include "core/error.hpp"
 
+#include <fmt/format.h>
+
+#include <algorithm>
 #include <atomic>
+#include <string>
 
 namespace vpc {
 
@@ -34,12 +38,11 @@ ContactMatrix contact_matrix(const MeshPart& part, ContactColumns columns) {
       if (node.direction[i] != 0) entries.emplace_back(row, k, node.direction[i]);
     }
     // A pair's row: −w_k ν on each master node's free dofs (scheme/contact_pairs.hpp), which the
-    // row's rank owns (cut_part).
+    // row's rank owns or, where the pairs are spread, may hold as ghosts (cut_part).
     for (const auto& [master, w] : node.masters)
       for (int i = 0; i < d && columns != ContactColumns::compact; ++i) {
         const int k = dofs.free_index(dofs.full_index(master, i));
         if (k < 0) continue;
-        require(k < part.n_owned_dofs, "contact row {}: master dof {} is not owned with the row (a bug)", node.row, k);
         if (const int j = dofs.free_index(dofs.full_index(node.local_node, i)); j >= 0) mean.emplace_back(j, k, w);
         if (node.direction[i] != 0) entries.emplace_back(row, k, -w * node.direction[i]);
       }
@@ -56,7 +59,6 @@ ContactMatrix contact_matrix(const MeshPart& part, ContactColumns columns) {
 }
 
 ContactMatrix owned_rows(const ContactMatrix& local, const MeshPart& part) {
-  const int n = part.n_owned_dofs;
   std::vector<int> owned_row(part.contact.size(), -1);  // per row of `local`: its owned row, or −1
   ContactMatrix out;
   for (std::size_t k = 0; k < part.contact.size(); ++k)
@@ -64,19 +66,96 @@ ContactMatrix owned_rows(const ContactMatrix& local, const MeshPart& part) {
       owned_row[k] = static_cast<int>(out.node_dofs.size());
       out.node_dofs.push_back(local.node_dofs[k]);
     }
-  // An owned row's entries lie in owned columns (its node's and its masters' dofs: cut_part).
+  // An owned row's entries lie in owned columns (its node's, and its masters' where they are owned
+  // with it: cut_part) or, where the pairs are spread, in its ghost masters' columns.
   std::vector<Eigen::Triplet<double>> entries;
   for (int k = 0; k < local.N.outerSize(); ++k)
     for (SparseMatrix::InnerIterator it(local.N, k); it; ++it)
       if (const int row = owned_row[static_cast<std::size_t>(it.row())]; row >= 0) {
-        require(k < n, "contact row {}: dof {} is not owned with the row (a bug)",
+        require(k < part.n_owned_dofs || part.pairs_spread, "contact row {}: dof {} is not owned with the row (a bug)",
                 part.contact[static_cast<std::size_t>(it.row())].row, k);
         entries.emplace_back(row, k, it.value());
       }
-  out.N.resize(static_cast<Eigen::Index>(out.node_dofs.size()), n);
+  out.N.resize(static_cast<Eigen::Index>(out.node_dofs.size()), local.N.cols());
   out.N.setFromTriplets(entries.begin(), entries.end());
-  // The masters' mean has entries in owned rows alone (a ghost row has no masters).
-  if (local.master_mean.size() > 0) out.master_mean = local.master_mean.topLeftCorner(n, n);
+  return out;  // (the masters' mean: local's, whose rows are the owned rows' alone: a ghost row has no masters)
+}
+
+SparseMatrix owned_columns(const SparseMatrix& A, const MeshPart& part) {
+  return A.cols() == 0 ? A : SparseMatrix(A.leftCols(part.n_owned_dofs));  // (0 rows: still the owned columns)
+}
+
+namespace {
+
+/// The rank owning each global free dof: the first owned dof of every rank (collective).
+struct DofOwners {
+  std::vector<long long> begin;
+  explicit DofOwners(const MeshPart& part) : begin(part.comm.all_gather(part.dof_layout->begin())) {}
+  int of(long long dof) const {
+    return static_cast<int>(std::upper_bound(begin.begin(), begin.end(), dof) - begin.begin()) - 1;
+  }
+};
+
+/// Adds A's entries in ghost columns (this rank's rows `rows`, `per_row` rows of A each; the slot of
+/// A's row r is `slot0` + r mod per_row: 0 for N, j + 1 for T's tangent j) to the message of each
+/// column's owner: (row, slot, global dof) and the value.
+void send_ghost_entries(const SparseMatrix& A, int per_row, int slot0, const std::vector<int>& rows,
+                        const MeshPart& part, const DofOwners& owners, std::vector<std::vector<long long>>& ints,
+                        std::vector<std::vector<double>>& values) {
+  for (int k = part.n_owned_dofs; k < A.outerSize(); ++k)
+    for (SparseMatrix::InnerIterator it(A, k); it; ++it) {
+      const long long dof = part.global_dof[static_cast<std::size_t>(k)];
+      const auto to = static_cast<std::size_t>(owners.of(dof));
+      const auto r = static_cast<int>(it.row());
+      ints[to].insert(ints[to].end(), {rows[static_cast<std::size_t>(r / per_row)], slot0 + r % per_row, dof});
+      values[to].push_back(it.value());
+    }
+}
+
+}  // namespace
+
+RemoteRows remote_pieces(const MeshPart& part, const std::vector<int>& rows, const SparseMatrix& N,
+                         const SparseMatrix& T, int tangents) {
+  if (!part.pairs_spread) return {};
+  const DofOwners owners(part);
+  const auto n_ranks = static_cast<std::size_t>(part.comm.size());
+  std::vector<std::vector<long long>> ints(n_ranks);
+  std::vector<std::vector<double>> values(n_ranks);
+  send_ghost_entries(N, 1, 0, rows, part, owners, ints, values);
+  if (tangents > 0 && T.size() > 0) send_ghost_entries(T, tangents, 1, rows, part, owners, ints, values);
+  const std::vector<std::vector<long long>> got_ints = part.comm.exchange(ints);
+  const std::vector<std::vector<double>> got = part.comm.exchange(values);
+  // The pieces' rows, increasing; each entry at its row's place and its owned column.
+  RemoteRows out;
+  for (const std::vector<long long>& in : got_ints)
+    for (std::size_t e = 0; e < in.size(); e += 3) out.rows.push_back(static_cast<int>(in[e]));
+  std::ranges::sort(out.rows);
+  out.rows.erase(std::unique(out.rows.begin(), out.rows.end()), out.rows.end());
+  const long long first = part.dof_layout->begin();
+  std::vector<Eigen::Triplet<double>> n_entries, t_entries;
+  std::string bad;  // a piece at a dof not owned here: a bug, every rank's error (no rank left waiting)
+  for (std::size_t from = 0; from < n_ranks; ++from)
+    for (std::size_t e = 0; e < got[from].size(); ++e) {
+      const long long* x = got_ints[from].data() + 3 * e;
+      const auto piece = static_cast<int>(std::ranges::lower_bound(out.rows, static_cast<int>(x[0])) - out.rows.begin());
+      const auto col = static_cast<int>(x[2] - first);
+      if (col < 0 || col >= part.n_owned_dofs) {
+        if (bad.empty()) bad = fmt::format("internal: a remote piece of contact row {} at dof {}, not owned here", x[0], x[2]);
+        continue;
+      }
+      if (x[1] == 0)
+        n_entries.emplace_back(piece, col, got[from][e]);
+      else
+        t_entries.emplace_back(piece * tangents + static_cast<int>(x[1]) - 1, col, got[from][e]);
+    }
+  part.comm.throw_if_any(!bad.empty(), bad);
+  const auto n_pieces = static_cast<Eigen::Index>(out.rows.size());
+  out.N.resize(n_pieces, part.n_owned_dofs);
+  out.N.setFromTriplets(n_entries.begin(), n_entries.end());
+  if (tangents > 0) {
+    out.T.resize(n_pieces * tangents, part.n_owned_dofs);
+    out.T.setFromTriplets(t_entries.begin(), t_entries.end());
+  }
   return out;
 }
 

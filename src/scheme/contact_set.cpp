@@ -34,17 +34,18 @@ ContactSet::ContactSet(const Problem& p, const MeshPart& part) : miss_gap(miss_g
 void ContactSet::set_rows(const Problem& p, const MeshPart& part) {
   local = contact_matrix(part, ContactColumns::local);
   ContactMatrix owned = owned_rows(local, part);
-  N = std::move(owned.N);
+  N_local = std::move(owned.N);
+  N = owned_columns(N_local, part);
   dofs = std::move(owned.node_dofs);
-  if (p.contact.frictional()) set_friction_frame(p, part, std::move(owned.master_mean));  // SPEC §7
+  if (p.contact.frictional()) set_friction_frame(p, part);  // SPEC §7
 }
 
-void ContactSet::set_friction_frame(const Problem& p, const MeshPart& part, SparseMatrix owned_mean) {
+void ContactSet::set_friction_frame(const Problem& p, const MeshPart& part) {
   const Mesh& mesh = part.mesh();
   const int d = mesh.dim();
   FrictionFrame& f = friction;
-  ContactConstraints c;
-  c.N = N;
+  ContactConstraints c;  // over the local free dofs: T's rows whole, relative to every master's mean
+  c.N = N_local;
   c.block = p.contact.block_size(d);
   c.rows = part.owned_contact_rows();
   f.laws = p.contact.frictions();
@@ -68,11 +69,13 @@ void ContactSet::set_friction_frame(const Problem& p, const MeshPart& part, Spar
   }
   c.mu = Eigen::Map<Vector>(mus.data(), static_cast<Eigen::Index>(mus.size()));
   f.limit = Eigen::Map<Vector>(limits.data(), static_cast<Eigen::Index>(limits.size()));
-  f.master_mean = std::move(owned_mean);
   f.local_master_mean = std::move(local.master_mean);
-  c.master_mean = f.master_mean;
+  const int n = part.n_owned_dofs;
+  f.master_mean = f.local_master_mean.size() > 0 ? SparseMatrix(f.local_master_mean.topLeftCorner(n, n)) : SparseMatrix();
+  c.master_mean = f.local_master_mean;
   set_tangents(c, dofs);
-  f.T = std::move(c.T);
+  f.T_local = std::move(c.T);
+  f.T = owned_columns(f.T_local, part);
   f.tangent_dof = std::move(c.tangent_dof);
   f.mu = std::move(c.mu);
 }
@@ -101,6 +104,10 @@ ContactConstraints ContactSet::constraints(const Problem& p, const MeshPart& par
   c.limit = friction.limit;
   c.tresca = Vector::Zero(friction.mu.size());
   c.shift = Vector::Zero(friction.T.rows());
+  // Spread pairs: the other ranks' rows' entries at this rank's dofs; the products then sum over the
+  // ranks (the same answer on every rank: the part's).
+  c.remote = remote_pieces(part, c.rows, N_local, friction.T_local, c.block - 1);
+  c.remote.spread = part.pairs_spread;
   return c;
 }
 

@@ -21,18 +21,26 @@ struct ContactSet {
   /// (ContactConstraints::node_dofs): local's owned rows.
   SparseMatrix N;
   std::vector<std::vector<int>> dofs;
+  /// The same rows whole, over the local free dofs: where the pairs are spread
+  /// (PartPieces::pairs_spread) a row's entries at its ghost masters too, which N leaves to their
+  /// owners (remote_pieces). g − N_local u with u's ghosts current is each row's gap left, exact
+  /// and without communication (contact_gap.hpp); else N_local has N's entries alone.
+  SparseMatrix N_local;
   /// Friction's frame on the owned rows (SPEC §7), built where some entry has friction; every
   /// field empty without.
   struct FrictionFrame {
     /// T, tangent_dof, Coulomb's μ_i and shear limit τ_max |Γ3|_i (+∞: none) (ContactConstraints; set_tangents)
     SparseMatrix T;
     std::vector<int> tangent_dof;
+    /// T's rows whole over the local free dofs, as N_local (the slip shift from u with its ghosts).
+    SparseMatrix T_local;
     Vector mu, limit;
     std::vector<const FrictionLaw*> row_friction;  // per owned row (nullptr: a frictionless entry's)
     std::vector<std::shared_ptr<const FrictionLaw>> laws;  // ContactSpec::frictions()
     /// The pairs' masters' mean over the owned dofs and the local ones (ContactMatrix::master_mean,
     /// taken from the owned rows and from `local`: friction alone reads it): friction's slip on a
-    /// pair is the slave's relative to it.
+    /// pair is the slave's relative to it. The owned one leaves out ghost masters: the primal reads
+    /// it, which refuses spread pairs.
     SparseMatrix master_mean, local_master_mean;
   } friction;
   /// The gap where no obstacle (nor a sliding pair's master) lies ahead: the diagonal of the
@@ -45,13 +53,14 @@ struct ContactSet {
   /// The rows and frame again from part.contact (its nodes moved: scheme/pair_slider.hpp).
   void set_rows(const Problem& p, const MeshPart& part);
   /// The solvers' constraints: N, the gap g(0) `gap`, each row's law and datum and, with friction,
-  /// its frame (the bounds and shift zero until the first step's).
+  /// its frame (the bounds and shift zero until the first step's); where the pairs are spread, the
+  /// other ranks' pieces of their rows here (remote_pieces) and RemoteRows::spread, set here alone.
+  /// Collective.
   ContactConstraints constraints(const Problem& p, const MeshPart& part, Vector gap) const;
 
  private:
-  /// The frame from N, the rows' dofs and the owned rows' masters' mean `owned_mean` (taken), with
-  /// local's (taken too).
-  void set_friction_frame(const Problem& p, const MeshPart& part, SparseMatrix owned_mean);
+  /// The frame from N_local, the rows' dofs and local's masters' mean (taken).
+  void set_friction_frame(const Problem& p, const MeshPart& part);
 };
 
 }  // namespace vpc

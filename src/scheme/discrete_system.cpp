@@ -117,7 +117,9 @@ std::vector<char> constant_damage_nodes(const Problem& p, const MeshPart& part, 
   for (int c = 0; c < mesh.n_cells(); ++c)
     if (!materials[part.cell_material[c]].source->vanishes()) constant[part.cell_body[c]] = 0;
   std::vector<double> lo(n_bodies, INFINITY), hi(n_bodies, -INFINITY);
-  for (int i = 0; i < mesh.n_nodes(); ++i) {
+  // Over the owned nodes (every node once over the ranks, each with a cell of its rank's: its body);
+  // a ghost with no cell here (a spread pair row's master) would be taken for body 0's.
+  for (int i = 0; i < part.n_owned_nodes; ++i) {
     lo[node_body[i]] = std::min(lo[node_body[i]], beta0[i]);
     hi[node_body[i]] = std::max(hi[node_body[i]], beta0[i]);
   }

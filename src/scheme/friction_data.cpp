@@ -57,7 +57,9 @@ Vector slip_shift(const DiscreteSystem& sys, const State& s, double t, const Vec
   const MeshPart& part = sys.part;
   const int d = part.mesh().dim();
   const ContactSpec& spec = sys.problem->contact;
-  Vector at = restrict_to_free(part.dofs, s.u).head(part.n_owned_dofs);
+  // u_{n−1} over the local free dofs, ghosts included: T_local's rows whole (a spread pair row's
+  // ghost masters' terms too), exact without communication.
+  Vector at = restrict_to_free(part.dofs, s.u);
   if (!spec.obstacles.empty())
     for (const PartContactNode& node : part.contact) {
       if (!node.owned) continue;
@@ -70,7 +72,7 @@ Vector slip_shift(const DiscreteSystem& sys, const State& s, double t, const Vec
         if (const int j = part.dofs.free_index(part.dofs.full_index(node.local_node, i)); j >= 0)
           at[j] += now[i] - before[i];
     }
-  Vector h = sys.contact.friction.T * at;
+  Vector h = sys.contact.friction.T_local * at;
   if (u_D.size() > 0) add_master_slip(sys, s.u, u_D, h);  // a pair's moving masters
   return h;
 }

@@ -25,7 +25,8 @@ struct Problem;
 
 /// A contact node (a row of N) that the part touches (made by part_contact_node): the row's
 /// block, its masters numbered as the part's nodes (on an owned row, whose rank owns its master
-/// nodes too: cut_part; else empty).
+/// nodes too or, where the pairs are spread (PartPieces::pairs_spread), holds them as ghosts:
+/// cut_part; else empty).
 struct PartContactNode : ContactNode {
   int row = 0;         // the row of N, in the numbering of the whole mesh (increasing node order)
   int local_node = 0;  // in the part's mesh
@@ -75,6 +76,10 @@ struct PartPieces {
   std::vector<PartContactNode> contact;  // owned and ghost contact nodes, by row
   std::vector<SlidingPairPiece> sliding;  // the large-sliding pairs' surfaces (none without owned slave nodes)
   int n_contact = 0;                     // m: rows of N over all processes
+  /// The pairs' rows spread over the ranks (--spread-pairs, distribute_mesh): an owned
+  /// row's master nodes may be ghosts, its entries there other ranks' remote pieces (the same on every
+  /// rank; false on one process, where nothing is spread).
+  bool pairs_spread = false;
   long long n_global_nodes = 0, n_global_dofs = 0, n_global_cells = 0;
 };
 

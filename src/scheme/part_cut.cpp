@@ -160,17 +160,19 @@ PartPieces cut_part(const Problem& p, const WholeMeshData& whole, const WholeNum
       part.contact.push_back(part_contact_node(k, whole.rows[k], static_cast<int>(a), a < static_cast<std::size_t>(n_owned)));
   }
   // An owned pair row's master nodes in the part's numbering: they are owned with the row
-  // (own_pairs_together in parallel/distributed_mesh.cpp; on one process every node is). A ghost
-  // row, another rank's, needs none: its master nodes may lie outside the part.
-  std::unordered_map<int, int> local;  // owned node (whole mesh) -> the part's, at the first master met
+  // (own_pairs_together in parallel/distributed_mesh.cpp; on one process every node is), or ghosts
+  // of the part where its pairs are spread (pack_parts). A ghost row, another rank's, needs none: its
+  // master nodes may lie outside the part.
+  std::unordered_map<int, int> local;  // node (whole mesh) -> the part's, at the first master met
   for (PartContactNode& c : part.contact)
     for (const auto& [k, w] : whole.rows[static_cast<std::size_t>(c.row)].masters) {
       if (!c.owned) break;
       if (local.empty())
-        for (int a = 0; a < n_owned; ++a) local.emplace(nodes[static_cast<std::size_t>(a)], a);
+        for (std::size_t a = 0; a < nodes.size(); ++a) local.emplace(nodes[a], static_cast<int>(a));
       const auto it = local.find(k);
-      require(it != local.end(), "contact pair row {}: master node {} is not owned with its slave node {} (a bug: "
-              "parts must own a pair row's nodes together)", c.row, k, nodes[static_cast<std::size_t>(c.local_node)]);
+      require(it != local.end(), "contact pair row {}: master node {} is not among the nodes of its slave node {}'s "
+              "part (a bug: a part holds an owned row's masters, owned or ghosts)", c.row, k,
+              nodes[static_cast<std::size_t>(c.local_node)]);
       c.masters.emplace_back(it->second, w);
     }
   if (!whole.sliding.empty()) {

@@ -41,9 +41,8 @@ StepTaken SchemeStep::take(const DiscreteSystem& sys, SchemeSolvers& solvers, co
     out.data.gap_shift = surface_gap_shift(sys, s);  // the laws' per-node state at t_{n−1} moves g
     if (out.data.gap_shift.size() > 0) out.data.gap += out.data.gap_shift;
     rep.contact = solve_contact(sys, *solvers.contact, s, u_free, out.data);
-    update_surface_state(sys, out.data.gap, u_free, k, s);  // the laws' per-node state at t_n
-    record_gap_left(sys, out.data.gap_shift.size() > 0 ? Vector(out.data.gap - out.data.gap_shift) : out.data.gap,
-                    u_free, s);
+    update_surface_state(sys, out.data.gap, k, s);  // the laws' per-node state at t_n (s.u: u_n, ghosts current)
+    record_gap_left(sys, out.data.gap_shift.size() > 0 ? Vector(out.data.gap - out.data.gap_shift) : out.data.gap, s);
   });
   // Step 5, (3.6): ε_n, σ_n.
   timed(rep.seconds_stress, [&] { rep.max_von_mises = update_stress(sys, s); });

@@ -19,6 +19,11 @@ struct SolverChoice {
   ReducedSolve damage_reduced = ReducedSolve::automatic;
   /// A step whose residuals exceed this (relative) is reported as failed.
   double residual_tolerance = 1e-8;
+  /// PETSc engine: each contact pair's row goes with its slave node's owner and its
+  /// master nodes become ghosts there (distribute_mesh's spread_pairs; docs/parallel.md), the rows'
+  /// entries at those masters sent to their owners as remote pieces (the dual alone solves them).
+  /// Nothing to spread on one process.
+  bool spread_pairs = false;
   /// A failed step is retried as two steps of half the size, at most this many
   /// times nested (0: a failed step is reported as it is).
   int max_halvings = 0;

@@ -104,17 +104,17 @@ Vector surface_gap_shift(const DiscreteSystem& sys, const State& s) {
   return Eigen::Map<Vector>(shift.data(), static_cast<Eigen::Index>(shift.size()));
 }
 
-void record_gap_left(const DiscreteSystem& sys, const Vector& g, const Vector& u_free, State& s) {
+void record_gap_left(const DiscreteSystem& sys, const Vector& g, State& s) {
   if (!records_gap(sys)) return;
   const Vector shift = surface_gap_shift(sys, s);
-  record_gap(sys, shift.size() > 0 ? Vector(g + shift) : g, u_free, s);
+  record_gap(sys, shift.size() > 0 ? Vector(g + shift) : g, s);
 }
 
-void update_surface_state(const DiscreteSystem& sys, const Vector& gap, const Vector& u_free, double k, State& s) {
+void update_surface_state(const DiscreteSystem& sys, const Vector& gap, double k, State& s) {
   if (s.surface.empty()) return;
   const MeshPart& part = sys.part;
   const int b = s.contact_block, t = b - 1;
-  const Vector left = gap - sys.contact.N * u_free;  // g − N u per owned row
+  const Vector left = rows_gap_left(sys, gap, s);  // g − N u per owned row
   const auto table = laws_with_fields(sys.problem->contact, s);
   // This rank's rows updated in a copy that holds only them (zero elsewhere), then summed: one owner per row.
   std::vector<Vector> mine;

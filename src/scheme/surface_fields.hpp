@@ -23,12 +23,12 @@ Vector surface_gap_shift(const DiscreteSystem& sys, const State& s);
 
 /// State::gap (pairs only; nothing without) from `g`, g(t_n) at the owned rows: the gap left with the
 /// laws' state at t_n, g + shift − N u, as the step records it and a restore computes it again.
-void record_gap_left(const DiscreteSystem& sys, const Vector& g, const Vector& u_free, State& s);
+void record_gap_left(const DiscreteSystem& sys, const Vector& g, State& s);
 
-/// After step n is solved (u_free, λ and the slip increments in s; `gap`: the gap it solved with per
+/// After step n is solved (u, λ and the slip increments in s; `gap`: the gap it solved with per
 /// owned row, g(t_n) and the shift):
 /// each owned node's laws update their variables (SurfaceHistory::update_surface), and the values
 /// are replicated again. Collective; nothing where no law declares state.
-void update_surface_state(const DiscreteSystem& sys, const Vector& gap, const Vector& u_free, double k, State& s);
+void update_surface_state(const DiscreteSystem& sys, const Vector& gap, double k, State& s);
 
 }  // namespace vpc

@@ -52,7 +52,7 @@ TimeStepper::TimeStepper(std::shared_ptr<const Problem> problem_in, MeshPart par
   }
   state_.surface = initial_surface_state(p.contact, part.n_contact);
   u_free_ = Vector::Zero(part.n_owned_dofs);
-  if (records_gap(sys_)) record_gap_left(sys_, checked_contact_gap(sys_, state_.t), u_free_, state_);
+  if (records_gap(sys_)) record_gap_left(sys_, checked_contact_gap(sys_, state_.t), state_);
   const auto owned_beta = state_.beta.head(part.n_owned_nodes).array();
   control_state_.n_beta_zero = part.comm.sum(static_cast<double>((owned_beta <= 0).count()));
   control_state_.n_beta_one = part.comm.sum(static_cast<double>((owned_beta >= 1).count()));
@@ -149,7 +149,7 @@ void TimeStepper::restore(const Snapshot& s) {
   state_ = s.state;
   u_free_ = s.u_free;
   slider_->slide(sys_, state_.u, choice_, solvers_);  // the rows at x + u_{n−1} of the restored state
-  if (records_gap(sys_)) record_gap_left(sys_, checked_contact_gap(sys_, state_.t), u_free_, state_);
+  if (records_gap(sys_)) record_gap_left(sys_, checked_contact_gap(sys_, state_.t), state_);
   solvers_.contact->set_warm_state(s.contact_warm);
   solvers_.damage.current().set_warm_state(s.damage_warm);
   step_.forget_rates();  // recomputed from the restored state: the same values

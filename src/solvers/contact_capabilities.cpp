@@ -33,7 +33,7 @@ ContactNeeds contact_needs(const la::Comm& comm, const ContactConstraints& c) {
         break;
       }
   n.pair_sides_mixed = !comm.all(masters_apart_from_slaves(c.N, c.node_dofs, c.master_mean));
-  n.spread_pairs = spread_rows(comm, c);
+  n.spread_pairs = c.remote.spread || spread_rows(comm, c);
   return n;
 }
 
@@ -52,8 +52,8 @@ std::string cannot_solve(const std::string& solver, const ContactNeeds& needs) {
       return "contact solver 'primal-active-set': a node is on the slave side of one contact pair row and the master "
              "side of another; --contact-solver active-set solves it";
     if (needs.spread_pairs)
-      return "contact solver 'primal-active-set': the rows of a large-sliding contact pair are spread over the ranks "
-             "(slave and master nodes owned apart); --contact-solver active-set solves it";
+      return "contact solver 'primal-active-set': the rows of contact pairs are spread over the ranks (--spread-pairs: "
+             "slave and master nodes owned apart); --contact-solver active-set solves them";
   }
   if (solver == "penalty-duality") {
     if (needs.friction)
@@ -67,8 +67,8 @@ std::string cannot_solve(const std::string& solver, const ContactNeeds& needs) {
                          "\"{}\" (a force down to a tension) needs 'active-set' or 'primal-active-set'",
                          needs.tension);
     if (needs.spread_pairs)
-      return "contact solver 'penalty-duality': the rows of a large-sliding contact pair are spread over the ranks "
-             "(slave and master nodes owned apart); --contact-solver active-set solves it";
+      return "contact solver 'penalty-duality': the rows of contact pairs are spread over the ranks (--spread-pairs: "
+             "slave and master nodes owned apart); --contact-solver active-set solves them";
   }
   return {};
 }

@@ -72,8 +72,10 @@ struct RemoteRows {
   std::vector<int> rows;
   SparseMatrix N;  // pieces × owned free dofs
   SparseMatrix T;  // pieces × (b − 1) rows × owned free dofs (friction), else 0 × 0
-  /// Some rank holds pieces, the same on every rank (spread_rows, set by the dual where it is
-  /// made): the products with pieces then sum over the ranks; without, they read own rows alone.
+  /// The rows are spread: some rank may hold pieces (spread_rows), the same on every rank, set once
+  /// where the constraints are made (scheme/contact_set.cpp; checked by the dual). The products with
+  /// pieces then sum over the ranks; without, they read own rows alone. The primal and
+  /// penalty–duality refuse spread rows (contact_needs), pieces or not.
   bool spread = false;
 };
 

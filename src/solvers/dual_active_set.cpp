@@ -96,7 +96,10 @@ class ActiveSetContactSolver final : public ContactSolver {
   ActiveSetContactSolver(std::shared_ptr<const la::SpdOperator> K, std::shared_ptr<const la::LinearSolver> factor,
                          ContactConstraints c, double max_cached_share)
       : K_(std::move(K)), c_(std::move(c)), factor_(std::move(factor)) {
-    c_.remote.spread = spread_rows(comm(), c_);  // the products with pieces sum over the ranks
+    // Where some rank holds pieces, every rank must sum the products with them (RemoteRows::spread,
+    // set where the constraints are made): one rank alone would wait in its sum for the others.
+    require(comm().all(c_.remote.spread) == comm().any(c_.remote.spread || !c_.remote.rows.empty()),
+            "internal: remote pieces of contact rows on some rank, not marked spread on every rank");
     B_ = block_rows(c_, B_rows_);
     Eigen::MatrixXd S = factor_->has_halves() ? dual_matrix_from_halves(max_cached_share)
                                               : dual_matrix_from_schur_or_solves(max_cached_share);

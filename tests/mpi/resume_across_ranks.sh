@@ -10,7 +10,8 @@
 #      interrupted, resumed with mpirun -np 3, mpirun -np 1 and the serial engine
 #   F: E's files with one piece of step 20 missing: the resume passes step 20 over,
 #      says why, and continues from step 10
-#   H, I: contact pairs, and a Gmsh mesh refined on every rank, across rank counts
+#   H, I: contact pairs (owned together, and spread: --spread-pairs), and a Gmsh mesh refined on
+#      every rank, across rank counts
 #   G: mpirun -np 1 (the PETSc engine on one process) writes the one-file format,
 #      byte for byte the serial engine's layout; interrupted, resumed with mpirun -np 1:
 #      the history and the last fields bit-identical to an uninterrupted run
@@ -137,6 +138,9 @@ PAIRS=("$(dirname "$0")/cases/pairs-2d.toml" -q)
 run 2 run "${PAIRS[@]}" -o "$WORK/H"
 resumed "$WORK/H" "$WORK/H3" 3 2 "contact pairs: 3 ranks -> 2 ranks" "${PAIRS[@]}"
 resumed "$WORK/H" "$WORK/Hs" serial 3 "contact pairs: serial engine -> 3 ranks" "${PAIRS[@]}"
+# ... and spread over the ranks (--spread-pairs: a row's ghost masters' u from the checkpoint's
+# values at its ghosts), 3 ranks -> 2 ranks.
+resumed "$WORK/H" "$WORK/Hspread" 3 2 "spread contact pairs: 3 ranks -> 2 ranks" "${PAIRS[@]}" --spread-pairs
 
 # I: a Gmsh mesh refined on every rank (`[mesh] refine`, issue 30): each rank's block numbered from the
 # coarse mesh, so 3 ranks -> 2 ranks and 2 ranks -> the serial engine (which refines it whole) continue.

@@ -116,6 +116,7 @@ ContactConstraints constraints(const SplitChain& s, bool whole, int block) {
   };
   c.N = matrix(n_own, c.rows.size());
   c.remote.N = matrix(n_rem, c.remote.rows.size());
+  c.remote.spread = !whole;  // on every rank, as where the constraints are made (ContactSet::constraints)
   const auto rows = static_cast<Eigen::Index>(c.rows.size());
   c.gap = Eigen::Map<const Vector>(gap.data(), rows);
   if (block == 1) {
