@@ -88,14 +88,12 @@ int lowest_rank(const NodeCells& nc, const std::vector<int>& part, int n_parts, 
 /// and so its β0 and whether its β can change) would be missing otherwise. Pair nodes sharing a cell
 /// join one set, so no cell has two owners. The other nodes of a moved cell are owned as before
 /// (the lowest rank among their cells, now). `on_rank_0`: nodes that join one set owned by rank 0
-/// (a large-sliding pair's parts, whose rows rank 0 builds again at every step). `spread`: per pair,
-/// whether its rows are left out (--spread-pairs: a row goes with its slave node's owner, which holds
-/// its masters as ghosts, pack_parts; its nodes are owned as any other).
+/// (a large-sliding pair's parts, whose rows rank 0 builds again at every step). Not called with
+/// --spread-pairs, where a row goes with its slave node's owner, which holds its masters as ghosts
+/// (pack_parts), and the pairs' nodes are owned as any other.
 void own_pairs_together(const std::vector<ContactRow>& rows, const Mesh& mesh, const NodeCells& nc, int n_parts,
-                        const std::vector<int>& on_rank_0, const std::vector<bool>& spread, std::vector<int>& part,
-                        std::vector<int>& owner) {
-  const auto together = [&](const ContactRow& r) { return r.pair >= 0 && !spread[static_cast<std::size_t>(r.pair)]; };
-  if (std::ranges::none_of(rows, together)) return;
+                        const std::vector<int>& on_rank_0, std::vector<int>& part, std::vector<int>& owner) {
+  if (std::ranges::none_of(rows, [](const ContactRow& r) { return r.pair >= 0; })) return;
   std::vector<int> root(owner.size(), -1);  // union–find over the pair rows' nodes
   auto find = [&](int i) {
     while (root[i] != i) i = root[i] = root[root[i]];
@@ -108,7 +106,7 @@ void own_pairs_together(const std::vector<ContactRow>& rows, const Mesh& mesh, c
     if (a != b) root[std::max(a, b)] = std::min(a, b);
   };
   for (const ContactRow& r : rows)
-    if (together(r)) {
+    if (r.pair >= 0) {
       join(r.node, r.node);  // a slave node with no master (off the master side) too
       for (const auto& [k, w] : r.masters) join(r.node, k);
     }
@@ -205,20 +203,16 @@ std::vector<SlidingPairPiece> unpack_sliding(const long long*& in) {
 
 constexpr int kHeader = 13;
 
-/// The master nodes of rank r's spread pair rows (`spread`: per pair; the rows of its `owned` slave
-/// nodes) that another rank owns, into r's `ghosts`: ghosts with no cell of r's, which give r's rows
-/// their masters' u (u's ghost update) and their columns, whose entries go to the masters' owners as
-/// remote pieces (remote_pieces, scheme/contact_matrix.hpp).
-void add_master_ghosts(const WholeMeshData& whole, const std::vector<bool>& spread, const std::vector<int>& owned,
-                       const std::vector<int>& owner, int r, std::vector<int>& ghosts) {
-  if (std::ranges::none_of(spread, [](bool s) { return s; })) return;
+/// The master nodes of rank r's spread pair rows (the rows of its `owned` slave nodes; a row of Γ3
+/// has none) that another rank owns, into r's `ghosts`: ghosts with no cell of r's, which give r's
+/// rows their masters' u (u's ghost update) and their columns, whose entries go to the masters'
+/// owners as remote pieces (remote_pieces, scheme/contact_matrix.hpp).
+void add_master_ghosts(const WholeMeshData& whole, const std::vector<int>& owned, const std::vector<int>& owner, int r,
+                       std::vector<int>& ghosts) {
   for (const int v : owned)
-    if (const int k = whole.row_of[static_cast<std::size_t>(v)]; k >= 0) {
-      const ContactRow& row = whole.rows[static_cast<std::size_t>(k)];
-      if (row.pair < 0 || !spread[static_cast<std::size_t>(row.pair)]) continue;
-      for (const auto& [m, w] : row.masters)
+    if (const int k = whole.row_of[static_cast<std::size_t>(v)]; k >= 0)
+      for (const auto& [m, w] : whole.rows[static_cast<std::size_t>(k)].masters)
         if (owner[static_cast<std::size_t>(m)] != r) ghosts.push_back(m);
-    }
 }
 
 /// Rank 0: the part of every rank, cut from the whole problem (cut_part, with its contact `rows`) and packed
@@ -241,13 +235,13 @@ std::vector<Message> pack_parts(const Problem& p, int n_parts, const std::vector
   // their rows. Spread (--spread-pairs), each slave node's owner moves its row, from the slave facets
   // near its nodes and the whole master side, which it holds as ghosts where it does not own them
   // (sliding_band, cut_part's MeshPart::sliding).
-  std::vector<int> sliding;
-  const std::vector<bool> spread(p.contact.pairs.size(), spread_pairs);  // per pair: its rows spread
-  if (!spread_pairs)
+  if (!spread_pairs) {
+    std::vector<int> sliding;
     for (const std::size_t q : p.contact.sliding_pairs(true))
       for (const std::string& side : {p.contact.pairs[q].slave, p.contact.pairs[q].master})
         for (const int v : mesh.nodes_of_parts({side})) sliding.push_back(v);
-  own_pairs_together(whole.rows, mesh, nc, n_parts, sliding, spread, part, owner);
+    own_pairs_together(whole.rows, mesh, nc, n_parts, sliding, part, owner);
+  }
   std::vector<std::vector<int>> owned(n_parts);
   for (int i = 0; i < n_nodes; ++i) owned[owner[i]].push_back(i);
   // Global numbers: the nodes of rank 0, then of rank 1, ...; each in its original order.
@@ -270,10 +264,11 @@ std::vector<Message> pack_parts(const Problem& p, int n_parts, const std::vector
         const int v = mesh.cell(c)[a];
         if (owner[v] != r) ghosts.push_back(v);
       }
-    add_master_ghosts(whole, spread, owned[r], owner, r, ghosts);
-    if (spread_pairs)
+    if (spread_pairs) {  // its rows' masters and its pieces of the sliding surfaces, as ghosts where not owned
+      add_master_ghosts(whole, owned[r], owner, r, ghosts);
       for (const int v : sliding_band(mesh, whole, [&](int v) { return owner[static_cast<std::size_t>(v)] == r; }))
         if (owner[static_cast<std::size_t>(v)] != r) ghosts.push_back(v);
+    }
     std::sort(ghosts.begin(), ghosts.end(), [&](int a, int b) { return numbering.node[a] < numbering.node[b]; });
     ghosts.erase(std::unique(ghosts.begin(), ghosts.end()), ghosts.end());
     nodes.insert(nodes.end(), ghosts.begin(), ghosts.end());
@@ -293,7 +288,7 @@ std::vector<Message> pack_parts(const Problem& p, int n_parts, const std::vector
               piece.n_global_cells,
               static_cast<long long>(piece.dirichlet_components.size()),
               static_cast<long long>(whole.pressure_facets.size()),
-              std::ranges::any_of(spread, [](bool s) { return s; }) ? 1 : 0};
+              spread_pairs && !p.contact.pairs.empty() ? 1 : 0};
     m.ints.insert(m.ints.end(), piece.dirichlet_components.begin(), piece.dirichlet_components.end());
     m.ints.reserve(m.ints.size() + (4 + d) * nodes.size() + (npc + 3) * cells_of[r].size() +
                    (d + 1) * facets_of[r].size() + 7 * piece.contact.size());

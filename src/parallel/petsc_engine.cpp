@@ -6,6 +6,7 @@
 #include "parallel/distributed_mesh.hpp"
 #include "run/progress.hpp"
 #include "run/solver_plan.hpp"
+#include "solvers/contact_capabilities.hpp"
 
 #include <fmt/format.h>
 
@@ -66,6 +67,11 @@ namespace {
 std::unique_ptr<TimeStepper> distributed_stepper(MPI_Comm mpi_comm, std::shared_ptr<const Problem> problem,
                                                  const SolverChoice& choice, PetscSolverOptions linear,
                                                  ContactRows rows = nullptr) {
+  // Spread rows (--spread-pairs) are the dual's alone: another solver asked is refused here, on every
+  // rank, as the contact set-up would refuse it, but before the mesh is cut and K factorized.
+  ContactNeeds spread;
+  spread.spread_pairs = choice.spread_pairs && !problem->contact.pairs.empty();
+  refuse_unsolvable(choice.contact, spread);
   MeshPart part = problem->block ? make_mesh_part(block_part_pieces(mpi_comm, *problem, std::move(rows)))
                                  : distribute_mesh(mpi_comm, *problem, {}, std::move(rows), choice.spread_pairs);
   // Iterative solves stop 100x under the relative residual a step accepts (solver.tolerance,
