@@ -226,6 +226,17 @@ SolverPlan plan_solver(const Problem& p, const ProblemSize& s, const SolverChoic
   if (r.engine == "petsc") {  // the PETSc engine: MUMPS (default or asked), or a Krylov solver as asked
     const std::string asked = r.linear_solver.empty() ? "mumps" : r.linear_solver;
     const std::string on = fmt::format("on {} MPI rank{}", r.ranks, r.ranks > 1 ? "s" : "");
+    // Spread pair rows (--spread-pairs) are the dual's alone, beyond auto's bound on its unknowns too:
+    // its dense S, m x m on every rank whatever the linear solver, is refused here where it cannot fit.
+    if (solvers.spread_pairs && !p.contact.pairs.empty() && s.contact_unknowns > kDualContactRows) {
+      MemoryEstimate S;
+      S.add(fmt::format("the dual contact solver's S ({0:.0f} x {0:.0f}) on {1} rank{2}", s.contact_unknowns,
+                        r.ranks_on_machine, r.ranks_on_machine > 1 ? "s" : ""),
+            8.0 * s.contact_unknowns * s.contact_unknowns * r.ranks_on_machine);
+      if (S.total() > limit.bytes)
+        refuse(p, S, limit, "--spread-pairs (the dual contact solver alone solves spread rows)",
+               "without --spread-pairs auto takes the primal solver, which needs no S");
+    }
     if (asked != "mumps") return iterative_plan(asked, fmt::format("linear solver {} {} (as asked)", asked, on), asked);
     // --engine auto under mpirun: the route one process would take where several ranks cannot gain.
     if (r.auto_route && r.ranks > 1 && cost.direct < kDistributeAbove && direct.total() <= limit.bytes)

@@ -245,6 +245,20 @@ TEST(SolverPlan, ContactPairsArePlannedAsOneBodyIs) {
   // The dual asked for counts its S = N K⁻¹Nᵀ on pairs as on one body.
   choice.contact = "active-set";
   EXPECT_GE(cholmod_memory(p, large, choice).total() - one_body[0], 8.0 * 20000 * 20000);
+  // --spread-pairs on the PETSc engine forces the dual beyond auto's bound: its S (20000² doubles
+  // on each of the machine's 2 ranks, 6.4 GB) is refused before set-up where it cannot fit; the
+  // same plan without the flag fits (auto takes the primal, which needs no S).
+  choice.contact = "auto";
+  choice.spread_pairs = true;
+  const MemoryLimit four_gb{4e9, "test"};
+  const SolverRequest petsc{.engine = "petsc", .ranks = 2, .ranks_on_machine = 2};
+  const std::string spread = error_of([&] { plan_solver(p, large, choice, petsc, four_gb); });
+  EXPECT_NE(spread.find("--spread-pairs (the dual contact solver alone solves spread rows)"), std::string::npos) << spread;
+  EXPECT_NE(spread.find("the dual contact solver's S (20000 x 20000) on 2 ranks"), std::string::npos) << spread;
+  choice.spread_pairs = false;
+  EXPECT_NO_THROW(plan_solver(p, large, choice, petsc, {1e15, "test"}));
+  choice.spread_pairs = true;
+  EXPECT_NO_THROW(plan_solver(p, large, choice, petsc, {1e15, "test"}));
 }
 
 }  // namespace
