@@ -4,7 +4,6 @@
 #include "la/comm.hpp"
 #include "scheme/contact_pairs.hpp"
 
-#include <algorithm>
 #include <map>
 #include <string>
 #include <vector>
