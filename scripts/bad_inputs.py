@@ -327,6 +327,10 @@ INPUTS = [
      reported("slave_moved_with_friction.toml"), ["slave_moved_with_friction.toml"]),
     ("sliding = \"small\" slid 2.5 master facets", reported("small_sliding_far.toml"),
      ["run", "small_sliding_far.toml", "--no-vtu", "-o", "out"], {"warning": True}),
+    # --- issue 49: a contact pair whose slave side is all prescribed would constrain nothing
+    ("a contact pair whose slave part is clamped",
+     {"c.toml": (pathlib.Path(__file__).resolve().parent.parent / "cases" / "contact-patch-2d.toml").read_text()
+      .replace("[boundary]\n", "[boundary]\nclamped = [\"upper.bottom\"]\n", 1)}, ["c.toml"]),
 ]
 
 
