@@ -163,24 +163,23 @@ PartPieces cut_part(const Problem& p, const WholeMeshData& whole, const WholeNum
   // (own_pairs_together in parallel/distributed_mesh.cpp; on one process every node is), or ghosts
   // of the part where its pairs are spread (pack_parts). A ghost row, another rank's, needs none: its
   // master nodes may lie outside the part.
-  std::unordered_map<int, int> local;  // node (whole mesh) -> the part's, at the first master met
+  std::unordered_map<int, int> local;  // node (whole mesh) -> the part's: made where a master or a piece needs it
+  const auto part_nodes = [&]() -> const std::unordered_map<int, int>& {
+    if (local.empty())
+      for (std::size_t a = 0; a < nodes.size(); ++a) local.emplace(nodes[a], static_cast<int>(a));
+    return local;
+  };
   for (PartContactNode& c : part.contact)
     for (const auto& [k, w] : whole.rows[static_cast<std::size_t>(c.row)].masters) {
       if (!c.owned) break;
-      if (local.empty())
-        for (std::size_t a = 0; a < nodes.size(); ++a) local.emplace(nodes[a], static_cast<int>(a));
-      const auto it = local.find(k);
+      const auto it = part_nodes().find(k);
       require(it != local.end(), "contact pair row {}: master node {} is not among the nodes of its slave node {}'s "
               "part (a bug: a part holds an owned row's masters, owned or ghosts)", c.row, k,
               nodes[static_cast<std::size_t>(c.local_node)]);
       c.masters.emplace_back(it->second, w);
     }
-  if (!whole.sliding.empty()) {
-    std::unordered_map<int, int> part_node;  // whole mesh -> the part's, every node
-    for (std::size_t a = 0; a < nodes.size(); ++a) part_node.emplace(nodes[a], static_cast<int>(a));
-    for (const WholeMeshData::SlidingPair& s : whole.sliding)
-      if (auto piece = sliding_piece(p.mesh, s, part_node, n_owned)) part.sliding.push_back(std::move(*piece));
-  }
+  for (const WholeMeshData::SlidingPair& s : whole.sliding)
+    if (auto piece = sliding_piece(p.mesh, s, part_nodes(), n_owned)) part.sliding.push_back(std::move(*piece));
   part.original_cell = cells;
   for (int c : cells) {
     part.cell_material.push_back(whole.cell_material[c]);
