@@ -340,20 +340,19 @@ void bind_simulation(py::module_& m) {
       .def_property_readonly("contact_nodes",
                              reads("contact_nodes",
                                    [](const S& s) {
-                                     const MeshPart& part = s.stepper().part();
-                                     std::vector<int> node(part.contact.size());
-                                     for (const PartContactNode& c : part.contact) node.at(c.row) = c.local_node;
+                                     const std::vector<PartContactNode>& nodes = s.stepper().contact().nodes;
+                                     std::vector<int> node(nodes.size());
+                                     for (const PartContactNode& c : nodes) node.at(c.row) = c.local_node;
                                      return copy(node);
                                    }),
                              "The node of each contact row (of N and contact_force), a copy.")
       .def_property_readonly("contact_directions",
                              reads("contact_directions",
                                    [](const S& s) {
-                                     const MeshPart& part = s.stepper().part();
-                                     py::array_t<double> a(
-                                         {static_cast<py::ssize_t>(part.contact.size()), py::ssize_t{3}});
+                                     const std::vector<PartContactNode>& nodes = s.stepper().contact().nodes;
+                                     py::array_t<double> a({static_cast<py::ssize_t>(nodes.size()), py::ssize_t{3}});
                                      auto w = a.mutable_unchecked<2>();
-                                     for (const PartContactNode& c : part.contact)
+                                     for (const PartContactNode& c : nodes)
                                        for (int i = 0; i < 3; ++i) w(c.row, i) = c.direction[i];
                                      return a;
                                    }),
@@ -395,7 +394,7 @@ void bind_simulation(py::module_& m) {
       }), doc.c_str());
     else
       cls.def_property_readonly(name.c_str(), reads(name, [&f](const S& s) {
-        const VtuField a = f.vtu_field({s.state(), s.stepper().part()});
+        const VtuField a = f.vtu_field({s.state(), s.stepper().part(), s.stepper().contact().nodes});
         py::array_t<double> out(shape(f, s.state(), s.stepper().mesh().dim(), a.values.size()));
         std::copy(a.values.begin(), a.values.end(), out.mutable_data());
         return out;

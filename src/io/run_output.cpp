@@ -338,7 +338,7 @@ void RunOutput::write_fields() {
   const Mesh& mesh = stepper_.mesh();
   const la::Comm& comm = stepper_.comm();
   std::vector<VtuField> point_data, cell_data;
-  make_vtu_fields({s, stepper_.part()}, options_.fields, point_data, cell_data);
+  make_vtu_fields({s, stepper_.part(), stepper_.contact().nodes}, options_.fields, point_data, cell_data);
   const Problem& problem = stepper_.problem();
   if (!problem.materials.empty() || !problem.bodies.empty()) {  // each cell's material (Problem::material_list order)
     const std::vector<int>& m = stepper_.part().cell_material;
@@ -397,7 +397,7 @@ void RunOutput::record_untimed(const StepReport& r) {
 void RunOutput::warn_small_sliding(const StepReport& r) {
   const Problem& p = stepper_.problem();
   if (warned_small_sliding_) return;
-  const std::vector<PairSlide> slides = small_slides(p, stepper_.part(), stepper_.state());
+  const std::vector<PairSlide> slides = small_slides(p, stepper_.part(), stepper_.contact().nodes, stepper_.state());
   for (const PairSlide& s : slides) {
     if (!(s.ratio > kSmallSlideLimit)) continue;
     const std::size_t q = s.pair;
@@ -650,7 +650,7 @@ RunSummary RunOutput::summary(double wall_seconds) const {
         break;
       }
   }
-  r.pair_slides = small_slides(stepper_.problem(), part, s);
+  r.pair_slides = small_slides(stepper_.problem(), part, stepper_.contact().nodes, s);
   for (const auto& [t, file] : pvd_) r.output_times.push_back(t);
   if (r.output_times.empty() || r.output_times.back() != s.t) r.output_times.push_back(s.t);
   if (stepper_.backend().engine() == "petsc") {  // on one rank too

@@ -51,12 +51,12 @@ double normal_force(const State& s, const PartContactNode& c) { return s.lambda[
 /// without pairs. Collective on the part's communicator.
 template <typename Of>
 std::vector<double> master_sums(const FieldContext& c, int width, Of of) {
-  const bool pairs = std::ranges::any_of(c.part.contact, [](const PartContactNode& n) { return n.pair >= 0; });
+  const bool pairs = std::ranges::any_of(c.contact, [](const PartContactNode& n) { return n.pair >= 0; });
   if (!c.part.comm.any(pairs)) return {};
   std::vector<double> out(static_cast<std::size_t>(width) * n_nodes(c), 0.0);
   for (int j = 0; j < width; ++j) {
     la::Vector r(c.part.node_layout);
-    for (const PartContactNode& n : c.part.contact)
+    for (const PartContactNode& n : c.contact)
       for (const auto& [k, w] : n.masters) r.local()[k] += w * of(n, j);
     if (c.part.pairs_spread) r.add_ghosts_to_owners();
     r.update_ghosts();
@@ -101,16 +101,16 @@ template <typename Per>
 VtuField tangent_vector_field(const FieldContext& c, std::string_view name, const Eigen::VectorXd& values, int stride,
                               int offset, double sign, Per per, OnMasters on_masters = OnMasters::none) {
   const int b = c.state.contact_block;
-  const std::vector<Point> t = contact_tangents(c.part, b);
-  std::vector<Point> v(c.part.contact.size());
+  const std::vector<Point> t = contact_tangents(c.part.dofs, c.contact, b);
+  std::vector<Point> v(c.contact.size());
   for (std::size_t k = 0; k < v.size(); ++k)
-    v[k] = along_tangents(t, k, b, values.data() + c.part.contact[k].row * stride + offset);
+    v[k] = along_tangents(t, k, b, values.data() + c.contact[k].row * stride + offset);
   const auto of = [&](const PartContactNode& n, int i) {
-    return v[static_cast<std::size_t>(&n - c.part.contact.data())][static_cast<std::size_t>(i)];
+    return v[static_cast<std::size_t>(&n - c.contact.data())][static_cast<std::size_t>(i)];
   };
   return node_field(c, name, 3, [&](double* out) {
-    for (std::size_t k = 0; k < c.part.contact.size(); ++k) {
-      const PartContactNode& n = c.part.contact[k];
+    for (std::size_t k = 0; k < c.contact.size(); ++k) {
+      const PartContactNode& n = c.contact[k];
       for (int i = 0; i < 3; ++i) out[n.local_node * 3 + i] = sign * v[k][static_cast<std::size_t>(i)] / per(n);
     }
     if (on_masters == OnMasters::sum) add_master_sums(c, 3, of, out);
@@ -121,7 +121,7 @@ VtuField tangent_vector_field(const FieldContext& c, std::string_view name, cons
 /// A field of one number per contact node as a node field (zero off Γ3).
 VtuField contact_scalar_field(const FieldContext& c, std::string_view name, const Eigen::VectorXd& values) {
   return node_field(c, name, 1, [&](double* out) {
-    for (const PartContactNode& n : c.part.contact) out[n.local_node] = values[n.row];
+    for (const PartContactNode& n : c.contact) out[n.local_node] = values[n.row];
   });
 }
 
@@ -147,7 +147,7 @@ constexpr StateField kFields[] = {
      [](const FieldContext& c) {
        const int b = c.state.contact_block;
        return node_field(c, "contact_lambda", b, [&](double* out) {
-         for (const PartContactNode& n : c.part.contact)
+         for (const PartContactNode& n : c.contact)
            for (int j = 0; j < b; ++j) out[n.local_node * b + j] = c.state.lambda[n.row * b + j];
        });
      },
@@ -159,7 +159,7 @@ constexpr StateField kFields[] = {
        // The nodal force the foundation exerts at each contact node: −λ ν; on a contact pair's master
        // nodes the slave's reaction, Σ_j w_jk λ_j ν_j (scheme/contact_pairs.hpp).
        return node_field(c, "contact_force", 3, [&](double* out) {
-         for (const PartContactNode& n : c.part.contact)
+         for (const PartContactNode& n : c.contact)
            for (int j = 0; j < 3; ++j) out[n.local_node * 3 + j] = -normal_force(c.state, n) * n.direction[j];
          add_master_sums(c, 3, [&](const PartContactNode& n, int j) { return normal_force(c.state, n) * n.direction[j]; },
                          out);
@@ -172,7 +172,7 @@ constexpr StateField kFields[] = {
        // λ over the node's tributary measure on Γ3; on a pair's master nodes, the reaction over
        // the node's measure in contact (add_master_averages).
        return node_field(c, "contact_pressure", 1, [&](double* out) {
-         for (const PartContactNode& n : c.part.contact) out[n.local_node] = normal_force(c.state, n) / n.measure;
+         for (const PartContactNode& n : c.contact) out[n.local_node] = normal_force(c.state, n) / n.measure;
          add_master_averages(c, 1, [&](const PartContactNode& n, int) { return normal_force(c.state, n); }, out);
        });
      },
@@ -183,7 +183,7 @@ constexpr StateField kFields[] = {
        require(c.state.gap.size() == static_cast<Eigen::Index>(c.part.n_contact),
                "the gap is recorded only for cases with contact pairs");
        return node_field(c, "gap", 1, [&](double* out) {
-         for (const PartContactNode& n : c.part.contact) out[n.local_node] = c.state.gap[n.row];
+         for (const PartContactNode& n : c.contact) out[n.local_node] = c.state.gap[n.row];
          add_master_averages(c, 1, [&](const PartContactNode& n, int) { return c.state.gap[n.row] * n.measure; }, out);
        });
      },
@@ -293,7 +293,7 @@ void make_vtu_fields(const FieldContext& c, const std::vector<std::string>& want
   for (const SurfaceField& f : c.state.surface) {  // the contact laws' declared state, after the table's
     if (!wanted.empty() && std::find(wanted.begin(), wanted.end(), f.name) == wanted.end()) continue;
     point_data.push_back(node_field(c, f.name, f.width, [&](double* out) {
-      for (const PartContactNode& n : c.part.contact)
+      for (const PartContactNode& n : c.contact)
         for (int j = 0; j < f.width; ++j) out[n.local_node * f.width + j] = f.values[n.row * f.width + j];
     }));
   }

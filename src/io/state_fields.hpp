@@ -22,10 +22,12 @@ namespace vpc {
 enum class FieldLocation { node, cell, contact_node };
 const char* location_name(FieldLocation l);
 
-/// What an output field is made from: the state and the part (mesh, contact nodes).
+/// What an output field is made from: the state, the part (mesh, dofs) and its contact nodes
+/// (ContactSet::nodes: TimeStepper::contact()).
 struct FieldContext {
   const State& state;
   const MeshPart& part;
+  std::span<const PartContactNode> contact;
 };
 
 struct StateField {

@@ -18,14 +18,13 @@ std::atomic<long long> builds{0};
 
 long long contact_matrix_builds() { return builds.load(); }
 
-ContactMatrix contact_matrix(const MeshPart& part, ContactColumns columns) {
+ContactMatrix contact_matrix(const DofMap& dofs, std::span<const PartContactNode> nodes, ContactColumns columns) {
   ++builds;
-  const DofMap& dofs = part.dofs;
   const int d = dofs.dim();
   ContactMatrix out;
   std::vector<Eigen::Triplet<double>> entries, mean;
   int row = 0;
-  for (const PartContactNode& node : part.contact) {
+  for (const PartContactNode& node : nodes) {
     std::vector<int>& node_dofs = out.node_dofs.emplace_back();
     for (int i = 0; i < d; ++i) {
       int k = dofs.free_index(dofs.full_index(node.local_node, i));
@@ -58,11 +57,11 @@ ContactMatrix contact_matrix(const MeshPart& part, ContactColumns columns) {
   return out;
 }
 
-ContactMatrix owned_rows(const ContactMatrix& local, const MeshPart& part) {
-  std::vector<int> owned_row(part.contact.size(), -1);  // per row of `local`: its owned row, or −1
+ContactMatrix owned_rows(const ContactMatrix& local, const MeshPart& part, std::span<const PartContactNode> nodes) {
+  std::vector<int> owned_row(nodes.size(), -1);  // per row of `local`: its owned row, or −1
   ContactMatrix out;
-  for (std::size_t k = 0; k < part.contact.size(); ++k)
-    if (part.contact[k].owned) {
+  for (std::size_t k = 0; k < nodes.size(); ++k)
+    if (nodes[k].owned) {
       owned_row[k] = static_cast<int>(out.node_dofs.size());
       out.node_dofs.push_back(local.node_dofs[k]);
     }
@@ -73,7 +72,7 @@ ContactMatrix owned_rows(const ContactMatrix& local, const MeshPart& part) {
     for (SparseMatrix::InnerIterator it(local.N, k); it; ++it)
       if (const int row = owned_row[static_cast<std::size_t>(it.row())]; row >= 0) {
         require(k < part.n_owned_dofs || part.pairs_spread, "contact row {}: dof {} is not owned with the row (a bug)",
-                part.contact[static_cast<std::size_t>(it.row())].row, k);
+                nodes[static_cast<std::size_t>(it.row())].row, k);
         entries.emplace_back(row, k, it.value());
       }
   out.N.resize(static_cast<Eigen::Index>(out.node_dofs.size()), local.N.cols());

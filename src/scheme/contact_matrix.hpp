@@ -9,6 +9,7 @@
 #include "scheme/mesh_part.hpp"
 #include "solvers/contact_solver.hpp"
 
+#include <span>
 #include <vector>
 
 namespace vpc {
@@ -21,7 +22,7 @@ enum class ContactColumns {
 };
 
 struct ContactMatrix {
-  SparseMatrix N;                           // a row per node, in part.contact order (owned_rows: the owned ones)
+  SparseMatrix N;                           // a row per node, in the nodes' order (owned_rows: the owned ones)
   std::vector<std::vector<int>> node_dofs;  // per row, its node's free dofs (columns of N) in component order
   std::vector<int> component;               // compact: per column, the component of its dof (else empty)
   /// A pair's slave node relative to its masters (friction on pairs; solvers/contact_frame.hpp):
@@ -31,14 +32,16 @@ struct ContactMatrix {
   SparseMatrix master_mean;
 };
 
-ContactMatrix contact_matrix(const MeshPart& part, ContactColumns columns);
+/// The rows of a part's contact nodes `nodes` (ContactSet::nodes, or the cut's part.contact) over
+/// its free dofs `dofs`.
+ContactMatrix contact_matrix(const DofMap& dofs, std::span<const PartContactNode> nodes, ContactColumns columns);
 
 /// The owned nodes' rows of `local` (contact_matrix over ContactColumns::local), whole: over the
 /// local free dofs, a spread pair row's ghost masters' too (PartPieces::pairs_spread; else every
 /// entry is in the owned dofs, which come first), with their rows' dofs (the masters' mean is
 /// local's: only owned rows have masters), taken from the one matrix rather than built again. ContactSet keeps them for
 /// g − N u from u with its ghosts, and cuts the solvers' N from them (owned_columns, remote_pieces).
-ContactMatrix owned_rows(const ContactMatrix& local, const MeshPart& part);
+ContactMatrix owned_rows(const ContactMatrix& local, const MeshPart& part, std::span<const PartContactNode> nodes);
 
 /// A's columns of the owned free dofs (the first ones): ContactConstraints::N (and T) of whole rows.
 /// A 0 × 0 matrix (no tangents) as it is; one with no rows (a rank without contact rows) 0 × owned.

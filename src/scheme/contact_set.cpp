@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <utility>
 
 namespace vpc {
 
@@ -29,11 +30,36 @@ double miss_gap_of(const MeshPart& part) {
 
 }  // namespace
 
-ContactSet::ContactSet(const Problem& p, const MeshPart& part) : miss_gap(miss_gap_of(part)) { set_rows(p, part); }
+ContactSet::ContactSet(const Problem& p, const MeshPart& part, std::vector<PartContactNode> nodes_in)
+    : nodes(std::move(nodes_in)), miss_gap(miss_gap_of(part)) {
+  set_rows(p, part);
+}
+
+ContactSet ContactSet::moved(const Problem& p, const MeshPart& part, std::vector<PartContactNode> moved) const {
+  ContactSet out;
+  out.nodes = std::move(moved);
+  out.miss_gap = miss_gap;
+  out.set_rows(p, part);
+  return out;
+}
+
+std::vector<int> ContactSet::owned_row_numbers() const {
+  std::vector<int> rows;
+  for (const PartContactNode& node : nodes)
+    if (node.owned) rows.push_back(node.row);
+  return rows;
+}
+
+std::vector<int> ContactSet::owned_row_laws() const {
+  std::vector<int> laws;
+  for (const PartContactNode& node : nodes)
+    if (node.owned) laws.push_back(node.law);
+  return laws;
+}
 
 void ContactSet::set_rows(const Problem& p, const MeshPart& part) {
-  local = contact_matrix(part, ContactColumns::local);
-  ContactMatrix owned = owned_rows(local, part);
+  local = contact_matrix(part.dofs, nodes, ContactColumns::local);
+  ContactMatrix owned = owned_rows(local, part, nodes);
   N_local = std::move(owned.N);
   N = owned_columns(N_local, part);
   dofs = std::move(owned.node_dofs);
@@ -47,11 +73,11 @@ void ContactSet::set_friction_frame(const Problem& p, const MeshPart& part) {
   ContactConstraints c;  // over the local free dofs: T's rows whole, relative to every master's mean
   c.N = N_local;
   c.block = p.contact.block_size(d);
-  c.rows = part.owned_contact_rows();
+  c.rows = owned_row_numbers();
   f.laws = p.contact.frictions();
   f.row_friction.clear();
   std::vector<double> mus, limits;
-  for (const PartContactNode& node : part.contact) {
+  for (const PartContactNode& node : nodes) {
     if (!node.owned) continue;
     const FrictionLaw* law = f.laws[static_cast<std::size_t>(node.law)].get();
     f.row_friction.push_back(law);
@@ -83,15 +109,15 @@ void ContactSet::set_friction_frame(const Problem& p, const MeshPart& part) {
 ContactConstraints ContactSet::constraints(const Problem& p, const MeshPart& part, Vector gap) const {
   ContactConstraints c;
   c.m = part.n_contact;
-  c.rows = part.owned_contact_rows();
+  c.rows = owned_row_numbers();
   c.N = N;
   c.gap = std::move(gap);
   // Each row's law (contact/contact_law.hpp) and its per-node datum, lumped at the node (ContactNode).
   c.laws = p.contact.laws();
   c.block = p.contact.block_size(part.mesh().dim());
-  c.law = part.owned_contact_laws();
+  c.law = owned_row_laws();
   std::vector<double> datum;
-  for (const PartContactNode& node : part.contact)
+  for (const PartContactNode& node : nodes)
     if (node.owned) datum.push_back(node.datum);
   c.datum = Eigen::Map<Vector>(datum.data(), static_cast<Eigen::Index>(datum.size()));
   if (!p.contact.pairs.empty()) c.node_dofs = dofs;

@@ -1,9 +1,11 @@
 #pragma once
-// The contact set of a part: its contact rows over the part's free dofs (N of (3.9)) and friction's
-// frame on them (SPEC §7), built from the part's contact nodes (scheme/mesh_part.hpp) once at
-// set-up, and again where large-sliding pairs move the nodes (scheme/pair_slider.hpp). The
-// solvers' constraints (ContactConstraints) are made from it; the step's data (gap, friction
-// bounds, slip shift) read it.
+// The contact set of a part: its contact nodes (the cut's, MeshPart::contact, taken at set-up), their
+// rows over the part's free dofs (N of (3.9)) and friction's frame on them (SPEC §7). A set is a
+// value, fixed once made: the discrete system holds the set of the configuration a step starts from
+// (DiscreteSystem::contact), made at set-up and, where large-sliding pairs move the nodes, made anew
+// from the moved nodes (scheme/pair_slider.hpp), never changed in place. The solvers' constraints
+// (ContactConstraints) are made from it; the step's data (gap, friction bounds, slip shift), its
+// checks and the outputs read it.
 #include "scheme/contact_matrix.hpp"
 #include "scheme/problem.hpp"
 #include "solvers/contact_solver.hpp"
@@ -13,10 +15,13 @@
 namespace vpc {
 
 struct ContactSet {
+  /// The part's contact nodes, owned and ghost, by row (the rows of `local`): the one place a
+  /// contact node lives once the part is set up.
+  std::vector<PartContactNode> nodes;
   /// The part's contact rows, ghost rows included, over its local free dofs (ContactColumns::local):
   /// the primal solver's reflections (scheme/scheme_solvers.cpp).
   ContactMatrix local;
-  /// N: one row per owned contact node, in part.contact order, over the owned free dofs
+  /// N: one row per owned contact node, in `nodes` order, over the owned free dofs
   /// (ContactConstraints::N), and each row's free dofs (columns of N) in component order
   /// (ContactConstraints::node_dofs): local's owned rows.
   SparseMatrix N;
@@ -48,10 +53,16 @@ struct ContactSet {
   double miss_gap = 0;
 
   ContactSet() = default;
-  /// The set of `part`'s contact nodes under p's laws. Collective.
-  ContactSet(const Problem& p, const MeshPart& part);
-  /// The rows and frame again from part.contact (its nodes moved: scheme/pair_slider.hpp).
-  void set_rows(const Problem& p, const MeshPart& part);
+  /// The set of `part`'s contact nodes `nodes` (the cut's: part.contact) under p's laws. Collective.
+  ContactSet(const Problem& p, const MeshPart& part, std::vector<PartContactNode> nodes);
+  /// The set of the same part with its nodes moved (large sliding: scheme/pair_slider.hpp): the
+  /// rows and frame made from `moved`, the miss gap this set's.
+  ContactSet moved(const Problem& p, const MeshPart& part, std::vector<PartContactNode> moved) const;
+
+  /// The rows of N this process owns, in the nodes' order (ContactConstraints::rows).
+  std::vector<int> owned_row_numbers() const;
+  /// Their laws' index (ContactNode::law: in ContactSpec::laws() and frictions()), in that order.
+  std::vector<int> owned_row_laws() const;
   /// The solvers' constraints: N, the gap g(0) `gap`, each row's law and datum and, with friction,
   /// its frame (the bounds and shift zero until the first step's); where the pairs are spread, the
   /// other ranks' pieces of their rows here (remote_pieces) and RemoteRows::spread, set here alone.
@@ -59,6 +70,8 @@ struct ContactSet {
   ContactConstraints constraints(const Problem& p, const MeshPart& part, Vector gap) const;
 
  private:
+  /// The rows and frame from `nodes`.
+  void set_rows(const Problem& p, const MeshPart& part);
   /// The frame from N_local, the rows' dofs and local's masters' mean (taken).
   void set_friction_frame(const Problem& p, const MeshPart& part);
 };

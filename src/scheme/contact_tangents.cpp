@@ -7,20 +7,20 @@
 
 namespace vpc {
 
-std::vector<Point> contact_tangents(const MeshPart& part, int block) {
-  if (block <= 1 || part.contact.empty()) return {};
+std::vector<Point> contact_tangents(const DofMap& dofs, std::span<const PartContactNode> nodes, int block) {
+  if (block <= 1 || nodes.empty()) return {};
   // The part's contact rows over their own free dofs alone (ContactColumns::compact), ghosts
   // included: set_tangents then gives each row the solver's tangents (the frame of a row uses
   // only its own entries and dofs), at a cost of the contact nodes only.
-  ContactMatrix rows = contact_matrix(part, ContactColumns::compact);
+  ContactMatrix rows = contact_matrix(dofs, nodes, ContactColumns::compact);
   ContactConstraints c;
   c.block = block;
-  c.rows.assign(part.contact.size(), 0);
+  c.rows.assign(nodes.size(), 0);
   c.N = std::move(rows.N);
   set_tangents(c, rows.node_dofs);
   // Row k(b − 1) + j of T is tangent j of entry k: its entries by component.
   const SparseMatrix Tt = c.T.transpose();
-  std::vector<Point> out(part.contact.size() * static_cast<std::size_t>(block - 1), Point{0, 0, 0});
+  std::vector<Point> out(nodes.size() * static_cast<std::size_t>(block - 1), Point{0, 0, 0});
   for (int row = 0; row < Tt.outerSize(); ++row)
     for (SparseMatrix::InnerIterator it(Tt, row); it; ++it) {
       const int i = rows.component[static_cast<std::size_t>(it.row())];

@@ -72,7 +72,7 @@ DiscreteSystem::DiscreteSystem(std::shared_ptr<const Problem> problem_in, MeshPa
   if (p.f0 && p.f0_uniform) basis_integral_cells = basis_integral(unit, nullptr);
   if (p.f2 && p.f2_uniform) basis_integral_traction = basis_integral(nullptr, unit);
 
-  contact = ContactSet(p, part);
+  contact = std::make_shared<const ContactSet>(p, part, std::exchange(part.contact, {}));
   for (int c = 0; c < mesh.n_cells() && !part.dirichlet_nodes.empty(); ++c)
     for (int a = 0; a <= d; ++a)
       if (std::ranges::any_of(part.dirichlet.begin() + mesh.cell(c)[a] * d,
@@ -149,7 +149,7 @@ std::shared_ptr<la::LinearSolver> DiscreteSystem::make_stiffness_factor() const 
 }
 
 ContactConstraints contact_constraints(const DiscreteSystem& sys) {
-  return sys.contact.constraints(*sys.problem, sys.part, checked_contact_gap(sys, 0.0));
+  return sys.contact->constraints(*sys.problem, sys.part, checked_contact_gap(sys, 0.0));
 }
 
 double mesh_and_state_bytes(double nodes, double cell_entries, double cells) {

@@ -3,10 +3,11 @@
 // the scheme derives from the problem once and keeps over the run, like MFEM's
 // TimeDependentOperator: the cells' geometry and materials, K of (3.9), M and A of (3.8),
 // the lumped mass of the error estimate, the basis integrals of uniform loads, the cells
-// that u_D's lifting touches, the contact rows N and |Ω|. Built once by TimeStepper's
-// set-up; the step (scheme/scheme_step.hpp) and its checks only read it. The one exception is
-// large sliding: the run's PairSlider (scheme/pair_slider.hpp), and nothing else, renews the
-// sliding pairs' nodes of part.contact and the contact set at the start of a step.
+// that u_D's lifting touches, the contact set (nodes and rows N) and |Ω|. Built once by
+// TimeStepper's set-up; after it nothing changes it, the step (scheme/scheme_step.hpp) and its
+// checks only read it. The one field that may point elsewhere is `contact`, to a set that is itself
+// fixed: where pairs slide large, TimeStepper points it at the set its PairSlider makes at the
+// start of a step (scheme/pair_slider.hpp), and a reader holding the old set keeps it whole.
 #include "fem/cell_geometry.hpp"
 #include "la/backend.hpp"
 #include "la/vector.hpp"
@@ -64,9 +65,10 @@ struct DiscreteSystem {
   Vector lumped_mass;  // the row sums of M (owned nodes): the error estimate's M_L
   Vector basis_integral_cells, basis_integral_traction;  // ∫ψ_a over Ω and Γ2 (for uniform f0, f2; else empty)
   std::vector<int> dirichlet_cells;  // the part's cells with a prescribed dof: u_D's lifting, the reactions
-  /// The contact rows and friction's frame (scheme/contact_set.hpp): built once by the
-  /// constructor, again where large-sliding pairs move the rows (scheme/pair_slider.hpp).
-  ContactSet contact;
+  /// The contact nodes, their rows and friction's frame (scheme/contact_set.hpp) in the configuration
+  /// the step starts from: made by the constructor from the part's (taken: part.contact is empty
+  /// after), a new one at each slide of a large-sliding pair (TimeStepper, scheme/pair_slider.hpp).
+  std::shared_ptr<const ContactSet> contact;
   double assembly_seconds = 0, build_seconds = 0;
   ProcessMemory mesh_memory, assembly_memory;  // this process's as the construction starts and ends
 

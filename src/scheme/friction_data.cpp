@@ -11,9 +11,9 @@ Vector friction_bounds(const DiscreteSystem& sys, double t, std::string& bad) {
   const MeshPart& part = sys.part;
   std::vector<double> bounds;
   std::size_t row = 0;
-  for (const PartContactNode& node : part.contact) {
+  for (const PartContactNode& node : sys.contact->nodes) {
     if (!node.owned) continue;
-    const FrictionLaw* law = sys.contact.friction.row_friction[row++];
+    const FrictionLaw* law = sys.contact->friction.row_friction[row++];
     const Point& x = part.mesh().node(node.local_node);
     const double g = law ? law->bound(x, t) : 0.0;
     if (!(std::isfinite(g) && g >= 0) && bad.empty())
@@ -36,7 +36,7 @@ void add_master_slip(const DiscreteSystem& sys, const Vector& u_before, const Ve
   const int d = part.mesh().dim();
   const auto t = static_cast<Eigen::Index>(sys.problem->contact.block_size(d) - 1);
   Eigen::Index k = 0;
-  for (const PartContactNode& node : part.contact) {
+  for (const PartContactNode& node : sys.contact->nodes) {
     if (!node.owned) continue;
     Point moved{0, 0, 0};
     for (const auto& [master, w] : node.masters)
@@ -46,7 +46,7 @@ void add_master_slip(const DiscreteSystem& sys, const Vector& u_before, const Ve
       for (Eigen::Index j = k * t; j < (k + 1) * t; ++j)
         for (int i = 0; i < d; ++i)
           if (const int own = dofs.free_index(dofs.full_index(node.local_node, i)); own >= 0)
-            shift[j] += sys.contact.friction.T.coeff(j, own) * moved[i];  // t_ij's component i (T's entry at the slave's dof)
+            shift[j] += sys.contact->friction.T.coeff(j, own) * moved[i];  // t_ij's component i (T's entry at the slave's dof)
     ++k;
   }
 }
@@ -61,7 +61,7 @@ Vector slip_shift(const DiscreteSystem& sys, const State& s, double t, const Vec
   // ghost masters' terms too), exact without communication.
   Vector at = restrict_to_free(part.dofs, s.u);
   if (!spec.obstacles.empty())
-    for (const PartContactNode& node : part.contact) {
+    for (const PartContactNode& node : sys.contact->nodes) {
       if (!node.owned) continue;
       const Point& x = part.mesh().node(node.local_node);
       const int k = nearest_obstacle(spec.obstacles, x, node.direction, t, node.obstacles);
@@ -72,7 +72,7 @@ Vector slip_shift(const DiscreteSystem& sys, const State& s, double t, const Vec
         if (const int j = part.dofs.free_index(part.dofs.full_index(node.local_node, i)); j >= 0)
           at[j] += now[i] - before[i];
     }
-  Vector h = sys.contact.friction.T_local * at;
+  Vector h = sys.contact->friction.T_local * at;
   if (u_D.size() > 0) add_master_slip(sys, s.u, u_D, h);  // a pair's moving masters
   return h;
 }

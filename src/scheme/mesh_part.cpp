@@ -30,20 +30,6 @@ void make_layouts(MeshPart& part) {
 
 }  // namespace
 
-std::vector<int> MeshPart::owned_contact_rows() const {
-  std::vector<int> rows;
-  for (const PartContactNode& node : contact)
-    if (node.owned) rows.push_back(node.row);
-  return rows;
-}
-
-std::vector<int> MeshPart::owned_contact_laws() const {
-  std::vector<int> laws;
-  for (const PartContactNode& node : contact)
-    if (node.owned) laws.push_back(node.law);
-  return laws;
-}
-
 MeshPart make_mesh_part(PartPieces pieces) {
   MeshPart part;
   static_cast<PartPieces&>(part) = std::move(pieces);

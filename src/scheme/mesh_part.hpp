@@ -73,7 +73,9 @@ struct PartPieces {
   std::vector<std::uint64_t> dirichlet_on_parts;
   /// Per Dirichlet part, the components it prescribes (DirichletDofs::components).
   std::vector<unsigned> dirichlet_components;
-  std::vector<PartContactNode> contact;  // owned and ghost contact nodes, by row
+  /// Owned and ghost contact nodes, by row, as cut: the discrete system's contact set takes them
+  /// at set-up (DiscreteSystem::contact, ContactSet::nodes: empty here after), and is where they live.
+  std::vector<PartContactNode> contact;
   std::vector<SlidingPairPiece> sliding;  // the large-sliding pairs' surfaces (none without owned slave nodes)
   int n_contact = 0;                     // m: rows of N over all processes
   /// The pairs' rows spread over the ranks (--spread-pairs, distribute_mesh): an owned
@@ -95,10 +97,6 @@ struct MeshPart : PartPieces {
 
   const Mesh& mesh() const { return *mesh_ptr; }
   int n_local_nodes() const { return mesh().n_nodes(); }
-  /// The rows of N this process owns, in its contact nodes' order (ContactConstraints::rows).
-  std::vector<int> owned_contact_rows() const;
-  /// Their laws' index (PartContactNode::law: in ContactSpec::laws() and frictions()), in that order.
-  std::vector<int> owned_contact_laws() const;
 };
 
 /// Makes the part of `pieces`: its free dofs (owned first: the owned nodes come

@@ -5,6 +5,7 @@
 #include "scheme/contact_pairs.hpp"
 
 #include <map>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -20,7 +21,11 @@ class FixedPairs final : public PairSlider {
     // assignment (0.29 GB a rank at foundation-3d n = 70).
     SparseMatrix().swap(K_local);
   }
-  void slide(DiscreteSystem&, const Vector&, const SolverChoice&, SchemeSolvers&) override {}
+  std::shared_ptr<const ContactSet> slide(const DiscreteSystem&, const Vector&) override { return nullptr; }
+  const SparseMatrix& stiffness() const override { return none_; }
+
+ private:
+  SparseMatrix none_;
 };
 
 class LargeSliding final : public PairSlider {
@@ -29,13 +34,15 @@ class LargeSliding final : public PairSlider {
 
   void keep_stiffness(SparseMatrix& K_local) override { K_local_.swap(K_local); }
 
-  void slide(DiscreteSystem& sys, const Vector& u, const SolverChoice& choice, SchemeSolvers& solvers) override {
+  std::shared_ptr<const ContactSet> slide(const DiscreteSystem& sys, const Vector& u) override {
     // Collective: every rank decides alike (a rank's own u may not have moved where another's has).
-    if (sys.part.comm.all(slid_at_ == u)) return;
-    move_rows(sys, u);
-    remake_contact_solver(sys, choice, solvers, K_local_);
+    if (sys.part.comm.all(slid_at_ == u)) return nullptr;
+    auto moved = std::make_shared<const ContactSet>(
+        sys.contact->moved(*sys.problem, sys.part, moved_nodes(sys, u)));
     slid_at_ = u;
+    return moved;
   }
+  const SparseMatrix& stiffness() const override { return K_local_; }
 
  private:
   static bool sliding(const Problem& p, const ContactNode& n) {
@@ -82,18 +89,18 @@ class LargeSliding final : public PairSlider {
     return row_of;
   }
 
-  /// The owned sliding nodes' rows, their bounds written on u_n, then the set's N and frame again.
-  void move_rows(DiscreteSystem& sys, const Vector& u) const {
+  /// sys.contact's nodes with the owned sliding nodes' rows at x + u, their bounds written on u_n.
+  static std::vector<PartContactNode> moved_nodes(const DiscreteSystem& sys, const Vector& u) {
     const Problem& p = *sys.problem;
-    MeshPart& part = sys.part;
-    const int d = part.mesh().dim();
+    const int d = sys.part.mesh().dim();
     const std::map<int, ContactRow> row_of = moved_rows(sys, u);
-    for (PartContactNode& node : part.contact) {
+    std::vector<PartContactNode> nodes = sys.contact->nodes;
+    for (PartContactNode& node : nodes) {
       if (!node.owned || !sliding(p, node)) continue;  // a ghost row is its owner's to move
       const auto it = row_of.find(node.local_node);
       if (it == row_of.end()) {  // no master facet within reach: the node cannot touch this step
         node.masters.clear();
-        node.gap = sys.contact.miss_gap;
+        node.gap = sys.contact->miss_gap;
         for (int i = 0; i < d; ++i) node.gap += node.direction[static_cast<std::size_t>(i)] * u[node.local_node * d + i];
         continue;
       }
@@ -108,7 +115,7 @@ class LargeSliding final : public PairSlider {
         for (int i = 0; i < d; ++i) bound -= w * r.direction[static_cast<std::size_t>(i)] * u[l * d + i];
       node.gap = bound;
     }
-    sys.contact.set_rows(p, part);
+    return nodes;
   }
 
   Vector slid_at_;  // the displacement the rows were built at

@@ -13,8 +13,6 @@
 // slider keeps the part's K for the primal solver's K_rot and the displacement its rows were built
 // at. Without a large-sliding pair the slider does nothing and keeps nothing.
 #include "scheme/discrete_system.hpp"
-#include "scheme/scheme_solvers.hpp"
-#include "scheme/solver_choice.hpp"
 
 #include <memory>
 
@@ -26,16 +24,19 @@ class PairSlider {
   /// Takes the part's K once the contact solver's set-up has used it (leaving K_local empty): kept
   /// where the contact solver is made again at each slide, else released.
   virtual void keep_stiffness(SparseMatrix& K_local) = 0;
-  /// The large-sliding pairs' rows of sys.part.contact in the configuration x + u (u: a state's
-  /// displacement over the part's dofs, prescribed components included), then sys's N and friction
-  /// frame (ContactSet::set_rows) and the contact solver of `solvers` for them, its warm state
-  /// carried over. Nothing where the rows were built at u already (the set-up's at u = 0, a
-  /// rejected attempt restored then retried). The rows, and λ with them, are the slave nodes that
-  /// had one at t = 0 (the pair's `search` must reach every slave node that may touch): one that no
-  /// master facet covers within reach now gets no masters and the gap sys.contact.miss_gap (it
-  /// cannot touch this step); a node without a row at t = 0 gets none. Each rank moves the rows
-  /// of its owned slave nodes and renews its solver. Collective.
-  virtual void slide(DiscreteSystem& sys, const Vector& u, const SolverChoice& choice, SchemeSolvers& solvers) = 0;
+  /// The contact set of sys in the configuration x + u (u: a state's displacement over the part's
+  /// dofs, prescribed components included): sys.contact's nodes with the large-sliding pairs' rows
+  /// moved, and their N and friction frame (ContactSet::moved). Null where the rows were built at u
+  /// already (the set-up's at u = 0, a rejected attempt restored then retried): the set stays. The
+  /// rows, and λ with them, are the slave nodes that had one at t = 0 (the pair's `search` must
+  /// reach every slave node that may touch): one that no master facet covers within reach now gets
+  /// no masters and the gap ContactSet::miss_gap (it cannot touch this step); a node without a row
+  /// at t = 0 gets none. Each rank moves the rows of its owned slave nodes. The caller
+  /// (TimeStepper) points sys.contact at the new set and makes the contact solver again for it
+  /// (remake_contact_solver, with stiffness()). Collective.
+  virtual std::shared_ptr<const ContactSet> slide(const DiscreteSystem& sys, const Vector& u) = 0;
+  /// The part's K kept by keep_stiffness (empty where nothing slides).
+  virtual const SparseMatrix& stiffness() const = 0;
 };
 
 /// The slider of sys's problem: one that slides where some pair has `sliding = "large"`, else one

@@ -36,11 +36,11 @@ std::unique_ptr<ContactSolver> contact_solver(const DiscreteSystem& sys, const S
     std::shared_ptr<const la::SpdOperator> K_rot;
     const bool pairs = !constraints.node_dofs.empty();
     if (part.comm.any(pairs || contact_reflections(constraints.N).size() > 0)) {
-      const ContactMatrix& local = sys.contact.local;
-      for (const PartContactNode& node : part.contact)
+      const ContactMatrix& local = sys.contact->local;
+      for (const PartContactNode& node : sys.contact->nodes)
         require(node.owned || node.pair < 0, "internal: contact pair row {} is a ghost on this rank", node.row);
       const ContactBasis basis =
-          pairs ? contact_basis(local.N, local.node_dofs, sys.contact.friction.local_master_mean)
+          pairs ? contact_basis(local.N, local.node_dofs, sys.contact->friction.local_master_mean)
                 : contact_basis(local.N, {});
       const SparseMatrix& P = basis.P;
       K_rot = sys.backend->assemble(basis.pairs()     ? SparseMatrix(P.transpose() * K_local * P)

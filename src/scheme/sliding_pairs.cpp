@@ -40,12 +40,13 @@ double slide_at(const MeshPart& part, const PartContactNode& j, const Vector& u)
 
 }  // namespace
 
-std::vector<PairSlide> small_slides(const Problem& p, const MeshPart& part, const State& state) {
+std::vector<PairSlide> small_slides(const Problem& p, const MeshPart& part, std::span<const PartContactNode> nodes,
+                                    const State& state) {
   const la::Comm& comm = part.comm;
   std::vector<PairSlide> slides;
   for (const std::size_t q : p.contact.sliding_pairs(false)) {
     PairSlide& s = slides.emplace_back();
-    for (const PartContactNode& node : part.contact) {
+    for (const PartContactNode& node : nodes) {
       if (!node.owned || node.pair != static_cast<int>(q)) continue;
       if (!(state.lambda.size() > 0 && state.lambda[static_cast<Eigen::Index>(node.row) * state.contact_block] > 0))
         continue;  // not in contact

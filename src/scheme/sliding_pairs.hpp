@@ -6,6 +6,9 @@
 #include "scheme/problem.hpp"
 #include "scheme/state.hpp"
 
+#include <span>
+#include <vector>
+
 namespace vpc {
 
 /// How far a small-sliding pair's slave nodes have slid from the masters they were coupled to at t = 0.
@@ -27,8 +30,9 @@ inline constexpr double kSmallSlideLimit = 0.5;
 /// give only its distance, and it is measured again once it touches) of the slide across ν_j
 /// relative to the masters' mortar mean, |(I − ν_j ν_jᵀ)(u_j − Σ_k w_k u_k)|, over the size of a
 /// master facet at j (PairSlide::facet), from the rows alone (the same on every engine; under MPI
-/// the whole mesh is gone), in state s (its u over the part's dofs and its replicated λ).
-/// Collective.
-std::vector<PairSlide> small_slides(const Problem& p, const MeshPart& part, const State& s);
+/// the whole mesh is gone), in state s (its u over the part's dofs and its replicated λ), from the
+/// part's contact nodes `nodes` (ContactSet::nodes). Collective.
+std::vector<PairSlide> small_slides(const Problem& p, const MeshPart& part, std::span<const PartContactNode> nodes,
+                                    const State& s);
 
 }  // namespace vpc

@@ -75,9 +75,9 @@ void contact_totals(const DiscreteSystem& sys, const State& s, StepReport& rep) 
   // dt), then the entries' forces (entries × (1 + dt))
   const std::size_t on_total = n_obstacles + 1, on_obstacles = on_total + dt, on_entries = on_obstacles + dt * n_obstacles;
   std::vector<double> sums(on_entries + n_entries * (1 + dt), 0.0);
-  const std::vector<Point> tangents = contact_tangents(sys.part, b);
-  for (std::size_t k = 0; k < sys.part.contact.size(); ++k) {
-    const PartContactNode& node = sys.part.contact[k];
+  const std::vector<Point> tangents = contact_tangents(sys.part.dofs, sys.contact->nodes, b);
+  for (std::size_t k = 0; k < sys.contact->nodes.size(); ++k) {
+    const PartContactNode& node = sys.contact->nodes[k];
     if (!node.owned) continue;
     const double lambda = s.lambda[node.row * b];
     if (lambda > rep.contact.active_threshold) sums[0] += node.measure;
@@ -160,7 +160,7 @@ void surface_integrals(const DiscreteSystem& sys, const State& s, StepReport& re
     if (v.history.empty()) continue;
     const SurfaceField& f = *s.surface_field(v.name);
     double sum = 0;
-    for (const PartContactNode& node : sys.part.contact)
+    for (const PartContactNode& node : sys.contact->nodes)
       if (node.owned) sum += f.values[node.row] * node.measure;
     rep.surface_integral.push_back(sys.part.comm.sum(sum));
   }

@@ -18,7 +18,7 @@ void add_master_motion(const DiscreteSystem& sys, const Vector& u_D, Vector& gap
   if (u_D.size() == 0) return;
   const int d = sys.part.mesh().dim();
   Eigen::Index k = 0;
-  for (const PartContactNode& node : sys.part.contact) {
+  for (const PartContactNode& node : sys.contact->nodes) {
     if (!node.owned) continue;
     for (const auto& [master, w] : node.masters)
       for (int i = 0; i < d; ++i) gap[k] += w * node.direction[i] * u_D[static_cast<Eigen::Index>(master) * d + i];
@@ -86,7 +86,7 @@ Vector contact_gap(const DiscreteSystem& sys, double t, std::string& bad) {
   const ContactSpec& spec = sys.problem->contact;
   const MeshPart& part = sys.part;
   std::vector<double> gaps;
-  for (const PartContactNode& node : part.contact) {
+  for (const PartContactNode& node : sys.contact->nodes) {
     if (!node.owned) continue;
     if ((!spec.gap_moves && spec.obstacles.empty()) || node.pair >= 0) {  // a pair's gap is the reference's
       gaps.push_back(node.gap);
@@ -96,7 +96,7 @@ Vector contact_gap(const DiscreteSystem& sys, double t, std::string& bad) {
     // back (N u ≤ g < 0 is still a feasible constraint); a value that is not a number
     // is an error, reported by every process.
     const Point& x = part.mesh().node(node.local_node);
-    gaps.push_back(contact_gap_at(spec, x, node.direction, t, sys.contact.miss_gap, node.obstacles));
+    gaps.push_back(contact_gap_at(spec, x, node.direction, t, sys.contact->miss_gap, node.obstacles));
     if (!std::isfinite(gaps.back()) && bad.empty())
       bad = fmt::format("the gap g is not finite ({}) at t = {} at contact node {} ({}, {}, {})", gaps.back(), t,
                         part.original_node[node.local_node], x[0], x[1], x[2]);

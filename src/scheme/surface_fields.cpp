@@ -94,7 +94,7 @@ Vector surface_gap_shift(const DiscreteSystem& sys, const State& s) {
   const auto table = laws_with_fields(sys.problem->contact, s);
   const auto values = [&](std::size_t f) { return s.surface[f].values.data(); };
   std::vector<double> shift;
-  for (const PartContactNode& node : sys.part.contact) {
+  for (const PartContactNode& node : sys.contact->nodes) {
     if (!node.owned) continue;
     double sum = 0;
     for (const LawFields& lf : table[static_cast<std::size_t>(node.law)])
@@ -120,7 +120,7 @@ void update_surface_state(const DiscreteSystem& sys, const Vector& gap, double k
   std::vector<Vector> mine;
   for (const SurfaceField& f : s.surface) mine.push_back(Vector::Zero(f.values.size()));
   Eigen::Index owned = 0;
-  for (const PartContactNode& node : part.contact) {
+  for (const PartContactNode& node : sys.contact->nodes) {
     if (!node.owned) continue;
     const auto i = static_cast<Eigen::Index>(node.row);
     for (std::size_t f = 0; f < s.surface.size(); ++f) {

@@ -74,7 +74,7 @@ StepReport TimeStepper::step() {
 }
 
 StepReport TimeStepper::advance(double k, double t_end) {
-  slider_->slide(sys_, state_.u, choice_, solvers_);  // large sliding: the rows at x + u_{n−1}
+  slide();  // large sliding: the rows at x + u_{n−1}
   StepTaken taken = step_.take(sys_, solvers_, choice_, state_, u_free_, k, t_end);  // SPEC §2's steps 1–5
   StepReport& rep = taken.report;
   auto t0 = std::chrono::steady_clock::now();
@@ -143,12 +143,20 @@ Snapshot TimeStepper::snapshot() const {
 Vector TimeStepper::contact_warm_state() const { return solvers_.contact->warm_state(); }
 Vector TimeStepper::damage_warm_state() const { return solvers_.damage.current().warm_state(); }
 
+void TimeStepper::slide() {
+  // The one change to the discrete system after set-up: its contact set, replaced, never edited.
+  if (std::shared_ptr<const ContactSet> moved = slider_->slide(sys_, state_.u)) {
+    sys_.contact = std::move(moved);
+    remake_contact_solver(sys_, choice_, solvers_, slider_->stiffness());
+  }
+}
+
 void TimeStepper::restore(const Snapshot& s) {
   require(snapshot_fits(s, state_, u_free_.size(), problem()),
           "{}: the saved state does not fit this problem (a different mesh, case or step count?)", problem().name);
   state_ = s.state;
   u_free_ = s.u_free;
-  slider_->slide(sys_, state_.u, choice_, solvers_);  // the rows at x + u_{n−1} of the restored state
+  slide();  // the rows at x + u_{n−1} of the restored state
   if (records_gap(sys_)) record_gap_left(sys_, checked_contact_gap(sys_, state_.t), state_);
   solvers_.contact->set_warm_state(s.contact_warm);
   solvers_.damage.current().set_warm_state(s.damage_warm);

@@ -89,7 +89,10 @@ class TimeStepper {
   const la::SpdOperator& stiffness_operator() const { return *sys_.K; }
   const SparseMatrix& mass_matrix() const { return sys_.M_local; }
   const SparseMatrix& laplacian_matrix() const { return sys_.A_local; }
-  SparseMatrix contact_rows() const { return sys_.contact.N; }
+  SparseMatrix contact_rows() const { return sys_.contact->N; }
+  /// The contact set of the configuration the last step started from (scheme/contact_set.hpp): its
+  /// nodes (owned and ghost, by row), rows and friction frame.
+  const ContactSet& contact() const { return *sys_.contact; }
   int n_factorizations() const;
   /// Krylov iterations of K's and the contact solver's iterative solves so far (0 on direct solvers).
   long long n_linear_iterations() const;
@@ -118,6 +121,9 @@ class TimeStepper {
   /// error estimate and whether it is accepted.
   StepReport advance(double k, double t_end);
   StepAttempts attempts();
+  /// Large sliding (scheme/pair_slider.hpp): sys_'s contact set at x + u of the state, and the
+  /// contact solver for it, where the slider makes a new one. Collective.
+  void slide();
 
   SolverChoice choice_;
   SetupTiming setup_timing_;

@@ -128,8 +128,8 @@ GhostMasters ghost_masters(const Problem& p, const MeshPart& part) {
 }
 
 ContactConstraints constraints_of(const Problem& p, const MeshPart& part) {
-  const ContactSet set(p, part);
-  return set.constraints(p, part, Vector::Zero(static_cast<Eigen::Index>(part.owned_contact_rows().size())));
+  const ContactSet set(p, part, part.contact);
+  return set.constraints(p, part, Vector::Zero(static_cast<Eigen::Index>(set.owned_row_numbers().size())));
 }
 
 int run(int argc, char** argv) {

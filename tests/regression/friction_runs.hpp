@@ -58,7 +58,7 @@ inline std::vector<NodeForces> node_forces(const TimeStepper& s) {
   const State& st = s.state();
   const int b = st.contact_block;
   std::vector<NodeForces> out;
-  for (const PartContactNode& node : s.part().contact) {
+  for (const PartContactNode& node : s.contact().nodes) {
     NodeForces f;
     f.x = s.mesh().node(node.local_node);
     f.measure = node.measure;

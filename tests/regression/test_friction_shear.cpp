@@ -87,8 +87,8 @@ void sticks_as_bonded(const ShearCase& sc, const std::string& friction = "fricti
   std::vector<Vector> u, lambda_nu;
   run_to_end(bonded, [&](const TimeStepper& s, const StepReport&) {
     u.push_back(s.state().u);
-    Vector l(s.part().contact.size());
-    for (std::size_t i = 0; i < s.part().contact.size(); ++i) l[i] = s.state().lambda[s.part().contact[i].row];
+    Vector l(s.contact().nodes.size());
+    for (std::size_t i = 0; i < s.contact().nodes.size(); ++i) l[i] = s.state().lambda[s.contact().nodes[i].row];
     EXPECT_GT(l.minCoeff(), 0) << "the bonded face must stay pressed everywhere";
     lambda_nu.push_back(l);
   });
@@ -97,7 +97,7 @@ void sticks_as_bonded(const ShearCase& sc, const std::string& friction = "fricti
   run_to_end(sticking, [&](const TimeStepper& s, const StepReport& r) {
     EXPECT_EQ(r.contact.n_slip, 0) << "step " << r.n;
     ASSERT_LT(n, u.size());
-    Vector l(s.part().contact.size());
+    Vector l(s.contact().nodes.size());
     const auto forces = node_forces(s);
     for (std::size_t i = 0; i < forces.size(); ++i) l[i] = forces[i].normal;
     du = std::max(du, relative_difference(s.state().u, u[n]));

@@ -42,7 +42,7 @@ LineContact line_contact(const Case& c, double E_star = 0, const char* label = "
   double sum_sq = 0;
   int n_inside = 0;
   l.x_free = INFINITY;
-  for (const PartContactNode& node : s.part().contact) {
+  for (const PartContactNode& node : s.contact().nodes) {
     const double lambda = s.state().lambda[node.row], x = m.node(node.local_node)[0];
     const double p = lambda / node.measure;  // the nodal contact pressure (VTU contact_pressure)
     l.p_max = std::max(l.p_max, p);
@@ -54,7 +54,7 @@ LineContact line_contact(const Case& c, double E_star = 0, const char* label = "
       ++n_inside;
     }
   }
-  for (const PartContactNode& node : s.part().contact)
+  for (const PartContactNode& node : s.contact().nodes)
     if (const double x = std::abs(m.node(node.local_node)[0]); x > l.x_active) l.x_free = std::min(l.x_free, x);
   l.rms = std::sqrt(sum_sq / n_inside);
   std::printf("  %s: P = %.6g, a = %.5f (computed %.5f: active to %.5f, free from %.5f; h = %.5f, a/h = %.1f), "
@@ -137,7 +137,7 @@ void expect_sphere_hertz(const Case& c, double E_star, double h, double min_a_ov
   const double a = std::cbrt(3 * P * R / (4 * E_star)), p0 = 3 * P / (2 * M_PI * a * a);
   double p_center = 0, r_active = 0, sum_sq = 0;
   int n_inside = 0;
-  for (const PartContactNode& node : s.part().contact) {
+  for (const PartContactNode& node : s.contact().nodes) {
     const double lambda = s.state().lambda[node.row];
     const Point& x = s.mesh().node(node.local_node);
     const double rho = std::hypot(x[0], x[1]), p = lambda / node.measure;

@@ -38,7 +38,7 @@ std::vector<std::pair<Vector, Vector>> history(const Case& c) {
 double slip_off_normal(const TimeStepper& s, double a1, double a2) {
   const State& st = s.state();
   double off = 0;
-  for (const PartContactNode& node : s.part().contact) {
+  for (const PartContactNode& node : s.contact().nodes) {
     if (st.contact_status[node.row] != 2) continue;
     const double l0 = st.lambda[node.row * 3 + 1], l1 = st.lambda[node.row * 3 + 2];
     const double d0 = st.slip_step[node.row * 2], d1 = st.slip_step[node.row * 2 + 1];

@@ -31,10 +31,10 @@ TEST(Punch3d, PressedAndSlidOnTheDamageableBlock) {
     }
     // The force on the punch: at each slave node −λ_ν ν (contact_force) and −λ_τ·t (tangential_force:
     // both the force on the body that owns the node); its top's reaction holds it.
-    const std::vector<double> f = state_field("contact_force").vtu_field({st, s.part()}).values;
-    const std::vector<double> t = state_field("tangential_force").vtu_field({st, s.part()}).values;
+    const std::vector<double> f = state_field("contact_force").vtu_field({st, s.part(), s.contact().nodes}).values;
+    const std::vector<double> t = state_field("tangential_force").vtu_field({st, s.part(), s.contact().nodes}).values;
     double on_punch[3] = {0, 0, 0};
-    for (const PartContactNode& node : s.part().contact)
+    for (const PartContactNode& node : s.contact().nodes)
       for (int i = 0; i < 3; ++i) on_punch[i] += f[3 * node.local_node + i] + t[3 * node.local_node + i];
     for (int i = 0; i < 3; ++i) {  // reaction: the block's bottom (3), then the punch's top (3)
       balance = std::max(balance, std::abs(on_punch[i] + r.reaction[static_cast<std::size_t>(3 + i)]));

@@ -61,7 +61,7 @@ TEST(SurfaceState, TheLawsStateIsUpdatedEveryStepFromTheStepsForcesAndSlip) {
     const State& st = s.state();
     off_plain = std::max(off_plain, relative_difference(st.u, plain[n++]));
     double volume = 0;
-    for (const PartContactNode& node : s.part().contact) {
+    for (const PartContactNode& node : s.contact().nodes) {
       const double slip = st.slip_step.segment(node.row, 1).norm();
       worn[node.row] += kWear * std::max(st.lambda[node.row * 2], 0.0) / node.measure * slip;
       volume += worn[node.row] * node.measure;
@@ -103,7 +103,7 @@ TEST(SurfaceState, StateThatMovesTheGapActsOnTheNextStep) {
       const Vector& worn = field(st, "worn").values;
       if (before.size() == 0) before = Vector::Zero(worn.size());
       const double p = 0.005 * std::min(r.t, 1.0);
-      for (const PartContactNode& node : s.part().contact) {
+      for (const PartContactNode& node : s.contact().nodes) {
         if (!(st.lambda[node.row * 2] > 0)) continue;
         ++in_contact;
         off = std::max(off, std::abs(st.u[node.local_node * 2 + 1] - (p - before[node.row])) / 0.005);

@@ -56,7 +56,7 @@ TEST(ContactTangents, UnitAndOrthogonalToTheNormalInBothFrames) {
   MeshPart part = whole_mesh_part(c.problem);
   ASSERT_GT(part.contact.size(), 3u);
   // The case's normals are the axis −z (identity frame): tangents e_x, e_y.
-  std::vector<Point> t = contact_tangents(part, 3);
+  std::vector<Point> t = contact_tangents(part.dofs, part.contact, 3);
   ASSERT_EQ(t.size(), 2 * part.contact.size());
   EXPECT_EQ(t[0], (Point{1, 0, 0}));
   EXPECT_EQ(t[1], (Point{0, 1, 0}));
@@ -66,7 +66,7 @@ TEST(ContactTangents, UnitAndOrthogonalToTheNormalInBothFrames) {
     Point nu{std::sin(a) * std::cos(b), std::sin(a) * std::sin(b), -std::cos(a)};
     part.contact[k].direction = nu;
   }
-  t = contact_tangents(part, 3);
+  t = contact_tangents(part.dofs, part.contact, 3);
   for (std::size_t k = 0; k < part.contact.size(); ++k) {
     const Point& nu = part.contact[k].direction;
     EXPECT_NEAR(dot(t[2 * k], t[2 * k]), 1.0, 1e-14);
@@ -79,7 +79,7 @@ TEST(ContactTangents, UnitAndOrthogonalToTheNormalInBothFrames) {
   const double x[2] = {2.0, -0.5};
   const Point v = along_tangents(t, 1, 3, x);
   for (std::size_t i = 0; i < 3; ++i) EXPECT_DOUBLE_EQ(v[i], 2.0 * t[2][i] - 0.5 * t[3][i]);
-  EXPECT_TRUE(contact_tangents(part, 1).empty());
+  EXPECT_TRUE(contact_tangents(part.dofs, part.contact, 1).empty());
 }
 
 // The outputs' tangents are the contact solver's: DiscreteSystem::T's rows (owned free dofs) by
@@ -91,12 +91,12 @@ TEST(ContactTangents, AreTheRowsOfTheSystemsT) {
   p->contact.direction = Point{0.3 / n, -1.0 / n, 0.0};
   const DiscreteSystem sys(p, whole_mesh_part(p), la::serial_backend(), SolverChoice{});
   const MeshPart& part = sys.part;
-  ASSERT_EQ(sys.contact.friction.T.rows(), static_cast<Eigen::Index>(part.contact.size()));
-  const std::vector<Point> t = contact_tangents(part, 2);
-  const SparseMatrix Tt = sys.contact.friction.T.transpose();
+  ASSERT_EQ(sys.contact->friction.T.rows(), static_cast<Eigen::Index>(sys.contact->nodes.size()));
+  const std::vector<Point> t = contact_tangents(part.dofs, sys.contact->nodes, 2);
+  const SparseMatrix Tt = sys.contact->friction.T.transpose();
   Eigen::Index row = 0;
-  for (std::size_t k = 0; k < part.contact.size(); ++k) {
-    const PartContactNode& node = part.contact[k];
+  for (std::size_t k = 0; k < sys.contact->nodes.size(); ++k) {
+    const PartContactNode& node = sys.contact->nodes[k];
     ASSERT_TRUE(node.owned);
     EXPECT_NE(t[k][0], 0.0);  // tilted: not an axis
     Point from_T{0, 0, 0};
@@ -113,9 +113,9 @@ TEST(FrictionOutputs, VtuFieldsAreTheTangentialVectorsSlipAndStatus) {
   s.step();
   const State st = frictional(s.state(), 2);
   const MeshPart& part = s.part();
-  const std::vector<Point> t = contact_tangents(part, 2);
+  const std::vector<Point> t = contact_tangents(part.dofs, s.contact().nodes, 2);
   std::vector<VtuField> points, cells;
-  make_vtu_fields({st, part}, {}, points, cells);
+  make_vtu_fields({st, part, s.contact().nodes}, {}, points, cells);
   std::map<std::string, const VtuField*> by_name;
   for (const VtuField& f : points) by_name[f.name] = &f;
   for (const char* name : {"tangential_force", "tangential_traction", "slip_increment", "slip", "contact_status"})
@@ -123,8 +123,8 @@ TEST(FrictionOutputs, VtuFieldsAreTheTangentialVectorsSlipAndStatus) {
   EXPECT_EQ(by_name["tangential_force"]->n_components, 3);
   EXPECT_EQ(by_name["slip"]->n_components, 1);
   std::vector<char> on_contact(static_cast<std::size_t>(s.mesh().n_nodes()), 0);
-  for (std::size_t k = 0; k < part.contact.size(); ++k) {
-    const PartContactNode& n = part.contact[k];
+  for (std::size_t k = 0; k < s.contact().nodes.size(); ++k) {
+    const PartContactNode& n = s.contact().nodes[k];
     on_contact[static_cast<std::size_t>(n.local_node)] = 1;
     const double lt = st.lambda[n.row * 2 + 1], dt = st.slip_step[n.row];
     for (std::size_t i = 0; i < 3; ++i) {
@@ -143,12 +143,12 @@ TEST(FrictionOutputs, VtuFieldsAreTheTangentialVectorsSlipAndStatus) {
     }
   // [output] fields selects them; a frictionless state has none of them.
   points.clear();
-  make_vtu_fields({st, part}, {"slip", "beta"}, points, cells);
+  make_vtu_fields({st, part, s.contact().nodes}, {"slip", "beta"}, points, cells);
   ASSERT_EQ(points.size(), 2u);
   EXPECT_EQ(points[0].name, "beta");
   EXPECT_EQ(points[1].name, "slip");
   points.clear();
-  make_vtu_fields({s.state(), part}, {"slip", "tangential_force", "contact_status"}, points, cells);
+  make_vtu_fields({s.state(), part, s.contact().nodes}, {"slip", "tangential_force", "contact_status"}, points, cells);
   EXPECT_TRUE(points.empty());
 }
 
@@ -282,10 +282,10 @@ TEST(FrictionOutputs, StepTotalsSumTheTangentialForcesPerObstacle) {
   EXPECT_TRUE(normal_only.tangential_force.empty());
   EXPECT_TRUE(normal_only.obstacle_tangential_force.empty());
   // The tangential force: Σ_i λ_τ,i t_i, all of it on the one obstacle.
-  const std::vector<Point> t = contact_tangents(sys.part, 2);
+  const std::vector<Point> t = contact_tangents(sys.part.dofs, sys.contact->nodes, 2);
   double x = 0, y = 0;
-  for (std::size_t k = 0; k < sys.part.contact.size(); ++k) {
-    const double l = lambda_nu.lambda[sys.part.contact[k].row * 2 + 1];
+  for (std::size_t k = 0; k < sys.contact->nodes.size(); ++k) {
+    const double l = lambda_nu.lambda[sys.contact->nodes[k].row * 2 + 1];
     x += l * t[k][0];
     y += l * t[k][1];
   }

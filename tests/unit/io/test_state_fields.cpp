@@ -60,7 +60,7 @@ TEST(StateFields, LambdaBlockIsAPointFieldOfBComponents) {
   ASSERT_GT(s.state().lambda.maxCoeff(), 0);
   // b = 1 (every normal law): no λ field of its own; the force and pressure from λ.
   std::vector<VtuField> points, cells;
-  make_vtu_fields({s.state(), s.part()}, {}, points, cells);
+  make_vtu_fields({s.state(), s.part(), s.contact().nodes}, {}, points, cells);
   std::vector<std::string> names;
   for (const auto& f : points) names.push_back(f.name);
   EXPECT_EQ(names, (std::vector<std::string>{"displacement", "beta", "contact_force", "contact_pressure"}));
@@ -70,7 +70,7 @@ TEST(StateFields, LambdaBlockIsAPointFieldOfBComponents) {
   const State st = with_block(s, 3);
   points.clear();
   cells.clear();
-  make_vtu_fields({st, s.part()}, {}, points, cells);
+  make_vtu_fields({st, s.part(), s.contact().nodes}, {}, points, cells);
   // (and friction's tangential force and traction, from λ's other numbers: test_friction_outputs.cpp)
   ASSERT_EQ(points.size(), 7u);
   EXPECT_EQ(points[5].name, "tangential_force");
@@ -79,7 +79,7 @@ TEST(StateFields, LambdaBlockIsAPointFieldOfBComponents) {
   EXPECT_EQ(block.name, "contact_lambda");
   EXPECT_EQ(block.n_components, 3);
   ASSERT_EQ(block.values.size(), static_cast<std::size_t>(s.mesh().n_nodes()) * 3);
-  for (const PartContactNode& c : s.part().contact)
+  for (const PartContactNode& c : s.contact().nodes)
     for (int j = 0; j < 3; ++j) EXPECT_EQ(block.values[c.local_node * 3 + j], st.lambda[c.row * 3 + j]);
   EXPECT_EQ(points[3].values, force_1);
   EXPECT_EQ(points[4].values, pressure_1);

@@ -53,7 +53,7 @@ steps = 2
 /// The penetration u_ν − g of each contact row (ν = (0, −1), g = 0 here).
 std::vector<double> penetration(const TimeStepper& s) {
   std::vector<double> d(s.part().n_contact);
-  for (const PartContactNode& c : s.part().contact) d[c.row] = -s.state().u[2 * c.local_node + 1];
+  for (const PartContactNode& c : s.contact().nodes) d[c.row] = -s.state().u[2 * c.local_node + 1];
   return d;
 }
 
@@ -63,7 +63,7 @@ TEST(ContactLaws, PowerLawHoldsAtEveryNode) {
   const auto s = run_to_end(pads("law = \"normal-compliance\"\nstiffness = 1e5\nexponent = 2.0\n"));
   const std::vector<double> d = penetration(*s);
   int pressed = 0;
-  for (const PartContactNode& c : s->part().contact) {
+  for (const PartContactNode& c : s->contact().nodes) {
     const double lambda = s->state().lambda[c.row];
     EXPECT_NEAR(lambda, 1e5 * c.measure * std::pow(std::max(d[c.row], 0.0), 2), 1e-9 * (1 + lambda)) << c.row;
     pressed += lambda > 0;
@@ -98,7 +98,7 @@ stiffness = 1e3
 )toml"));
   const std::vector<double> d = penetration(*s);
   double right_penetration = 0;
-  for (const PartContactNode& c : s->part().contact) {
+  for (const PartContactNode& c : s->contact().nodes) {
     const double x = s->mesh().node(c.local_node)[0], lambda = s->state().lambda[c.row];
     if (x <= 1) {
       EXPECT_EQ(c.datum, 0.0) << x;
@@ -135,7 +135,7 @@ normal = [0.0, 1.0]
 parts = ["pad_right"]
 )toml");
   TimeStepper s(c.problem, c.solvers);
-  for (const PartContactNode& node : s.part().contact) {
+  for (const PartContactNode& node : s.contact().nodes) {
     const double x = s.mesh().node(node.local_node)[0];
     EXPECT_NEAR(node.gap, x < 1 ? 0.05 : 0.001, 1e-15) << x;
   }
@@ -143,7 +143,7 @@ parts = ["pad_right"]
     const StepReport r = s.step();
     ASSERT_TRUE(r.ok);
     double far = 0, near = 0;
-    for (const PartContactNode& node : s.part().contact)
+    for (const PartContactNode& node : s.contact().nodes)
       (s.mesh().node(node.local_node)[0] < 1 ? far : near) += s.state().lambda[node.row];
     ASSERT_EQ(r.obstacle_force.size(), 2u);
     EXPECT_NEAR(r.obstacle_force[0], far, 1e-12 * (1 + far));

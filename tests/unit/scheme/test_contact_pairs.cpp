@@ -169,7 +169,7 @@ TEST(ContactPairs, AnOpenGapClosesWhereTheMotionReachesIt) {
 
 /// A VTU point field of the stepper's state, one number a node.
 std::vector<double> point_field(const TimeStepper& s, const char* name) {
-  return state_field(name).vtu_field({s.state(), s.part()}).values;
+  return state_field(name).vtu_field({s.state(), s.part(), s.contact().nodes}).values;
 }
 
 // The outputs on both sides of a pair: in the patch test the pressure is −σ on the slave nodes

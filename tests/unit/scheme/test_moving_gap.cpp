@@ -21,7 +21,7 @@ Case bar(const std::string& gap) { return parse_case(test::bar_text("[contact]\n
 TEST(MovingGap, TheTipFollowsTheObstacleIntoTheBody) {
   const Case c = bar("\"0.6 - t\"");
   TimeStepper s(c.problem, c.solvers);
-  const int tip = s.part().contact.front().local_node;
+  const int tip = s.contact().nodes.front().local_node;
   while (!s.done()) {
     const StepReport r = s.step();
     ASSERT_TRUE(r.ok) << "step " << r.n;

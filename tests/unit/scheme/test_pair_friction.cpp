@@ -101,7 +101,7 @@ std::pair<double, double> force_sums(const State& s) {
 
 /// A VTU point field of the stepper's state.
 std::vector<double> point_field(const TimeStepper& s, const char* name) {
-  return state_field(name).vtu_field({s.state(), s.part()}).values;
+  return state_field(name).vtu_field({s.state(), s.part(), s.contact().nodes}).values;
 }
 
 // Once the whole face slides, every slave row is at its bound: Σ|λ_τ| = μ Σ λ_ν to the solver's

@@ -91,8 +91,8 @@ TEST(ProblemValidation, ObliqueContactDirectionWithin90DegreesIsAccepted) {
   const double a = 60 * std::acos(-1.0) / 180;  // 60° from the outward normal (0, −1)
   p->contact.direction = Point{std::sin(a), -std::cos(a), 0};
   TimeStepper s(p);
-  ASSERT_FALSE(s.part().contact.empty());
-  for (const PartContactNode& c : s.part().contact) {
+  ASSERT_FALSE(s.contact().nodes.empty());
+  for (const PartContactNode& c : s.contact().nodes) {
     EXPECT_NEAR(c.direction[0], std::sin(a), 1e-15);
     EXPECT_NEAR(c.direction[1], -std::cos(a), 1e-15);
   }

@@ -86,10 +86,10 @@ Case slide_case(const std::string& sliding, const std::string& solver, const std
 /// The centre of the contact zone in the current configuration: the pressure-weighted mean of x + u_x
 /// over the block's bottom (the master side's contact_pressure).
 double contact_centre(const TimeStepper& s) {
-  const std::vector<double> p = state_field("contact_pressure").vtu_field({s.state(), s.part()}).values;
+  const std::vector<double> p = state_field("contact_pressure").vtu_field({s.state(), s.part(), s.contact().nodes}).values;
   const Mesh& m = s.mesh();
   std::vector<char> slave(static_cast<std::size_t>(m.n_nodes()), 0);  // the disc's arc: its top node is at y = 0 too
-  for (const PartContactNode& node : s.part().contact) slave[static_cast<std::size_t>(node.local_node)] = 1;
+  for (const PartContactNode& node : s.contact().nodes) slave[static_cast<std::size_t>(node.local_node)] = 1;
   double sum = 0, moment = 0;
   for (int n = 0; n < m.n_nodes(); ++n)
     if (std::abs(m.node(n)[1]) < 1e-12 && !slave[static_cast<std::size_t>(n)] && p[static_cast<std::size_t>(n)] > 0) {
@@ -157,7 +157,7 @@ TEST(SlidingPairs, TheSlidersSurfacesGiveTheWholeMovedMeshsRows) {
     const std::vector<ContactRow> rows = pair_rows(moved, dirichlet_dofs(*c.problem).condition);
     std::map<int, const ContactRow*> row_of;
     for (const ContactRow& r : rows) row_of[r.node] = &r;
-    for (const PartContactNode& node : s.part().contact) {
+    for (const PartContactNode& node : s.contact().nodes) {
       const int o = s.part().original_node[static_cast<std::size_t>(node.local_node)];
       const auto it = row_of.find(o);
       if (it == row_of.end()) {  // no master within reach: no masters this step
@@ -336,7 +336,7 @@ dt = [0.5, 0.05]
     const auto s = run_to_end(c, &r);
     int off = 0, on = 0;
     double vertical = 0;  // Σ λ_ν ν_y: the normals are the moved configuration's (the corner tilts them)
-    for (const PartContactNode& node : s->part().contact) {
+    for (const PartContactNode& node : s->contact().nodes) {
       vertical += s->state().lambda[node.row] * node.direction[1];
       const double x = s->mesh().node(node.local_node)[0] + s->state().u[2 * node.local_node];
       if (x > 1.0 + 1e-3) {
@@ -433,7 +433,7 @@ TEST(SlidingPairs, SmallSlidingMeasuresTheSlideFromItsMasters) {
   for (const auto& [ux, slid] : {std::pair{"0.5*max(t - 1, 0)", 0.5}, {"0.02*max(t - 1, 0)", 0.02}}) {
     Case c = parse_case(blocks_slid("small", ux, 2.0, 20), "small.toml", ".", {});
     const auto s = run_to_end(c);
-    const std::vector<PairSlide> slides = small_slides(*c.problem, s->part(), s->state());
+    const std::vector<PairSlide> slides = small_slides(*c.problem, s->part(), s->contact().nodes, s->state());
     ASSERT_EQ(slides.size(), 1u);
     EXPECT_NEAR(slides[0].facet, 0.2, 1e-15);
     // The slave slides with the body's top (frictionless: no shear holds it back), the master's mean
@@ -444,7 +444,7 @@ TEST(SlidingPairs, SmallSlidingMeasuresTheSlideFromItsMasters) {
     EXPECT_EQ(slides[0].x[1], 0.5);
     c = parse_case(blocks_slid("large", ux, 2.0, 20), "large.toml", ".", {});
     const auto large = run_to_end(c);
-    EXPECT_TRUE(small_slides(*c.problem, large->part(), large->state()).empty());  // rows follow the motion
+    EXPECT_TRUE(small_slides(*c.problem, large->part(), large->contact().nodes, large->state()).empty());  // rows follow the motion
   }
 }
 
