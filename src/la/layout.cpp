@@ -39,10 +39,12 @@ Layout::Layout(Comm comm, int n_owned, std::vector<long long> ghosts, std::vecto
   // Ask each owner for the ghosts it owns; it remembers which of its entries to send.
   std::vector<std::vector<long long>> ask(p);
   recv_.assign(p, {});
+  ghost_owner_.resize(ghosts_.size());
   for (size_t k = 0; k < ghosts_.size(); ++k) {
     const long long g = ghosts_[k];
     const int owner = static_cast<int>(std::upper_bound(end.begin(), end.end(), g) - end.begin());
     require(g >= 0 && owner < p && owner != me, "internal: ghost {} is not owned by another rank", g);
+    ghost_owner_[k] = owner;
     ask[owner].push_back(g);
     recv_[owner].push_back(static_cast<int>(k));
   }

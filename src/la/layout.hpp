@@ -53,6 +53,8 @@ class Layout {
   /// Global index of the first owned entry.
   long long begin() const { return begin_; }
   const std::vector<long long>& ghosts() const { return ghosts_; }
+  /// The rank that owns ghost entry k (0 <= k < n_ghosts()).
+  int ghost_owner(int k) const { return ghost_owner_[static_cast<std::size_t>(k)]; }
 
   /// Owners' values into the ghost entries of `local` (owned, then ghosts).
   void forward(Eigen::VectorXd& local) const;
@@ -79,6 +81,7 @@ class Layout {
   int n_owned_ = 0;
   long long n_global_ = 0, begin_ = 0;
   std::vector<long long> ghosts_, original_;
+  std::vector<int> ghost_owner_;             // per ghost entry: its owner
   std::vector<std::vector<int>> send_;        // per rank: our owned entries that rank holds as ghosts
   std::vector<std::vector<int>> recv_;        // per rank: positions in ghosts_ of the entries it owns
 

@@ -260,6 +260,10 @@ void run() {
   const Chain c(comm, 23);
   auto layout = std::make_shared<const la::Layout>(comm, c.n_owned, c.ghosts, c.original());
   check(layout->n_global() == c.N && layout->begin() == c.begin, "layout ranges", comm);
+  // A rank's ghost is the next rank's first node: that rank owns it.
+  bool owners = true;
+  for (int k = 0; k < layout->n_ghosts(); ++k) owners = owners && layout->ghost_owner(k) == comm.rank() + 1;
+  check(owners, "each ghost's owner", comm);
   la::Vector v(layout);
   for (int i = 0; i < c.n_owned; ++i) v.local()[i] = 1.5 * (c.begin + i);
   v.update_ghosts();
