@@ -33,7 +33,7 @@ ContactNeeds contact_needs(const la::Comm& comm, const ContactConstraints& c) {
         break;
       }
   n.pair_sides_mixed = !comm.all(masters_apart_from_slaves(c.N, c.node_dofs, c.master_mean));
-  n.spread_pairs = c.remote.spread || spread_rows(comm, c);
+  n.spread_pairs = c.remote.spread;  // the same on every rank (RemoteRows::spread)
   return n;
 }
 

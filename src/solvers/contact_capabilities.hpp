@@ -26,7 +26,7 @@ struct ContactNeeds {
   std::string nonlinear;         // a normal law that is not linear: its kind ("a power-law compliance"); empty: none
   bool pair_sides_mixed = false; // a node on the slave side of one pair row and the master side of another
   std::string tension;           // a normal law whose force goes below 0 at some row (ContactLaw::dual_lower): its name
-  bool spread_pairs = false;     // the rows are spread (RemoteRows::spread) or some rank holds pieces (spread_rows)
+  bool spread_pairs = false;     // the rows are spread (RemoteRows::spread): some rank may hold pieces
 };
 
 /// Whether a row with this normal law can only be solved by the dual (the table's "no" of the primal

@@ -75,15 +75,13 @@ Vector block_offsets(const ContactConstraints& c) {
   return o;
 }
 
-bool spread_rows(const la::Comm& comm, const ContactConstraints& c) { return comm.any(!c.remote.rows.empty()); }
-
 namespace {
 
 /// This rank's rows' values `own` (rows × width) plus the pieces' values of each row (`pieces`: remote
 /// rows × width), summed over the ranks at the rows' places (m × width); `own` alone where nothing is
 /// spread. A piece's row is never its own rank's, so each place gets one value a rank.
 Vector with_pieces(const la::Comm& comm, const ContactConstraints& c, Vector own, const Vector& pieces, int width) {
-  require(c.remote.spread || c.remote.rows.empty(), "internal: remote pieces of contact rows not marked (spread_rows)");
+  require(c.remote.spread || c.remote.rows.empty(), "internal: remote pieces of contact rows not marked spread (RemoteRows::spread)");
   if (!c.remote.spread) return own;
   Vector all = Vector::Zero(static_cast<Eigen::Index>(c.m) * width);
   for (std::size_t k = 0; k < c.remote.rows.size(); ++k)

@@ -72,8 +72,8 @@ struct RemoteRows {
   std::vector<int> rows;
   SparseMatrix N;  // pieces × owned free dofs
   SparseMatrix T;  // pieces × (b − 1) rows × owned free dofs (friction), else 0 × 0
-  /// The rows are spread: some rank may hold pieces (spread_rows), the same on every rank, set once
-  /// where the constraints are made (scheme/contact_set.cpp; checked by the dual). The products with
+  /// The rows are spread: some rank may hold pieces, the same on every rank, set once
+  /// where the constraints are made (part/contact_set.cpp; checked by the dual). The products with
   /// pieces then sum over the ranks; without, they read own rows alone. The primal and
   /// penalty–duality refuse spread rows (contact_needs), pieces or not.
   bool spread = false;
@@ -93,9 +93,10 @@ struct ContactConstraints {
   std::vector<std::shared_ptr<const ContactLaw>> laws;
   std::vector<int> law;  // per local row
   Vector datum;          // per local row
-  /// Contact pairs (SPEC §8): per local row, its own node's free dofs (owned numbering); a pair
-  /// row's other entries are its master nodes'. Empty where no row has masters (a row's entries are
-  /// all its node's). The primal solver's basis needs them (contact_basis, solvers/contact_frame.hpp).
+  /// Per local row, its own node's free dofs (owned numbering); a contact pair's row (SPEC §8) has its
+  /// other entries at its master nodes'. What tells a pair row's slave from its masters
+  /// (masters_apart_from_slaves, contact_basis: solvers/contact_frame.hpp); empty in constraints
+  /// made by hand (tests), where every entry of a row is its node's.
   std::vector<std::vector<int>> node_dofs;
   /// Friction on pairs: M of ContactMatrix::master_mean (owned numbering), each slave node's masters'
   /// weighted mean on all its dofs; T's pair rows are then the slip relative to the master,
@@ -184,8 +185,6 @@ SparseMatrix block_rows(const ContactConstraints& c, std::vector<int>& places);
 /// g, or with friction [g; h], of those rows (0 on the pieces: the offsets are their owners').
 Vector block_offsets(const ContactConstraints& c);
 
-/// Whether some rank holds remote pieces (collective: the same answer on every rank).
-bool spread_rows(const la::Comm& comm, const ContactConstraints& c);
 /// g − N u of this rank's rows (the gap left by u), each with the other ranks' pieces of it
 /// (collective where spread).
 Vector gap_left(const la::Comm& comm, const ContactConstraints& c, const Vector& u);
