@@ -5,7 +5,7 @@
 //   vpcontact-mortar-bench [--dim 3] [--n 10,20,40,80] [--repeat 3]
 #include "cases/builtin_cases.hpp"
 #include "mortar/mortar_coupling.hpp"
-#include "scheme/contact_pairs.hpp"
+#include "problem/contact_pairs.hpp"
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>

@@ -1,6 +1,6 @@
 #pragma once
-// A contact node's block: what the contact rows of the whole mesh (scheme/contact_rows.hpp) and
-// a part's contact nodes (scheme/mesh_part.hpp) carry, each in its own numbering.
+// A contact node's block: what the contact rows of the whole mesh (problem/contact_rows.hpp) and
+// a part's contact nodes (part/mesh_part.hpp) carry, each in its own numbering.
 #include "contact/obstacle.hpp"
 #include "mesh/mesh.hpp"
 
@@ -12,7 +12,7 @@ namespace vpc {
 /// One contact node's block (SPEC (3.9)), whatever numbering it is in: its unit direction ν (the
 /// given one, or the measure-weighted mean of the outward normals of its Γ3 facets), its gap g,
 /// its measure, its law and the law's datum, its obstacles and, on a pair, its masters. The whole
-/// mesh's rows (ContactRow) and a part's nodes (PartContactNode, scheme/mesh_part.hpp) are this
+/// mesh's rows (ContactRow) and a part's nodes (PartContactNode, part/mesh_part.hpp) are this
 /// block with their own numbering.
 struct ContactNode {
   Point direction{0, 0, 0};
@@ -33,7 +33,7 @@ struct ContactNode {
   int pair = -1;  // its index in ContactSpec::pairs (−1: Γ3)
 };
 
-/// A row of the contact matrix N of (3.9) on the whole mesh (scheme/contact_rows.hpp builds them):
+/// A row of the contact matrix N of (3.9) on the whole mesh (problem/contact_rows.hpp builds them):
 /// a node of Γ3 that is not clamped, or a pair's covered slave node, with its block; masters are
 /// numbered as the mesh's nodes.
 struct ContactRow : ContactNode {

@@ -2,7 +2,7 @@
 // The case's contact specification (SPEC §2's Γ3, §6's obstacles, §7's friction, §8's pairs):
 // the normal and friction law of each entry ([contact], each [[contact.part]], each
 // [[contact.pair]]), the gap or the obstacles, and the contact direction. The case file fills
-// it (io/case_contact.cpp); the contact rows (scheme/contact_rows.hpp) are built from it.
+// it (io/case_contact.cpp); the contact rows (problem/contact_rows.hpp) are built from it.
 #include "contact/contact_law.hpp"
 #include "contact/friction_law.hpp"
 #include "contact/obstacle.hpp"
@@ -27,7 +27,7 @@ struct PartContactLaw {
 };
 
 /// Contact between two bodies (SPEC §8, `[[contact.pair]]`): a normal law for the jump of u across
-/// a slave and a master part, by dual mortar (mortar/, scheme/contact_pairs.hpp), the gap measured
+/// a slave and a master part, by dual mortar (mortar/, problem/contact_pairs.hpp), the gap measured
 /// from the slave side along its nodal normals in the reference configuration.
 struct ContactPair {
   std::string slave, master;  // boundary parts of two different bodies

@@ -1,5 +1,5 @@
 #pragma once
-// The whole mesh's contact rows as a set-up shares them (the rows: scheme/contact_rows.hpp).
+// The whole mesh's contact rows as a set-up shares them (the rows: problem/contact_rows.hpp).
 #include <memory>
 #include <vector>
 

@@ -43,7 +43,7 @@ class Expression {
   /// Throws vpc::Error if an evaluation since construction gave a value that is not a
   /// finite number (NaN, ±inf), naming the formula's key (`where`), the value, the time
   /// and the point of the earliest such evaluation (the least t, then x). The scheme
-  /// calls it through check_formulas (scheme/problem.hpp) after each step's data.
+  /// calls it through check_formulas (problem/problem.hpp) after each step's data.
   void check_finite() const;
 
  private:

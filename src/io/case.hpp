@@ -2,7 +2,7 @@
 // A case: a Problem plus how to run it (solvers) and what to write (output).
 // Case files produce one (the built-in cases are case files compiled in).
 #include "io/run_output.hpp"
-#include "scheme/problem.hpp"
+#include "problem/problem.hpp"
 #include "scheme/time_stepper.hpp"
 
 #include <memory>

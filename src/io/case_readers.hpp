@@ -9,7 +9,7 @@
 // module graph (scripts/module_graph.py); the laws' own keys are read by the laws through
 // LawKeys (contact/contact_law.hpp) and Parameters (material/parameters.hpp) instead.
 #include "io/case_section.hpp"
-#include "scheme/problem.hpp"
+#include "problem/problem.hpp"
 
 #include <fmt/ranges.h>
 

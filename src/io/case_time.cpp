@@ -1,4 +1,4 @@
-// [time]: the final time T and the time grid (scheme/time_grid.hpp): uniform steps, a list or a
+// [time]: the final time T and the time grid (problem/time_grid.hpp): uniform steps, a list or a
 // formula of step sizes, or error-controlled steps (StepControl).
 #include "io/case_readers.hpp"
 
@@ -20,7 +20,7 @@ const std::vector<std::string>& step_control_keys() {
 ///   dt = [k1, k2, …]             these steps (adding up to T), or with breakpoints = [b1, …]
 ///                                one step size per interval [0, b1], [b1, b2], …, [b_last, T];
 ///   dt = "formula in t"          t_{n+1} = t_n + k(t_n);
-///   tolerance = e                error-controlled steps (scheme/time_grid.hpp, StepControl),
+///   tolerance = e                error-controlled steps (problem/time_grid.hpp, StepControl),
 ///                                with dt_initial, dt_min, dt_max, growth, cut, safety, event_dt,
 ///                                events, max_rejections; breakpoints: times a step ends at.
 void read_time(Section tm, Problem& p, const std::string& file) {

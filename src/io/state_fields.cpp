@@ -2,7 +2,7 @@
 
 #include "core/error.hpp"
 #include "la/vector.hpp"
-#include "scheme/contact_tangents.hpp"
+#include "part/contact_tangents.hpp"
 
 #include <algorithm>
 
@@ -157,7 +157,7 @@ constexpr StateField kFields[] = {
     {"contact_force", "contact_force_vector", "contact_force", L::node, three, nullptr, nullptr,
      [](const FieldContext& c) {
        // The nodal force the foundation exerts at each contact node: −λ ν; on a contact pair's master
-       // nodes the slave's reaction, Σ_j w_jk λ_j ν_j (scheme/contact_pairs.hpp).
+       // nodes the slave's reaction, Σ_j w_jk λ_j ν_j (problem/contact_pairs.hpp).
        return node_field(c, "contact_force", 3, [&](double* out) {
          for (const PartContactNode& n : c.contact)
            for (int j = 0; j < 3; ++j) out[n.local_node * 3 + j] = -normal_force(c.state, n) * n.direction[j];

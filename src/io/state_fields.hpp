@@ -7,7 +7,7 @@
 // from this table: a new field is one entry (a new stored field also needs its place in
 // the checkpoint format, io/checkpoint_file.hpp: kFileArrays, which a test checks).
 #include "io/vtu_writer.hpp"
-#include "scheme/mesh_part.hpp"
+#include "part/mesh_part.hpp"
 #include "scheme/state.hpp"
 
 #include <span>

@@ -24,7 +24,7 @@ class ViscoplasticLaw {
   /// L(β), the Lipschitz constant of σ ↦ G(σ, ε, β) at a fixed β (Frobenius norm): the
   /// fastest rate at which G relaxes σ. Non-increasing in β (β = 0, the most damaged state,
   /// is the worst). The lagged step z_n = z_{n−1} + k G_{n−1} of (3.6) is explicit and stable
-  /// only for k L ≤ 2 (scheme/stability.hpp; docs/scheme.md, "Stability of the lagged step").
+  /// only for k L ≤ 2 (problem/stability.hpp; docs/scheme.md, "Stability of the lagged step").
   virtual Lipschitz lipschitz(double beta) const = 0;
 };
 

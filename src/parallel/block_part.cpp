@@ -6,7 +6,7 @@
 #include "la/petsc.hpp"
 #include "mesh/node_cells.hpp"
 #include "mesh/refine.hpp"
-#include "scheme/part_cut.hpp"
+#include "part/part_cut.hpp"
 #include "solvers/contact_capabilities.hpp"
 
 #include <fmt/format.h>

@@ -7,9 +7,9 @@
 // after the lower ranks' and asks the owners of its ghost nodes for theirs. The part is the
 // one distribute_mesh sends for the same cells per rank, piece for piece.
 #include "la/comm.hpp"
+#include "part/mesh_part.hpp"
+#include "problem/problem.hpp"
 #include "run/solver_plan.hpp"
-#include "scheme/mesh_part.hpp"
-#include "scheme/problem.hpp"
 
 #include <mpi.h>
 

@@ -2,7 +2,7 @@
 
 #include "la/petsc.hpp"
 #include "mesh/node_cells.hpp"
-#include "scheme/part_cut.hpp"
+#include "part/part_cut.hpp"
 
 #include <petscmat.h>
 
@@ -75,7 +75,7 @@ int lowest_rank(const NodeCells& nc, const std::vector<int>& part, int n_parts, 
   return o == n_parts ? 0 : o;
 }
 
-/// A contact pair's row (scheme/contact_pairs.hpp) is ν·u_j − Σ_k w_k ν·u_k on its slave node j
+/// A contact pair's row (problem/contact_pairs.hpp) is ν·u_j − Σ_k w_k ν·u_k on its slave node j
 /// and master nodes k. The solvers take each rank's rows of N over that rank's own dofs (so that
 /// Nᵀλ and S = N K⁻¹Nᵀ sum over the ranks exactly, with no ghost columns): every node of a row
 /// must have the row's owner. Rows sharing a master node chain along the interface, so each
@@ -93,7 +93,6 @@ int lowest_rank(const NodeCells& nc, const std::vector<int>& part, int n_parts, 
 /// (pack_parts), and the pairs' nodes are owned as any other.
 void own_pairs_together(const std::vector<ContactRow>& rows, const Mesh& mesh, const NodeCells& nc, int n_parts,
                         const std::vector<int>& on_rank_0, std::vector<int>& part, std::vector<int>& owner) {
-  if (std::ranges::none_of(rows, [](const ContactRow& r) { return r.pair >= 0; })) return;
   std::vector<int> root(owner.size(), -1);  // union–find over the pair rows' nodes
   auto find = [&](int i) {
     while (root[i] != i) i = root[i] = root[root[i]];
@@ -206,7 +205,7 @@ constexpr int kHeader = 13;
 /// The master nodes of rank r's spread pair rows (the rows of its `owned` slave nodes; a row of Γ3
 /// has none) that another rank owns, into r's `ghosts`: ghosts with no cell of r's, which give r's
 /// rows their masters' u (u's ghost update) and their columns, whose entries go to the masters'
-/// owners as remote pieces (remote_pieces, scheme/contact_matrix.hpp).
+/// owners as remote pieces (remote_pieces, part/contact_matrix.hpp).
 void add_master_ghosts(const WholeMeshData& whole, const std::vector<int>& owned, const std::vector<int>& owner, int r,
                        std::vector<int>& ghosts) {
   for (const int v : owned)

@@ -13,9 +13,9 @@
 //
 // Locally a part is an ordinary vpc::Mesh (owned nodes first, then ghosts; owned
 // cells in their original order; the Γ2 facets of owned cells), so the element
-// kernels and assembly loops run on it unchanged (scheme/mesh_part.hpp).
-#include "scheme/mesh_part.hpp"
-#include "scheme/problem.hpp"
+// kernels and assembly loops run on it unchanged (part/mesh_part.hpp).
+#include "part/mesh_part.hpp"
+#include "problem/problem.hpp"
 
 #include <mpi.h>
 

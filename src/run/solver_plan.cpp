@@ -1,9 +1,9 @@
 #include "run/solver_plan.hpp"
 
-#include "scheme/contact_rows.hpp"
-#include "scheme/discrete_system.hpp"
 #include "core/error.hpp"
 #include "fem/cell_geometry.hpp"
+#include "problem/contact_rows.hpp"
+#include "scheme/discrete_system.hpp"
 #include "solvers/contact_capabilities.hpp"
 #include "solvers/contact_solver.hpp"
 #include "solvers/solver_cost.hpp"

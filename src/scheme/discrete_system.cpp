@@ -3,7 +3,7 @@
 #include "core/error.hpp"
 #include "fem/assembly.hpp"
 #include "la/memory_estimate.hpp"
-#include "scheme/stability.hpp"
+#include "problem/stability.hpp"
 #include "scheme/step_data.hpp"
 
 #include <algorithm>
@@ -57,7 +57,7 @@ DiscreteSystem::DiscreteSystem(std::shared_ptr<const Problem> problem_in, MeshPa
   require(part.n_global_dofs > 0, "{}: every node is clamped; nothing to solve", p.name);
   geo = compute_geometry(mesh);
   materials = p.material_list();
-  // Error-controlled steps stay within the explicit G's stable step (scheme/stability.hpp).
+  // Error-controlled steps stay within the explicit G's stable step (problem/stability.hpp).
   if (p.step_control) control = stable_step_control(p);
   first_step = control ? control->dt_initial : p.step_at(1);
   for (const CellGeometry& g : geo) volume += g.volume;

@@ -1,5 +1,5 @@
 #pragma once
-// The discrete system of SPEC §2 on this process's part (scheme/mesh_part.hpp): everything
+// The discrete system of SPEC §2 on this process's part (part/mesh_part.hpp): everything
 // the scheme derives from the problem once and keeps over the run, like MFEM's
 // TimeDependentOperator: the cells' geometry and materials, K of (3.9), M and A of (3.8),
 // the lumped mass of the error estimate, the basis integrals of uniform loads, the cells
@@ -11,11 +11,11 @@
 #include "fem/cell_geometry.hpp"
 #include "la/backend.hpp"
 #include "la/vector.hpp"
-#include "scheme/contact_set.hpp"
-#include "scheme/mesh_part.hpp"
-#include "scheme/problem.hpp"
+#include "part/contact_set.hpp"
+#include "part/mesh_part.hpp"
+#include "problem/problem.hpp"
+#include "problem/time_grid.hpp"
 #include "scheme/solver_choice.hpp"
-#include "scheme/time_grid.hpp"
 #include "solvers/contact_solver.hpp"
 #include "solvers/solver_cost.hpp"
 
@@ -39,7 +39,7 @@ struct DiscreteSystem {
   const Material& material(int cell) const { return materials[part.cell_material[cell]]; }
   double volume = 0;  // |Ω|, over every process
   /// The error control of Problem::step_control completed and capped at the stable step
-  /// (stable_step_control, scheme/stability.hpp); empty for a fixed grid.
+  /// (stable_step_control, problem/stability.hpp); empty for a fixed grid.
   std::optional<StepControl> control;
   double first_step = 0;  // k_1 (Problem::first_step): the step the set-up's H is for
 
@@ -65,7 +65,7 @@ struct DiscreteSystem {
   Vector lumped_mass;  // the row sums of M (owned nodes): the error estimate's M_L
   Vector basis_integral_cells, basis_integral_traction;  // ∫ψ_a over Ω and Γ2 (for uniform f0, f2; else empty)
   std::vector<int> dirichlet_cells;  // the part's cells with a prescribed dof: u_D's lifting, the reactions
-  /// The contact nodes, their rows and friction's frame (scheme/contact_set.hpp) in the configuration
+  /// The contact nodes, their rows and friction's frame (part/contact_set.hpp) in the configuration
   /// the step starts from: made by the constructor from the part's (taken: part.contact is empty
   /// after), a new one at each slide of a large-sliding pair (TimeStepper, scheme/pair_slider.hpp).
   std::shared_ptr<const ContactSet> contact;

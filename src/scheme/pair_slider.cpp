@@ -2,7 +2,7 @@
 
 #include "core/error.hpp"
 #include "la/comm.hpp"
-#include "scheme/contact_pairs.hpp"
+#include "problem/contact_pairs.hpp"
 
 #include <map>
 #include <memory>

@@ -1,6 +1,6 @@
 #include "scheme/scheme_solvers.hpp"
 
-#include "scheme/contact_matrix.hpp"
+#include "part/contact_matrix.hpp"
 #include "scheme/pair_slider.hpp"
 #include "solvers/contact_frame.hpp"
 #include "solvers/primal_active_set.hpp"
@@ -33,15 +33,14 @@ std::unique_ptr<ContactSolver> contact_solver(const DiscreteSystem& sys, const S
     // writes its slave node in its masters' dofs: K_rot = Pᵀ K P (contact_basis), which every rank
     // forms from its own cells because the cells at a slave node are on the rank that owns it and
     // its masters (own_pairs_together).
+    // Over the part's rows, ghosts included: every rank's cells need its nodes' basis (a ghost row's
+    // reflection too). A pair row is never a ghost (its slave node's owner holds its masters).
+    for (const PartContactNode& node : sys.contact->nodes)
+      require(node.owned || node.pair < 0, "internal: contact pair row {} is a ghost on this rank", node.row);
+    const ContactMatrix& local = sys.contact->local;
+    const ContactBasis basis = contact_basis(local.N, local.node_dofs, sys.contact->friction.local_master_mean);
     std::shared_ptr<const la::SpdOperator> K_rot;
-    const bool pairs = !constraints.node_dofs.empty();
-    if (part.comm.any(pairs || contact_reflections(constraints.N).size() > 0)) {
-      const ContactMatrix& local = sys.contact->local;
-      for (const PartContactNode& node : sys.contact->nodes)
-        require(node.owned || node.pair < 0, "internal: contact pair row {} is a ghost on this rank", node.row);
-      const ContactBasis basis =
-          pairs ? contact_basis(local.N, local.node_dofs, sys.contact->friction.local_master_mean)
-                : contact_basis(local.N, {});
+    if (part.comm.any(basis.P.size() > 0)) {  // else every row lies on an axis: K itself
       const SparseMatrix& P = basis.P;
       K_rot = sys.backend->assemble(basis.pairs()     ? SparseMatrix(P.transpose() * K_local * P)
                                     : P.size() > 0 ? SparseMatrix(P * K_local * P)

@@ -2,8 +2,8 @@
 // How far a small-sliding pair's slave nodes slide (SPEC §8): with `sliding = "small"` a slave node
 // keeps the masters it faced at t = 0, which holds while it slides a fraction of a master facet;
 // the run warns past kSmallSlideLimit. Large sliding follows the motion instead (scheme/pair_slider.hpp).
-#include "scheme/mesh_part.hpp"
-#include "scheme/problem.hpp"
+#include "part/mesh_part.hpp"
+#include "problem/problem.hpp"
 #include "scheme/state.hpp"
 
 #include <span>

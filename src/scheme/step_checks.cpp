@@ -2,8 +2,8 @@
 
 #include "core/error.hpp"
 #include "fem/assembly.hpp"
-#include "scheme/contact_tangents.hpp"
-#include "scheme/stability.hpp"
+#include "part/contact_tangents.hpp"
+#include "problem/stability.hpp"
 #include "scheme/surface_fields.hpp"
 
 #include <algorithm>

@@ -39,7 +39,7 @@ void report_step(const DiscreteSystem& sys, const State& s, const Vector& F, Ste
 bool step_accepted(const la::Comm& comm, const StepReport& rep, double tolerance, const Vector& u_free,
                    const Vector& beta_owned);
 
-/// The backstop for an unstable explicit G (scheme/stability.hpp), from the change of the lagged
+/// The backstop for an unstable explicit G (problem/stability.hpp), from the change of the lagged
 /// rate ΔG_n = G_n − G_{n−1} (L2 over Ω) that each attempt's error estimate measures.
 class LaggedStepBackstop {
  public:

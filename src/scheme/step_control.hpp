@@ -1,14 +1,14 @@
 #pragma once
 // Step-size control (like PETSc's TSAdapt): the estimate of the error a step adds, the
 // error-controlled step (accept, or reject and redo from a snapshot with a smaller step;
-// StepControl, scheme/time_grid.hpp), halving of a failed step on a fixed grid, and what
+// StepControl, problem/time_grid.hpp), halving of a failed step on a fixed grid, and what
 // the step sizes carry from step to step.
 #include "la/vector.hpp"
+#include "problem/time_grid.hpp"
 #include "scheme/discrete_system.hpp"
 #include "scheme/scheme_step.hpp"
 #include "scheme/state.hpp"
 #include "scheme/step_report.hpp"
-#include "scheme/time_grid.hpp"
 
 #include <functional>
 #include <vector>
@@ -51,7 +51,7 @@ struct ErrorEstimate {
   double dG_dot_last = 0; // (ΔG, dG_last) (L2)
 };
 
-/// The estimate (StepControl, scheme/time_grid.hpp) of the relative error the step `taken` (of
+/// The estimate (StepControl, problem/time_grid.hpp) of the relative error the step `taken` (of
 /// size k, ending in the state s) adds: the local error (k/2)|x'(t_n) − x'(t_{n−1})| of the
 /// explicit rate of z, G (3.6), weighted by 1/(μT) where the law damps it (error_damping), and of
 /// β's rate in (3.8). `now`: G_n, φ_n; dG_last: ΔG of the last accepted step; sigma_scale:

@@ -23,7 +23,7 @@ struct StepReport {
   int n = 0;
   double t = 0;
   double k = 0;  // the step's size t_n − t_{n−1}
-  /// The estimate of the relative error this step adds (StepControl, scheme/time_grid.hpp),
+  /// The estimate of the relative error this step adds (StepControl, problem/time_grid.hpp),
   /// made for every grid; error-controlled steps are chosen by it.
   double error_estimate = 0;
   /// Attempts of this step that were rejected and redone from the state before it

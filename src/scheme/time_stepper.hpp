@@ -12,10 +12,10 @@
 #include "fem/dof_map.hpp"
 #include "la/backend.hpp"
 #include "la/vector.hpp"
+#include "part/mesh_part.hpp"
+#include "problem/problem.hpp"
 #include "scheme/discrete_system.hpp"
-#include "scheme/mesh_part.hpp"
 #include "scheme/pair_slider.hpp"
-#include "scheme/problem.hpp"
 #include "scheme/scheme_solvers.hpp"
 #include "scheme/scheme_step.hpp"
 #include "scheme/solver_choice.hpp"
@@ -36,7 +36,7 @@
 
 namespace vpc {
 
-/// Advances the scheme on this process's part of the mesh (scheme/mesh_part.hpp)
+/// Advances the scheme on this process's part of the mesh (part/mesh_part.hpp)
 /// over a linear-algebra backend (la/backend.hpp): one class for one process and
 /// for many. Elementwise work (G, φ, z, ε, σ) runs on the part's cells; vectors
 /// of unknowns are the owned entries; every decision is a reduction over the
@@ -90,7 +90,7 @@ class TimeStepper {
   const SparseMatrix& mass_matrix() const { return sys_.M_local; }
   const SparseMatrix& laplacian_matrix() const { return sys_.A_local; }
   SparseMatrix contact_rows() const { return sys_.contact->N; }
-  /// The contact set of the configuration the last step started from (scheme/contact_set.hpp): its
+  /// The contact set of the configuration the last step started from (part/contact_set.hpp): its
   /// nodes (owned and ghost, by row), rows and friction frame.
   const ContactSet& contact() const { return *sys_.contact; }
   int n_factorizations() const;

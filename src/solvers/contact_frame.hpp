@@ -25,7 +25,7 @@ std::vector<RotatedRow> rotated_rows(const SparseMatrix& N);
 
 /// The primal solver's basis on contact pairs (SPEC §8): u = P w with N_i P = α_i e_{k_i}ᵀ for every
 /// row, a pair's too, whose entries off its own node's dofs (`node_dofs[i]`) are its masters'
-/// (−w_m ν, scheme/contact_pairs.hpp). P = H + E: H the reflections of the rows' own parts
+/// (−w_m ν, problem/contact_pairs.hpp). P = H + E: H the reflections of the rows' own parts
 /// (contact_reflections), E the slave node's shift along H e_k by its row's master part over α, so
 /// that w_k is the row's weighted gap variable itself: N_i P w = α_i w_k, and an active row is one
 /// fixed dof as on a rigid obstacle (the "relative displacement" basis in which dual mortar's

@@ -14,7 +14,7 @@
 // stored in time. Besides the errors against * the study records the differences of
 // consecutive levels, |w_l − w_{l+1}| in the same norms: their ratios estimate the
 // rate without the bias that a reference only one level finer introduces.
-#include "scheme/problem.hpp"
+#include "problem/problem.hpp"
 #include "scheme/time_stepper.hpp"
 #include "verification/norms.hpp"
 

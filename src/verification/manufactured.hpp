@@ -25,7 +25,7 @@
 //    and L2(σ), O(h²) in L2(u) and L2(β), at any k. A scheme that lags G or φ
 //    differently leaves an O(k) error floor, which a fixed-k h-study detects.
 // With the elastic law (G = 0) z = 0 and g_m = 0.
-#include "scheme/problem.hpp"
+#include "problem/problem.hpp"
 #include "verification/dual.hpp"
 #include "verification/norms.hpp"
 

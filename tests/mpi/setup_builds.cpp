@@ -6,13 +6,13 @@
 // pair's mortar coupling once, the other ranks none; where each rank builds its own block of a
 // generated mesh (Problem::block) each builds its block's rows once. Every rank builds its part's
 // contact matrix (contact_matrix) once.
-#include "petsc_main.hpp"
 #include "cases/builtin_cases.hpp"
 #include "la/comm.hpp"
 #include "mortar/mortar_coupling.hpp"
 #include "parallel/petsc_engine.hpp"
-#include "scheme/contact_matrix.hpp"
-#include "scheme/contact_rows.hpp"
+#include "part/contact_matrix.hpp"
+#include "petsc_main.hpp"
+#include "problem/contact_rows.hpp"
 
 #include <fmt/format.h>
 

@@ -18,8 +18,8 @@
 #include "mpi_check.hpp"
 #include "parallel/distributed_mesh.hpp"
 #include "parallel/petsc_engine.hpp"
+#include "part/contact_set.hpp"
 #include "petsc_main.hpp"
-#include "scheme/contact_set.hpp"
 
 #include <fmt/format.h>
 

@@ -4,9 +4,9 @@
 #include "test_laws.hpp"
 
 #include "../case_text.hpp"
-#include "contact/registry.hpp"
 #include "contact/normal_compliance.hpp"
-#include "scheme/contact_rows.hpp"
+#include "contact/registry.hpp"
+#include "problem/contact_rows.hpp"
 #include "solvers/box_qp.hpp"
 #include "solvers/compliance_dual.hpp"
 

@@ -11,7 +11,7 @@
 #include "io/checkpoint_file.hpp"
 #include "io/history_columns.hpp"
 #include "io/state_fields.hpp"
-#include "scheme/contact_tangents.hpp"
+#include "part/contact_tangents.hpp"
 #include "scheme/step_checks.hpp"
 #include "test_files.hpp"
 

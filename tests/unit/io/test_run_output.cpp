@@ -2,12 +2,12 @@
 // values; both encodings hold the same arrays), summary.json (valid JSON
 // whatever the case name, paths and command line hold), and the contact fields
 // (contact_pressure is the pressure a uniformly pressed face feels).
-#include "scheme/contact_rows.hpp"
 #include "core/error.hpp"
 #include "io/case_file.hpp"
 #include "io/run_output.hpp"
 #include "io/vtu_writer.hpp"
 #include "mesh/generators.hpp"
+#include "problem/contact_rows.hpp"
 #include "scheme/time_stepper.hpp"
 
 #include <gtest/gtest.h>

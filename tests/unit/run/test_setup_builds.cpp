@@ -5,9 +5,9 @@
 // at every step (scheme/pair_slider.hpp), its set-up once.
 #include "cases/builtin_cases.hpp"
 #include "mortar/mortar_coupling.hpp"
+#include "part/contact_matrix.hpp"
+#include "problem/contact_rows.hpp"
 #include "run/run_case.hpp"
-#include "scheme/contact_matrix.hpp"
-#include "scheme/contact_rows.hpp"
 #include "scheme/time_stepper.hpp"
 
 #include <gtest/gtest.h>

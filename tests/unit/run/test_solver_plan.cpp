@@ -5,7 +5,7 @@
 
 #include "cases/builtin_cases.hpp"
 #include "fem/assembly.hpp"
-#include "scheme/mesh_part.hpp"
+#include "part/mesh_part.hpp"
 
 #include <fmt/format.h>
 #include <gtest/gtest.h>

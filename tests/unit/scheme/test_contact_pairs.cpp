@@ -1,12 +1,12 @@
 // Issue 29, second part: contact pairs between bodies by dual mortar (SPEC §8,
-// `[[contact.pair]]`, scheme/contact_pairs.hpp), on the serial engine and the dual solver.
+// `[[contact.pair]]`, problem/contact_pairs.hpp), on the serial engine and the dual solver.
 // The contact patch test: two blocks of different stiffness, meshed without matching nodes,
 // pressed together: the stress is uniform in both to round-off (node-to-segment fails it).
+#include "../io/test_files.hpp"
 #include "cases/builtin_cases.hpp"
 #include "io/case_file.hpp"
 #include "io/state_fields.hpp"
 #include "scheme/time_stepper.hpp"
-#include "../io/test_files.hpp"
 
 #include <gtest/gtest.h>
 

@@ -3,16 +3,16 @@
 // starts from. An elastic half-disc (R = 1) pressed into a block by 0.02 and then slid along it by
 // 0.2 (24 of the block's elements near the contact): the contact goes with the disc, as it would
 // with the block translated, where rows fixed in the reference configuration lose it.
+#include "../io/test_files.hpp"
 #include "cases/builtin_cases.hpp"
 #include "io/case_file.hpp"
 #include "io/checkpoint.hpp"
 #include "io/state_fields.hpp"
+#include "part/part_cut.hpp"
+#include "problem/contact_pairs.hpp"
 #include "run/run_case.hpp"
-#include "scheme/contact_pairs.hpp"
-#include "scheme/part_cut.hpp"
 #include "scheme/sliding_pairs.hpp"
 #include "scheme/time_stepper.hpp"
-#include "../io/test_files.hpp"
 
 #include <gtest/gtest.h>
 

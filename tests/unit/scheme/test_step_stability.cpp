@@ -1,10 +1,10 @@
 // Issue 26 item 1: the lagged viscoplastic step z_n = z_{n−1} + k G_{n−1} is explicit, stable only
-// for k L ≤ 2 (scheme/stability.hpp). Each law states L; set-up refuses a step beyond the bound;
+// for k L ≤ 2 (problem/stability.hpp). Each law states L; set-up refuses a step beyond the bound;
 // a run that becomes unstable anyway stops; error-controlled steps never exceed the bound.
 #include "cases/builtin_cases.hpp"
 #include "core/error.hpp"
 #include "material/viscoplastic_law.hpp"
-#include "scheme/stability.hpp"
+#include "problem/stability.hpp"
 #include "scheme/time_stepper.hpp"
 
 #include <gtest/gtest.h>

@@ -1,11 +1,11 @@
-// Issue 15: non-uniform and error-controlled time steps (scheme/time_grid.hpp), the
+// Issue 15: non-uniform and error-controlled time steps (problem/time_grid.hpp), the
 // damage matrix per step size, exact rollback of a rejected step, and continuing a run
 // from a checkpoint with other steps or a later T.
 #include "cases/builtin_cases.hpp"
 #include "core/error.hpp"
 #include "io/case_file.hpp"
 #include "io/checkpoint.hpp"
-#include "scheme/time_grid.hpp"
+#include "problem/time_grid.hpp"
 #include "scheme/time_stepper.hpp"
 
 #include <gtest/gtest.h>

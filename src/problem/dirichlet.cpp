@@ -1,7 +1,7 @@
 // The Dirichlet data of SPEC §6: which displacement components are prescribed,
 // by which condition, and the parts whose reactions are reported.
 #include "core/error.hpp"
-#include "scheme/problem.hpp"
+#include "problem/problem.hpp"
 
 #include <fmt/ranges.h>
 

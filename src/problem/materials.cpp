@@ -1,6 +1,6 @@
 // Several materials (SPEC §6): which of ℰ, G, φ each cell has.
 #include "core/error.hpp"
-#include "scheme/problem.hpp"
+#include "problem/problem.hpp"
 
 #include <algorithm>
 #include <map>

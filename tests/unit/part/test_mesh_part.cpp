@@ -1,9 +1,9 @@
-// The one builder of a part (scheme/part_cut.hpp, make_mesh_part): on one process
+// The one builder of a part (part/part_cut.hpp, make_mesh_part): on one process
 // the part is the whole problem in its own numbering; cut in two on one process,
 // the parts agree with each other and with the whole (what distribute_mesh sends).
 #include "io/case_file.hpp"
-#include "scheme/mesh_part.hpp"
-#include "scheme/part_cut.hpp"
+#include "part/mesh_part.hpp"
+#include "part/part_cut.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,7 +1,7 @@
 #pragma once
 // The contact rows of (3.9), from the problem: per node of Γ3 its direction, gap and law.
 #include "contact/contact_node.hpp"
-#include "scheme/problem.hpp"
+#include "problem/problem.hpp"
 
 #include <vector>
 

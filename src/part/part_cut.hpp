@@ -4,10 +4,10 @@
 // the global numbering of nodes and free dofs, and the share of one part. One
 // process cuts one part, the whole mesh (whole_mesh_part); under MPI rank 0 cuts
 // one per rank and sends it (parallel/distributed_mesh.cpp).
-#include "scheme/contact_pairs.hpp"
-#include "scheme/contact_rows.hpp"
-#include "scheme/mesh_part.hpp"
-#include "scheme/problem.hpp"
+#include "part/mesh_part.hpp"
+#include "problem/contact_pairs.hpp"
+#include "problem/contact_rows.hpp"
+#include "problem/problem.hpp"
 
 #include <functional>
 #include <vector>
@@ -30,7 +30,7 @@ struct WholeMeshData {
     SurfaceFacets slave, master;
   };
   std::vector<SlidingPair> sliding;
-  /// Throws vpc::Error as the functions of scheme/problem.hpp it calls. `rows`: the problem's
+  /// Throws vpc::Error as the functions of problem/problem.hpp it calls. `rows`: the problem's
   /// contact rows as its validation built them (Problem::validate); null: built here.
   explicit WholeMeshData(const Problem& p, ContactRows rows = nullptr);
 };

@@ -6,13 +6,14 @@
 // of nodes and dofs as la::Layouts. The scheme (scheme/time_stepper.hpp) runs on
 // a part; on one process the part is the whole mesh in its own numbering
 // (whole_mesh_part), on many it comes from distribute_mesh (parallel/). Both
-// cut it from the whole problem with cut_part (scheme/part_cut.hpp) and finish
+// cut it from the whole problem with cut_part (part/part_cut.hpp) and finish
 // it with make_mesh_part, so that a field of a part is filled in one place.
+#include "contact/contact_node.hpp"
+#include "contact/shared_contact_rows.hpp"
+#include "contact/sliding_surface.hpp"
 #include "fem/dof_map.hpp"
 #include "la/layout.hpp"
 #include "mesh/mesh.hpp"
-#include "contact/contact_node.hpp"
-#include "contact/shared_contact_rows.hpp"
 
 #include <cstdint>
 #include <memory>
@@ -31,22 +32,6 @@ struct PartContactNode : ContactNode {
   int row = 0;         // the row of N, in the numbering of the whole mesh (increasing node order)
   int local_node = 0;  // in the part's mesh
   bool owned = false;  // the row lives on this process (its node is owned)
-};
-
-/// One side of a `sliding = "large"` contact pair as a part holds it for its slider
-/// (scheme/pair_slider.hpp), over the part's nodes in the reference configuration.
-struct SlidingSurface {
-  std::vector<int> nodes;       // the side's nodes (the part's), in order of first appearance
-  std::vector<int> facets;      // d per facet: indices into nodes, in the mesh's order
-  std::vector<int> cell_nodes;  // per facet, the nodes (the part's) of the cell behind it: its inside
-};
-
-/// A large-sliding pair's surfaces on a part that owns some of its slave nodes: the slave facets at
-/// those nodes (a row needs the facets at its node alone) and the whole master side (a slave node
-/// may slide to any of it).
-struct SlidingPairPiece {
-  int pair = 0;  // in ContactSpec::pairs
-  SlidingSurface slave, master;
 };
 
 /// What a part takes from the whole mesh and problem, which it cannot compute from

@@ -1,5 +1,5 @@
 // Contact pairs between bodies (SPEC §8): the rows of N by dual mortar.
-#include "scheme/contact_pairs.hpp"
+#include "problem/contact_pairs.hpp"
 
 #include "core/error.hpp"
 #include "mortar/mortar_coupling.hpp"

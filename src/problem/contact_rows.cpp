@@ -1,9 +1,9 @@
 // The rows of the contact matrix N of (3.9): one per node of Γ3 with a free component,
 // its direction, its gap at t = 0, its contact law lumped at the node, its obstacles.
-#include "scheme/contact_rows.hpp"
+#include "problem/contact_rows.hpp"
 
 #include "core/error.hpp"
-#include "scheme/contact_pairs.hpp"
+#include "problem/contact_pairs.hpp"
 
 #include <fmt/ranges.h>
 

@@ -1,4 +1,4 @@
-#include "scheme/part_cut.hpp"
+#include "part/part_cut.hpp"
 
 #include "core/error.hpp"
 

@@ -4,9 +4,9 @@
 // constraint D_jj ν_j·u_j − Σ_k M_jk ν_j·u_k ≤ g̃_j divided by D_jj, so that the row is a
 // gap and λ_j a nodal force on the slave (D_jj = ∫ N_j over the covered slave: its tributary
 // measure), as a row of Γ3 is; the master takes −Σ_j w_jk λ_j ν_j.
+#include "contact/sliding_surface.hpp"
 #include "mortar/surface.hpp"
-#include "scheme/contact_rows.hpp"
-#include "scheme/mesh_part.hpp"
+#include "problem/contact_rows.hpp"
 
 #include <functional>
 #include <string>

@@ -4,7 +4,7 @@
 // (ContactConstraints::T, set_tangents), so that λ_τ,j and the slip increments of
 // State (along the node's tangents t_j) become vectors Σ_j x_j t_j.
 #include "core/sym_tensor.hpp"
-#include "scheme/mesh_part.hpp"
+#include "part/mesh_part.hpp"
 
 #include <span>
 #include <vector>

@@ -1,7 +1,7 @@
-#include "scheme/mesh_part.hpp"
+#include "part/mesh_part.hpp"
 
 #include "core/error.hpp"
-#include "scheme/part_cut.hpp"
+#include "part/part_cut.hpp"
 
 #include <algorithm>
 #include <cstddef>

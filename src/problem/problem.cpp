@@ -1,9 +1,9 @@
-#include "scheme/problem.hpp"
+#include "problem/problem.hpp"
 
-#include "scheme/contact_rows.hpp"
 #include "core/error.hpp"
 #include "core/expression.hpp"
-#include "scheme/stability.hpp"
+#include "problem/contact_rows.hpp"
+#include "problem/stability.hpp"
 
 #include <Eigen/Dense>
 #include <fmt/ranges.h>

@@ -1,4 +1,4 @@
-#include "scheme/stability.hpp"
+#include "problem/stability.hpp"
 
 #include "core/error.hpp"
 #include "fem/assembly.hpp"

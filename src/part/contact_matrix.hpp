@@ -6,7 +6,7 @@
 // and the outputs' tangents take them over the contact nodes' own dofs; set_tangents takes the
 // nodes' dofs.
 #include "la/linear_solver.hpp"
-#include "scheme/mesh_part.hpp"
+#include "part/mesh_part.hpp"
 #include "solvers/contact_solver.hpp"
 
 #include <span>

@@ -8,7 +8,7 @@
 // ∂G/∂σ = −L I (Perzyna far outside its yield set, Maxwell at a fixed β) that is 1 − kL on the
 // stresses that flow: |1 − kL| ≤ 1 iff kL ≤ 2. For 1 < kL ≤ 2 the step overshoots (σ alternates,
 // decaying); beyond 2 it alternates and grows by |1 − kL| per step (docs/scheme.md).
-#include "scheme/problem.hpp"
+#include "problem/problem.hpp"
 
 #include <string>
 #include <vector>

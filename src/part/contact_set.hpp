@@ -6,8 +6,8 @@
 // from the moved nodes (scheme/pair_slider.hpp), never changed in place. The solvers' constraints
 // (ContactConstraints) are made from it; the step's data (gap, friction bounds, slip shift), its
 // checks and the outputs read it.
-#include "scheme/contact_matrix.hpp"
-#include "scheme/problem.hpp"
+#include "part/contact_matrix.hpp"
+#include "problem/problem.hpp"
 #include "solvers/contact_solver.hpp"
 
 #include <vector>

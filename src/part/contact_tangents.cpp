@@ -1,6 +1,6 @@
-#include "scheme/contact_tangents.hpp"
+#include "part/contact_tangents.hpp"
 
-#include "scheme/contact_matrix.hpp"
+#include "part/contact_matrix.hpp"
 #include "solvers/contact_solver.hpp"
 
 #include <utility>

@@ -1,4 +1,4 @@
-#include "scheme/time_grid.hpp"
+#include "problem/time_grid.hpp"
 
 #include "core/error.hpp"
 

@@ -3,14 +3,14 @@
 // mesh and boundary parts, ℰ, G, φ, κ, loads, gap, initial damage and times.
 // Case files (cases/*.toml included) and the manufactured cases fill it.
 #include "contact/contact_spec.hpp"
+#include "contact/shared_contact_rows.hpp"
 #include "fem/assembly.hpp"
 #include "material/damage_source.hpp"
 #include "material/elasticity.hpp"
 #include "material/viscoplastic_law.hpp"
 #include "mesh/mesh.hpp"
 #include "mesh/mesh_block.hpp"
-#include "contact/shared_contact_rows.hpp"
-#include "scheme/time_grid.hpp"
+#include "problem/time_grid.hpp"
 
 #include <array>
 #include <cstdint>
@@ -91,7 +91,7 @@ struct Problem {
   ScalarField beta0;  // initial damage β0(x) in [0, 1]; u0 = 0, σ0 = 0
   double final_time = 1;
   int n_steps = 100;  // N of a fixed grid (k = T / N when step_times is empty); 0 with step_control
-  /// A fixed non-uniform grid t_1 < … < t_N = T (scheme/time_grid.hpp); empty: uniform, t_n = n T / N.
+  /// A fixed non-uniform grid t_1 < … < t_N = T (problem/time_grid.hpp); empty: uniform, t_n = n T / N.
   std::vector<double> step_times;
   /// Its step sizes k_n (t_n − t_{n−1} to round-off; empty: those differences).
   std::vector<double> step_sizes;
@@ -110,7 +110,7 @@ struct Problem {
   /// The step of a uniform grid, T / N.
   double step() const { return final_time / n_steps; }
   bool uniform_steps() const { return step_times.empty() && !step_control; }
-  /// A fixed non-uniform grid (scheme/time_grid.hpp) instead of the uniform one or error control.
+  /// A fixed non-uniform grid (problem/time_grid.hpp) instead of the uniform one or error control.
   void set_fixed_grid(FixedGrid grid);
   /// t_n of a fixed grid, n = 0 … N (uniform: n T / N, and T exactly at n = N).
   double time_at(int n) const;
@@ -123,7 +123,7 @@ struct Problem {
   /// N of a fixed grid; with error control, T / dt_initial (for estimates of the run's cost).
   int expected_steps() const;
   /// The largest step of a fixed grid (the k of Theorem 3.5); dt_max when error-controlled
-  /// (capped at the stable step of the explicit G: stable_step_control, scheme/stability.hpp).
+  /// (capped at the stable step of the explicit G: stable_step_control, problem/stability.hpp).
   double largest_step() const;
   /// "k = 0.01, N = 100", "k in [0.001, 0.05], N = 57", or the step control's description.
   std::string describe_steps() const;

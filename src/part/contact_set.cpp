@@ -1,4 +1,4 @@
-#include "scheme/contact_set.hpp"
+#include "part/contact_set.hpp"
 
 #include "core/error.hpp"
 #include "solvers/contact_frame.hpp"
@@ -120,7 +120,7 @@ ContactConstraints ContactSet::constraints(const Problem& p, const MeshPart& par
   for (const PartContactNode& node : nodes)
     if (node.owned) datum.push_back(node.datum);
   c.datum = Eigen::Map<Vector>(datum.data(), static_cast<Eigen::Index>(datum.size()));
-  if (!p.contact.pairs.empty()) c.node_dofs = dofs;
+  c.node_dofs = dofs;
   // Friction's frame (empty without): the bounds and the shift are the steps' (set_friction).
   c.frictions = friction.laws;
   c.master_mean = friction.master_mean;

@@ -1,4 +1,4 @@
-#include "scheme/contact_matrix.hpp"
+#include "part/contact_matrix.hpp"
 
 #include "core/error.hpp"
 
@@ -36,7 +36,7 @@ ContactMatrix contact_matrix(const DofMap& dofs, std::span<const PartContactNode
       node_dofs.push_back(k);
       if (node.direction[i] != 0) entries.emplace_back(row, k, node.direction[i]);
     }
-    // A pair's row: −w_k ν on each master node's free dofs (scheme/contact_pairs.hpp), which the
+    // A pair's row: −w_k ν on each master node's free dofs (problem/contact_pairs.hpp), which the
     // row's rank owns or, where the pairs are spread, may hold as ghosts (cut_part).
     for (const auto& [master, w] : node.masters)
       for (int i = 0; i < d && columns != ContactColumns::compact; ++i) {
@@ -86,25 +86,17 @@ SparseMatrix owned_columns(const SparseMatrix& A, const MeshPart& part) {
 
 namespace {
 
-/// The rank owning each global free dof: the first owned dof of every rank (collective).
-struct DofOwners {
-  std::vector<long long> begin;
-  explicit DofOwners(const MeshPart& part) : begin(part.comm.all_gather(part.dof_layout->begin())) {}
-  int of(long long dof) const {
-    return static_cast<int>(std::upper_bound(begin.begin(), begin.end(), dof) - begin.begin()) - 1;
-  }
-};
-
 /// Adds A's entries in ghost columns (this rank's rows `rows`, `per_row` rows of A each; the slot of
 /// A's row r is `slot0` + r mod per_row: 0 for N, j + 1 for T's tangent j) to the message of each
 /// column's owner: (row, slot, global dof) and the value.
 void send_ghost_entries(const SparseMatrix& A, int per_row, int slot0, const std::vector<int>& rows,
-                        const MeshPart& part, const DofOwners& owners, std::vector<std::vector<long long>>& ints,
+                        const MeshPart& part, std::vector<std::vector<long long>>& ints,
                         std::vector<std::vector<double>>& values) {
   for (int k = part.n_owned_dofs; k < A.outerSize(); ++k)
     for (SparseMatrix::InnerIterator it(A, k); it; ++it) {
       const long long dof = part.global_dof[static_cast<std::size_t>(k)];
-      const auto to = static_cast<std::size_t>(owners.of(dof));
+      // The part's ghost dofs are its dof layout's ghosts, in order (make_mesh_part).
+      const auto to = static_cast<std::size_t>(part.dof_layout->ghost_owner(k - part.n_owned_dofs));
       const auto r = static_cast<int>(it.row());
       ints[to].insert(ints[to].end(), {rows[static_cast<std::size_t>(r / per_row)], slot0 + r % per_row, dof});
       values[to].push_back(it.value());
@@ -116,12 +108,11 @@ void send_ghost_entries(const SparseMatrix& A, int per_row, int slot0, const std
 RemoteRows remote_pieces(const MeshPart& part, const std::vector<int>& rows, const SparseMatrix& N,
                          const SparseMatrix& T, int tangents) {
   if (!part.pairs_spread) return {};
-  const DofOwners owners(part);
   const auto n_ranks = static_cast<std::size_t>(part.comm.size());
   std::vector<std::vector<long long>> ints(n_ranks);
   std::vector<std::vector<double>> values(n_ranks);
-  send_ghost_entries(N, 1, 0, rows, part, owners, ints, values);
-  if (tangents > 0 && T.size() > 0) send_ghost_entries(T, tangents, 1, rows, part, owners, ints, values);
+  send_ghost_entries(N, 1, 0, rows, part, ints, values);
+  if (tangents > 0 && T.size() > 0) send_ghost_entries(T, tangents, 1, rows, part, ints, values);
   const std::vector<std::vector<long long>> got_ints = part.comm.exchange(ints);
   const std::vector<std::vector<double>> got = part.comm.exchange(values);
   // The pieces' rows, increasing; each entry at its row's place and its owned column.
