@@ -109,6 +109,25 @@ std::string memory(const MemoryEstimate& e, const std::string& other, const Memo
   throw MemoryLimitError(fmt::format("{}: internal: {} refused within the memory limit", p.name, path));
 }
 
+/// Why the dual contact solver runs beyond auto's bound on its unknowns (kDualContactRows), and what
+/// would avoid it (why empty where it does not): asked for, spread pair rows (the dual's alone) or a
+/// law only the dual solves.
+struct DualBeyondAuto {
+  std::string why, instead;
+};
+DualBeyondAuto dual_beyond_auto(const Problem& p, const ProblemSize& s, const SolverChoice& solvers) {
+  if (s.contact_unknowns <= kDualContactRows) return {};
+  const bool spread = solvers.spread_pairs && !p.contact.pairs.empty();
+  const std::string primal = s.dual_only ? ""
+                             : spread    ? "without --spread-pairs auto takes the primal solver, which needs no S"
+                                         : "--contact-solver auto takes the primal solver, which needs no S";
+  if (solvers.contact == "active-set") return {"--contact-solver active-set", primal};
+  if (solvers.contact != "auto") return {};
+  if (spread) return {"--spread-pairs (the dual contact solver alone solves spread rows)", primal};
+  if (s.dual_only) return {"the dual contact solver (the only one for this case's contact laws)", ""};
+  return {};
+}
+
 }  // namespace
 
 ProblemSize problem_size(const Problem& p, const ContactRows& built) {
@@ -226,16 +245,16 @@ SolverPlan plan_solver(const Problem& p, const ProblemSize& s, const SolverChoic
   if (r.engine == "petsc") {  // the PETSc engine: MUMPS (default or asked), or a Krylov solver as asked
     const std::string asked = r.linear_solver.empty() ? "mumps" : r.linear_solver;
     const std::string on = fmt::format("on {} MPI rank{}", r.ranks, r.ranks > 1 ? "s" : "");
-    // Spread pair rows (--spread-pairs) are the dual's alone, beyond auto's bound on its unknowns too:
-    // its dense S, m x m on every rank whatever the linear solver, is refused here where it cannot fit.
-    if (solvers.spread_pairs && !p.contact.pairs.empty() && s.contact_unknowns > kDualContactRows) {
+    // The dual beyond auto's bound on its unknowns: asked for, forced by spread pair rows
+    // (--spread-pairs: the dual's alone) or by a law only it solves. Its dense S, m x m on every rank
+    // whatever the linear solver, is refused here where it cannot fit.
+    if (const DualBeyondAuto forced = dual_beyond_auto(p, s, solvers); !forced.why.empty()) {
       MemoryEstimate S;
       S.add(fmt::format("the dual contact solver's S ({0:.0f} x {0:.0f}) on {1} rank{2}", s.contact_unknowns,
                         r.ranks_on_machine, r.ranks_on_machine > 1 ? "s" : ""),
             8.0 * s.contact_unknowns * s.contact_unknowns * r.ranks_on_machine);
       if (S.total() > limit.bytes)
-        refuse(p, S, limit, "--spread-pairs (the dual contact solver alone solves spread rows)",
-               "without --spread-pairs auto takes the primal solver, which needs no S");
+        refuse(p, S, limit, forced.why, forced.instead);
     }
     if (asked != "mumps") return iterative_plan(asked, fmt::format("linear solver {} {} (as asked)", asked, on), asked);
     // --engine auto under mpirun: the route one process would take where several ranks cannot gain.

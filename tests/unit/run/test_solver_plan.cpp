@@ -259,6 +259,21 @@ TEST(SolverPlan, ContactPairsArePlannedAsOneBodyIs) {
   EXPECT_NO_THROW(plan_solver(p, large, choice, petsc, {1e15, "test"}));
   choice.spread_pairs = true;
   EXPECT_NO_THROW(plan_solver(p, large, choice, petsc, {1e15, "test"}));
+  // The dual asked for on the PETSc engine, or taken for a law only it solves, counts its S the same way.
+  choice.spread_pairs = false;
+  choice.contact = "active-set";
+  const std::string asked = error_of([&] { plan_solver(p, large, choice, petsc, four_gb); });
+  EXPECT_NE(asked.find("--contact-solver active-set"), std::string::npos) << asked;
+  EXPECT_NE(asked.find("the dual contact solver's S (20000 x 20000) on 2 ranks"), std::string::npos) << asked;
+  EXPECT_NE(asked.find("--contact-solver auto takes the primal solver"), std::string::npos) << asked;
+  choice.contact = "auto";
+  ProblemSize power_law = large;
+  power_law.dual_only = true;
+  const std::string only = error_of([&] { plan_solver(p, power_law, choice, petsc, four_gb); });
+  EXPECT_NE(only.find("the only one for this case's contact laws"), std::string::npos) << only;
+  EXPECT_EQ(only.find("takes the primal solver"), std::string::npos) << only;
+  const std::string primal = error_of([&] { plan_solver(p, large, choice, petsc, four_gb); });  // auto: the primal
+  EXPECT_EQ(primal.find("contact solver's S"), std::string::npos) << primal;
 }
 
 }  // namespace
