@@ -62,6 +62,9 @@ struct ContactSpec {
   /// The indices in `pairs` of those with `sliding = "large"` (true) or "small" (false): the one
   /// place that tells them apart.
   std::vector<std::size_t> sliding_pairs(bool large) const;
+  /// Whether spreading the pairs' rows over the ranks (--spread-pairs: `asked`) spreads anything:
+  /// the one place that says so (the plan, the PETSc engine's refusal and the partition).
+  bool spreads_pairs(bool asked) const { return asked && !pairs.empty(); }
   /// The index in laws() of pair q's law.
   int pair_law_index(std::size_t q) const { return static_cast<int>(1 + part_laws.size() + q); }
   /// Contact unknowns per node (State::contact_block): the largest ContactLaw::block_size, or

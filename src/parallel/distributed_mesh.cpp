@@ -287,7 +287,7 @@ std::vector<Message> pack_parts(const Problem& p, int n_parts, const std::vector
               piece.n_global_cells,
               static_cast<long long>(piece.dirichlet_components.size()),
               static_cast<long long>(whole.pressure_facets.size()),
-              spread_pairs && !p.contact.pairs.empty() ? 1 : 0};
+              p.contact.spreads_pairs(spread_pairs) ? 1 : 0};
     m.ints.insert(m.ints.end(), piece.dirichlet_components.begin(), piece.dirichlet_components.end());
     m.ints.reserve(m.ints.size() + (4 + d) * nodes.size() + (npc + 3) * cells_of[r].size() +
                    (d + 1) * facets_of[r].size() + 7 * piece.contact.size());

@@ -70,7 +70,7 @@ std::unique_ptr<TimeStepper> distributed_stepper(MPI_Comm mpi_comm, std::shared_
   // Spread rows (--spread-pairs) are the dual's alone: another solver asked is refused here, on every
   // rank, as the contact set-up would refuse it, but before the mesh is cut and K factorized.
   ContactNeeds spread;
-  spread.spread_pairs = choice.spread_pairs && !problem->contact.pairs.empty();
+  spread.spread_pairs = problem->contact.spreads_pairs(choice.spread_pairs);
   refuse_unsolvable(choice.contact, spread);
   MeshPart part = problem->block ? make_mesh_part(block_part_pieces(mpi_comm, *problem, std::move(rows)))
                                  : distribute_mesh(mpi_comm, *problem, {}, std::move(rows), choice.spread_pairs);

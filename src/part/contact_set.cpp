@@ -31,16 +31,15 @@ double miss_gap_of(const MeshPart& part) {
 }  // namespace
 
 ContactSet::ContactSet(const Problem& p, const MeshPart& part, std::vector<PartContactNode> nodes_in)
-    : nodes(std::move(nodes_in)), miss_gap(miss_gap_of(part)) {
+    : ContactSet(p, part, std::move(nodes_in), miss_gap_of(part)) {}
+
+ContactSet::ContactSet(const Problem& p, const MeshPart& part, std::vector<PartContactNode> nodes_in, double miss)
+    : nodes(std::move(nodes_in)), miss_gap(miss) {
   set_rows(p, part);
 }
 
 ContactSet ContactSet::moved(const Problem& p, const MeshPart& part, std::vector<PartContactNode> moved) const {
-  ContactSet out;
-  out.nodes = std::move(moved);
-  out.miss_gap = miss_gap;
-  out.set_rows(p, part);
-  return out;
+  return ContactSet(p, part, std::move(moved), miss_gap);
 }
 
 std::vector<int> ContactSet::owned_row_numbers() const {

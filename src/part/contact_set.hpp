@@ -72,6 +72,8 @@ struct ContactSet {
  private:
   /// The rows and frame from `nodes`.
   void set_rows(const Problem& p, const MeshPart& part);
+  /// The set of `nodes` with the miss gap `miss_gap` (both constructors' work).
+  ContactSet(const Problem& p, const MeshPart& part, std::vector<PartContactNode> nodes, double miss_gap);
   /// The frame from N_local, the rows' dofs and local's masters' mean (taken).
   void set_friction_frame(const Problem& p, const MeshPart& part);
 };

@@ -117,7 +117,7 @@ struct DualBeyondAuto {
 };
 DualBeyondAuto dual_beyond_auto(const Problem& p, const ProblemSize& s, const SolverChoice& solvers) {
   if (s.contact_unknowns <= kDualContactRows) return {};
-  const bool spread = solvers.spread_pairs && !p.contact.pairs.empty();
+  const bool spread = p.contact.spreads_pairs(solvers.spread_pairs);
   const std::string primal = s.dual_only ? ""
                              : spread    ? "without --spread-pairs auto takes the primal solver, which needs no S"
                                          : "--contact-solver auto takes the primal solver, which needs no S";
