@@ -32,6 +32,10 @@ the neutral name:
   all  friction                    friction             with friction: the tangential force (total, per obstacle
                                                         and per pair) and the normal force against t; stick/slip
                                                         nodes and the dissipation per step            (history.csv)
+  2,3  surface_<name>              surface_<name>       a contact law's per-node state (summary.json surface_state:
+                                                        Archard's worn depth `wear`, ...) along the contact surface
+                                                        at the output times, and its integral over Gamma_3 against
+                                                        t (history.csv)                               (VTU)
   all  time_steps                  time_steps           the step size k(t), the error estimate per step and the
                                                         rejected steps, when the steps are not uniform, and the
                                                         tolerance of error-controlled steps   (history.csv)
@@ -109,6 +113,7 @@ FIGSIZES = {
     "history": (12.0, 4.8),
     "time_steps": (12.0, 4.8),
     "friction": (12.0, 4.8),
+    "surface_state": (12.0, 4.8),
 }
 
 # Sequential, perceptually uniform, readable in grey and by colour-blind readers.
@@ -175,7 +180,8 @@ def paper_case(run):
 
 
 def figure_name(key, paper):
-    return PAPER_FIGURES[key][0] if paper and key in PAPER_FIGURES else NEUTRAL_NAMES[key]
+    # surface_<name>: a contact law's state, named after it
+    return PAPER_FIGURES[key][0] if paper and key in PAPER_FIGURES else NEUTRAL_NAMES.get(key, key)
 
 
 class PlotError(Exception):
@@ -502,6 +508,13 @@ class Run:
         except (KeyError, TypeError) as e:
             raise PlotError("%s: unreadable bodies (%s)" % (summary, e))
         self.pair_slaves = [c[len("force_pair_"):] for c in self.history if c.startswith("force_pair_")]
+        # The contact laws' per-node state (summary.json "surface_state": name, width, meaning, history).
+        try:
+            self.surface_state = [dict(name=str(v["name"]), width=int(v["width"]), meaning=str(v.get("meaning", "")),
+                                       history=str(v.get("history", "")))
+                                  for v in self.summary.get("surface_state", [])]
+        except (KeyError, TypeError, ValueError) as e:
+            raise PlotError("%s: unreadable surface_state (%s)" % (summary, e))
         self._cache = {}
 
     def several_bodies(self):
@@ -1380,6 +1393,76 @@ class Plotter:
         fig.suptitle(self.title(key, "friction"))
         self.save(fig, key)
 
+    def surface_state_figures(self):
+        """Each contact law's per-node variable of one number (summary.json surface_state: the worn
+        depth `wear`, ...): on the left its values at the contact nodes against their coordinate along
+        the contact surface's longest extent (3D: the nodes on the line through its final largest
+        value), at the output times (colour: t); on the right its integral over Gamma_3 against t
+        where history.csv has it."""
+        import numpy as np
+
+        for v in self.run.surface_state:
+            key = "surface_" + v["name"]
+            if v["width"] != 1:
+                continue
+            if not self.run.solutions:
+                self.skip(key, self.no_vtu_reason())
+                continue
+            series = []
+            for t, path in self.run.solutions:
+                vtu = self.run.vtu(path)
+                if not vtu.has(v["name"]):
+                    break
+                series.append((t, vtu.scalar(v["name"]), vtu.points))
+            if not series:
+                self.skip(key, self.missing(self.run.vtu(self.run.solutions[0][1]), v["name"]))
+                continue
+            # Gamma_3's nodes: where the field is not 0 at some output time (0 off Gamma_3).
+            on = np.zeros(len(series[-1][1]), dtype=bool)
+            for _, values, _ in series:
+                if len(values) == len(on):
+                    on |= values != 0
+            if not on.any():
+                on[:] = True
+            points = series[-1][2][on]
+            extent = points.max(axis=0) - points.min(axis=0)
+            axis = int(np.argmax(extent))
+            where = ""
+            if self.run.dim == 3:  # the line of nodes along `axis` through the final largest value
+                across = int(np.argsort(extent)[-2])
+                c = points[int(np.argmax(np.abs(series[-1][1][on]))), across]
+                band = np.abs(series[-1][2][:, across] - c) <= 0.02 * extent[across]
+                on &= band
+                where = ", at %s = %.4g" % ("xyz"[across], c)
+            fig = self.figure("surface_state")
+            ax_v, ax_h = fig.subplots(1, 2)
+            cmap = self.plt.get_cmap(FIELD_CMAP)
+            t_end = max(series[-1][0], 1e-300)
+            picked = series if len(series) <= 8 else [series[int(round(i))] for i in np.linspace(0, len(series) - 1, 8)]
+            for t, values, pts in picked:
+                if len(values) != len(on):
+                    continue
+                x = pts[on][:, axis]
+                order = np.argsort(x, kind="stable")
+                ax_v.plot(x[order], values[on][order], ".-", ms=3, lw=0.8,
+                          color=cmap(t / t_end), label="t = %s" % fmt_t(t))
+            ax_v.set_xlabel("%s along the contact surface%s" % ("xyz"[axis], where) + UNITS.br("length"))
+            ax_v.set_ylabel(v["name"])
+            ax_v.set_title(v["meaning"] or v["name"], fontsize="medium")
+            ax_v.legend(fontsize="small")
+            h = self.run.history
+            if v["history"] and v["history"] in h:
+                ax_h.plot(h["t"], h[v["history"]], "C0")
+                ax_h.set_ylabel(v["history"].replace("_", " "))
+                ax_h.set_title("over the contact surface")
+            else:
+                ax_h.set_axis_off()
+            ax_h.set_xlabel(r"time $t$" + UNITS.br("time"))
+            for ax in (ax_v, ax_h):
+                ax.grid(True, alpha=0.4)
+            fig.suptitle(self.title(key, v["name"] + " on the contact surface"))
+            self.save(fig, key)
+
     def time_steps_figure(self):
         """k(t) and the error estimate of each step, with the rejected steps marked: drawn
         when the steps are not all of one size (a list, a formula, error control)."""
@@ -1438,6 +1521,8 @@ class Plotter:
             self.probes_figure()
         self.history_figure()
         self.friction_figure()
+        if d > 1:
+            self.surface_state_figures()
         self.time_steps_figure()
 
 

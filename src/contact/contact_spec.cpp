@@ -39,6 +39,32 @@ bool ContactSpec::frictional() const {
   return std::ranges::any_of(frictions(), [](const auto& f) { return f != nullptr; });
 }
 
+std::vector<std::shared_ptr<const ArchardWear>> ContactSpec::wears() const {
+  std::vector<std::shared_ptr<const ArchardWear>> all = {wear};
+  for (const PartContactLaw& p : part_laws) all.push_back(p.wear);
+  for (const ContactPair& p : pairs) all.push_back(p.wear);
+  return all;
+}
+
+bool ContactSpec::tangential() const {
+  return frictional() || std::ranges::any_of(wears(), [](const auto& w) { return w != nullptr; });
+}
+
+std::vector<const SurfaceHistory*> ContactSpec::surface_laws(std::size_t e) const {
+  std::vector<const SurfaceHistory*> out;
+  for (const SurfaceHistory* law : {static_cast<const SurfaceHistory*>(laws()[e].get()),
+                                    static_cast<const SurfaceHistory*>(frictions()[e].get()),
+                                    static_cast<const SurfaceHistory*>(wears()[e].get())})
+    if (law) out.push_back(law);
+  return out;
+}
+
+std::string ContactSpec::entry_table(std::size_t e) const {
+  if (e == 0) return "contact";
+  if (e <= part_laws.size()) return fmt::format("contact.part[{}]", e - 1);
+  return fmt::format("contact.pair[{}]", e - 1 - part_laws.size());
+}
+
 std::vector<std::size_t> ContactSpec::sliding_pairs(bool large) const {
   std::vector<std::size_t> out;
   for (std::size_t q = 0; q < pairs.size(); ++q)
@@ -47,31 +73,34 @@ std::vector<std::size_t> ContactSpec::sliding_pairs(bool large) const {
 }
 
 int ContactSpec::block_size(int dim) const {
-  int block = frictional() ? dim : 1;
+  int block = tangential() ? dim : 1;
   for (const auto& l : laws()) block = std::max(block, l->block_size(dim));
   return block;
 }
 
 namespace {
 
-/// A law entry's normal law and friction ("signorini, coulomb (mu = 0.3)"); `none` for no friction.
-std::string entry_laws(const ContactLaw& law, const FrictionLaw* friction, std::string_view none) {
-  return law.describe() + (friction ? ", " + friction->describe() : std::string(none));
+/// A law entry's normal law, friction and wear ("Signorini, Coulomb friction mu = 0.3, Archard wear k_w = 1e-09");
+/// `none` for no friction.
+std::string entry_laws(const ContactLaw& law, const FrictionLaw* friction, const ArchardWear* wear, std::string_view none) {
+  return law.describe() + (friction ? ", " + friction->describe() : std::string(none)) +
+         (wear ? ", " + wear->describe() : std::string());
 }
 
 }  // namespace
 
 std::vector<std::string> ContactSpec::describe() const {
-  std::string on_gamma3 = entry_laws(*law, friction.get(), "");
+  std::string on_gamma3 = entry_laws(*law, friction.get(), wear.get(), "");
   for (const PartContactLaw& pl : part_laws)
-    on_gamma3 += fmt::format("; on {}: {}", fmt::join(pl.parts, ", "), entry_laws(*pl.law, pl.friction.get(), ""));
+    on_gamma3 +=
+        fmt::format("; on {}: {}", fmt::join(pl.parts, ", "), entry_laws(*pl.law, pl.friction.get(), pl.wear.get(), ""));
   std::vector<std::string> all;
   if (!parts.empty()) all.push_back(fmt::format("Γ3 (contact): {} ({})", fmt::join(parts, ", "), on_gamma3));
   const auto entries = laws();  // a pair's own law or [contact]'s
   for (std::size_t q = 0; q < pairs.size(); ++q)
     all.push_back(fmt::format("pair: slave {}, master {} ({}, {} sliding)", pairs[q].slave, pairs[q].master,
                               entry_laws(*entries[static_cast<std::size_t>(pair_law_index(q))], pairs[q].friction.get(),
-                                         ", frictionless"),
+                                         pairs[q].wear.get(), ", frictionless"),
                               pairs[q].large_sliding ? "large" : "small"));
   return all;
 }

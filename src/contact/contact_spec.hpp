@@ -6,6 +6,7 @@
 #include "contact/contact_law.hpp"
 #include "contact/friction_law.hpp"
 #include "contact/obstacle.hpp"
+#include "contact/wear_law.hpp"
 #include "fem/assembly.hpp"
 #include "mesh/mesh.hpp"
 #include "mesh/mesh_block.hpp"
@@ -24,6 +25,8 @@ struct PartContactLaw {
   /// Its friction (SPEC §7; contact/friction_law.hpp): nullptr frictionless. A [[contact.part]]
   /// without a friction key takes [contact]'s.
   std::shared_ptr<const FrictionLaw> friction;
+  /// Its wear (SPEC §9; contact/wear_law.hpp): nullptr none. Without a wear key, [contact]'s.
+  std::shared_ptr<const ArchardWear> wear;
 };
 
 /// Contact between two bodies (SPEC §8, `[[contact.pair]]`): a normal law for the jump of u across
@@ -36,6 +39,8 @@ struct ContactPair {
   /// Its friction (SPEC §7 across the pair: the slip is the slave's relative to the master side's
   /// mortar mean); nullptr frictionless. A pair without a friction key takes [contact]'s.
   std::shared_ptr<const FrictionLaw> friction;
+  /// Its wear, of the slave side (SPEC §9); nullptr none. A pair without a wear key takes [contact]'s.
+  std::shared_ptr<const ArchardWear> wear;
   /// `sliding = "large"`: the pair's rows rebuilt at the start of every step in the configuration
   /// x + u_{n−1} (scheme/pair_slider.hpp); "small" (the default): once, in the reference one.
   bool large_sliding = false;
@@ -57,6 +62,16 @@ struct ContactSpec {
   /// Every friction law, in the order of laws() (nullptr: that entry is frictionless).
   std::vector<std::shared_ptr<const FrictionLaw>> frictions() const;
   bool frictional() const;
+  /// The wear on the parts of Γ3 that no part_laws entry names (SPEC §9; nullptr: none).
+  std::shared_ptr<const ArchardWear> wear;
+  /// Every wear law, in the order of laws() (nullptr: that entry does not wear).
+  std::vector<std::shared_ptr<const ArchardWear>> wears() const;
+  /// Whether the contact nodes carry tangential unknowns and slip (the friction frame, State::slip):
+  /// friction somewhere, or wear, which needs the slip (a node without friction has the bound 0).
+  bool tangential() const;
+  /// The laws of laws() entry e that may keep per-node state (contact/surface_state.hpp): its normal
+  /// law, its friction law and its wear, those it has.
+  std::vector<const SurfaceHistory*> surface_laws(std::size_t e) const;
   /// The index in laws() of the law on one part of Γ3.
   int law_index(const std::string& part) const;
   /// The indices in `pairs` of those with `sliding = "large"` (true) or "small" (false): the one
@@ -65,10 +80,13 @@ struct ContactSpec {
   /// Whether spreading the pairs' rows over the ranks (--spread-pairs: `asked`) spreads anything:
   /// the one place that says so (the plan, the PETSc engine's refusal and the partition).
   bool spreads_pairs(bool asked) const { return asked && !pairs.empty(); }
+  /// The case table of laws() entry e: "contact", "contact.part[k]" or "contact.pair[q]" (Problem::where
+  /// locates its keys).
+  std::string entry_table(std::size_t e) const;
   /// The index in laws() of pair q's law.
   int pair_law_index(std::size_t q) const { return static_cast<int>(1 + part_laws.size() + q); }
   /// Contact unknowns per node (State::contact_block): the largest ContactLaw::block_size, or
-  /// `dim` (λ_ν and d − 1 tangential forces) with friction on some part.
+  /// `dim` (λ_ν and d − 1 tangential forces) with friction or wear on some part (tangential()).
   int block_size(int dim) const;
   /// What a run prints of contact: Γ3's parts with their laws ([contact]'s, then each
   /// [[contact.part]]'s) if any, then each pair with its normal law, friction and sliding.

@@ -12,10 +12,6 @@
 
 namespace vpc {
 
-namespace {
-
-/// The field of `key` (required); a plain number is checked here to be finite and >= 0 (a
-/// formula's values at the nodes: DiscreteSystem's friction data and the step's).
 LawField nonnegative_field(FrictionKeys& keys, const std::string& key, bool time, const std::string& what,
                            std::string& text) {
   if (!keys.has(key)) fail("{}: missing key {} ({}: a number or a formula)", keys.where(key), key, what);
@@ -29,6 +25,8 @@ LawField nonnegative_field(FrictionKeys& keys, const std::string& key, bool time
   text = fmt::format("{}", v);
   return f;
 }
+
+namespace {
 
 void refuse_keys_of_others(FrictionKeys& keys, const std::string& law) {
   const std::vector<std::string> mine = friction_law_keys(law);

@@ -55,6 +55,12 @@ class FrictionKeys : public LawKeys {
   virtual bool uses_time(const std::string& key) = 0;
 };
 
+/// The field of `key` (required; `what` names it in messages); a plain number is checked here to be
+/// finite and >= 0 and `text` set to it ("(a formula)" for a formula, whose values the set-up checks
+/// at the nodes).
+LawField nonnegative_field(FrictionKeys& keys, const std::string& key, bool time, const std::string& what,
+                           std::string& text);
+
 class FrictionLaw : public SurfaceHistory {
  public:
   virtual ~FrictionLaw() = default;

@@ -8,6 +8,8 @@
 // back, checkpointed by name, written to the VTU files, viewed from Python and, where the law
 // asks, integrated over Γ3 in history.csv (scheme/surface_fields.hpp, io/state_fields.hpp,
 // io/checkpoint.cpp).
+#include "core/sym_tensor.hpp"
+
 #include <span>
 #include <string>
 #include <vector>
@@ -29,10 +31,34 @@ struct SurfaceVariable {
 struct SurfaceNode {
   double lambda_nu = 0;
   std::span<const double> lambda_tau;  // d − 1 tangential forces (empty without friction)
-  std::span<const double> slip_step;   // the step's slip increment along the tangents (empty without)
+  std::span<const double> slip_step;   // the step's slip increment along the free tangents (empty without)
+  /// |Δu_τ − Δw_τ|: the node's whole tangential slip over the step relative to its partner (the obstacle,
+  /// or the master side's mean), slip_step's and that along its prescribed directions (a roller's).
+  double slip = 0;
   double gap_left = 0;
   double measure = 0;  // |Γ3|_i
   double k = 0;        // the step's size
+  Point x{0, 0, 0};    // the node's position in the reference configuration
+  /// k_ν,i: the stiffness of the node's own dofs along its contact direction, Σ_j ν_j² K_jj (K's
+  /// diagonal): λ_ν,i / k_ν,i is the node's elastic approach, the scale of a surface-scale
+  /// disturbance of its gap (what a lagged per-step update of the gap must stay below).
+  double normal_stiffness = 0;
+  /// The element size at the node: its tributary measure |Γ3|_i in 2D, √|Γ3|_i in 3D.
+  double size = 0;
+};
+
+/// What a law's update says of the step at one node, as shares of the law's own limits (0: none).
+struct SurfaceUpdate {
+  /// Of its largest update in one step (SurfaceHistory::step_limit): above 1 the step is too long for
+  /// the law and is rejected; a shorter one (halving, step control) lowers the share.
+  double step_share = 0;
+  /// Of its warning threshold (SurfaceHistory::warning): above 1 the run warns, once.
+  double warn_share = 0;
+};
+
+/// A law's message and the key of its table it is about ("wear_cap"), where the run locates it.
+struct LawText {
+  std::string key, text;
 };
 
 /// The part of a law that keeps per-node state: none by default.
@@ -41,8 +67,18 @@ class SurfaceHistory {
   virtual ~SurfaceHistory() = default;
   virtual std::vector<SurfaceVariable> surface_state() const { return {}; }
   /// A node's values after the step: values[v] holds the node's numbers of the v-th variable
-  /// surface_state() declared (in, its values at t_{n−1}; out, at t_n).
-  virtual void update_surface(const SurfaceNode& /*node*/, std::span<double* const> /*values*/) const {}
+  /// surface_state() declared (in, its values at t_{n−1}; out, at t_n). Returns the shares of the
+  /// law's limits the update used.
+  virtual SurfaceUpdate update_surface(const SurfaceNode& /*node*/, std::span<double* const> /*values*/) const {
+    return {};
+  }
+  /// Why the law's data are bad at the contact node x (a formula's value), or no text. Asked once per
+  /// node at set-up.
+  virtual LawText check_at(const Point& /*x*/) const { return {}; }
+  /// In words, the limit that step_share measures and what lowers it, and the threshold of
+  /// warn_share and what passing it means (for the step's failure and the run's warning).
+  virtual LawText step_limit() const { return {}; }
+  virtual LawText warning() const { return {}; }
   /// What the node's state adds to its gap g(t_n) (SPEC §9's worn depth: u_ν ≤ g + ω): step n solves
   /// with the values at t_{n−1}, lagged as the scheme lags the damage source. 0 by default.
   virtual double gap_shift(std::span<const double* const> /*values*/) const { return 0; }

@@ -1,4 +1,4 @@
-// [contact] (gap, direction, the normal and friction laws), [[contact.part]], [[contact.pair]] and
+// [contact] (gap, direction, the normal and friction laws, wear), [[contact.part]], [[contact.pair]] and
 // [[obstacle]]: the case's ContactSpec. The laws read their own keys (contact/registry.hpp,
 // contact/friction_law.hpp) through a Section (SectionKeys, SectionFrictionKeys).
 #include "io/case_readers.hpp"
@@ -126,6 +126,23 @@ std::shared_ptr<const FrictionLaw> read_friction_law(Section& s, std::shared_ptr
   return make_friction_law(name, keys);
 }
 
+/// The wear of a [contact], [[contact.part]] or [[contact.pair]] table (SPEC §9): wear = "none" or
+/// "archard" (wear_coefficient, wear_cap, wear_warning); `inherited` where the table has no wear key.
+std::shared_ptr<const ArchardWear> read_wear_law(Section& s, std::shared_ptr<const ArchardWear> inherited, int dim) {
+  if (!s.has("wear")) {
+    for (const std::string& k : wear_keys())
+      if (s.has(k)) fail("{}: {} needs wear = \"archard\" in the same table", s.where(k), k);
+    return inherited;
+  }
+  const std::string name = s.choice("wear", {"none", "archard"}, "none");
+  if (name != "none" && dim < 2)
+    fail("{}: wear needs a body of dimension 2 or 3 (Archard's wear follows the tangential slip, which a 1D bar "
+         "does not have)",
+         s.where("wear"));
+  SectionFrictionKeys keys(s);
+  return make_wear_law(name, keys);
+}
+
 /// A contact law: `law`, a name in the registry (contact/registry.cpp; default "signorini"),
 /// which reads its own keys (normal-compliance: stiffness c > 0, exponent e ≥ 1).
 std::shared_ptr<const ContactLaw> read_contact_law(Section& s) {
@@ -178,6 +195,7 @@ void read_contact_pairs(Section& ct, Problem& p, const Origins& origins) {
         if (s.has(k)) fail("{}: {} needs law = \"normal-compliance\" in the same table", s.where(k), k);
     }
     pair.friction = read_friction_law(s, p.contact.friction, p.mesh.dim());
+    pair.wear = read_wear_law(s, p.contact.wear, p.mesh.dim());
     pair.large_sliding = s.choice("sliding", {"small", "large"}, "small") == "large";
     if (!(pair.search >= 0) || !std::isfinite(pair.search))
       fail("{}: expected a distance >= 0 (0: the slave part's longest facet edge)", s.where("search"));
@@ -197,6 +215,7 @@ bool read_contact(Section ct, Problem& p, const Origins& origins) {
   p.contact.direction = read_contact_direction(ct, p.mesh.dim());
   p.contact.law = read_contact_law(ct);
   p.contact.friction = read_friction_law(ct, nullptr, p.mesh.dim());
+  p.contact.wear = read_wear_law(ct, nullptr, p.mesh.dim());
   if (ct.has("part")) {  // [[contact.part]]: another law on some parts
     const toml::node* list = ct.get("part");
     if (!list->is_array_of_tables())
@@ -213,6 +232,7 @@ bool read_contact(Section ct, Problem& p, const Origins& origins) {
             fail("{}: contact part {} has a law already (an earlier [[contact.part]])", s.where("parts"), quote(part));
       pl.law = read_contact_law(s);
       pl.friction = read_friction_law(s, p.contact.friction, p.mesh.dim());
+      pl.wear = read_wear_law(s, p.contact.wear, p.mesh.dim());
       s.finish();
       p.contact.part_laws.push_back(std::move(pl));
     }

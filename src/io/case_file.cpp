@@ -44,8 +44,23 @@ void record_key_locations(Section& top, Problem& p, const Origins& origins) {
   for (const char* key : {"contact", "clamped", "symmetry"}) record(b, key);
   record_tables(b, "displacement");
   Section ct = top.table("contact");
+  if (ct.exists()) p.key_locations["contact"] = fmt::format("{}: [contact]", ct.where_section());
   for (const char* key : {"gap", "direction", "friction", "mu", "shear_limit", "friction_bound"}) record(ct, key);
   record_tables(ct, "pair");
+  record_tables(ct, "part");
+  // The wear keys of each law table (the surface laws' messages: surface_fields.cpp, contact_set.cpp).
+  const auto record_wear = [&](Section& s) {
+    for (const std::string& key : wear_keys()) record(s, key);
+  };
+  record_wear(ct);
+  for (const char* list : {"part", "pair"})
+    if (ct.has(list) && ct.get(list)->is_array_of_tables()) {
+      int k = 0;
+      for (const auto& node : *ct.get(list)->as_array()) {
+        Section s(node.as_table(), fmt::format("contact.{}[{}]", list, k++), origins);
+        record_wear(s);
+      }
+    }
   if (p.key_locations.count("contact.pair[0]")) p.key_locations["contact.pair"] = p.key_locations["contact.pair[0]"];
   record_tables(top, "obstacle");
   Section ld = top.table("loads");

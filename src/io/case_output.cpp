@@ -52,18 +52,18 @@ std::vector<std::string> read_fields(Section& out, const std::vector<std::string
 
 /// [output] fields may name only fields the case's VTU files can have: a field its files would never
 /// hold (VTU files with no array) is refused, located at the key. gap: cases with contact pairs;
-/// friction's fields (StateField::friction): a friction law somewhere; contact_lambda: more than
+/// friction's fields (StateField::friction): a friction law or wear somewhere; contact_lambda: more than
 /// one contact unknown per node.
 void check_fields_written(Section& out, const std::vector<std::string>& fields, const Problem& p) {
-  const bool frictional = p.contact.frictional();
+  const bool frictional = p.contact.tangential();  // wear keeps the slip fields too
   for (const std::string& f : fields) {
     const auto field = std::ranges::find(state_fields(), f, &StateField::vtu);
     if (f == "gap" && p.contact.pairs.empty())
       fail("{}: the field \"gap\" is written only for cases with contact pairs ([[contact.pair]]); this case has none",
            out.where("fields"));
     if (field != state_fields().end() && field->friction && !frictional)
-      fail("{}: the field {} is written only for frictional cases (a friction law in [contact], a [[contact.part]] "
-           "or a [[contact.pair]]); this case is frictionless",
+      fail("{}: the field {} is written only for frictional cases (a friction law or wear in [contact], a "
+           "[[contact.part]] or a [[contact.pair]]); this case is frictionless",
            out.where("fields"), quote(f));
     if (f == "contact_lambda" && p.contact.block_size(p.mesh.dim()) == 1)
       fail("{}: the field \"contact_lambda\" is written only where λ has more than one number per contact node "

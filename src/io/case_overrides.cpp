@@ -5,6 +5,7 @@
 
 #include "io/case_file.hpp"
 #include "contact/friction_law.hpp"
+#include "contact/wear_law.hpp"
 #include "core/error.hpp"
 #include "core/quote.hpp"
 #include "material/damage_source.hpp"
@@ -63,7 +64,7 @@ std::vector<std::string> replaced_keys(const std::string& section, const std::st
   return out;
 }
 
-/// The parameters that a change of law, damage source or friction law drops: those of the old
+/// The parameters that a change of law, damage source, friction law or wear drops: those of the old
 /// one that the new one does not take (`--set viscoplasticity.law=elastic` on a
 /// Perzyna case drops lambda and sigma_y; `--set contact.friction=tresca` drops mu); also in
 /// [[material]] and [[contact.part]] sections.
@@ -82,6 +83,9 @@ std::vector<std::string> replaced_parameters(const std::string& section, const s
     // [contact], [[contact.part]], [[contact.pair]]
     parameters = friction_law_keys;
     old_name = t["friction"].value_or(std::string("none"));
+  } else if ((last == "contact" || last.starts_with("part[") || last.starts_with("pair[")) && key == "wear") {
+    parameters = wear_law_keys;  // `--set contact.wear=none` drops wear_coefficient
+    old_name = t["wear"].value_or(std::string("none"));
   }
   const auto new_name = value.value<std::string>();
   if (!parameters || !new_name || *new_name == old_name) return {};

@@ -8,6 +8,7 @@
 #include "io/history_columns.hpp"
 #include "io/state_fields.hpp"
 #include "io/vtu_writer.hpp"
+#include "scheme/surface_fields.hpp"
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
@@ -491,6 +492,12 @@ std::string summary_json(const Problem& p, const RunSummary& r, const OutputOpti
   if (!p.bodies.empty()) {  // the VTU cell field `body` indexes them
     j["bodies"] = Json::array({{{"name", "body"}, {"kappa", p.kappa}}});
     for (const Body& b : p.bodies) j["bodies"].push_back({{"name", b.name}, {"kappa", b.kappa}});
+  }
+  // The contact laws' per-node state (SPEC §9: wear, bonding): VTU point fields on Γ3 (vpcontact plot).
+  if (const auto surface = declared_surface_state(p.contact); !surface.empty()) {
+    j["surface_state"] = Json::array();
+    for (const SurfaceVariable& v : surface)
+      j["surface_state"].push_back({{"name", v.name}, {"width", v.width}, {"meaning", v.meaning}, {"history", v.history}});
   }
   j["final_time"] = p.final_time;
   j["steps"] = r.steps;

@@ -62,7 +62,19 @@ void ContactSet::set_rows(const Problem& p, const MeshPart& part) {
   N_local = std::move(owned.N);
   N = owned_columns(N_local, part);
   dofs = std::move(owned.node_dofs);
-  if (p.contact.frictional()) set_friction_frame(p, part);  // SPEC §7
+  if (p.contact.tangential()) set_friction_frame(p, part);  // SPEC §7 (and the slip that wear needs, §9)
+  check_surface_laws(p, part);
+}
+
+void ContactSet::check_surface_laws(const Problem& p, const MeshPart& part) const {
+  const ContactSpec& c = p.contact;
+  for (const PartContactNode& node : nodes) {
+    if (!node.owned) continue;
+    const auto e = static_cast<std::size_t>(node.law);
+    for (const SurfaceHistory* law : c.surface_laws(e))
+      if (const LawText bad = law->check_at(part.mesh().node(node.local_node)); !bad.text.empty())
+        fail("{}: {}", p.where_in(c.entry_table(e), bad.key), bad.text);
+  }
 }
 
 void ContactSet::set_friction_frame(const Problem& p, const MeshPart& part) {

@@ -31,8 +31,8 @@ struct ContactSet {
   /// owners (remote_pieces). g − N_local u with u's ghosts current is each row's gap left, exact
   /// and without communication (contact_gap.hpp); else N_local has N's entries alone.
   SparseMatrix N_local;
-  /// Friction's frame on the owned rows (SPEC §7), built where some entry has friction; every
-  /// field empty without.
+  /// Friction's frame on the owned rows (SPEC §7), built where some entry has friction or wear
+  /// (ContactSpec::tangential: wear needs the slip); every field empty without.
   struct FrictionFrame {
     /// T, tangent_dof, Coulomb's μ_i and shear limit τ_max |Γ3|_i (+∞: none) (ContactConstraints; set_tangents)
     SparseMatrix T;
@@ -74,6 +74,8 @@ struct ContactSet {
   void set_rows(const Problem& p, const MeshPart& part);
   /// The set of `nodes` with the miss gap `miss_gap` (both constructors' work).
   ContactSet(const Problem& p, const MeshPart& part, std::vector<PartContactNode> nodes, double miss_gap);
+  /// Each owned node's surface laws' data there (SurfaceHistory::check_at): a located error for a bad one.
+  void check_surface_laws(const Problem& p, const MeshPart& part) const;
   /// The frame from N_local, the rows' dofs and local's masters' mean (taken).
   void set_friction_frame(const Problem& p, const MeshPart& part);
 };

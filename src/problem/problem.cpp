@@ -42,6 +42,11 @@ std::string Problem::where(const std::string& key) const {
   return it != key_locations.end() ? it->second : fmt::format("{}: {}", name.empty() ? "problem" : name, key);
 }
 
+std::string Problem::where_in(const std::string& table, const std::string& key) const {
+  const std::string path = table + "." + key;
+  return key_locations.contains(path) ? where(path) : where(table);
+}
+
 double Problem::time_at(int n) const {
   if (!step_times.empty()) return n == 0 ? 0.0 : step_times[static_cast<std::size_t>(n) - 1];
   return n == n_steps ? final_time : n * step();  // exactly (sums of k would accumulate round-off)

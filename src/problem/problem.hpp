@@ -107,6 +107,9 @@ struct Problem {
 
   /// `key` located for a message: its key_locations entry, else "<name>: <key>".
   std::string where(const std::string& key) const;
+  /// Where `key` of the table `table` ("contact.pair[0]") is, or the table where the key is not given
+  /// (a default).
+  std::string where_in(const std::string& table, const std::string& key) const;
   /// The step of a uniform grid, T / N.
   double step() const { return final_time / n_steps; }
   bool uniform_steps() const { return step_times.empty() && !step_control; }

@@ -38,6 +38,11 @@ class StepperRun final : public Run {
         warned_open_ = true;
         if (root()) fmt::print(stderr, "vpcontact: warning: {}\n", w);
       }
+    // Once a run: a surface law's state passed its warning threshold (SPEC §9's worn depth).
+    if (!warned_surface_ && r.surface.warn_share > 1) {
+      warned_surface_ = true;
+      if (root()) fmt::print(stderr, "vpcontact: warning: at step {} (t = {:.6g}), {}\n", r.n, r.t, r.surface.warn_text);
+    }
     return r;
   }
   int n_steps() const override { return stepper_->problem().n_steps; }
@@ -109,7 +114,7 @@ class StepperRun final : public Run {
   }
 
  private:
-  bool warned_open_ = false;
+  bool warned_open_ = false, warned_surface_ = false;
   const la::Comm& comm() const { return stepper_->comm(); }
   bool petsc() const { return stepper_->backend().engine() == "petsc"; }
 

@@ -53,6 +53,40 @@ void add_master_slip(const DiscreteSystem& sys, const Vector& u_before, const Ve
 
 }  // namespace
 
+Point obstacle_translation(const DiscreteSystem& sys, const PartContactNode& node, double from, double to) {
+  const ContactSpec& spec = sys.problem->contact;
+  const Point& x = sys.part.mesh().node(node.local_node);
+  const int k = spec.obstacles.empty() ? -1 : nearest_obstacle(spec.obstacles, x, node.direction, to, node.obstacles);
+  if (k < 0) return {0, 0, 0};
+  const Obstacle& o = spec.obstacles[static_cast<std::size_t>(k)];
+  const Point now = o.position(x, to), before = o.position(x, from);
+  return {now[0] - before[0], now[1] - before[1], now[2] - before[2]};
+}
+
+Vector prescribed_slip(const DiscreteSystem& sys, const Vector& u_before, const Vector& u, double from, double to) {
+  const MeshPart& part = sys.part;
+  const DofMap& dofs = part.dofs;
+  const int d = part.mesh().dim();
+  std::vector<double> out;
+  for (const PartContactNode& node : sys.contact->nodes) {
+    if (!node.owned) continue;
+    const Point w = obstacle_translation(sys, node, from, to);
+    double sum = 0;
+    for (int i = 0; i < d; ++i) {
+      const int f = dofs.full_index(node.local_node, i);
+      if (dofs.free_index(f) >= 0) continue;  // a free tangent: friction's slip (T u − h)
+      double rel = u[f] - u_before[f] - w[i];
+      for (const auto& [master, share] : node.masters) {
+        const int g = dofs.full_index(master, i);
+        rel -= share * (u[g] - u_before[g]);
+      }
+      sum += rel * rel;
+    }
+    out.push_back(std::sqrt(sum));
+  }
+  return Eigen::Map<Vector>(out.data(), static_cast<Eigen::Index>(out.size()));
+}
+
 Vector slip_shift(const DiscreteSystem& sys, const State& s, double t, const Vector& u_D) {
   const MeshPart& part = sys.part;
   const int d = part.mesh().dim();
@@ -63,14 +97,9 @@ Vector slip_shift(const DiscreteSystem& sys, const State& s, double t, const Vec
   if (!spec.obstacles.empty())
     for (const PartContactNode& node : sys.contact->nodes) {
       if (!node.owned) continue;
-      const Point& x = part.mesh().node(node.local_node);
-      const int k = nearest_obstacle(spec.obstacles, x, node.direction, t, node.obstacles);
-      if (k < 0) continue;
-      const Obstacle& o = spec.obstacles[static_cast<std::size_t>(k)];
-      const Point now = o.position(x, t), before = o.position(x, s.t);
+      const Point w = obstacle_translation(sys, node, s.t, t);
       for (int i = 0; i < d; ++i)
-        if (const int j = part.dofs.free_index(part.dofs.full_index(node.local_node, i)); j >= 0)
-          at[j] += now[i] - before[i];
+        if (const int j = part.dofs.free_index(part.dofs.full_index(node.local_node, i)); j >= 0) at[j] += w[i];
     }
   Vector h = sys.contact->friction.T_local * at;
   if (u_D.size() > 0) add_master_slip(sys, s.u, u_D, h);  // a pair's moving masters
@@ -121,7 +150,7 @@ class Frictional final : public StepFriction {
 }  // namespace
 
 std::unique_ptr<const StepFriction> step_friction(const ContactSpec& spec) {
-  if (spec.frictional()) return std::make_unique<Frictional>();
+  if (spec.tangential()) return std::make_unique<Frictional>();  // friction, or wear (its slip)
   return std::make_unique<Frictionless>();
 }
 

@@ -25,6 +25,18 @@ Vector friction_bounds(const DiscreteSystem& sys, double t, std::string& bad);
 /// displacement at t, over the part's dofs; empty where none is prescribed).
 Vector slip_shift(const DiscreteSystem& sys, const State& s, double t, const Vector& u_D);
 
+/// The translation over [from, to] of the obstacle nearest to contact node `node` along its direction at
+/// `to` (0 where there are no obstacles or none lies ahead): the partner's motion of its slip.
+Point obstacle_translation(const DiscreteSystem& sys, const PartContactNode& node, double from, double to);
+
+/// Per owned row, the length of the slip of its node along its prescribed directions over a step from
+/// `from` to `to` (u_before, u: the part's full displacement at both ends, ghosts current): a roller's or a
+/// prescribed motion's component less the obstacle's translation (or, on a pair, its masters' mean motion)
+/// there. Friction's T holds the free tangents alone (a prescribed one has no force to bound), so its
+/// slip leaves this out; wear follows the whole relative motion (SurfaceNode::slip). Orthogonal to the
+/// free tangents: a prescribed direction is orthogonal to ν (Problem::validate).
+Vector prescribed_slip(const DiscreteSystem& sys, const Vector& u_before, const Vector& u, double from, double to);
+
 /// After the step's contact solve (u_free: the owned free dofs, λ in s.lambda), with the constraints
 /// it solved (ContactSolver::constraints: T, the step's bounds and shift): s.slip_step = Δ = T u − h,
 /// s.slip += |Δ|, s.contact_status (stick_slip with `slack`, the contact report's). Collective.

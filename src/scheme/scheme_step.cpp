@@ -40,8 +40,9 @@ StepTaken SchemeStep::take(const DiscreteSystem& sys, SchemeSolvers& solvers, co
     out.data = step_data(sys, t_end);
     out.data.gap_shift = surface_gap_shift(sys, s);  // the laws' per-node state at t_{n−1} moves g
     if (out.data.gap_shift.size() > 0) out.data.gap += out.data.gap_shift;
+    const Vector u_before = s.surface.empty() ? Vector() : Vector(s.u);  // the surface laws' slip along prescribed dofs
     rep.contact = solve_contact(sys, *solvers.contact, s, u_free, out.data);
-    update_surface_state(sys, out.data.gap, k, s);  // the laws' per-node state at t_n (s.u: u_n, ghosts current)
+    rep.surface = update_surface_state(sys, out.data.gap, k, u_before, t_end, s);  // the laws' per-node state at t_n (s.u: u_n, ghosts current)
     record_gap_left(sys, out.data.gap_shift.size() > 0 ? Vector(out.data.gap - out.data.gap_shift) : out.data.gap, s);
   });
   // Step 5, (3.6): ε_n, σ_n.

@@ -47,9 +47,8 @@ std::string open_friction_warning(const Problem& p, const StepReport& rep) {
   const auto frictions = c.frictions();
   const auto first = std::ranges::find_if(frictions, [](const auto& f) { return acts_out_of_contact(f.get()); });
   const auto entry = static_cast<std::size_t>(first - frictions.begin()), first_pair = 1 + c.part_laws.size();
-  const std::string where = entry >= first_pair && entry < frictions.size()
-                                ? p.where(fmt::format("contact.pair[{}]", entry - first_pair))
-                                : p.where("contact.friction");
+  const std::string where = entry >= first_pair && entry < frictions.size() ? p.where(c.entry_table(entry))
+                                                                            : p.where("contact.friction");
   return fmt::format(
       "{}: Tresca friction acts through {} contact node(s) not in contact at step {} (t = {:.6g}): its given bound "
       "acts on all of Γ3, in contact or not (history.csv n_tresca_open; contact_status 3). For friction only where "
@@ -178,7 +177,7 @@ bool step_accepted(const la::Comm& comm, const StepReport& rep, double tolerance
   // allFinite, not a sum of squares: that overflows for a finite |u| > 1e154 (issue 26).
   const bool finite = comm.all(u_free.allFinite() && beta_owned.allFinite());
   return rep.contact.converged && rep.damage.converged && rep.contact.residuals.max() <= tolerance &&
-         rep.damage.kkt_residual <= tolerance && finite;
+         rep.damage.kkt_residual <= tolerance && !(rep.surface.step_share > 1) && finite;
 }
 
 void LaggedStepBackstop::attempted(std::vector<SymTensor> dG, double dG2, double dot_last) {

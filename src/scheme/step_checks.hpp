@@ -34,8 +34,9 @@ void beta_range(const DiscreteSystem& sys, const State& s, StepReport& rep);
 std::string open_friction_warning(const Problem& p, const StepReport& rep);
 /// contact_totals, reactions and beta_range of the step that ended in s with the load F. Collective.
 void report_step(const DiscreteSystem& sys, const State& s, const Vector& F, StepReport& rep);
-/// Whether the step is accepted: both solvers converged, every residual is within `tolerance`
-/// and the owned u (u_free) and β are finite on every process. Collective.
+/// Whether the step is accepted: both solvers converged, every residual is within `tolerance`, no
+/// surface law's step limit is passed (rep.surface) and the owned u (u_free) and β are finite on
+/// every process. Collective.
 bool step_accepted(const la::Comm& comm, const StepReport& rep, double tolerance, const Vector& u_free,
                    const Vector& beta_owned);
 

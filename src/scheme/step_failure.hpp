@@ -14,7 +14,8 @@ std::string step_failure(const StepReport& r, double tolerance);
 
 /// Whether redoing the step as smaller ones (--retry-halvings) can help: a damage solve (H =
 /// M + kκA depends on k), a solver stopped at its iteration limit (the warm start is nearer),
-/// NaN or Inf (the explicit source may have grown beyond what the step can carry). Not a
+/// NaN or Inf (the explicit source may have grown beyond what the step can carry), a surface law's
+/// step limit passed (SurfaceLimits: an update per step that grows with the step). Not a
 /// contact solve that converged with a residual above the tolerance: the step's contact
 /// problem was solved to its round-off, which the step size does not change.
 bool halving_can_help(const StepReport& r, double tolerance);

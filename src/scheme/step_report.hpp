@@ -6,6 +6,7 @@
 #include "solvers/contact_solver.hpp"
 #include "solvers/damage_solver.hpp"
 
+#include <string>
 #include <vector>
 
 namespace vpc {
@@ -17,6 +18,14 @@ namespace vpc {
 struct MinimumAt {
   double value = 0;
   int index = -1;
+};
+
+/// The contact laws' per-node state at the step (contact/surface_state.hpp, SurfaceUpdate): the largest
+/// share of a law's step limit and of its warning threshold over the contact nodes, and where one passes
+/// 1, the located text of the law's limit (the same on every process).
+struct SurfaceLimits {
+  double step_share = 0, warn_share = 0;
+  std::string step_text, warn_text;
 };
 
 struct StepReport {
@@ -58,6 +67,8 @@ struct StepReport {
   /// Per variable of the contact laws' per-node state that asks for a history column
   /// (SurfaceVariable::history, in declared order): ∫_Γ3 v = Σ_i v_i |Γ3|_i.
   std::vector<double> surface_integral;
+  /// The surface laws' limits (a step whose step_share passes 1 is rejected: halving can help).
+  SurfaceLimits surface;
   /// The reaction force on each Dirichlet part (dirichlet_parts order): the force its
   /// supports exert on the body, Σ over the part's nodes of (σ_n, ε(φ)) − F_n, in each
   /// component the part prescribes (DirichletDofs::components), in increasing order. A

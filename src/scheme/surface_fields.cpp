@@ -2,6 +2,10 @@
 
 #include "core/error.hpp"
 #include "scheme/contact_gap.hpp"
+#include "scheme/friction_data.hpp"
+#include "scheme/step_checks.hpp"
+
+#include <fmt/format.h>
 
 #include <algorithm>
 #include <cctype>
@@ -9,16 +13,6 @@
 namespace vpc {
 
 namespace {
-
-/// The laws of laws() entry e that keep state: its normal law and its friction law.
-std::vector<const SurfaceHistory*> laws_of(const ContactSpec& contact, std::size_t e) {
-  const auto normal = contact.laws();
-  const auto friction = contact.frictions();
-  std::vector<const SurfaceHistory*> out;
-  if (normal[e]) out.push_back(normal[e].get());
-  if (friction[e]) out.push_back(friction[e].get());
-  return out;
-}
 
 bool valid_name(const std::string& s) {
   return !s.empty() && std::islower(static_cast<unsigned char>(s[0])) &&
@@ -30,7 +24,7 @@ bool valid_name(const std::string& s) {
 std::vector<SurfaceVariable> declared_surface_state(const ContactSpec& contact) {
   std::vector<SurfaceVariable> all;
   for (std::size_t e = 0; e < contact.laws().size(); ++e)
-    for (const SurfaceHistory* law : laws_of(contact, e))
+    for (const SurfaceHistory* law : contact.surface_laws(e))
       for (SurfaceVariable& v : law->surface_state()) {
         require(valid_name(v.name) && v.width >= 1 && std::isfinite(v.initial) && (v.history.empty() || v.width == 1),
                 "a contact law declares the per-node state '{}' (width {}, initial {}): expected a name of lower-case "
@@ -61,6 +55,7 @@ namespace {
 /// A law that keeps state and where its variables are in State::surface (in its declared order).
 struct LawFields {
   const SurfaceHistory* law;
+  std::size_t index;  // its place in ContactSpec::surface_laws of its entry
   std::vector<std::size_t> fields;
 };
 
@@ -69,8 +64,8 @@ struct LawFields {
 std::vector<std::vector<LawFields>> laws_with_fields(const ContactSpec& contact, const State& s) {
   std::vector<std::vector<LawFields>> table(contact.laws().size());
   for (std::size_t e = 0; e < table.size(); ++e)
-    for (const SurfaceHistory* law : laws_of(contact, e)) {
-      LawFields lf{law, {}};
+    for (std::size_t l = 0; const SurfaceHistory* law : contact.surface_laws(e)) {
+      LawFields lf{law, l++, {}};
       for (const SurfaceVariable& v : law->surface_state())
         lf.fields.push_back(static_cast<std::size_t>(s.surface_field(v.name) - s.surface.data()));
       if (!lf.fields.empty()) table[e].push_back(std::move(lf));
@@ -110,15 +105,76 @@ void record_gap_left(const DiscreteSystem& sys, const Vector& g, State& s) {
   record_gap(sys, shift.size() > 0 ? Vector(g + shift) : g, s);
 }
 
-void update_surface_state(const DiscreteSystem& sys, const Vector& gap, double k, State& s) {
-  if (s.surface.empty()) return;
+namespace {
+
+/// k_ν,i of each owned row (SurfaceNode::normal_stiffness): Σ_j N_ij² K_jj / Σ_j N_ij² over the
+/// row's own node's free dofs (a pair row's slave entries are ν; its masters' are left out), from
+/// K's assembled diagonal: the same on every rank count. 0 where the node has no free dof.
+std::vector<double> normal_stiffness(const DiscreteSystem& sys) {
+  const Vector K_diagonal = sys.K->diagonal();
+  const ContactSet& set = *sys.contact;
+  std::vector<double> k(set.dofs.size(), 0.0);
+  for (std::size_t i = 0; i < set.dofs.size(); ++i) {
+    double weighted = 0, weights = 0;
+    for (int j : set.dofs[i]) {
+      const double n = set.N.coeff(static_cast<Eigen::Index>(i), j);
+      weighted += n * n * K_diagonal[j];
+      weights += n * n;
+    }
+    k[i] = weights > 0 ? weighted / weights : 0.0;
+  }
+  return k;
+}
+
+/// The largest share of one kind over every process and where it is (least original node among ties),
+/// with the law's text and the node's place where it passes 1. Collective.
+struct LargestShare {
+  double share = 0;
+  int node = -1;  // original node number (−1: none)
+  std::size_t entry = 0, law = 0;
+  Point x{0, 0, 0};
+  void offer(double v, int n, std::size_t e, std::size_t l, const Point& at) {
+    if (v > share || (v == share && v > 0 && n < node)) *this = {v, n, e, l, at};
+  }
+  /// On every process: the largest and the text of its law (`text` of the law) where it passes 1.
+  std::string reduce(const DiscreteSystem& sys, double& out, LawText (SurfaceHistory::*text)() const) {
+    const la::Comm& comm = sys.part.comm;
+    const double mine = -share;
+    const int index = node;
+    const MinimumAt best = global_minimum_at(comm, std::span<const double>(&mine, 1), std::span<const int>(&index, 1));
+    out = -best.value;
+    if (!(out > 1)) return {};
+    const bool owner = node == best.index && share == out;
+    double where[5] = {owner ? static_cast<double>(entry) : -1.0, owner ? static_cast<double>(law) : -1.0,
+                       owner ? x[0] : -INFINITY, owner ? x[1] : -INFINITY, owner ? x[2] : -INFINITY};
+    for (double& w : where) w = comm.max(w);
+    const auto e = static_cast<std::size_t>(where[0]);
+    const ContactSpec& c = sys.problem->contact;
+    const SurfaceHistory* l = c.surface_laws(e)[static_cast<std::size_t>(where[1])];
+    const LawText said = (l->*text)();
+    return fmt::format("{}: at contact node {} ({}, {}, {}), {:.3g} times: {}",
+                       sys.problem->where_in(c.entry_table(e), said.key), best.index, where[2], where[3], where[4], out,
+                       said.text);
+  }
+};
+
+}  // namespace
+
+SurfaceLimits update_surface_state(const DiscreteSystem& sys, const Vector& gap, double k, const Vector& u_before,
+                                   double t_end, State& s) {
+  SurfaceLimits limits;
+  if (s.surface.empty()) return limits;
   const MeshPart& part = sys.part;
   const int b = s.contact_block, t = b - 1;
+  const int dim = part.mesh().dim();
   const Vector left = rows_gap_left(sys, gap, s);  // g − N u per owned row
+  const std::vector<double> stiffness = normal_stiffness(sys);
+  const Vector fixed = prescribed_slip(sys, u_before, s.u, s.t, t_end);  // along prescribed directions
   const auto table = laws_with_fields(sys.problem->contact, s);
   // This rank's rows updated in a copy that holds only them (zero elsewhere), then summed: one owner per row.
   std::vector<Vector> mine;
   for (const SurfaceField& f : s.surface) mine.push_back(Vector::Zero(f.values.size()));
+  LargestShare step, warn;
   Eigen::Index owned = 0;
   for (const PartContactNode& node : sys.contact->nodes) {
     if (!node.owned) continue;
@@ -134,16 +190,31 @@ void update_surface_state(const DiscreteSystem& sys, const Vector& gap, double k
       if (s.slip_step.size() == static_cast<Eigen::Index>(part.n_contact) * t)
         view.slip_step = {s.slip_step.data() + i * t, static_cast<std::size_t>(t)};
     }
-    view.gap_left = left[owned++];
+    view.slip = std::hypot(fixed[owned], view.slip_step.empty() ? 0.0
+                                                                : Eigen::Map<const Vector>(view.slip_step.data(), t).norm());
+    view.gap_left = left[owned];
     view.measure = node.measure;
     view.k = k;
-    for (const LawFields& lf : table[static_cast<std::size_t>(node.law)])
-      lf.law->update_surface(view, node_values<double>(lf, s.surface, node.row, [&](std::size_t f) { return mine[f].data(); }));
+    view.x = part.mesh().node(node.local_node);
+    view.normal_stiffness = stiffness[static_cast<std::size_t>(owned)];
+    view.size = dim == 3 ? std::sqrt(node.measure) : node.measure;
+    ++owned;
+    const auto e = static_cast<std::size_t>(node.law);
+    const int number = part.original_node[static_cast<std::size_t>(node.local_node)];
+    for (const LawFields& lf : table[e]) {
+      const SurfaceUpdate u =
+          lf.law->update_surface(view, node_values<double>(lf, s.surface, node.row, [&](std::size_t f) { return mine[f].data(); }));
+      step.offer(u.step_share, number, e, lf.index, view.x);
+      warn.offer(u.warn_share, number, e, lf.index, view.x);
+    }
   }
   for (std::size_t f = 0; f < s.surface.size(); ++f) {
     part.comm.sum(mine[f].data(), mine[f].size());
     s.surface[f].values.noalias() = mine[f];  // in place: Python's views stay valid
   }
+  limits.step_text = step.reduce(sys, limits.step_share, &SurfaceHistory::step_limit);
+  limits.warn_text = warn.reduce(sys, limits.warn_share, &SurfaceHistory::warning);
+  return limits;
 }
 
 }  // namespace vpc

@@ -4,6 +4,7 @@
 // laws. A rejected step restores the state it was taken from, surface fields included.
 #include "scheme/discrete_system.hpp"
 #include "scheme/state.hpp"
+#include "scheme/step_report.hpp"
 
 #include <vector>
 
@@ -25,10 +26,13 @@ Vector surface_gap_shift(const DiscreteSystem& sys, const State& s);
 /// laws' state at t_n, g + shift − N u, as the step records it and a restore computes it again.
 void record_gap_left(const DiscreteSystem& sys, const Vector& g, State& s);
 
-/// After step n is solved (u, λ and the slip increments in s; `gap`: the gap it solved with per
-/// owned row, g(t_n) and the shift):
+/// After step n is solved (u, λ and the slip increments in s, s.t still t_{n−1}; `gap`: the gap it solved
+/// with per owned row, g(t_n) and the shift; u_before: s.u at t_{n−1}; t: t_n):
 /// each owned node's laws update their variables (SurfaceHistory::update_surface), and the values
-/// are replicated again. Collective; nothing where no law declares state.
-void update_surface_state(const DiscreteSystem& sys, const Vector& gap, double k, State& s);
+/// are replicated again. Returns the largest shares of the laws' limits the updates used, over every
+/// process, with the law's text where one passes 1 (the step's acceptance and the run's warning).
+/// Collective; nothing where no law declares state.
+SurfaceLimits update_surface_state(const DiscreteSystem& sys, const Vector& gap, double k, const Vector& u_before,
+                                   double t, State& s);
 
 }  // namespace vpc

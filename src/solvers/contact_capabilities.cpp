@@ -57,8 +57,8 @@ std::string cannot_solve(const std::string& solver, const ContactNeeds& needs) {
   }
   if (solver == "penalty-duality") {
     if (needs.friction)
-      return "contact solver 'penalty-duality' solves frictionless contact only; friction needs 'active-set' (the "
-             "dual) or 'primal-active-set'";
+      return "contact solver 'penalty-duality' solves frictionless contact only; friction (and wear, which follows "
+             "the slip) needs 'active-set' (the dual) or 'primal-active-set'";
     if (needs.compliant)
       return "contact solver 'penalty-duality' solves the Signorini conditions only; normal compliance needs "
              "'active-set'";

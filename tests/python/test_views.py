@@ -170,3 +170,19 @@ def test_surface_state_is_empty_where_no_law_keeps_any(sim):
     assert sim.surface == {}
     sim.step(1)
     assert sim.surface == {}
+
+
+def test_archard_wear_is_a_view_of_the_worn_depth_and_follows_the_recursion():
+    # wear-2d (issue 50, docs/verification.md §8h): a block in uniaxial strain on a sliding plane;
+    # the lagged worn depth is delta (1 - (1 - a)^n), a = k_w E' ds / H, at every contact node.
+    sim = vpcontact.Simulation(vpcontact.Case("wear-2d"))
+    wear = sim.surface["wear"]
+    assert wear.shape == (len(sim.contact_nodes),) and not wear.flags.writeable
+    assert np.all(wear == 0)
+    E, nu, delta, k_w, ds = 1000.0, 0.3, 0.01, 5e-4, 0.05
+    E_c = E * nu / ((1 + nu) * (1 - 2 * nu)) + E / (1 + nu)  # lambda + 2 mu
+    a = k_w * E_c * ds
+    for n in range(1, 6):
+        sim.step()
+        np.testing.assert_allclose(wear, delta * (1 - (1 - a) ** n), rtol=0, atol=1e-14)
+    assert abs(sim.report["worn_volume"] - wear[0]) < 1e-15  # width 1: the depth times |Gamma_3| = 1

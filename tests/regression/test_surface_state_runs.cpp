@@ -26,7 +26,7 @@ constexpr double kWear = 2e-3;
 Case worn_shear(const std::string& solver = "active-set", double gap_share = 0) {
   test::register_test_laws();
   Case c = case_of("shear-2d", replaced(shipped_text("shear-2d"), kCoulomb,
-                                        fmt::format("friction = \"worn-coulomb\"\nmu = 0.3\nwear = {}\ngap_share = {}",
+                                        fmt::format("friction = \"worn-coulomb\"\nmu = 0.3\nwear_factor = {}\ngap_share = {}",
                                                     kWear, gap_share)));
   c.solvers.contact = solver;
   return c;

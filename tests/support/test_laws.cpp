@@ -97,7 +97,7 @@ WornCoulomb::WornCoulomb(double mu, double wear, double gap_share) : mu_(mu), we
 }
 
 WornCoulomb::WornCoulomb(FrictionKeys& keys)
-    : WornCoulomb(keys.number("mu"), keys.number("wear", 1.0), keys.number("gap_share", 0.0)) {}
+    : WornCoulomb(keys.number("mu"), keys.number("wear_factor", 1.0), keys.number("gap_share", 0.0)) {}
 
 std::string WornCoulomb::describe() const { return fmt::format("Coulomb friction mu = {} with wear {}", mu_, wear_); }
 
@@ -106,13 +106,14 @@ std::vector<SurfaceVariable> WornCoulomb::surface_state() const {
           {"slip_path", 2, 0.0, "the slip path Σ |Δ| and the steps that updated it (test law)", ""}};
 }
 
-void WornCoulomb::update_surface(const SurfaceNode& node, std::span<double* const> values) const {
+SurfaceUpdate WornCoulomb::update_surface(const SurfaceNode& node, std::span<double* const> values) const {
   double slip = 0;
   for (double d : node.slip_step) slip += d * d;
   slip = std::sqrt(slip);
   *values[0] += wear_ * std::max(node.lambda_nu, 0.0) / node.measure * slip;
   values[1][0] += slip;
   values[1][1] += 1;
+  return {};
 }
 
 AdhesiveSignorini::AdhesiveSignorini(double strength) : strength_(strength) {

@@ -35,7 +35,7 @@ class EllipticCoulomb final : public FrictionLaw {
 
 /// "worn-coulomb": Coulomb friction (key mu) that keeps Archard's worn depth as per-node state
 /// (contact/surface_state.hpp), with no effect on the step: "worn" += wear λ_ν / |Γ3|_i |Δ_i| after each
-/// step (key wear ≥ 0, default 1), ∫_Γ3 worn in history.csv as worn_volume, and "slip_path" += |Δ_i|
+/// step (key wear_factor ≥ 0, default 1), ∫_Γ3 worn in history.csv as worn_volume, and "slip_path" += |Δ_i|
 /// (2 numbers per node: the path and the number of updates, one per accepted step), which must equal friction's own
 /// State::slip. It shows that a law's state reaches checkpoints, rollback, VTU, Python and history.csv
 /// with no code outside the law. With gap_share > 0 (default 0) the worn depth opens the gap of the
@@ -48,7 +48,7 @@ class WornCoulomb final : public FrictionLaw {
   std::string describe() const override;
   double coefficient(const Point&) const override { return mu_; }
   std::vector<SurfaceVariable> surface_state() const override;
-  void update_surface(const SurfaceNode& node, std::span<double* const> values) const override;
+  SurfaceUpdate update_surface(const SurfaceNode& node, std::span<double* const> values) const override;
   double gap_shift(std::span<const double* const> values) const override { return gap_share_ * *values[0]; }
 
  private:

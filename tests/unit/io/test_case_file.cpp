@@ -339,8 +339,8 @@ TEST(CaseFile, BadCaseFilesGiveTheirMessages) {
       {"f0 = [\"0\", \"-5*t\"]", "f0 = [\"0\", \"-5*t\"]\n\n[[loads.pressure]]\nparts = [\"patch\"]\np = 1",
        "bad.toml:37:1: loads.pressure[0]: pressure part 'patch' is a contact part; a pressure acts on Γ2 only"},
       {"fields = [\"displacement\", \"damage\"]", "fields = [\"slip\"]",
-       "bad.toml:48:10: output.fields: the field 'slip' is written only for frictional cases (a friction law in "
-       "[contact], a [[contact.part]] or a [[contact.pair]]); this case is frictionless"},
+       "bad.toml:48:10: output.fields: the field 'slip' is written only for frictional cases (a friction law or wear "
+       "in [contact], a [[contact.part]] or a [[contact.pair]]); this case is frictionless"},
   };
   for (const auto& b : table) {
     const std::string msg = error_of(variant(b.from, b.to));
