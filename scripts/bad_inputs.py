@@ -331,6 +331,15 @@ INPUTS = [
     ("a contact pair whose slave part is clamped",
      {"c.toml": (pathlib.Path(__file__).resolve().parent.parent / "cases" / "contact-patch-2d.toml").read_text()
       .replace("[boundary]\n", "[boundary]\nclamped = [\"upper.bottom\"]\n", 1)}, ["c.toml"]),
+    # --- issue 50: Archard wear
+    ("wear coefficient below 0", {}, ["wear-2d", "--set", "contact.wear_coefficient=-1"]),
+    ("wear coefficient without wear = \"archard\"", {}, ["shear-2d", "--set", "contact.wear_coefficient=1e-4"]),
+    ("wear on a 1D bar", {}, ["paper-1d", "--set", "contact.wear=\"archard\"", "--set", "contact.wear_coefficient=1"]),
+    ("wear with the contact solver penalty-duality", {}, ["wear-2d", "--contact-solver", "penalty-duality"]),
+    ("a step whose wear increment passes wear_cap (fixed steps, no halving)", {},
+     ["run", "wear-2d", "--no-vtu", "-o", "out", "--set", "contact.wear_coefficient=8e-3"]),
+    ("a worn depth past wear_warning of the element size", {},
+     ["run", "wear-2d", "--no-vtu", "-q", "-o", "out", "--set", "contact.wear_warning=0.001"], {"warning": True}),
 ]
 
 
