@@ -28,11 +28,23 @@ int ContactSpec::law_index(const std::string& part) const {
   return 0;
 }
 
-std::vector<std::shared_ptr<const FrictionLaw>> ContactSpec::frictions() const {
-  std::vector<std::shared_ptr<const FrictionLaw>> all = {friction};
-  for (const PartContactLaw& p : part_laws) all.push_back(p.friction);
-  for (const ContactPair& p : pairs) all.push_back(p.friction);
+namespace {
+
+/// One law of each entry, in the order of laws(): [contact]'s, each [[contact.part]]'s, each pair's.
+template <class Law>
+std::vector<std::shared_ptr<const Law>> per_entry(const ContactSpec& c, const std::shared_ptr<const Law>& on_gamma3,
+                                                  std::shared_ptr<const Law> PartContactLaw::*of_part,
+                                                  std::shared_ptr<const Law> ContactPair::*of_pair) {
+  std::vector<std::shared_ptr<const Law>> all = {on_gamma3};
+  for (const PartContactLaw& p : c.part_laws) all.push_back(p.*of_part);
+  for (const ContactPair& p : c.pairs) all.push_back(p.*of_pair);
   return all;
+}
+
+}  // namespace
+
+std::vector<std::shared_ptr<const FrictionLaw>> ContactSpec::frictions() const {
+  return per_entry(*this, friction, &PartContactLaw::friction, &ContactPair::friction);
 }
 
 bool ContactSpec::frictional() const {
@@ -40,10 +52,7 @@ bool ContactSpec::frictional() const {
 }
 
 std::vector<std::shared_ptr<const ArchardWear>> ContactSpec::wears() const {
-  std::vector<std::shared_ptr<const ArchardWear>> all = {wear};
-  for (const PartContactLaw& p : part_laws) all.push_back(p.wear);
-  for (const ContactPair& p : pairs) all.push_back(p.wear);
-  return all;
+  return per_entry(*this, wear, &PartContactLaw::wear, &ContactPair::wear);
 }
 
 bool ContactSpec::tangential() const {
