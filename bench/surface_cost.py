@@ -47,11 +47,13 @@ def main():
     ap.add_argument("--vpcontact", default="build/app/vpcontact")
     ap.add_argument("--case", default="wear-ironing-3d")
     ap.add_argument("--set", action="append", default=[], help="--set for both runs")
-    ap.add_argument("--off", action="append", default=["contact.wear_coefficient=0"],
-                    help="--set that turns the history's effect off (the coefficient 0)")
+    ap.add_argument("--off", action="append", default=None,
+                    help="--set that turns the history's effect off (default contact.wear_coefficient=0: the "
+                         "coefficient 0, the same solver path)")
     ap.add_argument("--steps", type=int, default=10)
     ap.add_argument("--repeats", type=int, default=3)
     a = ap.parse_args()
+    a.off = a.off or ["contact.wear_coefficient=0"]
     runs = {"on": [], "off": []}
     for _ in range(a.repeats):  # alternately: a busy spell of the machine hits both
         runs["on"].append(one_run(a.vpcontact, a.case, a.set, a.steps))
