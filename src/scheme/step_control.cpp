@@ -146,9 +146,12 @@ StepReport controlled_step(const StepAttempts& a, const StepControl& c, StepCont
     StepReport rep = a.advance(k_used, t_end);
     // r: the estimate over what the tolerance allows this step (an error per unit of time).
     const double r = rep.error_estimate / (c.tolerance * k_used);
+    // share: of a surface law's step limit (SPEC §9's wear cap), which grows with the step like the slip
+    // in it: a step above it is redone at the size that meets it, and the next one proposed within it.
+    const double share = rep.surface.step_share;
     double retry = 0;  // the smaller step to redo it with (0: accept)
     if (!rep.ok)
-      retry = k_used * c.cut;
+      retry = k_used * (share > 1 ? std::min(c.cut, c.safety / share) : c.cut);
     else if (k_used > c.event_dt * (1 + 1e-9) && is_event(c, cs, rep))
       retry = std::max(c.event_dt, k_used * c.cut);
     else if (r > 1)
@@ -163,6 +166,7 @@ StepReport controlled_step(const StepAttempts& a, const StepControl& c, StepCont
       double next = k_used * std::clamp(allowed, c.cut, c.growth);
       if (k_used < k && r <= 1) next = std::max(next, std::min(k, k_used * allowed));
       if (is_event(c, cs, rep)) next = std::min(next, c.event_dt);  // events come in runs: no rejection for each
+      if (share > 0) next = std::min(next, k_used * c.safety / share);
       if (rep.ok) {
         cs.k_next = std::clamp(next, c.dt_min, c.dt_max);
         cs.rejected += rejected;

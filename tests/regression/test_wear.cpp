@@ -127,6 +127,27 @@ TEST(WearExact, AStepAboveTheCapIsRejectedAndHalvingRedoesItExactly) {
   EXPECT_LE(off, 1e-12);
 }
 
+TEST(WearExact, ErrorControlledStepsFollowTheCapWithoutRejections) {
+  // An elastic block has no error of its own to control: the steps grow until the wear cap holds them
+  // (its share grows with the slip of a step). The controller proposes each step within the cap, so the
+  // steps are not attempted above it and rejected one after the other (121 rejections in 131 steps
+  // before it did).
+  const Case c = wear_case({"contact.wear_coefficient=8e-3", "time.tolerance=0.01"});
+  ASSERT_TRUE(c.problem->step_control.has_value());
+  int steps = 0, rejected = 0;
+  double largest_share = 0;
+  run_to_end(c, [&](const TimeStepper&, const StepReport& r) {
+    ++steps;
+    rejected += r.rejected;
+    largest_share = std::max(largest_share, r.surface.step_share);
+  });
+  std::printf("  error-controlled steps under the wear cap: %d steps, %d rejected, largest share of the cap %.3f\n",
+              steps, rejected, largest_share);
+  EXPECT_LE(largest_share, 1.0);
+  EXPECT_LE(rejected, 2);
+  EXPECT_GT(largest_share, 0.5);  // the cap, not the controller's growth limit, sets the steps
+}
+
 TEST(WearExact, WithCoulombFrictionTheWearIsArchardsWhateverMu) {
   // The pressure held constant: the top is moved down with the lagged worn depth, u_y = −pH/E −
   // k_w p (t − k)₊ (k = 0.05), so that the compression is pH/E at every step; the sides carry the
