@@ -31,12 +31,15 @@ void record_key_locations(Section& top, Problem& p, const Origins& origins) {
   auto record = [&](Section& s, const std::string& key) {
     if (s.has(key)) p.key_locations[s.key_path(key)] = s.where(key);
   };
-  auto record_tables = [&](Section& s, const std::string& key) {  // [[key]]: each table's header
+  // [[key]]: each table's header, and its `keys` where given.
+  auto record_tables = [&](Section& s, const std::string& key, const std::vector<std::string>& keys = {}) {
     if (!s.has(key) || !s.get(key)->is_array_of_tables()) return;
     int k = 0;
     for (const auto& node : *s.get(key)->as_array()) {
       const std::string path = fmt::format("{}[{}]", s.key_path(key), k++);
-      p.key_locations[path] = fmt::format("{}: {}", Section(node.as_table(), path, origins).where_section(), path);
+      Section table(node.as_table(), path, origins);
+      p.key_locations[path] = fmt::format("{}: {}", table.where_section(), path);
+      for (const std::string& name : keys) record(table, name);
     }
   };
   Section b = top.table("boundary");
@@ -46,21 +49,10 @@ void record_key_locations(Section& top, Problem& p, const Origins& origins) {
   Section ct = top.table("contact");
   if (ct.exists()) p.key_locations["contact"] = fmt::format("{}: [contact]", ct.where_section());
   for (const char* key : {"gap", "direction", "friction", "mu", "shear_limit", "friction_bound"}) record(ct, key);
-  record_tables(ct, "pair");
-  record_tables(ct, "part");
   // The wear keys of each law table (the surface laws' messages: surface_fields.cpp, contact_set.cpp).
-  const auto record_wear = [&](Section& s) {
-    for (const std::string& key : wear_keys()) record(s, key);
-  };
-  record_wear(ct);
-  for (const char* list : {"part", "pair"})
-    if (ct.has(list) && ct.get(list)->is_array_of_tables()) {
-      int k = 0;
-      for (const auto& node : *ct.get(list)->as_array()) {
-        Section s(node.as_table(), fmt::format("contact.{}[{}]", list, k++), origins);
-        record_wear(s);
-      }
-    }
+  for (const std::string& key : wear_keys()) record(ct, key);
+  record_tables(ct, "pair", wear_keys());
+  record_tables(ct, "part", wear_keys());
   if (p.key_locations.count("contact.pair[0]")) p.key_locations["contact.pair"] = p.key_locations["contact.pair[0]"];
   record_tables(top, "obstacle");
   Section ld = top.table("loads");

@@ -31,7 +31,9 @@ double miss_gap_of(const MeshPart& part) {
 }  // namespace
 
 ContactSet::ContactSet(const Problem& p, const MeshPart& part, std::vector<PartContactNode> nodes_in)
-    : ContactSet(p, part, std::move(nodes_in), miss_gap_of(part)) {}
+    : ContactSet(p, part, std::move(nodes_in), miss_gap_of(part)) {
+  check_surface_laws(p, part);  // at set-up: a slid set has the same nodes and laws
+}
 
 ContactSet::ContactSet(const Problem& p, const MeshPart& part, std::vector<PartContactNode> nodes_in, double miss)
     : nodes(std::move(nodes_in)), miss_gap(miss) {
@@ -63,15 +65,16 @@ void ContactSet::set_rows(const Problem& p, const MeshPart& part) {
   N = owned_columns(N_local, part);
   dofs = std::move(owned.node_dofs);
   if (p.contact.tangential()) set_friction_frame(p, part);  // SPEC §7 (and the slip that wear needs, §9)
-  check_surface_laws(p, part);
 }
 
 void ContactSet::check_surface_laws(const Problem& p, const MeshPart& part) const {
   const ContactSpec& c = p.contact;
+  std::vector<std::vector<const SurfaceHistory*>> laws;  // per entry, made once
+  for (std::size_t e = 0; e < c.laws().size(); ++e) laws.push_back(c.surface_laws(e));
   for (const PartContactNode& node : nodes) {
     if (!node.owned) continue;
     const auto e = static_cast<std::size_t>(node.law);
-    for (const SurfaceHistory* law : c.surface_laws(e))
+    for (const SurfaceHistory* law : laws[e])
       if (const LawText bad = law->check_at(part.mesh().node(node.local_node)); !bad.text.empty())
         fail("{}: {}", p.where_in(c.entry_table(e), bad.key), bad.text);
   }

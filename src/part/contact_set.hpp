@@ -75,6 +75,7 @@ struct ContactSet {
   /// The set of `nodes` with the miss gap `miss_gap` (both constructors' work).
   ContactSet(const Problem& p, const MeshPart& part, std::vector<PartContactNode> nodes, double miss_gap);
   /// Each owned node's surface laws' data there (SurfaceHistory::check_at): a located error for a bad one.
+  /// Once, by the set-up's constructor (a moved set keeps the nodes and their laws).
   void check_surface_laws(const Problem& p, const MeshPart& part) const;
   /// The frame from N_local, the rows' dofs and local's masters' mean (taken).
   void set_friction_frame(const Problem& p, const MeshPart& part);

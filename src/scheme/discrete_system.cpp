@@ -5,6 +5,7 @@
 #include "la/memory_estimate.hpp"
 #include "problem/stability.hpp"
 #include "scheme/step_data.hpp"
+#include "scheme/surface_fields.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -91,6 +92,7 @@ DiscreteSystem::DiscreteSystem(std::shared_ptr<const Problem> problem_in, MeshPa
   K_local = assemble_stiffness(mesh, geo, elasticity, part.cell_material, part.dofs);
   K = backend->assemble(K_local, *part.dof_layout, K_block);
   K_local_nonzeros = static_cast<double>(K_local.nonZeros());
+  if (!declared_surface_state(p.contact).empty()) K_diagonal = K->diagonal();
   M_local = assemble_mass(mesh, geo);
   A_local = damage_laplacian(p, part, geo, kappa);
   M = backend->assemble(M_local, *part.node_layout, 1);

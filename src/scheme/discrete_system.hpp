@@ -48,6 +48,9 @@ struct DiscreteSystem {
   std::shared_ptr<la::SpdOperator> K;
   int K_block = 1;
   double K_local_nonzeros = 0;  // for model_bytes
+  /// K's assembled diagonal on the owned free dofs, where a contact law keeps per-node state (the
+  /// nodes' normal stiffness its updates see: scheme/surface_fields.cpp); empty otherwise.
+  Vector K_diagonal;
   /// The part's K: kept until the contact solver's set-up has made the primal solver's K_rot from
   /// it (scheme/scheme_solvers.hpp), then handed to the run's PairSlider (kept where a pair slides
   /// large, else released): empty after set-up.

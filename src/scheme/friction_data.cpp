@@ -4,6 +4,7 @@
 #include "solvers/stick_slip.hpp"
 
 #include <cmath>
+#include <optional>
 
 namespace vpc {
 
@@ -70,12 +71,13 @@ Vector prescribed_slip(const DiscreteSystem& sys, const Vector& u_before, const 
   std::vector<double> out;
   for (const PartContactNode& node : sys.contact->nodes) {
     if (!node.owned) continue;
-    const Point w = obstacle_translation(sys, node, from, to);
+    std::optional<Point> w;  // the obstacle's translation, found for a node with a prescribed direction only
     double sum = 0;
     for (int i = 0; i < d; ++i) {
       const int f = dofs.full_index(node.local_node, i);
       if (dofs.free_index(f) >= 0) continue;  // a free tangent: friction's slip (T u − h)
-      double rel = u[f] - u_before[f] - w[i];
+      if (!w) w = obstacle_translation(sys, node, from, to);
+      double rel = u[f] - u_before[f] - (*w)[i];
       for (const auto& [master, share] : node.masters) {
         const int g = dofs.full_index(master, i);
         rel -= share * (u[g] - u_before[g]);

@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <iterator>
 
 namespace vpc {
 
@@ -109,9 +110,10 @@ namespace {
 
 /// k_ν,i of each owned row (SurfaceNode::normal_stiffness): Σ_j N_ij² K_jj / Σ_j N_ij² over the
 /// row's own node's free dofs (a pair row's slave entries are ν; its masters' are left out), from
-/// K's assembled diagonal: the same on every rank count. 0 where the node has no free dof.
+/// K's assembled diagonal (DiscreteSystem::K_diagonal): the same on every rank count. 0 where the node
+/// has no free dof.
 std::vector<double> normal_stiffness(const DiscreteSystem& sys) {
-  const Vector K_diagonal = sys.K->diagonal();
+  const Vector& K_diagonal = sys.K_diagonal;
   const ContactSet& set = *sys.contact;
   std::vector<double> k(set.dofs.size(), 0.0);
   for (std::size_t i = 0; i < set.dofs.size(); ++i) {
@@ -144,10 +146,11 @@ struct LargestShare {
     const MinimumAt best = global_minimum_at(comm, std::span<const double>(&mine, 1), std::span<const int>(&index, 1));
     out = -best.value;
     if (!(out > 1)) return {};
+    // Its owner's entry, law and position, 0 elsewhere: one sum gives them everywhere.
     const bool owner = node == best.index && share == out;
-    double where[5] = {owner ? static_cast<double>(entry) : -1.0, owner ? static_cast<double>(law) : -1.0,
-                       owner ? x[0] : -INFINITY, owner ? x[1] : -INFINITY, owner ? x[2] : -INFINITY};
-    for (double& w : where) w = comm.max(w);
+    double where[5] = {static_cast<double>(entry), static_cast<double>(law), x[0], x[1], x[2]};
+    if (!owner) std::fill(std::begin(where), std::end(where), 0.0);
+    comm.sum(where, 5);
     const auto e = static_cast<std::size_t>(where[0]);
     const ContactSpec& c = sys.problem->contact;
     const SurfaceHistory* l = c.surface_laws(e)[static_cast<std::size_t>(where[1])];
