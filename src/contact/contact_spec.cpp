@@ -55,6 +55,17 @@ std::vector<std::shared_ptr<const ArchardWear>> ContactSpec::wears() const {
   return per_entry(*this, wear, &PartContactLaw::wear, &ContactPair::wear);
 }
 
+std::vector<std::shared_ptr<const FremondAdhesion>> ContactSpec::adhesions() const {
+  return per_entry(*this, adhesion, &PartContactLaw::adhesion, &ContactPair::adhesion);
+}
+
+bool ContactSpec::adhesive() const {
+  for (std::size_t e = 0; e < laws().size(); ++e)
+    for (const SurfaceHistory* law : surface_laws(e))
+      if (law->bond_length() > 0) return true;
+  return false;
+}
+
 bool ContactSpec::tangential() const {
   return frictional() || std::ranges::any_of(wears(), [](const auto& w) { return w != nullptr; });
 }
@@ -63,7 +74,8 @@ std::vector<const SurfaceHistory*> ContactSpec::surface_laws(std::size_t e) cons
   std::vector<const SurfaceHistory*> out;
   for (const SurfaceHistory* law : {static_cast<const SurfaceHistory*>(laws()[e].get()),
                                     static_cast<const SurfaceHistory*>(frictions()[e].get()),
-                                    static_cast<const SurfaceHistory*>(wears()[e].get())})
+                                    static_cast<const SurfaceHistory*>(wears()[e].get()),
+                                    static_cast<const SurfaceHistory*>(adhesions()[e].get())})
     if (law) out.push_back(law);
   return out;
 }
@@ -91,25 +103,26 @@ namespace {
 
 /// A law entry's normal law, friction and wear ("Signorini, Coulomb friction mu = 0.3, Archard wear k_w = 1e-09");
 /// `none` for no friction.
-std::string entry_laws(const ContactLaw& law, const FrictionLaw* friction, const ArchardWear* wear, std::string_view none) {
+std::string entry_laws(const ContactLaw& law, const FrictionLaw* friction, const ArchardWear* wear,
+                       const FremondAdhesion* adhesion, std::string_view none) {
   return law.describe() + (friction ? ", " + friction->describe() : std::string(none)) +
-         (wear ? ", " + wear->describe() : std::string());
+         (wear ? ", " + wear->describe() : std::string()) + (adhesion ? ", " + adhesion->describe() : std::string());
 }
 
 }  // namespace
 
 std::vector<std::string> ContactSpec::describe() const {
-  std::string on_gamma3 = entry_laws(*law, friction.get(), wear.get(), "");
+  std::string on_gamma3 = entry_laws(*law, friction.get(), wear.get(), adhesion.get(), "");
   for (const PartContactLaw& pl : part_laws)
     on_gamma3 +=
-        fmt::format("; on {}: {}", fmt::join(pl.parts, ", "), entry_laws(*pl.law, pl.friction.get(), pl.wear.get(), ""));
+        fmt::format("; on {}: {}", fmt::join(pl.parts, ", "), entry_laws(*pl.law, pl.friction.get(), pl.wear.get(), pl.adhesion.get(), ""));
   std::vector<std::string> all;
   if (!parts.empty()) all.push_back(fmt::format("Γ3 (contact): {} ({})", fmt::join(parts, ", "), on_gamma3));
   const auto entries = laws();  // a pair's own law or [contact]'s
   for (std::size_t q = 0; q < pairs.size(); ++q)
     all.push_back(fmt::format("pair: slave {}, master {} ({}, {} sliding)", pairs[q].slave, pairs[q].master,
                               entry_laws(*entries[static_cast<std::size_t>(pair_law_index(q))], pairs[q].friction.get(),
-                                         pairs[q].wear.get(), ", frictionless"),
+                                         pairs[q].wear.get(), pairs[q].adhesion.get(), ", frictionless"),
                               pairs[q].large_sliding ? "large" : "small"));
   return all;
 }

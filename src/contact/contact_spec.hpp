@@ -3,6 +3,7 @@
 // the normal and friction law of each entry ([contact], each [[contact.part]], each
 // [[contact.pair]]), the gap or the obstacles, and the contact direction. The case file fills
 // it (io/case_contact.cpp); the contact rows (problem/contact_rows.hpp) are built from it.
+#include "contact/adhesion_law.hpp"
 #include "contact/contact_law.hpp"
 #include "contact/friction_law.hpp"
 #include "contact/obstacle.hpp"
@@ -27,6 +28,8 @@ struct PartContactLaw {
   std::shared_ptr<const FrictionLaw> friction;
   /// Its wear (SPEC §9; contact/wear_law.hpp): nullptr none. Without a wear key, [contact]'s.
   std::shared_ptr<const ArchardWear> wear;
+  /// Its adhesion (SPEC §9; contact/adhesion_law.hpp): nullptr none. Without an adhesion key, [contact]'s.
+  std::shared_ptr<const FremondAdhesion> adhesion;
 };
 
 /// Contact between two bodies (SPEC §8, `[[contact.pair]]`): a normal law for the jump of u across
@@ -41,6 +44,8 @@ struct ContactPair {
   std::shared_ptr<const FrictionLaw> friction;
   /// Its wear, of the slave side (SPEC §9); nullptr none. A pair without a wear key takes [contact]'s.
   std::shared_ptr<const ArchardWear> wear;
+  /// Its adhesion, on the slave side's rows (SPEC §9); nullptr none. A pair without an adhesion key takes [contact]'s.
+  std::shared_ptr<const FremondAdhesion> adhesion;
   /// `sliding = "large"`: the pair's rows rebuilt at the start of every step in the configuration
   /// x + u_{n−1} (scheme/pair_slider.hpp); "small" (the default): once, in the reference one.
   bool large_sliding = false;
@@ -66,11 +71,17 @@ struct ContactSpec {
   std::shared_ptr<const ArchardWear> wear;
   /// Every wear law, in the order of laws() (nullptr: that entry does not wear).
   std::vector<std::shared_ptr<const ArchardWear>> wears() const;
+  /// The adhesion on the parts of Γ3 that no part_laws entry names (SPEC §9; nullptr: none), and every
+  /// entry's, in the order of laws() (nullptr: that entry does not bond).
+  std::shared_ptr<const FremondAdhesion> adhesion;
+  std::vector<std::shared_ptr<const FremondAdhesion>> adhesions() const;
+  /// Whether some entry's law keeps a bond (SurfaceHistory::bond_length > 0: adhesion).
+  bool adhesive() const;
   /// Whether the contact nodes carry tangential unknowns and slip (the friction frame, State::slip):
   /// friction somewhere, or wear, which needs the slip (a node without friction has the bound 0).
   bool tangential() const;
   /// The laws of laws() entry e that may keep per-node state (contact/surface_state.hpp): its normal
-  /// law, its friction law and its wear, those it has.
+  /// law, its friction law, its wear and its adhesion, those it has.
   std::vector<const SurfaceHistory*> surface_laws(std::size_t e) const;
   /// The index in laws() of the law on one part of Γ3.
   int law_index(const std::string& part) const;

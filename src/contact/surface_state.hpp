@@ -24,6 +24,9 @@ struct SurfaceVariable {
   std::string meaning;    // one line for the docs and vpcontact.Fields
   /// history.csv's column of ∫_Γ3 v = Σ_i v_i |Γ3|_i (width 1; "": none).
   std::string history;
+  /// The column is the mean instead, ∫ v / ∫ 1 over the nodes whose laws declare v (a share of that
+  /// part of Γ3: adhesion's debonded fraction).
+  bool history_mean = false;
 };
 
 /// What a law's update sees at one of its nodes once the step is solved (forces as the solvers
@@ -82,6 +85,19 @@ class SurfaceHistory {
   /// What the node's state adds to its gap g(t_n) (SPEC §9's worn depth: u_ν ≤ g + ω): step n solves
   /// with the values at t_{n−1}, lagged as the scheme lags the damage source. 0 by default.
   virtual double gap_shift(std::span<const double* const> /*values*/) const { return 0; }
+
+  /// Sets a node's values at t_0 where they depend on the node (they start at each variable's
+  /// `initial`): x its position, `gap` its gap g(x, 0). Returns why the node cannot start so (adhesion
+  /// bonded across an open gap), or no text. Asked once per node at t_0.
+  virtual LawText initial_at(const Point& /*x*/, double /*gap*/, std::span<double* const> /*values*/) const { return {}; }
+
+  /// A bond (SPEC §9's adhesion) that pulls the node back once it separates: its stiffness per unit of
+  /// Γ3 for the step of size k that starts from the node's values at t_{n−1} (γ_ν α_n², the bonding
+  /// field carried over the step first), and its length L (the separation beyond which it pulls with
+  /// a constant force). Step n's contact problem gets the tension branch λ = −a_i min(s, L), a_i the
+  /// stiffness times |Γ3|_i (ContactConstraints::bond). 0: no bond.
+  virtual double bond(std::span<const double* const> /*values*/, const Point& /*x*/, double /*k*/) const { return 0; }
+  virtual double bond_length() const { return 0; }
 };
 
 }  // namespace vpc

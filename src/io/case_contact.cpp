@@ -143,6 +143,20 @@ std::shared_ptr<const ArchardWear> read_wear_law(Section& s, std::shared_ptr<con
   return make_wear_law(name, keys);
 }
 
+/// The adhesion of a [contact], [[contact.part]] or [[contact.pair]] table (SPEC §9): adhesion = "none"
+/// or "fremond" (bond_stiffness, bond_length, bond_viscosity, adhesion_energy, bonding); `inherited`
+/// where the table has no adhesion key.
+std::shared_ptr<const FremondAdhesion> read_adhesion_law(Section& s, std::shared_ptr<const FremondAdhesion> inherited) {
+  if (!s.has("adhesion")) {
+    for (const std::string& k : adhesion_keys())
+      if (s.has(k)) fail("{}: {} needs adhesion = \"fremond\" in the same table", s.where(k), k);
+    return inherited;
+  }
+  const std::string name = s.choice("adhesion", {"none", "fremond"}, "none");
+  SectionFrictionKeys keys(s);
+  return make_adhesion_law(name, keys);
+}
+
 /// A contact law: `law`, a name in the registry (contact/registry.cpp; default "signorini"),
 /// which reads its own keys (normal-compliance: stiffness c > 0, exponent e ≥ 1).
 std::shared_ptr<const ContactLaw> read_contact_law(Section& s) {
@@ -196,7 +210,15 @@ void read_contact_pairs(Section& ct, Problem& p, const Origins& origins) {
     }
     pair.friction = read_friction_law(s, p.contact.friction, p.mesh.dim());
     pair.wear = read_wear_law(s, p.contact.wear, p.mesh.dim());
+    pair.adhesion = read_adhesion_law(s, p.contact.adhesion);
     pair.large_sliding = s.choice("sliding", {"small", "large"}, "small") == "large";
+    // A bond ties a slave node to the master material it touched at bonding; large sliding rebuilds
+    // the rows against whatever master the node faces at each step, which would carry the bond along.
+    if (pair.large_sliding && pair.adhesion)
+      fail("{}: adhesion on a pair with sliding = \"large\" is refused: the bond ties a slave node to the master "
+           "material it was bonded to, while large sliding pairs it with the master it faces at each step; use "
+           "sliding = \"small\" (or adhesion = \"none\" on this pair)",
+           s.where("sliding"));
     if (!(pair.search >= 0) || !std::isfinite(pair.search))
       fail("{}: expected a distance >= 0 (0: the slave part's longest facet edge)", s.where("search"));
     s.finish();
@@ -216,6 +238,7 @@ bool read_contact(Section ct, Problem& p, const Origins& origins) {
   p.contact.law = read_contact_law(ct);
   p.contact.friction = read_friction_law(ct, nullptr, p.mesh.dim());
   p.contact.wear = read_wear_law(ct, nullptr, p.mesh.dim());
+  p.contact.adhesion = read_adhesion_law(ct, nullptr);
   if (ct.has("part")) {  // [[contact.part]]: another law on some parts
     const toml::node* list = ct.get("part");
     if (!list->is_array_of_tables())
@@ -233,6 +256,7 @@ bool read_contact(Section ct, Problem& p, const Origins& origins) {
       pl.law = read_contact_law(s);
       pl.friction = read_friction_law(s, p.contact.friction, p.mesh.dim());
       pl.wear = read_wear_law(s, p.contact.wear, p.mesh.dim());
+      pl.adhesion = read_adhesion_law(s, p.contact.adhesion);
       s.finish();
       p.contact.part_laws.push_back(std::move(pl));
     }

@@ -50,9 +50,11 @@ void record_key_locations(Section& top, Problem& p, const Origins& origins) {
   if (ct.exists()) p.key_locations["contact"] = fmt::format("{}: [contact]", ct.where_section());
   for (const char* key : {"gap", "direction", "friction", "mu", "shear_limit", "friction_bound"}) record(ct, key);
   // The wear keys of each law table (the surface laws' messages: surface_fields.cpp, contact_set.cpp).
-  for (const std::string& key : wear_keys()) record(ct, key);
-  record_tables(ct, "pair", wear_keys());
-  record_tables(ct, "part", wear_keys());
+  std::vector<std::string> law_keys = wear_keys();  // and the adhesion keys
+  for (const std::string& key : adhesion_keys()) law_keys.push_back(key);
+  for (const std::string& key : law_keys) record(ct, key);
+  record_tables(ct, "pair", law_keys);
+  record_tables(ct, "part", law_keys);
   if (p.key_locations.count("contact.pair[0]")) p.key_locations["contact.pair"] = p.key_locations["contact.pair[0]"];
   record_tables(top, "obstacle");
   Section ld = top.table("loads");

@@ -5,6 +5,7 @@
 
 #include "io/case_file.hpp"
 #include "contact/friction_law.hpp"
+#include "contact/adhesion_law.hpp"
 #include "contact/wear_law.hpp"
 #include "core/error.hpp"
 #include "core/quote.hpp"
@@ -86,6 +87,9 @@ std::vector<std::string> replaced_parameters(const std::string& section, const s
   } else if ((last == "contact" || last.starts_with("part[") || last.starts_with("pair[")) && key == "wear") {
     parameters = wear_law_keys;  // `--set contact.wear=none` drops wear_coefficient
     old_name = t["wear"].value_or(std::string("none"));
+  } else if ((last == "contact" || last.starts_with("part[") || last.starts_with("pair[")) && key == "adhesion") {
+    parameters = adhesion_law_keys;  // `--set contact.adhesion=none` drops bond_stiffness, ...
+    old_name = t["adhesion"].value_or(std::string("none"));
   }
   const auto new_name = value.value<std::string>();
   if (!parameters || !new_name || *new_name == old_name) return {};

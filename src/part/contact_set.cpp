@@ -135,6 +135,19 @@ ContactConstraints ContactSet::constraints(const Problem& p, const MeshPart& par
     if (node.owned) datum.push_back(node.datum);
   c.datum = Eigen::Map<Vector>(datum.data(), static_cast<Eigen::Index>(datum.size()));
   c.node_dofs = dofs;
+  if (p.contact.adhesive()) {  // adhesion (SPEC §9): each row's bond length, its bond the steps' (set_bond)
+    std::vector<std::vector<const SurfaceHistory*>> laws;  // per entry, made once
+    for (std::size_t e = 0; e < p.contact.laws().size(); ++e) laws.push_back(p.contact.surface_laws(e));
+    std::vector<double> length;
+    for (const PartContactNode& node : nodes) {
+      if (!node.owned) continue;
+      double L = 0;
+      for (const SurfaceHistory* law : laws[static_cast<std::size_t>(node.law)]) L = std::max(L, law->bond_length());
+      length.push_back(L);
+    }
+    c.bond_length = Eigen::Map<Vector>(length.data(), static_cast<Eigen::Index>(length.size()));
+    c.bond = Vector::Zero(c.bond_length.size());
+  }
   // Friction's frame (empty without): the bounds and the shift are the steps' (set_friction).
   c.frictions = friction.laws;
   c.master_mean = friction.master_mean;

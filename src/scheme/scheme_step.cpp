@@ -40,6 +40,7 @@ StepTaken SchemeStep::take(const DiscreteSystem& sys, SchemeSolvers& solvers, co
     out.data = step_data(sys, t_end);
     out.data.gap_shift = surface_gap_shift(sys, s);  // the laws' per-node state at t_{n−1} moves g
     if (out.data.gap_shift.size() > 0) out.data.gap += out.data.gap_shift;
+    out.data.bond = surface_bond(sys, s, k);  // adhesion: α carried over the step from t_{n−1}
     const Vector u_before = s.surface.empty() ? Vector() : Vector(s.u);  // the surface laws' slip along prescribed dofs
     rep.contact = solve_contact(sys, *solvers.contact, s, u_free, out.data);
     rep.surface = update_surface_state(sys, out.data.gap, k, u_before, t_end, s);  // the laws' per-node state at t_n (s.u: u_n, ghosts current)
@@ -117,6 +118,7 @@ ContactReport SchemeStep::solve_contact(const DiscreteSystem& sys, ContactSolver
   f_.local() = restrict_to_free(sys.part.dofs, data.F - assemble_stress_divergence(mesh, sys.geo, u_D.size() > 0 ? lifted : s.z));
   f_.add_ghosts_to_owners();
   contact.set_gap(data.gap);
+  if (sys.problem->contact.adhesive()) contact.set_bond(data.bond);  // SPEC §9: the bonds' tension branches
   friction_->before_solve(sys, s, data, contact);  // SPEC §7: Δ = T u_n − h, h from u_{n−1} and the obstacle's motion
   const ContactReport rep = contact.solve(f_.owned(), u_free, s.lambda);
   friction_->after_solve(sys, contact, u_free, rep, s);

@@ -153,15 +153,27 @@ void beta_range(const DiscreteSystem& sys, const State& s, StepReport& rep) {
 }
 
 /// ∫_Γ3 v of each per-node state variable with a history column (its owned nodes', summed).
+/// A mean (SurfaceVariable::history_mean) over the nodes whose laws declare v: ∫ v / ∫ 1 there.
 void surface_integrals(const DiscreteSystem& sys, const State& s, StepReport& rep) {
   rep.surface_integral.clear();
-  for (const SurfaceVariable& v : declared_surface_state(sys.problem->contact)) {
+  const ContactSpec& contact = sys.problem->contact;
+  for (const SurfaceVariable& v : declared_surface_state(contact)) {
     if (v.history.empty()) continue;
     const SurfaceField& f = *s.surface_field(v.name);
-    double sum = 0;
-    for (const PartContactNode& node : sys.contact->nodes)
-      if (node.owned) sum += f.values[node.row] * node.measure;
-    rep.surface_integral.push_back(sys.part.comm.sum(sum));
+    std::vector<char> declares;  // per laws() entry, for a mean
+    if (v.history_mean)
+      for (std::size_t e = 0; e < contact.laws().size(); ++e)
+        declares.push_back(std::ranges::any_of(contact.surface_laws(e), [&](const SurfaceHistory* law) {
+          return std::ranges::any_of(law->surface_state(), [&](const SurfaceVariable& w) { return w.name == v.name; });
+        }));
+    double sums[2] = {0, 0};
+    for (const PartContactNode& node : sys.contact->nodes) {
+      if (!node.owned || (v.history_mean && !declares[static_cast<std::size_t>(node.law)])) continue;
+      sums[0] += f.values[node.row] * node.measure;
+      sums[1] += node.measure;
+    }
+    sys.part.comm.sum(sums, 2);
+    rep.surface_integral.push_back(v.history_mean ? (sums[1] > 0 ? sums[0] / sums[1] : 0.0) : sums[0]);
   }
 }
 

@@ -85,6 +85,54 @@ std::vector<T*> node_values(const LawFields& lf, const std::vector<SurfaceField>
 
 }  // namespace
 
+void set_initial_surface_state(const DiscreteSystem& sys, const Vector& gap, State& s) {
+  if (s.surface.empty()) return;
+  const ContactSpec& contact = sys.problem->contact;
+  const auto table = laws_with_fields(contact, s);
+  const MeshPart& part = sys.part;
+  // This rank's rows set in a copy that holds only them (zero elsewhere), then summed: one owner per row.
+  std::vector<Vector> mine;
+  for (const SurfaceField& f : s.surface) mine.push_back(Vector::Zero(f.values.size()));
+  la::collective(part.comm, [&] {
+    Eigen::Index owned = 0;
+    for (const PartContactNode& node : sys.contact->nodes) {
+      if (!node.owned) continue;
+      const auto i = static_cast<Eigen::Index>(node.row);
+      for (std::size_t f = 0; f < s.surface.size(); ++f) {
+        const int w = s.surface[f].width;
+        mine[f].segment(i * w, w) = s.surface[f].values.segment(i * w, w);
+      }
+      const auto e = static_cast<std::size_t>(node.law);
+      const Point& x = part.mesh().node(node.local_node);
+      for (const LawFields& lf : table[e]) {
+        const LawText why =
+            lf.law->initial_at(x, gap[owned], node_values<double>(lf, s.surface, node.row, [&](std::size_t f) { return mine[f].data(); }));
+        if (!why.text.empty()) fail("{}: {}", sys.problem->where_in(contact.entry_table(e), why.key), why.text);
+      }
+      ++owned;
+    }
+  });
+  for (std::size_t f = 0; f < s.surface.size(); ++f) {
+    part.comm.sum(mine[f].data(), mine[f].size());
+    s.surface[f].values.noalias() = mine[f];
+  }
+}
+
+Vector surface_bond(const DiscreteSystem& sys, const State& s, double k) {
+  if (!sys.problem->contact.adhesive()) return {};
+  const auto table = laws_with_fields(sys.problem->contact, s);
+  const auto values = [&](std::size_t f) { return s.surface[f].values.data(); };
+  std::vector<double> bond;
+  for (const PartContactNode& node : sys.contact->nodes) {
+    if (!node.owned) continue;
+    double a = 0;
+    for (const LawFields& lf : table[static_cast<std::size_t>(node.law)])
+      a += lf.law->bond(node_values<const double>(lf, s.surface, node.row, values), sys.part.mesh().node(node.local_node), k);
+    bond.push_back(a * node.measure);
+  }
+  return Eigen::Map<Vector>(bond.data(), static_cast<Eigen::Index>(bond.size()));
+}
+
 Vector surface_gap_shift(const DiscreteSystem& sys, const State& s) {
   if (s.surface.empty()) return {};
   const auto table = laws_with_fields(sys.problem->contact, s);

@@ -18,6 +18,15 @@ std::vector<SurfaceVariable> declared_surface_state(const ContactSpec& contact);
 /// State::surface at t_0: each declared variable at its initial value on every contact node.
 std::vector<SurfaceField> initial_surface_state(const ContactSpec& contact, int n_contact);
 
+/// The node-dependent part of State::surface at t_0 (SurfaceHistory::initial_at: adhesion's α_0(x)), from
+/// `gap`, g(t_0) per owned row; a located vpc::Error on every process where a node cannot start so
+/// (bonded across an open gap). Collective; nothing where no law declares state.
+void set_initial_surface_state(const DiscreteSystem& sys, const Vector& gap, State& s);
+
+/// Adhesion's bonds a_i of step n of size k per owned row in row order (SurfaceHistory::bond times
+/// |Γ3|_i, from the state at t_{n−1}); empty where no law bonds (ContactSpec::adhesive).
+Vector surface_bond(const DiscreteSystem& sys, const State& s, double k);
+
 /// What the laws' state at t_{n−1} adds to the gap of step n (SurfaceHistory::gap_shift), per owned
 /// row in row order; empty where no law keeps state.
 Vector surface_gap_shift(const DiscreteSystem& sys, const State& s);

@@ -51,6 +51,7 @@ TimeStepper::TimeStepper(std::shared_ptr<const Problem> problem_in, MeshPart par
     state_.contact_status = Vector::Zero(part.n_contact);
   }
   state_.surface = initial_surface_state(p.contact, part.n_contact);
+  if (!state_.surface.empty()) set_initial_surface_state(sys_, checked_contact_gap(sys_, state_.t), state_);
   u_free_ = Vector::Zero(part.n_owned_dofs);
   if (records_gap(sys_)) record_gap_left(sys_, checked_contact_gap(sys_, state_.t), state_);
   const auto owned_beta = state_.beta.head(part.n_owned_nodes).array();

@@ -13,27 +13,45 @@ namespace {
 
 /// Φ(λ) and, when J is given, its generalized Jacobian (rows as in the header).
 Vector residual(const Eigen::MatrixXd& S, const Vector& b, const std::vector<const ContactLaw*>& laws,
-                const Vector& compliance, const Vector& lower, const Vector& lambda, Eigen::MatrixXd* J) {
+                const Vector& compliance, const Vector& lower, const Vector& bond, const Vector& length,
+                const Vector& lambda, Eigen::MatrixXd* J) {
   const Eigen::Index m = lambda.size();
   const Vector d = b - S * lambda;
   Vector phi(m);
   if (J) J->setZero(m, m);
   for (Eigen::Index i = 0; i < m; ++i) {
     const ContactLaw& law = *laws[static_cast<std::size_t>(i)];
+    const double a = bond.size() ? bond[i] : 0.0;
     if (law.rigid()) {  // Signorini (λ above its lower bound), −d scaled to a force by S_ii
-      const double gap = -d[i] / S(i, i), above = lambda[i] - lower[i];
+      // A bond's tension branch: the gap left is −d + λ/a where λ < 0 (the separation the bond's pull makes).
+      const bool pulled = a > 0 && lambda[i] < 0;
+      const double gap = (-d[i] + (pulled ? lambda[i] / a : 0.0)) / S(i, i), above = lambda[i] - lower[i];
       if (above <= gap) {
         phi[i] = above;
         if (J) (*J)(i, i) = 1;
       } else {
         phi[i] = gap;
-        if (J) J->row(i) = S.row(i) / S(i, i);  // ∂(−d_i)/∂λ = S_i
+        if (J) {
+          J->row(i) = S.row(i) / S(i, i);  // ∂(−d_i)/∂λ = S_i
+          if (pulled) (*J)(i, i) += 1 / (a * S(i, i));
+        }
       }
       continue;
     }
-    phi[i] = lambda[i] - law.force(d[i], compliance[i]);
+    // A compliant row: λ = λ(d) where the node presses (d > 0), the bond's −a min(−d, L) where it does not.
+    double force = 0, slope = 0;
+    if (d[i] > 0 || !(a > 0)) {
+      force = law.force(d[i], compliance[i]);
+      slope = law.force_slope(d[i], compliance[i]);
+    } else if (d[i] > -length[i]) {
+      force = a * d[i];
+      slope = a;
+    } else {
+      force = -a * length[i];
+    }
+    phi[i] = lambda[i] - force;
     if (J) {
-      J->row(i) = law.force_slope(d[i], compliance[i]) * S.row(i);  // −∂λ(d)/∂λ = λ'(d) S_i
+      J->row(i) = slope * S.row(i);  // −∂λ(d)/∂λ = λ'(d) S_i
       (*J)(i, i) += 1;
     }
   }
@@ -44,12 +62,14 @@ Vector residual(const Eigen::MatrixXd& S, const Vector& b, const std::vector<con
 
 BoxQpResult solve_compliance_dual(const Eigen::MatrixXd& S, const Vector& b, const std::vector<const ContactLaw*>& laws,
                                   const Vector& compliance, Vector& lambda, int max_iterations,
-                                  const Vector& lower_or_empty) {
+                                  const Vector& lower_or_empty, const Vector& bond, const Vector& bond_length) {
   const Eigen::Index m = b.size();
   require(S.rows() == m && S.cols() == m && compliance.size() == m && static_cast<Eigen::Index>(laws.size()) == m,
           "internal: compliance dual of size {} with S {} x {}, {} compliances, {} laws", m, S.rows(), S.cols(),
           compliance.size(), laws.size());
   const Vector lower = lower_or_empty.size() ? lower_or_empty : Vector(Vector::Zero(m));
+  require(bond.size() == 0 || (bond.size() == m && bond_length.size() == m), "internal: {} bonds and {} lengths for {} rows",
+          bond.size(), bond_length.size(), m);
   if (lambda.size() != m) lambda = Vector::Zero(m);
   lambda = lambda.cwiseMax(lower);
   BoxQpResult r;
@@ -62,7 +82,7 @@ BoxQpResult solve_compliance_dual(const Eigen::MatrixXd& S, const Vector& b, con
   // Rows are weighted by 1/J_ii: a stiff law's row λ − k d₊^e carries round-off of d
   // times k e d^{e−1}, which the weight brings back to a force of the size of λ's error.
   Eigen::MatrixXd J;
-  Vector phi = residual(S, b, laws, compliance, lower, lambda, &J);
+  Vector phi = residual(S, b, laws, compliance, lower, bond, bond_length, lambda, &J);
   Vector w = J.diagonal().cwiseInverse();
   for (r.iterations = 0; r.iterations < max_iterations; ++r.iterations) {
     if (w.cwiseProduct(phi).cwiseAbs().maxCoeff() <= 1e-13 * scale()) {
@@ -76,12 +96,12 @@ BoxQpResult solve_compliance_dual(const Eigen::MatrixXd& S, const Vector& b, con
     Vector trial;
     for (int halving = 0; halving < 40; ++halving, alpha *= 0.5) {
       trial = lambda + alpha * step;
-      trial_merit = w.cwiseProduct(residual(S, b, laws, compliance, lower, trial, nullptr)).squaredNorm();
+      trial_merit = w.cwiseProduct(residual(S, b, laws, compliance, lower, bond, bond_length, trial, nullptr)).squaredNorm();
       if (trial_merit <= (1 - 1e-4 * alpha) * merit) break;
     }
     if (!(trial_merit < merit)) break;  // no decrease at all: round-off, or a stall
     lambda = trial;
-    phi = residual(S, b, laws, compliance, lower, lambda, &J);
+    phi = residual(S, b, laws, compliance, lower, bond, bond_length, lambda, &J);
     w = J.diagonal().cwiseInverse();
   }
   r.kkt_residual = w.cwiseProduct(phi).cwiseAbs().maxCoeff() / scale();

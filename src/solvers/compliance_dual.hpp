@@ -26,8 +26,13 @@ constexpr int kComplianceDualIterations = 100;
 /// row then min(λ_i − lower_i, −d_i / S_ii) = 0. Converged when
 /// ‖Φ_i / J_ii‖∞ ≤ 1e-13 · max(‖λ‖∞, ‖b ⊘ diag S‖∞) (each row in units of λ's error);
 /// kkt_residual is that norm relative to the same scale.
+/// `bond`, `bond_length` (empty: none; ContactConstraints::bond): a bonded row's tension branch
+/// (adhesion, SPEC §9) below λ = 0: on a rigid row the gap left is −d + λ_i/a_i where λ_i < 0 (and
+/// `lower` holds −a_i L_i), on a compliant one λ(d) = a_i max(d, −L_i) where d ≤ 0. With it a linear
+/// law's rows are solved here too (the graph is no longer one line through 0).
 BoxQpResult solve_compliance_dual(const Eigen::MatrixXd& S, const Vector& b, const std::vector<const ContactLaw*>& laws,
                                   const Vector& compliance, Vector& lambda, int max_iterations = kComplianceDualIterations,
-                                  const Vector& lower = Vector());
+                                  const Vector& lower = Vector(), const Vector& bond = Vector(),
+                                  const Vector& bond_length = Vector());
 
 }  // namespace vpc

@@ -15,16 +15,18 @@ bool dual_only(const ContactLaw& law) { return !law.linear(); }
 ContactNeeds contact_needs(const la::Comm& comm, const ContactConstraints& c) {
   ContactNeeds n;
   n.friction = c.frictional();
-  bool compliant = false, nonlinear = false;            // on this rank's rows
+  bool compliant = false, nonlinear = false, adhesion = false;  // on this rank's rows
   double tension = static_cast<double>(c.laws.size());  // the first law with a row below 0
   for (Eigen::Index i = 0; i < static_cast<Eigen::Index>(c.law.size()); ++i) {
     const ContactLaw& law = c.law_of(i);
     compliant = compliant || !law.rigid();
     nonlinear = nonlinear || !law.linear();
+    adhesion = adhesion || c.bond_length_of(i) > 0;
     if (c.lower_of(i) < 0) tension = std::min(tension, static_cast<double>(c.law[static_cast<std::size_t>(i)]));
   }
   if (const auto k = static_cast<std::size_t>(comm.min(tension)); k < c.laws.size()) n.tension = c.laws[k]->name();
   n.compliant = comm.any(compliant);
+  n.adhesion = comm.any(adhesion);
   // The laws are the same list on every rank: each names the law from the list, whether or not it has such a row.
   if (comm.any(nonlinear))
     for (const auto& law : c.laws)
@@ -43,6 +45,13 @@ std::string cannot_solve(const std::string& solver, const ContactNeeds& needs) {
     return fmt::format("contact solver '{}': law = \"{}\" lets a node carry a tension, and friction's bound is not "
                        "defined there; no contact solver solves it with friction (remove friction)",
                        solver, needs.tension);
+  if (needs.friction && needs.adhesion)
+    return fmt::format("contact solver '{}': adhesion together with friction is not solved yet (the bond's tension "
+                       "branch is not in the frictional solvers); remove friction, or the adhesion",
+                       solver);
+  if (needs.adhesion && solver == "penalty-duality")
+    return "contact solver 'penalty-duality' solves the Signorini conditions only (a force >= 0); adhesion (a bond "
+           "that pulls) needs 'active-set' or 'primal-active-set'";
   if (solver == "primal-active-set") {
     if (!needs.nonlinear.empty())
       return fmt::format("contact solver 'primal-active-set' solves Signorini and linear normal compliance rows; a {} "

@@ -3,11 +3,11 @@
 // (pick_contact_solver) and by the refusals of a solver asked for what it cannot solve, so that a
 // new solver or law changes one row here instead of checks spread over the solvers.
 //
-//                        friction   compliance   a law that is     a friction set    a node on both    tension (a law's    rows spread
-//                                                not linear        not a disc        sides of pairs    lower bound < 0)    over ranks
-//   active-set (dual)    yes        yes          yes               yes               yes               yes, frictionless   yes
-//   primal-active-set    yes        linear       no                yes               no                yes, frictionless   no
-//   penalty-duality      no         no           no                no                yes               no                  no
+//                        friction   compliance   a law that is     a friction set    a node on both    tension (a law's    adhesion (a     rows spread
+//                                                not linear        not a disc        sides of pairs    lower bound < 0)    bond, SPEC §9)  over ranks
+//   active-set (dual)    yes        yes          yes               yes               yes               yes, frictionless   yes             yes
+//   primal-active-set    yes        linear       no                yes               no                yes, frictionless   yes             no
+//   penalty-duality      no         no           no                no                yes               no                  no              no
 // (Both frictional solvers ask each node's friction law for its set: the dual's Alart–Curnier
 // projection, the primal's Hüeber–Stadler–Wohlmuth linearization; primal_friction.hpp. Rows spread
 // over ranks: a pair row whose masters other ranks own, given as their remote pieces,
@@ -26,6 +26,7 @@ struct ContactNeeds {
   std::string nonlinear;         // a normal law that is not linear: its kind ("a power-law compliance"); empty: none
   bool pair_sides_mixed = false; // a node on the slave side of one pair row and the master side of another
   std::string tension;           // a normal law whose force goes below 0 at some row (ContactLaw::dual_lower): its name
+  bool adhesion = false;         // a row with a bond (ContactConstraints::bond_length: adhesion's tension branch, SPEC §9)
   bool spread_pairs = false;     // the rows are spread (RemoteRows::spread): some rank may hold pieces
 };
 

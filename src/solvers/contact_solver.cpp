@@ -69,6 +69,17 @@ void set_friction_data(ContactConstraints& c, const Vector& tresca, const Vector
   c.shift = shift;
 }
 
+void set_bond_data(ContactConstraints& c, const Vector& bond) {
+  const auto rows = static_cast<Eigen::Index>(c.rows.size());
+  require(c.bond_length.size() == rows && bond.size() == rows, "internal: {} bonds for {} contact rows ({} bond lengths)",
+          bond.size(), rows, c.bond_length.size());
+  for (Eigen::Index i = 0; i < rows; ++i)
+    require(std::isfinite(bond[i]) && bond[i] >= 0 && (bond[i] == 0 || c.bond_length[i] > 0),
+            "internal: a bond must be finite and >= 0, and 0 on a row without a bond length; row {}: {} (length {})", i,
+            bond[i], c.bond_length[i]);
+  c.bond = bond;
+}
+
 ContactStatus contact_status(double lambda_nu, double tangential_norm, double bound, double slack) {
   if (!(lambda_nu > 0)) return ContactStatus::Free;
   return tangential_norm >= std::min((1 - kSlipShare) * bound, bound - slack) ? ContactStatus::Slip : ContactStatus::Stick;
@@ -86,8 +97,7 @@ ContactResiduals contact_residuals(const la::SpdOperator& K, const ContactConstr
   K.mult_threaded(u, Ku);
   const Vector lambda_local = local_normal(c, lambda);
   Vector s = gap_left(comm, c, u);  // the gap left: ≥ 0, plus the penetration a compliant law gives at λ
-  for (Eigen::Index i = 0; i < s.size() && !c.laws.empty(); ++i)
-    if (const ContactLaw& law = c.law_of(i); !law.rigid()) s[i] = law.gap_left(s[i], lambda_local[i], c.compliance_of(i));
+  for (Eigen::Index i = 0; i < s.size(); ++i) s[i] = c.gap_left_of(i, s[i], lambda_local[i]);
   auto inf = [&](const Vector& v) { return comm.max(v.size() ? v.cwiseAbs().maxCoeff() : 0.0); };
   const double f_scale = std::max({inf(F), inf(Ku), 1e-300});
   Vector stationarity = Ku - F + c.N.transpose() * lambda_local;

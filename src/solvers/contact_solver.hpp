@@ -126,7 +126,30 @@ struct ContactConstraints {
   /// Local row i's compliance 1/k_i (0: rigid) and the lower bound of its force, λ_i ≥ lower_i
   /// (0 but for a law that lets a node carry a tension), from its law at its datum.
   double compliance_of(Eigen::Index i) const { return laws.empty() ? 0.0 : law_of(i).compliance(datum[i]); }
-  double lower_of(Eigen::Index i) const { return laws.empty() ? 0.0 : law_of(i).dual_lower(datum[i]); }
+  /// With a bond (adhesion), λ_i ≥ −a_i L_i below the law's own bound.
+  double lower_of(Eigen::Index i) const {
+    return (laws.empty() ? 0.0 : law_of(i).dual_lower(datum[i])) - bond_of(i) * bond_length_of(i);
+  }
+
+  // Adhesion (SPEC §9), per local row: a bond of stiffness a_i = γ_ν α_i² |Γ3|_i (a force per unit of
+  // separation; the step's, from the bonding field at the step's start: ContactSolver::set_bond) that
+  // holds the node up to the separation L_i (the bond length; set once), beyond which it pulls with
+  // −a_i L_i. Below the law's pressing branch (λ_i ≥ 0) the row's graph gets the tension branch
+  //   λ_i = −a_i min(s_i, L_i) for a separation s_i = g_i − N_i u > 0,
+  // monotone in s: (λ_i + a_i L_i) ⟂ (s_i + λ_i / a_i) ≥ 0 where λ_i < 0. Empty: no row is bonded.
+  Vector bond, bond_length;
+  double bond_of(Eigen::Index i) const { return i < bond.size() ? bond[i] : 0.0; }
+  double bond_length_of(Eigen::Index i) const { return i < bond_length.size() ? bond_length[i] : 0.0; }
+  /// Whether some row can carry a bond (bond_length set at set-up; the same on every rank where made by a part).
+  bool adhesive() const { return bond_length.size() > 0 && bond_length.maxCoeff() > 0; }
+  /// The gap left at row i from s0 = g_i − N_i u at the force λ: the law's (ContactLaw::gap_left) where
+  /// λ ≥ 0, s0 + λ/a_i on a bond's tension branch. (λ_i − lower_of(i)) ⟂ it ≥ 0 is the row's complementarity.
+  double gap_left_of(Eigen::Index i, double s0, double lambda) const {
+    if (lambda < 0 && bond_of(i) > 0) return s0 + lambda / bond_of(i);
+    if (laws.empty()) return s0;
+    const ContactLaw& law = law_of(i);
+    return law.rigid() ? s0 : law.gap_left(s0, lambda, compliance_of(i));
+  }
 
   // Friction (block > 1; SPEC §7), per local row i and its tangents j < block − 1:
   /// T: row i(b−1) + j is the unit tangent t_ij on the owned free dofs (set_tangents: the columns
@@ -241,6 +264,8 @@ Vector replicate_blocks(const la::Comm& comm, const ContactConstraints& c, const
                         const Vector& tangential);
 /// Checks friction's data of a step (sizes, finite, tresca ≥ 0) and stores it in c (set_friction).
 void set_friction_data(ContactConstraints& c, const Vector& tresca, const Vector& shift);
+/// Checks a step's bonds (one per row, finite, >= 0; rows without a bond length 0) and stores them in c.
+void set_bond_data(ContactConstraints& c, const Vector& bond);
 const Vector& checked_gap(const ContactConstraints& c, const Vector& gap);
 /// The report of a solve whose unknowns are the normal forces alone (λ: m numbers; a solver of a set
 /// without tangents), and of one with the tangential forces too (λ: m × block; friction's stick and
@@ -265,6 +290,9 @@ class ContactSolver {
   /// Friction's data of step n for this process's rows (ContactConstraints::tresca, shift), before
   /// its solve; only for frictional constraints.
   virtual void set_friction(const Vector& tresca, const Vector& shift) = 0;
+  /// Adhesion's bonds a_i of step n for this process's rows (ContactConstraints::bond), before its
+  /// solve; only for constraints with bond lengths (adhesive()).
+  virtual void set_bond(const Vector& bond) = 0;
   /// The constraints it solves, with the step's data (gap, friction's bounds and shift): what the
   /// step reads again after the solve (record_slip: each row's stick/slip status and slip).
   virtual const ContactConstraints& constraints() const = 0;

@@ -51,19 +51,31 @@ class BoxDual final : public DualProblem {
 };
 
 /// A normal law that is not linear on some row: solve_compliance_dual on S itself.
+/// With bonds (adhesion) its rows' tension branches too, the step's bonds a_i read from the constraints:
+/// λ_i ≥ lower_i − a_i L_i.
 class ComplianceDual final : public DualProblem {
  public:
-  ComplianceDual(Eigen::MatrixXd S, std::vector<const ContactLaw*> laws, Vector compliance, Vector lower)
-      : S_(std::move(S)), laws_(std::move(laws)), compliance_(std::move(compliance)), lower_(std::move(lower)) {}
-  BoxQpResult solve(const la::Comm&, const ContactConstraints&, const Vector& b, Vector& lambda) override {
-    return solve_compliance_dual(S_, b, laws_, compliance_, lambda, kComplianceDualIterations, lower_);
+  ComplianceDual(Eigen::MatrixXd S, std::vector<const ContactLaw*> laws, Vector compliance, Vector lower,
+                 Vector bond_length)
+      : S_(std::move(S)), laws_(std::move(laws)), compliance_(std::move(compliance)), lower_(std::move(lower)),
+        bond_length_(std::move(bond_length)) {}
+  BoxQpResult solve(const la::Comm& comm, const ContactConstraints& c, const Vector& b, Vector& lambda) override {
+    if (bond_length_.size() == 0)
+      return solve_compliance_dual(S_, b, laws_, compliance_, lambda, kComplianceDualIterations, lower_);
+    const Vector bond = replicate(comm, c, c.bond.size() ? c.bond : Vector(Vector::Zero(c.bond_length.size())));
+    const Vector lower = lower_ - bond.cwiseProduct(bond_length_);
+    return solve_compliance_dual(S_, b, laws_, compliance_, lambda, kComplianceDualIterations, lower, bond,
+                                 bond_length_);
   }
-  std::string describe() const override { return "; semismooth Newton for the nonlinear compliance law"; }
+  std::string describe() const override {
+    return bond_length_.size() ? "; semismooth Newton for the bonds' tension branches (adhesion)"
+                               : "; semismooth Newton for the nonlinear compliance law";
+  }
 
  private:
   Eigen::MatrixXd S_;
   std::vector<const ContactLaw*> laws_;
-  Vector compliance_, lower_;
+  Vector compliance_, lower_, bond_length_;  // bond_length_: every row's L_i (replicated), empty without adhesion
 };
 
 /// Friction (friction_dual.hpp): each node's block λ_ν, λ_τ over its sets, with the step's bounds.
@@ -118,6 +130,7 @@ class ActiveSetContactSolver final : public ContactSolver {
         lower_[j] = row_laws_.back()->dual_lower(datum[j]);
       }
       nonlinear_ = std::ranges::any_of(row_laws_, [](const ContactLaw* l) { return !l->linear(); });
+      if (comm().any(c_.adhesive())) bond_length_ = replicate(comm(), c_, c_.bond_length);
     }
     problem_ = dual_problem(std::move(S));
   }
@@ -154,6 +167,7 @@ class ActiveSetContactSolver final : public ContactSolver {
   }
   void set_gap(const Vector& gap) override { c_.gap = checked_gap(c_, gap); }
   void set_friction(const Vector& tresca, const Vector& shift) override { set_friction_data(c_, tresca, shift); }
+  void set_bond(const Vector& bond) override { set_bond_data(c_, bond); }
   const ContactConstraints& constraints() const override { return c_; }
   std::string name() const override { return "active-set"; }
   std::string describe() const override { return describe_solves() + problem_->describe(); }
@@ -179,7 +193,8 @@ class ActiveSetContactSolver final : public ContactSolver {
       }
       return std::make_unique<FrictionDual>(std::move(S), std::move(sets));
     }
-    if (nonlinear_) return std::make_unique<ComplianceDual>(std::move(S), row_laws_, compliance_, lower_);
+    if (nonlinear_ || bond_length_.size())
+      return std::make_unique<ComplianceDual>(std::move(S), row_laws_, compliance_, lower_, bond_length_);
     with_springs();
     Vector lo = Vector::Zero(c_.m), hi = Vector::Constant(c_.m, std::numeric_limits<double>::infinity());
     for (std::size_t j = 0; j < row_laws_.size(); ++j) {
@@ -288,6 +303,7 @@ class ActiveSetContactSolver final : public ContactSolver {
   Vector compliance_;                        // every row's 1/k_i (replicated; 0: rigid), with row_laws_
   Vector lower_;                             // every row's λ_i ≥ lower_i (replicated), with row_laws_
   bool nonlinear_ = false;                   // some row's law is not linear
+  Vector bond_length_;                       // every row's bond length (replicated) where some row has one, else empty
   SparseMatrix B_;              // N, or with friction [N; T], in λ's order, then the pieces (block_rows)
   std::vector<int> B_rows_;     // its rows' places in λ
   std::unique_ptr<DualProblem> problem_;  // the step's dual (dual_problem), with its S

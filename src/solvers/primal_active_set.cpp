@@ -25,7 +25,7 @@ class PrimalNormalIteration final : public PrimalIteration {
     Vector w = answers.start_point(op, F, u);
     const Vector lambda_in = lambda.size() == c.m ? local_rows(c, lambda) : Vector(Vector::Zero(rows));
     std::vector<char> active(static_cast<size_t>(rows));
-    for (Eigen::Index i = 0; i < rows; ++i) active[i] = lambda_in[i] > op.lower(i) || op.gap_left(w, i) < 0;
+    for (Eigen::Index i = 0; i < rows; ++i) active[i] = op.first_state(i, lambda_in[i], op.gap_left(w, i));
     Vector lambda_local = Vector::Zero(rows);
     ActiveSetHistory history;  // the active sets met in this solve
     ContactReport rep;
@@ -92,6 +92,7 @@ class PrimalActiveSetSolver final : public ContactSolver {
 
   void set_gap(const Vector& gap) override { op_.set_gap(gap); }
   void set_friction(const Vector& tresca, const Vector& shift) override { op_.set_friction(tresca, shift); }
+  void set_bond(const Vector& bond) override { op_.set_bond(bond); }
   const ContactConstraints& constraints() const override { return op_.constraints(); }
   const la::LinearSolver* own_factor() const override { return op_.factor(); }
   std::string name() const override { return "primal-active-set"; }

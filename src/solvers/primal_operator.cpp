@@ -36,6 +36,9 @@ PrimalOperator::PrimalOperator(std::shared_ptr<const la::SpdOperator> K, std::sh
       basis_(contact_basis(c_.N, c_.node_dofs, c_.master_mean)), rows_(basis_.rows) {
   for (Eigen::Index i = 0; i < static_cast<Eigen::Index>(rows_.size()); ++i) {
     lower_.push_back(c_.lower_of(i));
+    law_lower_.push_back(lower_.back() + c_.bond_of(i) * c_.bond_length_of(i));
+    bond_.push_back(c_.bond_of(i));
+    bond_length_.push_back(c_.bond_length_of(i));
     if (c_.laws.empty()) continue;
     const ContactLaw& law = c_.law_of(i);  // rigid or linear (contact_capabilities.hpp: the primal's row)
     // An active compliant row is the spring of the law's linearization (exact for a linear law).
@@ -46,6 +49,32 @@ PrimalOperator::PrimalOperator(std::shared_ptr<const la::SpdOperator> K, std::sh
   diagonal_ = K_rot_->diagonal();
   const Vector& d = diagonal_;
   for (const RotatedRow& r : rows_) scale_.push_back(d[r.dof] / (r.alpha * r.alpha));
+}
+
+void PrimalOperator::set_bond(const Vector& bond) {
+  set_bond_data(c_, bond);
+  for (std::size_t i = 0; i < rows_.size(); ++i) {
+    bond_[i] = bond[static_cast<Eigen::Index>(i)];
+    lower_[i] = law_lower_[i] - bond_[i] * bond_length_[i];
+  }
+}
+
+/// The semismooth Newton's choice of branch of a bonded row's graph (λ ≥ 0 at d = 0, or the law's
+/// pressing branch; λ = a d for −L < d ≤ 0; λ = −a L below): by the resolvent z = λ + c d of the
+/// graph (c the update rule's scale) on a rigid row, where d is 0 on its closed branch and λ is the
+/// reaction: z > 0 closed, −(a + c) L < z ≤ 0 on the spring, else pulled off at −a L; by d alone on a
+/// compliant row, whose force is a function of d.
+char PrimalOperator::bonded_state(Eigen::Index i, double lambda, double d) const {
+  const auto k = static_cast<std::size_t>(i);
+  const double a = bond_[k], L = bond_length_[k];
+  if (compliant(i)) return d > 0 ? kOn : d > -L ? kBonded : kOff;
+  const double z = lambda - law_lower_[k] + scale_[k] * d;
+  return z > 0 ? kOn : z > -(a + scale_[k]) * L ? kBonded : kOff;
+}
+
+char PrimalOperator::first_state(Eigen::Index i, double lambda, double gap) const {
+  if (bond_[static_cast<std::size_t>(i)] > 0) return bonded_state(i, lambda, -gap);
+  return lambda > lower(i) || gap < 0 ? kOn : kOff;
 }
 
 PrimalOperator::Iterate PrimalOperator::iterate(const std::vector<char>& active, const Vector& b, Vector& w, bool tight,
@@ -77,7 +106,9 @@ int PrimalOperator::factorize_for(const std::vector<char>& active, const Tangent
   tangents.constrain(fixed, springs);  // friction: the stick rows' dofs, Newton's springs across the slip directions
   for (size_t i = 0; i < rows_.size(); ++i) {
     if (!active[i]) continue;
-    if (compliant(static_cast<Eigen::Index>(i)))
+    if (active[i] == kBonded)  // the bond's spring a_i
+      springs.emplace_back(rows_[i].dof, rows_[i].dof, rows_[i].alpha * rows_[i].alpha * bond_[i]);
+    else if (compliant(static_cast<Eigen::Index>(i)))
       springs.emplace_back(rows_[i].dof, rows_[i].dof, rows_[i].alpha * rows_[i].alpha / spring_[i]);
     else
       fixed[rows_[i].dof] = 1;
@@ -173,7 +204,9 @@ PrimalOperator::Solved PrimalOperator::solve_constrained(const std::vector<char>
       continue;
     }
     const auto e = static_cast<Eigen::Index>(i);
-    if (compliant(e))
+    if (active[i] == kBonded)  // λ = a (N u − g): the spring's load a g
+      rhs[rows_[i].dof] += rows_[i].alpha * c_.gap[e] * bond_[i];
+    else if (compliant(e))
       rhs[rows_[i].dof] += rows_[i].alpha * c_.gap[e] / spring_[i];
     else
       fixed_values[rows_[i].dof] = c_.gap[e] / rows_[i].alpha;
@@ -268,6 +301,15 @@ void PrimalOperator::normal_update(const std::vector<char>& active, const Vector
   for (Eigen::Index i = 0; i < static_cast<Eigen::Index>(rows_.size()); ++i) {
     const RotatedRow& row = rows_[i];
     const double gap = gap_left(w, i);
+    if (bond_[static_cast<std::size_t>(i)] > 0) {  // adhesion: three branches (bonded_state)
+      const char state = active[i];
+      lambda_local[i] = state == kOff      ? lower_[static_cast<std::size_t>(i)]
+                        : state == kBonded ? -gap * bond_[static_cast<std::size_t>(i)]
+                        : compliant(i)     ? -gap / spring_[static_cast<std::size_t>(i)]
+                                           : r[row.dof] / row.alpha;
+      next[i] = bonded_state(i, lambda_local[i], state == kOn && !compliant(i) ? 0.0 : -gap);
+      continue;
+    }
     if (compliant(i)) {  // λ = k (N u − g)₊: active where the row penetrates
       lambda_local[i] = !active[i]           ? 0.0
                         : law_determines(i) ? law_normal_force(i)
@@ -290,7 +332,8 @@ void PrimalOperator::release_one(const std::vector<char>& active, std::vector<ch
                                  Eigen::Index worst) const {
   const double global_worst = K_->comm().min(most_negative);
   for (Eigen::Index i = 0; i < static_cast<Eigen::Index>(rows_.size()); ++i)
-    if (!compliant(i)) next[i] = active[i] ? !(i == worst && most_negative == global_worst) : next[i];
+    if (!compliant(i) && !(bond_[static_cast<std::size_t>(i)] > 0))  // (a bond's spring branch cannot cycle)
+      next[i] = active[i] ? !(i == worst && most_negative == global_worst) : next[i];
 }
 
 Vector PrimalWarmStart::start_point(const PrimalOperator& op, const Vector& F, const Vector& u) const {

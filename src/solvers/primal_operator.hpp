@@ -75,6 +75,8 @@ class PrimalOperator {
 
   const ContactConstraints& constraints() const { return c_; }
   void set_gap(const Vector& gap) { c_.gap = checked_gap(c_, gap); }
+  /// Adhesion's bonds of the step (ContactConstraints::bond): each bonded row's lower bound −a_i L_i.
+  void set_bond(const Vector& bond);
   void set_friction(const Vector& tresca, const Vector& shift) { set_friction_data(c_, tresca, shift); }
   const la::SpdOperator& K() const { return *K_; }
   const la::SpdOperator& K_rot() const { return *K_rot_; }
@@ -90,6 +92,15 @@ class PrimalOperator {
   bool changed() const { return changed_; }
   void change(const Vector& x, Vector& y) const;
 
+
+  /// A row's state in the normal set (`active`): off (its force at its lower bound), on (the law's
+  /// branch: Signorini's fixed dof or compliance's spring) or, for a bonded row (adhesion), on the
+  /// bond's spring of stiffness a_i (λ_i = a_i (N_i u − g_i), the node separated by less than L_i).
+  static constexpr char kOff = 0, kOn = 1, kBonded = 2;
+  /// Row i's state for a first iterate from the force λ and the gap left g_i − N_i u.
+  char first_state(Eigen::Index i, double lambda, double gap) const;
+  /// Row i's bond a_i of the step (0: none, or debonded).
+  double bond(Eigen::Index i) const { return bond_[static_cast<std::size_t>(i)]; }
 
   /// Each local row's dof k and α in w.
   const std::vector<RotatedRow>& rows() const { return rows_; }
@@ -149,7 +160,11 @@ class PrimalOperator {
   std::vector<RotatedRow> rows_;   // per local row
   std::vector<double> scale_;      // c_i of the update rule
   std::vector<double> spring_;     // per local row: 1/k of an active compliant row's spring, 0 for a rigid row
-  std::vector<double> lower_;      // per local row: its force's lower bound (0 but for a law with tension)
+  std::vector<double> lower_;      // per local row: its force's lower bound (0 but for a law with tension, or a bond)
+  std::vector<double> law_lower_;  // ... its law's alone (ContactLaw::dual_lower)
+  std::vector<double> bond_, bond_length_;  // per local row: the step's bond a_i and its length L_i (0: none)
+  /// The next state of a bonded row from its force and penetration d = N_i u − g_i (set_bond).
+  char bonded_state(Eigen::Index i, double lambda, double d) const;
   Vector diagonal_;                // K_rot's
   std::shared_ptr<la::SpdOperator> A_;  // K_rot (+ springs) with the factored set's rows fixed
   bool keep_factor() const;
