@@ -22,19 +22,30 @@ Vector residual(const Eigen::MatrixXd& S, const Vector& b, const std::vector<con
   for (Eigen::Index i = 0; i < m; ++i) {
     const ContactLaw& law = *laws[static_cast<std::size_t>(i)];
     const double a = bond.size() ? bond[i] : 0.0;
-    if (law.rigid()) {  // Signorini (λ above its lower bound), −d scaled to a force by S_ii
-      // A bond's tension branch: the gap left is −d + λ/a where λ < 0 (the separation the bond's pull makes).
-      const bool pulled = a > 0 && lambda[i] < 0;
-      const double gap = (-d[i] + (pulled ? lambda[i] / a : 0.0)) / S(i, i), above = lambda[i] - lower[i];
+    if (law.rigid() && !(a > 0)) {  // Signorini (λ above its lower bound), −d scaled to a force by S_ii
+      const double gap = -d[i] / S(i, i), above = lambda[i] - lower[i];
       if (above <= gap) {
         phi[i] = above;
         if (J) (*J)(i, i) = 1;
       } else {
         phi[i] = gap;
-        if (J) {
-          J->row(i) = S.row(i) / S(i, i);  // ∂(−d_i)/∂λ = S_i
-          if (pulled) (*J)(i, i) += 1 / (a * S(i, i));
-        }
+        if (J) J->row(i) = S.row(i) / S(i, i);  // ∂(−d_i)/∂λ = S_i
+      }
+      continue;
+    }
+    if (law.rigid()) {
+      // A bonded Signorini row: λ − P(z) with z = λ − λ_0 + ρ d, ρ = 1/S_ii, P the resolvent of the row's
+      // graph (closed: λ ≥ λ_0 at d = 0; the bond's spring λ = λ_0 + a d for −L < d ≤ 0; λ_0 − a L below;
+      // λ_0 the law's own bound): z itself where z > 0, a z/(a + ρ) on the spring, −a L below −(a + ρ) L.
+      // With a = 0 it is the row above, min(λ − λ_0, −d/S_ii); unlike a gap left −d + (λ − λ_0)/a it stays
+      // well scaled as the bond weakens to 0.
+      const double rho = 1 / S(i, i), L = length[i], base = lower[i] + a * L;
+      const double z = lambda[i] - base + rho * d[i];
+      const double slope = z > 0 ? 1.0 : z > -(a + rho) * L ? a / (a + rho) : 0.0;
+      phi[i] = lambda[i] - base - (z > 0 ? z : z > -(a + rho) * L ? slope * z : -a * L);
+      if (J) {  // ∂z/∂λ = e_i − ρ S_i
+        J->row(i) = slope * rho * S.row(i);
+        (*J)(i, i) += 1 - slope;
       }
       continue;
     }

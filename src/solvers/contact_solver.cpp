@@ -97,7 +97,9 @@ ContactResiduals contact_residuals(const la::SpdOperator& K, const ContactConstr
   K.mult_threaded(u, Ku);
   const Vector lambda_local = local_normal(c, lambda);
   Vector s = gap_left(comm, c, u);  // the gap left: ≥ 0, plus the penetration a compliant law gives at λ
-  for (Eigen::Index i = 0; i < s.size(); ++i) s[i] = c.gap_left_of(i, s[i], lambda_local[i]);
+  const Vector s0 = s;  // the separation (adhesion's bonds read it)
+  for (Eigen::Index i = 0; i < s.size() && !c.laws.empty(); ++i)
+    if (const ContactLaw& law = c.law_of(i); !law.rigid()) s[i] = law.gap_left(s[i], lambda_local[i], c.compliance_of(i));
   auto inf = [&](const Vector& v) { return comm.max(v.size() ? v.cwiseAbs().maxCoeff() : 0.0); };
   const double f_scale = std::max({inf(F), inf(Ku), 1e-300});
   Vector stationarity = Ku - F + c.N.transpose() * lambda_local;
@@ -116,6 +118,12 @@ ContactResiduals contact_residuals(const la::SpdOperator& K, const ContactConstr
   const double u_scale = std::max({inf(u), inf(c.gap), k_max > 0 ? l_scale / k_max : 0.0, 1e-300});
   for (int i = 0; i < s.size(); ++i) {  // against the row's dual bound: (λ − lower) ⟂ s ≥ 0
     const double above = lambda_local[i] - c.lower_of(i);
+    if (lambda_local[i] < 0 && c.bond_of(i) > 0) {  // a bond that pulls: s0 ≥ 0 and λ its force there
+      r.penetration = std::max(r.penetration, -s0[i] / u_scale);
+      r.negative_force = std::max(r.negative_force, -above / l_scale);
+      r.complementarity = std::max(r.complementarity, std::abs(lambda_local[i] - c.bond_force(i, s0[i])) / l_scale);
+      continue;
+    }
     r.penetration = std::max(r.penetration, -s[i] / u_scale);
     r.negative_force = std::max(r.negative_force, -above / l_scale);
     r.complementarity = std::max(r.complementarity, std::abs(above * s[i]) / (l_scale * u_scale));

@@ -26,7 +26,7 @@ struct ContactResiduals {
   double equilibrium = 0;           // ‖Ku − F + Nᵀλ‖∞ / max(‖F‖∞, ‖Ku‖∞)
   double penetration = 0;           // max(0, max(Nu − g)) / scale_u
   double negative_force = 0;        // max(0, −min(λ − lower)) / scale_λ (lower: ContactConstraints::lower_of, mostly 0)
-  double complementarity = 0;       // max |(λ_i − lower_i) (g − Nu)_i| / (scale_λ scale_u)
+  double complementarity = 0;       // max |(λ_i − lower_i) (g − Nu)_i| / (scale_λ scale_u); a bond that pulls: |λ_i − its force| / scale_λ
   // Friction (SPEC §7; 0 without): with Δ_i = T_i u − h_i the slip increment and s_i the bound
   // (ContactConstraints::bound) of node i,
   double friction_bound = 0;        // max(0, max_i |λ_τ,i| − s_i) / scale_λ: |λ_τ| ≤ s
@@ -136,19 +136,15 @@ struct ContactConstraints {
   // holds the node up to the separation L_i (the bond length; set once), beyond which it pulls with
   // −a_i L_i. Below the law's pressing branch (λ_i ≥ 0) the row's graph gets the tension branch
   //   λ_i = −a_i min(s_i, L_i) for a separation s_i = g_i − N_i u > 0,
-  // monotone in s: (λ_i + a_i L_i) ⟂ (s_i + λ_i / a_i) ≥ 0 where λ_i < 0. Empty: no row is bonded.
+  // monotone in s (a node that pulls, λ_i < 0, has s_i ≥ 0 and λ_i = bond_force(i, s_i)). Empty: no row is bonded.
   Vector bond, bond_length;
   double bond_of(Eigen::Index i) const { return i < bond.size() ? bond[i] : 0.0; }
   double bond_length_of(Eigen::Index i) const { return i < bond_length.size() ? bond_length[i] : 0.0; }
   /// Whether some row can carry a bond (bond_length set at set-up; the same on every rank where made by a part).
   bool adhesive() const { return bond_length.size() > 0 && bond_length.maxCoeff() > 0; }
-  /// The gap left at row i from s0 = g_i − N_i u at the force λ: the law's (ContactLaw::gap_left) where
-  /// λ ≥ 0, s0 + λ/a_i on a bond's tension branch. (λ_i − lower_of(i)) ⟂ it ≥ 0 is the row's complementarity.
-  double gap_left_of(Eigen::Index i, double s0, double lambda) const {
-    if (lambda < 0 && bond_of(i) > 0) return s0 + lambda / bond_of(i);
-    if (laws.empty()) return s0;
-    const ContactLaw& law = law_of(i);
-    return law.rigid() ? s0 : law.gap_left(s0, lambda, compliance_of(i));
+  /// The bond's force at row i at the separation s0 = g_i − N_i u: −a_i min(s0₊, L_i) (0 without a bond).
+  double bond_force(Eigen::Index i, double s0) const {
+    return -bond_of(i) * std::min(std::max(s0, 0.0), bond_length_of(i));
   }
 
   // Friction (block > 1; SPEC §7), per local row i and its tangents j < block − 1:

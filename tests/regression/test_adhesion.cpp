@@ -1,0 +1,251 @@
+// Issue 50 (SPEC §9): Frémond's adhesion against exact solutions. cases/adhesion-bar-1d.toml: a bar
+// of stiffness K = E/l glued at its right end and pulled through its left end by δ: bar and bond are
+// springs in series, s = Kδ/(K + γ_ν α²), and the bond weakens at b α̇ = −α γ_ν s² (ε_a = 0, s < L).
+// The lagged scheme carries α over step n with s_{n−1} frozen, exactly: α_n = α_{n−1} e^{−γ_ν s_{n−1}² k/b},
+// then solves the step with the bond γ_ν α_n²: the recursion below, to round-off, on both solvers; its
+// limit is the ODE K² ln α + Kγ_ν α² + γ_ν² α⁴/4 = const − γ_ν K² δ² t/b (first order in k). Beyond the
+// bond length the pull is γ_ν α² L and the recursion has a closed form, also with ε_a > 0.
+// cases/peel-2d.toml: both solvers agree, a debonded surface is Signorini's, a resume is bitwise.
+#include "friction_runs.hpp"
+#include "io/checkpoint.hpp"
+
+#include <fmt/format.h>
+
+#include <filesystem>
+
+namespace vpc {
+namespace {
+
+namespace fs = std::filesystem;
+using namespace friction_test;
+
+constexpr double kK = 100.0, kGamma = 200.0, kDelta = 0.01, kB = 0.005;  // adhesion-bar-1d
+
+Case bar(const std::vector<std::string>& sets = {}, const std::string& solver = "active-set") {
+  Case c = case_of("adhesion-bar-1d", shipped_text("adhesion-bar-1d"), sets);
+  c.solvers.contact = solver;
+  return c;
+}
+
+Case peel(const std::vector<std::string>& sets = {}, const std::string& solver = "active-set") {
+  std::vector<std::string> all = {"time.steps=40", "time.T=0.4"};
+  all.insert(all.end(), sets.begin(), sets.end());
+  Case c = case_of("peel-2d", shipped_text("peel-2d"), all);
+  c.solvers.contact = solver;
+  return c;
+}
+
+double field(const State& s, const std::string& name, Eigen::Index i = 0) {
+  const SurfaceField* f = s.surface_field(name);
+  if (!f) throw std::runtime_error("no surface field " + name);
+  return f->values[i];
+}
+
+/// The bar's separation with the bond γ α²: the two springs in series.
+double separation(double alpha) { return kK * kDelta / (kK + kGamma * alpha * alpha); }
+
+TEST(AdhesionExact, TheLaggedBondingIsTheClosedFormRecursionToRoundOff) {
+  for (const std::string solver : {"active-set", "primal-active-set"}) {
+    SCOPED_TRACE(solver);
+    double alpha = 1, s_before = 0, off_alpha = 0, off_s = 0, off_force = 0, off_released = 0, released = 0;
+    int steps = 0;
+    run_to_end(bar({}, solver), [&](const TimeStepper& t, const StepReport& r) {
+      const double before = alpha;
+      alpha *= std::exp(-kGamma * s_before * s_before * r.k / kB);
+      released += kGamma * (before * before - alpha * alpha) * s_before * s_before / 2;
+      const double s = separation(alpha);
+      const State& st = t.state();
+      off_alpha = std::max(off_alpha, std::abs(field(st, "bonding") - alpha));
+      off_s = std::max(off_s, std::abs(field(st, "separation") - s) / s);
+      // The bond's pull is the node's force (a tension: λ < 0) and the history's adhesive force.
+      off_force = std::max(off_force, std::abs(-st.lambda[0] - kGamma * alpha * alpha * s) / (kGamma * s));
+      off_force = std::max(off_force, std::abs(r.surface_integral[0] - kGamma * alpha * alpha * s) / (kGamma * s));
+      off_released = std::max(off_released, std::abs(field(st, "debonding_energy") - released) / (kGamma * s * s));
+      s_before = s;
+      steps = r.n;
+    });
+    std::printf("  %s, %d steps: bonding against the recursion %.3g, separation %.3g, force %.3g, released energy "
+                "%.3g; alpha(T) = %.6f\n",
+                solver.c_str(), steps, off_alpha, off_s, off_force, off_released, alpha);
+    EXPECT_EQ(steps, 20);
+    EXPECT_LT(alpha, 0.9);  // it debonds noticeably
+    EXPECT_LE(off_alpha, 1e-13);
+    EXPECT_LE(off_s, 1e-12);
+    EXPECT_LE(off_force, 1e-12);
+    EXPECT_LE(off_released, 1e-12);
+  }
+}
+
+/// The ODE's α(t): f(α) = f(1) − γ K² δ² t / b, f(α) = K² ln α + K γ α² + γ² α⁴/4 (f increasing: bisection).
+double ode_bonding(double t) {
+  const auto f = [](double a) { return kK * kK * std::log(a) + kK * kGamma * a * a + kGamma * kGamma * a * a * a * a / 4; };
+  const double target = f(1.0) - kGamma * kK * kK * kDelta * kDelta * t / kB;
+  double lo = 1e-12, hi = 1;
+  for (int i = 0; i < 200; ++i) (f(0.5 * (lo + hi)) < target ? lo : hi) = 0.5 * (lo + hi);
+  return 0.5 * (lo + hi);
+}
+
+TEST(AdhesionExact, ItConvergesToTheOdeAtFirstOrderInTheStep) {
+  std::vector<double> errors;
+  for (int steps : {20, 40, 80}) {
+    const Case c = bar({fmt::format("time.steps={}", steps)});
+    TimeStepper s(c.problem, c.solvers);
+    while (!s.done()) ASSERT_TRUE(s.step().ok);
+    errors.push_back(std::abs(field(s.state(), "bonding") - ode_bonding(1.0)));
+  }
+  const double rate1 = std::log2(errors[0] / errors[1]), rate2 = std::log2(errors[1] / errors[2]);
+  std::printf("  bonding at t = 1 against the ODE (alpha = %.8f): %.4g, %.4g, %.4g at 20, 40, 80 steps: rates %.3f, %.3f\n",
+              ode_bonding(1.0), errors[0], errors[1], errors[2], rate1, rate2);
+  EXPECT_NEAR(rate1, 1.0, 0.1);
+  EXPECT_NEAR(rate2, 1.0, 0.05);
+}
+
+TEST(AdhesionExact, BeyondTheBondLengthThePullIsConstantAndTheBondDecaysInClosedForm) {
+  // L = 1e-3 below the separation: each step from the second on is pulled with γ α² L, and α follows
+  // α_n = ε/c + (α_{n−1} − ε/c) e^{−c k/b}, c = γ L², from α_1 = 1 (the first step starts from s_0 = 0).
+  const double L = 1e-3, c = kGamma * L * L, k = 0.05;
+  for (const double energy : {0.0, 5e-5}) {
+    for (const std::string solver : {"active-set", "primal-active-set"}) {
+      SCOPED_TRACE(solver + fmt::format(", epsilon_a = {}", energy));
+      double off = 0, off_force = 0, alpha = 1;
+      run_to_end(bar({"contact.bond_length=1e-3", fmt::format("contact.adhesion_energy={}", energy)}, solver),
+                 [&](const TimeStepper& t, const StepReport& r) {
+                   if (r.n > 1 && c * alpha > energy) alpha = energy / c + (alpha - energy / c) * std::exp(-c * k / kB);
+                   off = std::max(off, std::abs(field(t.state(), "bonding") - alpha));
+                   off_force = std::max(off_force, std::abs(-t.state().lambda[0] - kGamma * alpha * alpha * L) / (kGamma * L));
+                   EXPECT_GT(field(t.state(), "separation"), L);
+                 });
+      EXPECT_LE(off, 1e-14);
+      EXPECT_LE(off_force, 1e-12);
+      if (energy > 0) EXPECT_GT(alpha, energy / c);  // toward its rest ε/c, never below
+    }
+  }
+}
+
+/// The largest |x − y| / max|y| over the steps of two runs, of u and of λ.
+std::pair<double, double> runs_apart(const Case& a, const Case& b) {
+  std::vector<Vector> ua, la;
+  run_to_end(a, [&](const TimeStepper& s, const StepReport&) {
+    ua.push_back(s.state().u);
+    la.push_back(s.state().lambda);
+  });
+  double du = 0, dl = 0;
+  std::size_t n = 0;
+  run_to_end(b, [&](const TimeStepper& s, const StepReport&) {
+    du = std::max(du, (s.state().u - ua[n]).cwiseAbs().maxCoeff() / s.state().u.cwiseAbs().maxCoeff());
+    dl = std::max(dl, (s.state().lambda - la[n]).cwiseAbs().maxCoeff() / std::max(s.state().lambda.cwiseAbs().maxCoeff(), 1e-300));
+    ++n;
+  });
+  EXPECT_EQ(n, ua.size());
+  return {du, dl};
+}
+
+TEST(AdhesionRuns, TheTwoSolversAgreeOnThePeel) {
+  const auto [du, dl] = runs_apart(peel({}, "active-set"), peel({}, "primal-active-set"));
+  std::printf("  peel-2d, 40 steps, primal against dual: u %.3g, lambda %.3g\n", du, dl);
+  // The bonded nodes the peel has not reached sit at the kink of their graph (λ = 0 at s = 0), where the
+  // dual's semismooth Newton converges linearly and stops at its tolerance (1e-13 of its force scale,
+  // here that of the free solution's penetration): their forces, ~1e-10 of the largest, are the dual's
+  // to about 1e-8 of it; the primal's branch there is exact. Both are within the steps' 1e-8.
+  EXPECT_LE(du, 1e-8);
+  EXPECT_LE(dl, 1e-7);
+  // The front moves: part of the bottom debonds, and the bulk damages.
+  const Case c = peel();
+  TimeStepper s(c.problem, c.solvers);
+  StepReport last;
+  while (!s.done()) last = s.step();
+  EXPECT_GT(last.surface_integral[1], 0.2);  // debonded_fraction
+  EXPECT_LT(last.beta_min, 0.995);
+}
+
+TEST(AdhesionRuns, ADebondedSurfaceIsSignorinis) {
+  for (const std::string solver : {"active-set", "primal-active-set"}) {
+    SCOPED_TRACE(solver);
+    // The strip pressed down at its end (Signorini's forces not all zero) with α_0 = 0, against no adhesion.
+    const std::vector<std::string> down = {"boundary.displacement[0].uy=-0.02*t"};
+    std::vector<std::string> debonded = down;
+    debonded.push_back("contact.bonding=0");
+    std::vector<std::string> none = down;
+    none.push_back("contact.adhesion=\"none\"");
+    const auto [du, dl] = runs_apart(peel(debonded, solver), peel(none, solver));
+    EXPECT_LE(du, 1e-12);
+    EXPECT_LE(dl, 1e-12);
+  }
+}
+
+TEST(AdhesionRuns, AResumeMidDebondingIsTheUninterruptedRun) {
+  const Case c = peel();
+  TimeStepper a(c.problem, c.solvers), b(c.problem, c.solvers);
+  for (int i = 0; i < 17; ++i) ASSERT_TRUE(a.step().ok);
+  const fs::path dir = fs::temp_directory_path() / "vpc_adhesion_ckpt";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  write_checkpoint(a, dir, "peel-2d", {}, RunTotals{});
+  ASSERT_TRUE(resume_from_checkpoint(b, dir).has_value());
+  while (!a.done()) {
+    a.step();
+    b.step();
+  }
+  for (const char* name : {"bonding", "separation", "debonding_energy"})
+    EXPECT_EQ(b.state().surface_field(name)->values, a.state().surface_field(name)->values) << name;
+  EXPECT_EQ(b.state().u, a.state().u);
+  EXPECT_EQ(b.state().lambda, a.state().lambda);
+  fs::remove_all(dir);
+}
+
+TEST(AdhesionRuns, ErrorControlledStepsKeepTheBondingMonotone) {
+  // The step controller's rejections restore the bonding field with the rest of the state: α never grows.
+  const Case c = case_of("peel-2d", shipped_text("peel-2d"), {"time.T=0.4", "time.tolerance=1e-3"});
+  ASSERT_TRUE(c.problem->step_control.has_value());
+  Vector before;
+  int rejected = 0;
+  run_to_end(c, [&](const TimeStepper& s, const StepReport& r) {
+    const Vector& alpha = s.state().surface_field("bonding")->values;
+    if (before.size()) EXPECT_LE((alpha - before).maxCoeff(), 0.0) << "step " << r.n;
+    before = alpha;
+    rejected += r.rejected;
+  });
+  std::printf("  peel-2d under error control: %d rejected steps\n", rejected);
+}
+
+TEST(AdhesionKeys, BadAdhesionInputsAreLocatedErrors) {
+  const std::string text = shipped_text("peel-2d");
+  const auto error_of = [&](const std::string& from, const std::string& to, const std::string& solver = "auto") -> std::string {
+    try {
+      Case c = case_of("peel-2d", replaced(text, from, to));
+      c.solvers.contact = solver;
+      TimeStepper s(c.problem, c.solvers);
+    } catch (const Error& e) {
+      return e.what();
+    }
+    return "(accepted)";
+  };
+  const std::string law = "adhesion = \"fremond\"\n";
+  struct Bad {
+    std::string from, to, expected, solver = "auto";
+  } table[] = {
+      {law, "", "contact.bond_stiffness: bond_stiffness needs adhesion = \"fremond\" in the same table"},
+      {"bond_stiffness = 100.0", "bond_stiffness = -1.0", "contact.bond_stiffness: expected a bond stiffness gamma_nu"},
+      {"bond_length = 0.02", "bond_length = 0.0", "contact.bond_length: expected a bond length L"},
+      {"bond_viscosity = 0.0005", "", "peel-2d.toml:43:1: missing key bond_viscosity (a bond viscosity b"},
+      {"adhesion_energy = 0.0", "adhesion_energy = -1.0", "contact.adhesion_energy: expected an adhesion energy"},
+      {"adhesion_energy = 0.0", "adhesion_energy = 0.0\nbonding = 1.5", "contact.bonding: expected an initial bonding alpha_0 in [0, 1]"},
+      {"adhesion_energy = 0.0", "adhesion_energy = 0.0\nbonding = \"x - 1\"",
+       "contact.bonding: the initial bonding alpha_0 is -0.95 at contact node (0.05, 0, 0)"},
+      {"gap = 0.0", "gap = \"0.001*x\"",
+       "[contact]: the initial bonding alpha_0 is 1 at contact node (0.05, 0, 0), where the initial gap is 5e-05"},
+      {law, "adhesion = \"none\"\n", "contact.bond_stiffness: bond_stiffness does not belong to adhesion = \"none\""},
+      {law, law, "contact solver 'penalty-duality' solves the Signorini conditions only (a force >= 0); adhesion",
+       "penalty-duality"},
+      {law, law + "friction = \"coulomb\"\nmu = 0.3\n", "adhesion together with friction is not solved yet"},
+  };
+  for (const Bad& b : table) {
+    const std::string msg = error_of(b.from, b.to, b.solver);
+    EXPECT_NE(msg.find(b.expected), std::string::npos) << b.to << "\n" << msg;
+  }
+  // With α_0 = 0 where the gap opens, the case runs (bonding only where the surfaces touch).
+  EXPECT_EQ(error_of("gap = 0.0", "gap = \"0.001*max(x - 2, 0)\"\nbonding = \"x <= 2 ? 1 : 0\""), "(accepted)");
+}
+
+}  // namespace
+}  // namespace vpc
