@@ -511,7 +511,7 @@ class Run:
         # The contact laws' per-node state (summary.json "surface_state": name, width, meaning, history).
         try:
             self.surface_state = [dict(name=str(v["name"]), width=int(v["width"]), meaning=str(v.get("meaning", "")),
-                                       history=str(v.get("history", "")))
+                                       history=str(v.get("history", "")), history_mean=bool(v.get("history_mean", False)))
                                   for v in self.summary.get("surface_state", [])]
         except (KeyError, TypeError, ValueError) as e:
             raise PlotError("%s: unreadable surface_state (%s)" % (summary, e))
@@ -1434,8 +1434,13 @@ class Plotter:
                 band = np.abs(series[-1][2][:, across] - c) <= 0.02 * extent[across]
                 on &= band
                 where = ", at %s = %.4g" % ("xyz"[across], c)
+            h = self.run.history
+            integrated = bool(v["history"]) and v["history"] in h
             fig = self.figure("surface_state")
-            ax_v, ax_h = fig.subplots(1, 2)
+            if integrated:
+                ax_v, ax_h = fig.subplots(1, 2)
+            else:  # no column to draw on the right: the values alone, the figure's whole width
+                ax_v, ax_h = fig.subplots(1, 1), None
             cmap = self.plt.get_cmap(FIELD_CMAP)
             t_end = max(series[-1][0], 1e-300)
             picked = series if len(series) <= 8 else [series[int(round(i))] for i in np.linspace(0, len(series) - 1, 8)]
@@ -1450,16 +1455,14 @@ class Plotter:
             ax_v.set_ylabel(v["name"])
             ax_v.set_title(v["meaning"] or v["name"], fontsize="medium")
             ax_v.legend(fontsize="small")
-            h = self.run.history
-            if v["history"] and v["history"] in h:
+            if integrated:
                 ax_h.plot(h["t"], h[v["history"]], "C0")
                 ax_h.set_ylabel(v["history"].replace("_", " "))
-                ax_h.set_title("over the contact surface")
-            else:
-                ax_h.set_axis_off()
-            ax_h.set_xlabel(r"time $t$" + UNITS.br("time"))
+                ax_h.set_title("mean over the contact surface" if v.get("history_mean") else "over the contact surface")
+                ax_h.set_xlabel(r"time $t$" + UNITS.br("time"))
             for ax in (ax_v, ax_h):
-                ax.grid(True, alpha=0.4)
+                if ax is not None:
+                    ax.grid(True, alpha=0.4)
             fig.suptitle(self.title(key, v["name"] + " on the contact surface"))
             self.save(fig, key)
 

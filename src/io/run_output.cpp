@@ -497,7 +497,11 @@ std::string summary_json(const Problem& p, const RunSummary& r, const OutputOpti
   if (const auto surface = declared_surface_state(p.contact); !surface.empty()) {
     j["surface_state"] = Json::array();
     for (const SurfaceVariable& v : surface)
-      j["surface_state"].push_back({{"name", v.name}, {"width", v.width}, {"meaning", v.meaning}, {"history", v.history}});
+      j["surface_state"].push_back({{"name", v.name},
+                                    {"width", v.width},
+                                    {"meaning", v.meaning},
+                                    {"history", v.history},
+                                    {"history_mean", v.history_mean}});
   }
   j["final_time"] = p.final_time;
   j["steps"] = r.steps;
