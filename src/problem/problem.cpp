@@ -175,8 +175,12 @@ void check_body_held(const Problem& p, const std::vector<int>& condition, const 
   }
   fail("{}: {} is not held: the prescribed displacements (clamped, displacement and symmetry parts) leave {} "
        "free, so the elastic stiffness K is singular; contact cannot hold the body (K must be positive definite "
-       "without it): clamp a part, or prescribe components that stop this motion",
-       p.where("boundary"), body, motion);
+       "without it){}: clamp a part, or prescribe components that stop this motion",
+       p.where("boundary"), body, motion,
+       // SPEC §9: a bond's pull holds a body only while it lasts; a body it alone held would fly off at pull-off.
+       p.contact.adhesive() ? ", and adhesion cannot hold it either (a bond weakens to 0, and a body it alone "
+                              "held would have no equilibrium at pull-off)"
+                            : "");
 }
 
 /// The body whose facets form `part` (-1: the part spans several bodies).

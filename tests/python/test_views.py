@@ -186,3 +186,23 @@ def test_archard_wear_is_a_view_of_the_worn_depth_and_follows_the_recursion():
         sim.step()
         np.testing.assert_allclose(wear, delta * (1 - (1 - a) ** n), rtol=0, atol=1e-14)
     assert abs(sim.report["worn_volume"] - wear[0]) < 1e-15  # width 1: the depth times |Gamma_3| = 1
+
+
+def test_fremond_adhesion_is_a_view_of_the_bonding_field_and_follows_its_recursion():
+    # adhesion-bar-1d (issue 50, docs/verification.md §8i): a bar glued at its end and pulled through its
+    # stiffness K; the lagged bonding is alpha_n = alpha_(n-1) exp(-gamma s_(n-1)^2 k / b) with
+    # s = K delta / (K + gamma alpha^2), and the bond's pull is the node's tension and the history's force.
+    sim = vpcontact.Simulation(vpcontact.Case("adhesion-bar-1d"))
+    assert sorted(sim.surface) == ["adhesive_energy", "adhesive_traction", "bonding", "debonded",
+                                   "debonding_energy", "separation"]
+    bonding = sim.surface["bonding"]
+    assert bonding.shape == (1,) and not bonding.flags.writeable
+    K, gamma, delta, b, k = 100.0, 200.0, 0.01, 0.005, 0.05
+    alpha, s = 1.0, 0.0
+    for n in range(1, 6):
+        sim.step()
+        alpha *= np.exp(-gamma * s * s * k / b)
+        s = K * delta / (K + gamma * alpha * alpha)
+        assert abs(bonding[0] - alpha) < 1e-14
+        assert abs(sim.report["adhesive_force"] - gamma * alpha * alpha * s) < 1e-13
+        assert sim.report["debonded_fraction"] == 0

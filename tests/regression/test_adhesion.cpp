@@ -241,6 +241,9 @@ TEST(AdhesionKeys, BadAdhesionInputsAreLocatedErrors) {
     const std::string msg = error_of(b.from, b.to, b.solver);
     EXPECT_NE(msg.find(b.expected), std::string::npos) << b.to << "\n" << msg;
   }
+  // A body that only the bond would hold (the strip's end on a roller: nothing else stops it moving up) is refused.
+  EXPECT_NE(error_of("uy = \"0.2*t\"\n", "").find("adhesion cannot hold it either"), std::string::npos)
+      << error_of("uy = \"0.2*t\"\n", "");
   // With α_0 = 0 where the gap opens, the case runs (bonding only where the surfaces touch).
   EXPECT_EQ(error_of("gap = 0.0", "gap = \"0.001*max(x - 2, 0)\"\nbonding = \"x <= 2 ? 1 : 0\""), "(accepted)");
 }
