@@ -340,6 +340,13 @@ INPUTS = [
      ["run", "wear-2d", "--no-vtu", "-o", "out", "--set", "contact.wear_coefficient=8e-3"]),
     ("a worn depth past wear_warning of the element size", {},
      ["run", "wear-2d", "--no-vtu", "-q", "-o", "out", "--set", "contact.wear_warning=0.001"], {"warning": True}),
+    # --- issue 50: Frémond adhesion
+    ("a bond across an open initial gap", {}, ["peel-2d", "--set", "contact.gap=\"0.001*x\""]),
+    ("an initial bonding outside [0, 1]", {}, ["peel-2d", "--set", "contact.bonding=1.5"]),
+    ("a bond length of 0", {}, ["peel-2d", "--set", "contact.bond_length=0"]),
+    ("a bond stiffness without adhesion = \"fremond\"", {}, ["paper-2d", "--set", "contact.bond_stiffness=10"]),
+    ("adhesion with friction", {}, ["peel-2d", "--set", "contact.friction=\"coulomb\"", "--set", "contact.mu=0.3"]),
+    ("adhesion with the contact solver penalty-duality", {}, ["peel-2d", "--contact-solver", "penalty-duality"]),
 ]
 
 
