@@ -345,7 +345,9 @@ INPUTS = [
     ("an initial bonding outside [0, 1]", {}, ["peel-2d", "--set", "contact.bonding=1.5"]),
     ("a bond length of 0", {}, ["peel-2d", "--set", "contact.bond_length=0"]),
     ("a bond stiffness without adhesion = \"fremond\"", {}, ["paper-2d", "--set", "contact.bond_stiffness=10"]),
-    ("adhesion with friction", {}, ["peel-2d", "--set", "contact.friction=\"coulomb\"", "--set", "contact.mu=0.3"]),
+    ("adhesion with friction on a normal compliance law", {},
+     ["peel-2d", "--set", "contact.friction=\"coulomb\"", "--set", "contact.mu=0.3", "--set",
+      "contact.law=\"normal-compliance\"", "--set", "contact.stiffness=1e4"]),
     ("adhesion with the contact solver penalty-duality", {}, ["peel-2d", "--contact-solver", "penalty-duality"]),
 ]
 

@@ -45,9 +45,9 @@ std::string cannot_solve(const std::string& solver, const ContactNeeds& needs) {
     return fmt::format("contact solver '{}': law = \"{}\" lets a node carry a tension, and friction's bound is not "
                        "defined there; no contact solver solves it with friction (remove friction)",
                        solver, needs.tension);
-  if (needs.friction && needs.adhesion)
-    return fmt::format("contact solver '{}': adhesion together with friction is not solved yet (the bond's tension "
-                       "branch is not in the frictional solvers); remove friction, or the adhesion",
+  if (needs.friction && needs.adhesion && needs.compliant)
+    return fmt::format("contact solver '{}': adhesion together with friction is solved with Signorini's normal law; "
+                       "a normal compliance law there is not (use law = \"signorini\", or remove the friction)",
                        solver);
   if (needs.adhesion && solver == "penalty-duality")
     return "contact solver 'penalty-duality' solves the Signorini conditions only (a force >= 0); adhesion (a bond "

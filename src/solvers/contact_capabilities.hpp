@@ -5,10 +5,11 @@
 //
 //                        friction   compliance   a law that is     a friction set    a node on both    tension (a law's    adhesion (a     rows spread
 //                                                not linear        not a disc        sides of pairs    lower bound < 0)    bond, SPEC §9)  over ranks
-//   active-set (dual)    yes        yes          yes               yes               yes               yes, frictionless   yes             yes
-//   primal-active-set    yes        linear       no                yes               no                yes, frictionless   yes             no
+//   active-set (dual)    yes        yes          yes               yes               yes               yes, frictionless   yes (1)         yes
+//   primal-active-set    yes        linear       no                yes               no                yes, frictionless   yes (1)         no
 //   penalty-duality      no         no           no                no                yes               no                  no              no
-// (Both frictional solvers ask each node's friction law for its set: the dual's Alart–Curnier
+// (1) With friction on Signorini's law only: the bond's pull makes λ_ν < 0, where Coulomb's bound μ max(λ_ν, 0)
+// is 0. (Both frictional solvers ask each node's friction law for its set: the dual's Alart–Curnier
 // projection, the primal's Hüeber–Stadler–Wohlmuth linearization; primal_friction.hpp. Rows spread
 // over ranks: a pair row whose masters other ranks own, given as their remote pieces,
 // ContactConstraints::remote; the primal's basis and penalty–duality's NᵀN need a row's dofs on its rank.)

@@ -135,9 +135,13 @@ class BondDual final : public DualProblem {
 /// Friction (friction_dual.hpp): each node's block λ_ν, λ_τ over its sets, with the step's bounds.
 class FrictionDual final : public DualProblem {
  public:
-  FrictionDual(Eigen::MatrixXd S, FrictionDualSets sets) : S_(std::move(S)), sets_(std::move(sets)) {}
+  FrictionDual(Eigen::MatrixXd S, FrictionDualSets sets) : S_(std::move(S)), sets_(std::move(sets)), lo_(sets_.lo) {}
   BoxQpResult solve(const la::Comm& comm, const ContactConstraints& c, const Vector& b, Vector& lambda) override {
     sets_.tresca = replicate(comm, c, c.tresca);
+    if (sets_.bond_length.size()) {  // adhesion: the step's bonds, each bonded node's λ_ν ≥ lo − a L
+      sets_.bond = replicate(comm, c, c.bond.size() ? c.bond : Vector(Vector::Zero(c.bond_length.size())));
+      sets_.lo = lo_ - sets_.bond.cwiseProduct(sets_.bond_length);
+    }
     return solve_friction_dual(S_, b, sets_, lambda);
   }
   ContactReport report(const la::SpdOperator& K, const ContactConstraints& c, const Vector& F, const Vector& u,
@@ -155,6 +159,7 @@ class FrictionDual final : public DualProblem {
  private:
   DenseBoxQpOperator S_;
   FrictionDualSets sets_;
+  Vector lo_;  // the normal forces' own lower bounds (the laws'), without the bonds
 };
 
 class ActiveSetContactSolver final : public ContactSolver {
@@ -241,6 +246,7 @@ class ActiveSetContactSolver final : public ContactSolver {
     if (c_.frictional()) {
       with_springs();
       FrictionDualSets sets = friction_sets(comm(), c_, row_laws_, lower_, row_frictions_, S);
+      sets.bond_length = bond_length_;
       if (nonlinear_) {  // friction_dual.hpp: those rows' λ_ν = λ(d) in the semismooth Newton
         for (const ContactLaw* law : row_laws_) sets.force_law.push_back(law->linear() ? nullptr : law);
         sets.compliance = compliance_;

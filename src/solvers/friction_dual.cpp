@@ -83,6 +83,17 @@ void project(const FrictionDualSets& f, const Vector& z, const Vector& lambda, c
       const double pen = (z[k] - lambda[k]) / rho[k];
       p[k] = law->force(pen, f.compliance[i]);
       slope = law->force_slope(pen, f.compliance[i]) / rho[k];
+    } else if (const double a = f.bond.size() ? f.bond[i] : 0.0; a > 0) {  // the bond's resolvent (the header)
+      const double L = f.bond_length[i], base = f.lo[i] + a * L, zz = z[k] - base;
+      if (zz > 0) {
+        p[k] = std::min(z[k], f.hi[i]);
+        slope = z[k] < f.hi[i] ? 1.0 : 0.0;
+      } else if (zz > -(a + rho[k]) * L) {
+        slope = a / (a + rho[k]);
+        p[k] = base + slope * zz;
+      } else {
+        p[k] = f.lo[i];
+      }
     } else {
       p[k] = std::clamp(z[k], f.lo[i], f.hi[i]);
       slope = z[k] > f.lo[i] && z[k] < f.hi[i] ? 1.0 : 0.0;
@@ -356,6 +367,7 @@ BoxQpResult solve_friction_dual(DenseBoxQpOperator& S, const Vector& b, const Fr
               (f.limit.size() == 0 || f.limit.size() == f.nodes()) &&
               (f.force_law.empty() || (f.force_law.size() == static_cast<std::size_t>(f.nodes()) &&
                                        f.compliance.size() == f.nodes())) &&
+              (f.bond_length.size() == 0 || (f.bond_length.size() == f.nodes() && f.bond.size() == f.nodes())) &&
               f.tangent.size() == static_cast<std::size_t>(f.nodes() * (d - 1)) &&
               (f.friction.empty() || f.friction.size() == static_cast<std::size_t>(f.nodes())),
           "internal: friction dual of {} unknowns for {} nodes of block {}", n, f.nodes(), d);
@@ -365,7 +377,7 @@ BoxQpResult solve_friction_dual(DenseBoxQpOperator& S, const Vector& b, const Fr
     r.kkt_residual = std::numeric_limits<double>::infinity();
     return r;
   }
-  if (d == 2 && !f.coulomb() && f.force_law.empty() && f.discs()) {
+  if (d == 2 && !f.coulomb() && f.force_law.empty() && f.discs() && f.bond_length.size() == 0) {
     Vector lo, hi;
     tresca_box(f, lo, hi);
     return solve_box_qp(S, b, lo, hi, lambda, max_iterations);

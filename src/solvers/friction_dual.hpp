@@ -30,6 +30,11 @@ struct FrictionDualSets {
   /// penetration, in place of the projection (S without 1/k there).
   std::vector<const ContactLaw*> force_law;
   Vector compliance;
+  /// Adhesion (SPEC §9; ContactConstraints::bond), per node: the step's bond a_i and its length L_i;
+  /// empty: none. A bonded Signorini node's λ_ν is the resolvent of its graph instead of the clamp:
+  /// z_ν itself where z_ν > lo_i + a_i L_i (closed), a_i z_ν/(a_i + ρ_ν) on the bond's spring, lo_i (the
+  /// pull −a_i L_i) below −(a_i + ρ_ν) L_i; its Coulomb bound is μ max(λ_ν, 0), 0 while it pulls.
+  Vector bond, bond_length;
   /// Per node × (block − 1): the tangent exists (else its row of T is zero, a symmetry plane:
   /// λ_τ,ij = 0, and S has 1 on that diagonal so that the problem stays definite).
   std::vector<char> tangent;

@@ -18,7 +18,10 @@ la::Perturbation CoulombCoupling::build(const PrimalOperator& op, const PrimalFr
   bool signorini = false;
   for (size_t i = 0; i < rows.size(); ++i) {
     const auto e = static_cast<Eigen::Index>(i);
-    if (!couple || !active[i] || friction.stick()[i] || !(c.mu[e] > 0) || friction.direction(i).isZero(0.0)) continue;
+    // (A bonded row on its bond's spring pulls: its bound μ max(λ_ν, 0) does not move with λ_ν there.)
+    if (!couple || active[i] != PrimalOperator::kOn || friction.stick()[i] || !(c.mu[e] > 0) ||
+        friction.direction(i).isZero(0.0))
+      continue;
     // At its shear limit the bound does not move with λ_ν: the force s n stays a load (its size
     // |s n|_C = s to s's rounding).
     if (force_size(c.friction_of(e), friction.slip_force(i)) >= (1 - 1e-12) * c.bound_of(e).limit) continue;

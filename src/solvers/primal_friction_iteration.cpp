@@ -64,8 +64,11 @@ ContactReport PrimalFrictionIteration::solve(PrimalOperator& op, PrimalWarmStart
     tangential_in = forces.tail(tangential_in.size());
   }
   std::vector<char> active(static_cast<size_t>(rows));
-  for (Eigen::Index i = 0; i < rows; ++i) active[i] = normal_in[i] > 0 || op.gap_left(w, i) < 0;
-  friction.start(c, active, normal_in, tangential_in);
+  for (Eigen::Index i = 0; i < rows; ++i) active[i] = op.first_state(i, normal_in[i], op.gap_left(w, i));
+  // A bonded row on its bond's spring pulls (λ_ν < 0): its Coulomb bound is 0, it starts free to slip.
+  std::vector<char> pressed = active;
+  for (char& a : pressed) a = a == PrimalOperator::kOn;
+  friction.start(c, pressed, normal_in, tangential_in);
   if (extrapolated) {
     // Newton's first linearization at the extrapolated start (w, λ), HSW's rule with its bound,
     // instead of the last answer's sets and springs with the extrapolated forces: there the

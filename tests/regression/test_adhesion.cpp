@@ -156,6 +156,55 @@ TEST(AdhesionRuns, TheTwoSolversAgreeOnThePeel) {
   EXPECT_LT(last.beta_min, 0.995);
 }
 
+TEST(AdhesionRuns, WithCoulombFrictionAPullingNodeSlidesFreelyAndTheSolversAgree) {
+  // Coulomb's bound is μ max(λ_ν, 0): 0 where the bond pulls (λ_ν < 0), so such a node carries no
+  // tangential force; the nodes the peel presses ahead of the front carry |λ_τ| ≤ μ λ_ν.
+  const std::vector<std::string> coulomb = {"contact.friction=\"coulomb\"", "contact.mu=0.5"};
+  std::vector<std::vector<double>> normal[2], tangential[2];
+  int k = 0;
+  double force_scale = 0;  // the residuals' (max of λ, F and Ku)
+  for (const std::string solver : {"active-set", "primal-active-set"}) {
+    SCOPED_TRACE(solver);
+    int pulling = 0, pressing = 0;
+    run_to_end(peel(coulomb, solver), [&](const TimeStepper& s, const StepReport& r) {
+      std::vector<double> n, t;
+      for (const NodeForces& f : node_forces(s)) {
+        n.push_back(f.normal);
+        t.push_back(f.tangential_norm());
+        // The primal's slip forces are exact to its friction tolerance, 1e-9 of the residuals' force scale.
+        const double slack = 1e-9 * r.contact.residuals.force_scale;
+        force_scale = std::max(force_scale, r.contact.residuals.force_scale);
+        if (f.normal < 0) {
+          ++pulling;
+          EXPECT_LE(f.tangential_norm(), slack);
+        } else if (f.normal > 0) {
+          ++pressing;
+          EXPECT_LE(f.tangential_norm(), 0.5 * f.normal + slack);
+        }
+      }
+      normal[k].push_back(n);
+      tangential[k].push_back(t);
+    });
+    EXPECT_GT(pulling, 0);
+    EXPECT_GT(pressing, 0);
+    ++k;
+  }
+  double dn = 0, dt = 0, scale = 0;
+  for (std::size_t n = 0; n < normal[0].size(); ++n)
+    for (std::size_t i = 0; i < normal[0][n].size(); ++i) {
+      dn = std::max(dn, std::abs(normal[0][n][i] - normal[1][n][i]));
+      dt = std::max(dt, std::abs(tangential[0][n][i] - tangential[1][n][i]));
+      scale = std::max(scale, std::abs(normal[0][n][i]));
+    }
+  std::printf("  peel-2d with Coulomb mu = 0.5, 40 steps, primal against dual: normal %.3g, tangential %.3g of the "
+              "largest normal force %.3g (%.3g, %.3g of the residuals' force scale %.3g)\n",
+              dn / scale, dt / scale, scale, dn / force_scale, dt / force_scale, force_scale);
+  // The primal's frictional iteration stops at its slip-force tolerance, 1e-9 of the force scale: the two
+  // agree to the steps' residual tolerance, 1e-8 of it.
+  EXPECT_LE(dn, 1e-8 * force_scale);
+  EXPECT_LE(dt, 1e-8 * force_scale);
+}
+
 TEST(AdhesionRuns, ADebondedSurfaceIsSignorinis) {
   for (const std::string solver : {"active-set", "primal-active-set"}) {
     SCOPED_TRACE(solver);
@@ -225,7 +274,7 @@ TEST(AdhesionKeys, BadAdhesionInputsAreLocatedErrors) {
       {law, "", "contact.bond_stiffness: bond_stiffness needs adhesion = \"fremond\" in the same table"},
       {"bond_stiffness = 100.0", "bond_stiffness = -1.0", "contact.bond_stiffness: expected a bond stiffness gamma_nu"},
       {"bond_length = 0.02", "bond_length = 0.0", "contact.bond_length: expected a bond length L"},
-      {"bond_viscosity = 0.0005", "", "peel-2d.toml:43:1: missing key bond_viscosity (a bond viscosity b"},
+      {"bond_viscosity = 0.0005", "", "peel-2d.toml:44:1: missing key bond_viscosity (a bond viscosity b"},
       {"adhesion_energy = 0.0", "adhesion_energy = -1.0", "contact.adhesion_energy: expected an adhesion energy"},
       {"adhesion_energy = 0.0", "adhesion_energy = 0.0\nbonding = 1.5", "contact.bonding: expected an initial bonding alpha_0 in [0, 1]"},
       {"adhesion_energy = 0.0", "adhesion_energy = 0.0\nbonding = \"x - 1\"",
@@ -235,7 +284,8 @@ TEST(AdhesionKeys, BadAdhesionInputsAreLocatedErrors) {
       {law, "adhesion = \"none\"\n", "contact.bond_stiffness: bond_stiffness does not belong to adhesion = \"none\""},
       {law, law, "contact solver 'penalty-duality' solves the Signorini conditions only (a force >= 0); adhesion",
        "penalty-duality"},
-      {law, law + "friction = \"coulomb\"\nmu = 0.3\n", "adhesion together with friction is not solved yet"},
+      {law, law + "friction = \"coulomb\"\nmu = 0.3\nlaw = \"normal-compliance\"\nstiffness = 1e4\n",
+       "adhesion together with friction is solved with Signorini's normal law"},
   };
   for (const Bad& b : table) {
     const std::string msg = error_of(b.from, b.to, b.solver);
