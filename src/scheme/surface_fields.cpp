@@ -83,6 +83,37 @@ std::vector<T*> node_values(const LawFields& lf, const std::vector<SurfaceField>
   return out;
 }
 
+/// State::surface updated by each row's owner: a copy that holds this rank's rows only (zero elsewhere),
+/// summed over the ranks into the state (one owner per row: exact).
+class OwnedRows {
+ public:
+  explicit OwnedRows(const State& s) {
+    for (const SurfaceField& f : s.surface) mine_.push_back(Vector::Zero(f.values.size()));
+  }
+  /// Copies the state's values of `row` into the copy (before its laws update them there).
+  void take(const State& s, int row) {
+    const auto i = static_cast<Eigen::Index>(row);
+    for (std::size_t f = 0; f < s.surface.size(); ++f) {
+      const int w = s.surface[f].width;
+      mine_[f].segment(i * w, w) = s.surface[f].values.segment(i * w, w);
+    }
+  }
+  /// Pointers to `row`'s numbers of `lf`'s variables in the copy.
+  std::vector<double*> values(const LawFields& lf, const State& s, int row) {
+    return node_values<double>(lf, s.surface, row, [&](std::size_t f) { return mine_[f].data(); });
+  }
+  /// Sums the copies over the ranks into the state, in place (Python's views stay valid). Collective.
+  void publish(const la::Comm& comm, State& s) {
+    for (std::size_t f = 0; f < s.surface.size(); ++f) {
+      comm.sum(mine_[f].data(), mine_[f].size());
+      s.surface[f].values.noalias() = mine_[f];
+    }
+  }
+
+ private:
+  std::vector<Vector> mine_;
+};
+
 }  // namespace
 
 void set_initial_surface_state(const DiscreteSystem& sys, const Vector& gap, State& s) {
@@ -90,32 +121,21 @@ void set_initial_surface_state(const DiscreteSystem& sys, const Vector& gap, Sta
   const ContactSpec& contact = sys.problem->contact;
   const auto table = laws_with_fields(contact, s);
   const MeshPart& part = sys.part;
-  // This rank's rows set in a copy that holds only them (zero elsewhere), then summed: one owner per row.
-  std::vector<Vector> mine;
-  for (const SurfaceField& f : s.surface) mine.push_back(Vector::Zero(f.values.size()));
+  OwnedRows mine(s);
   la::collective(part.comm, [&] {
     Eigen::Index owned = 0;
     for (const PartContactNode& node : sys.contact->nodes) {
       if (!node.owned) continue;
-      const auto i = static_cast<Eigen::Index>(node.row);
-      for (std::size_t f = 0; f < s.surface.size(); ++f) {
-        const int w = s.surface[f].width;
-        mine[f].segment(i * w, w) = s.surface[f].values.segment(i * w, w);
-      }
+      mine.take(s, node.row);
       const auto e = static_cast<std::size_t>(node.law);
       const Point& x = part.mesh().node(node.local_node);
-      for (const LawFields& lf : table[e]) {
-        const LawText why =
-            lf.law->initial_at(x, gap[owned], node_values<double>(lf, s.surface, node.row, [&](std::size_t f) { return mine[f].data(); }));
-        if (!why.text.empty()) fail("{}: {}", sys.problem->where_in(contact.entry_table(e), why.key), why.text);
-      }
+      for (const LawFields& lf : table[e])
+        if (const LawText why = lf.law->initial_at(x, gap[owned], mine.values(lf, s, node.row)); !why.text.empty())
+          fail("{}: {}", sys.problem->where_in(contact.entry_table(e), why.key), why.text);
       ++owned;
     }
   });
-  for (std::size_t f = 0; f < s.surface.size(); ++f) {
-    part.comm.sum(mine[f].data(), mine[f].size());
-    s.surface[f].values.noalias() = mine[f];
-  }
+  mine.publish(part.comm, s);
 }
 
 Vector surface_bond(const DiscreteSystem& sys, const State& s, double k) {
@@ -222,18 +242,13 @@ SurfaceLimits update_surface_state(const DiscreteSystem& sys, const Vector& gap,
   const std::vector<double> stiffness = normal_stiffness(sys);
   const Vector fixed = prescribed_slip(sys, u_before, s.u, s.t, t_end);  // along prescribed directions
   const auto table = laws_with_fields(sys.problem->contact, s);
-  // This rank's rows updated in a copy that holds only them (zero elsewhere), then summed: one owner per row.
-  std::vector<Vector> mine;
-  for (const SurfaceField& f : s.surface) mine.push_back(Vector::Zero(f.values.size()));
+  OwnedRows mine(s);
   LargestShare step, warn;
   Eigen::Index owned = 0;
   for (const PartContactNode& node : sys.contact->nodes) {
     if (!node.owned) continue;
     const auto i = static_cast<Eigen::Index>(node.row);
-    for (std::size_t f = 0; f < s.surface.size(); ++f) {
-      const int w = s.surface[f].width;
-      mine[f].segment(i * w, w) = s.surface[f].values.segment(i * w, w);
-    }
+    mine.take(s, node.row);
     SurfaceNode view;
     view.lambda_nu = s.lambda[i * b];
     if (t > 0) {
@@ -253,16 +268,12 @@ SurfaceLimits update_surface_state(const DiscreteSystem& sys, const Vector& gap,
     const auto e = static_cast<std::size_t>(node.law);
     const int number = part.original_node[static_cast<std::size_t>(node.local_node)];
     for (const LawFields& lf : table[e]) {
-      const SurfaceUpdate u =
-          lf.law->update_surface(view, node_values<double>(lf, s.surface, node.row, [&](std::size_t f) { return mine[f].data(); }));
+      const SurfaceUpdate u = lf.law->update_surface(view, mine.values(lf, s, node.row));
       step.offer(u.step_share, number, e, lf.index, view.x);
       warn.offer(u.warn_share, number, e, lf.index, view.x);
     }
   }
-  for (std::size_t f = 0; f < s.surface.size(); ++f) {
-    part.comm.sum(mine[f].data(), mine[f].size());
-    s.surface[f].values.noalias() = mine[f];  // in place: Python's views stay valid
-  }
+  mine.publish(part.comm, s);
   limits.step_text = step.reduce(sys, limits.step_share, &SurfaceHistory::step_limit);
   limits.warn_text = warn.reduce(sys, limits.warn_share, &SurfaceHistory::warning);
   return limits;
