@@ -105,7 +105,15 @@ SurfaceUpdate FremondAdhesion::update_surface(const SurfaceNode& node, std::span
   *v[3] = alpha <= kDebonded ? 1.0 : 0.0;
   *v[4] = gamma * alpha * alpha * energy_shape(s);
   *v[5] += gamma * (before * before - alpha * alpha) * energy_shape(s_before);
-  return {};
+  // The rate at t_n with the step's own separation against the one the step integrated (s_{n−1}):
+  // the lag's local error is k/2 times it (the error estimate's, as β's).
+  const auto rate = [&](double sep) {
+    const double R = std::min(sep, length_);
+    return -std::max(alpha * gamma * R * R - energy_, 0.0) / viscosity_;
+  };
+  SurfaceUpdate out;
+  out.rate_change = std::abs(rate(s) - rate(s_before));
+  return out;
 }
 
 LawText FremondAdhesion::check_at(const Point& x) const {

@@ -57,6 +57,11 @@ struct SurfaceUpdate {
   double step_share = 0;
   /// Of its warning threshold (SurfaceHistory::warning): above 1 the run warns, once.
   double warn_share = 0;
+  /// Where the update lags a rate (adhesion's α over the step with the separation of t_{n−1}): how much
+  /// the rate changed over the step, |x'(t_n) − x'_lagged|, in the state's own scale per unit of time.
+  /// The step's error estimate takes (k/2) times its L2 mean over Γ3 as the local error of the lag,
+  /// as it does β's (scheme/step_control.hpp). 0: nothing lagged.
+  double rate_change = 0;
 };
 
 /// A law's message and the key of its table it is about ("wear_cap"), where the run locates it.

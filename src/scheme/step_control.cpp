@@ -107,7 +107,9 @@ ErrorEstimate estimate_error(const DiscreteSystem& sys, const State& s, const St
   const double lasting = mu_step * T > 1 ? 1 / (mu_step * T) : 1.0;
   const double e_sigma = sigma_scale > 0 ? k / 2 * std::sqrt(sums[0]) / sigma_scale * lasting : 0.0;
   const double e_beta = k / 2 * std::sqrt(sums[1] / sys.volume);
-  e.error = std::max(e_sigma, e_beta);
+  // The surface laws' lagged rates (adhesion's bonding: SurfaceUpdate::rate_change), as β's.
+  const double e_surface = k / 2 * taken.report.surface.rate_change;
+  e.error = std::max({e_sigma, e_beta, e_surface});
   return e;
 }
 

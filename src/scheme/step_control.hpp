@@ -53,8 +53,8 @@ struct ErrorEstimate {
 
 /// The estimate (StepControl, problem/time_grid.hpp) of the relative error the step `taken` (of
 /// size k, ending in the state s) adds: the local error (k/2)|x'(t_n) − x'(t_{n−1})| of the
-/// explicit rate of z, G (3.6), weighted by 1/(μT) where the law damps it (error_damping), and of
-/// β's rate in (3.8). `now`: G_n, φ_n; dG_last: ΔG of the last accepted step; sigma_scale:
+/// explicit rate of z, G (3.6), weighted by 1/(μT) where the law damps it (error_damping), of
+/// β's rate in (3.8), and of the surface laws' lagged rates (SurfaceLimits::rate_change). `now`: G_n, φ_n; dG_last: ΔG of the last accepted step; sigma_scale:
 /// StepControlState::sigma_scale. Collective.
 ErrorEstimate estimate_error(const DiscreteSystem& sys, const State& s, const StepTaken& taken, const LaggedRates& now,
                              double k, const std::vector<SymTensor>& dG_last, double sigma_scale);

@@ -26,6 +26,9 @@ struct MinimumAt {
 struct SurfaceLimits {
   double step_share = 0, warn_share = 0;
   std::string step_text, warn_text;
+  /// The L2 mean over Γ3 of the laws' SurfaceUpdate::rate_change: the error estimate's share of the
+  /// surface state (k/2 times it, as β's).
+  double rate_change = 0;
 };
 
 struct StepReport {

@@ -244,6 +244,7 @@ SurfaceLimits update_surface_state(const DiscreteSystem& sys, const Vector& gap,
   const auto table = laws_with_fields(sys.problem->contact, s);
   OwnedRows mine(s);
   LargestShare step, warn;
+  double rates[2] = {0, 0};  // ∫ rate_change² and ∫ 1 over the owned rows
   Eigen::Index owned = 0;
   for (const PartContactNode& node : sys.contact->nodes) {
     if (!node.owned) continue;
@@ -271,9 +272,13 @@ SurfaceLimits update_surface_state(const DiscreteSystem& sys, const Vector& gap,
       const SurfaceUpdate u = lf.law->update_surface(view, mine.values(lf, s, node.row));
       step.offer(u.step_share, number, e, lf.index, view.x);
       warn.offer(u.warn_share, number, e, lf.index, view.x);
+      rates[0] += u.rate_change * u.rate_change * node.measure;
     }
+    rates[1] += node.measure;
   }
   mine.publish(part.comm, s);
+  part.comm.sum(rates, 2);
+  limits.rate_change = rates[1] > 0 ? std::sqrt(rates[0] / rates[1]) : 0.0;
   limits.step_text = step.reduce(sys, limits.step_share, &SurfaceHistory::step_limit);
   limits.warn_text = warn.reduce(sys, limits.warn_share, &SurfaceHistory::warning);
   return limits;

@@ -100,6 +100,32 @@ TEST(AdhesionExact, ItConvergesToTheOdeAtFirstOrderInTheStep) {
   EXPECT_NEAR(rate2, 1.0, 0.05);
 }
 
+TEST(AdhesionExact, ErrorControlledStepsFollowTheBonding) {
+  // The elastic bar has no error of its own in z or β: the estimate is the bonding's lag alone
+  // ((k/2)|α'(s_n) − α'(s_{n−1})|, SurfaceUpdate::rate_change). A tighter tolerance takes more steps
+  // and lands nearer the ODE, about in proportion (first order).
+  std::vector<double> errors;
+  std::vector<int> steps;
+  for (const char* tolerance : {"time.tolerance=1e-2", "time.tolerance=1e-3"}) {
+    const Case c = bar({tolerance});
+    ASSERT_TRUE(c.problem->step_control.has_value());
+    int n = 0;
+    double alpha = 0;
+    run_to_end(c, [&](const TimeStepper& t, const StepReport&) {
+      ++n;
+      alpha = field(t.state(), "bonding");
+    });
+    errors.push_back(std::abs(alpha - ode_bonding(1.0)));
+    steps.push_back(n);
+  }
+  std::printf("  error-controlled: %d and %d steps at tolerances 1e-2 and 1e-3, bonding at t = 1 off the ODE by %.3g "
+              "and %.3g\n",
+              steps[0], steps[1], errors[0], errors[1]);
+  EXPECT_GT(steps[1], 4 * steps[0]);
+  EXPECT_LT(errors[1], errors[0] / 4);
+  EXPECT_LT(errors[0], 0.05);
+}
+
 TEST(AdhesionExact, BeyondTheBondLengthThePullIsConstantAndTheBondDecaysInClosedForm) {
   // L = 1e-3 below the separation: each step from the second on is pulled with γ α² L, and α follows
   // α_n = ε/c + (α_{n−1} − ε/c) e^{−c k/b}, c = γ L², from α_1 = 1 (the first step starts from s_0 = 0).
