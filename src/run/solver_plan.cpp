@@ -142,6 +142,9 @@ ProblemSize problem_size(const Problem& p, const ContactRows& built) {
   const std::vector<ContactRow>& rows = *shared;
   s.contact_nodes = static_cast<double>(rows.size());
   s.contact_unknowns = s.contact_nodes * p.contact.block_size(d);
+  // Frictionless adhesion: the dual's box QP has each bonded node's pull as an unknown besides its force
+  // (BondDual, solvers/dual_active_set.cpp): up to 2m, the dense H four times S (pick_contact_solver alike).
+  if (p.contact.adhesive() && p.contact.block_size(d) == 1) s.contact_unknowns *= 2;
   const auto laws = p.contact.laws();
   s.dual_only = std::ranges::any_of(rows, [&](const ContactRow& r) {
     return dual_only(*laws[static_cast<std::size_t>(r.law)]);

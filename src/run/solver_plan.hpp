@@ -40,7 +40,7 @@ struct ProblemSize {
   double unknowns = 0;       // free displacement dofs (rows of K)
   double nodes = 0, cells = 0;
   double contact_nodes = 0;  // m: rows of N
-  double contact_unknowns = 0;  // the dual's: m × the contact block (d with friction: λ_ν and λ_τ)
+  double contact_unknowns = 0;  // the dual's: m × the contact block (d with friction: λ_ν and λ_τ; 2m with adhesion)
   double K_nonzeros = 0;     // both triangles
   double node_nonzeros = 0;  // of M, A, H (the node graph, both triangles)
   FactorEstimate K, H;       // CHOLMOD's factors (symbolic analysis of the node graph)

@@ -91,10 +91,14 @@ ContactSolverPick pick_contact_solver(const std::string& requested, int m, const
   if (requested != "auto") return {requested, "as asked"};
   // Where the primal cannot solve it, the dual does (the table's first row solves everything).
   if (!needs.nonlinear.empty()) return {"active-set", "auto: a nonlinear compliance law is solved on the dual"};
-  // With friction the dual's unknowns are m × block (λ_ν and the tangential forces of each node).
-  const int n = m * block;
+  // With friction the dual's unknowns are m × block (λ_ν and the tangential forces of each node); with
+  // adhesion and no friction each bonded node's pull besides its force (BondDual): up to 2m.
+  const bool pulls = needs.adhesion && block == 1;
+  const int n = m * block * (pulls ? 2 : 1);
   const std::string unknowns =
-      block == 1 ? fmt::format("{} contact nodes", m) : fmt::format("{} contact unknowns ({} nodes x {})", n, m, block);
+      pulls        ? fmt::format("{} contact unknowns ({} nodes, a bonded node's pull besides its force)", n, m)
+      : block == 1 ? fmt::format("{} contact nodes", m)
+                   : fmt::format("{} contact unknowns ({} nodes x {})", n, m, block);
   ContactSolverPick pick{"active-set", fmt::format("auto: {} <= {} and a direct solver", unknowns, kDualContactRows)};
   if (!la::Backend::is_direct(linear_solver))
     pick = {"primal-active-set", fmt::format("auto: {} is iterative (the dual's S would take {} solves)", linear_solver, n)};

@@ -8,6 +8,7 @@
 // cases/peel-2d.toml: both solvers agree, a debonded surface is Signorini's, a resume is bitwise.
 #include "friction_runs.hpp"
 #include "io/checkpoint.hpp"
+#include "solvers/contact_capabilities.hpp"
 
 #include <fmt/format.h>
 
@@ -281,6 +282,20 @@ TEST(AdhesionRuns, ErrorControlledStepsKeepTheBondingMonotone) {
     rejected += r.rejected;
   });
   std::printf("  peel-2d under error control: %d rejected steps\n", rejected);
+}
+
+// The automatic choice counts a bonded node's pull as a dual unknown besides its force (the dual's box QP
+// splits each bonded row): 1200 nodes are 2400 unknowns, past the dual's bound; with friction the dual
+// keeps its m × d (the pull is in λ_ν's own projection there).
+TEST(AdhesionKeys, AutomaticChoiceCountsTheBondedPulls) {
+  ContactNeeds bonded;
+  bonded.adhesion = true;
+  EXPECT_EQ(pick_contact_solver("auto", 900, "cholmod", bonded, 1).name, "active-set");
+  const ContactSolverPick p = pick_contact_solver("auto", 1200, "cholmod", bonded, 1);
+  EXPECT_EQ(p.name, "primal-active-set");
+  EXPECT_NE(p.why.find("2400 contact unknowns (1200 nodes, a bonded node's pull besides its force)"), std::string::npos)
+      << p.why;
+  EXPECT_EQ(pick_contact_solver("auto", 600, "cholmod", bonded, 3).name, "active-set");
 }
 
 TEST(AdhesionKeys, BadAdhesionInputsAreLocatedErrors) {
