@@ -1,6 +1,7 @@
 #include "solvers/dual_active_set.hpp"
 
 #include "core/error.hpp"
+#include "solvers/bond_dual.hpp"
 #include "solvers/box_qp.hpp"
 #include "solvers/compliance_dual.hpp"
 #include "solvers/friction_dual.hpp"
@@ -78,57 +79,32 @@ class ComplianceDual final : public DualProblem {
   Vector compliance_, lower_, bond_length_;  // bond_length_: every row's L_i (replicated), empty without adhesion
 };
 
-/// Adhesion's bonds (SPEC §9) on Signorini and linear compliance rows: still a box QP, in more unknowns.
-/// With the step's bonds a_j > 0 on rows B, the dual of the step minimizes the strictly convex
-///   ½λᵀSλ − bᵀλ + Σ_compliant λ_j₊²/(2k_j) + Σ_{j∈B} λ_j₋²/(2a_j)   over λ_j ≥ lower_j − a_j L_j,
-/// (its optimality: a closed or pressing row's own law where λ_j ≥ 0, the bond's λ_j = a_j max(d_j, −L_j)
-/// where λ_j < 0). Splitting λ = p − E q, p its pressing part (p ≥ lower) and q ∈ [0, a L] the bonded
-/// rows' pull, makes the penalty quadratic: the box QP of
-///   H = [S + diag(1/k)   −S E;  −Eᵀ S   EᵀS E + diag(1/a)],  [b; −Eᵀ b],
-/// which is positive definite ((p − Eq)ᵀS(p − Eq) + Σ q²/a vanishes only at 0), so the primal–dual
-/// active set solves it exactly and finitely (solve_box_qp, with its guard against cycling) also at
-/// the nodes the peel has not reached, which sit at the kink λ = 0 = d of their graph.
+/// Adhesion's bonds (SPEC §9) on Signorini and linear compliance rows (bond_dual.hpp): the three-state
+/// active set, or the split box QP where its sets come back or a law bounds λ above.
 class BondDual final : public DualProblem {
  public:
-  BondDual(Eigen::MatrixXd S, Vector lower, Vector upper, Vector bond_length)
-      : S_(std::move(S)), lower_(std::move(lower)), upper_(std::move(upper)), bond_length_(std::move(bond_length)) {}
+  BondDual(Eigen::MatrixXd S, Vector spring, Vector lower, Vector upper, Vector bond_length)
+      : S_(std::move(S)), spring_(std::move(spring)), lower_(std::move(lower)), upper_(std::move(upper)),
+        bond_length_(std::move(bond_length)) {}
   BoxQpResult solve(const la::Comm& comm, const ContactConstraints& c, const Vector& b, Vector& lambda) override {
-    const Eigen::Index m = S_.rows();
     const Vector bond = replicate(comm, c, c.bond.size() ? c.bond : Vector(Vector::Zero(c.bond_length.size())));
-    std::vector<Eigen::Index> bonded;
-    for (Eigen::Index j = 0; j < m; ++j)
-      if (bond[j] > 0) bonded.push_back(j);
-    const auto nb = static_cast<Eigen::Index>(bonded.size());
-    Eigen::MatrixXd H(m + nb, m + nb);
-    H.topLeftCorner(m, m) = S_;
-    Vector rhs(m + nb), lo(m + nb), hi(m + nb), x(m + nb);
-    rhs.head(m) = b;
-    lo.head(m) = lower_;
-    hi.head(m) = upper_;
-    if (lambda.size() != m) lambda = Vector::Zero(m);
-    x.head(m) = lambda;
-    for (Eigen::Index k = 0; k < nb; ++k) {
-      const Eigen::Index j = bonded[static_cast<std::size_t>(k)];
-      H.col(m + k).head(m) = -S_.col(j);
-      H.row(m + k).head(m) = -S_.row(j);
-      for (Eigen::Index l = 0; l < nb; ++l) H(m + k, m + l) = S_(j, bonded[static_cast<std::size_t>(l)]);
-      H(m + k, m + k) += 1 / bond[j];
-      rhs[m + k] = -b[j];
-      lo[m + k] = 0;
-      hi[m + k] = bond[j] * bond_length_[j];
-      x[m + k] = std::max(-lambda[j], 0.0);  // the warm start split: its pull, and its pressing part
-      x[j] = std::max(lambda[j], lower_[j]);
+    if (lambda.size() != S_.rows()) lambda = Vector::Zero(S_.rows());
+    if ((upper_.array() == std::numeric_limits<double>::infinity()).all()) {  // (no law here bounds λ above)
+      Vector x = lambda;
+      if (const std::optional<BoxQpResult> r = solve_bond_states(S_, spring_, lower_, bond, bond_length_, b, x)) {
+        lambda = x;
+        return *r;
+      }
     }
-    DenseBoxQpOperator H_op(std::move(H));
-    const BoxQpResult r = solve_box_qp(H_op, rhs, lo, hi, x);
-    lambda = x.head(m);
-    for (Eigen::Index k = 0; k < nb; ++k) lambda[bonded[static_cast<std::size_t>(k)]] -= x[m + k];
+    BoxQpResult r = solve_bond_split(S_, spring_, lower_, upper_, bond, bond_length_, b, lambda);
+    ++r.cycles;  // (the three states' sets came back: counted as the box QP counts its own)
     return r;
   }
-  std::string describe() const override { return "; the bonds' tension branches (adhesion) as a box QP"; }
+  std::string describe() const override { return "; the bonds' tension branches (adhesion) by a three-state active set"; }
 
  private:
   Eigen::MatrixXd S_;  // S + diag(1/k) on the linear compliance rows
+  Vector spring_;      // 1/k_j on those rows, 0 on rigid ones (every row's, replicated)
   Vector lower_, upper_, bond_length_;
 };
 
@@ -260,7 +236,13 @@ class ActiveSetContactSolver final : public ContactSolver {
       lo[static_cast<Eigen::Index>(j)] = lower_[static_cast<Eigen::Index>(j)];
       hi[static_cast<Eigen::Index>(j)] = row_laws_[j]->dual_upper();
     }
-    if (bond_length_.size()) return std::make_unique<BondDual>(std::move(S), std::move(lo), std::move(hi), bond_length_);
+    if (bond_length_.size()) {
+      Vector spring = Vector::Zero(c_.m);  // 1/k of the linear compliance rows, the springs added to S
+      for (std::size_t j = 0; j < row_laws_.size(); ++j)
+        if (const ContactLaw* law = row_laws_[j]; !law->rigid())
+          spring[static_cast<Eigen::Index>(j)] = law->spring_compliance(compliance_[static_cast<Eigen::Index>(j)]);
+      return std::make_unique<BondDual>(std::move(S), std::move(spring), std::move(lo), std::move(hi), bond_length_);
+    }
     return std::make_unique<BoxDual>(std::move(S), std::move(lo), std::move(hi));
   }
   std::string describe_solves() const {
