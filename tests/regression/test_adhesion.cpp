@@ -258,6 +258,38 @@ TEST(AdhesionRuns, WithNormalComplianceTheBondPullsBelowTheLawsPressingBranch) {
   }
 }
 
+TEST(AdhesionRuns, OnAPairTheSlaveSideBondsAndThePatchTestHolds) {
+  // contact-patch-2d's blocks bonded across their pair and pulled apart (the upper top up by 0.01 t): each
+  // block in uniaxial stress, E* = E/(1 − ν²) in plane strain, in series with the bond, so the separation
+  // is uniform, s = δ/(1 + γ α² (H_l/E*_l + H_u/E*_u)), α is uniform and follows the recursion, and the
+  // pair's force is γ α² s times the interface's length 1 (the dual mortar passes the patch test).
+  const double gamma = 2e4, b = 0.01, nu = 0.3;
+  const double compliance = 0.5 / (1000 / (1 - nu * nu)) + 0.5 / (3000 / (1 - nu * nu));
+  const std::vector<std::string> sets = {"boundary.displacement[0].uy=\"0.01*t\"", "contact.pair[0].adhesion=\"fremond\"",
+                                         fmt::format("contact.pair[0].bond_stiffness={}", gamma),
+                                         "contact.pair[0].bond_length=1", fmt::format("contact.pair[0].bond_viscosity={}", b),
+                                         "time.steps=10"};
+  for (const std::string solver : {"active-set", "primal-active-set"}) {
+    SCOPED_TRACE(solver);
+    Case c = case_of("contact-patch-2d", shipped_text("contact-patch-2d"), sets);
+    c.solvers.contact = solver;
+    double alpha = 1, s_before = 0, off_alpha = 0, off_force = 0;
+    run_to_end(c, [&](const TimeStepper& t, const StepReport& r) {
+      alpha *= std::exp(-gamma * s_before * s_before * r.k / b);
+      const double s = 0.01 * r.t / (1 + gamma * alpha * alpha * compliance);
+      const Vector& a = t.state().surface_field("bonding")->values;
+      off_alpha = std::max(off_alpha, (a.array() - alpha).abs().maxCoeff());
+      off_force = std::max(off_force, std::abs(r.surface_integral[0] - gamma * alpha * alpha * s) / (gamma * s));
+      s_before = s;
+    });
+    std::printf("  %s: the slave's bonding against the uniform recursion %.3g, adhesive force %.3g (alpha = %.4f)\n",
+                solver.c_str(), off_alpha, off_force, alpha);
+    EXPECT_LT(alpha, 0.95);
+    EXPECT_LE(off_alpha, 1e-10);
+    EXPECT_LE(off_force, 1e-10);
+  }
+}
+
 TEST(AdhesionRuns, ADebondedSurfaceIsSignorinis) {
   for (const std::string solver : {"active-set", "primal-active-set"}) {
     SCOPED_TRACE(solver);
