@@ -138,34 +138,40 @@ void set_initial_surface_state(const DiscreteSystem& sys, const Vector& gap, Sta
   mine.publish(part.comm, s);
 }
 
-Vector surface_bond(const DiscreteSystem& sys, const State& s, double k) {
-  if (!sys.problem->contact.adhesive()) return {};
-  const auto table = laws_with_fields(sys.problem->contact, s);
-  const auto values = [&](std::size_t f) { return s.surface[f].values.data(); };
-  std::vector<double> bond;
-  for (const PartContactNode& node : sys.contact->nodes) {
-    if (!node.owned) continue;
-    double a = 0;
-    for (const LawFields& lf : table[static_cast<std::size_t>(node.law)])
-      a += lf.law->bond(node_values<const double>(lf, s.surface, node.row, values), sys.part.mesh().node(node.local_node), k);
-    bond.push_back(a * node.measure);
-  }
-  return Eigen::Map<Vector>(bond.data(), static_cast<Eigen::Index>(bond.size()));
-}
+namespace {
 
-Vector surface_gap_shift(const DiscreteSystem& sys, const State& s) {
-  if (s.surface.empty()) return {};
+/// Per owned row in row order, the sum over its node's laws that keep state of term(law, values, node),
+/// `values` the node's numbers of the law's variables in s.
+template <class Term>
+Vector sum_over_laws(const DiscreteSystem& sys, const State& s, Term term) {
   const auto table = laws_with_fields(sys.problem->contact, s);
   const auto values = [&](std::size_t f) { return s.surface[f].values.data(); };
-  std::vector<double> shift;
+  std::vector<double> out;
   for (const PartContactNode& node : sys.contact->nodes) {
     if (!node.owned) continue;
     double sum = 0;
     for (const LawFields& lf : table[static_cast<std::size_t>(node.law)])
-      sum += lf.law->gap_shift(node_values<const double>(lf, s.surface, node.row, values));
-    shift.push_back(sum);
+      sum += term(*lf.law, node_values<const double>(lf, s.surface, node.row, values), node);
+    out.push_back(sum);
   }
-  return Eigen::Map<Vector>(shift.data(), static_cast<Eigen::Index>(shift.size()));
+  return Eigen::Map<Vector>(out.data(), static_cast<Eigen::Index>(out.size()));
+}
+
+}  // namespace
+
+Vector surface_bond(const DiscreteSystem& sys, const State& s, double k) {
+  if (!sys.problem->contact.adhesive()) return {};
+  const Mesh& mesh = sys.part.mesh();
+  return sum_over_laws(sys, s, [&](const SurfaceHistory& law, std::span<const double* const> v, const PartContactNode& node) {
+    return law.bond(v, mesh.node(node.local_node), k) * node.measure;
+  });
+}
+
+Vector surface_gap_shift(const DiscreteSystem& sys, const State& s) {
+  if (s.surface.empty()) return {};
+  return sum_over_laws(sys, s, [](const SurfaceHistory& law, std::span<const double* const> v, const PartContactNode&) {
+    return law.gap_shift(v);
+  });
 }
 
 void record_gap_left(const DiscreteSystem& sys, const Vector& g, State& s) {

@@ -19,6 +19,12 @@ int common_block_columns(const la::Comm& comm, Eigen::Index n_owned, int most) {
   return static_cast<int>(comm.min(rhs_block_columns(n_owned, most)));
 }
 
+/// Every row's bond a_i of the step (ContactConstraints::bond; 0 where a set made by hand has none yet),
+/// the same on every rank.
+Vector replicated_bonds(const la::Comm& comm, const ContactConstraints& c) {
+  return replicate(comm, c, c.bond.size() ? c.bond : Vector(Vector::Zero(c.bond_length.size())));
+}
+
 /// The dual problem of a step for b = B K⁻¹F − [g; h] (replicated), chosen once where the solver is
 /// built (ActiveSetContactSolver::dual_problem): the box QP, the nonlinear compliance law's Newton,
 /// or friction's dual over each node's block.
@@ -63,7 +69,7 @@ class ComplianceDual final : public DualProblem {
   BoxQpResult solve(const la::Comm& comm, const ContactConstraints& c, const Vector& b, Vector& lambda) override {
     if (bond_length_.size() == 0)
       return solve_compliance_dual(S_, b, laws_, compliance_, lambda, kComplianceDualIterations, lower_);
-    const Vector bond = replicate(comm, c, c.bond.size() ? c.bond : Vector(Vector::Zero(c.bond_length.size())));
+    const Vector bond = replicated_bonds(comm, c);
     const Vector lower = lower_ - bond.cwiseProduct(bond_length_);
     return solve_compliance_dual(S_, b, laws_, compliance_, lambda, kComplianceDualIterations, lower, bond,
                                  bond_length_);
@@ -85,11 +91,12 @@ class BondDual final : public DualProblem {
  public:
   BondDual(Eigen::MatrixXd S, Vector spring, Vector lower, Vector upper, Vector bond_length)
       : S_(std::move(S)), spring_(std::move(spring)), lower_(std::move(lower)), upper_(std::move(upper)),
-        bond_length_(std::move(bond_length)) {}
+        bond_length_(std::move(bond_length)),
+        unbounded_((upper_.array() == std::numeric_limits<double>::infinity()).all()) {}
   BoxQpResult solve(const la::Comm& comm, const ContactConstraints& c, const Vector& b, Vector& lambda) override {
-    const Vector bond = replicate(comm, c, c.bond.size() ? c.bond : Vector(Vector::Zero(c.bond_length.size())));
+    const Vector bond = replicated_bonds(comm, c);
     if (lambda.size() != S_.rows()) lambda = Vector::Zero(S_.rows());
-    if ((upper_.array() == std::numeric_limits<double>::infinity()).all()) {  // (no law here bounds λ above)
+    if (unbounded_) {
       Vector x = lambda;
       if (const std::optional<BoxQpResult> r = solve_bond_states(S_, spring_, lower_, bond, bond_length_, b, x)) {
         lambda = x;
@@ -106,6 +113,7 @@ class BondDual final : public DualProblem {
   Eigen::MatrixXd S_;  // S + diag(1/k) on the linear compliance rows
   Vector spring_;      // 1/k_j on those rows, 0 on rigid ones (every row's, replicated)
   Vector lower_, upper_, bond_length_;
+  bool unbounded_;  // no law here bounds λ above (the three states' premise)
 };
 
 /// Friction (friction_dual.hpp): each node's block λ_ν, λ_τ over its sets, with the step's bounds.
@@ -115,7 +123,7 @@ class FrictionDual final : public DualProblem {
   BoxQpResult solve(const la::Comm& comm, const ContactConstraints& c, const Vector& b, Vector& lambda) override {
     sets_.tresca = replicate(comm, c, c.tresca);
     if (sets_.bond_length.size()) {  // adhesion: the step's bonds, each bonded node's λ_ν ≥ lo − a L
-      sets_.bond = replicate(comm, c, c.bond.size() ? c.bond : Vector(Vector::Zero(c.bond_length.size())));
+      sets_.bond = replicated_bonds(comm, c);
       sets_.lo = lo_ - sets_.bond.cwiseProduct(sets_.bond_length);
     }
     return solve_friction_dual(S_, b, sets_, lambda);

@@ -36,9 +36,6 @@ PrimalOperator::PrimalOperator(std::shared_ptr<const la::SpdOperator> K, std::sh
       basis_(contact_basis(c_.N, c_.node_dofs, c_.master_mean)), rows_(basis_.rows) {
   for (Eigen::Index i = 0; i < static_cast<Eigen::Index>(rows_.size()); ++i) {
     lower_.push_back(c_.lower_of(i));
-    law_lower_.push_back(lower_.back() + c_.bond_of(i) * c_.bond_length_of(i));
-    bond_.push_back(c_.bond_of(i));
-    bond_length_.push_back(c_.bond_length_of(i));
     if (c_.laws.empty()) continue;
     const ContactLaw& law = c_.law_of(i);  // rigid or linear (contact_capabilities.hpp: the primal's row)
     // An active compliant row is the spring of the law's linearization (exact for a linear law).
@@ -53,10 +50,8 @@ PrimalOperator::PrimalOperator(std::shared_ptr<const la::SpdOperator> K, std::sh
 
 void PrimalOperator::set_bond(const Vector& bond) {
   set_bond_data(c_, bond);
-  for (std::size_t i = 0; i < rows_.size(); ++i) {
-    bond_[i] = bond[static_cast<Eigen::Index>(i)];
-    lower_[i] = law_lower_[i] - bond_[i] * bond_length_[i];
-  }
+  for (Eigen::Index i = 0; i < static_cast<Eigen::Index>(rows_.size()); ++i)
+    lower_[static_cast<std::size_t>(i)] = c_.lower_of(i);
 }
 
 /// The semismooth Newton's choice of branch of a bonded row's graph (λ ≥ 0 at d = 0, or the law's
@@ -66,14 +61,14 @@ void PrimalOperator::set_bond(const Vector& bond) {
 /// compliant row, whose force is a function of d.
 char PrimalOperator::bonded_state(Eigen::Index i, double lambda, double d) const {
   const auto k = static_cast<std::size_t>(i);
-  const double a = bond_[k], L = bond_length_[k];
+  const double a = c_.bond_of(i), L = c_.bond_length_of(i);
   if (compliant(i)) return d > 0 ? kOn : d > -L ? kBonded : kOff;
-  const double z = lambda - law_lower_[k] + scale_[k] * d;
+  const double z = lambda - (lower_[k] + a * L) + scale_[k] * d;  // λ above the law's own bound
   return z > 0 ? kOn : z > -(a + scale_[k]) * L ? kBonded : kOff;
 }
 
 char PrimalOperator::first_state(Eigen::Index i, double lambda, double gap) const {
-  if (bond_[static_cast<std::size_t>(i)] > 0) return bonded_state(i, lambda, -gap);
+  if (c_.bond_of(i) > 0) return bonded_state(i, lambda, -gap);
   return lambda > lower(i) || gap < 0 ? kOn : kOff;
 }
 
@@ -107,7 +102,8 @@ int PrimalOperator::factorize_for(const std::vector<char>& active, const Tangent
   for (size_t i = 0; i < rows_.size(); ++i) {
     if (!active[i]) continue;
     if (active[i] == kBonded)  // the bond's spring a_i
-      springs.emplace_back(rows_[i].dof, rows_[i].dof, rows_[i].alpha * rows_[i].alpha * bond_[i]);
+      springs.emplace_back(rows_[i].dof, rows_[i].dof,
+                           rows_[i].alpha * rows_[i].alpha * c_.bond_of(static_cast<Eigen::Index>(i)));
     else if (compliant(static_cast<Eigen::Index>(i)))
       springs.emplace_back(rows_[i].dof, rows_[i].dof, rows_[i].alpha * rows_[i].alpha / spring_[i]);
     else
@@ -205,7 +201,7 @@ PrimalOperator::Solved PrimalOperator::solve_constrained(const std::vector<char>
     }
     const auto e = static_cast<Eigen::Index>(i);
     if (active[i] == kBonded)  // λ = a (N u − g): the spring's load a g
-      rhs[rows_[i].dof] += rows_[i].alpha * c_.gap[e] * bond_[i];
+      rhs[rows_[i].dof] += rows_[i].alpha * c_.gap[e] * c_.bond_of(e);
     else if (compliant(e))
       rhs[rows_[i].dof] += rows_[i].alpha * c_.gap[e] / spring_[i];
     else
@@ -301,10 +297,10 @@ void PrimalOperator::normal_update(const std::vector<char>& active, const Vector
   for (Eigen::Index i = 0; i < static_cast<Eigen::Index>(rows_.size()); ++i) {
     const RotatedRow& row = rows_[i];
     const double gap = gap_left(w, i);
-    if (bond_[static_cast<std::size_t>(i)] > 0) {  // adhesion: three branches (bonded_state)
+    if (c_.bond_of(i) > 0) {  // adhesion: three branches (bonded_state)
       const char state = active[i];
       lambda_local[i] = state == kOff      ? lower_[static_cast<std::size_t>(i)]
-                        : state == kBonded ? -gap * bond_[static_cast<std::size_t>(i)]
+                        : state == kBonded ? -gap * c_.bond_of(i)
                         : compliant(i)     ? -gap / spring_[static_cast<std::size_t>(i)]
                                            : r[row.dof] / row.alpha;
       next[i] = bonded_state(i, lambda_local[i], state == kOn && !compliant(i) ? 0.0 : -gap);
@@ -332,7 +328,7 @@ void PrimalOperator::release_one(const std::vector<char>& active, std::vector<ch
                                  Eigen::Index worst) const {
   const double global_worst = K_->comm().min(most_negative);
   for (Eigen::Index i = 0; i < static_cast<Eigen::Index>(rows_.size()); ++i)
-    if (!compliant(i) && !(bond_[static_cast<std::size_t>(i)] > 0))  // (a bond's spring branch cannot cycle)
+    if (!compliant(i) && !(c_.bond_of(i) > 0))  // (a bond's spring branch cannot cycle)
       next[i] = active[i] ? !(i == worst && most_negative == global_worst) : next[i];
 }
 

@@ -99,8 +99,6 @@ class PrimalOperator {
   static constexpr char kOff = 0, kOn = 1, kBonded = 2;
   /// Row i's state for a first iterate from the force λ and the gap left g_i − N_i u.
   char first_state(Eigen::Index i, double lambda, double gap) const;
-  /// Row i's bond a_i of the step (0: none, or debonded).
-  double bond(Eigen::Index i) const { return bond_[static_cast<std::size_t>(i)]; }
 
   /// Each local row's dof k and α in w.
   const std::vector<RotatedRow>& rows() const { return rows_; }
@@ -160,10 +158,9 @@ class PrimalOperator {
   std::vector<RotatedRow> rows_;   // per local row
   std::vector<double> scale_;      // c_i of the update rule
   std::vector<double> spring_;     // per local row: 1/k of an active compliant row's spring, 0 for a rigid row
-  std::vector<double> lower_;      // per local row: its force's lower bound (0 but for a law with tension, or a bond)
-  std::vector<double> law_lower_;  // ... its law's alone (ContactLaw::dual_lower)
-  std::vector<double> bond_, bond_length_;  // per local row: the step's bond a_i and its length L_i (0: none)
-  /// The next state of a bonded row from its force and penetration d = N_i u − g_i (set_bond).
+  std::vector<double> lower_;      // per local row: its force's lower bound (0 but for a law with tension, or
+                                   // the step's bond: ContactConstraints::lower_of, again at set_bond)
+  /// The next state of a bonded row (c_.bond_of(i) > 0) from its force and penetration d = N_i u − g_i.
   char bonded_state(Eigen::Index i, double lambda, double d) const;
   Vector diagonal_;                // K_rot's
   std::shared_ptr<la::SpdOperator> A_;  // K_rot (+ springs) with the factored set's rows fixed
