@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 namespace vpc::case_file {
 
@@ -126,35 +127,39 @@ std::shared_ptr<const FrictionLaw> read_friction_law(Section& s, std::shared_ptr
   return make_friction_law(name, keys);
 }
 
+/// What `key` of a table names, "none" or `law` (a surface law of SPEC §9: wear, adhesion); nothing where the
+/// table has no `key`, which then takes [contact]'s: a key of the law (`law_keys`) without it is a located error.
+std::optional<std::string> surface_law_choice(Section& s, const std::string& key, const std::string& law,
+                                              const std::vector<std::string>& law_keys) {
+  if (!s.has(key)) {
+    for (const std::string& k : law_keys)
+      if (s.has(k)) fail("{}: {} needs {} = \"{}\" in the same table", s.where(k), k, key, law);
+    return std::nullopt;
+  }
+  return s.choice(key, {"none", law}, "none");
+}
+
 /// The wear of a [contact], [[contact.part]] or [[contact.pair]] table (SPEC §9): wear = "none" or
 /// "archard" (wear_coefficient, wear_cap, wear_warning); `inherited` where the table has no wear key.
 std::shared_ptr<const ArchardWear> read_wear_law(Section& s, std::shared_ptr<const ArchardWear> inherited, int dim) {
-  if (!s.has("wear")) {
-    for (const std::string& k : wear_keys())
-      if (s.has(k)) fail("{}: {} needs wear = \"archard\" in the same table", s.where(k), k);
-    return inherited;
-  }
-  const std::string name = s.choice("wear", {"none", "archard"}, "none");
-  if (name != "none" && dim < 2)
+  const std::optional<std::string> name = surface_law_choice(s, "wear", "archard", wear_keys());
+  if (!name) return inherited;
+  if (*name != "none" && dim < 2)
     fail("{}: wear needs a body of dimension 2 or 3 (Archard's wear follows the tangential slip, which a 1D bar "
          "does not have)",
          s.where("wear"));
   SectionFrictionKeys keys(s);
-  return make_wear_law(name, keys);
+  return make_wear_law(*name, keys);
 }
 
 /// The adhesion of a [contact], [[contact.part]] or [[contact.pair]] table (SPEC §9): adhesion = "none"
 /// or "fremond" (bond_stiffness, bond_length, bond_viscosity, adhesion_energy, bonding); `inherited`
 /// where the table has no adhesion key.
 std::shared_ptr<const FremondAdhesion> read_adhesion_law(Section& s, std::shared_ptr<const FremondAdhesion> inherited) {
-  if (!s.has("adhesion")) {
-    for (const std::string& k : adhesion_keys())
-      if (s.has(k)) fail("{}: {} needs adhesion = \"fremond\" in the same table", s.where(k), k);
-    return inherited;
-  }
-  const std::string name = s.choice("adhesion", {"none", "fremond"}, "none");
+  const std::optional<std::string> name = surface_law_choice(s, "adhesion", "fremond", adhesion_keys());
+  if (!name) return inherited;
   SectionFrictionKeys keys(s);
-  return make_adhesion_law(name, keys);
+  return make_adhesion_law(*name, keys);
 }
 
 /// A contact law: `law`, a name in the registry (contact/registry.cpp; default "signorini"),
