@@ -42,6 +42,8 @@ class FremondAdhesion final : public SurfaceHistory {
   FremondAdhesion(double stiffness, double length, double viscosity, double energy = 0, double bonding = 1);
   std::string describe() const;
   double stiffness(const Point& x) const { return gamma_(x, 0.0); }
+  /// α_0 at x.
+  double bonding(const Point& x) const { return alpha0_(x, 0.0); }
   double length() const { return length_; }
   /// α_n from α_{n−1} and s_{n−1} over a step of size k (the exact solution with s frozen).
   double carried(double alpha, double separation, const Point& x, double k) const;

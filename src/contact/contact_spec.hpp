@@ -77,6 +77,10 @@ struct ContactSpec {
   std::vector<std::shared_ptr<const FremondAdhesion>> adhesions() const;
   /// Whether some entry's law keeps a bond (SurfaceHistory::bond_length > 0: adhesion).
   bool adhesive() const;
+  /// `held_by_bond = true`: the bonds on Γ3 hold the bodies that the prescribed displacements leave free
+  /// (check_body_held); K is then singular, the primal solver factors it with the bonds' springs, and a
+  /// step whose load the remaining bonds cannot hold fails as a pull-off (SPEC §9).
+  bool held_by_bond = false;
   /// Whether the contact nodes carry tangential unknowns and slip (the friction frame, State::slip):
   /// friction somewhere, or wear, which needs the slip (a node without friction has the bound 0).
   bool tangential() const;

@@ -64,15 +64,22 @@ void read_displacements(Section& b, Problem& p, const Origins& origins, bool che
 
 }  // namespace
 
-/// `pairs`: the case has [[contact.pair]]s, and Γ3 (`contact`) may then be left out.
-void read_boundary(Section b, Problem& p, const Origins& origins, bool check, bool pairs) {
+/// `pairs`: the case has [[contact.pair]]s, and Γ3 (`contact`) may then be left out; `held_by_bond`:
+/// [contact] says its bonds hold a body, and Γ1 may be left out (Problem::validate checks what holds it).
+void read_boundary(Section b, Problem& p, const Origins& origins, bool check, bool pairs, bool held_by_bond) {
   if (!b.exists()) fail("{}: missing section [boundary] (clamped and contact parts)", origins.file);
   read_displacements(b, p, origins, check);
   p.symmetry = read_parts(b, "symmetry", p, false, check);
   if (check)
     for (const auto& part : p.symmetry) located(b.where("symmetry"), [&] { symmetry_axis(p.mesh, part); });
   // Γ1 may be left out when prescribed displacements or symmetry planes hold the body.
-  p.clamped = read_parts(b, "clamped", p, p.displacement.empty() && p.symmetry.empty(), check);
+  const bool unheld = p.displacement.empty() && p.symmetry.empty() && !held_by_bond;
+  if (unheld && !b.has("clamped"))
+    fail("{}: missing key 'boundary.clamped': nothing holds the body: give the clamped parts Γ1 (a string or an array "
+         "of strings), prescribed displacements ([[boundary.displacement]]) or symmetry parts; or, where adhesion "
+         "alone holds it, [contact] held_by_bond = true",
+         b.where_section());
+  p.clamped = read_parts(b, "clamped", p, unheld, check);
   p.contact.parts = read_parts(b, "contact", p, !pairs, check);
   p.traction = read_parts(b, "traction", p, false, check);
   b.finish();

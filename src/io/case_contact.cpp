@@ -244,6 +244,10 @@ bool read_contact(Section ct, Problem& p, const Origins& origins) {
   p.contact.friction = read_friction_law(ct, nullptr, p.mesh.dim());
   p.contact.wear = read_wear_law(ct, nullptr, p.mesh.dim());
   p.contact.adhesion = read_adhesion_law(ct, nullptr);
+  p.contact.held_by_bond = ct.boolean("held_by_bond", false);
+  if (p.contact.held_by_bond && !p.contact.adhesion && !ct.has("part"))
+    fail("{}: held_by_bond = true, but [contact] has no adhesion: a bond holds a body only where adhesion = "
+         "\"fremond\" bonds it", ct.where("held_by_bond"));
   if (ct.has("part")) {  // [[contact.part]]: another law on some parts
     const toml::node* list = ct.get("part");
     if (!list->is_array_of_tables())

@@ -68,7 +68,7 @@ std::vector<Section> read_body_meshes(Section& top, Problem& p, const std::files
 VectorField vector_field(std::vector<std::shared_ptr<const Expression>> e);
 
 /// `pairs`: the case has [[contact.pair]]s, and Γ3 (`contact`) may then be left out.
-void read_boundary(Section b, Problem& p, const Origins& origins, bool check, bool pairs);
+void read_boundary(Section b, Problem& p, const Origins& origins, bool check, bool pairs, bool held_by_bond = false);
 /// [loads]: f0, f2 and [[loads.pressure]].
 void read_loads(Section l, Problem& p, const Origins& origins, bool check);
 

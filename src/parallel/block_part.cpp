@@ -163,7 +163,7 @@ ContactRows validate_blocks(const la::Comm& comm, const Problem& p) {
   // The body is held: its prescribed dofs summed over the ranks' own nodes (every rank reaches the
   // sum, and then throws alike).
   la::collective(comm, [&] {
-    check_block_held(p, dirichlet.condition, own, [&](double* v, int n) { comm.sum(v, n); });
+    check_block_held(p, dirichlet.condition, own, *rows, [&](double* v, int n) { comm.sum(v, n); });
   });
   return rows;
 }

@@ -1,6 +1,7 @@
 #include "part/contact_set.hpp"
 
 #include "core/error.hpp"
+#include "problem/rigid_motions.hpp"
 #include "solvers/contact_frame.hpp"
 
 #include <algorithm>
@@ -26,6 +27,57 @@ double miss_gap_of(const MeshPart& part) {
     hi[j] = part.comm.max(h);
   }
   return contact_miss_gap(lo, hi);
+}
+
+/// The rigid motions of the part's bodies that their prescribed dofs leave free (`held_by_bond`: K is
+/// singular on them), as columns over the owned free dofs: each body's (RigidHold) from its prescribed
+/// components over every rank. Collective.
+Eigen::MatrixXd free_motions(const MeshPart& part) {
+  const Mesh& mesh = part.mesh();
+  const la::Comm& comm = part.comm;
+  const int d = mesh.dim(), owned = part.n_owned_nodes;
+  const std::vector<int> body_of = node_bodies(mesh, part.cell_body);
+  int bodies = 0;
+  for (int b : part.cell_body) bodies = std::max(bodies, b + 1);
+  bodies = static_cast<int>(comm.max(static_cast<double>(bodies)));
+  std::vector<Eigen::MatrixXd> columns;
+  int total = 0;
+  std::vector<RigidMotions> motions;
+  for (int b = 0; b < bodies; ++b) {
+    Point lo{0, 0, 0}, hi{0, 0, 0};
+    for (int j = 0; j < 3; ++j) {
+      double l = INFINITY, h = -INFINITY;
+      for (int i = 0; i < owned; ++i)
+        if (body_of[static_cast<std::size_t>(i)] == b) l = std::min(l, mesh.node(i)[j]), h = std::max(h, mesh.node(i)[j]);
+      lo[j] = comm.min(l);
+      hi[j] = comm.max(h);
+    }
+    motions.emplace_back(d, lo, hi);
+    RigidHold held(motions.back());
+    for (int i = 0; i < owned; ++i)
+      for (int c = 0; c < d && body_of[static_cast<std::size_t>(i)] == b; ++c)
+        if (part.dirichlet[static_cast<std::size_t>(i) * d + c] >= 0) {
+          Point axis{0, 0, 0};
+          axis[c] = 1;
+          held.add(mesh.node(i), axis);
+        }
+    columns.push_back(held.free_motions([&](double* v, int n) { comm.sum(v, n); }));
+    total += static_cast<int>(columns.back().cols());
+  }
+  Eigen::MatrixXd R = Eigen::MatrixXd::Zero(part.n_owned_dofs, total);
+  int col = 0;
+  for (int b = 0; b < bodies; ++b) {
+    const Eigen::MatrixXd& V = columns[static_cast<std::size_t>(b)];
+    for (int i = 0; i < owned && V.cols() > 0; ++i)
+      for (int c = 0; c < d && body_of[static_cast<std::size_t>(i)] == b; ++c)
+        if (const int dof = part.dofs.free_index(part.dofs.full_index(i, c)); dof >= 0) {
+          Point axis{0, 0, 0};
+          axis[c] = 1;
+          R.row(dof).segment(col, V.cols()) = motions[static_cast<std::size_t>(b)].along(mesh.node(i), axis).transpose() * V;
+        }
+    col += static_cast<int>(V.cols());
+  }
+  return R;
 }
 
 }  // namespace
@@ -157,6 +209,7 @@ ContactConstraints ContactSet::constraints(const Problem& p, const MeshPart& par
   c.limit = friction.limit;
   c.tresca = Vector::Zero(friction.mu.size());
   c.shift = Vector::Zero(friction.T.rows());
+  if (p.contact.held_by_bond) c.free_motions = free_motions(part);
   // Spread pairs: the other ranks' rows' entries at this rank's dofs; the products then sum over the
   // ranks (the same answer on every rank: the part's).
   c.remote = remote_pieces(part, c.rows, N_local, friction.T_local, c.block - 1);

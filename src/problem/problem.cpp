@@ -3,6 +3,7 @@
 #include "core/error.hpp"
 #include "core/expression.hpp"
 #include "problem/contact_rows.hpp"
+#include "problem/rigid_motions.hpp"
 #include "problem/stability.hpp"
 
 #include <Eigen/Dense>
@@ -117,69 +118,54 @@ namespace {
 /// Where the prescribed components (`condition`: DirichletDofs::condition) leave a
 /// rigid motion of the body free, the elastic stiffness K is singular and contact cannot
 /// hold the body (every contact solver factors or inverts K without it): refused before
-/// K's factorization fails, located at [boundary] and naming the free motion.
+/// K's factorization fails, located at [boundary] and naming the free motion. With
+/// `[contact] held_by_bond` (SPEC §9) the directions of the body's bonded contact nodes on Γ3 (`rows`:
+/// those of its nodes, bonded where α_0 γ_ν > 0) hold it as well: the primal solver then factors K
+/// with its bonds' springs, and a step whose load the remaining bonds cannot hold is a pull-off.
 /// Throws unless the prescribed dofs among `nodes` (one body's) stop every rigid motion of them.
 /// `body`: how the message names the body.
 /// The body's box is [lo, hi]; with `sum`, `nodes` are this rank's share of a body on several
-/// (Problem::block), whose matrices `sum` adds up over the ranks.
-void check_body_held(const Problem& p, const std::vector<int>& condition, const std::vector<int>& nodes,
-                     const std::string& body, Point lo, Point hi, const std::function<void(double*, int)>& sum = {}) {
+/// (Problem::block), whose matrices `sum` adds up over the ranks. Returns whether its bonds hold it.
+bool check_body_held(const Problem& p, const std::vector<int>& condition, const std::vector<int>& nodes,
+                     const std::vector<ContactRow>& rows, const std::string& body, Point lo, Point hi,
+                     const std::function<void(double*, int)>& sum = {}) {
   const Mesh& mesh = p.mesh;
-  const int d = mesh.dim(), m = d == 1 ? 1 : d == 2 ? 3 : 6;  // rigid motions: translations, then rotations
-  Point centre{0, 0, 0};
-  for (int j = 0; j < 3; ++j) centre[j] = (lo[j] + hi[j]) / 2;
-  double scale = 1e-300;
-  for (int j = 0; j < d; ++j) scale = std::max(scale, hi[j] - lo[j]);
-  // G = Σ r rᵀ over the prescribed dofs, r the rigid motions' values there (in coordinates
-  // centred and scaled to the body): a motion in G's kernel moves no prescribed dof.
-  Eigen::MatrixXd G = Eigen::MatrixXd::Zero(m, m);
-  Eigen::VectorXd r(m);
+  const int d = mesh.dim();
+  const RigidMotions motions(d, lo, hi);
+  RigidHold held(motions);
   for (int node : nodes)
-    for (int c = 0; c < d; ++c) {
-      if (condition[static_cast<std::size_t>(node) * d + c] < 0) continue;
-      Point y;
-      for (int j = 0; j < 3; ++j) y[j] = (mesh.node(node)[j] - centre[j]) / scale;
-      r.setZero();
-      r[c] = 1;
-      if (d == 2) r[2] = c == 0 ? -y[1] : y[0];  // ω e_z × y
-      if (d == 3) {                                // e_i × y, i = x, y, z
-        const double cross[3][3] = {{0, -y[2], y[1]}, {y[2], 0, -y[0]}, {-y[1], y[0], 0}};
-        for (int i = 0; i < 3; ++i) r[3 + i] = cross[i][c];
+    for (int c = 0; c < d; ++c)
+      if (condition[static_cast<std::size_t>(node) * d + c] >= 0) {
+        Point axis{0, 0, 0};
+        axis[c] = 1;
+        held.add(mesh.node(node), axis);
       }
-      G += r * r.transpose();
+  const Eigen::MatrixXd unheld = RigidHold(held).free_motions(sum);  // (a copy: the bonds join `held` below)
+  if (unheld.cols() == 0) return false;
+  if (p.contact.held_by_bond) {
+    std::vector<char> mine(static_cast<std::size_t>(mesh.n_nodes()), 0);
+    for (int node : nodes) mine[static_cast<std::size_t>(node)] = 1;
+    const auto adhesions = p.contact.adhesions();
+    for (const ContactRow& r : rows) {
+      const FremondAdhesion* bond = r.pair < 0 ? adhesions[static_cast<std::size_t>(r.law)].get() : nullptr;
+      const Point& x = mesh.node(r.node);
+      if (mine[static_cast<std::size_t>(r.node)] && bond && bond->bonding(x) * bond->stiffness(x) > 0)
+        held.add(x, r.direction);
     }
-  if (sum) sum(G.data(), m * m);
-  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(G);
-  const Eigen::VectorXd& lambda = eig.eigenvalues();  // increasing
-  if (lambda[0] > 1e-12 * std::max(lambda[m - 1], 1.0)) return;
-  Eigen::VectorXd v = eig.eigenvectors().col(0);
-  Eigen::Index big = 0;
-  v.cwiseAbs().maxCoeff(&big);
-  if (v[big] < 0) v = -v;  // the same motion, named with its larger component positive
-  v = v.unaryExpr([](double c) { return std::abs(c) < 1e-12 ? 0.0 : c; });  // no "-0"
-
-  std::string motion;
-  const double w = d == 2 ? std::abs(v[2]) : d == 3 ? v.tail(3).norm() : 0.0;
-  if (w <= 1e-6 * v.norm()) {
-    motion = fmt::format("a translation along ({:.3g}{})", v[0],
-                         d == 1 ? std::string() : fmt::format(", {:.3g}", v[1]) + (d == 3 ? fmt::format(", {:.3g}", v[2]) : ""));
-  } else if (d == 2) {  // a + ω e_z × y vanishes at y = (−a_y, a_x) / ω
-    motion = fmt::format("a rotation about the point ({:.6g}, {:.6g})", centre[0] - scale * v[1] / v[2],
-                         centre[1] + scale * v[0] / v[2]);
-  } else {  // a + w × y: its axis along w through (w × a) / |w|²
-    const Eigen::Vector3d a = v.head(3), axis = v.tail(3);
-    const Eigen::Vector3d y = axis.cross(a) / axis.squaredNorm();
-    const Eigen::Vector3d u = axis.normalized();
-    motion = fmt::format("a rotation about the axis along ({:.3g}, {:.3g}, {:.3g}) through ({:.6g}, {:.6g}, {:.6g})", u[0],
-                         u[1], u[2], centre[0] + scale * y[0], centre[1] + scale * y[1], centre[2] + scale * y[2]);
+    const Eigen::MatrixXd free = held.free_motions(sum);
+    if (free.cols() == 0) return true;
+    fail("{}: {} is not held: the prescribed displacements (clamped, displacement and symmetry parts) leave {} "
+         "free, and its bonded contact nodes (held_by_bond) do not stop it either (a bond pulls along the contact "
+         "direction only): prescribe components that stop this motion (a symmetry part, a displacement)",
+         p.where("boundary"), body, motions.describe(free.col(0)));
   }
   fail("{}: {} is not held: the prescribed displacements (clamped, displacement and symmetry parts) leave {} "
        "free, so the elastic stiffness K is singular; contact cannot hold the body (K must be positive definite "
        "without it){}: clamp a part, or prescribe components that stop this motion",
-       p.where("boundary"), body, motion,
-       // SPEC §9: a bond's pull holds a body only while it lasts; a body it alone held would fly off at pull-off.
-       p.contact.adhesive() ? ", and adhesion cannot hold it either (a bond weakens to 0, and a body it alone "
-                              "held would have no equilibrium at pull-off)"
+       p.where("boundary"), body, motions.describe(unheld.col(0)),
+       // SPEC §9: a bond's pull holds a body only while it lasts; a body it alone held flies off at pull-off.
+       p.contact.adhesive() ? "; adhesion holds it only where the case says so ([contact] held_by_bond = true: the "
+                              "run then ends at pull-off, where the remaining bond can no longer hold the load)"
                             : "");
 }
 
@@ -214,9 +200,20 @@ void check_pairs(const Problem& p) {
   }
 }
 
-/// Each body held by its prescribed displacements (a contact pair does not hold one either).
-void check_held(const Problem& p, const std::vector<int>& condition) {
+/// `held_by_bond` where no body needs its bonds is refused: the key would change the solver's choice and
+/// the checks for nothing (a body clamped in the case the user meant to float, say).
+void check_bonds_hold(const Problem& p, bool bonds_hold) {
+  require(!p.contact.held_by_bond || bonds_hold,
+          "{}: held_by_bond = true, but the prescribed displacements hold every body already (no body needs its bonds): "
+          "remove the key, or the supports that hold the body you meant the bond to hold",
+          p.where("contact.held_by_bond"));
+}
+
+/// Each body held by its prescribed displacements (a contact pair does not hold one either), or with
+/// `held_by_bond` by its bonds on Γ3 as well (then some body must need them: the key is not a no-op).
+void check_held(const Problem& p, const std::vector<int>& condition, const std::vector<ContactRow>& rows) {
   const Mesh& mesh = p.mesh;
+  bool bonds_hold = false;
   const std::vector<int> body_of = node_bodies(mesh, cell_bodies(mesh));
   for (int b = 0; b < mesh.n_bodies(); ++b) {
     std::vector<int> nodes;
@@ -229,20 +226,21 @@ void check_held(const Problem& p, const std::vector<int>& condition) {
         lo[j] = std::min(lo[j], mesh.node(node)[j]);
         hi[j] = std::max(hi[j], mesh.node(node)[j]);
       }
-    check_body_held(p, condition, nodes,
-                    mesh.n_bodies() == 1 ? std::string("the body")
-                    : b == 0             ? std::string("the body of [mesh]")
-                                         : fmt::format("body '{}'", p.bodies[static_cast<std::size_t>(b) - 1].name),
-                    lo, hi);
+    bonds_hold |= check_body_held(p, condition, nodes, rows,
+                                  mesh.n_bodies() == 1 ? std::string("the body")
+                                  : b == 0 ? std::string("the body of [mesh]")
+                                           : fmt::format("body '{}'", p.bodies[static_cast<std::size_t>(b) - 1].name),
+                                  lo, hi);
   }
+  check_bonds_hold(p, bonds_hold);
 }
 
 }  // namespace
 
 void check_block_held(const Problem& p, const std::vector<int>& condition, const std::vector<int>& nodes,
-                      const std::function<void(double*, int)>& sum) {
+                      const std::vector<ContactRow>& rows, const std::function<void(double*, int)>& sum) {
   require(p.block != nullptr && p.mesh.n_bodies() == 1, "internal: check_block_held on a mesh that is not one body's block");
-  check_body_held(p, condition, nodes, "the body", p.block->lo, p.block->hi, sum);
+  check_bonds_hold(p, check_body_held(p, condition, nodes, rows, "the body", p.block->lo, p.block->hi, sum));
 }
 
 ContactRows Problem::validate() const {
@@ -266,7 +264,7 @@ ContactRows Problem::validate() const {
   }
   require(law != nullptr, "{}: no viscoplastic law G", where);
   require(source != nullptr, "{}: no damage source phi", where);
-  require(!clamped.empty() || !displacement.empty() || !symmetry.empty(),
+  require(!clamped.empty() || !displacement.empty() || !symmetry.empty() || contact.held_by_bond,
           "{}: no clamped part Γ1 and no prescribed displacement given (the body must be held)", where);
   // On a block of the mesh (Problem::block) a part may lie elsewhere, and the body's supports too:
   // validate_blocks (parallel/block_part.hpp) checks those on all the blocks together.
@@ -286,7 +284,6 @@ ContactRows Problem::validate() const {
   }
   const std::vector<int> cell_material = cell_materials(*this);  // checks the materials' regions and kinds
   const DirichletDofs dirichlet = dirichlet_dofs(*this);  // checks the symmetry parts, values and conflicts
-  if (whole) check_held(*this, dirichlet.condition);
   require(!contact.parts.empty() || !contact.pairs.empty(), "{}: no contact part Γ3 and no contact pair given", where);
   check_pairs(*this);
   for (const auto& p : contact.parts)
@@ -323,6 +320,7 @@ ContactRows Problem::validate() const {
   located(where, [&] { check_gap(mesh, contact, block.get()); });
   // Directions against prescribed components, obstacles' gaps, the pairs' coverage and overlap.
   auto rows = std::make_shared<const std::vector<ContactRow>>(contact_rows(*this, dirichlet.condition));
+  if (whole) check_held(*this, dirichlet.condition, *rows);
   located(where, [&] { check_beta0(mesh, beta0, bodies.empty() ? -1 : 0, block.get()); });
   for (std::size_t b = 0; b < bodies.size(); ++b) {
     const std::string at = fmt::format("{}: body '{}'", where, bodies[b].name);

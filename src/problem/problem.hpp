@@ -185,7 +185,7 @@ int symmetry_axis(const Mesh& mesh, const std::string& part, const MeshBlock* bl
 /// motion), on a block of its mesh (Problem::block): `nodes` are this rank's own, and `sum` adds
 /// up n values over the ranks in place. Collective through `sum`; throws as validate.
 void check_block_held(const Problem& p, const std::vector<int>& condition, const std::vector<int>& nodes,
-                      const std::function<void(double*, int)>& sum);
+                      const std::vector<ContactRow>& rows, const std::function<void(double*, int)>& sum);
 /// The Dirichlet data of every node. Throws vpc::Error where two conditions prescribe
 /// different values of one component at a node (compared at t = 0 and t = T).
 DirichletDofs dirichlet_dofs(const Problem& p);

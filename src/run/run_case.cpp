@@ -68,7 +68,10 @@ std::string results_so_far(const Run& e, const RunOptions& o, int done, int last
   // was printed for a solver whose residual failed); smaller steps only where they can help.
   const double tol = e.tolerance();
   const std::string halve =
-      !halving_can_help(r, tol)
+      r.contact.pulled_off
+          ? " (a pull-off is the end of the bonded body's equilibrium under this load, not a solver's failure: results "
+            "up to the step before stand)"
+      : !halving_can_help(r, tol)
           ? " (smaller steps cannot help: the contact solver solved this step's problem, and the step size does not "
             "change its residual; another --contact-solver may)"
       : o.halvings == 0 && e.n_steps() > 0 ? " (--retry-halvings N retries a failed step with smaller steps)"

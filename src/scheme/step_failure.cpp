@@ -7,6 +7,9 @@
 namespace vpc {
 
 std::string step_failure(const StepReport& r, double tolerance) {
+  if (r.contact.pulled_off)  // SPEC §9: the end of a bonded body's equilibrium, located in time
+    return fmt::format("pull-off at t = {:.6g}: the remaining bond can no longer hold the body (the contact solver {})",
+                       r.t, contact_failure(r.contact, tolerance));
   const std::string contact = contact_failure(r.contact, tolerance);
   const std::string damage = damage_failure(r.damage, tolerance);
   const std::string& surface = r.surface.step_share > 1 ? r.surface.step_text : std::string();
@@ -20,6 +23,7 @@ std::string step_failure(const StepReport& r, double tolerance) {
 }
 
 bool halving_can_help(const StepReport& r, double tolerance) {
+  if (r.contact.pulled_off) return false;  // the load, not the step, decides: a shorter step meets it as well
   const ContactResiduals& c = r.contact.residuals;
   const bool contact_solved = r.contact.converged && std::isfinite(c.max());
   return !contact_solved || !damage_failure(r.damage, tolerance).empty() || contact_failure(r.contact, tolerance).empty() ||

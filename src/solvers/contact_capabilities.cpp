@@ -36,10 +36,20 @@ ContactNeeds contact_needs(const la::Comm& comm, const ContactConstraints& c) {
       }
   n.pair_sides_mixed = !comm.all(masters_apart_from_slaves(c.N, c.node_dofs, c.master_mean));
   n.spread_pairs = c.remote.spread;  // the same on every rank (RemoteRows::spread)
+  n.floating = c.floating();         // the same count on every rank
   return n;
 }
 
 std::string cannot_solve(const std::string& solver, const ContactNeeds& needs) {
+  if (needs.floating && needs.friction)
+    return fmt::format("contact solver '{}': a body its bonds alone hold (held_by_bond) is solved without friction: "
+                       "a pulling node has no friction, and the pull-off test balances the normal forces only "
+                       "(remove friction, or hold the body by prescribed displacements)",
+                       solver);
+  if (needs.floating && solver != "primal-active-set")
+    return fmt::format("contact solver '{}' needs K's inverse, and a body its bonds alone hold (held_by_bond) makes K "
+                       "singular: 'primal-active-set' solves it (it factors K with the bonds' springs)",
+                       solver);
   // Coulomb's and Tresca's bounds are of a pressing force; with a tension they are not defined.
   if (needs.friction && !needs.tension.empty())
     return fmt::format("contact solver '{}': law = \"{}\" lets a node carry a tension, and friction's bound is not "
@@ -88,6 +98,15 @@ void refuse_unsolvable(const std::string& solver, const ContactNeeds& needs) {
 
 ContactSolverPick pick_contact_solver(const std::string& requested, int m, const std::string& linear_solver,
                                       const ContactNeeds& needs, int block) {
+  if (needs.floating) {
+    if (!la::Backend::is_direct(linear_solver))
+      throw CollectiveError(fmt::format("a body its bonds alone hold (held_by_bond) needs a direct linear solver: K is "
+                                        "singular without the bonds' springs, which '{}' cannot tell from a slow "
+                                        "convergence (--linear-solver cholmod, or mumps on the PETSc engine)",
+                                        linear_solver));
+    if (requested == "auto")
+      return {"primal-active-set", "auto: a body its bonds alone hold (K singular: the primal factors it with the bonds)"};
+  }
   if (requested != "auto") return {requested, "as asked"};
   // Where the primal cannot solve it, the dual does (the table's first row solves everything).
   if (!needs.nonlinear.empty()) return {"active-set", "auto: a nonlinear compliance law is solved on the dual"};

@@ -8,6 +8,8 @@
 //   active-set (dual)    yes        yes          yes               yes               yes               yes, frictionless   yes (1)         yes
 //   primal-active-set    yes        linear       no                yes               no                yes, frictionless   yes (1)         no
 //   penalty-duality      no         no           no                no                yes               no                  no              no
+// A body only its bonds hold (held_by_bond: K singular, frictionless) is the primal's alone, on a direct
+// linear solver: the dual's S and penalty–duality's K + ωNᵀN need K⁻¹ or a factor of K without the rows.
 // (1) With friction on Signorini's law only: the bond's pull makes λ_ν < 0, where Coulomb's bound μ max(λ_ν, 0)
 // is 0. (Both frictional solvers ask each node's friction law for its set: the dual's Alart–Curnier
 // projection, the primal's Hüeber–Stadler–Wohlmuth linearization; primal_friction.hpp. Rows spread
@@ -29,6 +31,7 @@ struct ContactNeeds {
   std::string tension;           // a normal law whose force goes below 0 at some row (ContactLaw::dual_lower): its name
   bool adhesion = false;         // a row with a bond (ContactConstraints::bond_length: adhesion's tension branch, SPEC §9)
   bool spread_pairs = false;     // the rows are spread (RemoteRows::spread): some rank may hold pieces
+  bool floating = false;         // a body only its bonds hold (ContactConstraints::free_motions): K is singular
 };
 
 /// Whether a row with this normal law can only be solved by the dual (the table's "no" of the primal

@@ -153,6 +153,10 @@ ContactResiduals contact_residuals(const la::SpdOperator& K, const ContactConstr
 }
 
 std::string contact_failure(const ContactReport& r, double tolerance) {
+  if (r.pulled_off)
+    return fmt::format("found no equilibrium: the load on a body its bonds alone hold exceeds what its contact rows "
+                       "can balance ({:.3g} of it unbalanced: each bond pulls at most gamma_nu alpha^2 L |Gamma_3|_i)",
+                       r.pull_off_excess);
   const ContactResiduals& x = r.residuals;
   if (std::isinf(x.max()) || std::isnan(x.max())) return kSolverMetNonFinite;
   std::vector<std::string> above;

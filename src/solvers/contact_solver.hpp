@@ -15,6 +15,8 @@
 #include "contact/friction_law.hpp"
 #include "la/linear_solver.hpp"
 
+#include <Eigen/Dense>
+
 #include <memory>
 #include <string>
 #include <vector>
@@ -58,6 +60,11 @@ struct ContactReport {
   int n_open = 0;
   double dissipation = 0;
   ContactResiduals residuals;
+  /// The step has no equilibrium: a body that only its bonds hold (ContactConstraints::free_motions) is
+  /// loaded beyond what its rows' forces can balance (the remaining bonds' pull, λ_i ≥ −a_i L_i): a
+  /// pull-off (SPEC §9). Not converged; `pull_off_excess` is the unbalanced share of the load on those motions.
+  bool pulled_off = false;
+  double pull_off_excess = 0;
 };
 
 /// Pieces of other ranks' rows (a contact pair's row whose masters another rank owns): over this
@@ -166,6 +173,13 @@ struct ContactConstraints {
   bool frictional() const { return block > 1; }
   /// Other ranks' rows' entries in this rank's owned dofs (RemoteRows; empty in serial).
   RemoteRows remote;
+  /// The rigid motions K is singular on, columns over the owned free dofs (the same count on every
+  /// rank): bodies that only their bonds hold (`held_by_bond`, SPEC §9; problem/rigid_motions.hpp).
+  /// Empty: K is positive definite. The primal solver factors K with its rows' springs then, and a
+  /// step has an equilibrium only where the rows' forces, each within its graph (λ_i ≥ lower_of(i)),
+  /// balance the load on these motions (equilibrium_on_free_motions): else a pull-off.
+  Eigen::MatrixXd free_motions;
+  bool floating() const { return free_motions.cols() > 0; }
   /// The friction laws (contact/friction_law.hpp), parallel to `laws` (nullptr: a frictionless law's
   /// place; empty: none), indexed by the row's `law`: each row's block asks its law for its set.
   std::vector<std::shared_ptr<const FrictionLaw>> frictions;

@@ -6,6 +6,7 @@
 #include "solvers/active_set_history.hpp"
 #include "solvers/primal_friction_iteration.hpp"
 #include "solvers/primal_operator.hpp"
+#include "solvers/pull_off.hpp"
 
 #include <memory>
 
@@ -87,6 +88,15 @@ class PrimalActiveSetSolver final : public ContactSolver {
         max_iterations_(max_iterations > 0 ? max_iterations : iteration_->most_iterations()) {}
 
   ContactReport solve(const Vector& F, Vector& u, Vector& lambda) override {
+    if (op_.constraints().floating()) {  // a body its bonds alone hold: is there an equilibrium at all?
+      const double excess = unbalanced_share(op_.comm(), op_.constraints(), F);
+      if (excess > kPullOffShare) {
+        ContactReport r;
+        r.pulled_off = true;
+        r.pull_off_excess = excess;
+        return r;
+      }
+    }
     return iteration_->solve(op_, answers_, max_iterations_, F, u, lambda);
   }
 

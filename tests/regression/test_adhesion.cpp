@@ -8,6 +8,7 @@
 // cases/peel-2d.toml: both solvers agree, a debonded surface is Signorini's, a resume is bitwise.
 #include "friction_runs.hpp"
 #include "io/checkpoint.hpp"
+#include "scheme/step_failure.hpp"
 #include "solvers/contact_capabilities.hpp"
 
 #include <fmt/format.h>
@@ -146,6 +147,104 @@ TEST(AdhesionExact, BeyondTheBondLengthThePullIsConstantAndTheBondDecaysInClosed
       EXPECT_LE(off_force, 1e-12);
       if (energy > 0) EXPECT_GT(alpha, energy / c);  // toward its rest ε/c, never below
     }
+  }
+}
+
+// cases/pull-off-1d.toml (verification (a)): a bar held by its bond alone under an end force F. The
+// bond carries F: γ α² s = F, and b α̇ = −α γ s² gives α⁴ = α_0⁴ − 4F²t/(bγ) until γ α² L = F (pull-off,
+// t_pull = bγ(α_0⁴ − (F/(γL))²)/(4F²) = 0.75). Lagged: α_n = α_{n−1} e^{−γ s_{n−1}² k/b}, s_0 = 0, and
+// step n has an equilibrium while γ α_n² L ≥ F.
+constexpr double kF = 1.0, kGammaP = 200.0, kLengthP = 0.01, kBP = 0.02;
+constexpr double kPullOff = kBP * kGammaP * (1 - (kF / (kGammaP * kLengthP)) * (kF / (kGammaP * kLengthP))) / (4 * kF * kF);
+
+Case glued(int steps, double T = 1.0) {
+  return case_of("pull-off-1d", shipped_text("pull-off-1d"),
+                 {fmt::format("time.steps={}", steps), fmt::format("time.T={}", T)});
+}
+
+/// Runs the glued bar until it ends or fails: each accepted step to `each`, and the failed one's report.
+StepReport run_glued(const Case& c, const std::function<void(const TimeStepper&, const StepReport&)>& each) {
+  TimeStepper t(c.problem, c.solvers);
+  EXPECT_EQ(t.contact_solver(), "primal-active-set");  // auto: K is singular without the bond
+  while (!t.done()) {
+    const StepReport r = t.step();
+    if (!r.ok) return r;
+    each(t, r);
+  }
+  return {};
+}
+
+TEST(AdhesionExact, AGluedEndUnderAForceFollowsTheRecursionToItsPullOff) {
+  double alpha = 1, s_before = 0, off_alpha = 0, off_s = 0, off_force = 0;
+  int held = 0;
+  const double k = 0.05;
+  const StepReport failed = run_glued(glued(20), [&](const TimeStepper& t, const StepReport& r) {
+    alpha *= std::exp(-kGammaP * s_before * s_before * k / kBP);
+    const double s = kF / (kGammaP * alpha * alpha);
+    off_alpha = std::max(off_alpha, std::abs(field(t.state(), "bonding") - alpha));
+    off_s = std::max(off_s, std::abs(field(t.state(), "separation") - s) / s);
+    off_force = std::max(off_force, std::abs(-t.state().lambda[0] - kF) / kF);  // the bond carries F
+    s_before = s;
+    held = r.n;
+  });
+  // The step after the last held one: its α cannot hold F any more.
+  const double next = alpha * std::exp(-kGammaP * s_before * s_before * k / kBP);
+  std::printf("  held %d steps (alpha %.6f: pull %.4f >= F), pull-off at step %d (t = %.4g; exact %.4g): its alpha "
+              "%.6f pulls %.4f < F; bonding against the recursion %.3g, separation %.3g, force %.3g\n",
+              held, alpha, kGammaP * alpha * alpha * kLengthP, failed.n, failed.t, kPullOff, next,
+              kGammaP * next * next * kLengthP, off_alpha, off_s, off_force);
+  EXPECT_EQ(failed.n, held + 1);
+  EXPECT_TRUE(failed.contact.pulled_off);
+  EXPECT_FALSE(failed.ok);
+  EXPECT_GE(kGammaP * alpha * alpha * kLengthP, kF);
+  EXPECT_LT(kGammaP * next * next * kLengthP, kF);
+  EXPECT_GT(failed.contact.pull_off_excess, 1e-3);
+  EXPECT_LE(off_alpha, 1e-13);
+  EXPECT_LE(off_s, 1e-12);
+  EXPECT_LE(off_force, 1e-12);
+  EXPECT_NE(step_failure(failed, 1e-8).find(fmt::format("pull-off at t = {:.6g}", failed.t)), std::string::npos);
+  EXPECT_FALSE(halving_can_help(failed, 1e-8));
+}
+
+TEST(AdhesionExact, TheGluedEndsBondingAndPullOffTimeConvergeAtFirstOrder) {
+  // α at t = 0.5 against α⁴ = 1 − 4F²t/(bγ); the pull-off step's time against t_pull.
+  std::vector<double> errors, late;
+  for (int steps : {20, 40, 80, 160}) {
+    double alpha_half = 0;
+    const StepReport failed = run_glued(glued(steps), [&](const TimeStepper& t, const StepReport& r) {
+      if (std::abs(r.t - 0.5) < 1e-9) alpha_half = field(t.state(), "bonding");
+    });
+    ASSERT_TRUE(failed.contact.pulled_off) << steps;
+    errors.push_back(std::abs(alpha_half - std::pow(1 - 4 * kF * kF * 0.5 / (kBP * kGammaP), 0.25)));
+    late.push_back(failed.t - kPullOff);
+    std::printf("  %3d steps: bonding at t = 0.5 off by %.4g; pull-off at t = %.6g (%.4g after the exact %.4g)\n",
+                steps, errors.back(), failed.t, late.back(), kPullOff);
+  }
+  for (std::size_t i = 1; i < errors.size(); ++i) {
+    EXPECT_NEAR(std::log2(errors[i - 1] / errors[i]), 1.0, 0.1);
+    EXPECT_GT(late[i], 0);                         // the lag delays it ...
+    EXPECT_LT(late[i], 0.6 * late[i - 1]);        // ... by O(k)
+  }
+}
+
+TEST(AdhesionKeys, HeldByBondIsCheckedAndTheDualRefused) {
+  // Without the key the bar is not held; with it, the dual (which needs K⁻¹) is refused.
+  std::string text = shipped_text("pull-off-1d");
+  const std::string key = "held_by_bond = true";
+  text.replace(text.find(key), key.size(), "");
+  try {
+    (void)case_of("pull-off-1d", text);
+    ADD_FAILURE() << "a bar held by nothing was accepted";
+  } catch (const std::exception& e) {
+    EXPECT_NE(std::string(e.what()).find("held_by_bond = true"), std::string::npos) << e.what();
+  }
+  Case c = glued(20);
+  c.solvers.contact = "active-set";
+  try {
+    TimeStepper t(c.problem, c.solvers);
+    ADD_FAILURE() << "the dual was not refused";
+  } catch (const std::exception& e) {
+    EXPECT_NE(std::string(e.what()).find("'primal-active-set' solves it"), std::string::npos) << e.what();
   }
 }
 
@@ -396,7 +495,7 @@ TEST(AdhesionKeys, BadAdhesionInputsAreLocatedErrors) {
     EXPECT_NE(msg.find(b.expected), std::string::npos) << b.to << "\n" << msg;
   }
   // A body that only the bond would hold (the strip's end on a roller: nothing else stops it moving up) is refused.
-  EXPECT_NE(error_of("uy = \"0.2*t\"\n", "").find("adhesion cannot hold it either"), std::string::npos)
+  EXPECT_NE(error_of("uy = \"0.2*t\"\n", "").find("adhesion holds it only where the case says so"), std::string::npos)
       << error_of("uy = \"0.2*t\"\n", "");
   // With α_0 = 0 where the gap opens, the case runs (bonding only where the surfaces touch).
   EXPECT_EQ(error_of("gap = 0.0", "gap = \"0.001*max(x - 2, 0)\"\nbonding = \"x <= 2 ? 1 : 0\""), "(accepted)");

@@ -48,6 +48,20 @@ class EveryShippedCase : public ::testing::TestWithParam<std::string> {};
 TEST_P(EveryShippedCase, PrimalAndDualAgree) {
   const std::string name = GetParam();
   int active_dual = 0, active_primal = 0, cycles = 0;
+  if (load_case(name).problem->contact.held_by_bond) {
+    // A body its bonds alone hold (K singular) is the primal's alone: the dual is refused, saying why.
+    Case c = load_case(name);
+    c.solvers.contact = "active-set";
+    try {
+      TimeStepper refused(c.problem, c.solvers);
+      ADD_FAILURE() << name << ": the dual was not refused";
+    } catch (const std::exception& e) {
+      EXPECT_NE(std::string(e.what()).find("held_by_bond"), std::string::npos) << e.what();
+    }
+    (void)run_steps(name, "primal-active-set", 5, &active_primal, &cycles);
+    EXPECT_EQ(cycles, 0);
+    return;
+  }
   const State dual = run_steps(name, "active-set", 5, &active_dual, &cycles);
   const State primal = run_steps(name, "primal-active-set", 5, &active_primal, &cycles);
   EXPECT_EQ(active_primal, active_dual);
