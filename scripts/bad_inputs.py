@@ -349,6 +349,10 @@ INPUTS = [
      ["peel-2d", "--set", "contact.friction=\"coulomb\"", "--set", "contact.mu=0.3", "--set",
       "contact.law=\"normal-compliance\"", "--set", "contact.stiffness=1e4"]),
     ("adhesion with the contact solver penalty-duality", {}, ["peel-2d", "--contact-solver", "penalty-duality"]),
+    ("held_by_bond where the supports hold the body already", {}, ["peel-2d", "--set", "contact.held_by_bond=true"]),
+    ("a body held by its bond alone on the dual solver", {}, ["pull-off-1d", "--contact-solver", "active-set"]),
+    ("a body held by nothing (held_by_bond off)", {}, ["pull-off-1d", "--set", "contact.held_by_bond=false"]),
+    ("a body held by its bond alone pulled off", {}, ["run", "pull-off-1d", "-q", "--no-vtu", "-o", "out", "--set", "time.T=1", "--set", "time.steps=20"]),
 ]
 
 

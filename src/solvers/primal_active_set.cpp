@@ -36,7 +36,7 @@ class PrimalNormalIteration final : public PrimalIteration {
     // method); a direct one is exact every time.
     bool tight = !op.iterative();
     for (int it = 0; it < max_iterations && !converged; ++it) {
-      PrimalOperator::Iterate x = op.iterate(active, b, w, tight, lambda_local, rep, none_);
+      PrimalOperator::Iterate x = floating_iterate(op, active, b, w, tight, lambda_local, rep);
       std::vector<char>& next = x.next;
       if (comm.all(next == active)) {
         converged = tight;
@@ -67,6 +67,28 @@ class PrimalNormalIteration final : public PrimalIteration {
   int most_iterations() const override { return kPrimalMaxIterations; }
 
  private:
+  /// An iterate; where only the bonds hold a body (ContactConstraints::floating) a set that releases too
+  /// many of them leaves K singular although an equilibrium exists (the pull-off test passed): a
+  /// guess from an extrapolated warm start, or a Newton step that overshoots past L. That set is then
+  /// taken with every released bond back on its spring (the bonds hold the body: check_body_held), and
+  /// the iteration goes on from that solve.
+  PrimalOperator::Iterate floating_iterate(PrimalOperator& op, std::vector<char>& active, const Vector& b, Vector& w,
+                                           bool tight, Vector& lambda_local, ContactReport& rep) {
+    if (!op.constraints().floating()) return op.iterate(active, b, w, tight, lambda_local, rep, none_);
+    try {
+      return op.iterate(active, b, w, tight, lambda_local, rep, none_);
+    } catch (const Error&) {
+      const ContactConstraints& c = op.constraints();
+      bool released = false;
+      for (Eigen::Index i = 0; i < op.n_rows(); ++i)
+        if (active[static_cast<std::size_t>(i)] == PrimalOperator::kOff && c.bond_of(i) > 0) {
+          active[static_cast<std::size_t>(i)] = PrimalOperator::kBonded;
+          released = true;
+        }
+      if (!op.comm().any(released)) throw;  // not a released bond's doing
+      return op.iterate(active, b, w, tight, lambda_local, rep, none_);
+    }
+  }
   NoTangents none_;
 };
 

@@ -227,6 +227,16 @@ TEST(AdhesionExact, TheGluedEndsBondingAndPullOffTimeConvergeAtFirstOrder) {
   }
 }
 
+TEST(AdhesionExact, ErrorControlledStepsFindTheGluedEndsPullOff) {
+  // Rejected steps restart the primal from an extrapolated warm start whose set releases the bond (K
+  // singular): the iteration puts it back on its spring. The pull-off lands near the exact 0.75.
+  const Case c = case_of("pull-off-1d", shipped_text("pull-off-1d"), {"time.T=1", "time.tolerance=1e-3"});
+  const StepReport failed = run_glued(c, [](const TimeStepper&, const StepReport&) {});
+  std::printf("  error-controlled: pull-off at t = %.6f (exact %.4g) at step %d\n", failed.t, kPullOff, failed.n);
+  EXPECT_TRUE(failed.contact.pulled_off);
+  EXPECT_NEAR(failed.t, kPullOff, 5e-3);
+}
+
 TEST(AdhesionKeys, HeldByBondIsCheckedAndTheDualRefused) {
   // Without the key the bar is not held; with it, the dual (which needs K⁻¹) is refused.
   std::string text = shipped_text("pull-off-1d");
