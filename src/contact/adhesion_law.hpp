@@ -21,11 +21,15 @@
 //   adhesion = "fremond" | "none"; bond_stiffness = γ_ν (Pa/m: a traction per unit of separation; a
 //   number or a formula in x, y, z; >= 0); bond_length = L (m, > 0); bond_viscosity = b (J s/m^2, > 0);
 //   adhesion_energy = ε_a (J/m^2, >= 0, default 0); bonding = α_0 (in [0, 1], a number or a formula in
-//   x, y, z; default 1).
+//   x, y, z; default 1); bond_shear_stiffness = γ_τ (Pa/m, a number or a formula in x, y, z; >= 0; default: none):
+//   SPEC §9's optional tangential part σ_τ = −γ_τ α² R_τ(u_τ − u_τ⁰), R_τ the projection onto the disc |v| ≤ L and
+//   u_τ⁰ the relative tangential displacement at bonding (t_0), which adds γ_τ |R_τ|² to the rate's c. On
+//   frictionless entries only (with friction the two tangential laws would act in parallel; refused).
 // Its state (VTU arrays, Python views, checkpoints): bonding α, separation s (≥ 0), adhesive_traction
 // γ_ν α² R(s), debonded (1 where α ≤ 1e-6), adhesive_energy γ_ν α² ∫_0^s R (stored in the bond) and
 // debonding_energy (the bond energy released by debonding, Σ_n γ_ν (α_{n−1}² − α_n²) ∫_0^{s_{n−1}} R, at
-// the separation that drove it). history.csv: adhesive_force ∫_Γ3 γ_ν α² R(s), debonded_fraction,
+// the separation that drove it); with γ_τ also bond_slip (v along the node's tangents, 2 numbers: the second 0
+// in 2D) and adhesive_shear γ_τ α² |R_τ(v)|. history.csv: adhesive_force ∫_Γ3 γ_ν α² R(s), debonded_fraction,
 // adhesive_energy and debonding_energy (integrals over Γ3).
 #include "contact/friction_law.hpp"
 
@@ -45,8 +49,12 @@ class FremondAdhesion final : public SurfaceHistory {
   /// α_0 at x.
   double bonding(const Point& x) const { return alpha0_(x, 0.0); }
   double length() const { return length_; }
-  /// α_n from α_{n−1} and s_{n−1} over a step of size k (the exact solution with s frozen).
-  double carried(double alpha, double separation, const Point& x, double k) const;
+  /// γ_τ at x (0 without `bond_shear_stiffness`), and whether the law has a tangential bond at all.
+  double shear_stiffness(const Point& x) const { return shear_ ? shear_(x, 0.0) : 0.0; }
+  bool shears() const { return static_cast<bool>(shear_); }
+  /// α_n from α_{n−1}, s_{n−1} and the tangential stretch's length |v_{n−1}| over a step of size k (the
+  /// exact solution with both frozen: c = γ_ν R(s)² + γ_τ R(|v|)²).
+  double carried(double alpha, double separation, const Point& x, double k, double stretch = 0) const;
 
   std::vector<SurfaceVariable> surface_state() const override;
   SurfaceUpdate update_surface(const SurfaceNode& node, std::span<double* const> values) const override;
@@ -54,12 +62,16 @@ class FremondAdhesion final : public SurfaceHistory {
   LawText initial_at(const Point& x, double gap, std::span<double* const> values) const override;
   double bond(std::span<const double* const> values, const Point& x, double k) const override;
   double bond_length() const override { return length_; }
+  double shear_bond(std::span<const double* const> values, const Point& x, double k) const override;
+  void bond_stretch(std::span<const double* const> values, std::span<double> stretch) const override;
 
  private:
   /// ∫_0^s R = s²/2 below L, L s − L²/2 beyond: the bond's stored energy per unit of γ_ν α².
   double energy_shape(double s) const;
-  std::string text_, bonding_text_;  // before the fields: their readers set them
-  LawField gamma_, alpha0_;
+  std::string text_, bonding_text_, shear_text_;  // before the fields: their readers set them
+  LawField gamma_, alpha0_, shear_;  // shear_: γ_τ, empty without `bond_shear_stiffness`
+  /// |v| of the tangential stretch in the values (0 without a tangential bond).
+  double stretch_of(std::span<const double* const> values) const;
   double length_ = 0, viscosity_ = 0, energy_ = 0;
 };
 

@@ -67,7 +67,11 @@ bool ContactSpec::adhesive() const {
 }
 
 bool ContactSpec::tangential() const {
-  return frictional() || std::ranges::any_of(wears(), [](const auto& w) { return w != nullptr; });
+  return frictional() || std::ranges::any_of(wears(), [](const auto& w) { return w != nullptr; }) || shear_bonded();
+}
+
+bool ContactSpec::shear_bonded() const {
+  return std::ranges::any_of(adhesions(), [](const auto& a) { return a && a->shears(); });
 }
 
 std::vector<const SurfaceHistory*> ContactSpec::surface_laws(std::size_t e) const {

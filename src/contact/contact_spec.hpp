@@ -75,8 +75,10 @@ struct ContactSpec {
   /// entry's, in the order of laws() (nullptr: that entry does not bond).
   std::shared_ptr<const FremondAdhesion> adhesion;
   std::vector<std::shared_ptr<const FremondAdhesion>> adhesions() const;
-  /// Whether some entry's law keeps a bond (SurfaceHistory::bond_length > 0: adhesion).
+  /// Whether some entry's law keeps a bond (SurfaceHistory::bond_length > 0: adhesion), and whether some
+  /// entry's adhesion has a tangential part (FremondAdhesion::shears: then the rows carry tangents).
   bool adhesive() const;
+  bool shear_bonded() const;
   /// `held_by_bond = true`: the bonds on Γ3 hold the bodies that the prescribed displacements leave free
   /// (check_body_held); K is then singular, the primal solver factors it with the bonds' springs, and a
   /// step whose load the remaining bonds cannot hold fails as a pull-off (SPEC §9).

@@ -103,6 +103,14 @@ class SurfaceHistory {
   /// stiffness times |Γ3|_i (ContactConstraints::bond). 0: no bond.
   virtual double bond(std::span<const double* const> /*values*/, const Point& /*x*/, double /*k*/) const { return 0; }
   virtual double bond_length() const { return 0; }
+  /// Its tangential part (SPEC §9's γ_τ, on frictionless rows): the stiffness per unit of Γ3 for the step
+  /// (γ_τ α_n²; 0: none), and the bond's tangential stretch v_{n−1} = u_τ − u_τ⁰ at t_{n−1} along the node's
+  /// tangents (into `stretch`, d − 1 numbers). Step n's tangential force is then λ_τ = a_τ P_L(Δ + v_{n−1}),
+  /// Δ the step's slip increment, P_L the projection onto the disc of radius L.
+  virtual double shear_bond(std::span<const double* const> /*values*/, const Point& /*x*/, double /*k*/) const {
+    return 0;
+  }
+  virtual void bond_stretch(std::span<const double* const> /*values*/, std::span<double> /*stretch*/) const {}
 };
 
 }  // namespace vpc

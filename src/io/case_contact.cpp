@@ -152,6 +152,20 @@ std::shared_ptr<const ArchardWear> read_wear_law(Section& s, std::shared_ptr<con
   return make_wear_law(*name, keys);
 }
 
+/// SPEC §9's tangential bond (bond_shear_stiffness) on a table whose friction and wear are `friction`, `wear`:
+/// refused with either (the bond's spring and the friction or the slip that wears would act on one tangential
+/// force in parallel, which no solver here takes apart) and in 1D (no tangents).
+void check_shear_bond(Section& s, const FremondAdhesion* adhesion, const FrictionLaw* friction, const ArchardWear* wear,
+                      int dim) {
+  if (!adhesion || !adhesion->shears()) return;
+  const std::string key = s.has("bond_shear_stiffness") ? "bond_shear_stiffness" : "adhesion";
+  if (dim < 2) fail("{}: a tangential bond (bond_shear_stiffness) needs a body of dimension 2 or 3", s.where(key));
+  if (friction || wear)
+    fail("{}: a tangential bond (bond_shear_stiffness) is solved on frictionless contact without wear; this table "
+         "also has {}: the bond's spring and {} would share one tangential force (remove one of them here)",
+         s.where(key), friction ? "friction" : "wear", friction ? "the friction" : "the wearing slip");
+}
+
 /// The adhesion of a [contact], [[contact.part]] or [[contact.pair]] table (SPEC §9): adhesion = "none"
 /// or "fremond" (bond_stiffness, bond_length, bond_viscosity, adhesion_energy, bonding); `inherited`
 /// where the table has no adhesion key.
@@ -216,6 +230,7 @@ void read_contact_pairs(Section& ct, Problem& p, const Origins& origins) {
     pair.friction = read_friction_law(s, p.contact.friction, p.mesh.dim());
     pair.wear = read_wear_law(s, p.contact.wear, p.mesh.dim());
     pair.adhesion = read_adhesion_law(s, p.contact.adhesion);
+    check_shear_bond(s, pair.adhesion.get(), pair.friction.get(), pair.wear.get(), p.mesh.dim());
     pair.large_sliding = s.choice("sliding", {"small", "large"}, "small") == "large";
     // A bond ties a slave node to the master material it touched at bonding; large sliding rebuilds
     // the rows against whatever master the node faces at each step, which would carry the bond along.
@@ -244,6 +259,7 @@ bool read_contact(Section ct, Problem& p, const Origins& origins) {
   p.contact.friction = read_friction_law(ct, nullptr, p.mesh.dim());
   p.contact.wear = read_wear_law(ct, nullptr, p.mesh.dim());
   p.contact.adhesion = read_adhesion_law(ct, nullptr);
+  check_shear_bond(ct, p.contact.adhesion.get(), p.contact.friction.get(), p.contact.wear.get(), p.mesh.dim());
   p.contact.held_by_bond = ct.boolean("held_by_bond", false);
   if (p.contact.held_by_bond && !p.contact.adhesion && !ct.has("part"))
     fail("{}: held_by_bond = true, but [contact] has no adhesion: a bond holds a body only where adhesion = "
@@ -266,6 +282,7 @@ bool read_contact(Section ct, Problem& p, const Origins& origins) {
       pl.friction = read_friction_law(s, p.contact.friction, p.mesh.dim());
       pl.wear = read_wear_law(s, p.contact.wear, p.mesh.dim());
       pl.adhesion = read_adhesion_law(s, p.contact.adhesion);
+      check_shear_bond(s, pl.adhesion.get(), pl.friction.get(), pl.wear.get(), p.mesh.dim());
       s.finish();
       p.contact.part_laws.push_back(std::move(pl));
     }

@@ -199,6 +199,7 @@ ContactConstraints ContactSet::constraints(const Problem& p, const MeshPart& par
     }
     c.bond_length = Eigen::Map<Vector>(length.data(), static_cast<Eigen::Index>(length.size()));
     c.bond = Vector::Zero(c.bond_length.size());
+    c.shear_bonded = p.contact.shear_bonded();
   }
   // Friction's frame (empty without): the bounds and the shift are the steps' (set_friction).
   c.frictions = friction.laws;

@@ -29,7 +29,7 @@ void add_master_motion(const DiscreteSystem& sys, const Vector& u_D, Vector& gap
 }  // namespace
 
 StepData step_data(const DiscreteSystem& sys, double t) {
-  StepData data{t, load(sys, t), prescribed_displacement(sys, t), {}, {}};
+  StepData data{t, load(sys, t), prescribed_displacement(sys, t), {}, {}, {}};
   std::string bad;
   data.gap = contact_gap(sys, t, bad);
   add_master_motion(sys, data.u_D, data.gap);

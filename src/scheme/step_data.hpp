@@ -16,8 +16,8 @@ struct StepData {
   Vector gap;  // g(t) at the owned contact rows, in row order (with gap_shift)
   /// What the contact laws' per-node state adds to g (surface_gap_shift; empty: nothing).
   Vector gap_shift;
-  /// Adhesion's bonds a_i of the step per owned row (surface_bond; empty: no law bonds).
-  Vector bond;
+  /// Adhesion's bonds of the step per owned row (surface_bond; empty: no law bonds).
+  StepBonds bond;
 };
 
 /// F_n, u_D and g at t, then check_step_data. Collective.

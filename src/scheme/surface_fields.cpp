@@ -140,31 +140,51 @@ void set_initial_surface_state(const DiscreteSystem& sys, const Vector& gap, Sta
 
 namespace {
 
-/// Per owned row in row order, the sum over its node's laws that keep state of term(law, values, node),
-/// `values` the node's numbers of the law's variables in s.
-template <class Term>
-Vector sum_over_laws(const DiscreteSystem& sys, const State& s, Term term) {
+/// visit(law, values, node, row) for each owned row (row: its index among them, in row order) and each of
+/// its node's laws that keep state, `values` the node's numbers of the law's variables in s.
+template <class Visit>
+void visit_laws(const DiscreteSystem& sys, const State& s, Visit visit) {
   const auto table = laws_with_fields(sys.problem->contact, s);
   const auto values = [&](std::size_t f) { return s.surface[f].values.data(); };
-  std::vector<double> out;
+  Eigen::Index row = 0;
   for (const PartContactNode& node : sys.contact->nodes) {
     if (!node.owned) continue;
-    double sum = 0;
     for (const LawFields& lf : table[static_cast<std::size_t>(node.law)])
-      sum += term(*lf.law, node_values<const double>(lf, s.surface, node.row, values), node);
-    out.push_back(sum);
+      visit(*lf.law, node_values<const double>(lf, s.surface, node.row, values), node, row);
+    ++row;
   }
-  return Eigen::Map<Vector>(out.data(), static_cast<Eigen::Index>(out.size()));
+}
+
+/// Per owned row in row order, the sum over its node's laws that keep state of term(law, values, node).
+template <class Term>
+Vector sum_over_laws(const DiscreteSystem& sys, const State& s, Term term) {
+  Vector out = Vector::Zero(static_cast<Eigen::Index>(sys.contact->owned_row_numbers().size()));
+  visit_laws(sys, s, [&](const SurfaceHistory& law, std::span<const double* const> v, const PartContactNode& node,
+                         Eigen::Index row) { out[row] += term(law, v, node); });
+  return out;
 }
 
 }  // namespace
 
-Vector surface_bond(const DiscreteSystem& sys, const State& s, double k) {
-  if (!sys.problem->contact.adhesive()) return {};
+StepBonds surface_bond(const DiscreteSystem& sys, const State& s, double k) {
+  StepBonds bonds;
+  const ContactSpec& spec = sys.problem->contact;
+  if (!spec.adhesive()) return bonds;
   const Mesh& mesh = sys.part.mesh();
-  return sum_over_laws(sys, s, [&](const SurfaceHistory& law, std::span<const double* const> v, const PartContactNode& node) {
+  bonds.normal = sum_over_laws(sys, s, [&](const SurfaceHistory& law, std::span<const double* const> v, const PartContactNode& node) {
     return law.bond(v, mesh.node(node.local_node), k) * node.measure;
   });
+  if (!spec.shear_bonded()) return bonds;
+  bonds.shear = sum_over_laws(sys, s, [&](const SurfaceHistory& law, std::span<const double* const> v, const PartContactNode& node) {
+    return law.shear_bond(v, mesh.node(node.local_node), k) * node.measure;
+  });
+  const Eigen::Index t = spec.block_size(mesh.dim()) - 1;
+  bonds.stretch = Vector::Zero(bonds.shear.size() * t);
+  visit_laws(sys, s, [&](const SurfaceHistory& law, std::span<const double* const> v, const PartContactNode&,
+                         Eigen::Index row) {
+    law.bond_stretch(v, std::span<double>(bonds.stretch.data() + row * t, static_cast<std::size_t>(t)));
+  });
+  return bonds;
 }
 
 Vector surface_gap_shift(const DiscreteSystem& sys, const State& s) {

@@ -25,7 +25,7 @@ void set_initial_surface_state(const DiscreteSystem& sys, const Vector& gap, Sta
 
 /// Adhesion's bonds a_i of step n of size k per owned row in row order (SurfaceHistory::bond times
 /// |Γ3|_i, from the state at t_{n−1}); empty where no law bonds (ContactSpec::adhesive).
-Vector surface_bond(const DiscreteSystem& sys, const State& s, double k);
+StepBonds surface_bond(const DiscreteSystem& sys, const State& s, double k);
 
 /// What the laws' state at t_{n−1} adds to the gap of step n (SurfaceHistory::gap_shift), per owned
 /// row in row order; empty where no law keeps state.

@@ -43,6 +43,11 @@ class DenseBoxQpOperator final : public BoxQpOperator {
   const Vector& diagonal() const override { return diag_; }
   void solve_free(const std::vector<char>& fixed, const Vector& b, Vector& x) override;
   const Eigen::MatrixXd& matrix() const { return H_; }
+  /// H_kk += v (a step's compliance on one unknown: nothing is factored ahead of solve_free).
+  void add_to_diagonal(Eigen::Index k, double v) {
+    H_(k, k) += v;
+    diag_[k] += v;
+  }
 
  private:
   Eigen::MatrixXd H_;

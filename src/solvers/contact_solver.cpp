@@ -69,7 +69,8 @@ void set_friction_data(ContactConstraints& c, const Vector& tresca, const Vector
   c.shift = shift;
 }
 
-void set_bond_data(ContactConstraints& c, const Vector& bond) {
+void set_bond_data(ContactConstraints& c, const StepBonds& bonds) {
+  const Vector& bond = bonds.normal;
   const auto rows = static_cast<Eigen::Index>(c.rows.size());
   require(c.bond_length.size() == rows && bond.size() == rows, "internal: {} bonds for {} contact rows ({} bond lengths)",
           bond.size(), rows, c.bond_length.size());
@@ -78,6 +79,21 @@ void set_bond_data(ContactConstraints& c, const Vector& bond) {
             "internal: a bond must be finite and >= 0, and 0 on a row without a bond length; row {}: {} (length {})", i,
             bond[i], c.bond_length[i]);
   c.bond = bond;
+  if (bonds.shear.size() == 0 && bonds.stretch.size() == 0) return;
+  require(c.frictional() && bonds.shear.size() == rows && bonds.stretch.size() == rows * (c.block - 1),
+          "internal: {} tangential bonds and {} stretches for {} contact rows of {} tangents", bonds.shear.size(),
+          bonds.stretch.size(), rows, c.block - 1);
+  require(bonds.stretch.allFinite() && (rows == 0 || (bonds.shear.allFinite() && bonds.shear.minCoeff() >= 0)),
+          "internal: tangential bonds must be finite and >= 0, their stretches finite");
+  c.shear_bond = bonds.shear;
+  c.bond_stretch = bonds.stretch;
+}
+
+void bond_slip(const ContactConstraints& c, Eigen::Index i, Eigen::Ref<const Vector> force, Eigen::Ref<Vector> slip) {
+  const double a = c.shear_bond_of(i);
+  if (!(a > 0)) return;
+  const auto t = static_cast<Eigen::Index>(c.block - 1);
+  slip += c.bond_stretch.segment(i * t, t) - force / a;
 }
 
 ContactStatus contact_status(double lambda_nu, double tangential_norm, double bound, double slack) {
@@ -134,7 +150,8 @@ ContactResiduals contact_residuals(const la::SpdOperator& K, const ContactConstr
   const Vector slip = slip_increment(comm, c, u);
   for (Eigen::Index i = 0; i < s.size(); ++i) {
     const auto l = tangential.segment(i * t, t);
-    const auto d = slip.segment(i * t, t);
+    Vector d = slip.segment(i * t, t);
+    bond_slip(c, i, l, d);  // a tangential bond's compliance and stretch (its law's slip)
     const FrictionLaw& law = c.friction_of(i);
     const double bound = c.bound(i, lambda_local[i]), ln = law.gauge(l.data(), t), dn = d.norm();
     r.friction_bound = std::max(r.friction_bound, (ln - bound) / l_scale);

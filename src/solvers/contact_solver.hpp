@@ -145,6 +145,15 @@ struct ContactConstraints {
   //   λ_i = −a_i min(s_i, L_i) for a separation s_i = g_i − N_i u > 0,
   // monotone in s (a node that pulls, λ_i < 0, has s_i ≥ 0 and λ_i = bond_force(i, s_i)). Empty: no row is bonded.
   Vector bond, bond_length;
+  /// Its tangential part (SPEC §9's γ_τ; frictionless rows: friction_of is the disc of bound 0 there),
+  /// per local row and step: a_τ,i = γ_τ α_i² |Γ3|_i and, per tangent (rows × (b − 1)), the bond's stretch
+  /// v_{n−1} at the step's start. The row's tangential force is λ_τ,i = a_τ,i P_L(Δ_i + v_{n−1,i}), P_L onto
+  /// the disc of radius L_i: Tresca's disc of radius a_τ,i L_i (bound_of) with the compliance 1/a_τ,i, whose
+  /// slip is Δ_i + v_{n−1,i} − λ_τ,i/a_τ,i (bond_slip). Empty: none. `shear_bonded`: some row may get one (set
+  /// at set-up, the same on every rank: the primal solver does not solve it).
+  Vector shear_bond, bond_stretch;
+  bool shear_bonded = false;
+  double shear_bond_of(Eigen::Index i) const { return i < shear_bond.size() ? shear_bond[i] : 0.0; }
   double bond_of(Eigen::Index i) const { return i < bond.size() ? bond[i] : 0.0; }
   double bond_length_of(Eigen::Index i) const { return i < bond_length.size() ? bond_length[i] : 0.0; }
   /// Whether some row can carry a bond (bond_length set at set-up; the same on every rank where made by a part).
@@ -192,7 +201,8 @@ struct ContactConstraints {
   /// without tangents may leave tresca and mu empty, as limit: 0 (its bound is 0, over no tangents).
   FrictionBound bound_of(Eigen::Index i) const {
     const auto at = [i](const Vector& v, double none) { return i < v.size() ? v[i] : none; };
-    return {at(tresca, 0.0), at(mu, 0.0), at(limit, std::numeric_limits<double>::infinity())};
+    return {at(tresca, 0.0) + shear_bond_of(i) * bond_length_of(i), at(mu, 0.0),
+            at(limit, std::numeric_limits<double>::infinity())};
   }
   double bound(Eigen::Index i, double lambda_nu) const { return bound_of(i).at(lambda_nu); }
   /// Whether row i's bound at λ_ν is its shear limit (then it does not move with λ_ν).
@@ -274,8 +284,16 @@ Vector replicate_blocks(const la::Comm& comm, const ContactConstraints& c, const
                         const Vector& tangential);
 /// Checks friction's data of a step (sizes, finite, tresca ≥ 0) and stores it in c (set_friction).
 void set_friction_data(ContactConstraints& c, const Vector& tresca, const Vector& shift);
+/// Adhesion's bonds of a step (SPEC §9), per local row: the normal bond a_i and, where some row has a
+/// tangential one, a_τ,i and the stretch v_{n−1} (rows × (b − 1)); shear and stretch empty: none.
+struct StepBonds {
+  Vector normal, shear, stretch;
+};
 /// Checks a step's bonds (one per row, finite, >= 0; rows without a bond length 0) and stores them in c.
-void set_bond_data(ContactConstraints& c, const Vector& bond);
+void set_bond_data(ContactConstraints& c, const StepBonds& bonds);
+/// Row i's slip under a tangential bond: Δ + v_{n−1} − λ_τ/a_τ (`slip`, `force`: its t numbers), in place;
+/// untouched on a row without one.
+void bond_slip(const ContactConstraints& c, Eigen::Index i, Eigen::Ref<const Vector> force, Eigen::Ref<Vector> slip);
 const Vector& checked_gap(const ContactConstraints& c, const Vector& gap);
 /// The report of a solve whose unknowns are the normal forces alone (λ: m numbers; a solver of a set
 /// without tangents), and of one with the tangential forces too (λ: m × block; friction's stick and
@@ -302,7 +320,7 @@ class ContactSolver {
   virtual void set_friction(const Vector& tresca, const Vector& shift) = 0;
   /// Adhesion's bonds a_i of step n for this process's rows (ContactConstraints::bond), before its
   /// solve; only for constraints with bond lengths (adhesive()).
-  virtual void set_bond(const Vector& bond) = 0;
+  virtual void set_bond(const StepBonds& bonds) = 0;
   /// The constraints it solves, with the step's data (gap, friction's bounds and shift): what the
   /// step reads again after the solve (record_slip: each row's stick/slip status and slip).
   virtual const ContactConstraints& constraints() const = 0;

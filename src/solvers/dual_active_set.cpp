@@ -126,7 +126,8 @@ class FrictionDual final : public DualProblem {
       sets_.bond = replicated_bonds(comm, c);
       sets_.lo = lo_ - sets_.bond.cwiseProduct(sets_.bond_length);
     }
-    return solve_friction_dual(S_, b, sets_, lambda);
+    if (!c.shear_bonded) return solve_friction_dual(S_, b, sets_, lambda);
+    return solve_with_shear_bonds(comm, c, b, lambda);
   }
   ContactReport report(const la::SpdOperator& K, const ContactConstraints& c, const Vector& F, const Vector& u,
                        const Vector& lambda, const BoxQpResult& qp) const override {
@@ -135,15 +136,43 @@ class FrictionDual final : public DualProblem {
   std::string describe() const override {
     if (!sets_.force_law.empty())
       return "; friction and the nonlinear compliance law by semismooth Newton (Alart-Curnier) on the dual";
+    if (!shear_compliance_.empty()) return "; the tangential bonds as Tresca discs with their compliance on the dual";
     if (sets_.coulomb()) return "; Coulomb friction by semismooth Newton (Alart-Curnier) on the dual";
     if (sets_.block == 2) return "; Tresca friction as a box QP";
     return "; Tresca friction by semismooth Newton (Alart-Curnier) on the dual";
   }
 
  private:
+  /// A tangential bond (SPEC §9's γ_τ, ContactConstraints::shear_bond) on frictionless rows: λ_τ = a_τ P_L(Δ + v)
+  /// with Δ = b_τ − (Sλ)_τ is the optimality condition of the Tresca problem of the disc of radius a_τ L
+  /// (bound_of) for S + diag(1/a_τ) and b_τ + v: S's tangential diagonal takes the step's 1/a_τ (changed
+  /// in place from the last step's), b the stretch v_{n−1}.
+  BoxQpResult solve_with_shear_bonds(const la::Comm& comm, const ContactConstraints& c, const Vector& b, Vector& lambda) {
+    const int d = c.block, t = d - 1;
+    const Vector zero = Vector::Zero(static_cast<Eigen::Index>(c.rows.size()));
+    const Vector shear = replicate(comm, c, c.shear_bond.size() ? c.shear_bond : zero);
+    sets_.tresca += shear.cwiseProduct(replicate(comm, c, c.bond_length));
+    if (shear_compliance_.empty()) shear_compliance_.assign(static_cast<std::size_t>(c.m), 0.0);
+    const Vector stretch = c.bond_stretch.size() ? c.bond_stretch : Vector(Vector::Zero(c.T.rows()));
+    const Vector offsets = replicate_blocks(comm, c, zero, stretch);
+    Vector b_bonded = b;
+    for (int i = 0; i < c.m; ++i) {
+      const double compliance = shear[i] > 0 ? 1 / shear[i] : 0.0;
+      for (int j = 0; j < t; ++j) {
+        const int k = i * d + 1 + j;
+        if (!sets_.tangent[static_cast<std::size_t>(i * t + j)]) continue;  // held at 0 (a symmetry plane)
+        S_.add_to_diagonal(k, compliance - shear_compliance_[static_cast<std::size_t>(i)]);
+        if (shear[i] > 0) b_bonded[k] += offsets[k];
+      }
+      shear_compliance_[static_cast<std::size_t>(i)] = compliance;
+    }
+    return solve_friction_dual(S_, b_bonded, sets_, lambda);
+  }
+
   DenseBoxQpOperator S_;
   FrictionDualSets sets_;
   Vector lo_;  // the normal forces' own lower bounds (the laws'), without the bonds
+  std::vector<double> shear_compliance_;  // per node, the 1/a_τ S's tangential diagonal holds now
 };
 
 class ActiveSetContactSolver final : public ContactSolver {
@@ -210,7 +239,7 @@ class ActiveSetContactSolver final : public ContactSolver {
   }
   void set_gap(const Vector& gap) override { c_.gap = checked_gap(c_, gap); }
   void set_friction(const Vector& tresca, const Vector& shift) override { set_friction_data(c_, tresca, shift); }
-  void set_bond(const Vector& bond) override { set_bond_data(c_, bond); }
+  void set_bond(const StepBonds& bonds) override { set_bond_data(c_, bonds); }
   const ContactConstraints& constraints() const override { return c_; }
   std::string name() const override { return "active-set"; }
   std::string describe() const override { return describe_solves() + problem_->describe(); }

@@ -44,7 +44,7 @@ class PenaltyDualityContactSolver final : public ContactSolver {
   void set_gap(const Vector& gap) override { c_.gap = checked_gap(c_, gap); }
   void set_friction(const Vector& tresca, const Vector& shift) override { set_friction_data(c_, tresca, shift); }
   /// Refused where rows can bond (contact_capabilities.hpp): never called.
-  void set_bond(const Vector&) override { require(false, "internal: penalty-duality given adhesion's bonds"); }
+  void set_bond(const StepBonds&) override { require(false, "internal: penalty-duality given adhesion's bonds"); }
   const ContactConstraints& constraints() const override { return c_; }
   std::string name() const override { return "penalty-duality"; }
   std::string describe() const override { return "penalty-duality, factor of K + omega N^T N"; }

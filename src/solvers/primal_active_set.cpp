@@ -124,7 +124,7 @@ class PrimalActiveSetSolver final : public ContactSolver {
 
   void set_gap(const Vector& gap) override { op_.set_gap(gap); }
   void set_friction(const Vector& tresca, const Vector& shift) override { op_.set_friction(tresca, shift); }
-  void set_bond(const Vector& bond) override { op_.set_bond(bond); }
+  void set_bond(const StepBonds& bonds) override { op_.set_bond(bonds); }
   const ContactConstraints& constraints() const override { return op_.constraints(); }
   const la::LinearSolver* own_factor() const override { return op_.factor(); }
   std::string name() const override { return "primal-active-set"; }

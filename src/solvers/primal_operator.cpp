@@ -48,8 +48,8 @@ PrimalOperator::PrimalOperator(std::shared_ptr<const la::SpdOperator> K, std::sh
   for (const RotatedRow& r : rows_) scale_.push_back(d[r.dof] / (r.alpha * r.alpha));
 }
 
-void PrimalOperator::set_bond(const Vector& bond) {
-  set_bond_data(c_, bond);
+void PrimalOperator::set_bond(const StepBonds& bonds) {
+  set_bond_data(c_, bonds);
   for (Eigen::Index i = 0; i < static_cast<Eigen::Index>(rows_.size()); ++i)
     lower_[static_cast<std::size_t>(i)] = c_.lower_of(i);
 }

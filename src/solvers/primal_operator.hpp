@@ -76,7 +76,7 @@ class PrimalOperator {
   const ContactConstraints& constraints() const { return c_; }
   void set_gap(const Vector& gap) { c_.gap = checked_gap(c_, gap); }
   /// Adhesion's bonds of the step (ContactConstraints::bond): each bonded row's lower bound −a_i L_i.
-  void set_bond(const Vector& bond);
+  void set_bond(const StepBonds& bonds);
   void set_friction(const Vector& tresca, const Vector& shift) { set_friction_data(c_, tresca, shift); }
   const la::SpdOperator& K() const { return *K_; }
   const la::SpdOperator& K_rot() const { return *K_rot_; }

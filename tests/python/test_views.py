@@ -206,3 +206,17 @@ def test_fremond_adhesion_is_a_view_of_the_bonding_field_and_follows_its_recursi
         assert abs(bonding[0] - alpha) < 1e-14
         assert abs(sim.report["adhesive_force"] - gamma * alpha * alpha * s) < 1e-13
         assert sim.report["debonded_fraction"] == 0
+
+
+def test_the_tangential_bond_keeps_its_stretch_and_shear_as_views():
+    # lap-shear-2d (issue 50, SPEC §9's gamma_tau): bond_slip is the tangential stretch v along each node's
+    # tangents (2 numbers; the second 0 in 2D), adhesive_shear the bond's shear gamma_tau alpha^2 min(|v|, L).
+    sim = vpcontact.Simulation(vpcontact.Case("lap-shear-2d"))
+    m = len(sim.contact_nodes)
+    slip, shear, bonding = sim.surface["bond_slip"], sim.surface["adhesive_shear"], sim.surface["bonding"]
+    assert slip.shape == (m, 2) and shear.shape == (m,) and not slip.flags.writeable
+    sim.step(10)
+    assert np.all(slip[:, 1] == 0)
+    gamma_tau, L = 2000.0, 0.02
+    np.testing.assert_allclose(shear, gamma_tau * bonding**2 * np.minimum(np.abs(slip[:, 0]), L), rtol=1e-14, atol=0)
+    assert shear.max() > 0 and bonding.min() < 1

@@ -258,6 +258,178 @@ TEST(AdhesionKeys, HeldByBondIsCheckedAndTheDualRefused) {
   }
 }
 
+// SPEC §9's tangential bond: a block W × H bonded along its bottom and sheared by its top (u_x = δ, u_y = 0),
+// its sides loaded with the complementary shear (0, ±τ): simple shear u_x = v + (δ − v) y/H, u_y = 0 is
+// exact on any mesh, bond and block two springs in series, γ_τ α² v = τ = μ (δ − v)/H.
+std::string sheared_block(double gamma_tau, double length, double viscosity, double tau, int dim = 2) {
+  if (dim == 3)  // height along z, sheared along (cos 30°, sin 30°, 0): the bond's disc, not a box
+    return fmt::format(R"toml(
+[case]
+name = "bond-shear-3d"
+[mesh]
+generator = "box"
+lower = [0.0, 0.0, 0.0]
+upper = [1.0, 0.5, 0.5]
+cells = [4, 2, 2]
+[boundary]
+contact = ["bottom"]
+[[boundary.displacement]]
+parts = ["top"]
+ux = "0.01 * cos(pi / 6)"
+uy = "0.01 * sin(pi / 6)"
+uz = "0"
+[loads]
+f2 = ["0", "0", "x < 1e-9 ? -{0} * cos(pi / 6) : x > 1 - 1e-9 ? {0} * cos(pi / 6) : y < 1e-9 ? -{0} * sin(pi / 6) : {0} * sin(pi / 6)"]
+[elasticity]
+kind = "isotropic"
+E = 100.0
+nu = 0.0
+[viscoplasticity]
+law = "elastic"
+[damage]
+source = "zero"
+[contact]
+gap = 0.0
+adhesion = "fremond"
+bond_stiffness = 1000.0
+bond_shear_stiffness = {1}
+bond_length = {2}
+bond_viscosity = {3}
+[time]
+T = 1.0
+steps = 4
+)toml",
+                       tau, gamma_tau, length, viscosity);
+  return fmt::format(R"toml(
+[case]
+name = "bond-shear"
+[mesh]
+generator = "rectangle"
+lower = [0.0, 0.0]
+upper = [1.0, 0.5]
+cells = [8, 4]
+[boundary]
+contact = ["bottom"]
+[[boundary.displacement]]
+parts = ["top"]
+ux = "0.01"
+uy = "0"
+[loads]
+f2 = ["0", "x < 0.5 ? -{0} : {0}"]
+[elasticity]
+kind = "plane-strain"
+E = 100.0
+nu = 0.0
+[viscoplasticity]
+law = "elastic"
+[damage]
+source = "zero"
+[contact]
+gap = 0.0
+adhesion = "fremond"
+bond_stiffness = 1000.0
+bond_shear_stiffness = {1}
+bond_length = {2}
+bond_viscosity = {3}
+[time]
+T = 1.0
+steps = 4
+)toml",
+                     tau, gamma_tau, length, viscosity);
+}
+
+TEST(AdhesionShear, ABondedBlockInSimpleShearIsTheSeriesSpringsExactly) {
+  // μ = E/2 = 50, H = 0.5, γ_τ = 100, δ = 0.01: v = (μ/H) δ / (μ/H + γ_τ) = δ/2, τ = γ_τ v = 0.5 (α = 1: b huge).
+  for (int dim : {2, 3}) {
+    SCOPED_TRACE(dim);
+    const double delta = 0.01, v = delta / 2, tau = 100 * v, H = 0.5;
+    const Case c = case_of("peel-2d", sheared_block(100, 1.0, 1e12, tau, dim));
+    double off_u = 0, off_slip = 0, off_shear = 0, sum_tau = 0;
+    run_to_end(c, [&](const TimeStepper& t, const StepReport& r) {
+      const State& st = t.state();
+      const Mesh& mesh = t.mesh();
+      // u = (v + (δ − v) h/H) e along the shear e, h the height (y in 2D, z in 3D).
+      const double e[3] = {dim == 3 ? std::cos(M_PI / 6) : 1.0, dim == 3 ? std::sin(M_PI / 6) : 0.0, 0.0};
+      for (int i = 0; i < mesh.n_nodes(); ++i) {
+        const double h = mesh.node(i)[dim - 1];
+        for (int j = 0; j < dim; ++j)
+          off_u = std::max(off_u, std::abs(st.u[i * dim + j] - (v + (delta - v) * h / H) * e[j]) / delta);
+      }
+      const SurfaceField* slip = st.surface_field("bond_slip");
+      ASSERT_NE(slip, nullptr);
+      sum_tau = 0;
+      for (int k = 0; k < st.lambda.size() / st.contact_block; ++k) {
+        off_slip = std::max(off_slip, std::abs(std::hypot(slip->values[2 * k], slip->values[2 * k + 1]) - v) / v);
+        off_shear = std::max(off_shear, std::abs(field(st, "adhesive_shear", k) - tau) / tau);
+        sum_tau += st.lambda.segment(k * st.contact_block + 1, st.contact_block - 1).norm();
+      }
+      EXPECT_LE(r.contact.residuals.max(), 1e-10);
+    });
+    const double area = dim == 3 ? 0.5 : 1.0;
+    std::printf("  d = %d: u against simple shear %.3g (of delta), bond slip %.3g, shear traction %.3g, sum |lambda_tau| "
+                "%.15g (tau W = %g)\n",
+                dim, off_u, off_slip, off_shear, sum_tau, tau * area);
+    EXPECT_LE(off_u, 1e-12);
+    EXPECT_LE(off_slip, 1e-12);
+    EXPECT_LE(off_shear, 1e-12);
+    EXPECT_NEAR(sum_tau, tau * area, 1e-12);
+  }
+}
+
+TEST(AdhesionShear, TheTangentialStretchWeakensTheBondAsTheLaggedRecursion) {
+  // b = 0.05: the bond weakens under the stretch; each node's α follows α_n = α_{n−1} e^{−c k/b},
+  // c = γ_ν R(s_{n−1})² + γ_τ R(|v_{n−1}|)², from its own state at t_{n−1}; its tangential force is
+  // γ_τ α_n² |Γ3|_i P_L(v_n) (the traction γ_τ α_n² min(|v_n|, L)). Also past L (L = 0.002 < v).
+  for (const double L : {1.0, 0.002}) {
+    SCOPED_TRACE(L);
+    const Case c = case_of("peel-2d", sheared_block(100, L, 0.05, 0.5));
+    std::vector<double> alpha, s, v;
+    double off_alpha = 0, off_traction = 0, least = 1;
+    run_to_end(c, [&](const TimeStepper& t, const StepReport& r) {
+      const State& st = t.state();
+      const SurfaceField* slip = st.surface_field("bond_slip");
+      const auto m = static_cast<std::size_t>(st.lambda.size() / st.contact_block);
+      if (alpha.empty()) alpha.assign(m, 1.0), s.assign(m, 0.0), v.assign(m, 0.0);
+      for (std::size_t k = 0; k < m; ++k) {
+        const double R = std::min(s[k], L), R_tau = std::min(v[k], L);
+        alpha[k] *= std::exp(-(1000 * R * R + 100 * R_tau * R_tau) * r.k / 0.05);
+        off_alpha = std::max(off_alpha, std::abs(field(st, "bonding", static_cast<Eigen::Index>(k)) - alpha[k]));
+        s[k] = field(st, "separation", static_cast<Eigen::Index>(k));
+        v[k] = std::hypot(slip->values[2 * static_cast<Eigen::Index>(k)], slip->values[2 * static_cast<Eigen::Index>(k) + 1]);
+        off_traction = std::max(off_traction, std::abs(field(st, "adhesive_shear", static_cast<Eigen::Index>(k)) -
+                                                       100 * alpha[k] * alpha[k] * std::min(v[k], L)));
+        least = std::min(least, alpha[k]);
+      }
+      EXPECT_LE(r.contact.residuals.max(), 1e-10);
+    });
+    std::printf("  L = %g: bonding against the recursion %.3g, shear traction %.3g; least alpha %.4f\n", L, off_alpha,
+                off_traction, least);
+    EXPECT_LE(off_alpha, 1e-13);
+    EXPECT_LE(off_traction, 1e-12);
+    EXPECT_LT(least, 0.99);
+  }
+}
+
+TEST(AdhesionShear, TheTangentialBondIsRefusedWhereItCannotBeSolved) {
+  const std::string text = sheared_block(100, 1.0, 1.0, 0.5);
+  auto error_of = [&](const std::vector<std::string>& sets, const std::string& solver = "auto") {
+    try {
+      Case c = case_of("peel-2d", text, sets);
+      c.solvers.contact = solver;
+      TimeStepper t(c.problem, c.solvers);
+      return std::string();
+    } catch (const std::exception& e) {
+      return std::string(e.what());
+    }
+  };
+  EXPECT_NE(error_of({"contact.friction=\"coulomb\"", "contact.mu=0.3"}).find("a tangential bond (bond_shear_stiffness) is "
+                                                                             "solved on frictionless contact"),
+            std::string::npos);
+  EXPECT_NE(error_of({}, "primal-active-set").find("is solved by 'active-set'"), std::string::npos);
+  EXPECT_NE(error_of({"contact.bond_shear_stiffness=-1"}).find("bond_shear_stiffness"), std::string::npos);
+  EXPECT_EQ(error_of({}), "");
+}
+
 /// The largest |x − y| / max|y| over the steps of two runs, of u and of λ.
 std::pair<double, double> runs_apart(const Case& a, const Case& b) {
   std::vector<Vector> ua, la;
