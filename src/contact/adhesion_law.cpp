@@ -127,13 +127,17 @@ SurfaceUpdate FremondAdhesion::update_surface(const SurfaceNode& node, std::span
   *v[1] = s;
   *v[2] = gamma * alpha * alpha * std::min(s, length_);
   *v[3] = alpha <= kDebonded ? 1.0 : 0.0;
-  *v[4] = alpha * alpha * (gamma * energy_shape(s) + gamma_tau * energy_shape(v_now));
-  *v[5] += (before * before - alpha * alpha) * (gamma * energy_shape(s_before) + gamma_tau * energy_shape(v_before));
+  *v[4] = gamma * alpha * alpha * energy_shape(s);
+  *v[5] += gamma * (before * before - alpha * alpha) * energy_shape(s_before);
+  if (shear_) {  // the tangential part's (kept apart: a law without it writes the same bits as before it)
+    *v[4] += gamma_tau * alpha * alpha * energy_shape(v_now);
+    *v[5] += gamma_tau * (before * before - alpha * alpha) * energy_shape(v_before);
+  }
   // The rate at t_n with the step's own separation against the one the step integrated (s_{n−1}):
   // the lag's local error is k/2 times it (the error estimate's, as β's).
   const auto rate = [&](double sep, double stretch) {
     const double R = std::min(sep, length_), R_tau = std::min(stretch, length_);
-    return -std::max(alpha * (gamma * R * R + gamma_tau * R_tau * R_tau) - energy_, 0.0) / viscosity_;
+    return -std::max(alpha * gamma * R * R + alpha * gamma_tau * R_tau * R_tau - energy_, 0.0) / viscosity_;
   };
   SurfaceUpdate out;
   out.rate_change = std::abs(rate(s, v_now) - rate(s_before, v_before));

@@ -262,6 +262,24 @@ TEST(AdhesionKeys, HeldByBondIsCheckedAndTheDualRefused) {
 // its sides loaded with the complementary shear (0, ±τ): simple shear u_x = v + (δ − v) y/H, u_y = 0 is
 // exact on any mesh, bond and block two springs in series, γ_τ α² v = τ = μ (δ − v)/H.
 std::string sheared_block(double gamma_tau, double length, double viscosity, double tau, int dim = 2) {
+  // The material, the bond and the steps, the same in 2D and 3D.
+  const std::string rest = fmt::format(R"toml(
+[viscoplasticity]
+law = "elastic"
+[damage]
+source = "zero"
+[contact]
+gap = 0.0
+adhesion = "fremond"
+bond_stiffness = 1000.0
+bond_shear_stiffness = {}
+bond_length = {}
+bond_viscosity = {}
+[time]
+T = 1.0
+steps = 4
+)toml",
+                                       gamma_tau, length, viscosity);
   if (dim == 3)  // height along z, sheared along (cos 30°, sin 30°, 0): the bond's disc, not a box
     return fmt::format(R"toml(
 [case]
@@ -284,22 +302,8 @@ f2 = ["0", "0", "x < 1e-9 ? -{0} * cos(pi / 6) : x > 1 - 1e-9 ? {0} * cos(pi / 6
 kind = "isotropic"
 E = 100.0
 nu = 0.0
-[viscoplasticity]
-law = "elastic"
-[damage]
-source = "zero"
-[contact]
-gap = 0.0
-adhesion = "fremond"
-bond_stiffness = 1000.0
-bond_shear_stiffness = {1}
-bond_length = {2}
-bond_viscosity = {3}
-[time]
-T = 1.0
-steps = 4
 )toml",
-                       tau, gamma_tau, length, viscosity);
+                       tau) + rest;
   return fmt::format(R"toml(
 [case]
 name = "bond-shear"
@@ -320,22 +324,8 @@ f2 = ["0", "x < 0.5 ? -{0} : {0}"]
 kind = "plane-strain"
 E = 100.0
 nu = 0.0
-[viscoplasticity]
-law = "elastic"
-[damage]
-source = "zero"
-[contact]
-gap = 0.0
-adhesion = "fremond"
-bond_stiffness = 1000.0
-bond_shear_stiffness = {1}
-bond_length = {2}
-bond_viscosity = {3}
-[time]
-T = 1.0
-steps = 4
 )toml",
-                     tau, gamma_tau, length, viscosity);
+                     tau) + rest;
 }
 
 TEST(AdhesionShear, ABondedBlockInSimpleShearIsTheSeriesSpringsExactly) {
