@@ -354,7 +354,7 @@ INPUTS = [
     ("a body held by nothing (held_by_bond off)", {}, ["pull-off-1d", "--set", "contact.held_by_bond=false"]),
     ("a tangential bond together with friction", {},
      ["lap-shear-2d", "--set", "contact.friction=\"coulomb\"", "--set", "contact.mu=0.3"]),
-    ("a tangential bond on the primal contact solver", {}, ["lap-shear-2d", "--contact-solver", "primal-active-set"]),
+    ("a tangential bond on the contact solver penalty-duality", {}, ["lap-shear-2d", "--contact-solver", "penalty-duality"]),
     ("a negative tangential bond stiffness", {}, ["lap-shear-2d", "--set", "contact.bond_shear_stiffness=-1"]),
     ("a tangential bond in 1D", {}, ["adhesion-bar-1d", "--set", "contact.bond_shear_stiffness=10"]),
     ("a body held by its bond alone pulled off", {}, ["run", "pull-off-1d", "-q", "--no-vtu", "-o", "out", "--set", "time.T=1", "--set", "time.steps=20"]),

@@ -47,10 +47,7 @@ std::string cannot_solve(const std::string& solver, const ContactNeeds& needs) {
                        "wear or a tangential bond: the pull-off test balances the normal forces only (remove them, or "
                        "hold the body by prescribed displacements)",
                        solver);
-  if (needs.shear_bond && solver != "active-set")
-    return fmt::format("contact solver '{}': a tangential bond (bond_shear_stiffness) is solved by 'active-set' (the "
-                       "dual: a Tresca disc with the bond's compliance)",
-                       solver);
+
   if (needs.floating && solver != "primal-active-set")
     return fmt::format("contact solver '{}' needs K's inverse, and a body its bonds alone hold (held_by_bond) makes K "
                        "singular: 'primal-active-set' solves it (it factors K with the bonds' springs)",
@@ -115,7 +112,6 @@ ContactSolverPick pick_contact_solver(const std::string& requested, int m, const
   if (requested != "auto") return {requested, "as asked"};
   // Where the primal cannot solve it, the dual does (the table's first row solves everything).
   if (!needs.nonlinear.empty()) return {"active-set", "auto: a nonlinear compliance law is solved on the dual"};
-  if (needs.shear_bond) return {"active-set", "auto: a tangential bond is solved on the dual"};
   // With friction the dual's unknowns are m × block (λ_ν and the tangential forces of each node); with
   // adhesion and no friction each bonded node's pull besides its force (BondDual): up to 2m.
   const bool pulls = needs.adhesion && block == 1;

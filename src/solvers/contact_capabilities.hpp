@@ -8,8 +8,8 @@
 //   active-set (dual)    yes        yes          yes               yes               yes               yes, frictionless   yes (1)         yes
 //   primal-active-set    yes        linear       no                yes               no                yes, frictionless   yes (1)         no
 //   penalty-duality      no         no           no                no                yes               no                  no              no
-// A tangential bond (γ_τ: a Tresca disc a_τ L with the compliance 1/a_τ on frictionless rows) is the dual's
-// alone: the primal's tangential rows are friction's stick (fixed) and slip states, without a spring.
+// A tangential bond (γ_τ, on frictionless rows) is solved by both: the dual as a Tresca disc a_τ L with the
+// compliance 1/a_τ, the primal as two more tangential states, the bond's spring and its pull beyond L.
 // A body only its bonds hold (held_by_bond: K singular, frictionless) is the primal's alone, on a direct
 // linear solver: the dual's S and penalty–duality's K + ωNᵀN need K⁻¹ or a factor of K without the rows.
 // (1) With friction on Signorini's law only: the bond's pull makes λ_ν < 0, where Coulomb's bound μ max(λ_ν, 0)

@@ -89,11 +89,13 @@ void set_bond_data(ContactConstraints& c, const StepBonds& bonds) {
   c.bond_stretch = bonds.stretch;
 }
 
-void bond_slip(const ContactConstraints& c, Eigen::Index i, Eigen::Ref<const Vector> force, Eigen::Ref<Vector> slip) {
+Vector shear_bond_force(const ContactConstraints& c, Eigen::Index i, Eigen::Ref<const Vector> slip) {
   const double a = c.shear_bond_of(i);
-  if (!(a > 0)) return;
+  if (!(a > 0)) return Vector::Zero(slip.size());
   const auto t = static_cast<Eigen::Index>(c.block - 1);
-  slip += c.bond_stretch.segment(i * t, t) - force / a;
+  const Vector v = slip + c.bond_stretch.segment(i * t, t);
+  const double size = v.norm(), L = c.bond_length_of(i);
+  return size <= L ? Vector(a * v) : Vector(a * L / size * v);
 }
 
 ContactStatus contact_status(double lambda_nu, double tangential_norm, double bound, double slack) {
@@ -150,8 +152,13 @@ ContactResiduals contact_residuals(const la::SpdOperator& K, const ContactConstr
   const Vector slip = slip_increment(comm, c, u);
   for (Eigen::Index i = 0; i < s.size(); ++i) {
     const auto l = tangential.segment(i * t, t);
-    Vector d = slip.segment(i * t, t);
-    bond_slip(c, i, l, d);  // a tangential bond's compliance and stretch (its law's slip)
+    const auto d = slip.segment(i * t, t);
+    if (c.shear_bond_of(i) > 0) {  // a tangential bond: its force is a function of the stretch, as a compliant row's
+      // (measured as a force: its slip Δ + v − λ_τ/a_τ would multiply λ_τ's round-off by 1/a_τ where α → 0)
+      r.friction_bound = std::max(r.friction_bound, (l.norm() - c.bound(i, lambda_local[i])) / l_scale);
+      r.stick_slip = std::max(r.stick_slip, (l - shear_bond_force(c, i, d)).norm() / l_scale);
+      continue;
+    }
     const FrictionLaw& law = c.friction_of(i);
     const double bound = c.bound(i, lambda_local[i]), ln = law.gauge(l.data(), t), dn = d.norm();
     r.friction_bound = std::max(r.friction_bound, (ln - bound) / l_scale);

@@ -148,8 +148,8 @@ struct ContactConstraints {
   /// Its tangential part (SPEC §9's γ_τ; frictionless rows: friction_of is the disc of bound 0 there),
   /// per local row and step: a_τ,i = γ_τ α_i² |Γ3|_i and, per tangent (rows × (b − 1)), the bond's stretch
   /// v_{n−1} at the step's start. The row's tangential force is λ_τ,i = a_τ,i P_L(Δ_i + v_{n−1,i}), P_L onto
-  /// the disc of radius L_i: Tresca's disc of radius a_τ,i L_i (bound_of) with the compliance 1/a_τ,i, whose
-  /// slip is Δ_i + v_{n−1,i} − λ_τ,i/a_τ,i (bond_slip). Empty: none. `shear_bonded`: some row may get one (set
+  /// the disc of radius L_i: Tresca's disc of radius a_τ,i L_i (bound_of) with the compliance 1/a_τ,i
+  /// (shear_bond_force). Empty: none. `shear_bonded`: some row may get one (set
   /// at set-up, the same on every rank: the primal solver does not solve it).
   Vector shear_bond, bond_stretch;
   bool shear_bonded = false;
@@ -291,9 +291,9 @@ struct StepBonds {
 };
 /// Checks a step's bonds (one per row, finite, >= 0; rows without a bond length 0) and stores them in c.
 void set_bond_data(ContactConstraints& c, const StepBonds& bonds);
-/// Row i's slip under a tangential bond: Δ + v_{n−1} − λ_τ/a_τ (`slip`, `force`: its t numbers), in place;
-/// untouched on a row without one.
-void bond_slip(const ContactConstraints& c, Eigen::Index i, Eigen::Ref<const Vector> force, Eigen::Ref<Vector> slip);
+/// Row i's tangential bond force a_τ P_L(Δ + v_{n−1}) at its slip increment Δ (`slip`: its t numbers); 0 on a row
+/// without one. The residuals measure the row's λ_τ against it (the stick-slip residual's place).
+Vector shear_bond_force(const ContactConstraints& c, Eigen::Index i, Eigen::Ref<const Vector> slip);
 const Vector& checked_gap(const ContactConstraints& c, const Vector& gap);
 /// The report of a solve whose unknowns are the normal forces alone (λ: m numbers; a solver of a set
 /// without tangents), and of one with the tangential forces too (λ: m × block; friction's stick and

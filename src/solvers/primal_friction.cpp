@@ -25,6 +25,7 @@ PrimalFriction::PrimalFriction(const ContactConstraints& c, const Vector& diagon
     scale_.push_back(n ? sum / n : 0.0);
   }
   stick_.assign(rows, 0);
+  bond_.assign(rows, 0);
   spring_.assign(rows, 0.0);
   force_ = Vector::Zero(static_cast<Eigen::Index>(dof_.size()));
   direction_ = force_;
@@ -103,8 +104,22 @@ void PrimalFriction::start(const ContactConstraints& c, const std::vector<char>&
   have_last_ = false;
   for (std::size_t i = 0; i < stick_.size(); ++i) {
     const auto e = static_cast<Eigen::Index>(i);
-    const bool slipped = !stick_[i] && spring_[i] > 0;
+    const bool slipped = !stick_[i] && spring_[i] > 0 && !bond_[i];
     stick_[i] = 0;
+    if (const double a = c.shear_bond_of(e); a > 0) {  // a tangential bond: its state from the warm start's force
+      const double L = c.bond_length_of(e);
+      const Vector l = tangential.size() == force_.size() ? Vector(tangential.segment(e * t_, t_)) : Vector(Vector::Zero(t_));
+      Next n;
+      n.bond.assign(stick_.size(), 0);
+      n.force = Vector::Zero(force_.size()), n.direction = n.force;
+      n.spring.assign(stick_.size(), 0.0);
+      bond_state(i, l / a, a, L, n);  // v = λ_τ/a within L: the warm start's stretch, or beyond by its force
+      bond_[i] = n.bond[i], spring_[i] = n.spring[i];
+      force_.segment(e * t_, t_) = n.force.segment(e * t_, t_);
+      direction_.segment(e * t_, t_) = n.direction.segment(e * t_, t_);
+      continue;
+    }
+    bond_[i] = 0;
     if (active[i] && tangential.size() == force_.size() && normal[e] > 0) {
       const auto l = tangential.segment(e * t_, t_);
       const FrictionLaw& law = c.friction_of(e);
@@ -138,6 +153,12 @@ Eigen::MatrixXd PrimalFriction::across(std::size_t i) const {
   const double k = spring_[i];
   Eigen::MatrixXd P = Eigen::MatrixXd::Zero(t_, t_);
   const auto f = force_.segment(static_cast<Eigen::Index>(i) * t_, t_);
+  if (bond_[i] == kBondSpring) {  // the bond's spring a_τ on every tangent
+    P = k * Eigen::MatrixXd::Identity(t_, t_);
+    for (int j = 0; j < t_; ++j)
+      if (dof_[i * t_ + j] < 0) P.row(j).setZero(), P.col(j).setZero();
+    return P;
+  }
   if (stick_[i] || !(k > 0) || !(f.norm() > 0)) return P;
   const Vector n = disc_[i] ? Vector(f / f.norm()) : Vector(normal_.segment(static_cast<Eigen::Index>(i) * t_, t_));
   P = k * (Eigen::MatrixXd::Identity(t_, t_) - n * n.transpose());
@@ -169,7 +190,7 @@ void PrimalFriction::load(const ContactConstraints& c, const std::vector<char>& 
     const auto e = static_cast<Eigen::Index>(i);
     const Vector force = coupled[i] ? Vector(c.tresca[e] * direction(i)) : Vector(force_.segment(e * t_, t_));
     // The body gets −λ_τ = −s n − k(I − nnᵀ)(w − h): the spring is in the matrix, the rest here.
-    const Vector pull = stick_[i] ? Vector() : Vector(across(i) * c.shift.segment(e * t_, t_));
+    const Vector pull = stick_[i] ? Vector() : Vector(across(i) * rest(c, i));
     for (int j = 0; j < t_; ++j) {
       const auto k = e * t_ + j;
       const int dof = dof_[static_cast<std::size_t>(k)];
@@ -207,9 +228,20 @@ PrimalFriction::Next PrimalFriction::next(const ContactConstraints& c, const Vec
   n.normal = n.force;
   n.spring.assign(stick_.size(), 0.0);
   n.excess.assign(stick_.size(), -1.0);
+  n.bond.assign(stick_.size(), 0);
   Vector q(t_);
   for (std::size_t i = 0; i < stick_.size(); ++i) {
     const auto e = static_cast<Eigen::Index>(i);
+    if (const double a = c.shear_bond_of(e); a > 0) {  // a tangential bond: its state at the iterate's stretch
+      Vector v = Vector::Zero(t_);
+      const Vector h = rest(c, i);
+      for (int j = 0; j < t_; ++j)
+        if (const int dof = dof_[i * t_ + j]; dof >= 0) v[j] = w[dof] - h[j];
+      bond_state(i, v, a, c.bond_length_of(e), n);
+      const Vector now = n.bond[i] == kBondSpring ? Vector(a * v) : Vector(n.force.segment(e * t_, t_));
+      n.change = std::max(n.change, (now - tangential.segment(e * t_, t_)).cwiseAbs().maxCoeff());
+      continue;
+    }
     q.setZero();
     for (int j = 0; j < t_; ++j) {
       const auto k = static_cast<Eigen::Index>(i * t_ + j);
@@ -289,7 +321,7 @@ void PrimalFriction::secant(const ContactConstraints& c, const Vector& w, const 
   if (update && have_last_) {
     double sums[2] = {0, 0};
     for (std::size_t i = 0; i < stick_.size(); ++i) {
-      if (stick_[i] || last_stick_[i] || !(scale_[i] > 0)) continue;  // rows that slip in both
+      if (stick_[i] || last_stick_[i] || bond_[i] || !(scale_[i] > 0)) continue;  // rows that slip in both (not bonds)
       const auto e = static_cast<Eigen::Index>(i);
       const Vector df = tangential.segment(e * t_, t_) - last_force_.segment(e * t_, t_);
       sums[0] += df.squaredNorm() / scale_[i];
@@ -317,10 +349,32 @@ void PrimalFriction::rescale(const Vector& bound) {
 
 void PrimalFriction::take(Next&& next) {
   stick_ = std::move(next.stick);
+  bond_ = std::move(next.bond);
   force_ = std::move(next.force);
   direction_ = std::move(next.direction);
   normal_ = std::move(next.normal);
   spring_ = std::move(next.spring);
+}
+
+void PrimalFriction::bond_state(std::size_t i, const Vector& v, double a, double L, Next& n) const {
+  const auto e = static_cast<Eigen::Index>(i);
+  const double size = v.norm();
+  if (size <= L) {  // λ_τ = a v: the spring on the tangent dofs, no constant force
+    n.bond[i] = kBondSpring;
+    n.spring[i] = a;
+    return;
+  }
+  n.bond[i] = kBondPulled;  // λ_τ = a L n: a constant force along n and Newton's spring across it
+  n.direction.segment(e * t_, t_) = v / size;
+  n.force.segment(e * t_, t_) = a * L / size * v;
+  n.spring[i] = t_ > 1 ? a * L / size : 0.0;
+}
+
+Vector PrimalFriction::rest(const ContactConstraints& c, std::size_t i) const {
+  const auto e = static_cast<Eigen::Index>(i);
+  Vector h = c.shift.segment(e * t_, t_);
+  if (bond_.size() > i && c.shear_bond_of(e) > 0 && c.bond_stretch.size() > 0) h -= c.bond_stretch.segment(e * t_, t_);
+  return h;
 }
 
 std::vector<char> contact_sets(const std::vector<char>& active, const std::vector<char>& stick) {

@@ -79,6 +79,7 @@ class PrimalFriction {
 
   struct Next {
     std::vector<char> stick;  // per row
+    std::vector<char> bond;   // per row: a tangential bond's state (kBondSpring, kBondPulled; 0: none)
     Vector force;             // s_i n_i per slip row (0 at stick and free rows)
     Vector direction;         // n_i per slip row (0 where q_i = 0 and at stick rows)
     Vector normal;            // ν̂_i per slip row of a law that is not the disc (its spring's axis)
@@ -119,6 +120,12 @@ class PrimalFriction {
   void rescale(const Vector& bound);
 
   const std::vector<char>& stick() const { return stick_; }
+  /// Per row, a tangential bond's state (SPEC §9's γ_τ on a frictionless row; ContactConstraints::shear_bond):
+  /// 0 none; kBondSpring within the bond length, λ_τ = a_τ v (the spring a_τ on the tangent dofs);
+  /// kBondPulled beyond it, λ_τ = a_τ L n (n = v/|v|, Newton's spring a_τ L/|v| across n, as a slip row's).
+  /// v = Δ + v_{n−1} = w_t − (h − v_{n−1}): the bond's stretch. Never stick.
+  static constexpr char kBondSpring = 1, kBondPulled = 2;
+  const std::vector<char>& bond() const { return bond_; }
 
  private:
   /// Row i slipping at the trial force z (q_i, or λ_τ,i) outside C_s (or s = 0): its force s n, n, the
@@ -140,7 +147,13 @@ class PrimalFriction {
   Vector direction_;            // per row × t_: n of the slip rows
   Vector normal_;               // per row × t_: ν̂ of the slip rows whose law's set is not the disc
   std::vector<char> disc_;      // per row: its law's set is the disc
-  std::vector<double> spring_;  // per row: k of the slip rows (0 in 2D, at stick and free rows)
+  std::vector<double> spring_;  // per row: k of the slip rows (0 in 2D, at stick and free rows); a_τ on kBondSpring
+  std::vector<char> bond_;      // per row: its tangential bond's state (bond())
+  /// Row i's tangential bond state and its force, direction and spring at the bond's stretch v (a_τ: its
+  /// stiffness, L its length) into `n`.
+  void bond_state(std::size_t i, const Vector& v, double a, double L, Next& n) const;
+  /// h − v_{n−1} of a bonded row (its spring's rest position in w), h elsewhere.
+  Vector rest(const ContactConstraints& c, std::size_t i) const;
   double gamma_ = 1;            // c_i γ in the update rule (secant)
   Vector last_force_, last_slip_;
   bool have_last_ = false;
