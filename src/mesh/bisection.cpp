@@ -1,0 +1,234 @@
+#include "mesh/bisection.hpp"
+
+#include "core/error.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+
+namespace vpc {
+
+namespace {
+
+double distance2(const Point& p, const Point& q) {
+  double s = 0;
+  for (int j = 0; j < 3; ++j) s += (p[j] - q[j]) * (p[j] - q[j]);
+  return s;
+}
+
+/// Twice the signed area of the triangle (p, q, r) in the xy plane.
+double orientation(const Point& p, const Point& q, const Point& r) {
+  return (q[0] - p[0]) * (r[1] - p[1]) - (q[1] - p[1]) * (r[0] - p[0]);
+}
+
+}  // namespace
+
+std::uint64_t BisectionForest::key(int a, int b) {
+  const auto lo = static_cast<std::uint64_t>(std::min(a, b)), hi = static_cast<std::uint64_t>(std::max(a, b));
+  return lo << 32 | hi;
+}
+
+BisectionForest::BisectionForest(const Mesh& coarse) : coarse_(coarse), x_(coarse.nodes()) {
+  require(coarse.dim() == 2, "newest-vertex bisection: a triangle mesh is needed (d = 2), got d = {}", coarse.dim());
+  require(coarse.n_bodies() == 1, "newest-vertex bisection: a mesh of one body is needed, got {}", coarse.n_bodies());
+  cells_.reserve(static_cast<std::size_t>(coarse.n_cells()));
+  for (int c = 0; c < coarse.n_cells(); ++c) {
+    const int* v = coarse.cell(c);
+    // The refinement edge: the longest, ties by the least (smaller, larger) pair of node numbers.
+    int best = 0;
+    auto edge_rank = [&](int e) {
+      const int a = v[e], b = v[(e + 1) % 3];
+      return std::make_tuple(-distance2(x_[static_cast<std::size_t>(a)], x_[static_cast<std::size_t>(b)]),
+                             std::min(a, b), std::max(a, b));
+    };
+    for (int e = 1; e < 3; ++e)
+      if (edge_rank(e) < edge_rank(best)) best = e;
+    Cell cell;
+    cell.v = {v[best], v[(best + 1) % 3], v[(best + 2) % 3]};
+    cell.root = c;
+    const auto& p = cell.v;
+    if (orientation(x_[static_cast<std::size_t>(p[0])], x_[static_cast<std::size_t>(p[1])],
+                    x_[static_cast<std::size_t>(p[2])]) < 0)
+      std::swap(cell.v[0], cell.v[1]);  // counterclockwise, the same refinement edge and peak
+    cells_.push_back(cell);
+    add_edges(c);
+  }
+}
+
+void BisectionForest::add_edges(int c) {
+  const auto& v = cells_[static_cast<std::size_t>(c)].v;
+  for (int e = 0; e < 3; ++e) {
+    auto [it, fresh] = edge_cells_.try_emplace(key(v[e], v[(e + 1) % 3]), std::array<int, 2>{-1, -1});
+    std::array<int, 2>& slots = it->second;
+    require(slots[0] < 0 || slots[1] < 0, "newest-vertex bisection: an edge of three cells (the mesh is not a manifold)");
+    (slots[0] < 0 ? slots[0] : slots[1]) = c;
+  }
+}
+
+void BisectionForest::remove_edges(int c) {
+  const auto& v = cells_[static_cast<std::size_t>(c)].v;
+  for (int e = 0; e < 3; ++e) {
+    const auto it = edge_cells_.find(key(v[e], v[(e + 1) % 3]));
+    std::array<int, 2>& slots = it->second;
+    (slots[0] == c ? slots[0] : slots[1]) = -1;
+    if (slots[0] < 0 && slots[1] < 0) edge_cells_.erase(it);
+  }
+}
+
+int BisectionForest::neighbour(int c, int a, int b) const {
+  const auto it = edge_cells_.find(key(a, b));
+  if (it == edge_cells_.end()) return -1;
+  return it->second[0] == c ? it->second[1] : it->second[0];
+}
+
+void BisectionForest::split(int c) {
+  const Cell parent = cells_[static_cast<std::size_t>(c)];
+  const int a = parent.v[0], b = parent.v[1], p = parent.v[2];
+  const auto [it, fresh] = midpoint_.try_emplace(key(a, b), n_nodes());
+  if (fresh) {
+    const Point& xa = x_[static_cast<std::size_t>(a)];
+    const Point& xb = x_[static_cast<std::size_t>(b)];
+    x_.push_back({(xa[0] + xb[0]) / 2, (xa[1] + xb[1]) / 2, (xa[2] + xb[2]) / 2});
+    made_at_.push_back({a, b});
+  }
+  const int m = it->second;
+  remove_edges(c);
+  for (int k = 0; k < 2; ++k) {
+    Cell child;
+    child.v = k == 0 ? std::array<int, 3>{p, a, m} : std::array<int, 3>{b, p, m};
+    child.parent = c;
+    child.root = parent.root;
+    child.level = parent.level + 1;
+    cells_[static_cast<std::size_t>(c)].child[static_cast<std::size_t>(k)] = n_cells();
+    cells_.push_back(child);
+    add_edges(n_cells() - 1);
+  }
+}
+
+void BisectionForest::bisect(int c, int& bisected) {
+  const int a = vertices(c)[0], b = vertices(c)[1];
+  for (;;) {
+    const int across = neighbour(c, a, b);
+    if (across < 0) break;  // a boundary edge: c alone
+    const auto& w = vertices(across);
+    if (key(w[0], w[1]) == key(a, b)) {  // the neighbour's refinement edge too: both at one midpoint
+      split(across);
+      ++bisected;
+      break;
+    }
+    // Its refinement edge is another: bisect it first, and its child across (a, b) then has (a, b) as its own.
+    bisect(across, bisected);
+  }
+  split(c);
+  ++bisected;
+}
+
+int BisectionForest::refine(const std::vector<int>& leaves) {
+  int bisected = 0;
+  for (int c : leaves) {
+    require(c >= 0 && c < n_cells(), "newest-vertex bisection: no cell {} (of {})", c, n_cells());
+    // (an earlier closure may have bisected it already: then it is refined, as asked)
+    if (leaf(c)) bisect(c, bisected);
+  }
+  return bisected;
+}
+
+std::vector<int> BisectionForest::leaves() const {
+  std::vector<int> out, stack;
+  for (int r = 0; r < coarse_.n_cells(); ++r) {
+    stack.push_back(r);
+    while (!stack.empty()) {
+      const int c = stack.back();
+      stack.pop_back();
+      if (leaf(c)) {
+        out.push_back(c);
+        continue;
+      }
+      const auto& child = cells_[static_cast<std::size_t>(c)].child;
+      stack.push_back(child[1]);
+      stack.push_back(child[0]);
+    }
+  }
+  return out;
+}
+
+Mesh BisectionForest::leaf_mesh() const {
+  Mesh mesh(2);
+  for (const std::string& part : coarse_.part_names()) mesh.part_id(part);  // numbered as the coarse mesh's
+  for (const std::string& region : coarse_.region_names()) mesh.region_id(region);
+  for (const Point& x : x_) mesh.add_node(x);
+  const std::vector<int> cells = leaves();
+  for (int c : cells) mesh.add_cell(vertices(c).data());
+  for (std::size_t k = 0; k < cells.size(); ++k)
+    if (const int r = coarse_.cell_region(root(cells[k])); r >= 0)
+      mesh.set_cell_region(static_cast<int>(k), coarse_.region_names()[static_cast<std::size_t>(r)]);
+  // Each coarse boundary facet as its halves, recursively, in its part.
+  const std::function<void(int, int, const std::string&)> facet = [&](int a, int b, const std::string& part) {
+    if (const auto it = midpoint_.find(key(a, b)); it != midpoint_.end()) {
+      facet(a, it->second, part);
+      facet(it->second, b, part);
+      return;
+    }
+    const int v[2] = {a, b};
+    mesh.add_facet(v, part);
+  };
+  for (int f = 0; f < coarse_.n_facets(); ++f) {
+    const int part = coarse_.facet_part(f);
+    facet(coarse_.facet(f)[0], coarse_.facet(f)[1],
+          part < 0 ? std::string() : coarse_.part_names()[static_cast<std::size_t>(part)]);
+  }
+  return mesh;
+}
+
+std::array<int, 2> BisectionForest::made_at(int i) const {
+  const int coarse = coarse_.n_nodes();
+  return i < coarse ? std::array<int, 2>{-1, -1} : made_at_[static_cast<std::size_t>(i - coarse)];
+}
+
+void BisectionForest::interpolate(std::vector<double>& values, int width) const {
+  const auto w = static_cast<std::size_t>(width);
+  require(width > 0 && values.size() % w == 0 && values.size() / w >= static_cast<std::size_t>(coarse_.n_nodes()) &&
+              values.size() / w <= static_cast<std::size_t>(n_nodes()),
+          "newest-vertex bisection: a nodal field of {} numbers, {} a node, for {} nodes", values.size(), width, n_nodes());
+  for (auto i = values.size() / w; i < static_cast<std::size_t>(n_nodes()); ++i) {
+    const auto [a, b] = made_at(static_cast<int>(i));
+    for (std::size_t j = 0; j < w; ++j)
+      values.push_back(0.5 * (values[static_cast<std::size_t>(a) * w + j] + values[static_cast<std::size_t>(b) * w + j]));
+  }
+}
+
+std::vector<double> BisectionForest::inherit(const std::vector<int>& before, const std::vector<double>& values,
+                                             int width) const {
+  const auto w = static_cast<std::size_t>(width);
+  require(width > 0 && values.size() == before.size() * w,
+          "newest-vertex bisection: a cell field of {} numbers, {} a cell, for {} cells", values.size(), width, before.size());
+  std::unordered_map<int, std::size_t> place;  // an old leaf's index in `before`
+  for (std::size_t k = 0; k < before.size(); ++k) place.emplace(before[k], k);
+  std::vector<double> out;
+  for (int c : leaves()) {
+    int a = c;
+    while (a >= 0 && !place.count(a)) a = parent(a);
+    require(a >= 0, "newest-vertex bisection: leaf {} has no ancestor among the cells given", c);
+    const std::size_t k = place.at(a);
+    out.insert(out.end(), values.begin() + static_cast<std::ptrdiff_t>(k * w),
+               values.begin() + static_cast<std::ptrdiff_t>((k + 1) * w));
+  }
+  return out;
+}
+
+double BisectionForest::min_angle() const {
+  double least = M_PI;
+  for (int c : leaves()) {
+    const auto& v = vertices(c);
+    for (int k = 0; k < 3; ++k) {
+      const Point& p = x_[static_cast<std::size_t>(v[k])];
+      const Point& q = x_[static_cast<std::size_t>(v[(k + 1) % 3])];
+      const Point& r = x_[static_cast<std::size_t>(v[(k + 2) % 3])];
+      const double u[2] = {q[0] - p[0], q[1] - p[1]}, w[2] = {r[0] - p[0], r[1] - p[1]};
+      least = std::min(least, std::atan2(std::abs(u[0] * w[1] - u[1] * w[0]), u[0] * w[0] + u[1] * w[1]));
+    }
+  }
+  return least;
+}
+
+}  // namespace vpc
