@@ -28,7 +28,8 @@ std::uint64_t BisectionForest::key(int a, int b) {
   return lo << 32 | hi;
 }
 
-BisectionForest::BisectionForest(const Mesh& coarse) : coarse_(coarse), x_(coarse.nodes()) {
+BisectionForest::BisectionForest(const Mesh& coarse)
+    : coarse_(coarse), x_(coarse.nodes()), alive_(static_cast<std::size_t>(coarse.n_nodes()), 1) {
   require(coarse.dim() == 2, "newest-vertex bisection: a triangle mesh is needed (d = 2), got d = {}", coarse.dim());
   require(coarse.n_bodies() == 1, "newest-vertex bisection: a mesh of one body is needed, got {}", coarse.n_bodies());
   cells_.reserve(static_cast<std::size_t>(coarse.n_cells()));
@@ -90,9 +91,11 @@ void BisectionForest::split(int c) {
     const Point& xb = x_[static_cast<std::size_t>(b)];
     x_.push_back({(xa[0] + xb[0]) / 2, (xa[1] + xb[1]) / 2, (xa[2] + xb[2]) / 2});
     made_at_.push_back({a, b});
+    alive_.push_back(1);
   }
   const int m = it->second;
   remove_edges(c);
+  cells_[static_cast<std::size_t>(c)].is_leaf = false;
   for (int k = 0; k < 2; ++k) {
     Cell child;
     child.v = k == 0 ? std::array<int, 3>{p, a, m} : std::array<int, 3>{b, p, m};
@@ -133,6 +136,66 @@ int BisectionForest::refine(const std::vector<int>& leaves) {
   return bisected;
 }
 
+void BisectionForest::unsplit(int c) {
+  Cell& parent = cells_[static_cast<std::size_t>(c)];
+  for (int k : parent.child) {
+    remove_edges(k);
+    cells_[static_cast<std::size_t>(k)].is_leaf = false;  // unreachable from here on: not a leaf, not a parent
+  }
+  parent.is_leaf = true;
+  add_edges(c);
+}
+
+int BisectionForest::coarsen(const std::vector<int>& leaves) {
+  std::unordered_map<int, std::vector<int>> by_peak;  // a made node → the marked leaves it is the peak of
+  for (int c : leaves) {
+    require(c >= 0 && c < n_cells() && leaf(c), "newest-vertex bisection: cell {} is not a leaf to coarsen", c);
+    if (const int m = vertices(c)[2]; m >= coarse_.n_nodes() && parent(c) >= 0) by_peak[m].push_back(c);
+  }
+  std::vector<int> around(x_.size(), 0);  // leaves at each node
+  for (int c : this->leaves())
+    for (int v : vertices(c)) ++around[static_cast<std::size_t>(v)];
+  std::vector<int> nodes;
+  for (const auto& [m, cells] : by_peak) nodes.push_back(m);
+  std::sort(nodes.begin(), nodes.end());  // the same order whatever the hash map's
+  int removed = 0;
+  for (int m : nodes) {
+    const std::vector<int>& cells = by_peak[m];
+    if (static_cast<int>(cells.size()) != around[static_cast<std::size_t>(m)]) continue;  // a leaf around m not marked
+    const std::uint64_t edge = key(made_at(m)[0], made_at(m)[1]);
+    std::vector<int> parents;
+    bool whole = true;
+    for (int c : cells) {
+      const int p = parent(c);
+      const Cell& P = cells_[static_cast<std::size_t>(p)];
+      // m is made at P's refinement edge, and both of P's children are marked leaves around m
+      whole = whole && key(P.v[0], P.v[1]) == edge && leaf(P.child[0]) && leaf(P.child[1]) &&
+              std::count(cells.begin(), cells.end(), P.child[0]) == 1 && std::count(cells.begin(), cells.end(), P.child[1]) == 1;
+      if (std::find(parents.begin(), parents.end(), p) == parents.end()) parents.push_back(p);
+    }
+    if (!whole || cells.size() != 2 * parents.size()) continue;
+    for (int p : parents) unsplit(p);
+    midpoint_.erase(edge);
+    alive_[static_cast<std::size_t>(m)] = 0;
+    ++removed;
+  }
+  return removed;
+}
+
+std::vector<int> BisectionForest::mesh_numbers() const {
+  std::vector<int> out(x_.size(), -1);
+  int next = 0;
+  for (std::size_t i = 0; i < x_.size(); ++i)
+    if (alive_[i]) out[i] = next++;
+  return out;
+}
+
+double BisectionForest::area(int c) const {
+  const auto& v = vertices(c);
+  return 0.5 * std::abs(orientation(x_[static_cast<std::size_t>(v[0])], x_[static_cast<std::size_t>(v[1])],
+                                    x_[static_cast<std::size_t>(v[2])]));
+}
+
 std::vector<int> BisectionForest::leaves() const {
   std::vector<int> out, stack;
   for (int r = 0; r < coarse_.n_cells(); ++r) {
@@ -156,9 +219,16 @@ Mesh BisectionForest::leaf_mesh() const {
   Mesh mesh(2);
   for (const std::string& part : coarse_.part_names()) mesh.part_id(part);  // numbered as the coarse mesh's
   for (const std::string& region : coarse_.region_names()) mesh.region_id(region);
-  for (const Point& x : x_) mesh.add_node(x);
+  const std::vector<int> number = mesh_numbers();
+  for (std::size_t i = 0; i < x_.size(); ++i)
+    if (alive_[i]) mesh.add_node(x_[i]);
   const std::vector<int> cells = leaves();
-  for (int c : cells) mesh.add_cell(vertices(c).data());
+  for (int c : cells) {
+    const auto& v = vertices(c);
+    const int w[3] = {number[static_cast<std::size_t>(v[0])], number[static_cast<std::size_t>(v[1])],
+                      number[static_cast<std::size_t>(v[2])]};
+    mesh.add_cell(w);
+  }
   for (std::size_t k = 0; k < cells.size(); ++k)
     if (const int r = coarse_.cell_region(root(cells[k])); r >= 0)
       mesh.set_cell_region(static_cast<int>(k), coarse_.region_names()[static_cast<std::size_t>(r)]);
@@ -169,7 +239,7 @@ Mesh BisectionForest::leaf_mesh() const {
       facet(it->second, b, part);
       return;
     }
-    const int v[2] = {a, b};
+    const int v[2] = {number[static_cast<std::size_t>(a)], number[static_cast<std::size_t>(b)]};
     mesh.add_facet(v, part);
   };
   for (int f = 0; f < coarse_.n_facets(); ++f) {
@@ -204,14 +274,30 @@ std::vector<double> BisectionForest::inherit(const std::vector<int>& before, con
           "newest-vertex bisection: a cell field of {} numbers, {} a cell, for {} cells", values.size(), width, before.size());
   std::unordered_map<int, std::size_t> place;  // an old leaf's index in `before`
   for (std::size_t k = 0; k < before.size(); ++k) place.emplace(before[k], k);
-  std::vector<double> out;
+  // Σ area × value over the old leaves in c's subtree, and their area (a parent made a leaf again).
+  const std::function<double(int, std::vector<double>&)> gather = [&](int c, std::vector<double>& sum) {
+    if (const auto it = place.find(c); it != place.end()) {
+      const double a = area(c);
+      for (std::size_t j = 0; j < w; ++j) sum[j] += a * values[it->second * w + j];
+      return a;
+    }
+    const auto& child = cells_[static_cast<std::size_t>(c)].child;
+    require(child[0] >= 0, "newest-vertex bisection: cell {} has no descendant among the cells given", c);  // (a cell never split)
+    return gather(child[0], sum) + gather(child[1], sum);
+  };
+  std::vector<double> out, sum(w);
   for (int c : leaves()) {
     int a = c;
     while (a >= 0 && !place.count(a)) a = parent(a);
-    require(a >= 0, "newest-vertex bisection: leaf {} has no ancestor among the cells given", c);
-    const std::size_t k = place.at(a);
-    out.insert(out.end(), values.begin() + static_cast<std::ptrdiff_t>(k * w),
-               values.begin() + static_cast<std::ptrdiff_t>((k + 1) * w));
+    if (a >= 0) {  // kept or refined: its (ancestor's) values
+      const std::size_t k = place.at(a);
+      out.insert(out.end(), values.begin() + static_cast<std::ptrdiff_t>(k * w),
+                 values.begin() + static_cast<std::ptrdiff_t>((k + 1) * w));
+      continue;
+    }
+    std::fill(sum.begin(), sum.end(), 0.0);  // coarsened: the mean over its old leaves
+    const double total = gather(c, sum);
+    for (std::size_t j = 0; j < w; ++j) out.push_back(sum[j] / total);
   }
   return out;
 }

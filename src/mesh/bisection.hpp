@@ -31,13 +31,22 @@ class BisectionForest {
   /// Bisects each leaf of `leaves` (BisectionForest cell numbers, leaves) once, and what conformity needs.
   /// Returns how many cells were bisected in all.
   int refine(const std::vector<int>& leaves);
+  /// Undoes the bisections that made a node wherever every leaf around the node is in `leaves` and those
+  /// leaves are exactly the children of the bisection(s) that made it (the node's patch: 2 children on the
+  /// boundary, 4 inside): their parents become leaves again, and the node goes (node_alive). Conforming
+  /// before, conforming after. Returns how many nodes went.
+  int coarsen(const std::vector<int>& leaves);
+  /// Whether node i is a vertex of the leaves (a node removed by coarsening keeps its number, unused).
+  bool node_alive(int i) const { return alive_[static_cast<std::size_t>(i)] != 0; }
+  /// The leaf mesh's number of each node (−1 where it is not alive).
+  std::vector<int> mesh_numbers() const;
 
   int n_cells() const { return static_cast<int>(cells_.size()); }
   int n_nodes() const { return static_cast<int>(x_.size()); }
   const Point& node(int i) const { return x_[static_cast<std::size_t>(i)]; }
   /// Cell c's vertices (v0, v1, v2: the refinement edge v0–v1, the peak v2), counterclockwise.
   const std::array<int, 3>& vertices(int c) const { return cells_[static_cast<std::size_t>(c)].v; }
-  bool leaf(int c) const { return cells_[static_cast<std::size_t>(c)].child[0] < 0; }
+  bool leaf(int c) const { return cells_[static_cast<std::size_t>(c)].is_leaf; }
   int parent(int c) const { return cells_[static_cast<std::size_t>(c)].parent; }
   int level(int c) const { return cells_[static_cast<std::size_t>(c)].level; }
   /// The coarse cell c descends from.
@@ -45,9 +54,8 @@ class BisectionForest {
   /// The leaves, in forest order (coarse cell after coarse cell, each subtree depth first).
   std::vector<int> leaves() const;
 
-  /// The mesh of the leaves (in leaves() order; nodes as numbered here, every node being a leaf's
-  /// vertex): boundary facets as the coarse mesh's, bisected, in their parts; cells in their coarse
-  /// cell's region and body.
+  /// The mesh of the leaves (in leaves() order; the alive nodes in increasing number: mesh_numbers):
+  /// boundary facets as the coarse mesh's, bisected, in their parts; cells in their coarse cell's region.
   Mesh leaf_mesh() const;
 
   /// The smallest interior angle over the leaves (radians).
@@ -58,9 +66,10 @@ class BisectionForest {
   /// nodes × width), extended to every node: a new node takes the mean of its edge's ends, in the order
   /// the nodes were made (a midpoint of midpoints after them): P1 fields are carried exactly.
   void interpolate(std::vector<double>& values, int width) const;
-  /// A cell field of `width` numbers a cell, given on the leaves `before` (leaves() before the
-  /// refinement, in that order), on today's leaves (leaves() order): each leaf takes its ancestor's
-  /// values (P0 fields, σ and z, inherited by the children).
+  /// A cell field of `width` numbers a cell, given on the leaves `before` (leaves() before a refinement
+  /// or coarsening, in that order), on today's leaves (leaves() order): a leaf that was one keeps its
+  /// values, a child takes its ancestor's (P0 fields inherited exactly), a parent made a leaf again the
+  /// area-weighted mean of its descendants among `before` (the integral kept: z by volume average).
   std::vector<double> inherit(const std::vector<int>& before, const std::vector<double>& values, int width) const;
   /// The ends of the edge node i was made at (−1, −1 for a coarse node).
   std::array<int, 2> made_at(int i) const;
@@ -69,7 +78,10 @@ class BisectionForest {
   struct Cell {
     std::array<int, 3> v{};
     int parent = -1, root = 0, level = 0;
+    /// Its children, kept when coarsening makes it a leaf again (inherit reads them; a new bisection
+    /// of it makes new ones).
     std::array<int, 2> child{-1, -1};
+    bool is_leaf = true;
   };
   static std::uint64_t key(int a, int b);
   /// The leaf across edge (a, b) from leaf c, −1 on the boundary.
@@ -87,6 +99,10 @@ class BisectionForest {
   std::unordered_map<std::uint64_t, std::array<int, 2>> edge_cells_;  // leaf cells on each edge (−1: none)
   std::unordered_map<std::uint64_t, int> midpoint_;                    // an edge's midpoint node, once made
   std::vector<std::array<int, 2>> made_at_;                            // per node made: its edge's ends
+  std::vector<char> alive_;                                            // per node: a leaf's vertex
+  /// Makes cell c a leaf again (its two children leaves: removed).
+  void unsplit(int c);
+  double area(int c) const;
 };
 
 }  // namespace vpc

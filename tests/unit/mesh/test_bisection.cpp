@@ -184,10 +184,82 @@ TEST(Bisection, NodalFieldsAreInterpolatedAndCellFieldsInheritedExactly) {
   EXPECT_GT(fine.n_cells(), coarse.n_cells());
 }
 
+TEST(Bisection, CoarseningUndoesTheBisectionsAndKeepsTheIntegrals) {
+  // Refined at a corner 6 times, then coarsened wherever every leaf is marked, round after round: each round
+  // conforming, the cell field's integral kept (the area-weighted mean), and back to the coarse mesh at the end.
+  Mesh coarse = make_rectangle({0, 0, 0}, {1, 1, 0}, 3, 3, Diagonal::alternate);
+  BisectionForest forest(coarse);
+  for (int round = 0; round < 6; ++round) {
+    std::vector<int> marked;
+    for (int c : forest.leaves())
+      for (int v : forest.vertices(c))
+        if (forest.node(v)[0] == 0 && forest.node(v)[1] == 0) marked.push_back(c);
+    forest.refine(marked);
+  }
+  const int fine_cells = static_cast<int>(forest.leaves().size());
+  std::vector<int> before = forest.leaves();
+  std::vector<double> z;  // x + y at each leaf's centroid: not constant, so that the mean is a real mean
+  double integral = 0;
+  {
+    const Mesh m = forest.leaf_mesh();
+    for (int k = 0; k < m.n_cells(); ++k) {
+      const Point x = m.cell_centroid(k);
+      z.push_back(x[0] + x[1]);
+      integral += z.back() * signed_area(m, k);
+    }
+  }
+  int rounds = 0, removed = 0;
+  for (int n; (n = forest.coarsen(forest.leaves())) > 0; ++rounds) {
+    removed += n;
+    z = forest.inherit(before, z, 1);
+    before = forest.leaves();
+    const Mesh m = forest.leaf_mesh();
+    expect_conforming(m);
+    double now = 0;
+    for (int k = 0; k < m.n_cells(); ++k) now += z[static_cast<std::size_t>(k)] * signed_area(m, k);
+    EXPECT_NEAR(now, integral, 1e-15);
+  }
+  const Mesh back = forest.leaf_mesh();
+  std::printf("  coarsened in %d rounds: %d nodes removed, %d leaves -> %d (coarse %d)\n", rounds, removed, fine_cells,
+              back.n_cells(), coarse.n_cells());
+  EXPECT_EQ(back.n_cells(), coarse.n_cells());
+  EXPECT_EQ(back.n_nodes(), coarse.n_nodes());
+  for (int i = 0; i < coarse.n_nodes(); ++i) EXPECT_TRUE(forest.node_alive(i));
+  // ... and refined again, conforming, from the coarsened forest.
+  forest.refine(forest.leaves());
+  expect_conforming(forest.leaf_mesh());
+}
+
+TEST(Bisection, ANodeIsRemovedOnlyWithItsWholePatch) {
+  // Refined twice everywhere, then coarsened on the left half only: the nodes whose patch lies partly on
+  // the right stay, and the mesh stays conforming.
+  const Mesh coarse = make_rectangle({0, 0, 0}, {2, 1, 0}, 2, 1, Diagonal::alternate);
+  BisectionForest forest(coarse);
+  forest.refine(forest.leaves());
+  forest.refine(forest.leaves());
+  const int nodes = static_cast<int>(forest.leaf_mesh().n_nodes());
+  std::vector<int> left;
+  for (int c : forest.leaves()) {
+    bool in = true;
+    for (int v : forest.vertices(c)) in = in && forest.node(v)[0] <= 1 + 1e-12;
+    if (in) left.push_back(c);
+  }
+  const int removed = forest.coarsen(left);
+  const Mesh m = forest.leaf_mesh();
+  expect_conforming(m);
+  EXPECT_GT(removed, 0);
+  EXPECT_EQ(m.n_nodes(), nodes - removed);
+  for (int i = 0; i < forest.n_nodes(); ++i) {
+    if (!forest.node_alive(i)) EXPECT_LT(forest.node(i)[0], 1 - 1e-12);  // nodes on x = 1 have a patch on the right
+  }
+}
+
 TEST(Bisection, RefusesWhatItCannotBisect) {
   EXPECT_THROW(BisectionForest(make_box({0, 0, 0}, {1, 1, 1}, 1, 1, 1)), Error);
   BisectionForest forest(make_rectangle({0, 0, 0}, {1, 1, 0}, 1, 1));
   EXPECT_THROW(forest.refine({7}), Error);
+  forest.refine({0});
+  EXPECT_THROW(forest.coarsen({0}), Error);  // not a leaf any more
 }
 
 }  // namespace
