@@ -250,7 +250,8 @@ TEST(Bisection, ANodeIsRemovedOnlyWithItsWholePatch) {
   EXPECT_GT(removed, 0);
   EXPECT_EQ(m.n_nodes(), nodes - removed);
   for (int i = 0; i < forest.n_nodes(); ++i) {
-    if (!forest.node_alive(i)) EXPECT_LT(forest.node(i)[0], 1 - 1e-12);  // nodes on x = 1 have a patch on the right
+    if (forest.node_alive(i)) continue;
+    EXPECT_LT(forest.node(i)[0], 1 - 1e-12);  // nodes on x = 1 have a patch on the right
   }
 }
 
