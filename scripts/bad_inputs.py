@@ -352,6 +352,7 @@ INPUTS = [
     ("held_by_bond where the supports hold the body already", {}, ["peel-2d", "--set", "contact.held_by_bond=true"]),
     ("a body held by its bond alone on the dual solver", {}, ["pull-off-1d", "--contact-solver", "active-set"]),
     ("a body held by nothing (held_by_bond off)", {}, ["pull-off-1d", "--set", "contact.held_by_bond=false"]),
+    ("held_by_bond not a boolean", {}, ["pull-off-1d", "--set", "contact.held_by_bond=\"yes\""]),
     ("a tangential bond together with friction", {},
      ["lap-shear-2d", "--set", "contact.friction=\"coulomb\"", "--set", "contact.mu=0.3"]),
     ("a tangential bond on the contact solver penalty-duality", {}, ["lap-shear-2d", "--contact-solver", "penalty-duality"]),

@@ -172,8 +172,9 @@ Case parse_case(std::string_view text, const std::string& name, const fs::path& 
   std::vector<Section> bodies = read_body_meshes(top, *p, base_dir, origins, request, overrides.memory_limit);
   // [contact] held_by_bond: the bonds may hold a body that nothing clamps (read again, checked, there).
   const toml::node* contact_table = root.get("contact");
-  const bool held_by_bond = contact_table && contact_table->is_table() &&
-                            (*contact_table->as_table())["held_by_bond"].value<bool>().value_or(false);
+  // (a value that is not a boolean counts here, so that [contact]'s reader names the key, not a missing Γ1)
+  const toml::node* held = contact_table && contact_table->is_table() ? contact_table->as_table()->get("held_by_bond") : nullptr;
+  const bool held_by_bond = held && (!held->is_boolean() || held->value<bool>().value_or(false));
   read_boundary(top.table("boundary"), *p, origins, whole, pairs, held_by_bond);
   p->elasticity = read_elasticity(top.table("elasticity"), p->mesh.dim(), name);
   p->law = read_viscoplasticity(top.table("viscoplasticity"), p->elasticity.young());
