@@ -13,19 +13,24 @@ namespace vpc {
 
 namespace {
 
-/// The diagonal of the bodies' bounding box, over every process's nodes (contact_miss_gap). Collective.
-double miss_gap_of(const MeshPart& part) {
+/// The box of the part's local nodes i < n that `take` accepts, over every process. Collective.
+template <class Take>
+std::pair<Point, Point> box_over_ranks(const MeshPart& part, int n, Take take) {
   const Mesh& mesh = part.mesh();
   Point lo{0, 0, 0}, hi{0, 0, 0};
   for (int j = 0; j < 3; ++j) {
     double l = INFINITY, h = -INFINITY;
-    for (int i = 0; i < mesh.n_nodes(); ++i) {
-      l = std::min(l, mesh.node(i)[j]);
-      h = std::max(h, mesh.node(i)[j]);
-    }
+    for (int i = 0; i < n; ++i)
+      if (take(i)) l = std::min(l, mesh.node(i)[j]), h = std::max(h, mesh.node(i)[j]);
     lo[j] = part.comm.min(l);
     hi[j] = part.comm.max(h);
   }
+  return {lo, hi};
+}
+
+/// The diagonal of the bodies' bounding box, over every process's nodes (contact_miss_gap). Collective.
+double miss_gap_of(const MeshPart& part) {
+  const auto [lo, hi] = box_over_ranks(part, part.mesh().n_nodes(), [](int) { return true; });
   return contact_miss_gap(lo, hi);
 }
 
@@ -43,24 +48,14 @@ Eigen::MatrixXd free_motions(const MeshPart& part) {
   std::vector<Eigen::MatrixXd> columns;
   int total = 0;
   std::vector<RigidMotions> motions;
+  motions.reserve(static_cast<std::size_t>(bodies));  // (each RigidHold refers to its body's)
   for (int b = 0; b < bodies; ++b) {
-    Point lo{0, 0, 0}, hi{0, 0, 0};
-    for (int j = 0; j < 3; ++j) {
-      double l = INFINITY, h = -INFINITY;
-      for (int i = 0; i < owned; ++i)
-        if (body_of[static_cast<std::size_t>(i)] == b) l = std::min(l, mesh.node(i)[j]), h = std::max(h, mesh.node(i)[j]);
-      lo[j] = comm.min(l);
-      hi[j] = comm.max(h);
-    }
+    const auto [lo, hi] = box_over_ranks(part, owned, [&](int i) { return body_of[static_cast<std::size_t>(i)] == b; });
     motions.emplace_back(d, lo, hi);
     RigidHold held(motions.back());
     for (int i = 0; i < owned; ++i)
       for (int c = 0; c < d && body_of[static_cast<std::size_t>(i)] == b; ++c)
-        if (part.dirichlet[static_cast<std::size_t>(i) * d + c] >= 0) {
-          Point axis{0, 0, 0};
-          axis[c] = 1;
-          held.add(mesh.node(i), axis);
-        }
+        if (part.dirichlet[static_cast<std::size_t>(i) * d + c] >= 0) held.add_axis(mesh.node(i), c);
     columns.push_back(held.free_motions([&](double* v, int n) { comm.sum(v, n); }));
     total += static_cast<int>(columns.back().cols());
   }
@@ -71,7 +66,7 @@ Eigen::MatrixXd free_motions(const MeshPart& part) {
     for (int i = 0; i < owned && V.cols() > 0; ++i)
       for (int c = 0; c < d && body_of[static_cast<std::size_t>(i)] == b; ++c)
         if (const int dof = part.dofs.free_index(part.dofs.full_index(i, c)); dof >= 0) {
-          Point axis{0, 0, 0};
+          Point axis{0, 0, 0};  // the motions' values along dof's axis
           axis[c] = 1;
           R.row(dof).segment(col, V.cols()) = motions[static_cast<std::size_t>(b)].along(mesh.node(i), axis).transpose() * V;
         }

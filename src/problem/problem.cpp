@@ -135,12 +135,8 @@ bool check_body_held(const Problem& p, const std::vector<int>& condition, const 
   RigidHold held(motions);
   for (int node : nodes)
     for (int c = 0; c < d; ++c)
-      if (condition[static_cast<std::size_t>(node) * d + c] >= 0) {
-        Point axis{0, 0, 0};
-        axis[c] = 1;
-        held.add(mesh.node(node), axis);
-      }
-  const Eigen::MatrixXd unheld = RigidHold(held).free_motions(sum);  // (a copy: the bonds join `held` below)
+      if (condition[static_cast<std::size_t>(node) * d + c] >= 0) held.add_axis(mesh.node(node), c);
+  const Eigen::MatrixXd unheld = held.free_motions(sum);
   if (unheld.cols() == 0) return false;
   if (p.contact.held_by_bond) {
     std::vector<char> mine(static_cast<std::size_t>(mesh.n_nodes()), 0);

@@ -59,10 +59,17 @@ void RigidHold::add(const Point& x, const Point& v) {
   G_ += r * r.transpose();
 }
 
-Eigen::MatrixXd RigidHold::free_motions(const std::function<void(double*, int)>& sum) {
+void RigidHold::add_axis(const Point& x, int c) {
+  Point axis{0, 0, 0};
+  axis[c] = 1;
+  add(x, axis);
+}
+
+Eigen::MatrixXd RigidHold::free_motions(const std::function<void(double*, int)>& sum) const {
   const int m = motions_.count();
-  if (sum) sum(G_.data(), m * m);
-  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(G_);
+  Eigen::MatrixXd G = G_;
+  if (sum) sum(G.data(), m * m);
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(G);
   const Eigen::VectorXd& lambda = eig.eigenvalues();  // increasing
   const double floor = 1e-12 * std::max(lambda[m - 1], 1.0);
   int k = 0;

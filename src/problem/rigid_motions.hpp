@@ -38,9 +38,11 @@ class RigidHold {
  public:
   explicit RigidHold(const RigidMotions& motions);
   void add(const Point& x, const Point& v);
+  /// A prescribed component c at x (the unit vector along axis c).
+  void add_axis(const Point& x, int c);
   /// The coefficients of the motions nothing stops, as columns (none: the body is held); `sum` adds
-  /// G over the ranks where the body's nodes are spread (collective).
-  Eigen::MatrixXd free_motions(const std::function<void(double*, int)>& sum = {});
+  /// G over the ranks where the body's nodes are spread (collective; G itself stays this rank's).
+  Eigen::MatrixXd free_motions(const std::function<void(double*, int)>& sum = {}) const;
 
  private:
   const RigidMotions& motions_;

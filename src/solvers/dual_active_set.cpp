@@ -151,7 +151,7 @@ class FrictionDual final : public DualProblem {
     const int d = c.block, t = d - 1;
     const Vector zero = Vector::Zero(static_cast<Eigen::Index>(c.rows.size()));
     const Vector shear = replicate(comm, c, c.shear_bond.size() ? c.shear_bond : zero);
-    sets_.tresca += shear.cwiseProduct(replicate(comm, c, c.bond_length));
+    sets_.tresca += shear.cwiseProduct(sets_.bond_length);  // (every row's L, replicated at set-up)
     if (shear_compliance_.empty()) shear_compliance_.assign(static_cast<std::size_t>(c.m), 0.0);
     const Vector stretch = c.bond_stretch.size() ? c.bond_stretch : Vector(Vector::Zero(c.T.rows()));
     const Vector offsets = replicate_blocks(comm, c, zero, stretch);

@@ -109,14 +109,10 @@ void PrimalFriction::start(const ContactConstraints& c, const std::vector<char>&
     if (const double a = c.shear_bond_of(e); a > 0) {  // a tangential bond: its state from the warm start's force
       const double L = c.bond_length_of(e);
       const Vector l = tangential.size() == force_.size() ? Vector(tangential.segment(e * t_, t_)) : Vector(Vector::Zero(t_));
-      Next n;
-      n.bond.assign(stick_.size(), 0);
-      n.force = Vector::Zero(force_.size()), n.direction = n.force;
-      n.spring.assign(stick_.size(), 0.0);
-      bond_state(i, l / a, a, L, n);  // v = λ_τ/a within L: the warm start's stretch, or beyond by its force
-      bond_[i] = n.bond[i], spring_[i] = n.spring[i];
-      force_.segment(e * t_, t_) = n.force.segment(e * t_, t_);
-      direction_.segment(e * t_, t_) = n.direction.segment(e * t_, t_);
+      const BondState b = bond_state(l / a, a, L);  // v = λ_τ/a within L: the warm start's stretch, or beyond by its force
+      bond_[i] = b.state, spring_[i] = b.spring;
+      force_.segment(e * t_, t_) = b.force;
+      direction_.segment(e * t_, t_) = b.direction;
       continue;
     }
     bond_[i] = 0;
@@ -237,8 +233,11 @@ PrimalFriction::Next PrimalFriction::next(const ContactConstraints& c, const Vec
       const Vector h = rest(c, i);
       for (int j = 0; j < t_; ++j)
         if (const int dof = dof_[i * t_ + j]; dof >= 0) v[j] = w[dof] - h[j];
-      bond_state(i, v, a, c.bond_length_of(e), n);
-      const Vector now = n.bond[i] == kBondSpring ? Vector(a * v) : Vector(n.force.segment(e * t_, t_));
+      const BondState b = bond_state(v, a, c.bond_length_of(e));
+      n.bond[i] = b.state, n.spring[i] = b.spring;
+      n.force.segment(e * t_, t_) = b.force;
+      n.direction.segment(e * t_, t_) = b.direction;
+      const Vector now = b.state == kBondSpring ? Vector(a * v) : b.force;
       n.change = std::max(n.change, (now - tangential.segment(e * t_, t_)).cwiseAbs().maxCoeff());
       continue;
     }
@@ -356,30 +355,28 @@ void PrimalFriction::take(Next&& next) {
   spring_ = std::move(next.spring);
 }
 
-void PrimalFriction::bond_state(std::size_t i, const Vector& v, double a, double L, Next& n) const {
-  const auto e = static_cast<Eigen::Index>(i);
+PrimalFriction::BondState PrimalFriction::bond_state(const Vector& v, double a, double L) const {
+  BondState b{kBondSpring, Vector::Zero(t_), Vector::Zero(t_), a};
   const double size = v.norm();
-  if (size <= L) {  // λ_τ = a v: the spring on the tangent dofs, no constant force
-    n.bond[i] = kBondSpring;
-    n.spring[i] = a;
-    return;
-  }
-  n.bond[i] = kBondPulled;  // λ_τ = a L n: a constant force along n and Newton's spring across it
-  n.direction.segment(e * t_, t_) = v / size;
-  n.force.segment(e * t_, t_) = a * L / size * v;
-  n.spring[i] = t_ > 1 ? a * L / size : 0.0;
+  if (size <= L) return b;  // λ_τ = a v: the spring on the tangent dofs, no constant force
+  b.state = kBondPulled;    // λ_τ = a L n: a constant force along n and Newton's spring across it
+  b.direction = v / size;
+  b.force = a * L / size * v;
+  b.spring = t_ > 1 ? a * L / size : 0.0;
+  return b;
 }
 
 Vector PrimalFriction::rest(const ContactConstraints& c, std::size_t i) const {
   const auto e = static_cast<Eigen::Index>(i);
   Vector h = c.shift.segment(e * t_, t_);
-  if (bond_.size() > i && c.shear_bond_of(e) > 0 && c.bond_stretch.size() > 0) h -= c.bond_stretch.segment(e * t_, t_);
+  if (c.shear_bond_of(e) > 0) h -= c.bond_stretch.segment(e * t_, t_);  // (set with the bond: set_bond_data)
   return h;
 }
 
-std::vector<char> contact_sets(const std::vector<char>& active, const std::vector<char>& stick) {
+std::vector<char> contact_sets(const std::vector<char>& active, const std::vector<char>& stick,
+                               const std::vector<char>& bond) {
   std::vector<char> s(active.size());
-  for (std::size_t i = 0; i < s.size(); ++i) s[i] = static_cast<char>(active[i] + 2 * (active[i] && stick[i]));
+  for (std::size_t i = 0; i < s.size(); ++i) s[i] = static_cast<char>(active[i] + 2 * (active[i] && stick[i]) + 4 * bond[i]);
   return s;
 }
 

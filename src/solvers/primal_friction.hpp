@@ -149,9 +149,14 @@ class PrimalFriction {
   std::vector<char> disc_;      // per row: its law's set is the disc
   std::vector<double> spring_;  // per row: k of the slip rows (0 in 2D, at stick and free rows); a_τ on kBondSpring
   std::vector<char> bond_;      // per row: its tangential bond's state (bond())
-  /// Row i's tangential bond state and its force, direction and spring at the bond's stretch v (a_τ: its
-  /// stiffness, L its length) into `n`.
-  void bond_state(std::size_t i, const Vector& v, double a, double L, Next& n) const;
+  /// A tangential bond's state at its stretch v (a_τ: its stiffness, L its length), with its force, direction
+  /// (zero within L) and spring (a_τ within L, Newton's a_τ L/|v| beyond).
+  struct BondState {
+    char state = 0;
+    Vector force, direction;
+    double spring = 0;
+  };
+  BondState bond_state(const Vector& v, double a, double L) const;
   /// h − v_{n−1} of a bonded row (its spring's rest position in w), h elsewhere.
   Vector rest(const ContactConstraints& c, std::size_t i) const;
   double gamma_ = 1;            // c_i γ in the update rule (secant)
@@ -164,7 +169,8 @@ class PrimalFriction {
 /// solver computed it before the laws).
 double force_size(const FrictionLaw& law, Eigen::Ref<const Vector> l);
 
-/// The rows' states packed for ActiveSetHistory: normal set and stick set together.
-std::vector<char> contact_sets(const std::vector<char>& active, const std::vector<char>& stick);
+/// The rows' states packed for ActiveSetHistory: normal set, stick set and tangential bonds' states together.
+std::vector<char> contact_sets(const std::vector<char>& active, const std::vector<char>& stick,
+                               const std::vector<char>& bond);
 
 }  // namespace vpc

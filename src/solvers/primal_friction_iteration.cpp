@@ -121,9 +121,7 @@ ContactReport PrimalFrictionIteration::solve(PrimalOperator& op, PrimalWarmStart
     if (monotone) friction.slip_one(up, comm);
     if (s_.couple) friction.slip_before_leaving(c, active, tangential, bound, next, up);
     if (!comm.all(next == active) || !comm.all(up.stick == friction.stick()) || !comm.all(up.bond == friction.bond())) {
-      std::vector<char> sets = contact_sets(next, up.stick);
-      for (std::size_t i = 0; i < sets.size(); ++i) sets[i] = static_cast<char>(sets[i] + 4 * up.bond[i]);  // (tangential bonds)
-      if (history->came_back(sets, comm) && !monotone) {
+      if (history->came_back(contact_sets(next, up.stick, up.bond), comm) && !monotone) {
         monotone = true;
         ++rep.cycles;
         // The sets cycle: Coulomb's bound is lagged from here on, each Tresca problem (the
