@@ -67,6 +67,12 @@ class Simulation {
     const auto started = std::chrono::system_clock::now();
     CaseLoader load = [spec, outdir = o.output_directory, argv = o.argv, started](const MeshRequest&) {
       Case c = spec.load();  // as vpcontact run's load_case
+      // The views point into the state, whose arrays an adaptation replaces: refused until views are
+      // versioned (issue 51's Python part).
+      if (c.adapt)
+        fail("{}: mesh adaptivity is not available from Python yet (its arrays would change shape under the views "
+             "you hold); run the case with `vpcontact run`, or remove [adapt]",
+             c.adapt->where);
       c.output.directory = outdir;
       c.output.command_line = argv;
       c.output.started = started;

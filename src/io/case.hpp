@@ -1,6 +1,7 @@
 #pragma once
 // A case: a Problem plus how to run it (solvers) and what to write (output).
 // Case files produce one (the built-in cases are case files compiled in).
+#include "adapt/adapt_spec.hpp"
 #include "io/run_output.hpp"
 #include "problem/problem.hpp"
 #include "scheme/time_stepper.hpp"
@@ -57,6 +58,8 @@ struct Case {
   ContactRows contact_rows;
   OutputOptions output;  // an empty directory means output/<name>
   SolverChoice solvers;
+  /// [adapt]: mesh adaptivity during the run (nullopt: the mesh stays as read).
+  std::optional<AdaptSpec> adapt;
   /// Lines the program prints as warnings: data that is valid but likely to give a poor
   /// answer (ν near 1/2 with P1 elements), each located in the case file.
   std::vector<std::string> warnings;

@@ -187,6 +187,7 @@ Case parse_case(std::string_view text, const std::string& name, const fs::path& 
   c.output = read_output(top.table("output"), *p);
   c.output.units = units;
   c.solvers = read_solver(top.table("solver"));
+  c.adapt = read_adapt(top.table("adapt"), *p);
   top.finish();
   record_key_locations(top, *p, origins);
   if (mesh_request.build) c.warnings = locking_warnings(top, *p);  // once, by the rank that reports

@@ -8,6 +8,7 @@
 // scheme/): a Section is TOML, which only io/ knows, and those modules sit below io/ in the
 // module graph (scripts/module_graph.py); the laws' own keys are read by the laws through
 // LawKeys (contact/contact_law.hpp) and Parameters (material/parameters.hpp) instead.
+#include "adapt/adapt_spec.hpp"
 #include "io/case_section.hpp"
 #include "problem/problem.hpp"
 
@@ -105,5 +106,11 @@ void read_time(Section tm, Problem& p, const std::string& file);
 /// [output]; by default every tenth of the run.
 OutputOptions read_output(Section out, Problem& p);
 SolverChoice read_solver(Section sv);
+
+// ------------------------------------------------ [adapt] (case_adapt.cpp)
+
+/// [adapt]: mesh adaptivity (nullopt without the section); refused, located, for a problem that
+/// cannot be adapted (check_adaptable, adapt/mesh_adaptivity.hpp).
+std::optional<AdaptSpec> read_adapt(Section a, const Problem& p);
 
 }  // namespace vpc::case_file

@@ -53,6 +53,15 @@ constexpr HistoryColumn kColumns[] = {
      "attempts of the step rejected and redone smaller"},
 };
 
+// A run with mesh adaptivity's ([adapt]), last.
+constexpr HistoryColumn kAdaptColumns[] = {
+    {"cells", F::integer, [](const StepReport& r) { return double(r.mesh_cells); }, "the cells of the mesh the step ends on"},
+    {"unknowns", F::integer, [](const StepReport& r) { return double(r.mesh_unknowns); },
+     "its free displacement unknowns"},
+    {"adaptations", F::integer, [](const StepReport& r) { return double(r.adaptations); },
+     "the mesh adaptations so far"},
+};
+
 // Friction's (SPEC §7): the residuals are relative, as the contact residuals.
 constexpr HistoryColumn kFrictionColumns[] = {
     {"n_stick", F::integer, [](const StepReport& r) { return double(r.contact.n_stick); },
@@ -84,8 +93,11 @@ bool has_open_column(const Problem& p) {
 std::span<const HistoryColumn> history_columns() { return kColumns; }
 std::span<const HistoryColumn> friction_columns() { return kFrictionColumns; }
 std::span<const HistoryColumn> open_friction_columns() { return kOpenColumns; }
+std::span<const HistoryColumn> adapt_columns() { return kAdaptColumns; }
 
-std::vector<std::string> history_column_names(const Problem& p, const MeshPart& part) {
+namespace {
+
+std::vector<std::string> case_column_names(const Problem& p, const MeshPart& part) {
   std::vector<std::string> names;
   for (const HistoryColumn& c : kColumns) names.emplace_back(c.name);
   for (const Obstacle& o : p.contact.obstacles) names.push_back("force_" + o.name);
@@ -114,6 +126,8 @@ std::vector<std::string> history_column_names(const Problem& p, const MeshPart& 
   return names;
 }
 
+}  // namespace
+
 std::vector<std::string> contact_law_entry_names(const ContactSpec& c) {
   std::vector<std::string> names;
   std::vector<std::string> rest;  // [contact]'s law: the parts no [[contact.part]] names
@@ -127,7 +141,9 @@ std::vector<std::string> contact_law_entry_names(const ContactSpec& c) {
   return names;
 }
 
-std::vector<HistoryValue> history_values(const StepReport& r) {
+namespace {
+
+std::vector<HistoryValue> case_values(const StepReport& r) {
   std::vector<HistoryValue> row;
   for (const HistoryColumn& c : kColumns) row.push_back({c.value(r), c.format});
   for (double f : r.obstacle_force) row.push_back({f, F::exact});
@@ -146,6 +162,22 @@ std::vector<HistoryValue> history_values(const StepReport& r) {
     row.push_back({r.part_force[j], F::exact});
     for (std::size_t i = 0; i < d; ++i) row.push_back({r.part_tangential_force[j * d + i], F::exact});
   }
+  return row;
+}
+
+}  // namespace
+
+std::vector<std::string> history_column_names(const Problem& p, const MeshPart& part, bool adaptive) {
+  std::vector<std::string> names = case_column_names(p, part);
+  if (adaptive)
+    for (const HistoryColumn& c : kAdaptColumns) names.emplace_back(c.name);
+  return names;
+}
+
+std::vector<HistoryValue> history_values(const StepReport& r) {
+  std::vector<HistoryValue> row = case_values(r);
+  if (r.mesh_cells >= 0)
+    for (const HistoryColumn& c : kAdaptColumns) row.push_back({c.value(r), c.format});
   return row;
 }
 

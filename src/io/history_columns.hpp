@@ -31,6 +31,8 @@ std::span<const HistoryColumn> friction_columns();
 /// After friction_columns, in a run with a bound that acts out of contact (Tresca;
 /// FrictionLaw::acts_out_of_contact): n_tresca_open.
 std::span<const HistoryColumn> open_friction_columns();
+/// Last, in a run with mesh adaptivity ([adapt]).
+std::span<const HistoryColumn> adapt_columns();
 
 /// After history_columns, per case (totals over the case's nodes, never per contact node):
 /// the force on each obstacle (force_<name>, Problem::contact.obstacles order), then the
@@ -42,7 +44,8 @@ std::span<const HistoryColumn> open_friction_columns();
 /// that on each obstacle (tangential_force_<name>_<x|y|z>) and, with [[contact.part]]
 /// sections, the normal and tangential force of each law entry (force_part_<entry>,
 /// tangential_force_part_<entry>_<x|y|z>; contact_law_entry_names).
-std::vector<std::string> history_column_names(const Problem& p, const MeshPart& part);
+/// Last, in a run with mesh adaptivity (`adaptive`): cells, unknowns, adaptations (StepReport::mesh_cells).
+std::vector<std::string> history_column_names(const Problem& p, const MeshPart& part, bool adaptive = false);
 
 /// The names of ContactSpec::laws()' entries in history.csv: their parts joined by '+'
 /// ([contact]'s: the contact parts no [[contact.part]] names; "none" where there are none).

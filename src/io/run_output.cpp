@@ -131,10 +131,10 @@ void prepare_output_options(OutputOptions& o, const std::string& case_name, cons
 }
 
 RunOutput::RunOutput(const TimeStepper& stepper, OutputOptions options)
-    : stepper_(stepper), options_(std::move(options)) {
+    : stepper_(&stepper), options_(std::move(options)) {
   std::vector<std::string> surface;
-  for (const SurfaceField& f : stepper_.state().surface) surface.push_back(f.name);
-  prepare_output_options(options_, stepper_.problem().name, surface);
+  for (const SurfaceField& f : stepper_->state().surface) surface.push_back(f.name);
+  prepare_output_options(options_, stepper_->problem().name, surface);
   for (const auto& x : options_.probes) probes_.push_back(locate_probe(x));
 }
 
@@ -142,8 +142,8 @@ RunOutput::Probe RunOutput::locate_probe(const Point& x) const {
   // The probe belongs to the process whose cell contains it best (largest
   // smallest barycentric coordinate; ties: the lowest cell number of the mesh as
   // read): on one process, locate_point's choice.
-  const la::Comm& comm = stepper_.comm();
-  const MeshPart& part = stepper_.part();
+  const la::Comm& comm = stepper_->comm();
+  const MeshPart& part = stepper_->part();
   const Mesh& mesh = part.mesh();
   Probe p;
   p.where.x = x;
@@ -233,7 +233,7 @@ void truncate_csv(const fs::path& path, int n) {
 }
 
 void RunOutput::open_csv(bool append) {
-  la::on_root(stepper_.comm(), [&] {
+  la::on_root(stepper_->comm(), [&] {
     const auto mode = append ? std::ios::app : std::ios::trunc;
     history_.open(options_.directory / "history.csv", mode);
     require(history_.good(), "cannot write '{}'", (options_.directory / "history.csv").string());
@@ -245,9 +245,11 @@ void RunOutput::open_csv(bool append) {
 void RunOutput::start() {
   open_csv(false);
   if (root()) {
-    history_ << history_header(stepper_.problem(), stepper_.part());
+    history_ << fmt::format("{}\n", fmt::join(history_column_names(stepper_->problem(), stepper_->part(),
+                                                                     adaptation_.log != nullptr),
+                                                ","));
     history_.flush();
-    probe_csv_ << probes_header(stepper_.problem().elasticity, probes_.size());
+    probe_csv_ << probes_header(stepper_->problem().elasticity, probes_.size());
   }
   write_probe_row();
   write_fields();
@@ -287,12 +289,12 @@ void write_pvtu(const fs::path& path, const std::vector<VtuField>& point_data, c
 void RunOutput::resume(int n, std::vector<std::pair<double, std::string>> pvd, const RunTotals& totals) {
   totals_ = totals;
   pvd_ = std::move(pvd);
-  la::on_root(stepper_.comm(), [&] {
+  la::on_root(stepper_->comm(), [&] {
     truncate_csv(options_.directory / "history.csv", n);
     truncate_csv(options_.directory / "probes.csv", n);
   });
   open_csv(true);
-  la::on_root(stepper_.comm(), [&] {
+  la::on_root(stepper_->comm(), [&] {
     // VTU files of steps after n belong to the lost part of the run.
     std::error_code ec;
     for (const auto& entry : fs::directory_iterator(options_.directory, ec))
@@ -302,10 +304,10 @@ void RunOutput::resume(int n, std::vector<std::pair<double, std::string>> pvd, c
 }
 
 void RunOutput::write_probe_row() {
-  const State& s = stepper_.state();
-  const Mesh& mesh = stepper_.mesh();
+  const State& s = stepper_->state();
+  const Mesh& mesh = stepper_->mesh();
   const int d = mesh.dim();
-  const auto comps = tensor_components(stepper_.problem().elasticity);
+  const auto comps = tensor_components(stepper_->problem().elasticity);
   const std::size_t per_probe = d + comps.size() + 2;
   // The owner of each probe fills its values, the others zeros: the sum is exact.
   std::vector<double> values(probes_.size() * per_probe, 0.0);
@@ -325,7 +327,7 @@ void RunOutput::write_probe_row() {
     for (int a = 0; a <= d; ++a) b += p.lambda[a] * s.beta[v[a]];
     *out++ = b;
   }
-  stepper_.comm().sum(values.data(), static_cast<int>(values.size()));
+  stepper_->comm().sum(values.data(), static_cast<int>(values.size()));
   if (!root()) return;
   probe_csv_ << fmt::format("{},{:.17g}", s.n, s.t);
   for (double v : values) probe_csv_ << fmt::format(",{:.17g}", v);
@@ -335,18 +337,20 @@ void RunOutput::write_probe_row() {
 
 void RunOutput::write_fields() {
   if (!options_.vtu) return;
-  const State& s = stepper_.state();
-  const Mesh& mesh = stepper_.mesh();
-  const la::Comm& comm = stepper_.comm();
+  const State& s = stepper_->state();
+  const Mesh& mesh = stepper_->mesh();
+  const la::Comm& comm = stepper_->comm();
   std::vector<VtuField> point_data, cell_data;
-  make_vtu_fields({s, stepper_.part(), stepper_.contact().nodes}, options_.fields, point_data, cell_data);
-  const Problem& problem = stepper_.problem();
+  make_vtu_fields({s, stepper_->part(), stepper_->contact().nodes}, options_.fields, point_data, cell_data);
+  const Problem& problem = stepper_->problem();
   if (!problem.materials.empty() || !problem.bodies.empty()) {  // each cell's material (Problem::material_list order)
-    const std::vector<int>& m = stepper_.part().cell_material;
+    const std::vector<int>& m = stepper_->part().cell_material;
     cell_data.push_back({"material", 1, std::vector<double>(m.begin(), m.end()), true});
   }
+  if (adaptation_.cell_fields)  // an adaptive run's level and indicator per cell
+    for (VtuField& f : adaptation_.cell_fields()) cell_data.push_back(std::move(f));
   if (!problem.bodies.empty()) {  // each cell's body: 0 the case's [mesh], k the k-th [[body]] (ParaView: Threshold)
-    const std::vector<int>& b = stepper_.part().cell_body;
+    const std::vector<int>& b = stepper_->part().cell_body;
     cell_data.push_back({"body", 1, std::vector<double>(b.begin(), b.end()), true});
   }
   const std::string stem = fmt::format("solution_{:05d}", s.n);
@@ -358,7 +362,7 @@ void RunOutput::write_fields() {
     cell_data.push_back({"rank", 1, std::vector<double>(mesh.n_cells(), static_cast<double>(comm.rank())), true});
     la::collective(comm, [&] {
       const fs::path piece = options_.directory / fmt::format("{}_p{:04d}.vtu", stem, comm.rank());
-      if (!stepper_.part().pairs_spread) {
+      if (!stepper_->part().pairs_spread) {
         write_vtu(piece, mesh, point_data, cell_data, options_.encoding);
         return;
       }
@@ -396,9 +400,9 @@ void RunOutput::record_untimed(const StepReport& r) {
 /// masters it was coupled to at t = 0: the answer degrades silently from there (its rows keep those
 /// masters), so say it once, at the pair's table, with the remedy.
 void RunOutput::warn_small_sliding(const StepReport& r) {
-  const Problem& p = stepper_.problem();
+  const Problem& p = stepper_->problem();
   if (warned_small_sliding_) return;
-  const std::vector<PairSlide> slides = small_slides(p, stepper_.part(), stepper_.contact().nodes, stepper_.state());
+  const std::vector<PairSlide> slides = small_slides(p, stepper_->part(), stepper_->contact().nodes, stepper_->state());
   for (const PairSlide& s : slides) {
     if (!(s.ratio > kSmallSlideLimit)) continue;
     const std::size_t q = s.pair;
@@ -416,8 +420,8 @@ void RunOutput::warn_small_sliding(const StepReport& r) {
 }
 
 bool RunOutput::is_output_step(int n, double t_n) const {
-  const Problem& p = stepper_.problem();
-  if (stepper_.done()) return true;
+  const Problem& p = stepper_->problem();
+  if (stepper_->done()) return true;
   if (!options_.times.empty()) {
     // A fixed grid: the step nearest each requested time (ties: the earlier step).
     // Error-controlled steps end at the output times (StepControl::landings).
@@ -550,6 +554,37 @@ std::string summary_json(const Problem& p, const RunSummary& r, const OutputOpti
                                     {"past_limit", s.ratio > kSmallSlideLimit}});
     }
   }
+  // An adaptive run's mesh changes ([adapt]; issue 51): one entry per adaptation.
+  if (r.adaptive) {
+    j["adaptations"] = Json::array();
+    double adapt_seconds = 0, rebuild_seconds = 0;
+    for (const AdaptationRecord& a : r.adaptations) {
+      adapt_seconds += a.seconds_adapt;
+      rebuild_seconds += a.seconds_rebuild;
+      j["adaptations"].push_back({{"step", a.step},
+                                  {"t", a.t},
+                                  {"pass", a.pass},
+                                  {"cells_before", a.cells_before},
+                                  {"cells_after", a.cells_after},
+                                  {"unknowns_before", a.unknowns_before},
+                                  {"unknowns_after", a.unknowns_after},
+                                  {"marked", a.marked},
+                                  {"bisected", a.bisected},
+                                  {"removed_nodes", a.removed_nodes},
+                                  {"max_level", a.max_level},
+                                  {"min_angle_degrees", a.min_angle_degrees},
+                                  {"h_min", a.h_min},
+                                  {"stress_estimate", a.stress_relative},
+                                  {"coarsening_change", {{"z", a.change_z},
+                                                         {"sigma", a.change_sigma},
+                                                         {"beta", a.change_beta},
+                                                         {"damage_integral", a.change_damage_integral}}},
+                                  {"truncated", a.truncated},
+                                  {"seconds_adapt", a.seconds_adapt},
+                                  {"seconds_rebuild", a.seconds_rebuild}});
+    }
+    j["adaptation_seconds"] = {{"adapt_and_transfer", adapt_seconds}, {"rebuild", rebuild_seconds}};
+  }
   j["probes"] = Json::array();
   for (const auto& x : r.probes) j["probes"].push_back(xyz(x));
   j["timing_seconds"] = {{"wall", r.wall_seconds},       {"setup", r.setup.total},     {"sources", t.seconds_sources},
@@ -578,10 +613,10 @@ std::string summary_json(const Problem& p, const RunSummary& r, const OutputOpti
 }
 
 RunSummary RunOutput::summary(double wall_seconds) const {
-  const MeshPart& part = stepper_.part();
+  const MeshPart& part = stepper_->part();
   const Mesh& mesh = part.mesh();
-  const la::Comm& comm = stepper_.comm();
-  const State& s = stepper_.state();
+  const la::Comm& comm = stepper_->comm();
+  const State& s = stepper_->state();
   RunSummary r;
   r.dimension = mesh.dim();
   r.nodes = part.n_global_nodes;
@@ -608,13 +643,13 @@ RunSummary RunOutput::summary(double wall_seconds) const {
   r.beta_min_location = x;
   r.steps = s.n;
   r.t = s.t;
-  const std::vector<double>& times = stepper_.times();
+  const std::vector<double>& times = stepper_->times();
   for (std::size_t n = 1; n < times.size(); ++n) {
     const double k = times[n] - times[n - 1];
     r.k_min = n == 1 ? k : std::min(r.k_min, k);
     r.k_max = std::max(r.k_max, k);
   }
-  r.rejected = static_cast<long long>(stepper_.step_control_state().rejected);
+  r.rejected = static_cast<long long>(stepper_->step_control_state().rejected);
   const Vector normal = normal_forces(s);  // λ's normal force per contact node
   r.total_contact_force = normal.sum();
   r.active_contact_nodes = active_contact_nodes(totals_, normal);
@@ -626,21 +661,21 @@ RunSummary RunOutput::summary(double wall_seconds) const {
   for (const auto& p : probes_) r.probes.push_back(p.where.x);
   r.totals = totals_;
   r.wall_seconds = wall_seconds;
-  r.setup = stepper_.setup_timing();
+  r.setup = stepper_->setup_timing();
   const ProcessMemory now = process_memory();
   for (const auto& [stage, m] : {std::pair{"mesh", r.setup.mesh}, {"assembly", r.setup.assembled},
                                  {"factor_K", r.setup.factored_K}, {"factor_H", r.setup.factored_H},
                                  {"contact", r.setup.contact_ready}, {"end", now}})
     r.memory.push_back({stage, {comm.max(m.resident), comm.max(m.peak)}});
   r.peak_per_rank = comm.all_gather(static_cast<long long>(now.peak));
-  r.factorizations = stepper_.n_factorizations();
-  r.linear_iterations = stepper_.n_linear_iterations();
-  r.contact_solver = stepper_.contact_solver();
+  r.factorizations = stepper_->n_factorizations();
+  r.linear_iterations = stepper_->n_linear_iterations();
+  r.contact_solver = stepper_->contact_solver();
   // Each symmetry part's plane x_i = c: the axis along which its nodes (over the
   // processes) do not spread. Its nodes from the part's Dirichlet nodes (a process's
   // part mesh has no boundary parts of its own).
-  const std::vector<std::string> dirichlet = dirichlet_parts(stepper_.problem());
-  for (const std::string& name : stepper_.problem().symmetry) {
+  const std::vector<std::string> dirichlet = dirichlet_parts(stepper_->problem());
+  for (const std::string& name : stepper_->problem().symmetry) {
     const auto bit = std::uint64_t{1} << (std::find(dirichlet.begin(), dirichlet.end(), name) - dirichlet.begin());
     Point lo{INFINITY, INFINITY, INFINITY}, hi{-INFINITY, -INFINITY, -INFINITY};
     for (const auto& [node, on_parts] : part.dirichlet_nodes)
@@ -661,20 +696,29 @@ RunSummary RunOutput::summary(double wall_seconds) const {
         break;
       }
   }
-  r.pair_slides = small_slides(stepper_.problem(), part, stepper_.contact().nodes, s);
+  r.pair_slides = small_slides(stepper_->problem(), part, stepper_->contact().nodes, s);
   for (const auto& [t, file] : pvd_) r.output_times.push_back(t);
   if (r.output_times.empty() || r.output_times.back() != s.t) r.output_times.push_back(s.t);
-  if (stepper_.backend().engine() == "petsc") {  // on one rank too
+  if (adaptation_.log) {
+    r.adaptive = true;
+    r.adaptations = *adaptation_.log;
+  }
+  if (stepper_->backend().engine() == "petsc") {  // on one rank too
     r.ranks = comm.size();
-    r.linear_solver = stepper_.backend().linear_solver();
+    r.linear_solver = stepper_->backend().linear_solver();
   }
   return r;
 }
 
+void RunOutput::remesh(const TimeStepper& stepper) {
+  stepper_ = &stepper;
+  for (Probe& p : probes_) p = locate_probe(p.where.x);
+}
+
 void RunOutput::finish(double wall_seconds) {
   const RunSummary r = summary(wall_seconds);
-  la::on_root(stepper_.comm(), [&] {
-    write_file_atomic(options_.directory / "summary.json", summary_json(stepper_.problem(), r, options_));
+  la::on_root(stepper_->comm(), [&] {
+    write_file_atomic(options_.directory / "summary.json", summary_json(stepper_->problem(), r, options_));
   });
 }
 

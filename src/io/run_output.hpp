@@ -14,6 +14,7 @@
 //   summary.json                       the run's data, final values and checks, and
 //                                      what made it (version, commit, command line, date)
 // The shared files (CSV, .pvd, .pvtu, summary.json) are written by rank 0.
+#include "adapt/mesh_adaptivity.hpp"
 #include "io/vtu_writer.hpp"
 #include "scheme/sliding_pairs.hpp"
 #include "scheme/time_stepper.hpp"
@@ -21,6 +22,7 @@
 #include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -138,6 +140,9 @@ struct RunSummary {
     double coordinate = 0;
   };
   std::vector<SymmetryPlane> symmetry_planes;
+  /// A run with mesh adaptivity ([adapt]): each adaptation (summary.json "adaptations").
+  bool adaptive = false;
+  std::vector<AdaptationRecord> adaptations;
   /// Per small-sliding contact pair: how far its slave nodes have slid from their t = 0 masters at
   /// the last step (scheme/sliding_pairs.hpp; summary.json "small_sliding").
   std::vector<PairSlide> pair_slides;
@@ -178,13 +183,25 @@ class RunOutput {
 
   const std::filesystem::path& directory() const { return options_.directory; }
 
+  /// What an adaptive run ([adapt]) adds: cell fields for the VTU files (the level and the indicator),
+  /// made when a file is written, and the adaptations' log for summary.json (kept by the caller), whose
+  /// presence also adds history.csv's cells, unknowns and adaptations columns. Before start().
+  struct Adaptation {
+    std::function<std::vector<VtuField>()> cell_fields;
+    const std::vector<AdaptationRecord>* log = nullptr;
+  };
+  void set_adaptation(Adaptation a) { adaptation_ = std::move(a); }
+  /// The stepper now runs on another mesh (an adaptation; the same problem otherwise): later rows and
+  /// files are of it, the probes located again. The old stepper may go after this.
+  void remesh(const TimeStepper& stepper);
+
  private:
   struct Probe {
     ProbeLocation where;  // the point; its cell and coordinates where `mine`
     bool mine = false;    // this process owns the probe (the cell containing it best)
   };
   Probe locate_probe(const Point& x) const;
-  bool root() const { return stepper_.comm().rank() == 0; }
+  bool root() const { return stepper_->comm().rank() == 0; }
   void record_untimed(const StepReport& report);
   void open_csv(bool append);
   void write_fields();
@@ -193,8 +210,9 @@ class RunOutput {
   void warn_small_sliding(const StepReport& report);
   RunSummary summary(double wall_seconds) const;
 
-  const TimeStepper& stepper_;
+  const TimeStepper* stepper_;
   OutputOptions options_;
+  Adaptation adaptation_;
   std::vector<Probe> probes_;
   std::ofstream history_, probe_csv_;  // rank 0
   std::vector<std::pair<double, std::string>> pvd_;

@@ -146,7 +146,7 @@ void BisectionForest::unsplit(int c) {
   add_edges(c);
 }
 
-int BisectionForest::coarsen(const std::vector<int>& leaves) {
+std::vector<BisectionForest::Patch> BisectionForest::coarsenable(const std::vector<int>& leaves) const {
   std::unordered_map<int, std::vector<int>> by_peak;  // a made node → the marked leaves it is the peak of
   for (int c : leaves) {
     require(c >= 0 && c < n_cells() && leaf(c), "newest-vertex bisection: cell {} is not a leaf to coarsen", c);
@@ -158,7 +158,7 @@ int BisectionForest::coarsen(const std::vector<int>& leaves) {
   std::vector<int> nodes;
   for (const auto& [m, cells] : by_peak) nodes.push_back(m);
   std::sort(nodes.begin(), nodes.end());  // the same order whatever the hash map's
-  int removed = 0;
+  std::vector<Patch> out;
   for (int m : nodes) {
     const std::vector<int>& cells = by_peak[m];
     if (static_cast<int>(cells.size()) != around[static_cast<std::size_t>(m)]) continue;  // a leaf around m not marked
@@ -174,12 +174,26 @@ int BisectionForest::coarsen(const std::vector<int>& leaves) {
       if (std::find(parents.begin(), parents.end(), p) == parents.end()) parents.push_back(p);
     }
     if (!whole || cells.size() != 2 * parents.size()) continue;
-    for (int p : parents) unsplit(p);
-    midpoint_.erase(edge);
-    alive_[static_cast<std::size_t>(m)] = 0;
-    ++removed;
+    out.push_back({m, std::move(parents)});
   }
-  return removed;
+  return out;
+}
+
+int BisectionForest::coarsen(const std::vector<int>& leaves) { return coarsen_patches(coarsenable(leaves)); }
+
+int BisectionForest::coarsen_patches(const std::vector<Patch>& patches) {
+  for (const Patch& patch : patches) {
+    const int m = patch.node;
+    require(m >= 0 && m < n_nodes() && node_alive(m) && m >= coarse_.n_nodes(),
+            "newest-vertex bisection: node {} is not a made node to remove", m);
+    for (int p : patch.parents)
+      require(!leaf(p) && leaf(children(p)[0]) && leaf(children(p)[1]),
+              "newest-vertex bisection: the patch of node {} changed since it was found", m);
+    for (int p : patch.parents) unsplit(p);
+    midpoint_.erase(key(made_at(m)[0], made_at(m)[1]));
+    alive_[static_cast<std::size_t>(m)] = 0;
+  }
+  return static_cast<int>(patches.size());
 }
 
 std::vector<int> BisectionForest::mesh_numbers() const {

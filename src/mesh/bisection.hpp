@@ -36,6 +36,20 @@ class BisectionForest {
   /// boundary, 4 inside): their parents become leaves again, and the node goes (node_alive). Conforming
   /// before, conforming after. Returns how many nodes went.
   int coarsen(const std::vector<int>& leaves);
+  /// A node that coarsening can remove, and the parents whose children make up its patch.
+  struct Patch {
+    int node = -1;
+    std::vector<int> parents;
+  };
+  /// The nodes coarsen(leaves) would remove, in increasing number, each with its patch (a leaf is in one
+  /// patch at most: the patch of its peak).
+  std::vector<Patch> coarsenable(const std::vector<int>& leaves) const;
+  /// Removes the nodes of `patches` (coarsenable's, on this forest as it was then). Returns how many.
+  int coarsen_patches(const std::vector<Patch>& patches);
+  /// The children of cell c (−1 for a cell never split).
+  const std::array<int, 2>& children(int c) const { return cells_[static_cast<std::size_t>(c)].child; }
+  /// Cell c's area.
+  double area(int c) const;
   /// Whether node i is a vertex of the leaves (a node removed by coarsening keeps its number, unused).
   bool node_alive(int i) const { return alive_[static_cast<std::size_t>(i)] != 0; }
   /// The leaf mesh's number of each node (−1 where it is not alive).
@@ -102,7 +116,6 @@ class BisectionForest {
   std::vector<char> alive_;                                            // per node: a leaf's vertex
   /// Makes cell c a leaf again (its two children leaves: removed).
   void unsplit(int c);
-  double area(int c) const;
 };
 
 }  // namespace vpc

@@ -49,6 +49,9 @@ class Run {
   /// Restores the newest good checkpoint for this problem in `dir` and continues
   /// the output from it; nullopt if there is none (`skipped` says why, per file).
   virtual std::optional<ResumedAt> resume(const std::filesystem::path& dir, std::vector<std::string>& skipped) = 0;
+  /// Why a checkpoint of this run cannot be continued with --resume (empty: it can): an adaptive run
+  /// ([adapt]) for now, whose checkpoints do not yet hold the refinement history.
+  virtual std::string not_resumable() const { return {}; }
   /// The size of the output from step `from` to the end against the free space where the
   /// output directory is (run/output_space.hpp): throws vpc::CollectiveError where it does
   /// not fit, warns (on stderr) where it takes more than half of it; returns a line that says

@@ -2,6 +2,8 @@
 // process's part of a distributed mesh), RunOutput and the checkpoints of
 // io/checkpoint.hpp. Whatever concerns the processes goes through la::Comm, so
 // on one process every collective is the identity.
+#include "adapt/indicator.hpp"
+#include "adapt/mesh_adaptivity.hpp"
 #include "core/quote.hpp"
 #include "io/checkpoint.hpp"
 #include "io/run_output.hpp"
@@ -27,11 +29,25 @@ namespace {
 class StepperRun final : public Run {
  public:
   StepperRun(Case c, std::unique_ptr<TimeStepper> stepper)
-      : case_(std::move(c)), stepper_(std::move(stepper)), keys_(keys_of(case_)) {}
+      : case_(std::move(c)), stepper_(std::move(stepper)), keys_(keys_of(case_)) {
+    if (case_.adapt) {
+      if (petsc())
+        throw CollectiveError(fmt::format(
+            "{}: mesh adaptivity runs on the serial engine for now (one process: --engine serial, without mpirun); "
+            "adaptivity over MPI ranks is the next step (docs/cases.md, [adapt])",
+            case_.adapt->where));
+      SolverChoice choice = stepper_->solvers();
+      // A new mesh's set-up is part of a step: no stage lines, but a signal still stops it.
+      choice.on_setup_stage = [](const std::string&, double seconds) {
+        if (seconds >= 0) stop_if_interrupted();
+      };
+      adapt_.emplace(case_.problem, std::move(choice), *case_.adapt);
+    }
+  }
 
   bool done() const override { return stepper_->done(); }
   StepReport step() override {
-    StepReport r = stepper_->step();
+    StepReport r = adapt_ ? adaptive_step() : stepper_->step();
     // Once a run: Tresca's bound acted through nodes not in contact (the same count on every rank).
     if (!warned_open_)
       if (const std::string w = open_friction_warning(stepper_->problem(), r); !w.empty()) {
@@ -49,7 +65,17 @@ class StepperRun final : public Run {
   double final_time() const override { return stepper_->problem().final_time; }
   double tolerance() const override { return case_.solvers.residual_tolerance; }
 
-  void open_output() override { output_.emplace(*stepper_, case_.output); }
+  void open_output() override {
+    output_.emplace(*stepper_, case_.output);
+    if (adapt_)
+      output_->set_adaptation({[this] {
+                                 const std::vector<int> level = adapt_->levels();
+                                 return std::vector<VtuField>{
+                                     {"level", 1, std::vector<double>(level.begin(), level.end()), true},
+                                     {"indicator", 1, cell_indicators(*stepper_, adapt_->spec()).combined, false}};
+                               },
+                               &adapt_->log()});
+  }
   const std::filesystem::path& directory() const override { return output_->directory(); }
   void start() override { output_->start(); }
   void record(const StepReport& r) override { output_->record(r); }
@@ -59,7 +85,14 @@ class StepperRun final : public Run {
                      keys_);
     note_checkpoint();
   }
+  std::string not_resumable() const override {
+    return adapt_ ? fmt::format("a run with mesh adaptivity ({}) cannot be continued with --resume yet: its "
+                                "checkpoints do not hold the refinement history; run it again from the start",
+                                case_.adapt->where)
+                  : std::string();
+  }
   std::optional<ResumedAt> resume(const std::filesystem::path& dir, std::vector<std::string>& skipped) override {
+    if (adapt_) throw CollectiveError("--resume: " + not_resumable());
     auto saved = resume_from_checkpoint(*stepper_, dir, &skipped, keys_);
     if (!saved) return std::nullopt;
     note_checkpoint();
@@ -114,6 +147,50 @@ class StepperRun final : public Run {
   }
 
  private:
+  /// A step of an adaptive run: the step, then where an adaptation is due, the mesh adapted from its
+  /// solution (AdaptSpec::resolve times: the step redone on it from the state before it carried over;
+  /// else once, carrying the step's state to the next step).
+  StepReport adaptive_step() {
+    MeshAdaptivity& a = *adapt_;
+    const int n = stepper_->state().n + 1;
+    const bool due = a.due(n), redo = due && a.spec().resolve > 0;
+    std::optional<Snapshot> before;
+    std::vector<double> times_before;
+    StepControlState control_before;
+    if (redo) {
+      before = stepper_->snapshot();
+      times_before = stepper_->times();
+      control_before = stepper_->step_control_state();
+    }
+    StepReport r = stepper_->step();
+    if (r.ok && due) {
+      if (redo) {
+        for (int pass = 1; pass <= a.spec().resolve && r.ok; ++pass) {
+          std::unique_ptr<TimeStepper> next = a.adapt(*stepper_, pass, before->state, times_before, control_before);
+          if (!next) break;
+          swap_stepper(std::move(next));
+          before = stepper_->snapshot();  // the state before the step, on this mesh
+          r = stepper_->step();
+        }
+      } else if (std::unique_ptr<TimeStepper> next =
+                     a.adapt(*stepper_, 0, stepper_->state(), stepper_->times(), stepper_->step_control_state())) {
+        swap_stepper(std::move(next));
+      }
+      for (const std::string& w : a.take_warnings())
+        if (root()) fmt::print(stderr, "vpcontact: warning: {}\n", w);
+    }
+    r.mesh_cells = stepper_->part().n_global_cells;
+    r.mesh_unknowns = stepper_->part().n_global_dofs;
+    r.adaptations = static_cast<int>(a.log().size());
+    return r;
+  }
+
+  /// The run goes on with `next` (the adapted mesh); its output follows.
+  void swap_stepper(std::unique_ptr<TimeStepper> next) {
+    stepper_ = std::move(next);
+    if (output_) output_->remesh(*stepper_);
+  }
+
   bool warned_open_ = false, warned_surface_ = false;
   const la::Comm& comm() const { return stepper_->comm(); }
   bool petsc() const { return stepper_->backend().engine() == "petsc"; }
@@ -141,6 +218,7 @@ class StepperRun final : public Run {
   std::unique_ptr<TimeStepper> stepper_;
   CaseKeys keys_;
   std::optional<RunOutput> output_;
+  std::optional<MeshAdaptivity> adapt_;  // [adapt]: the mesh changes during the run
 };
 
 }  // namespace

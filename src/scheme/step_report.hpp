@@ -82,6 +82,10 @@ struct StepReport {
   bool ok = true;
   /// Sub-steps taken (1, or more after step halving).
   int substeps = 1;
+  /// A run with mesh adaptivity ([adapt]; −1 without, and history.csv has no such columns): the cells
+  /// and free displacement unknowns of the mesh the step ends on, and the adaptations so far.
+  long long mesh_cells = -1, mesh_unknowns = -1;
+  int adaptations = -1;
 };
 
 /// Adds the step phases' times of `from` to `to` (substeps, rejected attempts).

@@ -1,0 +1,32 @@
+#pragma once
+// Where the mesh is too coarse (issue 51): a per-cell indicator η_K of three parts, each a standard
+// a-posteriori quantity of a P1 displacement, a P0 stress and a P1 damage field:
+//   stress   η²_σ,K = Σ_{F ⊂ ∂K interior} ½ h_F ‖[σ n]‖²_F   (the flux-jump estimator of linear
+//            elasticity, Verfürth 2013 §4.2; the volume residual h_K‖f + div σ‖ vanishes for P0 σ and
+//            is left out with the body force, which no shipped case makes dominant);
+//   contact  η²_c,K = Σ_{F ⊂ ∂K ∩ Γ3} h_F ‖p − p̄_F‖²_F with p = λ_i/|Γ3|_i the nodal pressure: the
+//            pressure's variation over the facet, largest at the edge of the contact zone, where p
+//            drops to 0 (the "boundary of the contact zone" and "the pressure's variation");
+//   damage   η²_β,K = Σ_{F ⊂ ∂K interior} ½ h_F ‖[∇β · n]‖²_F   (the jumps of ∇β).
+// Each part is normalized to Σ_K η² = 1 (a part that is zero everywhere stays 0) and the parts are
+// added with the AdaptSpec weights: the marking (adapt/marking.hpp) is scale-free and needs no units.
+#include "adapt/adapt_spec.hpp"
+#include "scheme/time_stepper.hpp"
+
+#include <vector>
+
+namespace vpc {
+
+struct CellIndicators {
+  /// Per cell of the stepper's mesh, each part's η_K² (as defined above, not normalized).
+  std::vector<double> stress, contact, damage;
+  /// Σ_parts weight × η²_part,K / Σ_K η²_part,K: what marking reads.
+  std::vector<double> combined;
+  /// (Σ_K η²_σ,K)^½ / ‖σ‖_L2(Ω): the relative stress estimate (0 for a stress-free state).
+  double stress_relative = 0;
+};
+
+/// The indicators of the stepper's state on its mesh (one process: the whole mesh).
+CellIndicators cell_indicators(const TimeStepper& s, const AdaptSpec& spec);
+
+}  // namespace vpc

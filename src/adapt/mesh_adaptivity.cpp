@@ -1,0 +1,261 @@
+#include "adapt/mesh_adaptivity.hpp"
+
+#include "adapt/indicator.hpp"
+#include "adapt/marking.hpp"
+#include "adapt/state_transfer.hpp"
+#include "core/error.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <numeric>
+#include <unordered_map>
+
+namespace vpc {
+
+void check_adaptable(const Problem& p, const AdaptSpec& spec) {
+  const Mesh& m = p.mesh;
+  if (m.dim() != 2)
+    fail("{}: mesh adaptivity needs a 2D triangle mesh for now (newest-vertex bisection of triangles); this mesh "
+         "is {}D. Remove [adapt], or refine the mesh uniformly ([mesh] refine, --n)",
+         spec.where, m.dim());
+  if (m.n_bodies() > 1 || !p.contact.pairs.empty())
+    fail("{}: mesh adaptivity takes one body without contact pairs for now; this case has {}", spec.where,
+         m.n_bodies() > 1 ? fmt::format("{} bodies", m.n_bodies()) : std::string("contact pairs"));
+  if (p.block) fail("{}: mesh adaptivity runs on one process for now (not on blocks of a generated mesh)", spec.where);
+}
+
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+const Mesh& adaptable_mesh(const Problem& p, const AdaptSpec& spec) {
+  check_adaptable(p, spec);
+  return p.mesh;
+}
+
+double longest_edge(const BisectionForest& f, int c) {
+  const auto& v = f.vertices(c);
+  double h = 0;
+  for (int k = 0; k < 3; ++k) {
+    const Point& p = f.node(v[static_cast<std::size_t>(k)]);
+    const Point& q = f.node(v[static_cast<std::size_t>((k + 1) % 3)]);
+    h = std::max(h, std::hypot(p[0] - q[0], p[1] - q[1]));
+  }
+  return h;
+}
+
+int alive_nodes(const BisectionForest& f) {
+  int n = 0;
+  for (int i = 0; i < f.n_nodes(); ++i) n += f.node_alive(i);
+  return n;
+}
+
+SymTensor tensor_at(const std::vector<double>& v, std::size_t k) {
+  SymTensor t;
+  std::copy_n(v.begin() + static_cast<std::ptrdiff_t>(k * 6), 6, t.c.begin());
+  return t;
+}
+
+/// What removing one node changes (squared L2 norms), per AdaptationRecord's measures.
+struct PatchChange {
+  double z2 = 0, sigma2 = 0, beta2 = 0, damage = 0;
+};
+
+}  // namespace
+
+std::shared_ptr<const Problem> problem_on_mesh(const Problem& coarse, Mesh mesh) {
+  auto p = std::make_shared<Problem>(coarse);
+  p->mesh = std::move(mesh);
+  return p;
+}
+
+MeshAdaptivity::MeshAdaptivity(std::shared_ptr<const Problem> coarse, SolverChoice choice, AdaptSpec spec)
+    : coarse_(std::move(coarse)),
+      choice_(std::move(choice)),
+      spec_(std::move(spec)),
+      forest_(adaptable_mesh(*coarse_, spec_)) {}
+
+std::vector<int> MeshAdaptivity::levels() const {
+  std::vector<int> out;
+  for (int c : forest_.leaves()) out.push_back(forest_.level(c));
+  return out;
+}
+
+std::unique_ptr<TimeStepper> MeshAdaptivity::adapt(const TimeStepper& s, int pass, const State& carry,
+                                                   std::vector<double> times, const StepControlState& control) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const int d = s.mesh().dim();
+  const CellIndicators ind = cell_indicators(s, spec_);
+  if (spec_.tolerance > 0 && ind.stress_relative <= spec_.tolerance) return nullptr;
+  AdaptationRecord rec;
+  rec.step = s.state().n;
+  rec.t = s.state().t;
+  rec.pass = pass;
+  rec.stress_relative = ind.stress_relative;
+  rec.cells_before = s.mesh().n_cells();
+  rec.unknowns_before = s.part().n_global_dofs;
+  const std::vector<int> leaves = forest_.leaves();
+
+  // Refinement: bulk marking, within the level and size limits, then the unknowns'.
+  std::vector<int> refine;
+  bool deep = false;
+  for (int k : bulk_marking(ind.combined, spec_.refine_fraction)) {
+    const int c = leaves[static_cast<std::size_t>(k)];
+    if (forest_.level(c) >= spec_.max_level) {
+      deep = true;
+      continue;
+    }
+    if (spec_.min_size > 0 && longest_edge(forest_, c) <= spec_.min_size) continue;
+    refine.push_back(c);
+  }
+  auto unknowns_with = [&](std::size_t count) {
+    BisectionForest trial = forest_;
+    trial.refine(std::vector<int>(refine.begin(), refine.begin() + static_cast<std::ptrdiff_t>(count)));
+    return static_cast<long long>(d) * alive_nodes(trial);
+  };
+  if (!refine.empty() && unknowns_with(refine.size()) > spec_.max_unknowns) {
+    std::size_t lo = 0, hi = refine.size();  // the most cells, in the indicator's order, within the limit
+    while (lo < hi) {
+      const std::size_t mid = (lo + hi + 1) / 2;
+      if (unknowns_with(mid) <= spec_.max_unknowns) lo = mid;
+      else hi = mid - 1;
+    }
+    refine.resize(lo);
+    rec.truncated = true;
+    if (!warned_unknowns_) {
+      warned_unknowns_ = true;
+      warnings_.push_back(fmt::format("{}: max_unknowns = {} reached at step {} (t = {:.6g}): refinement marking "
+                                      "truncated in the indicator's order (reported in summary.json \"adaptations\")",
+                                      spec_.where, spec_.max_unknowns, rec.step, rec.t));
+    }
+  }
+  if (deep) {
+    rec.truncated = true;
+    if (!warned_level_) {
+      warned_level_ = true;
+      warnings_.push_back(fmt::format("{}: max_level = {} reached at step {} (t = {:.6g}): cells at that level "
+                                      "are not refined further",
+                                      spec_.where, spec_.max_level, rec.step, rec.t));
+    }
+  }
+  rec.marked = static_cast<int>(refine.size());
+
+  // Coarsening: the smallest share of the indicator, not marked for refinement, whose patches change
+  // z, σ, β by less than the tolerance, summed over the adaptation.
+  ForestState fs = gather_state(forest_, s, carry);
+  std::vector<char> refined(static_cast<std::size_t>(forest_.n_cells()), 0);
+  for (int c : refine) refined[static_cast<std::size_t>(c)] = 1;
+  std::vector<int> candidates;
+  for (int k : smallest_share(ind.combined, spec_.coarsen_fraction)) {
+    const int c = leaves[static_cast<std::size_t>(k)];
+    if (!refined[static_cast<std::size_t>(c)] && forest_.level(c) > 0) candidates.push_back(c);
+  }
+  const std::vector<Material> materials = s.problem().material_list();
+  std::vector<const Elasticity*> elasticity(static_cast<std::size_t>(coarse_->mesh.n_cells()), nullptr);
+  for (std::size_t k = 0; k < leaves.size(); ++k)
+    elasticity[static_cast<std::size_t>(forest_.root(leaves[k]))] =
+        &materials[static_cast<std::size_t>(s.part().cell_material[k])].elasticity;
+  std::vector<BisectionForest::Patch> accepted;
+  if (!candidates.empty()) {
+    std::unordered_map<int, std::size_t> place;  // a leaf's index in `leaves`
+    for (std::size_t k = 0; k < leaves.size(); ++k) place.emplace(leaves[k], k);
+    double sigma_scale2 = 0, volume = 0;
+    for (std::size_t k = 0; k < leaves.size(); ++k) {
+      const double a = forest_.area(leaves[k]);
+      volume += a;
+      const SymTensor sg = tensor_at(fs.sigma, k);
+      sigma_scale2 += a * sg.dot(sg);
+    }
+    auto relative = [](double change2, double scale2) {
+      return scale2 > 0 ? change2 / scale2 : (change2 > 0 ? INFINITY : 0.0);
+    };
+    std::vector<BisectionForest::Patch> patches = forest_.coarsenable(candidates);
+    std::vector<PatchChange> change(patches.size());
+    for (std::size_t q = 0; q < patches.size(); ++q) {
+      const BisectionForest::Patch& patch = patches[q];
+      PatchChange& ch = change[q];
+      const auto [a, b] = forest_.made_at(patch.node);
+      const double delta = fs.beta[static_cast<std::size_t>(patch.node)] -
+                           0.5 * (fs.beta[static_cast<std::size_t>(a)] + fs.beta[static_cast<std::size_t>(b)]);
+      double area = 0;
+      for (int p : patch.parents) {
+        area += forest_.area(p);
+        // σ on the parent after: ℰε(u injected) + the children's mean z.
+        const std::size_t k0 = place.at(forest_.children(p)[0]), k1 = place.at(forest_.children(p)[1]);
+        const SymTensor z_mean = 0.5 * (tensor_at(fs.z, k0) + tensor_at(fs.z, k1));
+        const SymTensor sigma_after =
+            elasticity[static_cast<std::size_t>(forest_.root(p))]->apply(forest_cell_strain(forest_, fs.u, d, p)) + z_mean;
+        for (std::size_t k : {k0, k1}) {
+          const double ak = forest_.area(leaves[k]);
+          const SymTensor dz = tensor_at(fs.z, k) - z_mean, ds = tensor_at(fs.sigma, k) - sigma_after;
+          ch.z2 += ak * dz.dot(dz);
+          ch.sigma2 += ak * ds.dot(ds);
+        }
+      }
+      ch.beta2 = delta * delta * area / 6;  // ‖δ φ_m‖², ∫φ_m² = |patch| / 6
+      ch.damage = delta * area / 3;         // ∫(1 − β) grows by δ ∫φ_m
+    }
+    std::vector<std::size_t> order(patches.size());
+    std::iota(order.begin(), order.end(), std::size_t{0});
+    auto cost = [&](std::size_t q) {
+      return std::max({relative(change[q].z2, sigma_scale2), relative(change[q].sigma2, sigma_scale2),
+                       relative(change[q].beta2, volume)});
+    };
+    std::stable_sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) { return cost(x) < cost(y); });
+    const double budget = spec_.coarsen_tolerance * spec_.coarsen_tolerance;
+    PatchChange total;
+    for (std::size_t q : order) {
+      const PatchChange& ch = change[q];
+      if (relative(total.z2 + ch.z2, sigma_scale2) > budget || relative(total.sigma2 + ch.sigma2, sigma_scale2) > budget ||
+          relative(total.beta2 + ch.beta2, volume) > budget)
+        continue;
+      total.z2 += ch.z2;
+      total.sigma2 += ch.sigma2;
+      total.beta2 += ch.beta2;
+      total.damage += ch.damage;
+      accepted.push_back(patches[q]);
+    }
+    std::sort(accepted.begin(), accepted.end(), [](const auto& x, const auto& y) { return x.node < y.node; });
+    rec.change_z = std::sqrt(relative(total.z2, sigma_scale2));
+    rec.change_sigma = std::sqrt(relative(total.sigma2, sigma_scale2));
+    rec.change_beta = std::sqrt(relative(total.beta2, volume));
+    rec.change_damage_integral = total.damage;
+  }
+  if (refine.empty() && accepted.empty()) return nullptr;
+
+  // The forest changed and the state carried: coarsening first (its patches were found on the leaves
+  // before), then refinement (its cells are leaves still: none was a coarsening candidate).
+  if (!accepted.empty()) {
+    rec.removed_nodes = forest_.coarsen_patches(accepted);
+    carry_through_coarsening(forest_, elasticity, fs);
+  }
+  if (!refine.empty()) {
+    rec.bisected = forest_.refine(refine);
+    carry_through_refinement(forest_, fs);
+  }
+  Mesh mesh = forest_.leaf_mesh();
+  rec.min_angle_degrees = forest_.min_angle() * 180 / M_PI;
+  rec.h_min = mesh.size_range().first;
+  for (int c : forest_.leaves()) rec.max_level = std::max(rec.max_level, forest_.level(c));
+  rec.seconds_adapt = seconds_since(t0);
+
+  const auto t1 = std::chrono::steady_clock::now();
+  auto next = std::make_unique<TimeStepper>(problem_on_mesh(*coarse_, std::move(mesh)), choice_);
+  const auto t2 = std::chrono::steady_clock::now();
+  const State state = scatter_state(forest_, fs, *next, carry);
+  next->restore({state, restrict_to_free(next->dofs(), state.u), next->contact_warm_state(), next->damage_warm_state()});
+  next->set_step_history(std::move(times), control);
+  rec.seconds_adapt += seconds_since(t2);
+  rec.seconds_rebuild = std::chrono::duration<double>(t2 - t1).count();
+  rec.cells_after = next->mesh().n_cells();
+  rec.unknowns_after = next->part().n_global_dofs;
+  log_.push_back(rec);
+  return next;
+}
+
+}  // namespace vpc

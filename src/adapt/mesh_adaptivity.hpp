@@ -1,0 +1,76 @@
+#pragma once
+// Mesh adaptivity during a run (issue 51): the run's coarse mesh as a bisection forest
+// (mesh/bisection.hpp), and each adaptation: the indicator of the state (adapt/indicator.hpp), bulk
+// marking within the limits of [adapt] (adapt/adapt_spec.hpp), coarsening where it changes z, σ and β
+// by less than its tolerance, the forest changed, the state carried over (adapt/state_transfer.hpp) and a
+// TimeStepper of the same problem on the adapted mesh. The engine (run/stepper_engine.cpp) swaps the
+// stepper; nothing below the scheme knows the mesh changed.
+#include "adapt/adapt_spec.hpp"
+#include "mesh/bisection.hpp"
+#include "scheme/time_stepper.hpp"
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace vpc {
+
+/// One adaptation, as summary.json's "adaptations" and the run's progress report it.
+struct AdaptationRecord {
+  int step = 0;  // after this accepted step
+  double t = 0;
+  int pass = 0;  // 0; k ≥ 1: the k-th redo of the step (AdaptSpec::resolve)
+  long long cells_before = 0, cells_after = 0, unknowns_before = 0, unknowns_after = 0;
+  int marked = 0, bisected = 0, removed_nodes = 0;
+  int max_level = 0;
+  double min_angle_degrees = 0, h_min = 0;
+  double stress_relative = 0;  // CellIndicators::stress_relative before it
+  /// The relative L2 changes coarsening made (z and σ against ‖σ‖, β against |Ω|^½) and the change
+  /// of ∫(1 − β) (absolute).
+  double change_z = 0, change_sigma = 0, change_beta = 0, change_damage_integral = 0;
+  bool truncated = false;  // marking cut to max_unknowns or max_level
+  double seconds_adapt = 0, seconds_rebuild = 0;  // indicator, marking, forest, transfer; the new stepper
+};
+
+class MeshAdaptivity {
+ public:
+  /// The adaptivity of runs of `coarse` (validated; its mesh the coarse mesh) with `spec`; new steppers
+  /// take `choice`. Throws vpc::Error (located at spec.where) where the problem cannot be adapted.
+  MeshAdaptivity(std::shared_ptr<const Problem> coarse, SolverChoice choice, AdaptSpec spec);
+
+  const AdaptSpec& spec() const { return spec_; }
+  /// Whether an adaptation is due after accepted step n.
+  bool due(int n) const { return n > 0 && n % spec_.every == 0; }
+
+  /// Adapts the mesh of `s` from its state (pass: AdaptationRecord::pass) and returns the stepper on
+  /// the adapted mesh carrying `carry` (s's state, or for a redo the state before the step, on s's mesh)
+  /// with the time levels `times` and step-size state `control`; null where nothing changes (nothing
+  /// marked, or the stress estimate below AdaptSpec::tolerance).
+  std::unique_ptr<TimeStepper> adapt(const TimeStepper& s, int pass, const State& carry, std::vector<double> times,
+                                     const StepControlState& control);
+
+  const std::vector<AdaptationRecord>& log() const { return log_; }
+  const BisectionForest& forest() const { return forest_; }
+  /// The refinement level of each cell of the current mesh.
+  std::vector<int> levels() const;
+  /// Warnings for the run to print once (a limit that cut marking); taken.
+  std::vector<std::string> take_warnings() { return std::move(warnings_); }
+
+ private:
+  std::shared_ptr<const Problem> coarse_;
+  SolverChoice choice_;
+  AdaptSpec spec_;
+  BisectionForest forest_;
+  std::vector<AdaptationRecord> log_;
+  std::vector<std::string> warnings_;
+  bool warned_unknowns_ = false, warned_level_ = false;
+};
+
+/// Refuses (vpc::Error at spec.where) a problem whose mesh cannot be adapted yet: not 2D, several
+/// bodies or contact pairs, a block of a distributed mesh.
+void check_adaptable(const Problem& p, const AdaptSpec& spec);
+
+/// The problem `coarse` on the mesh `mesh` (its parts, regions and every datum as they are).
+std::shared_ptr<const Problem> problem_on_mesh(const Problem& coarse, Mesh mesh);
+
+}  // namespace vpc

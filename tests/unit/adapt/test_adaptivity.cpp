@@ -1,0 +1,273 @@
+// Issue 51: mesh adaptivity during a run (adapt/). The state is carried over a refinement exactly (u and
+// β at the old nodes bit for bit, ε of the carried u equal to the inherited ε, ∫σ and Σλ kept), a
+// refinement undone by coarsening gives the state back, marking is Dörfler's, the indicator vanishes on
+// what P1/P0 represent exactly, and an adaptive run (a cylinder rolled along a block) refines ahead of it
+// and coarsens behind it, every step within the tolerances, its files saying so.
+#include "adapt/indicator.hpp"
+#include "adapt/marking.hpp"
+#include "adapt/mesh_adaptivity.hpp"
+#include "adapt/state_transfer.hpp"
+#include "cases/builtin_cases.hpp"
+#include "io/case_file.hpp"
+#include "fem/assembly.hpp"
+#include "fem/cell_geometry.hpp"
+#include "run/run_case.hpp"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+namespace vpc {
+namespace {
+
+namespace fs = std::filesystem;
+
+/// paper-2d on a 10 × 10 mesh after `steps` steps (of 20): stress, history z and damage all non-zero.
+std::unique_ptr<TimeStepper> paper_after(int steps) {
+  const Case c = load_case("paper-2d", {.steps = 20}, {.cells = 10});
+  auto s = std::make_unique<TimeStepper>(c.problem, c.solvers);
+  for (int n = 0; n < steps; ++n) EXPECT_TRUE(s->step().ok);
+  return s;
+}
+
+double max_abs(const std::vector<SymTensor>& t) {
+  double m = 0;
+  for (const SymTensor& x : t)
+    for (double v : x.c) m = std::max(m, std::abs(v));
+  return m;
+}
+
+SymTensor integral(const Mesh& mesh, const std::vector<SymTensor>& t) {
+  const std::vector<CellGeometry> geo = compute_geometry(mesh);
+  SymTensor sum;
+  for (int c = 0; c < mesh.n_cells(); ++c) sum += geo[static_cast<std::size_t>(c)].volume * t[static_cast<std::size_t>(c)];
+  return sum;
+}
+
+TEST(Adapt, RefinementCarriesTheStateExactly) {
+  const auto s = paper_after(5);
+  AdaptSpec spec;
+  spec.coarsen_fraction = 0;
+  spec.where = "test: [adapt]";
+  MeshAdaptivity a(std::make_shared<Problem>(s->problem()), s->solvers(), spec);
+  const State& old = s->state();
+  auto next = a.adapt(*s, 0, old, s->times(), s->step_control_state());
+  ASSERT_TRUE(next);
+  const State& now = next->state();
+  ASSERT_GT(next->mesh().n_cells(), s->mesh().n_cells());
+  EXPECT_EQ(now.n, old.n);
+  EXPECT_EQ(now.t, old.t);
+  // The coarse nodes keep their numbers: u and β there bit for bit.
+  EXPECT_EQ(now.u.head(old.u.size()), old.u);
+  EXPECT_EQ(now.beta.head(old.beta.size()), old.beta);
+  // ε of the carried u on the new cells is the inherited ε (the parent's), σ = ℰε + z on every cell.
+  std::vector<SymTensor> eps(static_cast<std::size_t>(next->mesh().n_cells()));
+  compute_strain(next->mesh(), compute_geometry(next->mesh()), now.u, eps);
+  const double scale = max_abs(now.eps);
+  ASSERT_GT(scale, 0);
+  for (std::size_t c = 0; c < eps.size(); ++c)
+    for (int i = 0; i < 6; ++i) EXPECT_NEAR(eps[c][i], now.eps[c][i], 1e-12 * scale) << "cell " << c;
+  const Elasticity& e = next->problem().elasticity;
+  for (std::size_t c = 0; c < eps.size(); ++c)
+    for (int i = 0; i < 6; ++i)
+      EXPECT_NEAR((e.apply(now.eps[c]) + now.z[c])[i], now.sigma[c][i], 1e-12 * max_abs(now.sigma));
+  // ∫σ, ∫z and the total contact force kept.
+  const SymTensor s0 = integral(s->mesh(), old.sigma), s1 = integral(next->mesh(), now.sigma);
+  const SymTensor z0 = integral(s->mesh(), old.z), z1 = integral(next->mesh(), now.z);
+  for (int i = 0; i < 6; ++i) {
+    EXPECT_NEAR(s0[i], s1[i], 1e-13 * max_abs(old.sigma) * 4);
+    EXPECT_NEAR(z0[i], z1[i], 1e-13 * max_abs(old.z) * 4);
+  }
+  ASSERT_GT(old.lambda.sum(), 0);
+  EXPECT_NEAR(now.lambda.sum(), old.lambda.sum(), 1e-13 * old.lambda.sum());
+  ASSERT_EQ(a.log().size(), 1u);
+  EXPECT_EQ(a.log()[0].cells_after, next->mesh().n_cells());
+  EXPECT_NEAR(a.log()[0].min_angle_degrees, 45, 1e-9);  // the generator's right triangles, bisected
+  // Again, until Γ3's facets are bisected (a boundary facet is a refinement edge every other level): the
+  // new contact nodes take the pressure of their facet, the total force kept.
+  std::unique_ptr<TimeStepper> last = std::move(next);
+  for (int k = 0; k < 4 && last->contact().nodes.size() == s->contact().nodes.size(); ++k) {
+    auto again = a.adapt(*last, 0, last->state(), last->times(), last->step_control_state());
+    ASSERT_TRUE(again);
+    EXPECT_NEAR(again->state().lambda.sum(), old.lambda.sum(), 1e-13 * old.lambda.sum());
+    last = std::move(again);
+  }
+  EXPECT_GT(last->contact().nodes.size(), s->contact().nodes.size());
+  // The run goes on from it, within its tolerances.
+  EXPECT_TRUE(last->step().ok);
+}
+
+TEST(Adapt, CoarseningUndoesARefinementAndGivesTheStateBack) {
+  const auto s = paper_after(5);
+  const Problem& p = s->problem();
+  BisectionForest forest(p.mesh);
+  const ForestState before = gather_state(forest, *s, s->state());
+  ForestState fs = before;
+  for (int level = 0; level < 2; ++level) {  // every cell bisected twice (and what the closure adds)
+    forest.refine(forest.leaves());
+    carry_through_refinement(forest, fs);
+  }
+  ASSERT_GT(fs.leaves.size(), 3 * before.leaves.size());
+  const std::vector<Material> materials = p.material_list();
+  std::vector<const Elasticity*> elasticity(static_cast<std::size_t>(p.mesh.n_cells()));
+  for (int c = 0; c < p.mesh.n_cells(); ++c)
+    elasticity[static_cast<std::size_t>(c)] = &materials[static_cast<std::size_t>(s->part().cell_material[static_cast<std::size_t>(c)])].elasticity;
+  for (int round = 0; round < 4 && forest.coarsen(forest.leaves()) > 0; ++round)
+    carry_through_coarsening(forest, elasticity, fs);
+  ASSERT_EQ(fs.leaves, before.leaves);  // back to the coarse mesh
+  const std::size_t nodes = before.beta.size();
+  for (std::size_t i = 0; i < nodes; ++i) {
+    EXPECT_EQ(fs.beta[i], before.beta[i]);
+    EXPECT_EQ(fs.u[2 * i], before.u[2 * i]);
+    EXPECT_EQ(fs.u[2 * i + 1], before.u[2 * i + 1]);
+  }
+  auto expect_near = [](const std::vector<double>& x, const std::vector<double>& y, const char* what) {
+    ASSERT_EQ(x.size(), y.size()) << what;
+    double scale = 0;
+    for (double v : y) scale = std::max(scale, std::abs(v));
+    for (std::size_t k = 0; k < x.size(); ++k) EXPECT_NEAR(x[k], y[k], 1e-12 * scale) << what << " entry " << k;
+  };
+  expect_near(fs.z, before.z, "z");
+  expect_near(fs.eps, before.eps, "eps");
+  expect_near(fs.sigma, before.sigma, "sigma");
+  // The contact fields: the coarse rows' pressure back.
+  for (std::size_t k = 0; k < before.contact.size(); ++k)
+    if (!std::isnan(before.contact[k])) {
+      EXPECT_EQ(fs.contact[k], before.contact[k]);
+    }
+}
+
+TEST(Adapt, BulkMarkingTakesTheFewestLargestCells) {
+  EXPECT_EQ(bulk_marking({1, 4, 2, 3}, 0.5), (std::vector<int>{1, 3}));  // 4 + 3 ≥ 5
+  EXPECT_EQ(bulk_marking({1, 4, 2, 3}, 1.0), (std::vector<int>{1, 3, 2, 0}));
+  EXPECT_EQ(bulk_marking({2, 2, 2, 2}, 0.5), (std::vector<int>{0, 1}));  // ties by index
+  EXPECT_TRUE(bulk_marking({0, 0, 0}, 0.5).empty());
+  EXPECT_EQ(smallest_share({1, 4, 2, 3}, 0.3), (std::vector<int>{0, 2}));  // 1 + 2 ≤ 3
+  EXPECT_TRUE(smallest_share({1, 4, 2, 3}, 0.05).empty());
+}
+
+TEST(Adapt, TheIndicatorVanishesWhereP1AndP0AreExact) {
+  const auto s = paper_after(1);
+  Snapshot snap = s->snapshot();
+  const Mesh& mesh = s->mesh();
+  SymTensor uniform;
+  uniform[0] = 3, uniform[1] = -2, uniform[5] = 1;
+  for (SymTensor& x : snap.state.sigma) x = uniform;
+  for (int i = 0; i < mesh.n_nodes(); ++i) snap.state.beta[i] = 0.9 - 0.1 * mesh.node(i)[0];  // linear
+  s->restore(snap);
+  AdaptSpec spec;
+  CellIndicators ind = cell_indicators(*s, spec);
+  for (double v : ind.stress) EXPECT_LT(v, 1e-24);
+  for (double v : ind.damage) EXPECT_LT(v, 1e-28);
+  // A stress that jumps across x = 1: the cells beside the line, and only they.
+  for (int c = 0; c < mesh.n_cells(); ++c)
+    snap.state.sigma[static_cast<std::size_t>(c)] = mesh.cell_centroid(c)[0] < 1 ? uniform : 2.0 * uniform;
+  s->restore(snap);
+  ind = cell_indicators(*s, spec);
+  for (int c = 0; c < mesh.n_cells(); ++c) {
+    bool touches = false;
+    for (int a = 0; a < 3; ++a) touches = touches || std::abs(mesh.node(mesh.cell(c)[a])[0] - 1) < 1e-12;
+    const double x = mesh.cell_centroid(c)[0];
+    const bool beside = touches && std::abs(x - 1) < 0.1;  // an edge on the line (h = 0.2)
+    if (!touches) {
+      EXPECT_EQ(ind.stress[static_cast<std::size_t>(c)], 0) << "cell " << c;
+    }
+    if (beside && ind.stress[static_cast<std::size_t>(c)] == 0) {
+      // a cell touching the line at a vertex only has no edge on it
+      int on_line = 0;
+      for (int a = 0; a < 3; ++a) on_line += std::abs(mesh.node(mesh.cell(c)[a])[0] - 1) < 1e-12;
+      EXPECT_LT(on_line, 2) << "cell " << c;
+    }
+  }
+  EXPECT_GT(ind.stress_relative, 0);
+}
+
+/// A cylinder pressed into a block and rolled along it (2D ironing, frictionless): adapted every step,
+/// each step redone twice on the mesh adapted from its solution.
+const char* kRolling = R"toml(
+[case]
+name = "rolling-2d"
+[mesh]
+generator = "rectangle"
+lower = [-4.0, 0.0]
+upper = [4.0, 4.0]
+cells = [40, 20]
+diagonal = "crossed"
+[boundary]
+clamped = ["top"]
+contact = ["bottom"]
+[elasticity]
+kind = "plane-strain"
+E = 1000.0
+nu = 0.3
+[viscoplasticity]
+law = "elastic"
+[damage]
+source = "zero"
+[[obstacle]]
+name = "cylinder"
+shape = "cylinder"
+center = ["-2.0 + 4.0*t", "-1.0 + min(0.05, 0.5*t)"]
+radius = 1.0
+[time]
+T = 1.0
+steps = 12
+[output]
+every = 4
+[adapt]
+resolve = 2
+coarsen_fraction = 0.2
+coarsen_tolerance = 0.05
+max_level = 5
+)toml";
+
+TEST(Adapt, ARunRefinesAheadOfTheIndenterAndCoarsensBehindIt) {
+  const fs::path dir = fs::temp_directory_path() / "vpc-adapt-rolling";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  { std::ofstream(dir / "rolling-2d.toml") << kRolling; }
+  RunOptions o;
+  o.quiet = true;
+  o.output_directory = dir / "out";
+  const fs::path file = dir / "rolling-2d.toml";
+  const RunResult r = run_case(
+      [&](const MeshRequest& m) {
+        Case c = read_case_file(file, {}, m);
+        c.output.directory = o.output_directory;
+        return c;
+      },
+      o);
+  EXPECT_EQ(r.steps, 12);
+  std::ifstream in(o.output_directory / "summary.json");
+  const auto j = nlohmann::json::parse(in);
+  const auto& log = j.at("adaptations");
+  ASSERT_EQ(log.size(), 24u);  // two passes a step
+  long long removed = 0;
+  int deepest = 0;
+  for (const auto& a : log) {
+    removed += a.at("removed_nodes").get<long long>();
+    deepest = std::max(deepest, a.at("max_level").get<int>());
+    EXPECT_NEAR(a.at("min_angle_degrees").get<double>(), 45, 1e-9);
+    for (const char* k : {"z", "sigma", "beta"}) EXPECT_LE(a.at("coarsening_change").at(k).get<double>(), 0.05 + 1e-12);
+  }
+  EXPECT_GT(removed, 0);
+  EXPECT_EQ(deepest, 5);
+  EXPECT_TRUE(j.at("checks").at("all_steps_ok").get<bool>()) << j.at("checks").dump();
+  // history.csv ends with the mesh's columns; the VTU files carry the level and the indicator.
+  std::ifstream h(o.output_directory / "history.csv");
+  std::string header;
+  std::getline(h, header);
+  EXPECT_TRUE(header.ends_with(",cells,unknowns,adaptations")) << header;
+  std::stringstream vtu;
+  vtu << std::ifstream(o.output_directory / "solution_00012.vtu").rdbuf();
+  EXPECT_NE(vtu.str().find("Name=\"level\""), std::string::npos);
+  EXPECT_NE(vtu.str().find("Name=\"indicator\""), std::string::npos);
+  fs::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace vpc
