@@ -11,7 +11,8 @@ struct AdaptSpec {
   /// Per adaptation, up to this many times: the step just taken is redone on the mesh adapted from
   /// its own solution (from the state before it, carried over). 0: the adapted mesh serves the next step.
   int resolve = 0;
-  /// Dörfler's bulk fraction θ: the fewest cells that carry θ of the indicator's Σ η_K² are refined.
+  /// Dörfler's bulk fraction θ: for each part of the indicator (stress, contact, damage), the fewest cells
+  /// that carry θ of its Σ η_K² are refined (the union of the three sets).
   double refine_fraction = 0.5;
   /// The cells that together carry at most this share of Σ η_K² (the smallest η_K first) may be
   /// coarsened, where coarsening changes z, σ and β by less than coarsen_tolerance.
@@ -26,7 +27,9 @@ struct AdaptSpec {
   /// The most displacement unknowns (d × nodes) a refinement may make; marking is truncated in
   /// the indicator's order to stay within it (warned once).
   long long max_unknowns = 2'000'000;
-  /// Weights of the indicator's three parts, each normalized to Σ_K η_K² = 1 (adapt/indicator.hpp).
+  /// Weights of the indicator's three parts, each normalized to Σ_K η_K² = 1 (adapt/indicator.hpp), in the
+  /// combined indicator (coarsening's candidates, the order a truncated marking keeps, VTU `indicator`);
+  /// a part of weight 0 marks no cell for refinement.
   double stress_weight = 1, contact_weight = 1, damage_weight = 1;
   /// > 0: an adaptation that is due takes place only while the relative stress estimate
   /// (CellIndicators::stress_relative) is above this.

@@ -50,8 +50,18 @@ void add_share(const std::vector<double>& part, double weight, std::vector<doubl
 }  // namespace
 
 CellIndicators cell_indicators(const TimeStepper& s, const AdaptSpec& spec) {
-  const Mesh& mesh = s.mesh();
   const State& st = s.state();
+  const std::vector<PartContactNode>& rows = s.contact().nodes;
+  std::vector<double> pressure(static_cast<std::size_t>(s.mesh().n_nodes()), NAN);
+  for (std::size_t r = 0; r < rows.size(); ++r)
+    if (rows[r].measure > 0)
+      pressure[static_cast<std::size_t>(rows[r].local_node)] =
+          st.lambda[static_cast<Eigen::Index>(r) * st.contact_block] / rows[r].measure;
+  return cell_indicators(s.mesh(), st.sigma, st.beta, pressure, spec);
+}
+
+CellIndicators cell_indicators(const Mesh& mesh, const std::vector<SymTensor>& sigma, const Vector& beta,
+                               const std::vector<double>& pressure, const AdaptSpec& spec) {
   const int d = mesh.dim(), nc = mesh.n_cells(), npc = mesh.nodes_per_cell();
   const std::vector<CellGeometry> geo = compute_geometry(mesh);
   CellIndicators out;
@@ -65,7 +75,7 @@ CellIndicators cell_indicators(const TimeStepper& s, const AdaptSpec& spec) {
   for (int c = 0; c < nc; ++c)
     for (int a = 0; a < npc; ++a)
       for (int j = 0; j < 3; ++j)
-        grad_beta[static_cast<std::size_t>(c)][j] += st.beta[mesh.cell(c)[a]] * geo[static_cast<std::size_t>(c)].grad[static_cast<std::size_t>(a)][static_cast<std::size_t>(j)];
+        grad_beta[static_cast<std::size_t>(c)][j] += beta[mesh.cell(c)[a]] * geo[static_cast<std::size_t>(c)].grad[static_cast<std::size_t>(a)][static_cast<std::size_t>(j)];
 
   // Interior facets: the first cell that has one waits in the map for the second.
   std::unordered_map<FacetKey, std::pair<int, int>, FacetKeyHash> first;  // facet → (cell, local vertex opposite)
@@ -73,7 +83,7 @@ CellIndicators cell_indicators(const TimeStepper& s, const AdaptSpec& spec) {
   int nodes[3];
   double sigma2 = 0;
   for (int c = 0; c < nc; ++c) {
-    sigma2 += geo[static_cast<std::size_t>(c)].volume * st.sigma[static_cast<std::size_t>(c)].dot(st.sigma[static_cast<std::size_t>(c)]);
+    sigma2 += geo[static_cast<std::size_t>(c)].volume * sigma[static_cast<std::size_t>(c)].dot(sigma[static_cast<std::size_t>(c)]);
     for (int i = 0; i < npc; ++i) {
       cell_facet(mesh.cell(c), npc, i, nodes);
       const FacetKey key = facet_key(nodes, d);
@@ -83,8 +93,8 @@ CellIndicators cell_indicators(const TimeStepper& s, const AdaptSpec& spec) {
       first.erase(it);
       const Face f = face_of(geo[static_cast<std::size_t>(c1)], d, i1);  // outward from c1
       const double weight = 0.5 * facet_size(f.measure, d) * f.measure;  // ½ h_F |F|, each cell's half
-      const Point t1 = traction(st.sigma[static_cast<std::size_t>(c1)], f.n, d);
-      const Point t2 = traction(st.sigma[static_cast<std::size_t>(c)], f.n, d);
+      const Point t1 = traction(sigma[static_cast<std::size_t>(c1)], f.n, d);
+      const Point t2 = traction(sigma[static_cast<std::size_t>(c)], f.n, d);
       const double js = norm2({t1[0] - t2[0], t1[1] - t2[1], t1[2] - t2[2]});
       double jb = 0;
       for (int j = 0; j < 3; ++j) jb += (grad_beta[static_cast<std::size_t>(c1)][j] - grad_beta[static_cast<std::size_t>(c)][j]) * f.n[j];
@@ -97,12 +107,6 @@ CellIndicators cell_indicators(const TimeStepper& s, const AdaptSpec& spec) {
   out.stress_relative = sigma2 > 0 ? std::sqrt(std::accumulate(out.stress.begin(), out.stress.end(), 0.0) / sigma2) : 0;
 
   // Γ3: the nodal pressures of the contact rows, over the boundary facets whose nodes are all rows.
-  const std::vector<PartContactNode>& rows = s.contact().nodes;
-  std::vector<double> pressure(static_cast<std::size_t>(mesh.n_nodes()), NAN);
-  for (std::size_t r = 0; r < rows.size(); ++r)
-    if (rows[r].measure > 0)
-      pressure[static_cast<std::size_t>(rows[r].local_node)] =
-          st.lambda[static_cast<Eigen::Index>(r) * st.contact_block] / rows[r].measure;
   for (int f = 0; f < mesh.n_facets(); ++f) {
     const int* v = mesh.facet(f);
     double lo = INFINITY, hi = -INFINITY, mean = 0;

@@ -26,7 +26,13 @@ struct CellIndicators {
   double stress_relative = 0;
 };
 
-/// The indicators of the stepper's state on its mesh (one process: the whole mesh).
+/// The indicators of σ (per cell), β and the nodal contact pressure p_i = λ_i/|Γ3|_i (per node; NaN off
+/// the contact rows) on `mesh`, summed in its numbering: the adaptivity passes the leaf mesh, so that the
+/// marking does not depend on an engine's numbering of its part.
+CellIndicators cell_indicators(const Mesh& mesh, const std::vector<SymTensor>& sigma, const Vector& beta,
+                               const std::vector<double>& pressure, const AdaptSpec& spec);
+
+/// The indicators of the stepper's state on its part's mesh (VTU `indicator`).
 CellIndicators cell_indicators(const TimeStepper& s, const AdaptSpec& spec);
 
 }  // namespace vpc

@@ -3,6 +3,7 @@
 #include "adapt/indicator.hpp"
 #include "adapt/marking.hpp"
 #include "adapt/state_transfer.hpp"
+#include "fem/cell_geometry.hpp"
 #include "core/error.hpp"
 
 #include <fmt/format.h>
@@ -61,6 +62,23 @@ SymTensor tensor_at(const std::vector<double>& v, std::size_t k) {
   return t;
 }
 
+/// The indicators of a gathered state on the forest's leaf mesh (adapt/indicator.hpp).
+CellIndicators forest_indicators(const BisectionForest& forest, const ForestState& fs, const AdaptSpec& spec) {
+  const Mesh mesh = forest.leaf_mesh();
+  const std::vector<int> number = forest.mesh_numbers();
+  Vector beta(mesh.n_nodes());
+  std::vector<double> pressure(static_cast<std::size_t>(mesh.n_nodes()), NAN);
+  const auto w = static_cast<std::size_t>(fs.contact_width);
+  for (std::size_t i = 0; i < number.size(); ++i) {
+    if (number[i] < 0) continue;
+    beta[number[i]] = fs.beta[i];
+    pressure[static_cast<std::size_t>(number[i])] = fs.contact[i * w];  // λ_ν / |Γ3|_i (NaN off Γ3)
+  }
+  std::vector<SymTensor> sigma(fs.leaves.size());
+  for (std::size_t k = 0; k < sigma.size(); ++k) sigma[k] = tensor_at(fs.sigma, k);
+  return cell_indicators(mesh, sigma, beta, pressure, spec);
+}
+
 /// What removing one node changes (squared L2 norms), per AdaptationRecord's measures.
 struct PatchChange {
   double z2 = 0, sigma2 = 0, beta2 = 0, damage = 0;
@@ -74,15 +92,21 @@ std::shared_ptr<const Problem> problem_on_mesh(const Problem& coarse, Mesh mesh)
   return p;
 }
 
-MeshAdaptivity::MeshAdaptivity(std::shared_ptr<const Problem> coarse, SolverChoice choice, AdaptSpec spec)
+MeshAdaptivity::MeshAdaptivity(std::shared_ptr<const Problem> coarse, SolverChoice choice, AdaptSpec spec,
+                               StepperMaker make)
     : coarse_(std::move(coarse)),
       choice_(std::move(choice)),
+      make_(make ? std::move(make)
+                 : [](std::shared_ptr<const Problem> p, const SolverChoice& c) {
+                     return std::make_unique<TimeStepper>(std::move(p), c);
+                   }),
       spec_(std::move(spec)),
       forest_(adaptable_mesh(*coarse_, spec_)) {}
 
-std::vector<int> MeshAdaptivity::levels() const {
+std::vector<int> MeshAdaptivity::levels(const TimeStepper& s) const {
+  const std::vector<int> leaves = forest_.leaves();
   std::vector<int> out;
-  for (int c : forest_.leaves()) out.push_back(forest_.level(c));
+  for (int c : s.part().original_cell) out.push_back(forest_.level(leaves[static_cast<std::size_t>(c)]));
   return out;
 }
 
@@ -90,7 +114,11 @@ std::unique_ptr<TimeStepper> MeshAdaptivity::adapt(const TimeStepper& s, int pas
                                                    std::vector<double> times, const StepControlState& control) {
   const auto t0 = std::chrono::steady_clock::now();
   const int d = s.mesh().dim();
-  const CellIndicators ind = cell_indicators(s, spec_);
+  // The indicator on the leaf mesh (cell p: leaves[p]; node: its mesh_numbers), from the solution gathered
+  // into the forest's numbering: the same marks whatever the engine's numbering of its part.
+  const ForestState solution = gather_state(forest_, s, s.state());
+  const std::vector<int> leaves = forest_.leaves();
+  const CellIndicators ind = forest_indicators(forest_, solution, spec_);
   if (spec_.tolerance > 0 && ind.stress_relative <= spec_.tolerance) return nullptr;
   AdaptationRecord rec;
   rec.step = s.state().n;
@@ -99,12 +127,21 @@ std::unique_ptr<TimeStepper> MeshAdaptivity::adapt(const TimeStepper& s, int pas
   rec.stress_relative = ind.stress_relative;
   rec.cells_before = s.mesh().n_cells();
   rec.unknowns_before = s.part().n_global_dofs;
-  const std::vector<int> leaves = forest_.leaves();
 
   // Refinement: bulk marking, within the level and size limits, then the unknowns'.
   std::vector<int> refine;
   bool deep = false;
-  for (int k : bulk_marking(ind.combined, spec_.refine_fraction)) {
+  // Each part's own Dörfler set (a part with weight 0 marks nothing), largest combined indicator first:
+  // the order a truncation to max_unknowns keeps.
+  std::vector<const std::vector<double>*> parts;
+  if (spec_.stress_weight > 0) parts.push_back(&ind.stress);
+  if (spec_.contact_weight > 0) parts.push_back(&ind.contact);
+  if (spec_.damage_weight > 0) parts.push_back(&ind.damage);
+  std::vector<int> marked = bulk_marking_each(parts, spec_.refine_fraction);
+  std::stable_sort(marked.begin(), marked.end(), [&](int x, int y) {
+    return ind.combined[static_cast<std::size_t>(x)] > ind.combined[static_cast<std::size_t>(y)];
+  });
+  for (int k : marked) {
     const int c = leaves[static_cast<std::size_t>(k)];
     if (forest_.level(c) >= spec_.max_level) {
       deep = true;
@@ -147,7 +184,9 @@ std::unique_ptr<TimeStepper> MeshAdaptivity::adapt(const TimeStepper& s, int pas
 
   // Coarsening: the smallest share of the indicator, not marked for refinement, whose patches change
   // z, σ, β by less than the tolerance, summed over the adaptation.
-  ForestState fs = gather_state(forest_, s, carry);
+  // What coarsening would change is measured on the solution the indicator read (s's state), whatever is
+  // carried (a redo carries the state before the step).
+  ForestState fs = &carry == &s.state() ? solution : gather_state(forest_, s, carry);
   std::vector<char> refined(static_cast<std::size_t>(forest_.n_cells()), 0);
   for (int c : refine) refined[static_cast<std::size_t>(c)] = 1;
   std::vector<int> candidates;
@@ -157,8 +196,9 @@ std::unique_ptr<TimeStepper> MeshAdaptivity::adapt(const TimeStepper& s, int pas
   }
   const std::vector<Material> materials = s.problem().material_list();
   std::vector<const Elasticity*> elasticity(static_cast<std::size_t>(coarse_->mesh.n_cells()), nullptr);
-  for (std::size_t k = 0; k < leaves.size(); ++k)
-    elasticity[static_cast<std::size_t>(forest_.root(leaves[k]))] =
+  const std::vector<int>& leaf_of = s.part().original_cell;  // a part cell's place in `leaves`
+  for (std::size_t k = 0; k < leaf_of.size(); ++k)
+    elasticity[static_cast<std::size_t>(forest_.root(leaves[static_cast<std::size_t>(leaf_of[k])]))] =
         &materials[static_cast<std::size_t>(s.part().cell_material[k])].elasticity;
   std::vector<BisectionForest::Patch> accepted;
   if (!candidates.empty()) {
@@ -168,7 +208,7 @@ std::unique_ptr<TimeStepper> MeshAdaptivity::adapt(const TimeStepper& s, int pas
     for (std::size_t k = 0; k < leaves.size(); ++k) {
       const double a = forest_.area(leaves[k]);
       volume += a;
-      const SymTensor sg = tensor_at(fs.sigma, k);
+      const SymTensor sg = tensor_at(solution.sigma, k);
       sigma_scale2 += a * sg.dot(sg);
     }
     auto relative = [](double change2, double scale2) {
@@ -180,19 +220,19 @@ std::unique_ptr<TimeStepper> MeshAdaptivity::adapt(const TimeStepper& s, int pas
       const BisectionForest::Patch& patch = patches[q];
       PatchChange& ch = change[q];
       const auto [a, b] = forest_.made_at(patch.node);
-      const double delta = fs.beta[static_cast<std::size_t>(patch.node)] -
-                           0.5 * (fs.beta[static_cast<std::size_t>(a)] + fs.beta[static_cast<std::size_t>(b)]);
+      const double delta = solution.beta[static_cast<std::size_t>(patch.node)] -
+                           0.5 * (solution.beta[static_cast<std::size_t>(a)] + solution.beta[static_cast<std::size_t>(b)]);
       double area = 0;
       for (int p : patch.parents) {
         area += forest_.area(p);
         // σ on the parent after: ℰε(u injected) + the children's mean z.
         const std::size_t k0 = place.at(forest_.children(p)[0]), k1 = place.at(forest_.children(p)[1]);
-        const SymTensor z_mean = 0.5 * (tensor_at(fs.z, k0) + tensor_at(fs.z, k1));
+        const SymTensor z_mean = 0.5 * (tensor_at(solution.z, k0) + tensor_at(solution.z, k1));
         const SymTensor sigma_after =
-            elasticity[static_cast<std::size_t>(forest_.root(p))]->apply(forest_cell_strain(forest_, fs.u, d, p)) + z_mean;
+            elasticity[static_cast<std::size_t>(forest_.root(p))]->apply(forest_cell_strain(forest_, solution.u, d, p)) + z_mean;
         for (std::size_t k : {k0, k1}) {
           const double ak = forest_.area(leaves[k]);
-          const SymTensor dz = tensor_at(fs.z, k) - z_mean, ds = tensor_at(fs.sigma, k) - sigma_after;
+          const SymTensor dz = tensor_at(solution.z, k) - z_mean, ds = tensor_at(solution.sigma, k) - sigma_after;
           ch.z2 += ak * dz.dot(dz);
           ch.sigma2 += ak * ds.dot(ds);
         }
@@ -245,7 +285,7 @@ std::unique_ptr<TimeStepper> MeshAdaptivity::adapt(const TimeStepper& s, int pas
   rec.seconds_adapt = seconds_since(t0);
 
   const auto t1 = std::chrono::steady_clock::now();
-  auto next = std::make_unique<TimeStepper>(problem_on_mesh(*coarse_, std::move(mesh)), choice_);
+  std::unique_ptr<TimeStepper> next = make_(problem_on_mesh(*coarse_, std::move(mesh)), choice_);
   const auto t2 = std::chrono::steady_clock::now();
   const State state = scatter_state(forest_, fs, *next, carry);
   next->restore({state, restrict_to_free(next->dofs(), state.u), next->contact_warm_state(), next->damage_warm_state()});

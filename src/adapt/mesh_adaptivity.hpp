@@ -9,6 +9,7 @@
 #include "mesh/bisection.hpp"
 #include "scheme/time_stepper.hpp"
 
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -32,11 +33,16 @@ struct AdaptationRecord {
   double seconds_adapt = 0, seconds_rebuild = 0;  // indicator, marking, forest, transfer; the new stepper
 };
 
+/// Makes the stepper of a problem on an adapted mesh (the engine's: one process's, or the PETSc engine's
+/// on one rank).
+using StepperMaker = std::function<std::unique_ptr<TimeStepper>(std::shared_ptr<const Problem>, const SolverChoice&)>;
+
 class MeshAdaptivity {
  public:
   /// The adaptivity of runs of `coarse` (validated; its mesh the coarse mesh) with `spec`; new steppers
-  /// take `choice`. Throws vpc::Error (located at spec.where) where the problem cannot be adapted.
-  MeshAdaptivity(std::shared_ptr<const Problem> coarse, SolverChoice choice, AdaptSpec spec);
+  /// take `choice` and are made by `make` (empty: one process's TimeStepper). Throws vpc::Error (located
+  /// at spec.where) where the problem cannot be adapted.
+  MeshAdaptivity(std::shared_ptr<const Problem> coarse, SolverChoice choice, AdaptSpec spec, StepperMaker make = {});
 
   const AdaptSpec& spec() const { return spec_; }
   /// Whether an adaptation is due after accepted step n.
@@ -51,14 +57,15 @@ class MeshAdaptivity {
 
   const std::vector<AdaptationRecord>& log() const { return log_; }
   const BisectionForest& forest() const { return forest_; }
-  /// The refinement level of each cell of the current mesh.
-  std::vector<int> levels() const;
+  /// The refinement level of each cell of the stepper `s`'s mesh (its part's order).
+  std::vector<int> levels(const TimeStepper& s) const;
   /// Warnings for the run to print once (a limit that cut marking); taken.
   std::vector<std::string> take_warnings() { return std::move(warnings_); }
 
  private:
   std::shared_ptr<const Problem> coarse_;
   SolverChoice choice_;
+  StepperMaker make_;
   AdaptSpec spec_;
   BisectionForest forest_;
   std::vector<AdaptationRecord> log_;

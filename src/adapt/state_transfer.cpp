@@ -13,16 +13,35 @@ namespace {
 
 constexpr int kTensor = 6;  // SymTensor's numbers
 
-void push_tensors(const std::vector<SymTensor>& t, std::vector<double>& out) {
-  out.clear();
-  out.reserve(t.size() * kTensor);
-  for (const SymTensor& s : t) out.insert(out.end(), s.c.begin(), s.c.end());
+/// The part's node and cell of each node and cell of the leaf mesh (the identity on one process's whole
+/// mesh; on the PETSc engine's one rank, its partitioner's order).
+struct PartNumbers {
+  std::vector<int> node, cell;
+};
+
+PartNumbers part_numbers(const MeshPart& part) {
+  PartNumbers p;
+  p.node.assign(part.original_node.size(), -1);
+  p.cell.assign(part.original_cell.size(), -1);
+  for (std::size_t l = 0; l < part.original_node.size(); ++l)
+    p.node.at(static_cast<std::size_t>(part.original_node[l])) = static_cast<int>(l);
+  for (std::size_t c = 0; c < part.original_cell.size(); ++c)
+    p.cell.at(static_cast<std::size_t>(part.original_cell[c])) = static_cast<int>(c);
+  return p;
 }
 
-std::vector<SymTensor> tensors(const std::vector<double>& v) {
+/// The cell tensors in the leaf mesh's order: t[cell[p]] for p = 0, 1, ….
+void push_tensors(const std::vector<SymTensor>& t, const std::vector<int>& cell, std::vector<double>& out) {
+  out.clear();
+  out.reserve(t.size() * kTensor);
+  for (int c : cell) out.insert(out.end(), t[static_cast<std::size_t>(c)].c.begin(), t[static_cast<std::size_t>(c)].c.end());
+}
+
+/// Back into the part's order: out[cell[p]] = the p-th tensor of v.
+std::vector<SymTensor> tensors(const std::vector<double>& v, const std::vector<int>& cell) {
   std::vector<SymTensor> out(v.size() / kTensor);
-  for (std::size_t k = 0; k < out.size(); ++k)
-    std::copy_n(v.begin() + static_cast<std::ptrdiff_t>(k * kTensor), kTensor, out[k].c.begin());
+  for (std::size_t p = 0; p < out.size(); ++p)
+    std::copy_n(v.begin() + static_cast<std::ptrdiff_t>(p * kTensor), kTensor, out[static_cast<std::size_t>(cell[p])].c.begin());
   return out;
 }
 
@@ -58,18 +77,19 @@ ForestState gather_state(const BisectionForest& forest, const TimeStepper& s, co
   require(static_cast<int>(fs.leaves.size()) == mesh.n_cells(), "mesh adaptivity: the forest has {} leaves, the mesh {} cells",
           fs.leaves.size(), mesh.n_cells());
   const std::vector<int> number = forest.mesh_numbers();
+  const PartNumbers local = part_numbers(s.part());
   const auto n = static_cast<std::size_t>(forest.n_nodes());
   fs.u.assign(n * static_cast<std::size_t>(d), 0.0);
   fs.beta.assign(n, 0.0);
   for (std::size_t i = 0; i < n; ++i) {
-    const int k = number[i];
-    if (k < 0) continue;
+    if (number[i] < 0) continue;
+    const int k = local.node[static_cast<std::size_t>(number[i])];
     fs.beta[i] = carry.beta[k];
     for (int j = 0; j < d; ++j) fs.u[i * static_cast<std::size_t>(d) + static_cast<std::size_t>(j)] = carry.u[k * d + j];
   }
-  push_tensors(carry.sigma, fs.sigma);
-  push_tensors(carry.eps, fs.eps);
-  push_tensors(carry.z, fs.z);
+  push_tensors(carry.sigma, local.cell, fs.sigma);
+  push_tensors(carry.eps, local.cell, fs.eps);
+  push_tensors(carry.z, local.cell, fs.z);
 
   // The contact rows, by their mesh node: packed per forest node.
   fs.contact_block = carry.contact_block;
@@ -78,9 +98,9 @@ ForestState gather_state(const BisectionForest& forest, const TimeStepper& s, co
   for (const SurfaceField& f : carry.surface) fs.contact_width += f.width;
   const auto w = static_cast<std::size_t>(fs.contact_width);
   fs.contact.assign(n * w, NAN);
-  std::vector<int> forest_node(static_cast<std::size_t>(mesh.n_nodes()), -1);
+  std::vector<int> forest_node(static_cast<std::size_t>(mesh.n_nodes()), -1);  // per part node
   for (std::size_t i = 0; i < n; ++i)
-    if (number[i] >= 0) forest_node[static_cast<std::size_t>(number[i])] = static_cast<int>(i);
+    if (number[i] >= 0) forest_node[static_cast<std::size_t>(local.node[static_cast<std::size_t>(number[i])])] = static_cast<int>(i);
   const std::vector<PartContactNode>& rows = s.contact().nodes;
   for (std::size_t r = 0; r < rows.size(); ++r) {
     double* out = &fs.contact[static_cast<std::size_t>(forest_node[static_cast<std::size_t>(rows[r].local_node)]) * w];
@@ -149,24 +169,25 @@ State scatter_state(const BisectionForest& forest, const ForestState& fs, const 
   const Mesh& mesh = s.mesh();
   const int d = fs.dim;
   const std::vector<int> number = forest.mesh_numbers();
+  const PartNumbers local = part_numbers(s.part());
   State out;
   out.n = like.n;
   out.t = like.t;
   out.u = Eigen::VectorXd::Zero(mesh.n_nodes() * d);
   out.beta = Eigen::VectorXd::Zero(mesh.n_nodes());
-  std::vector<int> forest_node(static_cast<std::size_t>(mesh.n_nodes()), -1);
+  std::vector<int> forest_node(static_cast<std::size_t>(mesh.n_nodes()), -1);  // per part node
   for (std::size_t i = 0; i < number.size(); ++i) {
-    const int k = number[i];
-    if (k < 0) continue;
+    if (number[i] < 0) continue;
+    const int k = local.node[static_cast<std::size_t>(number[i])];
     forest_node[static_cast<std::size_t>(k)] = static_cast<int>(i);
     out.beta[k] = fs.beta[i];
     for (int j = 0; j < d; ++j) out.u[k * d + j] = fs.u[i * static_cast<std::size_t>(d) + static_cast<std::size_t>(j)];
   }
   require(fs.leaves.size() == static_cast<std::size_t>(mesh.n_cells()), "mesh adaptivity: {} leaves carried for {} cells",
           fs.leaves.size(), mesh.n_cells());
-  out.sigma = tensors(fs.sigma);
-  out.eps = tensors(fs.eps);
-  out.z = tensors(fs.z);
+  out.sigma = tensors(fs.sigma, local.cell);
+  out.eps = tensors(fs.eps, local.cell);
+  out.z = tensors(fs.z, local.cell);
 
   const int b = like.contact_block;
   out.contact_block = b;

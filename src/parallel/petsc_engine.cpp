@@ -132,9 +132,18 @@ std::unique_ptr<Run> engine_on_ranks(MPI_Comm mpi_comm, Case c, const RunOptions
   PetscSolverOptions linear;
   linear.kind = plan.linear_solver;
   linear.products_row_by_row = plan.products_row_by_row;
+  // [adapt] (on one rank: StepperRun refuses more): the coarse problem, which petsc_stepper empties of its
+  // mesh, and new steppers of adapted meshes made as this one.
+  AdaptiveEngine adaptive;
+  if (c.adapt) {
+    adaptive.coarse = std::make_shared<const Problem>(*c.problem);
+    adaptive.make = [mpi_comm, linear](std::shared_ptr<const Problem> p, const SolverChoice& choice) {
+      return distributed_stepper(mpi_comm, std::move(p), choice, linear);
+    };
+  }
   auto stepper = petsc_stepper(mpi_comm, c, linear);
   stop_if_interrupted_anywhere(comm);
-  return make_run(std::move(c), std::move(stepper), o.quiet);
+  return make_run(std::move(c), std::move(stepper), o.quiet, std::move(adaptive));
 }
 
 const std::vector<std::string> kLinearSolvers = {"mumps", "cg-gamg", "cg-hypre"};

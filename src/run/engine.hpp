@@ -80,7 +80,14 @@ struct Case;  // io/case.hpp
 /// The engine over `stepper` (one process, or this process's part), its output
 /// and checkpoints, for the case `c`; unless quiet, rank 0 prints what set-up
 /// found. Collective.
-std::unique_ptr<Run> make_run(Case c, std::unique_ptr<TimeStepper> stepper, bool quiet);
+/// With [adapt] (Case::adapt), the engine's way to make a stepper of an adapted mesh and the problem
+/// on its coarse mesh (the PETSc engine's case keeps no mesh once cut); empty: the serial engine's,
+/// and the case's problem.
+struct AdaptiveEngine {
+  std::function<std::unique_ptr<TimeStepper>(std::shared_ptr<const Problem>, const SolverChoice&)> make;
+  std::shared_ptr<const Problem> coarse;
+};
+std::unique_ptr<Run> make_run(Case c, std::unique_ptr<TimeStepper> stepper, bool quiet, AdaptiveEngine adaptive = {});
 
 /// The lines of an engine's description that come from the case: boundary
 /// parts, material, damage, time and solvers, and the set-up time.

@@ -28,20 +28,21 @@ namespace {
 
 class StepperRun final : public Run {
  public:
-  StepperRun(Case c, std::unique_ptr<TimeStepper> stepper)
+  StepperRun(Case c, std::unique_ptr<TimeStepper> stepper, AdaptiveEngine adaptive)
       : case_(std::move(c)), stepper_(std::move(stepper)), keys_(keys_of(case_)) {
     if (case_.adapt) {
-      if (petsc())
+      if (comm().size() > 1)
         throw CollectiveError(fmt::format(
-            "{}: mesh adaptivity runs on the serial engine for now (one process: --engine serial, without mpirun); "
-            "adaptivity over MPI ranks is the next step (docs/cases.md, [adapt])",
-            case_.adapt->where));
+            "{}: mesh adaptivity runs on one process for now (the serial engine, or the PETSc engine on one rank); "
+            "under mpirun with {} ranks it is refused until adaptivity over ranks is built (docs/cases.md, [adapt])",
+            case_.adapt->where, comm().size()));
       SolverChoice choice = stepper_->solvers();
       // A new mesh's set-up is part of a step: no stage lines, but a signal still stops it.
       choice.on_setup_stage = [](const std::string&, double seconds) {
         if (seconds >= 0) stop_if_interrupted();
       };
-      adapt_.emplace(case_.problem, std::move(choice), *case_.adapt);
+      adapt_.emplace(adaptive.coarse ? adaptive.coarse : case_.problem, std::move(choice), *case_.adapt,
+                     std::move(adaptive.make));
     }
   }
 
@@ -69,7 +70,7 @@ class StepperRun final : public Run {
     output_.emplace(*stepper_, case_.output);
     if (adapt_)
       output_->set_adaptation({[this] {
-                                 const std::vector<int> level = adapt_->levels();
+                                 const std::vector<int> level = adapt_->levels(*stepper_);
                                  return std::vector<VtuField>{
                                      {"level", 1, std::vector<double>(level.begin(), level.end()), true},
                                      {"indicator", 1, cell_indicators(*stepper_, adapt_->spec()).combined, false}};
@@ -244,8 +245,8 @@ void describe_data(const Problem& p, const SolverChoice& solvers, double setup_s
   std::fflush(stdout);
 }
 
-std::unique_ptr<Run> make_run(Case c, std::unique_ptr<TimeStepper> stepper, bool quiet) {
-  auto engine = std::make_unique<StepperRun>(std::move(c), std::move(stepper));
+std::unique_ptr<Run> make_run(Case c, std::unique_ptr<TimeStepper> stepper, bool quiet, AdaptiveEngine adaptive) {
+  auto engine = std::make_unique<StepperRun>(std::move(c), std::move(stepper), std::move(adaptive));
   if (!quiet) engine->describe();
   return engine;
 }

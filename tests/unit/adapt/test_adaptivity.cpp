@@ -144,7 +144,13 @@ TEST(Adapt, CoarseningUndoesARefinementAndGivesTheStateBack) {
 TEST(Adapt, BulkMarkingTakesTheFewestLargestCells) {
   EXPECT_EQ(bulk_marking({1, 4, 2, 3}, 0.5), (std::vector<int>{1, 3}));  // 4 + 3 ≥ 5
   EXPECT_EQ(bulk_marking({1, 4, 2, 3}, 1.0), (std::vector<int>{1, 3, 2, 0}));
-  EXPECT_EQ(bulk_marking({2, 2, 2, 2}, 0.5), (std::vector<int>{0, 1}));  // ties by index
+  // Cells tied with the last one marked are marked too (to 1e-9: round-off orders equal values by engine).
+  EXPECT_EQ(bulk_marking({2, 2, 2, 2}, 0.5), (std::vector<int>{0, 1, 2, 3}));
+  EXPECT_EQ(bulk_marking({3, 2, 2 + 1e-12, 1}, 0.5), (std::vector<int>{0, 2, 1}));
+  EXPECT_EQ(bulk_marking({3, 2, 2 + 1e-6, 1}, 0.5), (std::vector<int>{0, 2}));
+  const std::vector<double> stress{9, 1, 0, 0}, contact{0, 0, 1, 5};
+  EXPECT_EQ(bulk_marking_each({&stress, &contact}, 0.5),
+            (std::vector<int>{0, 3}));  // each part's own bulk
   EXPECT_TRUE(bulk_marking({0, 0, 0}, 0.5).empty());
   EXPECT_EQ(smallest_share({1, 4, 2, 3}, 0.3), (std::vector<int>{0, 2}));  // 1 + 2 ≤ 3
   EXPECT_TRUE(smallest_share({1, 4, 2, 3}, 0.05).empty());
