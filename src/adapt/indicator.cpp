@@ -49,18 +49,7 @@ void add_share(const std::vector<double>& part, double weight, std::vector<doubl
 
 }  // namespace
 
-CellIndicators cell_indicators(const TimeStepper& s, const AdaptSpec& spec) {
-  const State& st = s.state();
-  const std::vector<PartContactNode>& rows = s.contact().nodes;
-  std::vector<double> pressure(static_cast<std::size_t>(s.mesh().n_nodes()), NAN);
-  for (std::size_t r = 0; r < rows.size(); ++r)
-    if (rows[r].measure > 0)
-      pressure[static_cast<std::size_t>(rows[r].local_node)] =
-          st.lambda[static_cast<Eigen::Index>(r) * st.contact_block] / rows[r].measure;
-  return cell_indicators(s.mesh(), st.sigma, st.beta, pressure, spec);
-}
-
-CellIndicators cell_indicators(const Mesh& mesh, const std::vector<SymTensor>& sigma, const Vector& beta,
+CellIndicators cell_indicators(const Mesh& mesh, const std::vector<SymTensor>& sigma, const Eigen::VectorXd& beta,
                                const std::vector<double>& pressure, const AdaptSpec& spec) {
   const int d = mesh.dim(), nc = mesh.n_cells(), npc = mesh.nodes_per_cell();
   const std::vector<CellGeometry> geo = compute_geometry(mesh);

@@ -11,7 +11,9 @@
 // Each part is normalized to Σ_K η² = 1 (a part that is zero everywhere stays 0) and the parts are
 // added with the AdaptSpec weights: the marking (adapt/marking.hpp) is scale-free and needs no units.
 #include "adapt/adapt_spec.hpp"
-#include "scheme/time_stepper.hpp"
+#include "mesh/mesh.hpp"
+
+#include <Eigen/Dense>
 
 #include <vector>
 
@@ -29,10 +31,8 @@ struct CellIndicators {
 /// The indicators of σ (per cell), β and the nodal contact pressure p_i = λ_i/|Γ3|_i (per node; NaN off
 /// the contact rows) on `mesh`, summed in its numbering: the adaptivity passes the leaf mesh, so that the
 /// marking does not depend on an engine's numbering of its part.
-CellIndicators cell_indicators(const Mesh& mesh, const std::vector<SymTensor>& sigma, const Vector& beta,
+CellIndicators cell_indicators(const Mesh& mesh, const std::vector<SymTensor>& sigma, const Eigen::VectorXd& beta,
                                const std::vector<double>& pressure, const AdaptSpec& spec);
 
-/// The indicators of the stepper's state on its part's mesh (VTU `indicator`).
-CellIndicators cell_indicators(const TimeStepper& s, const AdaptSpec& spec);
 
 }  // namespace vpc

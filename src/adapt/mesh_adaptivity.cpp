@@ -110,6 +110,13 @@ std::vector<int> MeshAdaptivity::levels(const TimeStepper& s) const {
   return out;
 }
 
+std::vector<double> MeshAdaptivity::indicator(const TimeStepper& s) const {
+  const CellIndicators ind = forest_indicators(forest_, gather_state(forest_, s, s.state()), spec_);
+  std::vector<double> out;
+  for (int c : s.part().original_cell) out.push_back(ind.combined[static_cast<std::size_t>(c)]);
+  return out;
+}
+
 std::unique_ptr<TimeStepper> MeshAdaptivity::adapt(const TimeStepper& s, int pass, const State& carry,
                                                    std::vector<double> times, const StepControlState& control) {
   const auto t0 = std::chrono::steady_clock::now();

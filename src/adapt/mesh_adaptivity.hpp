@@ -59,6 +59,9 @@ class MeshAdaptivity {
   const BisectionForest& forest() const { return forest_; }
   /// The refinement level of each cell of the stepper `s`'s mesh (its part's order).
   std::vector<int> levels(const TimeStepper& s) const;
+  /// The combined indicator of the stepper `s`'s state per cell of its mesh (its part's order), computed on
+  /// the leaf mesh as the marking does (VTU `indicator`).
+  std::vector<double> indicator(const TimeStepper& s) const;
   /// Warnings for the run to print once (a limit that cut marking); taken.
   std::vector<std::string> take_warnings() { return std::move(warnings_); }
 

@@ -2,7 +2,6 @@
 // process's part of a distributed mesh), RunOutput and the checkpoints of
 // io/checkpoint.hpp. Whatever concerns the processes goes through la::Comm, so
 // on one process every collective is the identity.
-#include "adapt/indicator.hpp"
 #include "adapt/mesh_adaptivity.hpp"
 #include "core/quote.hpp"
 #include "io/checkpoint.hpp"
@@ -73,7 +72,7 @@ class StepperRun final : public Run {
                                  const std::vector<int> level = adapt_->levels(*stepper_);
                                  return std::vector<VtuField>{
                                      {"level", 1, std::vector<double>(level.begin(), level.end()), true},
-                                     {"indicator", 1, cell_indicators(*stepper_, adapt_->spec()).combined, false}};
+                                     {"indicator", 1, adapt_->indicator(*stepper_), false}};
                                },
                                &adapt_->log()});
   }

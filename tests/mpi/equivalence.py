@@ -59,7 +59,9 @@ ITERATIVE = False  # --iterative: a CG PETSc run against CHOLMOD (see main)
 # Keys of summary.json that say how a run went, not what it computed.
 # `factorizations` counts how the solvers went about it (the serial damage solver
 # picks capacitance or a reduced factor by measured time), not a result.
-SUMMARY_SKIP = {"timing_seconds", "setup_seconds", "memory_bytes", "vpcontact", "engine", "ranks", "linear_solver", "factorizations"}
+# An adaptive run's time split ([adapt]: adaptation_seconds, each adaptation's seconds_*) is timing too.
+SUMMARY_SKIP = {"timing_seconds", "setup_seconds", "memory_bytes", "vpcontact", "engine", "ranks", "linear_solver", "factorizations",
+                "adaptation_seconds", "seconds_adapt", "seconds_rebuild"}
 
 
 class Report:
