@@ -359,6 +359,15 @@ INPUTS = [
     ("a negative tangential bond stiffness", {}, ["lap-shear-2d", "--set", "contact.bond_shear_stiffness=-1"]),
     ("a tangential bond in 1D", {}, ["adhesion-bar-1d", "--set", "contact.bond_shear_stiffness=10"]),
     ("a body held by its bond alone pulled off", {}, ["run", "pull-off-1d", "-q", "--no-vtu", "-o", "out", "--set", "time.T=1", "--set", "time.steps=20"]),
+    # Issue 51's [adapt]: what cannot be adapted yet is refused at the section, and its keys' ranges.
+    ("[adapt] on a 3D mesh", {}, ["block-3d", "--set", "adapt.every=1"]),
+    ("[adapt] on a 1D mesh", {}, ["paper-1d", "--set", "adapt.every=1"]),
+    ("[adapt] with two bodies", {}, ["hertz-cylinders-2d", "--set", "adapt.every=1"]),
+    ("a refine fraction of 0", {}, ["hertz-2d-adapt", "--set", "adapt.refine_fraction=0"]),
+    ("a NaN indicator weight", {}, ["hertz-2d-adapt", "--set", "adapt.stress_weight=nan"]),
+    ("every indicator weight 0", {}, ["hertz-2d-adapt", "--set", "adapt.stress_weight=0", "--set", "adapt.contact_weight=0", "--set", "adapt.damage_weight=0"]),
+    ("a misspelt [adapt] key", {}, ["hertz-2d-adapt", "--set", "adapt.evry=2"]),
+    ("a resume of an adaptive run", {}, ["run", "ironing-2d", "-q", "--no-vtu", "-o", ".", "--resume", "."]),
 ]
 
 

@@ -62,7 +62,8 @@ TEST(HistoryColumns, DocsListEveryColumn) {
   const std::string doc = text.str();
   for (const auto& [name, columns] : {std::pair{"history columns", history_columns()},
                                       std::pair{"friction columns", friction_columns()},
-                                      std::pair{"tresca columns", open_friction_columns()}}) {
+                                      std::pair{"tresca columns", open_friction_columns()},
+                                      std::pair{"adapt columns", adapt_columns()}}) {
     const std::string expected = table_of(columns);
     const std::string begin = fmt::format("<!-- begin {} -->\n", name), end = fmt::format("<!-- end {} -->", name);
     const auto a = doc.find(begin), b = doc.find(end);
