@@ -69,6 +69,13 @@ CellIndicators cell_indicators(const Mesh& mesh, const std::vector<SymTensor>& s
   // Interior facets: the first cell that has one waits in the map for the second.
   std::unordered_map<FacetKey, std::pair<int, int>, FacetKeyHash> first;  // facet → (cell, local vertex opposite)
   first.reserve(static_cast<std::size_t>(nc) * static_cast<std::size_t>(npc));
+  // Round-off is not an error to refine: a jump counts only above 1e-10 of its scale (σ's largest
+  // component; for ∇β, β ∈ [0, 1] changing by 1e-10 across the facet's cell). Without this a uniform β
+  // (∇β ≈ 1e-16/h) would make the damage part, normalized to 1, mark the cells of its round-off.
+  double sigma_max = 0;
+  for (const SymTensor& x : sigma)
+    for (double v : x.c) sigma_max = std::max(sigma_max, std::abs(v));
+  const double stress_floor = 1e-20 * sigma_max * sigma_max;
   int nodes[3];
   double sigma2 = 0;
   for (int c = 0; c < nc; ++c) {
@@ -84,9 +91,12 @@ CellIndicators cell_indicators(const Mesh& mesh, const std::vector<SymTensor>& s
       const double weight = 0.5 * facet_size(f.measure, d) * f.measure;  // ½ h_F |F|, each cell's half
       const Point t1 = traction(sigma[static_cast<std::size_t>(c1)], f.n, d);
       const Point t2 = traction(sigma[static_cast<std::size_t>(c)], f.n, d);
-      const double js = norm2({t1[0] - t2[0], t1[1] - t2[1], t1[2] - t2[2]});
+      double js = norm2({t1[0] - t2[0], t1[1] - t2[1], t1[2] - t2[2]});
+      if (js <= stress_floor) js = 0;
       double jb = 0;
       for (int j = 0; j < 3; ++j) jb += (grad_beta[static_cast<std::size_t>(c1)][j] - grad_beta[static_cast<std::size_t>(c)][j]) * f.n[j];
+      const double h = geo[static_cast<std::size_t>(c1)].volume * d / f.measure;  // c1's height onto F
+      if (std::abs(jb) * h <= 1e-10) jb = 0;
       for (int k : {c1, c}) {
         out.stress[static_cast<std::size_t>(k)] += weight * js;
         out.damage[static_cast<std::size_t>(k)] += weight * jb * jb;
@@ -107,7 +117,7 @@ CellIndicators cell_indicators(const Mesh& mesh, const std::vector<SymTensor>& s
       hi = std::max(hi, p);
       mean += p / d;
     }
-    if (!all || hi <= lo) continue;
+    if (!all || hi - lo <= 1e-10 * std::max(std::abs(hi), std::abs(lo))) continue;  // (round-off)
     // The variance of the facet's nodal pressures, times |F|: on a segment 3 ‖p − p̄_F‖²_F of the P1
     // trace (the scale drops out in the normalization).
     double var = 0;

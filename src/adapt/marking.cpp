@@ -51,12 +51,13 @@ std::vector<int> bulk_marking_each(const std::vector<const std::vector<double>*>
   return out;
 }
 
-std::vector<int> smallest_share(const std::vector<double>& eta2, double fraction) {
+std::vector<int> smallest_share(const std::vector<double>& eta2, double fraction, const std::vector<char>& eligible) {
   const double total = std::accumulate(eta2.begin(), eta2.end(), 0.0);
   std::vector<int> out;
   if (fraction <= 0) return out;
   double sum = 0;
   for (int c : by_value(eta2, false)) {
+    if (!eligible.empty() && !eligible[static_cast<std::size_t>(c)]) continue;
     sum += eta2[static_cast<std::size_t>(c)];
     if (sum > fraction * total) break;
     out.push_back(c);

@@ -13,8 +13,9 @@ std::vector<int> bulk_marking(const std::vector<double>& eta2, double fraction);
 /// concentrates in a few cells, such as the contact's, does not starve the others), in increasing order.
 std::vector<int> bulk_marking_each(const std::vector<const std::vector<double>*>& parts, double fraction);
 
-/// The cells with the smallest values that together carry at most `fraction` of the sum (coarsening's
-/// candidates), smallest first.
-std::vector<int> smallest_share(const std::vector<double>& eta2, double fraction);
+/// The cells with the smallest values that together carry at most `fraction` of the sum over all cells
+/// (coarsening's candidates), smallest first, among the `eligible` ones (empty: all; the refined cells:
+/// the coarse cells, which cannot be coarsened, must not use up the share).
+std::vector<int> smallest_share(const std::vector<double>& eta2, double fraction, const std::vector<char>& eligible = {});
 
 }  // namespace vpc

@@ -196,11 +196,11 @@ std::unique_ptr<TimeStepper> MeshAdaptivity::adapt(const TimeStepper& s, int pas
   ForestState fs = &carry == &s.state() ? solution : gather_state(forest_, s, carry);
   std::vector<char> refined(static_cast<std::size_t>(forest_.n_cells()), 0);
   for (int c : refine) refined[static_cast<std::size_t>(c)] = 1;
+  std::vector<char> eligible(leaves.size());
+  for (std::size_t k = 0; k < leaves.size(); ++k)
+    eligible[k] = forest_.level(leaves[k]) > 0 && !refined[static_cast<std::size_t>(leaves[k])];
   std::vector<int> candidates;
-  for (int k : smallest_share(ind.combined, spec_.coarsen_fraction)) {
-    const int c = leaves[static_cast<std::size_t>(k)];
-    if (!refined[static_cast<std::size_t>(c)] && forest_.level(c) > 0) candidates.push_back(c);
-  }
+  for (int k : smallest_share(ind.combined, spec_.coarsen_fraction, eligible)) candidates.push_back(leaves[static_cast<std::size_t>(k)]);
   const std::vector<Material> materials = s.problem().material_list();
   std::vector<const Elasticity*> elasticity(static_cast<std::size_t>(coarse_->mesh.n_cells()), nullptr);
   const std::vector<int>& leaf_of = s.part().original_cell;  // a part cell's place in `leaves`
