@@ -118,7 +118,8 @@ std::vector<double> MeshAdaptivity::indicator(const TimeStepper& s) const {
 }
 
 std::unique_ptr<TimeStepper> MeshAdaptivity::adapt(const TimeStepper& s, int pass, const State& carry,
-                                                   std::vector<double> times, const StepControlState& control) {
+                                                   std::vector<double> times, StepControlState control,
+                                                   const std::function<void()>& release) {
   const auto t0 = std::chrono::steady_clock::now();
   const int d = s.mesh().dim();
   // The indicator on the leaf mesh (cell p: leaves[p]; node: its mesh_numbers), from the solution gathered
@@ -291,10 +292,11 @@ std::unique_ptr<TimeStepper> MeshAdaptivity::adapt(const TimeStepper& s, int pas
   for (int c : forest_.leaves()) rec.max_level = std::max(rec.max_level, forest_.level(c));
   rec.seconds_adapt = seconds_since(t0);
 
+  if (release) release();  // `s` and `carry` are gone from here on
   const auto t1 = std::chrono::steady_clock::now();
   std::unique_ptr<TimeStepper> next = make_(problem_on_mesh(*coarse_, std::move(mesh)), choice_);
   const auto t2 = std::chrono::steady_clock::now();
-  const State state = scatter_state(forest_, fs, *next, carry);
+  const State state = scatter_state(forest_, fs, *next);
   next->restore({state, restrict_to_free(next->dofs(), state.u), next->contact_warm_state(), next->damage_warm_state()});
   next->set_step_history(std::move(times), control);
   rec.seconds_adapt += seconds_since(t2);

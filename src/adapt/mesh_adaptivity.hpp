@@ -51,9 +51,11 @@ class MeshAdaptivity {
   /// Adapts the mesh of `s` from its state (pass: AdaptationRecord::pass) and returns the stepper on
   /// the adapted mesh carrying `carry` (s's state, or for a redo the state before the step, on s's mesh)
   /// with the time levels `times` and step-size state `control`; null where nothing changes (nothing
-  /// marked, or the stress estimate below AdaptSpec::tolerance).
+  /// marked, or the stress estimate below AdaptSpec::tolerance). Once the state is carried, before the
+  /// new stepper is made, `release` is called (where given): the caller frees `s` there (and `carry`,
+  /// `control` with it), so that two steppers' factors are never held at once.
   std::unique_ptr<TimeStepper> adapt(const TimeStepper& s, int pass, const State& carry, std::vector<double> times,
-                                     const StepControlState& control);
+                                     StepControlState control, const std::function<void()>& release = {});
 
   const std::vector<AdaptationRecord>& log() const { return log_; }
   const BisectionForest& forest() const { return forest_; }

@@ -72,6 +72,8 @@ ForestState gather_state(const BisectionForest& forest, const TimeStepper& s, co
   const Mesh& mesh = s.mesh();
   const int d = mesh.dim();
   ForestState fs;
+  fs.n = carry.n;
+  fs.t = carry.t;
   fs.dim = d;
   fs.leaves = forest.leaves();
   require(static_cast<int>(fs.leaves.size()) == mesh.n_cells(), "mesh adaptivity: the forest has {} leaves, the mesh {} cells",
@@ -165,14 +167,14 @@ void carry_through_refinement(const BisectionForest& forest, ForestState& fs) {
   }
 }
 
-State scatter_state(const BisectionForest& forest, const ForestState& fs, const TimeStepper& s, const State& like) {
+State scatter_state(const BisectionForest& forest, const ForestState& fs, const TimeStepper& s) {
   const Mesh& mesh = s.mesh();
   const int d = fs.dim;
   const std::vector<int> number = forest.mesh_numbers();
   const PartNumbers local = part_numbers(s.part());
   State out;
-  out.n = like.n;
-  out.t = like.t;
+  out.n = fs.n;
+  out.t = fs.t;
   out.u = Eigen::VectorXd::Zero(mesh.n_nodes() * d);
   out.beta = Eigen::VectorXd::Zero(mesh.n_nodes());
   std::vector<int> forest_node(static_cast<std::size_t>(mesh.n_nodes()), -1);  // per part node
@@ -189,7 +191,7 @@ State scatter_state(const BisectionForest& forest, const ForestState& fs, const 
   out.eps = tensors(fs.eps, local.cell);
   out.z = tensors(fs.z, local.cell);
 
-  const int b = like.contact_block;
+  const int b = fs.contact_block;
   out.contact_block = b;
   const std::vector<PartContactNode>& rows = s.contact().nodes;
   const auto m = static_cast<Eigen::Index>(rows.size());

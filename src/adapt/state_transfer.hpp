@@ -18,6 +18,8 @@
 namespace vpc {
 
 struct ForestState {
+  int n = 0;  // the state's step and time
+  double t = 0;
   int dim = 2;
   /// Per forest node (BisectionForest numbering; a removed node keeps stale values): d numbers of u, β.
   std::vector<double> u, beta;
@@ -42,9 +44,8 @@ void carry_through_coarsening(const BisectionForest& forest, const std::vector<c
 /// After forest.refine: the fields on the forest's leaves and nodes now.
 void carry_through_refinement(const BisectionForest& forest, ForestState& fs);
 
-/// The state of `fs` on the stepper `s` of the forest's leaf mesh (its contact rows and measures);
-/// n, t and the contact block from `like`.
-State scatter_state(const BisectionForest& forest, const ForestState& fs, const TimeStepper& s, const State& like);
+/// The state of `fs` on the stepper `s` of the forest's leaf mesh (its contact rows and measures).
+State scatter_state(const BisectionForest& forest, const ForestState& fs, const TimeStepper& s);
 
 /// ε of the P1 displacement `u` (d numbers a forest node) on forest cell c (any cell, not only a leaf).
 SymTensor forest_cell_strain(const BisectionForest& forest, const std::vector<double>& u, int dim, int c);

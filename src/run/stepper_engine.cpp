@@ -16,6 +16,8 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include <malloc.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -166,14 +168,15 @@ class StepperRun final : public Run {
     if (r.ok && due) {
       if (redo) {
         for (int pass = 1; pass <= a.spec().resolve && r.ok; ++pass) {
-          std::unique_ptr<TimeStepper> next = a.adapt(*stepper_, pass, before->state, times_before, control_before);
+          std::unique_ptr<TimeStepper> next =
+              a.adapt(*stepper_, pass, before->state, times_before, control_before, release_stepper());
           if (!next) break;
           swap_stepper(std::move(next));
           before = stepper_->snapshot();  // the state before the step, on this mesh
           r = stepper_->step();
         }
-      } else if (std::unique_ptr<TimeStepper> next =
-                     a.adapt(*stepper_, 0, stepper_->state(), stepper_->times(), stepper_->step_control_state())) {
+      } else if (std::unique_ptr<TimeStepper> next = a.adapt(*stepper_, 0, stepper_->state(), stepper_->times(),
+                                                             stepper_->step_control_state(), release_stepper())) {
         swap_stepper(std::move(next));
       }
       for (const std::string& w : a.take_warnings())
@@ -183,6 +186,16 @@ class StepperRun final : public Run {
     r.mesh_unknowns = stepper_->part().n_global_dofs;
     r.adaptations = static_cast<int>(a.log().size());
     return r;
+  }
+
+  /// Frees the stepper of the mesh being replaced once its state is carried, before the new one is made:
+  /// their factors are never held together (the heap given back to the system: glibc keeps freed pages).
+  /// If making the new one fails, the step's error ends the run (RunLoop: no summary from a gone state).
+  std::function<void()> release_stepper() {
+    return [this] {
+      stepper_.reset();
+      malloc_trim(0);
+    };
   }
 
   /// The run goes on with `next` (the adapted mesh); its output follows.
