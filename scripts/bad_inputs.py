@@ -367,7 +367,6 @@ INPUTS = [
     ("a NaN indicator weight", {}, ["hertz-2d-adapt", "--set", "adapt.stress_weight=nan"]),
     ("every indicator weight 0", {}, ["hertz-2d-adapt", "--set", "adapt.stress_weight=0", "--set", "adapt.contact_weight=0", "--set", "adapt.damage_weight=0"]),
     ("a misspelt [adapt] key", {}, ["hertz-2d-adapt", "--set", "adapt.evry=2"]),
-    ("a resume of an adaptive run", {}, ["run", "ironing-2d", "-q", "--no-vtu", "-o", ".", "--resume", "."]),
 ]
 
 

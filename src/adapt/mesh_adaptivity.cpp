@@ -1,5 +1,6 @@
 #include "adapt/mesh_adaptivity.hpp"
 
+#include "adapt/adaptation_json.hpp"
 #include "adapt/indicator.hpp"
 #include "adapt/marking.hpp"
 #include "adapt/state_transfer.hpp"
@@ -278,6 +279,7 @@ std::unique_ptr<TimeStepper> MeshAdaptivity::adapt(const TimeStepper& s, int pas
 
   // The forest changed and the state carried: coarsening first (its patches were found on the leaves
   // before), then refinement (its cells are leaves still: none was a coarsening candidate).
+  changes_.push_back({accepted, refine});
   if (!accepted.empty()) {
     rec.removed_nodes = forest_.coarsen_patches(accepted);
     carry_through_coarsening(forest_, elasticity, fs);
@@ -305,6 +307,49 @@ std::unique_ptr<TimeStepper> MeshAdaptivity::adapt(const TimeStepper& s, int pas
   rec.unknowns_after = next->part().n_global_dofs;
   log_.push_back(rec);
   return next;
+}
+
+std::string MeshAdaptivity::history() const {
+  nlohmann::ordered_json j;
+  j["format"] = "vpcontact adaptation history 1";
+  j["changes"] = nlohmann::ordered_json::array();
+  for (const Change& c : changes_) {
+    nlohmann::ordered_json patches = nlohmann::ordered_json::array();
+    for (const BisectionForest::Patch& p : c.coarsened) patches.push_back({{"node", p.node}, {"parents", p.parents}});
+    j["changes"].push_back({{"coarsened", patches}, {"refined", c.refined}});
+  }
+  j["log"] = nlohmann::ordered_json::array();
+  for (const AdaptationRecord& a : log_) j["log"].push_back(adaptation_json(a));
+  j["warned"] = {warned_unknowns_, warned_level_};
+  return j.dump();
+}
+
+void MeshAdaptivity::replay(const std::string& history) {
+  require(changes_.empty(), "mesh adaptivity: a replay needs an adaptivity that has not adapted");
+  try {
+    const auto j = nlohmann::ordered_json::parse(history);
+    require(j.at("format") == "vpcontact adaptation history 1", "not an adaptation history of this version");
+    for (const auto& c : j.at("changes")) {
+      Change change;
+      for (const auto& p : c.at("coarsened"))
+        change.coarsened.push_back({p.at("node").get<int>(), p.at("parents").get<std::vector<int>>()});
+      change.refined = c.at("refined").get<std::vector<int>>();
+      for (int cell : change.refined)
+        require(cell >= 0 && cell < forest_.n_cells() && forest_.leaf(cell), "refined cell {} is not a leaf", cell);
+      forest_.coarsen_patches(change.coarsened);
+      forest_.refine(change.refined);
+      changes_.push_back(std::move(change));
+    }
+    for (const auto& a : j.at("log")) log_.push_back(adaptation_record(a));
+    warned_unknowns_ = j.at("warned").at(0).get<bool>();
+    warned_level_ = j.at("warned").at(1).get<bool>();
+  } catch (const nlohmann::json::exception& e) {
+    fail("mesh adaptivity: a malformed adaptation history: {}", e.what());
+  }
+}
+
+std::unique_ptr<TimeStepper> MeshAdaptivity::make_stepper() const {
+  return make_(problem_on_mesh(*coarse_, forest_.leaf_mesh()), choice_);
 }
 
 }  // namespace vpc

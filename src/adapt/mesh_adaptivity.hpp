@@ -67,6 +67,16 @@ class MeshAdaptivity {
   /// Warnings for the run to print once (a limit that cut marking); taken.
   std::vector<std::string> take_warnings() { return std::move(warnings_); }
 
+  // Checkpoints (a resume across adaptations): the forest's changes are kept in order, so that the
+  // coarse mesh replays them into the same leaves, numbered alike.
+  /// The history as text (JSON: each adaptation's coarsened patches and refined cells, the log).
+  std::string history() const;
+  /// Replays `history` (history()'s text) on this adaptivity, which has not adapted yet. Throws
+  /// vpc::Error for a malformed history (naming what is wrong).
+  void replay(const std::string& history);
+  /// The stepper of the current leaf mesh (the engine's maker): where a replay leaves the run.
+  std::unique_ptr<TimeStepper> make_stepper() const;
+
  private:
   std::shared_ptr<const Problem> coarse_;
   SolverChoice choice_;
@@ -74,6 +84,12 @@ class MeshAdaptivity {
   AdaptSpec spec_;
   BisectionForest forest_;
   std::vector<AdaptationRecord> log_;
+  /// The forest's changes, in order: each adaptation's coarsening (its patches) then refinement (its cells).
+  struct Change {
+    std::vector<BisectionForest::Patch> coarsened;
+    std::vector<int> refined;
+  };
+  std::vector<Change> changes_;
   std::vector<std::string> warnings_;
   bool warned_unknowns_ = false, warned_level_ = false;
 };

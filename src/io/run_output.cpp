@@ -1,5 +1,7 @@
 #include "io/run_output.hpp"
 
+#include "adapt/adaptation_json.hpp"
+
 #include "core/error.hpp"
 #include "core/mpi_start.hpp"
 #include "core/process_memory.hpp"
@@ -561,27 +563,7 @@ std::string summary_json(const Problem& p, const RunSummary& r, const OutputOpti
     for (const AdaptationRecord& a : r.adaptations) {
       adapt_seconds += a.seconds_adapt;
       rebuild_seconds += a.seconds_rebuild;
-      j["adaptations"].push_back({{"step", a.step},
-                                  {"t", a.t},
-                                  {"pass", a.pass},
-                                  {"cells_before", a.cells_before},
-                                  {"cells_after", a.cells_after},
-                                  {"unknowns_before", a.unknowns_before},
-                                  {"unknowns_after", a.unknowns_after},
-                                  {"marked", a.marked},
-                                  {"bisected", a.bisected},
-                                  {"removed_nodes", a.removed_nodes},
-                                  {"max_level", a.max_level},
-                                  {"min_angle_degrees", a.min_angle_degrees},
-                                  {"h_min", a.h_min},
-                                  {"stress_estimate", a.stress_relative},
-                                  {"coarsening_change", {{"z", a.change_z},
-                                                         {"sigma", a.change_sigma},
-                                                         {"beta", a.change_beta},
-                                                         {"damage_integral", a.change_damage_integral}}},
-                                  {"truncated", a.truncated},
-                                  {"seconds_adapt", a.seconds_adapt},
-                                  {"seconds_rebuild", a.seconds_rebuild}});
+      j["adaptations"].push_back(adaptation_json(a));
     }
     j["adaptation_seconds"] = {{"adapt_and_transfer", adapt_seconds}, {"rebuild", rebuild_seconds}};
   }

@@ -49,9 +49,6 @@ class Run {
   /// Restores the newest good checkpoint for this problem in `dir` and continues
   /// the output from it; nullopt if there is none (`skipped` says why, per file).
   virtual std::optional<ResumedAt> resume(const std::filesystem::path& dir, std::vector<std::string>& skipped) = 0;
-  /// Why a checkpoint of this run cannot be continued with --resume (empty: it can): an adaptive run
-  /// ([adapt]) for now, whose checkpoints do not yet hold the refinement history.
-  virtual std::string not_resumable() const { return {}; }
   /// The size of the output from step `from` to the end against the free space where the
   /// output directory is (run/output_space.hpp): throws vpc::CollectiveError where it does
   /// not fit, warns (on stderr) where it takes more than half of it; returns a line that says
@@ -77,9 +74,6 @@ class Run {
 
 struct Case;  // io/case.hpp
 
-/// The engine over `stepper` (one process, or this process's part), its output
-/// and checkpoints, for the case `c`; unless quiet, rank 0 prints what set-up
-/// found. Collective.
 /// With [adapt] (Case::adapt), the engine's way to make a stepper of an adapted mesh and the problem
 /// on its coarse mesh (the PETSc engine's case keeps no mesh once cut); empty: the serial engine's,
 /// and the case's problem.
@@ -87,6 +81,10 @@ struct AdaptiveEngine {
   std::function<std::unique_ptr<TimeStepper>(std::shared_ptr<const Problem>, const SolverChoice&)> make;
   std::shared_ptr<const Problem> coarse;
 };
+
+/// The engine over `stepper` (one process, or this process's part), its output
+/// and checkpoints, for the case `c`; unless quiet, rank 0 prints what set-up
+/// found. Collective.
 std::unique_ptr<Run> make_run(Case c, std::unique_ptr<TimeStepper> stepper, bool quiet, AdaptiveEngine adaptive = {});
 
 /// The lines of an engine's description that come from the case: boundary

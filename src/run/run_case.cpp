@@ -57,8 +57,6 @@ void start(Run& e, const RunOptions& o) {
 /// Where the steps before a failed one are, and how to go on from them.
 std::string results_so_far(const Run& e, const RunOptions& o, int done, int last_checkpoint) {
   if (!o.files) return "No output directory";  // RunLoop without an output directory: no files
-  if (const std::string why = e.not_resumable(); !why.empty())
-    return fmt::format("Results up to step {} are in '{}' ({})", done, e.directory().string(), why);
   return fmt::format("Results up to step {} are in '{}'; `--resume {}` continues from step {}", done,
                      e.directory().string(), shell_quote(e.directory().string()), last_checkpoint);
 }
@@ -111,12 +109,7 @@ RunResult run_engine(Run& e, const RunOptions& o) {
   while (!loop.done()) {
     const StepReport r = loop.step();
     if (const int signal = loop.result().signal; signal && !e.done()) {
-      if (e.root() && !e.not_resumable().empty()) {
-        std::fflush(stdout);
-        fmt::print(stderr, "vpcontact: interrupted by {} after step {}{} (t = {:.6g}); results so far in {}/ ({})\n",
-                   signal_name(signal), r.n, e.n_steps() > 0 ? fmt::format(" of {}", e.n_steps()) : "", r.t,
-                   e.directory().string(), e.not_resumable());
-      } else if (e.root()) {
+      if (e.root()) {
         std::fflush(stdout);
         fmt::print(stderr,
                    "vpcontact: interrupted by {} after step {}{} (t = {:.6g}); checkpoint written in {}/. To "

@@ -4,7 +4,10 @@
 // on one process every collective is the identity.
 #include "adapt/mesh_adaptivity.hpp"
 #include "core/quote.hpp"
+#include "io/atomic_file.hpp"
+#include "io/case_file.hpp"
 #include "io/checkpoint.hpp"
+#include "io/checkpoint_file.hpp"
 #include "io/run_output.hpp"
 #include "la/memory_estimate.hpp"
 #include "run/output_space.hpp"
@@ -27,6 +30,12 @@ namespace vpc {
 
 namespace {
 
+/// Where an adaptive run's checkpoint of step n keeps its refinement history (JSON text; named like a
+/// checkpoint's piece so that the checkpoints' clean-up and a fresh run's removal take it with them).
+std::filesystem::path adaptation_history_file(const std::filesystem::path& dir, long long n) {
+  return dir / fmt::format("checkpoint_{:05d}.adaptations.bin", n);
+}
+
 class StepperRun final : public Run {
  public:
   StepperRun(Case c, std::unique_ptr<TimeStepper> stepper, AdaptiveEngine adaptive)
@@ -42,8 +51,10 @@ class StepperRun final : public Run {
       choice.on_setup_stage = [](const std::string&, double seconds) {
         if (seconds >= 0) stop_if_interrupted();
       };
-      adapt_.emplace(adaptive.coarse ? adaptive.coarse : case_.problem, std::move(choice), *case_.adapt,
-                     std::move(adaptive.make));
+      adaptive_coarse_ = adaptive.coarse ? adaptive.coarse : case_.problem;
+      adapt_choice_ = std::move(choice);
+      adaptive_make_ = std::move(adaptive.make);
+      adapt_.emplace(adaptive_coarse_, adapt_choice_, *case_.adapt, adaptive_make_);
     }
   }
 
@@ -85,17 +96,14 @@ class StepperRun final : public Run {
   void checkpoint() override {
     write_checkpoint(*stepper_, output_->directory(), case_.name, output_->pvd_entries(), output_->totals(), 0, 2,
                      keys_);
+    // An adaptive run's refinement history beside it (after it: write_checkpoint clears what is not its
+    // own at its step; a checkpoint without its history is skipped on resume, an older one taken).
+    if (adapt_)
+      on_root([&] { write_file_atomic(adaptation_history_file(output_->directory(), stepper_->state().n), adapt_->history()); });
     note_checkpoint();
   }
-  std::string not_resumable() const override {
-    return adapt_ ? fmt::format("a run with mesh adaptivity ({}) cannot be continued with --resume yet: its "
-                                "checkpoints do not hold the refinement history; run it again from the start",
-                                case_.adapt->where)
-                  : std::string();
-  }
   std::optional<ResumedAt> resume(const std::filesystem::path& dir, std::vector<std::string>& skipped) override {
-    if (adapt_) throw CollectiveError("--resume: " + not_resumable());
-    auto saved = resume_from_checkpoint(*stepper_, dir, &skipped, keys_);
+    auto saved = adapt_ ? resume_adapted(dir, skipped) : resume_from_checkpoint(*stepper_, dir, &skipped, keys_);
     if (!saved) return std::nullopt;
     note_checkpoint();
     output_->resume(saved->n, std::move(saved->pvd), saved->totals);
@@ -198,6 +206,29 @@ class StepperRun final : public Run {
     };
   }
 
+  /// An adaptive run's resume: for each checkpoint, newest first, its mesh made again from the coarse one by
+  /// its refinement history (none: the coarse mesh), then the checkpoint of that step restored on it.
+  std::optional<ResumePoint> resume_adapted(const std::filesystem::path& dir, std::vector<std::string>& skipped) {
+    for (const long long n : checkpoint_file::checkpoint_steps(dir)) {
+      const std::filesystem::path file = adaptation_history_file(dir, n);
+      std::error_code ec;
+      std::string history;
+      if (std::filesystem::exists(file, ec)) {
+        history = read_text_file(file, "adaptation history");
+      } else if (n > 0) {
+        skipped.push_back(fmt::format("{}: no refinement history beside it ({})", checkpoint_file::main_file(dir, n).string(),
+                                      file.filename().string()));
+        continue;
+      }
+      adapt_.emplace(adaptive_coarse_, adapt_choice_, *case_.adapt, adaptive_make_);
+      if (!history.empty()) adapt_->replay(history);
+      swap_stepper(adapt_->make_stepper());
+      std::optional<ResumePoint> saved = resume_from_checkpoint(*stepper_, dir, &skipped, keys_);
+      if (saved && saved->n == n) return saved;
+    }
+    return std::nullopt;
+  }
+
   /// The run goes on with `next` (the adapted mesh); its output follows.
   void swap_stepper(std::unique_ptr<TimeStepper> next) {
     stepper_ = std::move(next);
@@ -232,6 +263,9 @@ class StepperRun final : public Run {
   CaseKeys keys_;
   std::optional<RunOutput> output_;
   std::optional<MeshAdaptivity> adapt_;  // [adapt]: the mesh changes during the run
+  std::shared_ptr<const Problem> adaptive_coarse_;  // what makes it again (a resume)
+  SolverChoice adapt_choice_;
+  StepperMaker adaptive_make_;
 };
 
 }  // namespace
