@@ -23,7 +23,8 @@ nlohmann::ordered_json adaptation_json(const AdaptationRecord& a) {
            {{"z", a.change_z}, {"sigma", a.change_sigma}, {"beta", a.change_beta}, {"damage_integral", a.change_damage_integral}}},
           {"truncated", a.truncated},
           {"seconds_adapt", a.seconds_adapt},
-          {"seconds_rebuild", a.seconds_rebuild}};
+          {"seconds_rebuild", a.seconds_rebuild},
+          {"resident_bytes", a.resident_bytes}};
 }
 
 AdaptationRecord adaptation_record(const nlohmann::ordered_json& j) {
@@ -51,6 +52,7 @@ AdaptationRecord adaptation_record(const nlohmann::ordered_json& j) {
     a.truncated = j.at("truncated").get<bool>();
     a.seconds_adapt = j.at("seconds_adapt").get<double>();
     a.seconds_rebuild = j.at("seconds_rebuild").get<double>();
+    a.resident_bytes = j.at("resident_bytes").get<double>();
     return a;
   } catch (const nlohmann::json::exception& e) {
     fail("an adaptation record: {}", e.what());

@@ -6,6 +6,7 @@
 #include "adapt/state_transfer.hpp"
 #include "fem/cell_geometry.hpp"
 #include "core/error.hpp"
+#include "core/process_memory.hpp"
 
 #include <fmt/format.h>
 
@@ -125,7 +126,7 @@ std::unique_ptr<TimeStepper> MeshAdaptivity::adapt(const TimeStepper& s, int pas
   const int d = s.mesh().dim();
   // The indicator on the leaf mesh (cell p: leaves[p]; node: its mesh_numbers), from the solution gathered
   // into the forest's numbering: the same marks whatever the engine's numbering of its part.
-  const ForestState solution = gather_state(forest_, s, s.state());
+  ForestState solution = gather_state(forest_, s, s.state());
   const std::vector<int> leaves = forest_.leaves();
   const CellIndicators ind = forest_indicators(forest_, solution, spec_);
   if (spec_.tolerance > 0 && ind.stress_relative <= spec_.tolerance) return nullptr;
@@ -294,6 +295,7 @@ std::unique_ptr<TimeStepper> MeshAdaptivity::adapt(const TimeStepper& s, int pas
   for (int c : forest_.leaves()) rec.max_level = std::max(rec.max_level, forest_.level(c));
   rec.seconds_adapt = seconds_since(t0);
 
+  solution = ForestState{};  // (freed before the new stepper is made)
   if (release) release();  // `s` and `carry` are gone from here on
   const auto t1 = std::chrono::steady_clock::now();
   std::unique_ptr<TimeStepper> next = make_(problem_on_mesh(*coarse_, std::move(mesh)), choice_);
@@ -303,6 +305,7 @@ std::unique_ptr<TimeStepper> MeshAdaptivity::adapt(const TimeStepper& s, int pas
   next->set_step_history(std::move(times), control);
   rec.seconds_adapt += seconds_since(t2);
   rec.seconds_rebuild = std::chrono::duration<double>(t2 - t1).count();
+  rec.resident_bytes = static_cast<double>(process_memory().resident);
   rec.cells_after = next->mesh().n_cells();
   rec.unknowns_after = next->part().n_global_dofs;
   log_.push_back(rec);

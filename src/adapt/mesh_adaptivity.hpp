@@ -31,6 +31,7 @@ struct AdaptationRecord {
   double change_z = 0, change_sigma = 0, change_beta = 0, change_damage_integral = 0;
   bool truncated = false;  // marking cut to max_unknowns or max_level
   double seconds_adapt = 0, seconds_rebuild = 0;  // indicator, marking, forest, transfer; the new stepper
+  double resident_bytes = 0;  // the process's resident memory once the new stepper is made
 };
 
 /// Makes the stepper of a problem on an adapted mesh (the engine's: one process's, or the PETSc engine's
