@@ -38,6 +38,18 @@ struct SimulationOptions {
   int halvings = 0;
 };
 
+/// The arrays of one mesh of a run, the base (numpy's `.base`) of the views taken of it: the live
+/// stepper's while it runs (the engine kept alive through it, as the views keep it), then, once an
+/// adaptation replaces that mesh ([adapt]), its state moved here unchanged (the same addresses) and
+/// `stale` set. So a view never dangles: it shows the mesh and step it was taken of until it goes.
+struct MeshGeneration {
+  int version = 0;                   // the meshes replaced before this one (Simulation.mesh_version)
+  std::shared_ptr<Run> engine;       // while live
+  std::shared_ptr<const Mesh> mesh;  // the mesh views' arrays
+  std::unique_ptr<State> state;      // once retired
+  bool stale = false;
+};
+
 class Simulation {
  public:
   Simulation(const CaseSpec& spec, const SimulationOptions& so) {
@@ -67,12 +79,6 @@ class Simulation {
     const auto started = std::chrono::system_clock::now();
     CaseLoader load = [spec, outdir = o.output_directory, argv = o.argv, started](const MeshRequest&) {
       Case c = spec.load();  // as vpcontact run's load_case
-      // The views point into the state, whose arrays an adaptation replaces: refused until views are
-      // versioned (issue 51's Python part).
-      if (c.adapt)
-        fail("{}: mesh adaptivity is not available from Python yet (its arrays would change shape under the views "
-             "you hold); run the case with `vpcontact run`, or remove [adapt]",
-             c.adapt->where);
       c.output.directory = outdir;
       c.output.command_line = argv;
       c.output.started = started;
@@ -80,15 +86,40 @@ class Simulation {
     };
     py::gil_scoped_release release;
     engine_ = set_up_serial(load, o);
-    stepper_ = engine_->stepper();
-    require(stepper_ != nullptr, "internal error: the engine has no stepper");
+    require(engine_->stepper() != nullptr, "internal error: the engine has no stepper");
+    // An adaptation retires the mesh the views were taken of: its state moves to their generation.
+    engine_->on_retire([this](TimeStepper& old) {
+      ++mesh_version_;
+      if (current_ == nullptr || current_->stale) return;
+      current_->state = std::make_unique<State>(old.take_state());
+      current_->stale = true;
+    });
     loop_.emplace(*engine_, o);
-    columns_ = history_column_names(stepper_->problem(), stepper_->part());
+    columns_ = history_column_names(stepper().problem(), stepper().part(), spec.built().adapt.has_value());
     fields_ = field_addresses();
   }
+  ~Simulation() {
+    if (engine_) engine_->on_retire({});  // a live generation keeps the engine; nothing retires after this
+  }
+  Simulation(const Simulation&) = delete;
+  Simulation& operator=(const Simulation&) = delete;
 
-  const TimeStepper& stepper() const { return *stepper_; }
-  const State& state() const { return stepper_->state(); }
+  /// The current stepper (an adaptive run's changes at each adaptation).
+  const TimeStepper& stepper() const { return *engine_->stepper(); }
+  const State& state() const { return stepper().state(); }
+  int mesh_version() const { return mesh_version_; }
+  /// The base of views taken now: the current mesh's generation (made anew after an adaptation).
+  py::object generation() {
+    if (current_ == nullptr || current_->stale) {
+      auto g = std::make_unique<MeshGeneration>();
+      g->version = mesh_version_;
+      g->engine = engine_;
+      g->mesh = stepper().part().mesh_ptr;
+      generation_ = py::cast(std::move(g));
+      current_ = generation_.cast<MeshGeneration*>();
+    }
+    return generation_;
+  }
   bool done() const { return loop_->done(); }
   bool finished() const { return loop_->finished(); }
 
@@ -96,19 +127,23 @@ class Simulation {
   void step() {
     require(!loop_->finished(), "the simulation is finished (finish() was called or a step failed)");
     require(!loop_->done(), "the simulation is at its final time (step {}, t = T = {})", state().n,
-            stepper_->problem().final_time);
+            stepper().problem().final_time);
     StepReport r;
+    const int version_at_step = mesh_version_;
     {
       py::gil_scoped_release release;
       r = loop_->step();
     }
-    // The views point into the state: a step must never move it (same-size assignments).
+    // The views point into the state: a step must never move it (same-size assignments), but where an
+    // adaptation replaced the mesh (the views taken before keep theirs: MeshGeneration).
     const auto now = field_addresses();
-    for (std::size_t i = 0; i < now.size(); ++i)
+    const bool remeshed = mesh_version_ != version_at_step;
+    for (std::size_t i = 0; i < now.size() && !remeshed; ++i)
       if (now[i].second != fields_[i].second)
         throw std::logic_error(fmt::format("vpcontact: the state's {} was reallocated by a step: views taken before "
                                            "it are stale",
                                            fields_[i].first));
+    fields_ = now;
     rows_.push_back(history_values(r));
   }
 
@@ -142,8 +177,10 @@ class Simulation {
     return a;
   }
 
-  std::unique_ptr<Run> engine_;
-  const TimeStepper* stepper_ = nullptr;
+  std::shared_ptr<Run> engine_;
+  int mesh_version_ = 0;
+  py::object generation_;              // the current mesh's MeshGeneration (none before a view)
+  MeshGeneration* current_ = nullptr;  // its object
   std::optional<RunLoop> loop_;
   std::vector<std::pair<std::string_view, const double*>> fields_;
   std::vector<std::string> columns_;
@@ -312,7 +349,7 @@ void bind_simulation(py::module_& m) {
                              reads("points",
                                    [sim](py::handle self) {
                                      const Mesh& mesh = sim(self).stepper().mesh();
-                                     return view(mesh.nodes().front().data(), {mesh.n_nodes(), 3}, self);
+                                     return view(mesh.nodes().front().data(), {mesh.n_nodes(), 3}, sim(self).generation());
                                    }),
                              "The nodes' coordinates, (n_nodes, 3) (unused coordinates 0).")
       .def_property_readonly("cells",
@@ -320,7 +357,7 @@ void bind_simulation(py::module_& m) {
                                    [sim](py::handle self) {
                                      const Mesh& mesh = sim(self).stepper().mesh();
                                      return view(mesh.cell_array().data(),
-                                                 {mesh.n_cells(), mesh.nodes_per_cell()}, self);
+                                                 {mesh.n_cells(), mesh.nodes_per_cell()}, sim(self).generation());
                                    }),
                              "The cells' nodes, (n_cells, d + 1).")
       .def_property_readonly("facets",
@@ -328,7 +365,7 @@ void bind_simulation(py::module_& m) {
                                    [sim](py::handle self) {
                                      const Mesh& mesh = sim(self).stepper().mesh();
                                      return view(mesh.n_facets() ? mesh.facet(0) : nullptr,
-                                                 {mesh.n_facets(), mesh.nodes_per_facet()}, self);
+                                                 {mesh.n_facets(), mesh.nodes_per_facet()}, sim(self).generation());
                                    }),
                              "The boundary facets' nodes, (n_facets, d).")
       .def_property_readonly("facet_parts",
@@ -394,9 +431,9 @@ void bind_simulation(py::module_& m) {
     const std::string name(f.python);
     if (f.stored())
       cls.def_property_readonly(name.c_str(), reads(name, [&f, sim](py::handle self) {
-        const S& s = sim(self);
+        S& s = sim(self);
         const std::span<const double> v = f.values(s.state());
-        return view(v.data(), shape(f, s.state(), s.stepper().mesh().dim(), v.size()), self);
+        return view(v.data(), shape(f, s.state(), s.stepper().mesh().dim(), v.size()), s.generation());
       }), doc.c_str());
     else
       cls.def_property_readonly(name.c_str(), reads(name, [&f](const S& s) {
@@ -409,17 +446,27 @@ void bind_simulation(py::module_& m) {
   // The contact laws' per-node state (State::surface, contact/surface_state.hpp): one read-only view
   // per declared variable, by name, in the rows' order (width > 1: one row per contact node).
   cls.def_property_readonly("surface", reads("surface", [sim](py::handle self) {
-    const S& s = sim(self);
+    S& s = sim(self);
+    const py::object base = s.generation();
     py::dict d;
     for (const SurfaceField& f : s.state().surface) {
       const auto nodes = static_cast<py::ssize_t>(f.values.size() / f.width);
       d[py::str(f.name)] = view(f.values.data(),
                                 f.width == 1 ? std::vector<py::ssize_t>{nodes} : std::vector<py::ssize_t>{nodes, f.width},
-                                self);
+                                base);
     }
     return d;
   }), "The contact laws' per-node state (a law that keeps some declares it; empty otherwise): a dict of read-only "
       "views by name, one value (or row of values) per contact node in the rows' order, as contact_force");
+  cls.def_property_readonly("mesh_version", reads("mesh_version", &S::mesh_version),
+                            "The meshes an adaptation ([adapt]) has replaced so far: views taken before one keep "
+                            "their mesh's arrays (their .base.stale is then True).");
+  py::class_<MeshGeneration>(m, "MeshGeneration",
+                             "The arrays of one mesh of a Simulation: the base of the views taken of it.")
+      .def_property_readonly("mesh_version", [](const MeshGeneration& g) { return g.version; },
+                             "The Simulation's mesh_version when the views were taken.")
+      .def_property_readonly("stale", [](const MeshGeneration& g) { return g.stale; },
+                             "True once an adaptation replaced this mesh: the views show it as it was then.");
   m.def("_state_fields", &field_table, "The table of the state's fields (io/state_fields.hpp).");
   m.def("_history_column_table", &column_table, "The table of history.csv's columns (io/history_columns.hpp).");
 }

@@ -176,9 +176,10 @@ std::unique_ptr<TimeStepper> MeshAdaptivity::adapt(const TimeStepper& s, int pas
     rec.truncated = true;
     if (!warned_unknowns_) {
       warned_unknowns_ = true;
-      warnings_.push_back(fmt::format("{}: max_unknowns = {} reached at step {} (t = {:.6g}): refinement marking "
-                                      "truncated in the indicator's order (reported in summary.json \"adaptations\")",
-                                      spec_.where, spec_.max_unknowns, rec.step, rec.t));
+      warnings_.push_back(fmt::format("{}: max_unknowns = {} reached at step {} (t = {:.6g}; the mesh has {} = d × "
+                                      "nodes): refinement marking truncated in the indicator's order (reported in "
+                                      "summary.json \"adaptations\")",
+                                      spec_.where, spec_.max_unknowns, rec.step, rec.t, unknowns_with(0)));
     }
   }
   if (deep) {

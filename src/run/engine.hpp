@@ -68,8 +68,12 @@ class Run {
   virtual void on_root(const std::function<void()>& work) { work(); }
 
   /// The stepper (its state, mesh and matrices, for the Python module's views); null
-  /// for an engine without one (a test's scripted engine).
+  /// for an engine without one (a test's scripted engine). An adaptive run ([adapt]) replaces it
+  /// at each adaptation: ask again after a step.
   virtual const TimeStepper* stepper() const { return nullptr; }
+  /// Called with a stepper just before an adaptation destroys it (its state may be taken:
+  /// TimeStepper::take_state); empty: none. Called inside step(), on the stepping thread.
+  virtual void on_retire(std::function<void(TimeStepper&)> /*hook*/) {}
 };
 
 struct Case;  // io/case.hpp

@@ -132,6 +132,7 @@ class StepperRun final : public Run {
   bool root_decides(bool value) const override { return comm().sum(root() && value ? 1.0 : 0.0) > 0; }
   void on_root(const std::function<void()>& work) override { la::on_root(comm(), work); }
   const TimeStepper* stepper() const override { return stepper_.get(); }
+  void on_retire(std::function<void(TimeStepper&)> hook) override { retire_ = std::move(hook); }
 
   /// What set-up found, in global numbers; rank 0 prints it. Collective.
   void describe() const {
@@ -211,6 +212,7 @@ class StepperRun final : public Run {
   /// If making the new one fails, the step's error ends the run (RunLoop: no summary from a gone state).
   std::function<void()> release_stepper() {
     return [this] {
+      if (retire_) retire_(*stepper_);
       stepper_.reset();
       malloc_trim(0);
     };
@@ -241,6 +243,7 @@ class StepperRun final : public Run {
 
   /// The run goes on with `next` (the adapted mesh); its output follows.
   void swap_stepper(std::unique_ptr<TimeStepper> next) {
+    if (stepper_ && retire_) retire_(*stepper_);
     stepper_ = std::move(next);
     if (output_) output_->remesh(*stepper_);
   }
@@ -273,6 +276,7 @@ class StepperRun final : public Run {
   CaseKeys keys_;
   std::optional<RunOutput> output_;
   std::optional<MeshAdaptivity> adapt_;  // [adapt]: the mesh changes during the run
+  std::function<void(TimeStepper&)> retire_;  // on_retire's hook
   std::shared_ptr<const Problem> adaptive_coarse_;  // what makes it again (a resume)
   SolverChoice adapt_choice_;
   StepperMaker adaptive_make_;

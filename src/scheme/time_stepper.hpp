@@ -75,6 +75,11 @@ class TimeStepper {
   /// step-size state. Throws vpc::Error unless the times end at the state's.
   void set_step_history(std::vector<double> times, const StepControlState& c);
 
+  /// Moves the state out (its arrays keep their addresses): for a stepper about to be destroyed whose
+  /// state someone still reads (the Python views of a mesh an adaptation replaces). Nothing may step
+  /// or read the stepper's state after it.
+  State take_state() { return std::move(state_); }
+
   Snapshot snapshot() const;
   /// The solvers' warm starts of snapshot(), without a copy of the state (checkpoints). Collective.
   Vector contact_warm_state() const;
