@@ -21,6 +21,8 @@ nlohmann::ordered_json adaptation_json(const AdaptationRecord& a) {
           {"stress_estimate", a.stress_relative},
           {"coarsening_change",
            {{"z", a.change_z}, {"sigma", a.change_sigma}, {"beta", a.change_beta}, {"damage_integral", a.change_damage_integral}}},
+          {"dirichlet_mismatch", a.dirichlet_mismatch},
+          {"penetration", a.penetration},
           {"truncated", a.truncated},
           {"seconds_adapt", a.seconds_adapt},
           {"seconds_rebuild", a.seconds_rebuild},
@@ -49,6 +51,8 @@ AdaptationRecord adaptation_record(const nlohmann::ordered_json& j) {
     a.change_sigma = c.at("sigma").get<double>();
     a.change_beta = c.at("beta").get<double>();
     a.change_damage_integral = c.at("damage_integral").get<double>();
+    a.dirichlet_mismatch = j.at("dirichlet_mismatch").get<double>();
+    a.penetration = j.at("penetration").get<double>();
     a.truncated = j.at("truncated").get<bool>();
     a.seconds_adapt = j.at("seconds_adapt").get<double>();
     a.seconds_rebuild = j.at("seconds_rebuild").get<double>();

@@ -14,6 +14,7 @@
 #include <chrono>
 #include <cmath>
 #include <numeric>
+#include <tuple>
 #include <unordered_map>
 
 namespace vpc {
@@ -304,6 +305,7 @@ std::unique_ptr<TimeStepper> MeshAdaptivity::adapt(const TimeStepper& s, int pas
   const State state = scatter_state(forest_, fs, *next);
   next->restore({state, restrict_to_free(next->dofs(), state.u), next->contact_warm_state(), next->damage_warm_state()});
   next->set_step_history(std::move(times), control);
+  std::tie(rec.dirichlet_mismatch, rec.penetration) = next->data_mismatch();
   rec.seconds_adapt += seconds_since(t2);
   rec.seconds_rebuild = std::chrono::duration<double>(t2 - t1).count();
   rec.resident_bytes = static_cast<double>(process_memory().resident);

@@ -32,6 +32,10 @@ struct AdaptationRecord {
   bool truncated = false;  // marking cut to max_unknowns or max_level
   double seconds_adapt = 0, seconds_rebuild = 0;  // indicator, marking, forest, transfer; the new stepper
   double resident_bytes = 0;  // the process's resident memory once the new stepper is made
+  /// What the new nodes' own data make of the carried state (TimeStepper::data_mismatch): the largest
+  /// |u − u_D| on prescribed dofs and the largest penetration of an obstacle (lengths; the next step
+  /// resolves them).
+  double dirichlet_mismatch = 0, penetration = 0;
 };
 
 /// Makes the stepper of a problem on an adapted mesh (the engine's: one process's, or the PETSc engine's

@@ -141,6 +141,21 @@ Snapshot TimeStepper::snapshot() const {
   return {state_, u_free_, solvers_.contact->warm_state(), solvers_.damage.current().warm_state()};
 }
 
+std::pair<double, double> TimeStepper::data_mismatch() const {
+  double prescribed = 0, penetration = 0;
+  const Vector u_D = prescribed_displacement(sys_, state_.t);
+  const std::vector<int>& condition = sys_.part.dirichlet;
+  for (std::size_t i = 0; i < condition.size(); ++i)
+    if (condition[i] >= 0)
+      prescribed = std::max(prescribed, std::abs(state_.u[static_cast<Eigen::Index>(i)] -
+                                                 (u_D.size() ? u_D[static_cast<Eigen::Index>(i)] : 0.0)));
+  if (sys_.part.n_contact > 0) {
+    const Vector left = rows_gap_left(sys_, checked_contact_gap(sys_, state_.t), state_);
+    if (left.size() > 0) penetration = std::max(0.0, -left.minCoeff());
+  }
+  return {comm().max(prescribed), comm().max(penetration)};
+}
+
 Vector TimeStepper::contact_warm_state() const { return solvers_.contact->warm_state(); }
 Vector TimeStepper::damage_warm_state() const { return solvers_.damage.current().warm_state(); }
 

@@ -75,6 +75,12 @@ class TimeStepper {
   /// step-size state. Throws vpc::Error unless the times end at the state's.
   void set_step_history(std::vector<double> times, const StepControlState& c);
 
+  /// How far the state is from its own data at t_n (an adaptation's new nodes take u_D and g at their own
+  /// positions, which the carried u does not meet until the next step): the largest |u − u_D(t_n)| over
+  /// the prescribed dofs, and the largest penetration max(0, N u − g(t_n)) over the contact rows (lengths;
+  /// over every process). Collective.
+  std::pair<double, double> data_mismatch() const;
+
   /// Moves the state out (its arrays keep their addresses): for a stepper about to be destroyed whose
   /// state someone still reads (the Python views of a mesh an adaptation replaces). Nothing may step
   /// or read the stepper's state after it.
