@@ -59,9 +59,9 @@ ITERATIVE = False  # --iterative: a CG PETSc run against CHOLMOD (see main)
 # Keys of summary.json that say how a run went, not what it computed.
 # `factorizations` counts how the solvers went about it (the serial damage solver
 # picks capacitance or a reduced factor by measured time), not a result.
-# An adaptive run's time split ([adapt]: adaptation_seconds, each adaptation's seconds_*) is timing too.
+# An adaptive run's time split and memory ([adapt]: adaptation_seconds, each adaptation's seconds_*, resident_bytes) are measurements too.
 SUMMARY_SKIP = {"timing_seconds", "setup_seconds", "memory_bytes", "vpcontact", "engine", "ranks", "linear_solver", "factorizations",
-                "adaptation_seconds", "seconds_adapt", "seconds_rebuild"}
+                "adaptation_seconds", "seconds_adapt", "seconds_rebuild", "resident_bytes"}
 
 
 class Report:
