@@ -362,7 +362,7 @@ INPUTS = [
     # Issue 51's [adapt]: what cannot be adapted yet is refused at the section, and its keys' ranges.
     ("[adapt] on a 3D mesh", {}, ["block-3d", "--set", "adapt.every=1"]),
     ("[adapt] on a 1D mesh", {}, ["paper-1d", "--set", "adapt.every=1"]),
-    ("[adapt] with two bodies", {}, ["hertz-cylinders-2d", "--set", "adapt.every=1"]),
+    ("a negative [adapt] max_level", {}, ["hertz-2d-adapt", "--set", "adapt.max_level=-1"]),
     ("a refine fraction of 0", {}, ["hertz-2d-adapt", "--set", "adapt.refine_fraction=0"]),
     ("a NaN indicator weight", {}, ["hertz-2d-adapt", "--set", "adapt.stress_weight=nan"]),
     ("every indicator weight 0", {}, ["hertz-2d-adapt", "--set", "adapt.stress_weight=0", "--set", "adapt.contact_weight=0", "--set", "adapt.damage_weight=0"]),

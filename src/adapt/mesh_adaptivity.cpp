@@ -25,9 +25,6 @@ void check_adaptable(const Problem& p, const AdaptSpec& spec) {
     fail("{}: mesh adaptivity needs a 2D triangle mesh for now (newest-vertex bisection of triangles); this mesh "
          "is {}D. Remove [adapt], or refine the mesh uniformly ([mesh] refine, --n)",
          spec.where, m.dim());
-  if (m.n_bodies() > 1 || !p.contact.pairs.empty())
-    fail("{}: mesh adaptivity takes one body without contact pairs for now; this case has {}", spec.where,
-         m.n_bodies() > 1 ? fmt::format("{} bodies", m.n_bodies()) : std::string("contact pairs"));
   if (p.block) fail("{}: mesh adaptivity runs on one process for now (not on blocks of a generated mesh)", spec.where);
 }
 

@@ -31,7 +31,6 @@ std::uint64_t BisectionForest::key(int a, int b) {
 BisectionForest::BisectionForest(const Mesh& coarse)
     : coarse_(coarse), x_(coarse.nodes()), alive_(static_cast<std::size_t>(coarse.n_nodes()), 1) {
   require(coarse.dim() == 2, "newest-vertex bisection: a triangle mesh is needed (d = 2), got d = {}", coarse.dim());
-  require(coarse.n_bodies() == 1, "newest-vertex bisection: a mesh of one body is needed, got {}", coarse.n_bodies());
   cells_.reserve(static_cast<std::size_t>(coarse.n_cells()));
   for (int c = 0; c < coarse.n_cells(); ++c) {
     const int* v = coarse.cell(c);
@@ -243,9 +242,11 @@ Mesh BisectionForest::leaf_mesh() const {
                       number[static_cast<std::size_t>(v[2])]};
     mesh.add_cell(w);
   }
-  for (std::size_t k = 0; k < cells.size(); ++k)
+  for (std::size_t k = 0; k < cells.size(); ++k) {
     if (const int r = coarse_.cell_region(root(cells[k])); r >= 0)
       mesh.set_cell_region(static_cast<int>(k), coarse_.region_names()[static_cast<std::size_t>(r)]);
+    if (coarse_.n_bodies() > 1) mesh.set_cell_body(static_cast<int>(k), coarse_.cell_body(root(cells[k])));
+  }
   // Each coarse boundary facet as its halves, recursively, in its part.
   const std::function<void(int, int, const std::string&)> facet = [&](int a, int b, const std::string& part) {
     if (const auto it = midpoint_.find(key(a, b)); it != midpoint_.end()) {

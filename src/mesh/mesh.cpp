@@ -24,6 +24,13 @@ void Mesh::add_cell(const int* nodes) {
   if (!cell_body_.empty()) cell_body_.push_back(n_bodies_ - 1);
 }
 
+void Mesh::set_cell_body(int c, int body) {
+  require(body >= 0 && c >= 0 && c < n_cells(), "cell {} (of {}) into body {}", c, n_cells(), body);
+  if (cell_body_.empty()) cell_body_.assign(static_cast<std::size_t>(n_cells()), 0);
+  cell_body_[static_cast<std::size_t>(c)] = body;
+  n_bodies_ = std::max(n_bodies_, body + 1);
+}
+
 int Mesh::append(const Mesh& other, const std::string& name) {
   require(other.dim() == dim_, "mesh of body '{}': dimension {} where the other bodies' is {}", name, other.dim(), dim_);
   const int offset = n_nodes(), first_cell = n_cells();

@@ -73,6 +73,9 @@ class Mesh {
   int cell_body(int c) const { return cell_body_.empty() ? 0 : cell_body_[c]; }
   /// Bodies: 1 + the meshes appended.
   int n_bodies() const { return n_bodies_; }
+  /// Puts cell c into body `body` (≥ 0; the bodies then number at least body + 1): a mesh made from
+  /// another's cells (a bisection forest's leaves) keeps their bodies. Bodies still share no node.
+  void set_cell_body(int c, int body);
   /// Appends `other` (of the same dimension) as a further body: its nodes, cells and boundary
   /// facets, none shared with the bodies already here (bodies meet through contact pairs, not
   /// nodes); its parts named "<name>.<part>" (untagged facets stay untagged) and its cells in

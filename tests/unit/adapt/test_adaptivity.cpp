@@ -15,6 +15,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -303,6 +304,33 @@ TEST(Adapt, AResumeAcrossAdaptationsIsByteIdentical) {
   run_ironing(dir / "lost", false, true);
   EXPECT_EQ(file_text(dir / "whole" / "history.csv"), file_text(dir / "lost" / "history.csv"));
   fs::remove_all(dir);
+}
+
+TEST(Adapt, TwoBodiesThroughAContactPairKeepTheirBodiesPartsAndPair) {
+  // cattaneo-mindlin-pair-2d coarse: a half-disc pressed into a block through a Coulomb pair, then sheared.
+  const Case c = load_case("cattaneo-mindlin-pair-2d",
+                           {.sets = {"mesh.size_factor=5", "body[0].mesh.size_factor=5"}, .steps = 4});
+  TimeStepper s(c.problem, c.solvers);
+  for (int n = 0; n < 2; ++n) ASSERT_TRUE(s.step().ok);
+  AdaptSpec spec;
+  spec.where = "test: [adapt]";
+  MeshAdaptivity a(c.problem, s.solvers(), spec);
+  auto next = a.adapt(s, 0, s.state(), s.times(), s.step_control_state());
+  ASSERT_TRUE(next);
+  const Mesh& before = s.mesh();
+  const Mesh& after = next->mesh();
+  ASSERT_EQ(after.n_bodies(), 2);
+  EXPECT_EQ(after.part_names(), before.part_names());
+  std::array<int, 2> cells_before{}, cells_after{};
+  for (int k = 0; k < before.n_cells(); ++k) ++cells_before[static_cast<std::size_t>(before.cell_body(k))];
+  for (int k = 0; k < after.n_cells(); ++k) ++cells_after[static_cast<std::size_t>(after.cell_body(k))];
+  EXPECT_GE(cells_after[0], cells_before[0]);
+  EXPECT_GE(cells_after[1], cells_before[1]);
+  EXPECT_GT(cells_after[0] + cells_after[1], cells_before[0] + cells_before[1]);
+  // The pair's normal force carried (as pressures on the slave side, summed with the new measures) and
+  // the run going on through it.
+  EXPECT_NEAR(next->state().lambda.sum(), s.state().lambda.sum(), 1e-9 * std::abs(s.state().lambda.sum()) + 1e-12);
+  for (int n = 0; n < 2; ++n) EXPECT_TRUE(next->step().ok);
 }
 
 }  // namespace
