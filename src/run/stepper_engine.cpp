@@ -172,9 +172,8 @@ class StepperRun final : public Run {
   /// solution (AdaptSpec::resolve times: the step redone on it from the state before it carried over;
   /// else once, carrying the step's state to the next step).
   StepReport adaptive_step() {
-    MeshAdaptivity& a = *adapt_;
     const int n = stepper_->state().n + 1;
-    const bool due = a.due(n), redo = due && a.spec().resolve > 0;
+    const bool due = !adapt_stopped_ && adapt_->due(n), redo = due && adapt_->spec().resolve > 0;
     std::optional<Snapshot> before;
     std::vector<double> times_before;
     StepControlState control_before;
@@ -186,30 +185,59 @@ class StepperRun final : public Run {
     StepReport r = stepper_->step();
     if (r.ok && due) {
       if (redo) {
-        for (int pass = 1; pass <= a.spec().resolve && r.ok; ++pass) {
-          std::unique_ptr<TimeStepper> next =
-              a.adapt(*stepper_, pass, before->state, times_before, control_before, release_stepper());
+        for (int pass = 1; pass <= adapt_->spec().resolve && r.ok; ++pass) {
+          std::unique_ptr<TimeStepper> next = adapt_or_recover(pass, *before, times_before, control_before);
           if (!next) break;
           swap_stepper(std::move(next));
           before = stepper_->snapshot();  // the state before the step, on this mesh
           r = stepper_->step();
         }
-      } else if (std::unique_ptr<TimeStepper> next = a.adapt(*stepper_, 0, stepper_->state(), stepper_->times(),
-                                                             stepper_->step_control_state(), release_stepper())) {
-        swap_stepper(std::move(next));
+      } else {
+        // (the state the adaptation carries, kept in case the new mesh cannot be set up)
+        const Snapshot now = stepper_->snapshot();
+        if (std::unique_ptr<TimeStepper> next = adapt_or_recover(0, now, stepper_->times(), stepper_->step_control_state()))
+          swap_stepper(std::move(next));
       }
-      for (const std::string& w : a.take_warnings())
+      for (const std::string& w : adapt_->take_warnings())
         if (root()) fmt::print(stderr, "vpcontact: warning: {}\n", w);
     }
     r.mesh_cells = stepper_->part().n_global_cells;
     r.mesh_unknowns = stepper_->part().n_global_dofs;
-    r.adaptations = static_cast<int>(a.log().size());
+    r.adaptations = static_cast<int>(adapt_->log().size());
     return r;
+  }
+
+  /// MeshAdaptivity::adapt carrying `carry`'s state; where the adapted mesh cannot be set up (its memory
+  /// refused, a degenerate cell), the mesh before it is made again from the history, `carry` restored on
+  /// it, the adaptivity stopped for the rest of the run and the reason warned: the run goes on, on the
+  /// mesh it had. Returns the new stepper, or null (nothing to change, or recovered: stepper_ is set).
+  std::unique_ptr<TimeStepper> adapt_or_recover(int pass, const Snapshot& carry, std::vector<double> times,
+                                                const StepControlState& control) {
+    const std::string history = adapt_->history();
+    const int step = stepper_->state().n;
+    const double t = stepper_->state().t;
+    try {
+      return adapt_->adapt(*stepper_, pass, carry.state, times, control, release_stepper());
+    } catch (const Error& e) {
+      if (stepper_) throw;  // failed before the old mesh was released: nothing to recover
+      adapt_.emplace(adaptive_coarse_, adapt_choice_, *case_.adapt, adaptive_make_);
+      adapt_->replay(history);
+      stepper_ = adapt_->make_stepper();
+      stepper_->restore({carry.state, carry.u_free, stepper_->contact_warm_state(), stepper_->damage_warm_state()});
+      stepper_->set_step_history(std::move(times), control);
+      if (output_) output_->remesh(*stepper_);
+      adapt_stopped_ = true;
+      if (root())
+        fmt::print(stderr, "vpcontact: warning: {}: the mesh adapted at step {} (t = {:.6g}) could not be set up ({}); "
+                           "the run goes on with the mesh before it and adapts no further\n",
+                   case_.adapt->where, step, t, e.what());
+      return nullptr;
+    }
   }
 
   /// Frees the stepper of the mesh being replaced once its state is carried, before the new one is made:
   /// their factors are never held together (the heap given back to the system: glibc keeps freed pages).
-  /// If making the new one fails, the step's error ends the run (RunLoop: no summary from a gone state).
+  /// If making the new one fails, adapt_or_recover makes the mesh before it again.
   std::function<void()> release_stepper() {
     return [this] {
       if (retire_) retire_(*stepper_);
@@ -277,6 +305,7 @@ class StepperRun final : public Run {
   std::optional<RunOutput> output_;
   std::optional<MeshAdaptivity> adapt_;  // [adapt]: the mesh changes during the run
   std::function<void(TimeStepper&)> retire_;  // on_retire's hook
+  bool adapt_stopped_ = false;  // an adapted mesh could not be set up: no further adaptation
   std::shared_ptr<const Problem> adaptive_coarse_;  // what makes it again (a resume)
   SolverChoice adapt_choice_;
   StepperMaker adaptive_make_;

@@ -333,5 +333,33 @@ TEST(Adapt, TwoBodiesThroughAContactPairKeepTheirBodiesPartsAndPair) {
   for (int n = 0; n < 2; ++n) EXPECT_TRUE(next->step().ok);
 }
 
+TEST(Adapt, AnAdaptedMeshThatCannotBeSetUpLeavesTheRunOnTheMeshBefore) {
+  // Under a memory limit that the coarse mesh fits and the finer adapted ones do not: an adapted mesh's
+  // set-up is refused (the old stepper freed already), the mesh before it is made again from the history,
+  // and the run ends, every step within its tolerances, on that mesh (it used to crash on the freed stepper).
+  const fs::path dir = fs::temp_directory_path() / "vpc-adapt-memory";
+  fs::remove_all(dir);
+  RunOptions o;
+  o.quiet = true;
+  o.output_directory = dir;
+  const RunResult r = run_case(
+      [&](const MeshRequest& m) {
+        Case c = load_case("hertz-2d-adapt", {.memory_limit = "60M"}, m);
+        c.solvers.memory_limit = "60M";
+        c.output.directory = dir;
+        return c;
+      },
+      o);
+  EXPECT_EQ(r.steps, 1);
+  const auto j = nlohmann::json::parse(std::ifstream(dir / "summary.json"));
+  EXPECT_TRUE(j.at("checks").at("all_steps_ok").get<bool>());
+  // Stopped short of its 16 passes, on the last mesh that could be set up.
+  const auto& log = j.at("adaptations");
+  EXPECT_LT(log.size(), 16u);
+  EXPECT_EQ(j.at("mesh").at("cells").get<long long>(),
+            log.empty() ? 3200 : log.back().at("cells_after").get<long long>());
+  fs::remove_all(dir);
+}
+
 }  // namespace
 }  // namespace vpc
