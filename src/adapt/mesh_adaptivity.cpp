@@ -4,6 +4,7 @@
 #include "adapt/indicator.hpp"
 #include "adapt/marking.hpp"
 #include "adapt/state_transfer.hpp"
+#include "core/stopwatch.hpp"
 #include "fem/cell_geometry.hpp"
 #include "core/error.hpp"
 #include "core/process_memory.hpp"
@@ -29,10 +30,6 @@ void check_adaptable(const Problem& p, const AdaptSpec& spec) {
 }
 
 namespace {
-
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
 
 const Mesh& adaptable_mesh(const Problem& p, const AdaptSpec& spec) {
   check_adaptable(p, spec);
@@ -177,7 +174,8 @@ std::unique_ptr<TimeStepper> MeshAdaptivity::adapt(const TimeStepper& s, int pas
       warnings_.push_back(fmt::format("{}: max_unknowns = {} reached at step {} (t = {:.6g}; the mesh has {} = d × "
                                       "nodes): refinement marking truncated in the indicator's order (reported in "
                                       "summary.json \"adaptations\")",
-                                      spec_.where, spec_.max_unknowns, rec.step, rec.t, unknowns_with(0)));
+                                      spec_.where, spec_.max_unknowns, rec.step, rec.t,
+                                      static_cast<long long>(d) * alive_nodes(forest_)));
     }
   }
   if (deep) {

@@ -1,6 +1,7 @@
 #include "adapt/state_transfer.hpp"
 
 #include "core/error.hpp"
+#include "fem/assembly.hpp"
 #include "fem/cell_geometry.hpp"
 
 #include <algorithm>
@@ -53,19 +54,7 @@ int status_slot(int block) { return block > 1 ? 2 * block : -1; }
 SymTensor forest_cell_strain(const BisectionForest& forest, const std::vector<double>& u, int dim, int c) {
   const auto& v = forest.vertices(c);
   const Point x[3] = {forest.node(v[0]), forest.node(v[1]), forest.node(v[2])};
-  const CellGeometry g = cell_geometry(dim, x);
-  double grad_u[3][3] = {};  // ∂u_i/∂x_j
-  for (int a = 0; a < 3; ++a)
-    for (int i = 0; i < dim; ++i)
-      for (int j = 0; j < dim; ++j)
-        grad_u[i][j] += u[static_cast<std::size_t>(v[static_cast<std::size_t>(a)]) * static_cast<std::size_t>(dim) +
-                          static_cast<std::size_t>(i)] *
-                        g.grad[static_cast<std::size_t>(a)][static_cast<std::size_t>(j)];
-  SymTensor e;
-  e[0] = grad_u[0][0];
-  e[1] = grad_u[1][1];
-  e[5] = 0.5 * (grad_u[0][1] + grad_u[1][0]);  // 12 (2D: 33, 23, 13 are 0)
-  return e;
+  return simplex_strain(dim, v.data(), cell_geometry(dim, x), u.data());
 }
 
 ForestState gather_state(const BisectionForest& forest, const TimeStepper& s, const State& carry) {

@@ -275,10 +275,13 @@ Vector assemble_p0_source(const Mesh& mesh, const std::vector<CellGeometry>& geo
 }
 
 SymTensor cell_strain(const Mesh& mesh, const CellGeometry& g, const Vector& u, int c) {
-  const int d = mesh.dim();
+  return simplex_strain(mesh.dim(), mesh.cell(c), g, u.data());
+}
+
+SymTensor simplex_strain(int d, const int* nodes, const CellGeometry& g, const double* u) {
   double G[3][3] = {};  // displacement gradient ∂_j u_i
   for (int a = 0; a <= d; ++a) {
-    const int n = mesh.cell(c)[a];
+    const int n = nodes[a];
     for (int i = 0; i < d; ++i)
       for (int j = 0; j < d; ++j) G[i][j] += u[n * d + i] * g.grad[a][j];
   }

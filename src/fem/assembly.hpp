@@ -70,6 +70,10 @@ inline double cell_mean(const Mesh& mesh, const Vector& nodal, int c) {
 
 /// The strain ε(u) on cell c (geometry g) of a full-space P1 displacement.
 SymTensor cell_strain(const Mesh& mesh, const CellGeometry& g, const Vector& u_full, int c);
+/// The strain ε = sym ∇u of a P1 displacement on a simplex of dimension d with geometry g whose
+/// vertex a is node nodes[a] of `u` (d numbers a node): cell_strain's, for cells of another numbering
+/// (a bisection forest's parents).
+SymTensor simplex_strain(int d, const int* nodes, const CellGeometry& g, const double* u);
 
 /// P0 strains ε(u) of a full-space P1 displacement.
 void compute_strain(const Mesh& mesh, const std::vector<CellGeometry>& geo, const Vector& u_full,

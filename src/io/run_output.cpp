@@ -194,8 +194,8 @@ long long active_contact_nodes(const RunTotals& totals, const Vector& normal_for
 
 std::vector<int> tensor_components(const Elasticity& e) { return e.stress_components(); }
 
-std::string history_header(const Problem& p, const MeshPart& part) {
-  return fmt::format("{}\n", fmt::join(history_column_names(p, part), ","));
+std::string history_header(const Problem& p, const MeshPart& part, bool adaptive) {
+  return fmt::format("{}\n", fmt::join(history_column_names(p, part, adaptive), ","));
 }
 
 std::string history_row(const StepReport& r) {
@@ -247,9 +247,7 @@ void RunOutput::open_csv(bool append) {
 void RunOutput::start() {
   open_csv(false);
   if (root()) {
-    history_ << fmt::format("{}\n", fmt::join(history_column_names(stepper_->problem(), stepper_->part(),
-                                                                     adaptation_.log != nullptr),
-                                                ","));
+    history_ << history_header(stepper_->problem(), stepper_->part(), adaptation_.log != nullptr);
     history_.flush();
     probe_csv_ << probes_header(stepper_->problem().elasticity, probes_.size());
   }

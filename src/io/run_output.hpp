@@ -68,7 +68,7 @@ std::vector<int> tensor_components(const Elasticity& e);
 // The CSV formats.
 /// history.csv: the header line, and the row of one step (both end in a newline), from
 /// the table of its columns (io/history_columns.hpp).
-std::string history_header(const Problem& p, const MeshPart& part);
+std::string history_header(const Problem& p, const MeshPart& part, bool adaptive = false);
 std::string history_row(const StepReport& r);
 /// probes.csv: the header line for `n_probes` probes in d dimensions.
 std::string probes_header(const Elasticity& e, std::size_t n_probes);

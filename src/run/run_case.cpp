@@ -1,6 +1,7 @@
 #include "run/run_case.hpp"
 
 #include "core/error.hpp"
+#include "core/stopwatch.hpp"
 #include "io/checkpoint.hpp"
 #include "io/output_files.hpp"
 #include "run/progress.hpp"
@@ -14,10 +15,6 @@
 namespace vpc {
 
 namespace {
-
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
 
 /// Continues from the newest good checkpoint; returns its step.
 int resume(Run& e, const RunOptions& o) {

@@ -220,9 +220,7 @@ class StepperRun final : public Run {
       return adapt_->adapt(*stepper_, pass, carry.state, times, control, release_stepper());
     } catch (const Error& e) {
       if (stepper_) throw;  // failed before the old mesh was released: nothing to recover
-      adapt_.emplace(adaptive_coarse_, adapt_choice_, *case_.adapt, adaptive_make_);
-      adapt_->replay(history);
-      stepper_ = adapt_->make_stepper();
+      stepper_ = adaptivity_from(history);
       stepper_->restore({carry.state, carry.u_free, stepper_->contact_warm_state(), stepper_->damage_warm_state()});
       stepper_->set_step_history(std::move(times), control);
       if (output_) output_->remesh(*stepper_);
@@ -246,6 +244,14 @@ class StepperRun final : public Run {
     };
   }
 
+  /// The adaptivity made again from the coarse mesh by `history` (MeshAdaptivity::history; empty: none),
+  /// and the stepper of the mesh it leaves.
+  std::unique_ptr<TimeStepper> adaptivity_from(const std::string& history) {
+    adapt_.emplace(adaptive_coarse_, adapt_choice_, *case_.adapt, adaptive_make_);
+    if (!history.empty()) adapt_->replay(history);
+    return adapt_->make_stepper();
+  }
+
   /// An adaptive run's resume: for each checkpoint, newest first, its mesh made again from the coarse one by
   /// its refinement history (none: the coarse mesh), then the checkpoint of that step restored on it.
   std::optional<ResumePoint> resume_adapted(const std::filesystem::path& dir, std::vector<std::string>& skipped) {
@@ -260,9 +266,7 @@ class StepperRun final : public Run {
                                       file.filename().string()));
         continue;
       }
-      adapt_.emplace(adaptive_coarse_, adapt_choice_, *case_.adapt, adaptive_make_);
-      if (!history.empty()) adapt_->replay(history);
-      swap_stepper(adapt_->make_stepper());
+      swap_stepper(adaptivity_from(history));
       std::optional<ResumePoint> saved = resume_from_checkpoint(*stepper_, dir, &skipped, keys_);
       if (saved && saved->n == n) return saved;
     }

@@ -1,6 +1,7 @@
 #include "scheme/discrete_system.hpp"
 
 #include "core/error.hpp"
+#include "core/stopwatch.hpp"
 #include "fem/assembly.hpp"
 #include "la/memory_estimate.hpp"
 #include "problem/stability.hpp"
@@ -18,7 +19,6 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
 /// K's dofs come in blocks of d per node unless some node has only some components
 /// prescribed (a roller): then blocks of 1, and no rigid-body modes for multigrid. Collective.

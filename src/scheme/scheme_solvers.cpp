@@ -1,5 +1,6 @@
 #include "scheme/scheme_solvers.hpp"
 
+#include "core/stopwatch.hpp"
 #include "part/contact_matrix.hpp"
 #include "scheme/pair_slider.hpp"
 #include "solvers/contact_frame.hpp"
@@ -15,7 +16,6 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
 /// Damage solvers kept for the step sizes in use.
 constexpr std::size_t kDamageSolversKept = 4;

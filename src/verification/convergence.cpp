@@ -1,6 +1,7 @@
 #include "verification/convergence.hpp"
 
 #include "core/error.hpp"
+#include "core/stopwatch.hpp"
 #include "io/atomic_file.hpp"
 #include "io/checkpoint.hpp"
 #include "io/state_fields.hpp"
@@ -18,7 +19,6 @@ namespace vpc {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 void log_line(const std::function<void(const std::string&)>& log, const std::string& s) {

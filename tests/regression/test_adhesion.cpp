@@ -145,7 +145,9 @@ TEST(AdhesionExact, BeyondTheBondLengthThePullIsConstantAndTheBondDecaysInClosed
                  });
       EXPECT_LE(off, 1e-14);
       EXPECT_LE(off_force, 1e-12);
-      if (energy > 0) EXPECT_GT(alpha, energy / c);  // toward its rest ε/c, never below
+      if (energy > 0) {
+        EXPECT_GT(alpha, energy / c);  // toward its rest ε/c, never below
+      }
     }
   }
 }
@@ -640,7 +642,9 @@ TEST(AdhesionRuns, ErrorControlledStepsKeepTheBondingMonotone) {
   int rejected = 0;
   run_to_end(c, [&](const TimeStepper& s, const StepReport& r) {
     const Vector& alpha = s.state().surface_field("bonding")->values;
-    if (before.size()) EXPECT_LE((alpha - before).maxCoeff(), 0.0) << "step " << r.n;
+    if (before.size()) {
+      EXPECT_LE((alpha - before).maxCoeff(), 0.0) << "step " << r.n;
+    }
     before = alpha;
     rejected += r.rejected;
   });
