@@ -22,10 +22,10 @@ namespace vpc {
 
 void check_adaptable(const Problem& p, const AdaptSpec& spec) {
   const Mesh& m = p.mesh;
-  if (m.dim() != 2)
-    fail("{}: mesh adaptivity needs a 2D triangle mesh for now (newest-vertex bisection of triangles); this mesh "
-         "is {}D. Remove [adapt], or refine the mesh uniformly ([mesh] refine, --n)",
-         spec.where, m.dim());
+  if (m.dim() == 1)
+    fail("{}: mesh adaptivity bisects triangles and tetrahedra; this mesh is 1D. Remove [adapt], or refine the "
+         "mesh uniformly ([mesh] refine, --n)",
+         spec.where);
   if (p.block) fail("{}: mesh adaptivity runs on one process for now (not on blocks of a generated mesh)", spec.where);
 }
 
@@ -37,13 +37,14 @@ const Mesh& adaptable_mesh(const Problem& p, const AdaptSpec& spec) {
 }
 
 double longest_edge(const BisectionForest& f, int c) {
-  const auto& v = f.vertices(c);
+  const auto v = f.vertices(c);
   double h = 0;
-  for (int k = 0; k < 3; ++k) {
-    const Point& p = f.node(v[static_cast<std::size_t>(k)]);
-    const Point& q = f.node(v[static_cast<std::size_t>((k + 1) % 3)]);
-    h = std::max(h, std::hypot(p[0] - q[0], p[1] - q[1]));
-  }
+  for (std::size_t i = 0; i < v.size(); ++i)
+    for (std::size_t j = i + 1; j < v.size(); ++j) {
+      const Point& p = f.node(v[i]);
+      const Point& q = f.node(v[j]);
+      h = std::max(h, f.dim() == 2 ? std::hypot(p[0] - q[0], p[1] - q[1]) : std::hypot(p[0] - q[0], p[1] - q[1], p[2] - q[2]));
+    }
   return h;
 }
 

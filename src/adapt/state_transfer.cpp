@@ -52,8 +52,9 @@ int status_slot(int block) { return block > 1 ? 2 * block : -1; }
 }  // namespace
 
 SymTensor forest_cell_strain(const BisectionForest& forest, const std::vector<double>& u, int dim, int c) {
-  const auto& v = forest.vertices(c);
-  const Point x[3] = {forest.node(v[0]), forest.node(v[1]), forest.node(v[2])};
+  const auto v = forest.vertices(c);
+  Point x[4];
+  for (int k = 0; k <= dim; ++k) x[k] = forest.node(v[static_cast<std::size_t>(k)]);
   return simplex_strain(dim, v.data(), cell_geometry(dim, x), u.data());
 }
 

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <set>
 
 namespace vpc {
 
@@ -21,6 +22,13 @@ double orientation(const Point& p, const Point& q, const Point& r) {
   return (q[0] - p[0]) * (r[1] - p[1]) - (q[1] - p[1]) * (r[0] - p[0]);
 }
 
+/// Six times the signed volume of the tetrahedron (p, q, r, s).
+double signed_volume6(const Point& p, const Point& q, const Point& r, const Point& s) {
+  const double a[3] = {q[0] - p[0], q[1] - p[1], q[2] - p[2]}, b[3] = {r[0] - p[0], r[1] - p[1], r[2] - p[2]},
+               c[3] = {s[0] - p[0], s[1] - p[1], s[2] - p[2]};
+  return a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) + a[2] * (b[0] * c[1] - b[1] * c[0]);
+}
+
 }  // namespace
 
 std::uint64_t BisectionForest::key(int a, int b) {
@@ -29,11 +37,40 @@ std::uint64_t BisectionForest::key(int a, int b) {
 }
 
 BisectionForest::BisectionForest(const Mesh& coarse)
-    : coarse_(coarse), x_(coarse.nodes()), alive_(static_cast<std::size_t>(coarse.n_nodes()), 1) {
-  require(coarse.dim() == 2, "newest-vertex bisection: a triangle mesh is needed (d = 2), got d = {}", coarse.dim());
+    : coarse_(coarse), dim_(coarse.dim()), x_(coarse.nodes()), alive_(static_cast<std::size_t>(coarse.n_nodes()), 1) {
+  require(dim_ == 2 || dim_ == 3,
+          "newest-vertex bisection: a triangle or tetrahedron mesh is needed (d = 2 or 3), got d = {}", dim_);
   cells_.reserve(static_cast<std::size_t>(coarse.n_cells()));
+  std::unordered_map<std::uint64_t, int> boundary;  // 3D: a coarse boundary facet by its sorted vertices
+  auto face_key = [](std::array<int, 3> f) {
+    std::sort(f.begin(), f.end());
+    return static_cast<std::uint64_t>(f[0]) << 42 | static_cast<std::uint64_t>(f[1]) << 21 | static_cast<std::uint64_t>(f[2]);
+  };
+  if (dim_ == 3) {
+    require(coarse.n_nodes() < (1 << 21), "newest-vertex bisection: {} coarse nodes, at most 2^21 are supported", coarse.n_nodes());
+    for (int f = 0; f < coarse.n_facets(); ++f) {
+      const int* v = coarse.facet(f);
+      boundary.emplace(face_key({v[0], v[1], v[2]}), f);
+    }
+  }
   for (int c = 0; c < coarse.n_cells(); ++c) {
     const int* v = coarse.cell(c);
+    Cell cell;
+    cell.root = c;
+    if (dim_ == 3) {
+      // Maubach's order from the global node numbers (increasing), generation 0: see the header.
+      std::copy_n(v, 4, cell.v.begin());
+      std::sort(cell.v.begin(), cell.v.end());
+      for (int k = 0; k < 4; ++k) {
+        std::array<int, 3> f{};
+        for (int j = 0, n = 0; j < 4; ++j)
+          if (j != k) f[static_cast<std::size_t>(n++)] = cell.v[static_cast<std::size_t>(j)];
+        if (const auto it = boundary.find(face_key(f)); it != boundary.end()) cell.facet[static_cast<std::size_t>(k)] = it->second;
+      }
+      cells_.push_back(cell);
+      add_edges(c);
+      continue;
+    }
     // The refinement edge: the longest, ties by the least (smaller, larger) pair of node numbers.
     int best = 0;
     auto edge_rank = [&](int e) {
@@ -43,9 +80,7 @@ BisectionForest::BisectionForest(const Mesh& coarse)
     };
     for (int e = 1; e < 3; ++e)
       if (edge_rank(e) < edge_rank(best)) best = e;
-    Cell cell;
-    cell.v = {v[best], v[(best + 1) % 3], v[(best + 2) % 3]};
-    cell.root = c;
+    cell.v = {v[best], v[(best + 1) % 3], v[(best + 2) % 3], -1};
     const auto& p = cell.v;
     if (orientation(x_[static_cast<std::size_t>(p[0])], x_[static_cast<std::size_t>(p[1])],
                     x_[static_cast<std::size_t>(p[2])]) < 0)
@@ -55,35 +90,69 @@ BisectionForest::BisectionForest(const Mesh& coarse)
   }
 }
 
+std::array<int, 2> BisectionForest::refinement_edge(int c) const {
+  const auto& v = cells_[static_cast<std::size_t>(c)].v;
+  return dim_ == 2 ? std::array<int, 2>{v[0], v[1]} : std::array<int, 2>{v[0], v[3]};
+}
+
+namespace {
+
+/// The vertex pairs of a simplex's edges (the first 3 of a triangle's: (0,1), (1,2), (2,0)).
+constexpr int kEdge[6][2] = {{0, 1}, {1, 2}, {2, 0}, {0, 3}, {1, 3}, {2, 3}};
+
+}  // namespace
+
 void BisectionForest::add_edges(int c) {
   const auto& v = cells_[static_cast<std::size_t>(c)].v;
-  for (int e = 0; e < 3; ++e) {
-    auto [it, fresh] = edge_cells_.try_emplace(key(v[e], v[(e + 1) % 3]), std::array<int, 2>{-1, -1});
-    std::array<int, 2>& slots = it->second;
-    require(slots[0] < 0 || slots[1] < 0, "newest-vertex bisection: an edge of three cells (the mesh is not a manifold)");
-    (slots[0] < 0 ? slots[0] : slots[1]) = c;
+  for (int e = 0; e < (dim_ == 2 ? 3 : 6); ++e) {
+    std::vector<int>& around = edge_cells_[key(v[kEdge[e][0]], v[kEdge[e][1]])];
+    require(dim_ == 3 || around.size() < 2, "newest-vertex bisection: an edge of three cells (the mesh is not a manifold)");
+    around.push_back(c);
   }
 }
 
 void BisectionForest::remove_edges(int c) {
   const auto& v = cells_[static_cast<std::size_t>(c)].v;
-  for (int e = 0; e < 3; ++e) {
-    const auto it = edge_cells_.find(key(v[e], v[(e + 1) % 3]));
-    std::array<int, 2>& slots = it->second;
-    (slots[0] == c ? slots[0] : slots[1]) = -1;
-    if (slots[0] < 0 && slots[1] < 0) edge_cells_.erase(it);
+  for (int e = 0; e < (dim_ == 2 ? 3 : 6); ++e) {
+    const auto it = edge_cells_.find(key(v[kEdge[e][0]], v[kEdge[e][1]]));
+    std::vector<int>& around = it->second;
+    around.erase(std::find(around.begin(), around.end(), c));
+    if (around.empty()) edge_cells_.erase(it);
   }
 }
 
-int BisectionForest::neighbour(int c, int a, int b) const {
-  const auto it = edge_cells_.find(key(a, b));
-  if (it == edge_cells_.end()) return -1;
-  return it->second[0] == c ? it->second[1] : it->second[0];
+std::array<int, 4> BisectionForest::child_facets(const Cell& parent, const std::array<int, 4>& cv, int m) const {
+  // Face k of the child (opposite cv[k]): a face of the parent if it lacks m; with m, inside the parent's face
+  // through the refinement edge and its other vertices if it holds one end of that edge; else inside the parent.
+  const int a = parent.v[0], b = parent.v[3];
+  std::array<int, 4> out{-1, -1, -1, -1};
+  for (int k = 0; k < 4; ++k) {
+    std::array<int, 4> face{};  // the parent's vertices the face spans
+    int n = 0;
+    bool has_m = false, has_end = false;
+    for (int j = 0; j < 4; ++j) {
+      if (j == k) continue;
+      const int w = cv[static_cast<std::size_t>(j)];
+      if (w == m) {
+        has_m = true;
+        continue;
+      }
+      has_end = has_end || w == a || w == b;
+      face[static_cast<std::size_t>(n++)] = w;
+    }
+    if (has_m && !has_end) continue;  // the cut face, inside the parent
+    if (has_m) face[static_cast<std::size_t>(n++)] = std::count(face.begin(), face.begin() + n, a) ? b : a;
+    // the parent's face of those three vertices: the one opposite its fourth
+    for (int j = 0; j < 4; ++j)
+      if (std::find(face.begin(), face.begin() + 3, parent.v[static_cast<std::size_t>(j)]) == face.begin() + 3)
+        out[static_cast<std::size_t>(k)] = parent.facet[static_cast<std::size_t>(j)];
+  }
+  return out;
 }
 
 void BisectionForest::split(int c) {
   const Cell parent = cells_[static_cast<std::size_t>(c)];
-  const int a = parent.v[0], b = parent.v[1], p = parent.v[2];
+  const auto [a, b] = refinement_edge(c);
   const auto [it, fresh] = midpoint_.try_emplace(key(a, b), n_nodes());
   if (fresh) {
     const Point& xa = x_[static_cast<std::size_t>(a)];
@@ -95,9 +164,17 @@ void BisectionForest::split(int c) {
   const int m = it->second;
   remove_edges(c);
   cells_[static_cast<std::size_t>(c)].is_leaf = false;
+  const auto& v = parent.v;
   for (int k = 0; k < 2; ++k) {
     Cell child;
-    child.v = k == 0 ? std::array<int, 3>{p, a, m} : std::array<int, 3>{b, p, m};
+    if (dim_ == 2) {
+      child.v = k == 0 ? std::array<int, 4>{v[2], a, m, -1} : std::array<int, 4>{b, v[2], m, -1};
+    } else {  // Maubach (see the header): the generation's type decides the second child's order
+      child.v = k == 0 ? std::array<int, 4>{v[0], m, v[1], v[2]}
+                       : (parent.level % 3 == 0 ? std::array<int, 4>{v[3], m, v[2], v[1]}
+                                                : std::array<int, 4>{v[3], m, v[1], v[2]});
+      child.facet = child_facets(parent, child.v, m);
+    }
     child.parent = c;
     child.root = parent.root;
     child.level = parent.level + 1;
@@ -107,20 +184,32 @@ void BisectionForest::split(int c) {
   }
 }
 
-void BisectionForest::bisect(int c, int& bisected) {
-  const int a = vertices(c)[0], b = vertices(c)[1];
+void BisectionForest::bisect(int c, int& bisected, int depth) {
+  // A closure this deep means a labelling the closure does not terminate for (none that the constructor
+  // makes, see the header): an error rather than a hang.
+  require(depth < 1000, "newest-vertex bisection: the closure of cell {} did not terminate (the labelling is not compatible)", c);
+  const auto edge = refinement_edge(c);
+  const std::uint64_t e = key(edge[0], edge[1]);
   for (;;) {
-    const int across = neighbour(c, a, b);
-    if (across < 0) break;  // a boundary edge: c alone
-    const auto& w = vertices(across);
-    if (key(w[0], w[1]) == key(a, b)) {  // the neighbour's refinement edge too: both at one midpoint
-      split(across);
-      ++bisected;
-      break;
+    // a leaf around the edge whose own refinement edge is another: bisect it first; its child at the edge then
+    // has it as its own (or, in 3D, after further bisections)
+    int other = -1;
+    for (int k : edge_cells_.at(e)) {
+      const auto r = refinement_edge(k);
+      if (k != c && key(r[0], r[1]) != e) {
+        other = k;
+        break;
+      }
     }
-    // Its refinement edge is another: bisect it first, and its child across (a, b) then has (a, b) as its own.
-    bisect(across, bisected);
+    if (other < 0) break;
+    bisect(other, bisected, depth + 1);
   }
+  const std::vector<int> around = edge_cells_.at(e);  // every leaf at the edge, bisected at one midpoint
+  for (int k : around)
+    if (k != c) {
+      split(k);
+      ++bisected;
+    }
   split(c);
   ++bisected;
 }
@@ -130,7 +219,7 @@ int BisectionForest::refine(const std::vector<int>& leaves) {
   for (int c : leaves) {
     require(c >= 0 && c < n_cells(), "newest-vertex bisection: no cell {} (of {})", c, n_cells());
     // (an earlier closure may have bisected it already: then it is refined, as asked)
-    if (leaf(c)) bisect(c, bisected);
+    if (leaf(c)) bisect(c, bisected, 0);
   }
   return bisected;
 }
@@ -149,7 +238,7 @@ std::vector<BisectionForest::Patch> BisectionForest::coarsenable(const std::vect
   std::unordered_map<int, std::vector<int>> by_peak;  // a made node → the marked leaves it is the peak of
   for (int c : leaves) {
     require(c >= 0 && c < n_cells() && leaf(c), "newest-vertex bisection: cell {} is not a leaf to coarsen", c);
-    if (const int m = vertices(c)[2]; m >= coarse_.n_nodes() && parent(c) >= 0) by_peak[m].push_back(c);
+    if (const int m = newest_vertex(c); m >= coarse_.n_nodes() && parent(c) >= 0) by_peak[m].push_back(c);
   }
   std::vector<int> around(x_.size(), 0);  // leaves at each node
   for (int c : this->leaves())
@@ -167,8 +256,9 @@ std::vector<BisectionForest::Patch> BisectionForest::coarsenable(const std::vect
     for (int c : cells) {
       const int p = parent(c);
       const Cell& P = cells_[static_cast<std::size_t>(p)];
+      const auto r = refinement_edge(p);
       // m is made at P's refinement edge, and both of P's children are marked leaves around m
-      whole = whole && key(P.v[0], P.v[1]) == edge && leaf(P.child[0]) && leaf(P.child[1]) &&
+      whole = whole && key(r[0], r[1]) == edge && leaf(P.child[0]) && leaf(P.child[1]) &&
               std::count(cells.begin(), cells.end(), P.child[0]) == 1 && std::count(cells.begin(), cells.end(), P.child[1]) == 1;
       if (std::find(parents.begin(), parents.end(), p) == parents.end()) parents.push_back(p);
     }
@@ -204,9 +294,13 @@ std::vector<int> BisectionForest::mesh_numbers() const {
 }
 
 double BisectionForest::area(int c) const {
-  const auto& v = vertices(c);
-  return 0.5 * std::abs(orientation(x_[static_cast<std::size_t>(v[0])], x_[static_cast<std::size_t>(v[1])],
-                                    x_[static_cast<std::size_t>(v[2])]));
+  const auto v = vertices(c);
+  if (dim_ == 2)
+    return 0.5 * std::abs(orientation(x_[static_cast<std::size_t>(v[0])], x_[static_cast<std::size_t>(v[1])],
+                                      x_[static_cast<std::size_t>(v[2])]));
+  Point x[4];
+  for (int k = 0; k <= dim_; ++k) x[k] = x_[static_cast<std::size_t>(v[static_cast<std::size_t>(k)])];
+  return simplex_measure(dim_, x);
 }
 
 std::vector<int> BisectionForest::leaves() const {
@@ -229,7 +323,7 @@ std::vector<int> BisectionForest::leaves() const {
 }
 
 Mesh BisectionForest::leaf_mesh() const {
-  Mesh mesh(2);
+  Mesh mesh(dim_);
   for (const std::string& part : coarse_.part_names()) mesh.part_id(part);  // numbered as the coarse mesh's
   for (const std::string& region : coarse_.region_names()) mesh.region_id(region);
   const std::vector<int> number = mesh_numbers();
@@ -237,15 +331,24 @@ Mesh BisectionForest::leaf_mesh() const {
     if (alive_[i]) mesh.add_node(x_[i]);
   const std::vector<int> cells = leaves();
   for (int c : cells) {
-    const auto& v = vertices(c);
-    const int w[3] = {number[static_cast<std::size_t>(v[0])], number[static_cast<std::size_t>(v[1])],
-                      number[static_cast<std::size_t>(v[2])]};
+    const auto v = vertices(c);
+    int w[4];
+    for (int k = 0; k <= dim_; ++k) w[k] = number[static_cast<std::size_t>(v[static_cast<std::size_t>(k)])];
+    if (dim_ == 3) {  // positively oriented, as the generators' (Maubach's order is not)
+      const Point &p = x_[static_cast<std::size_t>(v[0])], &q = x_[static_cast<std::size_t>(v[1])],
+                  &r = x_[static_cast<std::size_t>(v[2])], &s = x_[static_cast<std::size_t>(v[3])];
+      if (signed_volume6(p, q, r, s) < 0) std::swap(w[1], w[2]);
+    }
     mesh.add_cell(w);
   }
   for (std::size_t k = 0; k < cells.size(); ++k) {
     if (const int r = coarse_.cell_region(root(cells[k])); r >= 0)
       mesh.set_cell_region(static_cast<int>(k), coarse_.region_names()[static_cast<std::size_t>(r)]);
     if (coarse_.n_bodies() > 1) mesh.set_cell_body(static_cast<int>(k), coarse_.cell_body(root(cells[k])));
+  }
+  if (dim_ == 3) {
+    add_facets_3d(mesh, cells, number);
+    return mesh;
   }
   // Each coarse boundary facet as its halves, recursively, in its part.
   const std::function<void(int, int, const std::string&)> facet = [&](int a, int b, const std::string& part) {
@@ -263,6 +366,31 @@ Mesh BisectionForest::leaf_mesh() const {
           part < 0 ? std::string() : coarse_.part_names()[static_cast<std::size_t>(part)]);
   }
   return mesh;
+}
+
+void BisectionForest::add_facets_3d(Mesh& mesh, const std::vector<int>& cells, const std::vector<int>& number) const {
+  // The leaves' faces in a coarse boundary facet, coarse facet after coarse facet (each in leaf order), in
+  // its part; a facet between two cells (an interface a mesh may tag) once.
+  std::vector<std::pair<int, std::array<int, 3>>> faces;
+  for (int c : cells) {
+    const Cell& cell = cells_[static_cast<std::size_t>(c)];
+    for (int k = 0; k < 4; ++k) {
+      if (cell.facet[static_cast<std::size_t>(k)] < 0) continue;
+      std::array<int, 3> f{};
+      for (int j = 0, n = 0; j < 4; ++j)
+        if (j != k) f[static_cast<std::size_t>(n++)] = number[static_cast<std::size_t>(cell.v[static_cast<std::size_t>(j)])];
+      faces.emplace_back(cell.facet[static_cast<std::size_t>(k)], f);
+    }
+  }
+  std::stable_sort(faces.begin(), faces.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  std::set<std::array<int, 3>> seen;
+  for (const auto& [f, v] : faces) {
+    std::array<int, 3> sorted = v;
+    std::sort(sorted.begin(), sorted.end());
+    if (!seen.insert(sorted).second) continue;
+    const int part = coarse_.facet_part(f);
+    mesh.add_facet(v.data(), part < 0 ? std::string() : coarse_.part_names()[static_cast<std::size_t>(part)]);
+  }
 }
 
 std::array<int, 2> BisectionForest::made_at(int i) const {
@@ -317,10 +445,37 @@ std::vector<double> BisectionForest::inherit(const std::vector<int>& before, con
   return out;
 }
 
+double BisectionForest::dihedral_angle(int c, int i, int j) const {
+  // the angle between the two faces at edge (i, j): that of the other two vertices seen along the edge
+  const auto v = vertices(c);
+  int o[2], n = 0;
+  for (int k = 0; k < 4; ++k)
+    if (k != i && k != j) o[n++] = k;
+  const Point& p = x_[static_cast<std::size_t>(v[static_cast<std::size_t>(i)])];
+  const Point& q = x_[static_cast<std::size_t>(v[static_cast<std::size_t>(j)])];
+  double e[3], a[3], b[3];
+  for (int r = 0; r < 3; ++r) e[r] = q[r] - p[r];
+  const double ee = e[0] * e[0] + e[1] * e[1] + e[2] * e[2];
+  for (int side = 0; side < 2; ++side) {
+    const Point& x = x_[static_cast<std::size_t>(v[static_cast<std::size_t>(o[side])])];
+    double* w = side == 0 ? a : b;
+    for (int r = 0; r < 3; ++r) w[r] = x[r] - p[r];
+    const double t = (w[0] * e[0] + w[1] * e[1] + w[2] * e[2]) / ee;
+    for (int r = 0; r < 3; ++r) w[r] -= t * e[r];
+  }
+  const double cr[3] = {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+  return std::atan2(std::sqrt(cr[0] * cr[0] + cr[1] * cr[1] + cr[2] * cr[2]), a[0] * b[0] + a[1] * b[1] + a[2] * b[2]);
+}
+
 double BisectionForest::min_angle() const {
   double least = M_PI;
+  if (dim_ == 3) {
+    for (int c : leaves())
+      for (const auto& ends : kEdge) least = std::min(least, dihedral_angle(c, ends[0], ends[1]));
+    return least;
+  }
   for (int c : leaves()) {
-    const auto& v = vertices(c);
+    const auto v = vertices(c);
     for (int k = 0; k < 3; ++k) {
       const Point& p = x_[static_cast<std::size_t>(v[k])];
       const Point& q = x_[static_cast<std::size_t>(v[(k + 1) % 3])];

@@ -256,7 +256,7 @@ TEST(Bisection, ANodeIsRemovedOnlyWithItsWholePatch) {
 }
 
 TEST(Bisection, RefusesWhatItCannotBisect) {
-  EXPECT_THROW(BisectionForest(make_box({0, 0, 0}, {1, 1, 1}, 1, 1, 1)), Error);
+  EXPECT_THROW(BisectionForest(make_interval(0, 1, 4)), Error);  // (tetrahedra: test_bisection_3d.cpp)
   BisectionForest forest(make_rectangle({0, 0, 0}, {1, 1, 0}, 1, 1));
   EXPECT_THROW(forest.refine({7}), Error);
   forest.refine({0});
