@@ -50,7 +50,8 @@ void add_share(const std::vector<double>& part, double weight, std::vector<doubl
 }  // namespace
 
 CellIndicators cell_indicators(const Mesh& mesh, const std::vector<SymTensor>& sigma, const Eigen::VectorXd& beta,
-                               const std::vector<double>& pressure, const AdaptSpec& spec) {
+                               const std::vector<double>& pressure, const AdaptSpec& spec,
+                               const std::vector<double>& approach) {
   const int d = mesh.dim(), nc = mesh.n_cells(), npc = mesh.nodes_per_cell();
   const std::vector<CellGeometry> geo = compute_geometry(mesh);
   CellIndicators out;
@@ -106,6 +107,10 @@ CellIndicators cell_indicators(const Mesh& mesh, const std::vector<SymTensor>& s
   out.stress_relative = sigma2 > 0 ? std::sqrt(std::accumulate(out.stress.begin(), out.stress.end(), 0.0) / sigma2) : 0;
 
   // Γ3: the nodal pressures of the contact rows, over the boundary facets whose nodes are all rows.
+  double p_ref = 0;
+  for (double p : pressure)
+    if (p > p_ref) p_ref = p;
+  if (p_ref == 0) p_ref = 1;  // (before any contact: the forecast alone, normalized below)
   for (int f = 0; f < mesh.n_facets(); ++f) {
     const int* v = mesh.facet(f);
     double lo = INFINITY, hi = -INFINITY, mean = 0;
@@ -117,7 +122,18 @@ CellIndicators cell_indicators(const Mesh& mesh, const std::vector<SymTensor>& s
       hi = std::max(hi, p);
       mean += p / d;
     }
-    if (!all || hi - lo <= 1e-10 * std::max(std::abs(hi), std::abs(lo))) continue;  // (round-off)
+    if (!all) continue;
+    if (!approach.empty()) {
+      // about to touch: a node off contact within h_F of its obstacle at the next step
+      const double measure = mesh.facet_measure(f), h = facet_size(measure, d);
+      bool near = false;
+      for (int a = 0; a < d; ++a) {
+        const double m = approach[static_cast<std::size_t>(v[a])];
+        near = near || (!(pressure[static_cast<std::size_t>(v[a])] > 0) && m < h);
+      }
+      if (near) out.contact[static_cast<std::size_t>(mesh.facet_cell(f))] += h * measure * p_ref * p_ref;
+    }
+    if (hi - lo <= 1e-10 * std::max(std::abs(hi), std::abs(lo))) continue;  // (round-off)
     // The variance of the facet's nodal pressures, times |F|: on a segment 3 ‖p − p̄_F‖²_F of the P1
     // trace (the scale drops out in the normalization).
     double var = 0;

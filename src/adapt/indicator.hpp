@@ -6,7 +6,11 @@
 //            is left out with the body force, which no shipped case makes dominant);
 //   contact  η²_c,K = Σ_{F ⊂ ∂K ∩ Γ3} h_F ‖p − p̄_F‖²_F with p = λ_i/|Γ3|_i the nodal pressure: the
 //            pressure's variation over the facet, largest at the edge of the contact zone, where p
-//            drops to 0 (the "boundary of the contact zone" and "the pressure's variation");
+//            drops to 0 (the "boundary of the contact zone" and "the pressure's variation"); and the
+//            surfaces about to touch: a Γ3 facet with a node not in contact (p = 0) whose margin to the
+//            obstacle at the next step, g(t_{n+1}) − u_ν, is below h_F adds h_F |F| p_ref² (p_ref: the
+//            largest pressure, 1 before any contact), as a facet whose pressure jumps by p_ref would;
+//            so a coarse mesh sees an indenter coming before its nodes reach it;
 //   damage   η²_β,K = Σ_{F ⊂ ∂K interior} ½ h_F ‖[∇β · n]‖²_F   (the jumps of ∇β).
 // Each part is normalized to Σ_K η² = 1 (a part that is zero everywhere stays 0) and the parts are
 // added with the AdaptSpec weights: the marking (adapt/marking.hpp) is scale-free and needs no units.
@@ -30,9 +34,11 @@ struct CellIndicators {
 
 /// The indicators of σ (per cell), β and the nodal contact pressure p_i = λ_i/|Γ3|_i (per node; NaN off
 /// the contact rows) on `mesh`, summed in its numbering: the adaptivity passes the leaf mesh, so that the
-/// marking does not depend on an engine's numbering of its part.
+/// marking does not depend on an engine's numbering of its part. `approach` (per node, NaN where not
+/// forecast; empty: none): the margin g(t_{n+1}) − u_ν of a contact row to its obstacle at the next step.
 CellIndicators cell_indicators(const Mesh& mesh, const std::vector<SymTensor>& sigma, const Eigen::VectorXd& beta,
-                               const std::vector<double>& pressure, const AdaptSpec& spec);
+                               const std::vector<double>& pressure, const AdaptSpec& spec,
+                               const std::vector<double>& approach = {});
 
 
 }  // namespace vpc

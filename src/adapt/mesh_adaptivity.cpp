@@ -8,6 +8,7 @@
 #include "fem/cell_geometry.hpp"
 #include "core/error.hpp"
 #include "core/process_memory.hpp"
+#include "contact/contact_spec.hpp"
 
 #include <fmt/format.h>
 
@@ -60,8 +61,34 @@ SymTensor tensor_at(const std::vector<double>& v, std::size_t k) {
   return t;
 }
 
-/// The indicators of a gathered state on the forest's leaf mesh (adapt/indicator.hpp).
-CellIndicators forest_indicators(const BisectionForest& forest, const ForestState& fs, const AdaptSpec& spec) {
+/// The margin g(t_{n+1}) − u_ν of each obstacle row to its obstacle at the next step, t_{n+1} = t_n + the last
+/// step's size, per leaf-mesh node (NaN elsewhere, and everywhere when the run has no next step, or a
+/// redo pass solves the same step again): adapt/indicator.hpp's surfaces about to touch. A pair's rows
+/// (whose gap is the reference configuration's) are not forecast.
+std::vector<double> next_step_margins(const TimeStepper& s, bool forecast) {
+  std::vector<double> out(static_cast<std::size_t>(s.part().original_node.size()), NAN);
+  const Problem& p = s.problem();
+  if (!forecast || s.done() || (p.contact.obstacles.empty() && !p.contact.gap_moves)) return out;
+  const std::vector<double>& times = s.times();
+  const double t = s.state().t;
+  const double k = times.size() >= 2 ? t - times[times.size() - 2] : p.final_time / std::max(1, p.n_steps);
+  const int d = s.mesh().dim();
+  const ContactSet& set = s.contact();
+  for (const PartContactNode& node : set.nodes) {
+    if (!node.owned || node.pair >= 0) continue;
+    const Point& x = s.mesh().node(node.local_node);
+    double u_nu = 0;
+    for (int j = 0; j < d; ++j) u_nu += node.direction[j] * s.state().u[node.local_node * d + j];
+    out[static_cast<std::size_t>(s.part().original_node[static_cast<std::size_t>(node.local_node)])] =
+        contact_gap_at(p.contact, x, node.direction, t + k, set.miss_gap, node.obstacles) - u_nu;
+  }
+  return out;
+}
+
+/// The indicators of a gathered state on the forest's leaf mesh (adapt/indicator.hpp); `approach`: per
+/// leaf-mesh node (next_step_margins).
+CellIndicators forest_indicators(const BisectionForest& forest, const ForestState& fs, const AdaptSpec& spec,
+                                 const std::vector<double>& approach) {
   const Mesh mesh = forest.leaf_mesh();
   const std::vector<int> number = forest.mesh_numbers();
   Vector beta(mesh.n_nodes());
@@ -74,7 +101,7 @@ CellIndicators forest_indicators(const BisectionForest& forest, const ForestStat
   }
   std::vector<SymTensor> sigma(fs.leaves.size());
   for (std::size_t k = 0; k < sigma.size(); ++k) sigma[k] = tensor_at(fs.sigma, k);
-  return cell_indicators(mesh, sigma, beta, pressure, spec);
+  return cell_indicators(mesh, sigma, beta, pressure, spec, approach);
 }
 
 /// What removing one node changes (squared L2 norms), per AdaptationRecord's measures.
@@ -109,7 +136,7 @@ std::vector<int> MeshAdaptivity::levels(const TimeStepper& s) const {
 }
 
 std::vector<double> MeshAdaptivity::indicator(const TimeStepper& s) const {
-  const CellIndicators ind = forest_indicators(forest_, gather_state(forest_, s, s.state()), spec_);
+  const CellIndicators ind = forest_indicators(forest_, gather_state(forest_, s, s.state()), spec_, next_step_margins(s, true));
   std::vector<double> out;
   for (int c : s.part().original_cell) out.push_back(ind.combined[static_cast<std::size_t>(c)]);
   return out;
@@ -124,7 +151,7 @@ std::unique_ptr<TimeStepper> MeshAdaptivity::adapt(const TimeStepper& s, int pas
   // into the forest's numbering: the same marks whatever the engine's numbering of its part.
   ForestState solution = gather_state(forest_, s, s.state());
   const std::vector<int> leaves = forest_.leaves();
-  const CellIndicators ind = forest_indicators(forest_, solution, spec_);
+  const CellIndicators ind = forest_indicators(forest_, solution, spec_, next_step_margins(s, pass == 0));
   if (spec_.tolerance > 0 && ind.stress_relative <= spec_.tolerance) return nullptr;
   AdaptationRecord rec;
   rec.step = s.state().n;

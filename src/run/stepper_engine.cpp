@@ -156,13 +156,14 @@ class StepperRun final : public Run {
     solvers.contact = stepper_->contact_solver();  // "auto" resolved
     describe_data(stepper_->problem(), solvers, stepper_->setup_seconds());
     if (adapt_) {
-      // What the adaptivity may make: newest-vertex bisection halves the longest edge every second level.
+      // What the adaptivity may make: newest-vertex bisection halves the longest edge every d-th level.
       const AdaptSpec& a = adapt_->spec();
       fmt::print("  [adapt]: every {} step{}{}, Dörfler θ = {}, coarsening within {} of z, σ, β; cells down to h ≈ "
                  "{:.3g} (max_level {}), at most {} unknowns (d × nodes); each new mesh's memory is checked as a "
                  "run's set-up is\n",
                  a.every, a.every > 1 ? "s" : "", a.resolve > 0 ? fmt::format(" (each redone up to {} times)", a.resolve) : "",
-                 a.refine_fraction, a.coarsen_tolerance, std::max(h_min / std::pow(2.0, a.max_level / 2), a.min_size),
+                 a.refine_fraction, a.coarsen_tolerance,
+                 std::max(h_min / std::pow(2.0, a.max_level / part.dofs.dim()), a.min_size),
                  a.max_level, a.max_unknowns);
     }
   }

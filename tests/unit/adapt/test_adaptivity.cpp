@@ -10,6 +10,7 @@
 #include "cases/builtin_cases.hpp"
 #include "fem/assembly.hpp"
 #include "fem/cell_geometry.hpp"
+#include "mesh/generators.hpp"
 #include "run/run_case.hpp"
 
 #include <gtest/gtest.h>
@@ -49,8 +50,17 @@ SymTensor integral(const Mesh& mesh, const std::vector<SymTensor>& t) {
   return sum;
 }
 
-TEST(Adapt, RefinementCarriesTheStateExactly) {
-  const auto s = paper_after(5);
+/// ironing-3d (the paper's damaging material, Coulomb friction) on a 12 × 6 × 3 box after `steps` steps (of
+/// 50): pressed in and dragged, with stress, z, damage, contact forces and slip.
+std::unique_ptr<TimeStepper> ironing_3d_after(int steps) {
+  const Case c = load_case("ironing-3d", {.sets = {"mesh.cells=[12, 6, 3]"}, .steps = 50});
+  auto s = std::make_unique<TimeStepper>(c.problem, c.solvers);
+  for (int n = 0; n < steps; ++n) EXPECT_TRUE(s->step().ok);
+  return s;
+}
+
+/// What one refinement (and four more, until Γ3's facets are bisected) of `s` carries: exactly (2D and 3D).
+void expect_refinement_carries_the_state_exactly(const std::unique_ptr<TimeStepper>& s) {
   AdaptSpec spec;
   spec.coarsen_fraction = 0;
   spec.where = "test: [adapt]";
@@ -87,7 +97,8 @@ TEST(Adapt, RefinementCarriesTheStateExactly) {
   EXPECT_NEAR(now.lambda.sum(), old.lambda.sum(), 1e-13 * old.lambda.sum());
   ASSERT_EQ(a.log().size(), 1u);
   EXPECT_EQ(a.log()[0].cells_after, next->mesh().n_cells());
-  EXPECT_NEAR(a.log()[0].min_angle_degrees, 45, 1e-9);  // the generator's right triangles, bisected
+  // the generator's right triangles, bisected (2D), and its cubes' six tetrahedra (3D: dihedral angles)
+  EXPECT_NEAR(a.log()[0].min_angle_degrees, 45, 1e-9);
   // Again, until Γ3's facets are bisected (a boundary facet is a refinement edge every other level): the
   // new contact nodes take the pressure of their facet, the total force kept.
   std::unique_ptr<TimeStepper> last = std::move(next);
@@ -102,9 +113,18 @@ TEST(Adapt, RefinementCarriesTheStateExactly) {
   EXPECT_TRUE(last->step().ok);
 }
 
-TEST(Adapt, CoarseningUndoesARefinementAndGivesTheStateBack) {
-  const auto s = paper_after(5);
+TEST(Adapt, RefinementCarriesTheStateExactly) { expect_refinement_carries_the_state_exactly(paper_after(5)); }
+
+TEST(Adapt, RefinementCarriesTheStateExactlyIn3D) {
+  const auto s = ironing_3d_after(14);
+  ASSERT_GT(s->state().lambda.sum(), 0);
+  expect_refinement_carries_the_state_exactly(s);
+}
+
+/// A refinement of `s` (every cell twice) undone by coarsening gives its state back (2D and 3D).
+void expect_coarsening_gives_the_state_back(const std::unique_ptr<TimeStepper>& s) {
   const Problem& p = s->problem();
+  const auto d = static_cast<std::size_t>(p.mesh.dim());
   BisectionForest forest(p.mesh);
   const ForestState before = gather_state(forest, *s, s->state());
   ForestState fs = before;
@@ -123,8 +143,7 @@ TEST(Adapt, CoarseningUndoesARefinementAndGivesTheStateBack) {
   const std::size_t nodes = before.beta.size();
   for (std::size_t i = 0; i < nodes; ++i) {
     EXPECT_EQ(fs.beta[i], before.beta[i]);
-    EXPECT_EQ(fs.u[2 * i], before.u[2 * i]);
-    EXPECT_EQ(fs.u[2 * i + 1], before.u[2 * i + 1]);
+    for (std::size_t j = 0; j < d; ++j) EXPECT_EQ(fs.u[d * i + j], before.u[d * i + j]);
   }
   auto expect_near = [](const std::vector<double>& x, const std::vector<double>& y, const char* what) {
     ASSERT_EQ(x.size(), y.size()) << what;
@@ -142,6 +161,12 @@ TEST(Adapt, CoarseningUndoesARefinementAndGivesTheStateBack) {
     }
 }
 
+TEST(Adapt, CoarseningUndoesARefinementAndGivesTheStateBack) { expect_coarsening_gives_the_state_back(paper_after(5)); }
+
+TEST(Adapt, CoarseningUndoesARefinementAndGivesTheStateBackIn3D) {
+  expect_coarsening_gives_the_state_back(ironing_3d_after(14));
+}
+
 TEST(Adapt, BulkMarkingTakesTheFewestLargestCells) {
   EXPECT_EQ(bulk_marking({1, 4, 2, 3}, 0.5), (std::vector<int>{1, 3}));  // 4 + 3 ≥ 5
   EXPECT_EQ(bulk_marking({1, 4, 2, 3}, 1.0), (std::vector<int>{1, 3, 2, 0}));
@@ -155,6 +180,36 @@ TEST(Adapt, BulkMarkingTakesTheFewestLargestCells) {
   EXPECT_TRUE(bulk_marking({0, 0, 0}, 0.5).empty());
   EXPECT_EQ(smallest_share({1, 4, 2, 3}, 0.3), (std::vector<int>{0, 2}));  // 1 + 2 ≤ 3
   EXPECT_TRUE(smallest_share({1, 4, 2, 3}, 0.05).empty());
+}
+
+TEST(Adapt, TheIndicatorSeesSurfacesAboutToTouch) {
+  // Γ3 with no pressure yet: the contact part is zero, unless the forecast puts a node within h_F of its
+  // obstacle at the next step; then the cells of that node's Γ3 facets, and only they.
+  const Mesh mesh = make_rectangle({0, 0, 0}, {2, 1, 0}, 10, 5);
+  std::vector<double> pressure(static_cast<std::size_t>(mesh.n_nodes()), NAN), approach = pressure;
+  for (int i : mesh.nodes_of_parts({"bottom"})) pressure[static_cast<std::size_t>(i)] = 0;
+  const std::vector<SymTensor> sigma(static_cast<std::size_t>(mesh.n_cells()));
+  const Eigen::VectorXd beta = Eigen::VectorXd::Ones(mesh.n_nodes());
+  AdaptSpec spec;
+  CellIndicators ind = cell_indicators(mesh, sigma, beta, pressure, spec);
+  for (double v : ind.contact) EXPECT_EQ(v, 0);
+  for (int i : mesh.nodes_of_parts({"bottom"})) {
+    const double x = mesh.node(i)[0];
+    approach[static_cast<std::size_t>(i)] = x == 1.0 ? 0.01 : 0.5;  // the node at x = 1 only (h_F = 0.2)
+  }
+  ind = cell_indicators(mesh, sigma, beta, pressure, spec, approach);
+  int flagged = 0;
+  for (int f : mesh.facets_of_parts({"bottom"})) {
+    const double x = mesh.facet_centroid(f)[0];
+    const double eta = ind.contact[static_cast<std::size_t>(mesh.facet_cell(f))];
+    if (std::abs(x - 1) < 0.15) {
+      EXPECT_NEAR(eta, 0.2 * 0.2, 1e-15);  // h_F |F| p_ref², p_ref = 1 before any contact
+      ++flagged;
+    } else {
+      EXPECT_EQ(eta, 0);
+    }
+  }
+  EXPECT_EQ(flagged, 2);
 }
 
 TEST(Adapt, TheIndicatorVanishesWhereP1AndP0AreExact) {
