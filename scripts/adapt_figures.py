@@ -5,7 +5,8 @@
 
 meshes.png: the mesh of each VTU file of the run (solution.pvd's order) coloured by the cell field
 `level` (bisections below the coarse cell), in the window given (default: the whole mesh); the
-files' steps and cell counts in the titles.
+files' steps and cell counts in the titles. A 3D run's meshes are drawn by their top surface (the
+faces on the largest z, seen from above, coloured by their cell's level), the window in x and y.
 """
 import os
 import re
@@ -15,6 +16,24 @@ import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import vpcontact_plot as vp  # noqa: E402  (the figures script's VTU reader)
+
+
+def faces_seen(v):
+    """The polygons to draw (xy) and their levels: a 2D mesh's cells, a 3D mesh's faces on its top z."""
+    cells = np.asarray(v.cells)
+    level = np.asarray(v.cell_data["level"])
+    if cells.shape[1] == 3:
+        return v.points[cells][:, :, :2], level
+    z = v.points[:, 2]
+    top = z.max()
+    on_top = np.abs(z - top) <= 1e-9 * max(1.0, abs(top))
+    polys, levels = [], []
+    for cell, lev in zip(cells, level):
+        face = [i for i in cell if on_top[i]]
+        if len(face) == 3:
+            polys.append(v.points[face][:, :2])
+            levels.append(lev)
+    return np.array(polys), np.array(levels)
 
 
 def main(argv):
@@ -41,8 +60,8 @@ def main(argv):
     for v in vtus:
         top = max(top, int(np.max(v.cell_data["level"])))
     for ax, (t, file), v in zip(axes.flat, entries, vtus):
-        polys = v.points[v.cells][:, :, :2]
-        pc = PolyCollection(polys, array=v.cell_data["level"], cmap="viridis", edgecolors="k", linewidths=0.15)
+        polys, level = faces_seen(v)
+        pc = PolyCollection(polys, array=level, cmap="viridis", edgecolors="k", linewidths=0.15)
         pc.set_clim(0, max(top, 1))
         ax.add_collection(pc)
         if window:

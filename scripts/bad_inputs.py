@@ -360,7 +360,7 @@ INPUTS = [
     ("a tangential bond in 1D", {}, ["adhesion-bar-1d", "--set", "contact.bond_shear_stiffness=10"]),
     ("a body held by its bond alone pulled off", {}, ["run", "pull-off-1d", "-q", "--no-vtu", "-o", "out", "--set", "time.T=1", "--set", "time.steps=20"]),
     # Issue 51's [adapt]: what cannot be adapted yet is refused at the section, and its keys' ranges.
-    ("[adapt] on a 3D mesh", {}, ["block-3d", "--set", "adapt.every=1"]),
+    ("a negative [adapt] coarsening tolerance", {}, ["hertz-3d-adapt", "--set", "adapt.coarsen_tolerance=-1"]),
     ("[adapt] on a 1D mesh", {}, ["paper-1d", "--set", "adapt.every=1"]),
     ("a negative [adapt] max_level", {}, ["hertz-2d-adapt", "--set", "adapt.max_level=-1"]),
     ("a refine fraction of 0", {}, ["hertz-2d-adapt", "--set", "adapt.refine_fraction=0"]),

@@ -174,7 +174,8 @@ class StepperRun final : public Run {
   /// else once, carrying the step's state to the next step).
   StepReport adaptive_step() {
     const int n = stepper_->state().n + 1;
-    const bool due = !adapt_stopped_ && adapt_->due(n), redo = due && adapt_->spec().resolve > 0;
+    bool due = !adapt_stopped_ && adapt_->due(n);
+    const bool redo = due && adapt_->spec().resolve > 0;
     std::optional<Snapshot> before;
     std::vector<double> times_before;
     StepControlState control_before;
@@ -184,20 +185,36 @@ class StepperRun final : public Run {
       control_before = stepper_->step_control_state();
     }
     StepReport r = stepper_->step();
+    if (!r.ok && undo_) {
+      // The step right after an adaptation failed, at its smallest step, on the adapted mesh: the adaptation
+      // is undone (the mesh before it made again, the state it carried restored) and the step retried there.
+      r = undo_adaptation(*undo_, r);
+      due = false;  // (the same adaptation again would fail again: the next due step adapts)
+    }
+    undo_.reset();
     if (r.ok && due) {
       if (redo) {
         for (int pass = 1; pass <= adapt_->spec().resolve && r.ok; ++pass) {
+          // (the pass's solution on its mesh: where the step fails on the next mesh, the run goes on from it)
+          Undo last{adapt_->history(), stepper_->snapshot(), stepper_->times(), stepper_->step_control_state(), r};
           std::unique_ptr<TimeStepper> next = adapt_or_recover(pass, *before, times_before, control_before);
           if (!next) break;
           swap_stepper(std::move(next));
           before = stepper_->snapshot();  // the state before the step, on this mesh
           r = stepper_->step();
+          if (!r.ok) {
+            r = undo_adaptation(last, r);
+            break;
+          }
         }
       } else {
-        // (the state the adaptation carries, kept in case the new mesh cannot be set up)
-        const Snapshot now = stepper_->snapshot();
-        if (std::unique_ptr<TimeStepper> next = adapt_or_recover(0, now, stepper_->times(), stepper_->step_control_state()))
+        // (the state the adaptation carries, kept in case the new mesh cannot be set up, or the next step fails
+        // on it)
+        Undo last{adapt_->history(), stepper_->snapshot(), stepper_->times(), stepper_->step_control_state(), {}};
+        if (std::unique_ptr<TimeStepper> next = adapt_or_recover(0, last.state, stepper_->times(), stepper_->step_control_state())) {
           swap_stepper(std::move(next));
+          undo_ = std::move(last);
+        }
       }
       for (const std::string& w : adapt_->take_warnings())
         if (root()) fmt::print(stderr, "vpcontact: warning: {}\n", w);
@@ -206,6 +223,37 @@ class StepperRun final : public Run {
     r.mesh_unknowns = stepper_->part().n_global_dofs;
     r.adaptations = static_cast<int>(adapt_->log().size());
     return r;
+  }
+
+  /// What an adaptation is undone to: the refinement history before it, the state on that mesh (with the
+  /// step's times and controller), and for a redo pass the report of the step solved on it.
+  struct Undo {
+    std::string history;
+    Snapshot state;
+    std::vector<double> times;
+    StepControlState control;
+    std::optional<StepReport> report;
+  };
+
+  /// The mesh of `u.history` made again (the failed mesh's stepper freed first), `u.state` restored on it,
+  /// warned; then u.report where the step was already solved there (a redo pass), else the step retried.
+  /// `failed`: the step that failed on the adapted mesh (what the warning names).
+  StepReport undo_adaptation(const Undo& u, const StepReport& failed) {
+    const int adapted_at = u.state.state.n;
+    const long long adapted_cells = stepper_->part().n_global_cells;
+    if (retire_) retire_(*stepper_);
+    stepper_.reset();
+    malloc_trim(0);
+    stepper_ = adaptivity_from(u.history);
+    stepper_->restore({u.state.state, u.state.u_free, stepper_->contact_warm_state(), stepper_->damage_warm_state()});
+    stepper_->set_step_history(u.times, u.control);
+    if (output_) output_->remesh(*stepper_);
+    if (root())
+      fmt::print(stderr, "vpcontact: warning: {}: step {} (t = {:.6g}) failed on the mesh adapted at step {} ({} cells); "
+                         "the adaptation is undone and the run goes on with the mesh before it ({} cells){}\n",
+                 case_.adapt->where, failed.n, failed.t, adapted_at, adapted_cells,
+                 stepper_->part().n_global_cells, u.report ? "" : ", where the step is taken again");
+    return u.report ? *u.report : stepper_->step();
   }
 
   /// MeshAdaptivity::adapt carrying `carry`'s state; where the adapted mesh cannot be set up (its memory
@@ -311,6 +359,7 @@ class StepperRun final : public Run {
   std::optional<MeshAdaptivity> adapt_;  // [adapt]: the mesh changes during the run
   std::function<void(TimeStepper&)> retire_;  // on_retire's hook
   bool adapt_stopped_ = false;  // an adapted mesh could not be set up: no further adaptation
+  std::optional<Undo> undo_;     // the last adaptation (carried to the next step), until that step succeeds
   std::shared_ptr<const Problem> adaptive_coarse_;  // what makes it again (a resume)
   SolverChoice adapt_choice_;
   StepperMaker adaptive_make_;

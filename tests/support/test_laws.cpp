@@ -116,6 +116,32 @@ SurfaceUpdate WornCoulomb::update_surface(const SurfaceNode& node, std::span<dou
   return {};
 }
 
+SizedCoulomb::SizedCoulomb(double mu, double min_measure) : mu_(mu), min_measure_(min_measure) {
+  require(mu >= 0 && min_measure > 0 && std::isfinite(mu) && std::isfinite(min_measure), "sized-coulomb: mu >= 0, min_measure > 0");
+}
+
+SizedCoulomb::SizedCoulomb(FrictionKeys& keys) : SizedCoulomb(keys.number("mu"), keys.number("min_measure")) {}
+
+std::string SizedCoulomb::describe() const {
+  return fmt::format("Coulomb friction mu = {} for nodes of |Γ3|_i >= {}", mu_, min_measure_);
+}
+
+std::vector<SurfaceVariable> SizedCoulomb::surface_state() const {
+  return {{"updates", 1, 0.0, "the steps the node was updated in (test law)", ""}};
+}
+
+SurfaceUpdate SizedCoulomb::update_surface(const SurfaceNode& node, std::span<double* const> values) const {
+  *values[0] += 1;
+  SurfaceUpdate out;
+  if (node.lambda_nu > 0) out.step_share = min_measure_ / node.measure;
+  return out;
+}
+
+LawText SizedCoulomb::step_limit() const {
+  return {"min_measure",
+          fmt::format("a node in contact with |Γ3|_i below min_measure = {} (a finer mesh than the law's)", min_measure_)};
+}
+
 AdhesiveSignorini::AdhesiveSignorini(double strength) : strength_(strength) {
   require(strength >= 0 && std::isfinite(strength), "test-adhesive: strength >= 0");
 }
@@ -141,6 +167,10 @@ void register_test_laws() {
       register_friction_law("worn-coulomb",
                             [](FrictionKeys& keys) -> std::shared_ptr<const FrictionLaw> {
                               return std::make_shared<const WornCoulomb>(keys);
+                            }) &&
+      register_friction_law("sized-coulomb",
+                            [](FrictionKeys& keys) -> std::shared_ptr<const FrictionLaw> {
+                              return std::make_shared<const SizedCoulomb>(keys);
                             }) &&
       register_contact_law("test-adhesive", [](LawKeys& keys) -> std::shared_ptr<const ContactLaw> {
         return std::make_shared<const AdhesiveSignorini>(keys);

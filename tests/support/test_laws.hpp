@@ -55,6 +55,26 @@ class WornCoulomb final : public FrictionLaw {
   double mu_, wear_, gap_share_;
 };
 
+/// "sized-coulomb": Coulomb friction (key mu) valid for contact nodes of tributary measure |Γ3|_i ≥ min_measure
+/// only (key min_measure > 0), as a law calibrated at one element size would be: a step that ends with such
+/// a node in contact (λ_ν > 0) below it is rejected (step_share = min_measure / |Γ3|_i, which no shorter step
+/// lowers). It makes a step fail on a mesh refined at the contact and succeed on the mesh before: the
+/// adaptive run's undo of an adaptation (issue 51). Its one state variable counts the accepted updates.
+class SizedCoulomb final : public FrictionLaw {
+ public:
+  SizedCoulomb(double mu, double min_measure);
+  explicit SizedCoulomb(FrictionKeys& keys);
+  std::string name() const override { return "sized-coulomb"; }
+  std::string describe() const override;
+  double coefficient(const Point&) const override { return mu_; }
+  std::vector<SurfaceVariable> surface_state() const override;
+  SurfaceUpdate update_surface(const SurfaceNode& node, std::span<double* const> values) const override;
+  LawText step_limit() const override;
+
+ private:
+  double mu_, min_measure_;
+};
+
 class AdhesiveSignorini final : public ContactLaw {
  public:
   explicit AdhesiveSignorini(double strength);

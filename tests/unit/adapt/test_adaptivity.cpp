@@ -12,6 +12,7 @@
 #include "fem/cell_geometry.hpp"
 #include "mesh/generators.hpp"
 #include "run/run_case.hpp"
+#include "test_laws.hpp"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -266,6 +267,34 @@ nlohmann::json run_rolling(const fs::path& dir, std::vector<std::string> sets) {
   EXPECT_EQ(r.steps, 12);
   std::ifstream in(o.output_directory / "summary.json");
   return nlohmann::json::parse(in);
+}
+
+TEST(Adapt, AStepThatFailsOnTheAdaptedMeshUndoesTheAdaptation) {
+  // A friction law valid for contact nodes of |Γ3|_i >= 0.15 only (tests/support: a step ending with a
+  // smaller node in contact is rejected whatever its length): ironing-2d's coarse Γ3 (h = 0.2) suits it, a
+  // bisected contact facet does not. Every adaptation that refines the contact makes the next step (or the
+  // redo pass) fail at its smallest step; the run undoes it and goes on with the mesh before, to the end.
+  test::register_test_laws();
+  const std::vector<std::string> sized = {"contact.friction=\"sized-coulomb\"", "contact.mu=0", "contact.min_measure=0.15"};
+  for (const char* resolve : {"adapt.resolve=2", "adapt.resolve=0"}) {
+    std::vector<std::string> sets = sized;
+    sets.emplace_back(resolve);
+    const fs::path dir = fs::temp_directory_path() / "vpc-adapt-undo";
+    run_rolling(dir, sets);  // 12 steps, all accepted (asserted there)
+    // The mesh the run ends on (made again from its last checkpoint's refinement history): its contact
+    // facets never bisected (0.2 each).
+    const Case c = load_case("ironing-2d", {.sets = sets});
+    MeshAdaptivity a(c.problem, c.solvers, *c.adapt);
+    std::ifstream in(dir / "out" / "checkpoint_00012.adaptations.bin");
+    std::stringstream history;
+    history << in.rdbuf();
+    a.replay(history.str());
+    const auto end = a.make_stepper();
+    EXPECT_GE(end->mesh().n_cells(), c.problem->mesh.n_cells()) << resolve;
+    double measure = INFINITY;
+    for (int f : end->mesh().facets_of_parts({"bottom"})) measure = std::min(measure, end->mesh().facet_measure(f));
+    EXPECT_NEAR(measure, 0.2, 1e-12) << resolve;
+  }
 }
 
 TEST(Adapt, ARunRefinesAheadOfTheIndenterAndCoarsensBehindIt) {
