@@ -184,6 +184,19 @@ class StepperRun final : public Run {
       times_before = stepper_->times();
       control_before = stepper_->step_control_state();
     }
+    if (adapt_->spec().resolve == 0 && !adapt_stopped_ && stepper_->state().n == 0 && !undo_) {
+      // Before the first step of a run that adapts between steps: the mesh adapted to what the forecast sees
+      // (an obstacle about to touch Γ3: adapt/indicator.hpp), so that the first step's contact is resolved
+      // (nothing changes where nothing is about to touch), again while it marks, up to max_level times.
+      Undo start{adapt_->history(), stepper_->snapshot(), stepper_->times(), stepper_->step_control_state(), {}};
+      for (int pass = 0; pass < adapt_->spec().max_level && !adapt_stopped_; ++pass) {
+        const Snapshot now = stepper_->snapshot();
+        std::unique_ptr<TimeStepper> next = adapt_or_recover(0, now, stepper_->times(), stepper_->step_control_state());
+        if (!next) break;
+        swap_stepper(std::move(next));
+        if (!undo_) undo_ = start;
+      }
+    }
     StepReport r = stepper_->step();
     if (!r.ok && undo_) {
       // The step right after an adaptation failed, at its smallest step, on the adapted mesh: the adaptation
