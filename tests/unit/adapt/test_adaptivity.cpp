@@ -301,6 +301,55 @@ TEST(Adapt, AStepThatFailsOnTheAdaptedMeshUndoesTheAdaptation) {
   }
 }
 
+TEST(Adapt, AStepRejectedRightAfterAnAdaptationIsRetriedOnTheAdaptedMesh) {
+  // paper-2d (n = 10) with error-controlled steps, adapted every 2 steps: the step after an adaptation is
+  // often rejected by the error control (the new mesh's first estimate) and redone shorter, on the adapted
+  // mesh (its cells are the adaptation's), and the run reaches T with every step accepted.
+  const fs::path dir = fs::temp_directory_path() / "vpc-adapt-rejected";
+  fs::remove_all(dir);
+  RunOptions o;
+  o.quiet = true;
+  o.output_directory = dir;
+  const RunResult r = run_case(
+      [&](const MeshRequest& m) {
+        MeshRequest coarse = m;
+        coarse.cells = 10;
+        Case c = load_case("paper-2d", {.sets = {"time.tolerance=1e-3", "adapt.every=2", "adapt.max_level=4"}}, coarse);
+        c.output.directory = o.output_directory;
+        return c;
+      },
+      o);
+  EXPECT_GT(r.steps, 20);
+  std::ifstream in(dir / "history.csv");
+  std::string line;
+  std::getline(in, line);
+  std::vector<std::string> names;
+  for (std::stringstream ss(line); std::getline(ss, line, ',');) names.push_back(line);
+  auto column = [&](const char* name) {
+    return static_cast<std::size_t>(std::find(names.begin(), names.end(), name) - names.begin());
+  };
+  const std::size_t rejected = column("rejected"), adaptations = column("adaptations"), cells = column("cells"),
+                    ok = column("ok");
+  ASSERT_LT(std::max({rejected, adaptations, cells, ok}), names.size());
+  std::vector<std::vector<double>> rows;
+  while (std::getline(in, line)) {
+    std::vector<double> row;
+    for (std::stringstream ss(line); std::getline(ss, line, ',');) row.push_back(std::stod(line));
+    rows.push_back(row);
+  }
+  int after_adaptation = 0;
+  for (std::size_t n = 1; n < rows.size(); ++n) {
+    EXPECT_EQ(rows[n][ok], 1) << "step " << n + 1;
+    const bool adapted_before = rows[n - 1][adaptations] > (n >= 2 ? rows[n - 2][adaptations] : 0);
+    if (rows[n][rejected] > 0 && adapted_before) {
+      ++after_adaptation;
+      EXPECT_EQ(rows[n][cells], rows[n - 1][cells]) << "step " << n + 1;  // on the adapted mesh
+    }
+  }
+  std::printf("  %zu steps, %d rejected right after an adaptation\n", rows.size(), after_adaptation);
+  EXPECT_GT(after_adaptation, 0);
+}
+
 TEST(Adapt, ARunRefinesAheadOfTheIndenterAndCoarsensBehindIt) {
   const fs::path dir = fs::temp_directory_path() / "vpc-adapt-rolling";
   RunOptions o;
