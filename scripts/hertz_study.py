@@ -15,7 +15,7 @@ contact_pressure; read with scripts/vpcontact_plot.py's read_vtu), and prints on
            "free displacement dofs"; history.csv's column `unknowns` when it has one)
   P        the whole sphere's force: F x the last total_contact_force, F = 2 per symmetry plane
            x = 0 or y = 0 in summary.json (4 for the quarter model; --factor overrides)
-  e_P      |P - P_ref| / P_ref (with --ref)
+  e_P      |P - P_ref| / P_ref (with --ref); dP = P / P_ref - 1, its sign
   a        Hertz's contact radius from P: a = (3 P R / (4 E*))^(1/3), E* = E / (1 - nu^2)
   r_in     the largest r = sqrt(x^2 + y^2) of a top node (z = 0) with contact_pressure > 0
   r_out    the next node outward: the smallest r > r_in of a top node without pressure
@@ -36,7 +36,7 @@ order given; needs --ref), prints C, r, the residuals, and the N the fit needs f
 h ~ N^(-1/3): P = P_inf + C' h^q through the three points (q from the ratio of the differences).
 
 Example (a uniform sequence against a reference):
-  /usr/bin/python3 scripts/hertz_study.py /tmp/hs/u40 /tmp/hs/u56 /tmp/hs/u80 --ref 1.6298 --fit 3
+  /usr/bin/python3 scripts/hertz_study.py /tmp/hs/u40 /tmp/hs/u56 /tmp/hs/u80 --ref 1.5641 --fit 3
 Only numpy is needed. Exits 1 with a one-line message if a directory cannot be read.
 """
 
@@ -185,7 +185,6 @@ def measure(outdir, E, nu, R, factor=None):
     centre = top & (r < TOP_TOL)
     if centre.any():
         row["e_p0"] = p[centre].max() / p0 - 1.0
-    row["e_pmax"] = p[top].max() / p0 - 1.0
     inner = top & (r < 0.9 * a)
     d = p[inner] / p0 - np.sqrt(1.0 - (r[inner] / a) ** 2)
     row["e_p"] = float(np.sqrt(np.mean(d * d)))
@@ -194,14 +193,14 @@ def measure(outdir, E, nu, R, factor=None):
 
 
 COLUMNS = [  # key, header, format
-    ("N", "N", "%d"), ("P", "P", "%.6f"), ("e_P", "e_P", "%.3f%%"), ("a", "a(P)", "%.5f"),
+    ("N", "N", "%d"), ("P", "P", "%.6f"), ("e_P", "e_P", "%.3f%%"), ("dP", "dP", "%+.3f%%"), ("a", "a(P)", "%.5f"),
     ("r_in", "r_in", "%.5f"), ("r_out", "r_out", "%.5f"), ("a_h", "a_h", "%.5f"),
     ("h_loc", "h_loc", "%.5f"), ("e_a", "e_a", "%+.3f"), ("a_ax", "a_ax", "%.5f"),
     ("h_ax", "h_ax", "%.5f"), ("e_a_ax", "e_a_ax", "%+.3f"), ("p0", "p0", "%.3f"),
     ("e_p0", "e_p0", "%+.2f%%"), ("e_p", "e_p", "%.2f%%"), ("n_active", "active", "%d"),
     ("wall", "wall", "%.1f"), ("wall_output", "(output)", "%.1f"),
 ]
-PERCENT = {"e_P", "e_p0", "e_p"}
+PERCENT = {"e_P", "dP", "e_p0", "e_p"}
 
 
 def fmt(row, key, f):
@@ -268,7 +267,8 @@ def main(argv=None):
         return 1
     if args.ref:
         for row in rows:
-            row["e_P"] = abs(row["P"] - args.ref) / args.ref
+            row["dP"] = row["P"] / args.ref - 1.0
+            row["e_P"] = abs(row["dP"])
 
     print("Hertz: E* = %.6g, R = %g; P = %s x total_contact_force; e_P against %s"
           % (args.E / (1 - args.nu ** 2), args.R, "/".join(sorted({"%g" % r["factor"] for r in rows})),
@@ -291,8 +291,11 @@ def main(argv=None):
         P = np.array([r["P"] for r in sel])
         if args.ref:
             e = np.array([r["e_P"] for r in sel])
+            signs = {np.sign(r["dP"]) for r in sel}
             if np.any(e <= 0):
                 print("fit: an e_P is zero; no power law")
+            elif len(signs) > 1:
+                print("fit: P - P_ref changes sign over these levels; no power law")
             else:
                 C, rate, res = power_fit(N, e)
                 print("fit e_P = C N^(-r) over N = %s: C = %.4g, r = %.4f (h-order %.3f)"
