@@ -22,6 +22,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <sstream>
 
 namespace vpc {
@@ -248,24 +249,32 @@ TEST(Adapt, TheIndicatorVanishesWhereP1AndP0AreExact) {
   EXPECT_GT(ind.stress_relative, 0);
 }
 
+/// Runs the case `make` gives (quiet) into the fresh directory `out`.
+RunResult run_into(const fs::path& out, const std::function<Case(const MeshRequest&)>& make) {
+  fs::remove_all(out);
+  RunOptions o;
+  o.quiet = true;
+  o.output_directory = out;
+  return run_case(
+      [&](const MeshRequest& m) {
+        Case c = make(m);
+        c.output.directory = out;
+        return c;
+      },
+      o);
+}
+
 /// The shipped ironing-2d (a cylinder pressed into a block and dragged along it, each step redone twice on
 /// the mesh adapted from its solution) in 12 steps with `sets`, into a fresh directory; its summary.json.
 nlohmann::json run_rolling(const fs::path& dir, std::vector<std::string> sets) {
   fs::remove_all(dir);
   fs::create_directories(dir);
   sets.push_back("adapt.max_level=5");
-  RunOptions o;
-  o.quiet = true;
-  o.output_directory = dir / "out";
-  const RunResult r = run_case(
-      [&](const MeshRequest& m) {
-        Case c = load_case("ironing-2d", {.sets = sets, .steps = 12, .every = 4}, m);
-        c.output.directory = o.output_directory;
-        return c;
-      },
-      o);
+  const RunResult r = run_into(dir / "out", [&](const MeshRequest& m) {
+    return load_case("ironing-2d", {.sets = sets, .steps = 12, .every = 4}, m);
+  });
   EXPECT_EQ(r.steps, 12);
-  std::ifstream in(o.output_directory / "summary.json");
+  std::ifstream in(dir / "out" / "summary.json");
   return nlohmann::json::parse(in);
 }
 
@@ -306,19 +315,11 @@ TEST(Adapt, AStepRejectedRightAfterAnAdaptationIsRetriedOnTheAdaptedMesh) {
   // often rejected by the error control (the new mesh's first estimate) and redone shorter, on the adapted
   // mesh (its cells are the adaptation's), and the run reaches T with every step accepted.
   const fs::path dir = fs::temp_directory_path() / "vpc-adapt-rejected";
-  fs::remove_all(dir);
-  RunOptions o;
-  o.quiet = true;
-  o.output_directory = dir;
-  const RunResult r = run_case(
-      [&](const MeshRequest& m) {
-        MeshRequest coarse = m;
-        coarse.cells = 10;
-        Case c = load_case("paper-2d", {.sets = {"time.tolerance=1e-3", "adapt.every=2", "adapt.max_level=4"}}, coarse);
-        c.output.directory = o.output_directory;
-        return c;
-      },
-      o);
+  const RunResult r = run_into(dir, [](const MeshRequest& m) {
+    MeshRequest coarse = m;
+    coarse.cells = 10;
+    return load_case("paper-2d", {.sets = {"time.tolerance=1e-3", "adapt.every=2", "adapt.max_level=4"}}, coarse);
+  });
   EXPECT_GT(r.steps, 20);
   std::ifstream in(dir / "history.csv");
   std::string line;
@@ -352,8 +353,6 @@ TEST(Adapt, AStepRejectedRightAfterAnAdaptationIsRetriedOnTheAdaptedMesh) {
 
 TEST(Adapt, ARunRefinesAheadOfTheIndenterAndCoarsensBehindIt) {
   const fs::path dir = fs::temp_directory_path() / "vpc-adapt-rolling";
-  RunOptions o;
-  o.output_directory = dir / "out";
   const auto j = run_rolling(dir, {});
   const auto& log = j.at("adaptations");
   ASSERT_EQ(log.size(), 24u);  // two passes a step
@@ -382,12 +381,12 @@ TEST(Adapt, ARunRefinesAheadOfTheIndenterAndCoarsensBehindIt) {
   EXPECT_LT(last - 3200, (piled - 3200) / 2);
   EXPECT_TRUE(j.at("checks").at("all_steps_ok").get<bool>()) << j.at("checks").dump();
   // history.csv ends with the mesh's columns; the VTU files carry the level and the indicator.
-  std::ifstream h(o.output_directory / "history.csv");
+  std::ifstream h(dir / "out" / "history.csv");
   std::string header;
   std::getline(h, header);
   EXPECT_TRUE(header.ends_with(",cells,unknowns,adaptations")) << header;
   std::stringstream vtu;
-  vtu << std::ifstream(o.output_directory / "solution_00012.vtu").rdbuf();
+  vtu << std::ifstream(dir / "out" / "solution_00012.vtu").rdbuf();
   EXPECT_NE(vtu.str().find("Name=\"level\""), std::string::npos);
   EXPECT_NE(vtu.str().find("Name=\"indicator\""), std::string::npos);
   fs::remove_all(dir);
@@ -475,18 +474,11 @@ TEST(Adapt, AnAdaptedMeshThatCannotBeSetUpLeavesTheRunOnTheMeshBefore) {
   // set-up is refused (the old stepper freed already), the mesh before it is made again from the history,
   // and the run ends, every step within its tolerances, on that mesh (it used to crash on the freed stepper).
   const fs::path dir = fs::temp_directory_path() / "vpc-adapt-memory";
-  fs::remove_all(dir);
-  RunOptions o;
-  o.quiet = true;
-  o.output_directory = dir;
-  const RunResult r = run_case(
-      [&](const MeshRequest& m) {
-        Case c = load_case("hertz-2d-adapt", {.memory_limit = "60M"}, m);
-        c.solvers.memory_limit = "60M";
-        c.output.directory = dir;
-        return c;
-      },
-      o);
+  const RunResult r = run_into(dir, [](const MeshRequest& m) {
+    Case c = load_case("hertz-2d-adapt", {.memory_limit = "60M"}, m);
+    c.solvers.memory_limit = "60M";
+    return c;
+  });
   EXPECT_EQ(r.steps, 1);
   const auto j = nlohmann::json::parse(std::ifstream(dir / "summary.json"));
   EXPECT_TRUE(j.at("checks").at("all_steps_ok").get<bool>());
