@@ -144,7 +144,10 @@ ContactResiduals contact_residuals(const la::SpdOperator& K, const ContactConstr
     }
     r.penetration = std::max(r.penetration, -s[i] / u_scale);
     r.negative_force = std::max(r.negative_force, -above / l_scale);
-    r.complementarity = std::max(r.complementarity, std::abs(above * s[i]) / (l_scale * u_scale));
+    // (the product measured against its factors' scales: a bond's tension bound −a_i far below the forces
+    // (above ≫ l_scale) would otherwise multiply the gap's round-off by a_i / l_scale; for Signorini's
+    // rows, above = λ ≤ l_scale, and this is λ s / (l_scale u_scale) as before)
+    r.complementarity = std::max(r.complementarity, std::abs(above * s[i]) / (std::max(std::abs(above), l_scale) * u_scale));
   }
   // SPEC §7 over each row's b − 1 tangents: |λ_τ|_C ≤ s; below it Δ = 0; at it Δ in C_s's normal
   // cone. Without friction a row has no tangents and its bound is 0: each of these is 0 there.
