@@ -188,13 +188,12 @@ class StepperRun final : public Run {
       // Before the first step of a run that adapts between steps: the mesh adapted to what the forecast sees
       // (an obstacle about to touch Γ3: adapt/indicator.hpp), so that the first step's contact is resolved
       // (nothing changes where nothing is about to touch), again while it marks, up to max_level times.
-      Undo start{adapt_->history(), stepper_->snapshot(), stepper_->times(), stepper_->step_control_state(), {}};
       for (int pass = 0; pass < adapt_->spec().max_level && !adapt_stopped_; ++pass) {
-        const Snapshot now = stepper_->snapshot();
-        std::unique_ptr<TimeStepper> next = adapt_or_recover(0, now, stepper_->times(), stepper_->step_control_state());
+        Undo now = where_it_stands();
+        std::unique_ptr<TimeStepper> next = adapt_or_recover(0, now.state, now.times, now.control, now);
         if (!next) break;
         swap_stepper(std::move(next));
-        if (!undo_) undo_ = start;
+        if (!undo_) undo_ = std::move(now);  // (the coarse mesh, before the first of these passes)
       }
     }
     StepReport r = stepper_->step();
@@ -208,9 +207,10 @@ class StepperRun final : public Run {
     if (r.ok && due) {
       if (redo) {
         for (int pass = 1; pass <= adapt_->spec().resolve && r.ok; ++pass) {
-          // (the pass's solution on its mesh: where the step fails on the next mesh, the run goes on from it)
-          Undo last{adapt_->history(), stepper_->snapshot(), stepper_->times(), stepper_->step_control_state(), r};
-          std::unique_ptr<TimeStepper> next = adapt_or_recover(pass, *before, times_before, control_before);
+          // (the pass's solution on its mesh: where the next mesh cannot be set up, or the step fails on it, the
+          // run goes on from it)
+          Undo last = where_it_stands(r);
+          std::unique_ptr<TimeStepper> next = adapt_or_recover(pass, *before, times_before, control_before, last);
           if (!next) break;
           swap_stepper(std::move(next));
           before = stepper_->snapshot();  // the state before the step, on this mesh
@@ -223,8 +223,8 @@ class StepperRun final : public Run {
       } else {
         // (the state the adaptation carries, kept in case the new mesh cannot be set up, or the next step fails
         // on it)
-        Undo last{adapt_->history(), stepper_->snapshot(), stepper_->times(), stepper_->step_control_state(), {}};
-        if (std::unique_ptr<TimeStepper> next = adapt_or_recover(0, last.state, stepper_->times(), stepper_->step_control_state())) {
+        Undo last = where_it_stands();
+        if (std::unique_ptr<TimeStepper> next = adapt_or_recover(0, last.state, last.times, last.control, last)) {
           swap_stepper(std::move(next));
           undo_ = std::move(last);
         }
@@ -248,19 +248,29 @@ class StepperRun final : public Run {
     std::optional<StepReport> report;
   };
 
-  /// The mesh of `u.history` made again (the failed mesh's stepper freed first), `u.state` restored on it,
-  /// warned; then u.report where the step was already solved there (a redo pass), else the step retried.
-  /// `failed`: the step that failed on the adapted mesh (what the warning names).
-  StepReport undo_adaptation(const Undo& u, const StepReport& failed) {
-    const int adapted_at = u.state.state.n;
-    const long long adapted_cells = stepper_->part().n_global_cells;
-    if (retire_) retire_(*stepper_);
-    stepper_.reset();
-    malloc_trim(0);
+  /// The run as it stands: its refinement history, state, times and controller (and `report`, the step just
+  /// solved on this mesh, for a redo pass).
+  Undo where_it_stands(std::optional<StepReport> report = {}) const {
+    return {adapt_->history(), stepper_->snapshot(), stepper_->times(), stepper_->step_control_state(), std::move(report)};
+  }
+
+  /// Makes the mesh of `u.history` again (the stepper of the mesh it replaces freed first) and restores
+  /// `u.state`, its times and controller on it; the output follows.
+  void remake(const Undo& u) {
+    if (stepper_) release_stepper()();
     stepper_ = adaptivity_from(u.history);
     stepper_->restore({u.state.state, u.state.u_free, stepper_->contact_warm_state(), stepper_->damage_warm_state()});
     stepper_->set_step_history(u.times, u.control);
     if (output_) output_->remesh(*stepper_);
+  }
+
+  /// The mesh of `u.history` made again (remake), warned; then u.report where the step was already solved
+  /// there (a redo pass), else the step retried. `failed`: the step that failed on the adapted mesh (what
+  /// the warning names).
+  StepReport undo_adaptation(const Undo& u, const StepReport& failed) {
+    const int adapted_at = u.state.state.n;
+    const long long adapted_cells = stepper_->part().n_global_cells;
+    remake(u);
     if (root())
       fmt::print(stderr, "vpcontact: warning: {}: step {} (t = {:.6g}) failed on the mesh adapted at step {} ({} cells); "
                          "the adaptation is undone and the run goes on with the mesh before it ({} cells){}\n",
@@ -269,28 +279,23 @@ class StepperRun final : public Run {
     return u.report ? *u.report : stepper_->step();
   }
 
-  /// MeshAdaptivity::adapt carrying `carry`'s state; where the adapted mesh cannot be set up (its memory
-  /// refused, a degenerate cell), the mesh before it is made again from the history, `carry` restored on
-  /// it, the adaptivity stopped for the rest of the run and the reason warned: the run goes on, on the
-  /// mesh it had. Returns the new stepper, or null (nothing to change, or recovered: stepper_ is set).
+  /// MeshAdaptivity::adapt carrying `carry`'s state (with `times`, `control`); where the adapted mesh cannot be
+  /// set up (its memory refused, a degenerate cell), `back` is made again (remake: for a redo pass, the pass's
+  /// solution on the mesh before, not the state before the step, which would be solved again), the
+  /// adaptivity stopped for the rest of the run and the reason warned: the run goes on, on the mesh it had.
+  /// Returns the new stepper, or null (nothing to change, or recovered: stepper_ is set).
   std::unique_ptr<TimeStepper> adapt_or_recover(int pass, const Snapshot& carry, std::vector<double> times,
-                                                const StepControlState& control) {
-    const std::string history = adapt_->history();
-    const int step = stepper_->state().n;
-    const double t = stepper_->state().t;
+                                                const StepControlState& control, const Undo& back) {
     try {
-      return adapt_->adapt(*stepper_, pass, carry.state, times, control, release_stepper());
+      return adapt_->adapt(*stepper_, pass, carry.state, std::move(times), control, release_stepper());
     } catch (const Error& e) {
       if (stepper_) throw;  // failed before the old mesh was released: nothing to recover
-      stepper_ = adaptivity_from(history);
-      stepper_->restore({carry.state, carry.u_free, stepper_->contact_warm_state(), stepper_->damage_warm_state()});
-      stepper_->set_step_history(std::move(times), control);
-      if (output_) output_->remesh(*stepper_);
+      remake(back);
       adapt_stopped_ = true;
       if (root())
         fmt::print(stderr, "vpcontact: warning: {}: the mesh adapted at step {} (t = {:.6g}) could not be set up ({}); "
                            "the run goes on with the mesh before it and adapts no further\n",
-                   case_.adapt->where, step, t, e.what());
+                   case_.adapt->where, back.state.state.n, back.state.state.t, e.what());
       return nullptr;
     }
   }
