@@ -1,11 +1,12 @@
 #include "mesh/bisection.hpp"
 
 #include "core/error.hpp"
+#include "mesh/facet_key.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <functional>
-#include <set>
+#include <unordered_set>
 
 namespace vpc {
 
@@ -41,18 +42,9 @@ BisectionForest::BisectionForest(const Mesh& coarse)
   require(dim_ == 2 || dim_ == 3,
           "newest-vertex bisection: a triangle or tetrahedron mesh is needed (d = 2 or 3), got d = {}", dim_);
   cells_.reserve(static_cast<std::size_t>(coarse.n_cells()));
-  std::unordered_map<std::uint64_t, int> boundary;  // 3D: a coarse boundary facet by its sorted vertices
-  auto face_key = [](std::array<int, 3> f) {
-    std::sort(f.begin(), f.end());
-    return static_cast<std::uint64_t>(f[0]) << 42 | static_cast<std::uint64_t>(f[1]) << 21 | static_cast<std::uint64_t>(f[2]);
-  };
-  if (dim_ == 3) {
-    require(coarse.n_nodes() < (1 << 21), "newest-vertex bisection: {} coarse nodes, at most 2^21 are supported", coarse.n_nodes());
-    for (int f = 0; f < coarse.n_facets(); ++f) {
-      const int* v = coarse.facet(f);
-      boundary.emplace(face_key({v[0], v[1], v[2]}), f);
-    }
-  }
+  std::unordered_map<FacetKey, int, FacetKeyHash> boundary;  // 3D: the coarse boundary facets
+  if (dim_ == 3)
+    for (int f = 0; f < coarse.n_facets(); ++f) boundary.emplace(facet_key(coarse.facet(f), 3), f);
   for (int c = 0; c < coarse.n_cells(); ++c) {
     const int* v = coarse.cell(c);
     Cell cell;
@@ -62,10 +54,9 @@ BisectionForest::BisectionForest(const Mesh& coarse)
       std::copy_n(v, 4, cell.v.begin());
       std::sort(cell.v.begin(), cell.v.end());
       for (int k = 0; k < 4; ++k) {
-        std::array<int, 3> f{};
-        for (int j = 0, n = 0; j < 4; ++j)
-          if (j != k) f[static_cast<std::size_t>(n++)] = cell.v[static_cast<std::size_t>(j)];
-        if (const auto it = boundary.find(face_key(f)); it != boundary.end()) cell.facet[static_cast<std::size_t>(k)] = it->second;
+        int f[3];
+        cell_facet(cell.v.data(), 4, k, f);
+        if (const auto it = boundary.find(facet_key(f, 3)); it != boundary.end()) cell.facet[static_cast<std::size_t>(k)] = it->second;
       }
       cells_.push_back(cell);
       add_edges(c);
@@ -122,30 +113,15 @@ void BisectionForest::remove_edges(int c) {
 }
 
 std::array<int, 4> BisectionForest::child_facets(const Cell& parent, const std::array<int, 4>& cv, int m) const {
-  // Face k of the child (opposite cv[k]): a face of the parent if it lacks m; with m, inside the parent's face
-  // through the refinement edge and its other vertices if it holds one end of that edge; else inside the parent.
-  const int a = parent.v[0], b = parent.v[3];
-  std::array<int, 4> out{-1, -1, -1, -1};
-  for (int k = 0; k < 4; ++k) {
-    std::array<int, 4> face{};  // the parent's vertices the face spans
-    int n = 0;
-    bool has_m = false, has_end = false;
-    for (int j = 0; j < 4; ++j) {
-      if (j == k) continue;
-      const int w = cv[static_cast<std::size_t>(j)];
-      if (w == m) {
-        has_m = true;
-        continue;
-      }
-      has_end = has_end || w == a || w == b;
-      face[static_cast<std::size_t>(n++)] = w;
-    }
-    if (has_m && !has_end) continue;  // the cut face, inside the parent
-    if (has_m) face[static_cast<std::size_t>(n++)] = std::count(face.begin(), face.begin() + n, a) ? b : a;
-    // the parent's face of those three vertices: the one opposite its fourth
-    for (int j = 0; j < 4; ++j)
-      if (std::find(face.begin(), face.begin() + 3, parent.v[static_cast<std::size_t>(j)]) == face.begin() + 3)
-        out[static_cast<std::size_t>(k)] = parent.facet[static_cast<std::size_t>(j)];
+  // Face k of the child is opposite its vertex w = cv[k]: opposite the new vertex m, the parent's face
+  // opposite the refinement edge's end the child lacks; opposite the end it holds, the cut (inside the
+  // parent); opposite another vertex, inside the parent's face opposite that vertex.
+  const auto place = [&](int w) { return static_cast<std::size_t>(std::find(parent.v.begin(), parent.v.end(), w) - parent.v.begin()); };
+  const int end = cv[0], other_end = end == parent.v[0] ? parent.v[3] : parent.v[0];
+  std::array<int, 4> out{};
+  for (std::size_t k = 0; k < 4; ++k) {
+    const int w = cv[k];
+    out[k] = w == end ? -1 : parent.facet[place(w == m ? other_end : w)];
   }
   return out;
 }
@@ -374,20 +350,19 @@ void BisectionForest::add_facets_3d(Mesh& mesh, const std::vector<int>& cells, c
   std::vector<std::pair<int, std::array<int, 3>>> faces;
   for (int c : cells) {
     const Cell& cell = cells_[static_cast<std::size_t>(c)];
+    int w[4];
+    for (int j = 0; j < 4; ++j) w[j] = number[static_cast<std::size_t>(cell.v[static_cast<std::size_t>(j)])];
     for (int k = 0; k < 4; ++k) {
       if (cell.facet[static_cast<std::size_t>(k)] < 0) continue;
       std::array<int, 3> f{};
-      for (int j = 0, n = 0; j < 4; ++j)
-        if (j != k) f[static_cast<std::size_t>(n++)] = number[static_cast<std::size_t>(cell.v[static_cast<std::size_t>(j)])];
+      cell_facet(w, 4, k, f.data());
       faces.emplace_back(cell.facet[static_cast<std::size_t>(k)], f);
     }
   }
   std::stable_sort(faces.begin(), faces.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
-  std::set<std::array<int, 3>> seen;
+  std::unordered_set<FacetKey, FacetKeyHash> seen;
   for (const auto& [f, v] : faces) {
-    std::array<int, 3> sorted = v;
-    std::sort(sorted.begin(), sorted.end());
-    if (!seen.insert(sorted).second) continue;
+    if (!seen.insert(facet_key(v.data(), 3)).second) continue;
     const int part = coarse_.facet_part(f);
     mesh.add_facet(v.data(), part < 0 ? std::string() : coarse_.part_names()[static_cast<std::size_t>(part)]);
   }
