@@ -69,15 +69,15 @@ def last_vtu(outdir):
 
 
 def read_history_last(outdir):
+    """history.csv's last row (column name -> number), read by vpcontact_plot.read_csv."""
     path = os.path.join(outdir, "history.csv")
     try:
-        with open(path, newline="") as f:
-            rows = list(csv.DictReader(f))
-    except OSError as e:
-        raise StudyError("cannot read %s: %s" % (path, e.strerror))
-    if not rows:
+        columns = vp.read_csv(path)
+    except vp.PlotError as e:
+        raise StudyError(str(e))
+    if not columns or not len(next(iter(columns.values()))):
         raise StudyError("%s has no rows" % path)
-    return rows[-1]
+    return {name: values[-1] for name, values in columns.items()}
 
 
 def symmetry_factor(summary):
