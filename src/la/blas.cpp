@@ -28,6 +28,15 @@ long long blas_one_column_calls() { return one_column_calls.load(std::memory_ord
 
 }  // namespace vpc
 
+extern "C" void dsyrk_(const char* uplo, const char* trans, const int* n, const int* k, const double* alpha,
+                       const double* a, const int* lda, const double* beta, double* c, const int* ldc);
+
+void vpc::syrk_lower_add(const double* A, int rows, int lda, int n, double* C) {
+  if (rows <= 0 || n <= 0) return;
+  const double one = 1;
+  dsyrk_("L", "T", &n, &rows, &one, A, &lda, &one, C, &n);
+}
+
 // The Fortran BLAS interface (every argument by address; callers from Fortran add
 // hidden string lengths at the end, which the C routines below ignore as the
 // BLAS's own do).

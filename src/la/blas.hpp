@@ -20,6 +20,9 @@ namespace vpc {
 bool set_blas_threads(int n);
 /// The number of BLAS threads, or 0 when unknown.
 int blas_threads();
+/// C += AᵀA on C's lower triangle (BLAS dsyrk): A is rows × n (column-major, leading dimension
+/// lda ≥ rows), C is n × n (column-major, leading dimension n); the upper triangle is left alone.
+void syrk_lower_add(const double* A, int rows, int lda, int n, double* C);
 /// Calls of dgemm_/dtrsm_ handed to dgemv_/dtrsv_ so far (for tests and reports).
 long long blas_one_column_calls();
 

@@ -127,12 +127,13 @@ MemoryEstimate estimate_run_memory(double mesh_bytes, double matrix_bytes, const
   e.add("factorization workspace", std::max(K.workspace_bytes, H.workspace_bytes));
   if (damage_active_set) e.add("damage solver's stored columns", 0.5 * H.factor_bytes);
   // The Delassus matrix S = N K⁻¹Nᵀ and its reduced copy (dense), and the sparse
-  // Y = L⁻¹PNᵀ (contact_solver.cpp), kept up to min(256 MiB, half K's factor). A
-  // column of Y is nonzero on the elimination-tree path of its dof: taken as
-  // 4√(entries of L), the order of the top separators (n^{2/3} in 3D), at most n.
+  // Y = L⁻¹PNᵀ (solvers/dual_active_set.cpp), made up to min(256 MiB, K's factor) to form S,
+  // twice while S is formed (la/gram.hpp reads it by rows), then kept up to half the factor. A
+  // column of Y is nonzero on the elimination-tree path of its dof: taken as 4√(entries of L), the
+  // order of the top separators (n^{2/3} in 3D), at most n.
   const double y_column = std::min(K.rows, 4 * std::sqrt(K.entries));
-  const double y_bytes = std::min({12 * contact_nodes * y_column, 256.0 * 1024 * 1024, 0.5 * K.factor_bytes});
-  e.add("contact solver", 2 * 8 * contact_nodes * contact_nodes + y_bytes);
+  const double y_bytes = std::min({12 * contact_nodes * y_column, 256.0 * 1024 * 1024, K.factor_bytes});
+  e.add("contact solver", 2 * 8 * contact_nodes * contact_nodes + 2 * y_bytes);
   return e;
 }
 

@@ -1,6 +1,7 @@
 #include "solvers/dual_active_set.hpp"
 
 #include "core/error.hpp"
+#include "la/gram.hpp"
 #include "solvers/bond_dual.hpp"
 #include "solvers/box_qp.hpp"
 #include "solvers/compliance_dual.hpp"
@@ -315,26 +316,41 @@ class ActiveSetContactSolver final : public ContactSolver {
 
   /// With K = PᵀLLᵀP: Y = L⁻¹PNᵀ (the forward half of K⁻¹Nᵀ) and S = N K⁻¹Nᵀ = YᵀY,
   /// formed once (K and N never change). A column of Y is nonzero only on the
-  /// elimination-tree path of its contact dof, so Y is small and kept sparse.
+  /// elimination-tree path of its contact dof, so Y is small and kept sparse (S from it: la/gram.hpp): kept for the
+  /// steps while within min(256 MiB, `max_cached_share` of the factor), else S is formed from it
+  /// and it is dropped (a step then costs two solves). Only a Y larger than the factor itself
+  /// (la/memory_estimate.cpp counts that much) is abandoned for m solves: the forward halves
+  /// alone cost a third of them.
   /// A factor with halves is one process's (CHOLMOD): N is whole here (no pieces).
   Eigen::MatrixXd dual_matrix_from_halves(double max_cached_share) {
     const int m = unknowns();
-    const double max_bytes = std::min(kMaxCachedBytes, max_cached_share * factor_->factor_bytes());
-    std::vector<Eigen::Triplet<double>> t;
-    bool keep_y = max_cached_share > 0;
-    const int block = rhs_block_columns(c_.N.cols());  // dense blocks of right-hand sides
-    for (int j0 = 0; j0 < m && keep_y; j0 += block) {
+    const double kept_bytes = std::min(kMaxCachedBytes, max_cached_share * factor_->factor_bytes());
+    const double setup_bytes = std::min(kMaxCachedBytes, factor_->factor_bytes());
+    const auto n = c_.N.cols();
+    // Y's compressed columns, filled block by block (value + row index: 12 bytes an entry).
+    std::vector<int> outer{0}, inner;
+    std::vector<double> values;
+    const int block = rhs_block_columns(n, 32);  // dense blocks of right-hand sides
+    for (int j0 = 0; j0 < m; j0 += block) {
       const int nb = std::min(block, m - j0);
       const Eigen::MatrixXd Yb = factor_->forward(transposed_rows(B(), rows(), j0, nb));
-      for (int j = 0; j < nb; ++j)
+      for (int j = 0; j < nb; ++j) {
         for (Eigen::Index i = 0; i < Yb.rows(); ++i)
-          if (Yb(i, j) != 0) t.emplace_back(static_cast<int>(i), j0 + j, Yb(i, j));
-      keep_y = 12.0 * static_cast<double>(t.size()) <= max_bytes;  // value + row index per entry
+          if (Yb(i, j) != 0) {
+            inner.push_back(static_cast<int>(i));
+            values.push_back(Yb(i, j));
+          }
+        outer.push_back(static_cast<int>(values.size()));
+      }
+      if (12.0 * static_cast<double>(values.size()) > setup_bytes) return dual_matrix_from_solves(0);
     }
-    if (!keep_y) return dual_matrix_from_solves(0);  // Y too large: a step then costs two solves
-    Y_.resize(c_.N.cols(), m);
-    Y_.setFromTriplets(t.begin(), t.end());
-    return Eigen::MatrixXd(SparseMatrix(Y_.transpose() * Y_));
+    SparseMatrix Y = Eigen::Map<const SparseMatrix>(n, m, static_cast<Eigen::Index>(values.size()), outer.data(),
+                                                    inner.data(), values.data());
+    std::vector<int>().swap(inner);
+    std::vector<double>().swap(values);
+    Eigen::MatrixXd S = gram(Y);  // (its row-wise copy of Y: la/memory_estimate.cpp counts Y twice)
+    if (max_cached_share > 0 && 12.0 * static_cast<double>(Y.nonZeros()) <= kept_bytes) Y_ = std::move(Y);
+    return S;
   }
 
   /// S = N K⁻¹Nᵀ as the backend's Schur complement where it has one cheaper than m solves (MUMPS:
