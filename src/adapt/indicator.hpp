@@ -8,7 +8,8 @@
 //            pressure's variation over the facet, largest at the edge of the contact zone, where p
 //            drops to 0 (the "boundary of the contact zone" and "the pressure's variation"); and the
 //            surfaces about to touch: a Γ3 facet with a node not in contact (p = 0) whose margin to the
-//            obstacle at the next step, g(t_{n+1}) − u_ν, is below h_F adds h_F |F| p_ref² (p_ref: the
+//            obstacle at a step before the next adaptation, min_j g(t_{n+j}) − u_ν (j ≤ [adapt] every),
+//            is below h_F adds h_F |F| p_ref² (p_ref: the
 //            largest pressure, 1 before any contact), as a facet whose pressure jumps by p_ref would;
 //            so a coarse mesh sees an indenter coming before its nodes reach it;
 //   damage   η²_β,K = Σ_{F ⊂ ∂K interior} ½ h_F ‖[∇β · n]‖²_F   (the jumps of ∇β).
@@ -35,7 +36,8 @@ struct CellIndicators {
 /// The indicators of σ (per cell), β and the nodal contact pressure p_i = λ_i/|Γ3|_i (per node; NaN off
 /// the contact rows) on `mesh`, summed in its numbering: the adaptivity passes the leaf mesh, so that the
 /// marking does not depend on an engine's numbering of its part. `approach` (per node, NaN where not
-/// forecast; empty: none): the margin g(t_{n+1}) − u_ν of a contact row to its obstacle at the next step.
+/// forecast; empty: none): the margin min_j g(t_{n+j}) − u_ν of a contact row to its obstacle over the steps
+/// to the next adaptation.
 CellIndicators cell_indicators(const Mesh& mesh, const std::vector<SymTensor>& sigma, const Eigen::VectorXd& beta,
                                const std::vector<double>& pressure, const AdaptSpec& spec,
                                const std::vector<double>& approach = {});

@@ -61,14 +61,16 @@ SymTensor tensor_at(const std::vector<double>& v, std::size_t k) {
   return t;
 }
 
-/// The margin g(t_{n+1}) − u_ν of each obstacle row to its obstacle at the next step, t_{n+1} = t_n + the last
-/// step's size, per leaf-mesh node (NaN elsewhere, and everywhere when the run has no next step, or a
-/// redo pass solves the same step again): adapt/indicator.hpp's surfaces about to touch. A pair's rows
-/// (whose gap is the reference configuration's) are not forecast.
-std::vector<double> next_step_margins(const TimeStepper& s, bool forecast) {
+/// The margin min_j g(t_{n+j}) − u_ν of each obstacle row to its obstacle over the `steps` steps to the
+/// next adaptation, t_{n+j} = t_n + j × the last step's size (up to T), per leaf-mesh node (NaN
+/// elsewhere, and everywhere when the run has no next step, or `steps` is 0: a redo pass solves the same
+/// step again): adapt/indicator.hpp's surfaces about to touch, so that an adaptation every k steps
+/// refines the whole path an indenter takes until the next one. A pair's rows (whose gap is the
+/// reference configuration's) are not forecast.
+std::vector<double> approach_margins(const TimeStepper& s, int steps) {
   std::vector<double> out(static_cast<std::size_t>(s.part().original_node.size()), NAN);
   const Problem& p = s.problem();
-  if (!forecast || s.done() || (p.contact.obstacles.empty() && !p.contact.gap_moves)) return out;
+  if (steps <= 0 || s.done() || (p.contact.obstacles.empty() && !p.contact.gap_moves)) return out;
   const std::vector<double>& times = s.times();
   const double t = s.state().t;
   const double k = times.size() >= 2 ? t - times[times.size() - 2] : p.final_time / std::max(1, p.n_steps);
@@ -79,14 +81,19 @@ std::vector<double> next_step_margins(const TimeStepper& s, bool forecast) {
     const Point& x = s.mesh().node(node.local_node);
     double u_nu = 0;
     for (int j = 0; j < d; ++j) u_nu += node.direction[j] * s.state().u[node.local_node * d + j];
-    out[static_cast<std::size_t>(s.part().original_node[static_cast<std::size_t>(node.local_node)])] =
-        contact_gap_at(p.contact, x, node.direction, t + k, set.miss_gap, node.obstacles) - u_nu;
+    double margin = INFINITY;
+    for (int j = 1; j <= steps; ++j) {
+      const double at = std::min(t + j * k, p.final_time);
+      margin = std::min(margin, contact_gap_at(p.contact, x, node.direction, at, set.miss_gap, node.obstacles) - u_nu);
+      if (at >= p.final_time) break;
+    }
+    out[static_cast<std::size_t>(s.part().original_node[static_cast<std::size_t>(node.local_node)])] = margin;
   }
   return out;
 }
 
 /// The indicators of a gathered state on the forest's leaf mesh (adapt/indicator.hpp); `approach`: per
-/// leaf-mesh node (next_step_margins).
+/// leaf-mesh node (approach_margins).
 CellIndicators forest_indicators(const BisectionForest& forest, const ForestState& fs, const AdaptSpec& spec,
                                  const std::vector<double>& approach) {
   const Mesh mesh = forest.leaf_mesh();
@@ -136,7 +143,7 @@ std::vector<int> MeshAdaptivity::levels(const TimeStepper& s) const {
 }
 
 std::vector<double> MeshAdaptivity::indicator(const TimeStepper& s) const {
-  const CellIndicators ind = forest_indicators(forest_, gather_state(forest_, s, s.state()), spec_, next_step_margins(s, true));
+  const CellIndicators ind = forest_indicators(forest_, gather_state(forest_, s, s.state()), spec_, approach_margins(s, spec_.every));
   std::vector<double> out;
   for (int c : s.part().original_cell) out.push_back(ind.combined[static_cast<std::size_t>(c)]);
   return out;
@@ -151,7 +158,7 @@ std::unique_ptr<TimeStepper> MeshAdaptivity::adapt(const TimeStepper& s, int pas
   // into the forest's numbering: the same marks whatever the engine's numbering of its part.
   ForestState solution = gather_state(forest_, s, s.state());
   const std::vector<int> leaves = forest_.leaves();
-  const CellIndicators ind = forest_indicators(forest_, solution, spec_, next_step_margins(s, pass == 0));
+  const CellIndicators ind = forest_indicators(forest_, solution, spec_, approach_margins(s, pass == 0 ? spec_.every : 0));
   if (spec_.tolerance > 0 && ind.stress_relative <= spec_.tolerance) return nullptr;
   AdaptationRecord rec;
   rec.step = s.state().n;

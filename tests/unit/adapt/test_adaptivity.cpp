@@ -214,6 +214,33 @@ TEST(Adapt, TheIndicatorSeesSurfacesAboutToTouch) {
   EXPECT_EQ(flagged, 2);
 }
 
+TEST(Adapt, TheForecastLooksAheadToTheNextAdaptation) {
+  // ironing-3d 2 steps into its drag: the sphere moves +x by half a cell a step. Adapting every 6 steps,
+  // the facets the sphere comes within h_F of before the next adaptation are marked, not only the next
+  // step's: more cells, every added one ahead of the sphere.
+  const auto s = ironing_3d_after(12);
+  AdaptSpec spec;
+  spec.stress_weight = spec.damage_weight = 0;  // the contact part alone
+  spec.where = "test: [adapt]";
+  auto flagged = [&](int every) {
+    spec.every = every;
+    const MeshAdaptivity a(std::make_shared<Problem>(s->problem()), s->solvers(), spec);
+    const std::vector<double> eta = a.indicator(*s);
+    std::vector<int> cells;
+    for (int c = 0; c < s->mesh().n_cells(); ++c)
+      if (eta[static_cast<std::size_t>(c)] > 0) cells.push_back(c);
+    return cells;
+  };
+  const std::vector<int> next = flagged(1), ahead = flagged(6);
+  EXPECT_GT(next.size(), 0u);
+  EXPECT_GT(ahead.size(), next.size());
+  const double centre = -0.5 + 1.25 * (s->state().t - 0.2);  // the sphere's x now
+  for (int c : ahead) {
+    if (std::ranges::binary_search(next, c)) continue;
+    EXPECT_GT(s->mesh().cell_centroid(c)[0], centre) << "cell " << c;
+  }
+}
+
 TEST(Adapt, TheIndicatorVanishesWhereP1AndP0AreExact) {
   const auto s = paper_after(1);
   Snapshot snap = s->snapshot();
