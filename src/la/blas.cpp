@@ -28,15 +28,6 @@ long long blas_one_column_calls() { return one_column_calls.load(std::memory_ord
 
 }  // namespace vpc
 
-extern "C" void dsyrk_(const char* uplo, const char* trans, const int* n, const int* k, const double* alpha,
-                       const double* a, const int* lda, const double* beta, double* c, const int* ldc);
-
-void vpc::syrk_lower_add(const double* A, int rows, int lda, int n, double* C) {
-  if (rows <= 0 || n <= 0) return;
-  const double one = 1;
-  dsyrk_("L", "T", &n, &rows, &one, A, &lda, &one, C, &n);
-}
-
 // The Fortran BLAS interface (every argument by address; callers from Fortran add
 // hidden string lengths at the end, which the C routines below ignore as the
 // BLAS's own do).
@@ -46,6 +37,8 @@ void dgemv_(const char* trans, const int* m, const int* n, const double* alpha, 
 void dtrsv_(const char* uplo, const char* trans, const char* diag, const int* n, const double* a, const int* lda,
             double* x, const int* incx);
 void dscal_(const int* n, const double* alpha, double* x, const int* incx);
+void dsyrk_(const char* uplo, const char* trans, const int* n, const int* k, const double* alpha, const double* a,
+            const int* lda, const double* beta, double* c, const int* ldc);
 
 void dgemm_(const char* transa, const char* transb, const int* m, const int* n, const int* k, const double* alpha,
             const double* a, const int* lda, const double* b, const int* ldb, const double* beta, double* c,
@@ -97,4 +90,10 @@ void dtrsm_(const char* side, const char* uplo, const char* transa, const char* 
   using Trsm = decltype(&dtrsm_);
   static const auto trsm = next_definition<Trsm>("dtrsm_");
   trsm(side, uplo, transa, diag, m, n, alpha, a, lda, b, ldb);
+}
+
+void vpc::syrk_lower_add(const double* A, int rows, int lda, int n, double* C) {
+  if (rows <= 0 || n <= 0) return;
+  const double one = 1;
+  dsyrk_("L", "T", &n, &rows, &one, A, &lda, &one, C, &n);
 }
