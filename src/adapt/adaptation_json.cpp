@@ -26,7 +26,8 @@ nlohmann::ordered_json adaptation_json(const AdaptationRecord& a) {
           {"truncated", a.truncated},
           {"seconds_adapt", a.seconds_adapt},
           {"seconds_rebuild", a.seconds_rebuild},
-          {"resident_bytes", a.resident_bytes}};
+          {"resident_bytes", a.resident_bytes},
+          {"linear_solver", a.linear_solver}};
 }
 
 AdaptationRecord adaptation_record(const nlohmann::ordered_json& j) {
@@ -57,6 +58,7 @@ AdaptationRecord adaptation_record(const nlohmann::ordered_json& j) {
     a.seconds_adapt = j.at("seconds_adapt").get<double>();
     a.seconds_rebuild = j.at("seconds_rebuild").get<double>();
     a.resident_bytes = j.at("resident_bytes").get<double>();
+    a.linear_solver = j.value("linear_solver", std::string());  // (not in the histories of checkpoints before it)
     return a;
   } catch (const nlohmann::json::exception& e) {
     fail("an adaptation record: {}", e.what());

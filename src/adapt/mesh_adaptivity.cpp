@@ -341,6 +341,7 @@ std::unique_ptr<TimeStepper> MeshAdaptivity::adapt(const TimeStepper& s, int pas
   rec.resident_bytes = static_cast<double>(process_memory().resident);
   rec.cells_after = next->mesh().n_cells();
   rec.unknowns_after = next->part().n_global_dofs;
+  rec.linear_solver = next->backend().linear_solver();
   log_.push_back(rec);
   return next;
 }

@@ -36,6 +36,9 @@ struct AdaptationRecord {
   /// |u − u_D| on prescribed dofs and the largest penetration of an obstacle (lengths; the next step
   /// resolves them).
   double dirichlet_mismatch = 0, penetration = 0;
+  /// The new stepper's linear solver (cholmod, or the PETSc engine's: mumps, cg-gamg, cg-hypre): under
+  /// --engine auto, planned for each adapted mesh (run/solver_plan.hpp).
+  std::string linear_solver;
 };
 
 /// Makes the stepper of a problem on an adapted mesh (the engine's: one process's, or the PETSc engine's

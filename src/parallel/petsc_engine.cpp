@@ -123,8 +123,10 @@ int ranks_on_machine(MPI_Comm comm) {
   return n;
 }
 
-/// The engine of the loaded case `c` on the ranks of `comm` with `plan`'s linear solver. Collective.
-std::unique_ptr<Run> engine_on_ranks(MPI_Comm mpi_comm, Case c, const RunOptions& o, const SolverPlan& plan) {
+/// The engine of the loaded case `c` on the ranks of `comm` with `plan`'s linear solver; with [adapt], the
+/// adapted meshes' steppers made by `replanned` (empty: with the same linear solver). Collective.
+std::unique_ptr<Run> engine_on_ranks(MPI_Comm mpi_comm, Case c, const RunOptions& o, const SolverPlan& plan,
+                                     AdaptiveEngine replanned = {}) {
   const la::Comm comm = la::make_mpi_comm(mpi_comm);
   c.solvers.max_halvings = o.halvings;
   // Collective stages: a signal is looked at after them all.
@@ -134,12 +136,13 @@ std::unique_ptr<Run> engine_on_ranks(MPI_Comm mpi_comm, Case c, const RunOptions
   linear.products_row_by_row = plan.products_row_by_row;
   // [adapt] (on one rank: StepperRun refuses more): the coarse problem, which petsc_stepper empties of its
   // mesh, and new steppers of adapted meshes made as this one.
-  AdaptiveEngine adaptive;
-  if (c.adapt) {
+  AdaptiveEngine adaptive = std::move(replanned);
+  if (c.adapt && !adaptive.make) {
     adaptive.coarse = std::make_shared<const Problem>(*c.problem);
     adaptive.make = [mpi_comm, linear](std::shared_ptr<const Problem> p, const SolverChoice& choice) {
       return distributed_stepper(mpi_comm, std::move(p), choice, linear);
     };
+    adaptive.plan = fmt::format("each adapted mesh on the PETSc engine's {}, as the first", linear.kind);
   }
   auto stepper = petsc_stepper(mpi_comm, c, linear);
   stop_if_interrupted_anywhere(comm);
@@ -220,19 +223,53 @@ std::unique_ptr<Run> set_up_petsc(MPI_Comm mpi_comm, const CaseLoader& load, con
   return engine_on_ranks(mpi_comm, std::move(c), o, plan);
 }
 
+namespace {
+
+/// [adapt] under --engine auto on one process: each adapted mesh's engine and linear solver planned for it
+/// as the first mesh's were (plan_solver), so that a run refined past what CHOLMOD does well (or fits) goes on
+/// with CG + GAMG on the PETSc engine at one rank, and back where coarsening makes CHOLMOD the better choice
+/// again (the state carries over either way: mesh_adaptivity.hpp). A change is printed, unless quiet.
+/// `first`: the plan of the case's own mesh.
+AdaptiveEngine replanning_adaptivity(const Case& c, const SolverPlan& first, const std::function<MPI_Comm()>& start_petsc,
+                                     bool quiet) {
+  AdaptiveEngine a;
+  if (!c.adapt) return a;
+  a.coarse = std::make_shared<const Problem>(*c.problem);  // (the PETSc engine's stepper empties its problem's mesh)
+  a.plan = "each adapted mesh's engine and linear solver planned for it, as the first's (--engine auto)";
+  auto last = std::make_shared<std::string>(first.linear_solver);
+  a.make = [start_petsc, quiet, last](std::shared_ptr<const Problem> p, const SolverChoice& choice) -> std::unique_ptr<TimeStepper> {
+    const SolverPlan plan = plan_solver(*p, choice, {.engine = "auto", .petsc_built = true});
+    if (plan.linear_solver != *last) {
+      if (!quiet) fmt::print("  [adapt] the adapted mesh ({} cells, {} nodes): {}\n", p->mesh.n_cells(), p->mesh.n_nodes(), plan.why);
+      std::fflush(stdout);
+      *last = plan.linear_solver;
+    }
+    if (!plan.petsc) return std::make_unique<TimeStepper>(std::move(p), choice);
+    PetscSolverOptions linear;
+    linear.kind = plan.linear_solver;
+    linear.products_row_by_row = plan.products_row_by_row;
+    return distributed_stepper(start_petsc(), std::move(p), choice, linear);
+  };
+  return a;
+}
+
+}  // namespace
+
 EngineChoice auto_engine(const std::function<MPI_Comm()>& start_petsc) {
   EngineChoice e = serial_engine();
   e.set_up = [start_petsc](const CaseLoader& load, const RunOptions& o) -> std::unique_ptr<Run> {
     begin_run(o);
     Case c;
     SolverPlan plan;
+    AdaptiveEngine adaptive;
     {
       const SetUpStopsAtOnce at_once;  // as set_up_serial, until the engine is known
       c = load({});
       plan = plan_run(c, {.engine = "auto", .petsc_built = true}, o.quiet);
-      if (!plan.petsc) return set_up_on_one_process(std::move(c), o);
+      adaptive = replanning_adaptivity(c, plan, start_petsc, o.quiet);
+      if (!plan.petsc) return set_up_on_one_process(std::move(c), o, std::move(adaptive));
     }
-    return engine_on_ranks(start_petsc(), std::move(c), o, plan);
+    return engine_on_ranks(start_petsc(), std::move(c), o, plan, std::move(adaptive));
   };
   return e;
 }

@@ -84,6 +84,9 @@ struct Case;  // io/case.hpp
 struct AdaptiveEngine {
   std::function<std::unique_ptr<TimeStepper>(std::shared_ptr<const Problem>, const SolverChoice&)> make;
   std::shared_ptr<const Problem> coarse;
+  /// How each adapted mesh's engine and linear solver are chosen, for the [adapt] line of the run's header
+  /// (empty: on CHOLMOD, as the first mesh).
+  std::string plan;
 };
 
 /// The engine over `stepper` (one process, or this process's part), its output

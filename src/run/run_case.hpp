@@ -57,8 +57,9 @@ using EngineSetUp = std::function<std::unique_ptr<Run>(const CaseLoader&, const 
 /// the solver plan (run/solver_plan.hpp) has found that CHOLMOD fits.
 std::unique_ptr<Run> set_up_serial(const CaseLoader& load, const RunOptions& options);
 
-/// set_up_serial's steps after begin_run and the plan: the stepper of the loaded case `c`.
-std::unique_ptr<Run> set_up_on_one_process(Case c, const RunOptions& options);
+/// set_up_serial's steps after begin_run and the plan: the stepper of the loaded case `c`; with [adapt],
+/// the adapted meshes' steppers made by `adaptive` (empty: on CHOLMOD, as the first).
+std::unique_ptr<Run> set_up_on_one_process(Case c, const RunOptions& options, AdaptiveEngine adaptive = {});
 
 struct SolverPlan;
 struct SolverRequest;

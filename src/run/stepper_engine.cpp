@@ -15,6 +15,7 @@
 #include "run/run_case.hpp"
 #include "run/solver_plan.hpp"
 #include "scheme/step_checks.hpp"
+#include "scheme/step_failure.hpp"
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
@@ -54,6 +55,8 @@ class StepperRun final : public Run {
       adaptive_coarse_ = adaptive.coarse ? adaptive.coarse : case_.problem;
       adapt_choice_ = std::move(choice);
       adaptive_make_ = std::move(adaptive.make);
+      adapt_plan_ = adaptive.plan.empty() ? "each adapted mesh on CHOLMOD, as the first (the serial engine)"
+                                          : std::move(adaptive.plan);
       adapt_.emplace(adaptive_coarse_, adapt_choice_, *case_.adapt, adaptive_make_);
     }
   }
@@ -159,12 +162,12 @@ class StepperRun final : public Run {
       // What the adaptivity may make: newest-vertex bisection halves the longest edge every d-th level.
       const AdaptSpec& a = adapt_->spec();
       fmt::print("  [adapt]: every {} step{}{}, Dörfler θ = {}, coarsening within {} of z, σ, β; cells down to h ≈ "
-                 "{:.3g} (max_level {}), at most {} unknowns (d × nodes); each new mesh's memory is checked as a "
-                 "run's set-up is\n",
+                 "{:.3g} (max_level {}), at most {} unknowns (d × nodes); {}; each new mesh's memory is checked as "
+                 "a run's set-up is\n",
                  a.every, a.every > 1 ? "s" : "", a.resolve > 0 ? fmt::format(" (each redone up to {} times)", a.resolve) : "",
                  a.refine_fraction, a.coarsen_tolerance,
                  std::max(h_min / std::pow(2.0, a.max_level / part.dofs.dim()), a.min_size),
-                 a.max_level, a.max_unknowns);
+                 a.max_level, a.max_unknowns, adapt_plan_);
     }
   }
 
@@ -272,10 +275,11 @@ class StepperRun final : public Run {
     const long long adapted_cells = stepper_->part().n_global_cells;
     remake(u);
     if (root())
-      fmt::print(stderr, "vpcontact: warning: {}: step {} (t = {:.6g}) failed on the mesh adapted at step {} ({} cells); "
+      fmt::print(stderr, "vpcontact: warning: {}: step {} (t = {:.6g}) failed on the mesh adapted at step {} ({} cells: {}); "
                          "the adaptation is undone and the run goes on with the mesh before it ({} cells){}\n",
                  case_.adapt->where, failed.n, failed.t, adapted_at, adapted_cells,
-                 stepper_->part().n_global_cells, u.report ? "" : ", where the step is taken again");
+                 step_failure(failed, case_.solvers.residual_tolerance), stepper_->part().n_global_cells,
+                 u.report ? "" : ", where the step is taken again");
     return u.report ? *u.report : stepper_->step();
   }
 
@@ -381,6 +385,7 @@ class StepperRun final : public Run {
   std::shared_ptr<const Problem> adaptive_coarse_;  // what makes it again (a resume)
   SolverChoice adapt_choice_;
   StepperMaker adaptive_make_;
+  std::string adapt_plan_;  // how each adapted mesh's engine and linear solver are chosen (AdaptiveEngine::plan)
 };
 
 }  // namespace
@@ -431,7 +436,7 @@ SolverPlan plan_run(const Case& c, const SolverRequest& request, bool quiet, con
   return plan;
 }
 
-std::unique_ptr<Run> set_up_on_one_process(Case c, const RunOptions& o) {
+std::unique_ptr<Run> set_up_on_one_process(Case c, const RunOptions& o, AdaptiveEngine adaptive) {
   StageLog log(o.quiet);
   c.solvers.max_halvings = o.halvings;
   c.solvers.on_setup_stage = [log](const std::string& stage, double seconds) {  // a copy: it outlives set-up
@@ -446,7 +451,7 @@ std::unique_ptr<Run> set_up_on_one_process(Case c, const RunOptions& o) {
   auto stepper = c.contact_rows ? std::make_unique<TimeStepper>(c.problem, whole_mesh_part(c.problem, c.contact_rows),
                                                                 la::serial_backend(), c.solvers)
                                 : std::make_unique<TimeStepper>(c.problem, c.solvers);
-  return make_run(std::move(c), std::move(stepper), o.quiet);
+  return make_run(std::move(c), std::move(stepper), o.quiet, std::move(adaptive));
 }
 
 std::unique_ptr<Run> set_up_serial(const CaseLoader& load, const RunOptions& o) {
