@@ -118,13 +118,8 @@ StudyInput case_input(const ConvergeOptions& o) {
   return in;
 }
 
-fs::path plot_script() {
-  if (const char* env = std::getenv("VPCONTACT_CONVERGE_PLOT_SCRIPT")) return env;
-  return fs::path(VPC_SOURCE_DIR) / "scripts" / "vpcontact_converge_plot.py";
-}
-
 void plot(const fs::path& dir, bool quiet) {
-  const fs::path script = plot_script();
+  const fs::path script = script_path("VPCONTACT_CONVERGE_PLOT_SCRIPT", "vpcontact_converge_plot.py");
   require(fs::is_regular_file(script), "converge: the plot script '{}' is missing", script.string());
   std::vector<std::string> argv = {python_interpreter(), script.string(), dir.string()};
   if (quiet) argv.emplace_back("-q");

@@ -18,12 +18,12 @@ std::string python_interpreter() {
   return env && *env ? env : "/usr/bin/python3";
 }
 
-namespace {
-
-fs::path plot_script() {
-  if (const char* env = std::getenv("VPCONTACT_PLOT_SCRIPT")) return env;
-  return fs::path(VPC_SOURCE_DIR) / "scripts" / "vpcontact_plot.py";
+fs::path script_path(const char* variable, const char* name) {
+  if (const char* env = std::getenv(variable)) return env;
+  return fs::path(VPC_SOURCE_DIR) / "scripts" / name;
 }
+
+namespace {
 
 /// Why figures cannot be drawn on this machine, empty if they can.
 std::string missing_plot_tools(const std::string& python) {
@@ -36,7 +36,7 @@ std::string missing_plot_tools(const std::string& python) {
 }  // namespace
 
 void draw_figures(const fs::path& outdir, const PlotOptions& options, bool after_run) {
-  const fs::path script = plot_script();
+  const fs::path script = script_path("VPCONTACT_PLOT_SCRIPT", "vpcontact_plot.py");
   require(fs::is_regular_file(script), "plot: the figure script '{}' is missing", script.string());
   std::error_code ec;
   require(fs::is_directory(outdir, ec), "plot: '{}' is not a directory{}", outdir.string(),

@@ -17,6 +17,9 @@ struct PlotOptions {
 /// The interpreter: $VPCONTACT_PYTHON, else /usr/bin/python3 (Debian's, which finds python3-matplotlib).
 std::string python_interpreter();
 
+/// The script `name` of the source tree's scripts/, or the file the environment variable `variable` names.
+std::filesystem::path script_path(const char* variable, const char* name);
+
 /// Draws the figures into outdir/figures/. Throws vpc::Error when they cannot be
 /// drawn, except that after a run (`after_run`) a missing python3, numpy or
 /// matplotlib is only a warning on stderr (the run's results are complete

@@ -11,6 +11,9 @@
 
 namespace vpc::test {
 
+/// The friction lines of the shipped shear cases (shear-2d, shear-3d), which tests replace.
+inline const std::string kShippedCoulomb = "friction = \"coulomb\"\nmu = 0.3";
+
 /// `text` with its first occurrence of `from` replaced by `to` (a test failure where it is missing).
 inline std::string replaced(std::string text, const std::string& from, const std::string& to) {
   const auto at = text.find(from);

@@ -25,7 +25,6 @@ struct ShearCase {
 const ShearCase kShear2d{"shear-2d", "point = [\"0.02*max(t - 1, 0)\", \"0.005*min(t, 1)\"]", 2};
 const ShearCase kShear3d{"shear-3d", "point = [\"0.02*max(t - 1, 0)\", \"0.01*max(t - 1, 0)\", \"0.004*min(t, 1)\"]",
                          3};
-const std::string kCoulomb = "friction = \"coulomb\"\nmu = 0.3";
 constexpr double kMu = 0.3;
 
 void full_sliding(const ShearCase& sc) {
@@ -79,8 +78,8 @@ void sticks_as_bonded(const ShearCase& sc, const std::string& friction = "fricti
   const std::string point = sc.dim == 2 ? "point = [\"" + slow_x + "\", \"0.005*min(t, 1)\"]"
                                         : "point = [\"" + slow_x + "\", \"" + slow_y + "\", \"0.004*min(t, 1)\"]";
   const std::string text = replaced(shipped_text(sc.name), sc.point, point);
-  const Case sticking = case_of(sc.name, replaced(text, kCoulomb, friction), sets);
-  std::string bonded_text = replaced(text, kCoulomb, "friction = \"none\"");
+  const Case sticking = case_of(sc.name, replaced(text, test::kShippedCoulomb, friction), sets);
+  std::string bonded_text = replaced(text, test::kShippedCoulomb, "friction = \"none\"");
   bonded_text += "\n[[boundary.displacement]]\nparts = [\"bottom\"]\nux = \"" + slow_x + "\"\n";
   if (sc.dim == 3) bonded_text += "uy = \"" + slow_y + "\"\n";
   const Case bonded = case_of(sc.name, bonded_text);
@@ -130,7 +129,7 @@ TEST(FrictionShear, HugeMuAndTrescaBoundStickAsTheBondedSolution3d) { huge_bound
 /// The reported case of issue 48: shear-2d with Coulomb's μ = `mu` (the plane sliding 0.02 a unit of
 /// time) on `solver`.
 Case reported_slide(const std::string& mu, const std::string& solver) {
-  return case_of(kShear2d.name, replaced(shipped_text(kShear2d.name), kCoulomb, "friction = \"coulomb\"\nmu = " + mu),
+  return case_of(kShear2d.name, replaced(shipped_text(kShear2d.name), test::kShippedCoulomb, "friction = \"coulomb\"\nmu = " + mu),
                  {"solver.contact=" + solver});
 }
 
@@ -217,7 +216,7 @@ void shear_limit(const ShearCase& sc) {
     });
     for (const double tau : {0.5 * low, 0.5 * (low + high), 1e6}) {
       SCOPED_TRACE(tau);
-      const Case c = case_of(sc.name, replaced(shipped_text(sc.name), kCoulomb, fmt::format("{}\nshear_limit = {}", kCoulomb, tau)), sets);
+      const Case c = case_of(sc.name, replaced(shipped_text(sc.name), test::kShippedCoulomb, fmt::format("{}\nshear_limit = {}", test::kShippedCoulomb, tau)), sets);
       std::size_t n = 0;
       int sliding = 0, capped = 0, coulomb = 0;
       double du = 0, dl = 0, err = 0, err_total = 0;
@@ -281,7 +280,7 @@ TEST(FrictionShear, TrescaOutOfContactIsCountedAndTheShearLimitActsOnlyInContact
     SCOPED_TRACE(solver);
     const std::vector<std::string> sets = {"solver.contact=" + solver};
     int dragged = 0;
-    if (solver == "active-set") run_to_end(case_of(kShear2d.name, replaced(text, kCoulomb, "friction = \"tresca\"\nfriction_bound = 1.0"), sets),
+    if (solver == "active-set") run_to_end(case_of(kShear2d.name, replaced(text, test::kShippedCoulomb, "friction = \"tresca\"\nfriction_bound = 1.0"), sets),
                [&](const TimeStepper& s, const StepReport& r) {
                  EXPECT_EQ(r.contact.n_active, 0);
                  EXPECT_EQ(r.contact.n_stick + r.contact.n_slip, 0);
@@ -295,7 +294,7 @@ TEST(FrictionShear, TrescaOutOfContactIsCountedAndTheShearLimitActsOnlyInContact
                  }
                });
     EXPECT_EQ(dragged, solver == "active-set" ? 10 : 0);
-    run_to_end(case_of(kShear2d.name, replaced(text, kCoulomb, kCoulomb + "\nshear_limit = 1.0"), sets),
+    run_to_end(case_of(kShear2d.name, replaced(text, test::kShippedCoulomb, test::kShippedCoulomb + "\nshear_limit = 1.0"), sets),
                [&](const TimeStepper&, const StepReport& r) {
                  EXPECT_EQ(r.tangential_force[0], 0.0);
                  EXPECT_EQ(r.contact.n_open, -1);  // no bound that acts out of contact: no column
@@ -333,7 +332,7 @@ void tresca_is_coulomb(const ShearCase& sc) {
     g << bound[i].back() << ")";
   }
   const Case tresca =
-      case_of(sc.name, replaced(shipped_text(sc.name), kCoulomb, "friction = \"tresca\"\nfriction_bound = \"" + g.str() + "\""), sets);
+      case_of(sc.name, replaced(shipped_text(sc.name), test::kShippedCoulomb, "friction = \"tresca\"\nfriction_bound = \"" + g.str() + "\""), sets);
   std::size_t n = 0;
   double du = 0, dl = 0;
   run_to_end(tresca, [&](const TimeStepper& s, const StepReport&) {

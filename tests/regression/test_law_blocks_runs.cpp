@@ -15,12 +15,11 @@ namespace {
 
 using namespace friction_test;
 
-const std::string kCoulomb = "friction = \"coulomb\"\nmu = 0.3";
 constexpr double kMu = 0.3;
 
 Case elliptic_shear(double a1, double a2, const std::string& solver) {
   test::register_test_laws();
-  Case c = case_of("shear-3d", replaced(shipped_text("shear-3d"), kCoulomb,
+  Case c = case_of("shear-3d", replaced(shipped_text("shear-3d"), test::kShippedCoulomb,
                                         fmt::format("friction = \"elliptic-coulomb\"\nmu = {}\naxis_1 = {}\naxis_2 = {}",
                                                     kMu, a1, a2)));
   c.solvers.contact = solver;

@@ -20,14 +20,13 @@ namespace {
 namespace fs = std::filesystem;
 using namespace friction_test;
 
-const std::string kCoulomb = "friction = \"coulomb\"\nmu = 0.3";
-constexpr double kWear = 2e-3;
+constexpr double kWearRate = 2e-3;
 
 Case worn_shear(const std::string& solver = "active-set", double gap_share = 0) {
   test::register_test_laws();
-  Case c = case_of("shear-2d", replaced(shipped_text("shear-2d"), kCoulomb,
+  Case c = case_of("shear-2d", replaced(shipped_text("shear-2d"), test::kShippedCoulomb,
                                         fmt::format("friction = \"worn-coulomb\"\nmu = 0.3\nwear_factor = {}\ngap_share = {}",
-                                                    kWear, gap_share)));
+                                                    kWearRate, gap_share)));
   c.solvers.contact = solver;
   return c;
 }
@@ -63,7 +62,7 @@ TEST(SurfaceState, TheLawsStateIsUpdatedEveryStepFromTheStepsForcesAndSlip) {
     double volume = 0;
     for (const PartContactNode& node : s.contact().nodes) {
       const double slip = st.slip_step.segment(node.row, 1).norm();
-      worn[node.row] += kWear * std::max(st.lambda[node.row * 2], 0.0) / node.measure * slip;
+      worn[node.row] += kWearRate * std::max(st.lambda[node.row * 2], 0.0) / node.measure * slip;
       volume += worn[node.row] * node.measure;
     }
     const SurfaceField &w = field(st, "worn"), &path = field(st, "slip_path");
@@ -202,7 +201,7 @@ TEST(SurfaceState, TheRunsFilesHaveTheStateAndOutputFieldsMayNameIt) {
 
   // [output] fields names it like any field; an unknown name lists it among those expected.
   test::register_test_laws();
-  const std::string text = replaced(shipped_text("shear-2d"), kCoulomb, "friction = \"worn-coulomb\"\nmu = 0.3");
+  const std::string text = replaced(shipped_text("shear-2d"), test::kShippedCoulomb, "friction = \"worn-coulomb\"\nmu = 0.3");
   const Case only = case_of("shear-2d", replaced(text, "every = 5", "every = 5\nfields = [\"worn\", \"slip\"]"));
   EXPECT_EQ(only.output.fields, (std::vector<std::string>{"worn", "slip"}));
   try {

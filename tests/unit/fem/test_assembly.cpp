@@ -1,6 +1,7 @@
 // Assembly: exact integrals of the P1 matrices and loads, and patch tests — a
 // constant strain state is reproduced exactly in 2D and 3D on distorted meshes.
 #include "fem/assembly.hpp"
+#include "../solve_with.hpp"
 #include "mesh/generators.hpp"
 #include "la/linear_solver.hpp"
 
@@ -11,13 +12,6 @@
 
 namespace vpc {
 namespace {
-
-/// x = A⁻¹b with a factor of A.
-inline Vector solve_with(const la::LinearSolver& f, const Vector& b) {
-  Vector x;
-  f.solve(b, x);
-  return x;
-}
 
 /// Moves interior nodes randomly (boundary nodes stay, so the domain is unchanged).
 void distort(Mesh& m, double amount, unsigned seed) {

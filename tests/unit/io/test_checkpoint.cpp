@@ -25,7 +25,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-fs::path fresh_dir(const std::string& name) { return test::fresh_dir("vpc_ckpt_", name); }
+fs::path ckpt_dir(const std::string& name) { return test::fresh_dir("vpc_ckpt_", name); }
 
 std::shared_ptr<Problem> small_2d() { return load_case("paper-2d", {.steps = 10}, {.cells = 10}).problem; }
 
@@ -56,7 +56,7 @@ void expect_same_continuation(TimeStepper& a, TimeStepper& b) {
 TEST(Checkpoint, RoundTripIsExact) {
   TimeStepper s(small_2d());
   for (int i = 0; i < 3; ++i) s.step();
-  const fs::path dir = fresh_dir("roundtrip");
+  const fs::path dir = ckpt_dir("roundtrip");
   const fs::path file = write_checkpoint(dir, checkpoint_of(s));
   EXPECT_EQ(file.filename(), "checkpoint_00003.bin");
   const Checkpoint c = read_checkpoint(file);
@@ -78,7 +78,7 @@ TEST(Checkpoint, RoundTripIsExact) {
 TEST(Checkpoint, RestoredRunIsBitIdentical) {
   TimeStepper a(small_2d()), b(small_2d());
   for (int i = 0; i < 4; ++i) a.step();
-  b.restore(read_checkpoint(write_checkpoint(fresh_dir("restore"), checkpoint_of(a))).snapshot);
+  b.restore(read_checkpoint(write_checkpoint(ckpt_dir("restore"), checkpoint_of(a))).snapshot);
   expect_same_continuation(a, b);
 }
 
@@ -94,14 +94,14 @@ TEST(Checkpoint, RestoredPrimalContactRunIsBitIdentical) {
   const Case ca = problem(), cb = problem();
   TimeStepper a(ca.problem, ca.solvers), b(cb.problem, cb.solvers);
   for (int i = 0; i < 4; ++i) a.step();
-  b.restore(read_checkpoint(write_checkpoint(fresh_dir("restore_primal"), checkpoint_of(a))).snapshot);
+  b.restore(read_checkpoint(write_checkpoint(ckpt_dir("restore_primal"), checkpoint_of(a))).snapshot);
   expect_same_continuation(a, b);
   EXPECT_GT(a.state().lambda.size(), 0);
 }
 
 TEST(Checkpoint, DamagedNewestFallsBackToTheOlderOne) {
   TimeStepper s(small_2d());
-  const fs::path dir = fresh_dir("damaged");
+  const fs::path dir = ckpt_dir("damaged");
   s.step();
   write_checkpoint(dir, checkpoint_of(s));
   s.step();
@@ -125,7 +125,7 @@ TEST(Checkpoint, DamagedNewestFallsBackToTheOlderOne) {
 
 TEST(Checkpoint, BadFilesAreRejectedWithAReason) {
   TimeStepper s(small_2d());
-  const fs::path dir = fresh_dir("bad");
+  const fs::path dir = ckpt_dir("bad");
   const fs::path file = write_checkpoint(dir, checkpoint_of(s));
   const fs::path cut = dir / "checkpoint_00007.bin";
   fs::copy_file(file, cut);
@@ -154,7 +154,7 @@ TEST(Checkpoint, BadFilesAreRejectedWithAReason) {
 
 TEST(Checkpoint, KeepsOnlyTheNewest) {
   TimeStepper s(small_2d());
-  const fs::path dir = fresh_dir("keep");
+  const fs::path dir = ckpt_dir("keep");
   for (int i = 0; i < 5; ++i) {
     s.step();
     write_checkpoint(dir, checkpoint_of(s), 2);
@@ -170,7 +170,7 @@ TEST(Checkpoint, ANewTimelineReplacesTheOldOnes) {
   // A run that goes back to step 1 (a fresh run, or a resume from an older
   // checkpoint) must not leave later-step checkpoints for --resume to pick.
   TimeStepper s(small_2d());
-  const fs::path dir = fresh_dir("timeline");
+  const fs::path dir = ckpt_dir("timeline");
   const Snapshot start = s.snapshot();
   for (int i = 0; i < 4; ++i) {
     s.step();
@@ -201,7 +201,7 @@ TEST(StepperCheckpoint, OneProcessWritesItsSnapshotInTheSameFormat) {
   ASSERT_GT(s.snapshot().contact_warm.size(), 0);
   ASSERT_GT(s.snapshot().damage_warm.size(), 0);
   const Checkpoint c = checkpoint_of(s);
-  const fs::path a = fresh_dir("stepper_a"), b = fresh_dir("stepper_b");
+  const fs::path a = ckpt_dir("stepper_a"), b = ckpt_dir("stepper_b");
   write_checkpoint(s, a, c.case_name, c.pvd, c.totals);
   write_checkpoint(b, c);
   const std::string written = test::read_bytes(a / "checkpoint_00003.bin");
@@ -234,7 +234,7 @@ TEST(StepperCheckpoint, TheFingerprintIsTheKeysHashWithoutTheTimes) {
 TEST(StepperCheckpoint, ResumedRunIsBitIdentical) {
   TimeStepper a(small_2d(), penalty_duality()), b(small_2d(), penalty_duality());
   for (int i = 0; i < 4; ++i) a.step();
-  const fs::path dir = fresh_dir("stepper_resume");
+  const fs::path dir = ckpt_dir("stepper_resume");
   RunTotals totals;
   totals.max_damage_iterations = 7;
   write_checkpoint(a, dir, "paper-2d", {{0.0, "solution_00000.vtu"}}, totals);
@@ -352,7 +352,7 @@ Checkpoint documented_checkpoint() {
 }
 
 TEST(StepperCheckpoint, TheVersionSixBytesAreAsDocumented) {
-  const fs::path file = write_checkpoint(fresh_dir("bytes"), documented_checkpoint());
+  const fs::path file = write_checkpoint(ckpt_dir("bytes"), documented_checkpoint());
   EXPECT_EQ(test::read_bytes(file), documented_file(6));
   const Checkpoint back = read_checkpoint(file);
   EXPECT_EQ(back.case_keys, documented_checkpoint().case_keys);
@@ -364,7 +364,7 @@ TEST(StepperCheckpoint, TheVersionSixBytesAreAsDocumented) {
 // A checkpoint of an earlier program (version 4: no case keys) is still read whole, but a resume
 // refuses it, saying why: its case cannot be compared with this one.
 TEST(StepperCheckpoint, AVersionFourFileIsReadButNotResumed) {
-  const fs::path dir = fresh_dir("v4");
+  const fs::path dir = ckpt_dir("v4");
   const fs::path file = dir / "checkpoint_00007.bin";
   std::ofstream(file, std::ios::binary) << documented_file(4);
   const Checkpoint c = read_checkpoint(file), expected = documented_checkpoint();
@@ -394,7 +394,7 @@ TEST(StepperCheckpoint, AUniformGridIsStoredInsteadOfItsLevels) {
   auto size_at = [](const std::shared_ptr<Problem>& p, int n, const std::string& name) {
     TimeStepper s(p);
     for (int i = 0; i < n; ++i) s.step();
-    const fs::path dir = fresh_dir(name);
+    const fs::path dir = ckpt_dir(name);
     write_checkpoint(s, dir, "paper-2d", {}, {});
     const fs::path file = dir / fmt::format("checkpoint_{:05d}.bin", n);
     const Checkpoint c = read_checkpoint(file);
@@ -417,7 +417,7 @@ TEST(StepperCheckpoint, AUniformGridIsStoredInsteadOfItsLevels) {
 // commit, so that its process goes on with the others' collective steps in between.
 TEST(CheckpointFile, AnUncommittedWriteLeavesNothingAndErrorsWaitForTheCommit) {
   using namespace checkpoint_file;
-  const fs::path dir = fresh_dir("writer");
+  const fs::path dir = ckpt_dir("writer");
   const std::vector<std::pair<double, std::string>> pvd{{0.5, "a.vtu"}};
   const RunTotals totals;
   FileContent f;
@@ -491,7 +491,7 @@ TEST(CheckpointPieces, ThreePiecesHoldTheWholeStateEachItsShare) {
   TimeStepper s(small_2d(), penalty_duality());
   for (int i = 0; i < 3; ++i) s.step();
   const Checkpoint c = checkpoint_of(s);
-  const fs::path dir = fresh_dir("pieces"), one = fresh_dir("pieces_one");
+  const fs::path dir = ckpt_dir("pieces"), one = ckpt_dir("pieces_one");
   write_checkpoint(s, dir, c.case_name, c.pvd, c.totals, 3);
   write_checkpoint(s, one, c.case_name, c.pvd, c.totals);
   int n_files = 0;
@@ -517,7 +517,7 @@ TEST(CheckpointPieces, ThreePiecesHoldTheWholeStateEachItsShare) {
 TEST(CheckpointPieces, ResumedFromPiecesIsBitIdentical) {
   TimeStepper a(small_2d(), penalty_duality()), b(small_2d(), penalty_duality());
   for (int i = 0; i < 4; ++i) a.step();
-  const fs::path dir = fresh_dir("pieces_resume");
+  const fs::path dir = ckpt_dir("pieces_resume");
   RunTotals totals;
   totals.max_damage_iterations = 5;
   write_checkpoint(a, dir, "paper-2d", {{0.0, "solution_00000.vtu"}}, totals, 4);
@@ -539,7 +539,7 @@ TEST(CheckpointPieces, ResumedFromPiecesIsBitIdentical) {
 void expect_step_1_because(const std::string& name, const std::function<void(const fs::path&)>& damage,
                            const std::string& reason) {
   TimeStepper s(small_2d()), b(small_2d());
-  const fs::path dir = fresh_dir(name);
+  const fs::path dir = ckpt_dir(name);
   for (int i = 0; i < 2; ++i) {
     s.step();
     write_checkpoint(s, dir, "paper-2d", {}, {}, 3);
@@ -572,7 +572,7 @@ TEST(CheckpointPieces, AMissingOrDamagedPieceFallsBackToTheOlderCheckpoint) {
                         [](const fs::path& d) {
                           TimeStepper other(small_2d(), penalty_duality());
                           for (int i = 0; i < 2; ++i) other.step();
-                          const fs::path elsewhere = fresh_dir("stale_elsewhere");
+                          const fs::path elsewhere = ckpt_dir("stale_elsewhere");
                           write_checkpoint(other, elsewhere, "paper-2d", {}, {}, 3);
                           fs::copy_file(piece(elsewhere, 2, 1, 3), piece(d, 2, 1, 3),
                                         fs::copy_options::overwrite_existing);
@@ -585,7 +585,7 @@ TEST(CheckpointPieces, AMissingOrDamagedPieceFallsBackToTheOlderCheckpoint) {
 
 TEST(CheckpointPieces, KeepingTheNewestAndANewTimelineRemoveWholeCheckpoints) {
   TimeStepper s(small_2d());
-  const fs::path dir = fresh_dir("pieces_keep");
+  const fs::path dir = ckpt_dir("pieces_keep");
   const Snapshot start = s.snapshot();
   for (int i = 0; i < 4; ++i) {
     s.step();

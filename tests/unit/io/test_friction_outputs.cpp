@@ -24,7 +24,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-fs::path fresh_dir(const std::string& name) { return test::fresh_dir("vpc_friction_out_", name); }
+fs::path friction_out_dir(const std::string& name) { return test::fresh_dir("vpc_friction_out_", name); }
 using test::read_bytes;
 
 double dot(const Point& a, const Point& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
@@ -163,17 +163,17 @@ TEST(FrictionOutputs, CheckpointKeepsTheFrictionStateBitForBit) {
   friction_totals.dissipation = 0.1 / 3;
   c.totals = friction_totals;
   // Without friction the file is that of before: its friction totals are not written.
-  const fs::path plain = write_checkpoint(fresh_dir("plain"), c);
+  const fs::path plain = write_checkpoint(friction_out_dir("plain"), c);
   const Checkpoint plain_back = read_checkpoint(plain);
   EXPECT_EQ(plain_back.totals.dissipation, 0.0);
   EXPECT_EQ(plain_back.snapshot.state.slip.size(), 0);
   c.totals = {};
-  const std::string before = read_bytes(write_checkpoint(fresh_dir("plain2"), c));
+  const std::string before = read_bytes(write_checkpoint(friction_out_dir("plain2"), c));
   EXPECT_EQ(read_bytes(plain), before);
   // With friction: the fields and totals back bit for bit.
   c.snapshot.state = frictional(s.state(), 2);
   c.totals = friction_totals;
-  const fs::path file = write_checkpoint(fresh_dir("friction"), c);
+  const fs::path file = write_checkpoint(friction_out_dir("friction"), c);
   const Checkpoint back = read_checkpoint(file);
   const State& a = c.snapshot.state;
   const State& b = back.snapshot.state;
@@ -194,7 +194,7 @@ TEST(FrictionOutputs, CheckpointKeepsTheFrictionStateBitForBit) {
   // A damaged friction array count is refused with the file's name.
   Checkpoint bad = c;
   bad.snapshot.state.slip.resize(m - 1);
-  const fs::path bad_file = write_checkpoint(fresh_dir("bad"), bad);
+  const fs::path bad_file = write_checkpoint(friction_out_dir("bad"), bad);
   try {
     read_checkpoint(bad_file);
     ADD_FAILURE() << "a checkpoint whose slip does not fit its λ was read";

@@ -13,7 +13,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-fs::path fresh_dir(const std::string& name) {
+fs::path output_files_dir(const std::string& name) {
   const fs::path d = fs::temp_directory_path() / ("vpc_output_files_" + std::to_string(::getpid())) / name;
   fs::remove_all(d);
   fs::create_directories(d);
@@ -31,7 +31,7 @@ TEST(OutputFiles, PrepareGivesTheReason) {
               std::string::npos)
         << e.what();
   }
-  const fs::path d = fresh_dir("file");
+  const fs::path d = output_files_dir("file");
   touch(d / "plain");
   EXPECT_THROW(prepare_output_directory(d / "plain"), Error);
   EXPECT_NO_THROW(prepare_output_directory(d / "new" / "sub"));
@@ -40,7 +40,7 @@ TEST(OutputFiles, PrepareGivesTheReason) {
 }
 
 TEST(OutputFiles, RemovesAnEarlierRunsOutputsOnly) {
-  const fs::path d = fresh_dir("earlier");
+  const fs::path d = output_files_dir("earlier");
   const std::vector<std::string> outputs = {"solution.pvd", "solution_00001.vtu", "solution_00002.pvtu",
                                             "solution_00002_p0001.vtu", "history.csv", "probes.csv",
                                             "summary.json", "checkpoint_00010.bin", "history.csv.tmp.1234"};
@@ -66,7 +66,7 @@ TEST(OutputFiles, RemovesAnEarlierRunsOutputsOnly) {
 }
 
 TEST(OutputFiles, RemovesTemporaryFiles) {
-  const fs::path d = fresh_dir("tmp");
+  const fs::path d = output_files_dir("tmp");
   touch(d / "checkpoint_00001.bin.tmp.42");
   touch(d / "summary.json.tmp.7");
   touch(d / "summary.json");

@@ -21,7 +21,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-fs::path fresh_dir(const std::string& name) { return test::fresh_dir("vpc_fields_", name); }
+fs::path fields_dir(const std::string& name) { return test::fresh_dir("vpc_fields_", name); }
 std::string read_text(const fs::path& p) { return test::read_bytes(p); }
 
 /// The state of a small run with λ made a block of b numbers per contact node (the
@@ -83,7 +83,7 @@ TEST(StateFields, LambdaBlockIsAPointFieldOfBComponents) {
     for (int j = 0; j < 3; ++j) EXPECT_EQ(block.values[c.local_node * 3 + j], st.lambda[c.row * 3 + j]);
   EXPECT_EQ(points[3].values, force_1);
   EXPECT_EQ(points[4].values, pressure_1);
-  const fs::path file = fresh_dir("vtu_block") / "s.vtu";
+  const fs::path file = fields_dir("vtu_block") / "s.vtu";
   write_vtu(file, s.mesh(), points, cells, {.compression = VtuCompression::none});
   EXPECT_NE(read_text(file).find("Name=\"contact_lambda\" NumberOfComponents=\"3\""), std::string::npos);
 }
@@ -93,7 +93,7 @@ TEST(StateFields, CheckpointStoresTheBlockAndRefusesAnother) {
   s.step();
   Checkpoint c = test::checkpoint_of(s);
   c.snapshot.state = with_block(s, 2);
-  const fs::path dir = fresh_dir("ckpt_block");
+  const fs::path dir = fields_dir("ckpt_block");
   const fs::path file = write_checkpoint(dir, c);
   const Checkpoint back = read_checkpoint(file);
   EXPECT_EQ(back.snapshot.state.contact_block, 2);

@@ -20,11 +20,6 @@
 namespace vpc::mortar {
 namespace {
 
-/// Expects `f` to throw a vpc::Error whose message contains `part`.
-void expect_error(const std::function<void()>& f, const std::string& part) {
-  const std::string m = error_of(f);
-  EXPECT_NE(m.find(part), std::string::npos) << "message: " << m << "\nexpected to contain: " << part;
-}
 
 /// M as a map (slave id, master id) -> value, checking there is one entry per pair.
 std::map<std::pair<int, int>, double> m_map(const MortarCoupling& c) {

@@ -12,11 +12,6 @@
 namespace vpc::mortar {
 namespace {
 
-/// Expects `f` to throw a vpc::Error whose message contains `part`.
-void expect_error(const std::function<void()>& f, const std::string& part) {
-  const std::string m = error_of(f);
-  EXPECT_NE(m.find(part), std::string::npos) << "message: " << m << "\nexpected to contain: " << part;
-}
 using V = Eigen::Vector2d;
 
 double cross(const V& a, const V& b) { return a[0] * b[1] - a[1] * b[0]; }

@@ -14,11 +14,6 @@
 namespace vpc::mortar {
 namespace {
 
-/// Expects `f` to throw a vpc::Error whose message contains `part`.
-void expect_error(const std::function<void()>& f, const std::string& part) {
-  const std::string m = error_of(f);
-  EXPECT_NE(m.find(part), std::string::npos) << "message: " << m << "\nexpected to contain: " << part;
-}
 
 void expect_point(const Point& a, const Point& b, double tol = 1e-15) {
   for (int d = 0; d < 3; ++d) EXPECT_NEAR(a[d], b[d], tol) << "component " << d;

@@ -62,7 +62,7 @@ T = 1.0
 steps = 2
 )";
 
-fs::path fresh_dir(const std::string& name) {
+fs::path resume_dir(const std::string& name) {
   const fs::path d = fs::temp_directory_path() / ("vpc_resume_changes_" + name + "_" + std::to_string(::getpid()));
   fs::remove_all(d);
   return d;
@@ -86,7 +86,7 @@ RunResult run(const std::string& text, const std::vector<std::string>& sets, con
 
 /// The error of resuming the 2-step run of `text` with `sets`; "(resumed)" where it resumes.
 std::string resume_error(const std::string& text, const std::vector<std::string>& sets, const std::string& name) {
-  const fs::path dir = fresh_dir(name);
+  const fs::path dir = resume_dir(name);
   run(text, {}, dir, false);
   try {
     run(text, sets, dir, true);
@@ -125,7 +125,7 @@ TEST(ResumeChanges, EachKindOfInputThatMakesAnotherProblemIsRefusedNamingTheKey)
 }
 
 TEST(ResumeChanges, TheKeysThatMayChangeAreAcceptedPrintedAndRecorded) {
-  const fs::path dir = fresh_dir("allowed");
+  const fs::path dir = resume_dir("allowed");
   run(kCase, {}, dir, false);
   const std::vector<std::string> sets = {"time.T=2", "time.steps=4", "output.every=1", "solver.tolerance=1e-9",
                                          "case.description='continued'"};

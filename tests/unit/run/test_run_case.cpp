@@ -135,7 +135,7 @@ TEST(RunLoop, StepByStepAndWithoutFiles) {
   EXPECT_TRUE(failing.finished());
 }
 
-fs::path fresh_dir(const std::string& name) {
+fs::path run_dir(const std::string& name) {
   const fs::path d = fs::temp_directory_path() / ("vpc_run_" + name + "_" + std::to_string(::getpid()));
   fs::remove_all(d);
   return d;
@@ -143,7 +143,7 @@ fs::path fresh_dir(const std::string& name) {
 
 TEST(RunCase, SerialRunThenResumeFromItsLastCheckpoint) {
   RunOptions o = quiet();
-  o.output_directory = fresh_dir("serial");
+  o.output_directory = run_dir("serial");
   const CaseLoader load = [&](const MeshRequest&) {
     Case c = load_case("paper-1d", {.steps = 6});
     c.output.directory = o.output_directory;

@@ -36,7 +36,7 @@ std::shared_ptr<Problem> adaptive_rod(double tolerance, double T = 1) {
   return p;
 }
 
-fs::path fresh_dir(const std::string& name) {
+fs::path steps_dir(const std::string& name) {
   const fs::path d = fs::temp_directory_path() / ("vpc_steps_" + name + "_" + std::to_string(::getpid()));
   fs::remove_all(d);
   fs::create_directories(d);
@@ -312,7 +312,7 @@ TEST(TimeSteps, ARejectedStepOfThePenaltySolversLeavesNoTraceEither) {
 /// Writes a's checkpoint and resumes b from it; returns what was skipped.
 std::vector<std::string> checkpoint_into(const TimeStepper& a, TimeStepper& b, const std::string& name,
                                          bool expect_found = true) {
-  const fs::path dir = fresh_dir(name);
+  const fs::path dir = steps_dir(name);
   write_checkpoint(a, dir, "paper-1d", {}, {});
   std::vector<std::string> skipped;
   EXPECT_EQ(resume_from_checkpoint(b, dir, &skipped).has_value(), expect_found);

@@ -19,7 +19,7 @@
 namespace vpc {
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr double kUnbounded = std::numeric_limits<double>::infinity();
 
 /// Rows/cols 1..n-1 of an (n+1)×(n+1) matrix: the interior (Dirichlet) block.
 SparseMatrix interior_block(const SparseMatrix& B, int n) {
@@ -97,7 +97,7 @@ TEST(BoxQp, LowerObstacleIsNodallyExact) {
   const Dirichlet1d p = dirichlet_1d(40);
   const int m = p.n - 1;
   const Vector b = mass_load(p, [](double) { return -8.0; });
-  const Vector lo = Vector::Constant(m, -0.25), hi = Vector::Constant(m, kInf);
+  const Vector lo = Vector::Constant(m, -0.25), hi = Vector::Constant(m, kUnbounded);
   SparseBoxQpOperator H(p.A);
   Vector u;
   const BoxQpResult r = solve_box_qp(H, b, lo, hi, u);
@@ -125,7 +125,7 @@ TEST(BoxQp, LowerObstacleConvergesAtSecondOrder) {
     const Dirichlet1d p = dirichlet_1d(n);
     const int m = p.n - 1;
     const Vector b = mass_load(p, [](double) { return -8.0; });
-    const Vector lo = Vector::Constant(m, -0.25), hi = Vector::Constant(m, kInf);
+    const Vector lo = Vector::Constant(m, -0.25), hi = Vector::Constant(m, kUnbounded);
     SparseBoxQpOperator H(p.A);
     Vector u;
     const BoxQpResult r = solve_box_qp(H, b, lo, hi, u);
@@ -144,7 +144,7 @@ TEST(BoxQp, UpperObstacleIsNodallyExact) {
   const Dirichlet1d p = dirichlet_1d(40);
   const int m = p.n - 1;
   const Vector b = mass_load(p, [](double) { return 8.0; });
-  const Vector lo = Vector::Constant(m, -kInf), hi = Vector::Constant(m, 0.25);
+  const Vector lo = Vector::Constant(m, -kUnbounded), hi = Vector::Constant(m, 0.25);
   SparseBoxQpOperator H(p.A);
   Vector u = Vector::Zero(m);
   const BoxQpResult r = solve_box_qp(H, b, lo, hi, u);
@@ -218,9 +218,9 @@ RandomQp random_qp(int n, std::mt19937& rng) {
   for (int i = 0; i < n; ++i) {
     q.b[i] = 2 * N01(rng);
     const double a = U(rng);
-    q.lo[i] = a < 0.2 ? -kInf : -U(rng);
+    q.lo[i] = a < 0.2 ? -kUnbounded : -U(rng);
     const double c = U(rng);
-    q.hi[i] = c < 0.2 ? kInf : (c < 0.25 && std::isfinite(q.lo[i]) ? q.lo[i] : U(rng));
+    q.hi[i] = c < 0.2 ? kUnbounded : (c < 0.25 && std::isfinite(q.lo[i]) ? q.lo[i] : U(rng));
   }
   return q;
 }
@@ -234,7 +234,7 @@ Vector enumerate_reference(const RandomQp& q) {
   int total = 1;
   for (int i = 0; i < n; ++i) total *= 3;
   Vector best;
-  double best_f = kInf;
+  double best_f = kUnbounded;
   for (int code = 0; code < total; ++code) {
     Vector x = Vector::Zero(n);
     std::vector<int> F;
@@ -407,7 +407,7 @@ TEST(BoxQp, DegenerateBoundsConverge) {
   for (int k = 0; k < m; ++k) {
     const double v = 0.1 * std::sin(7.3 * p.x(k)) + 0.3;  // in (0.2, 0.4)
     lo[k] = k % 3 == 0 ? v : 0.0;        // x* on its lower bound
-    hi[k] = k % 3 == 1 ? v : kInf;       // x* on its upper bound
+    hi[k] = k % 3 == 1 ? v : kUnbounded;       // x* on its upper bound
     xs[k] = v;
   }
   const Vector b = p.A * xs;
@@ -444,7 +444,7 @@ SparseMatrix damage_matrix_2d() {
 TEST(BoxQp, EqualBoundsAreHeldFromTheFirstIteration) {
   const SparseMatrix H = damage_matrix_2d();
   const int n = static_cast<int>(H.rows());
-  Vector lo = Vector::Constant(n, -kInf), hi = Vector::Constant(n, kInf), xs(n);
+  Vector lo = Vector::Constant(n, -kUnbounded), hi = Vector::Constant(n, kUnbounded), xs(n);
   for (int i = 0; i < n; ++i) xs[i] = 0.5 + 0.3 * std::sin(0.37 * i);
   const Vector b = H * xs;
   std::vector<char> fixed(n, 0);
@@ -553,7 +553,7 @@ TEST(BoxQp, ACyclingActiveSetIsEndedByMonotoneUpdates) {
   const Vector b = H * (Vector(3) << 5.265, 0.379, -2.792).finished() - (Vector(3) << 0.103, 0.175, 0.073).finished();
   DenseBoxQpOperator op(H);
   Vector x;
-  const BoxQpResult r = solve_box_qp(op, b, Vector::Zero(3), Vector::Constant(3, kInf), x);
+  const BoxQpResult r = solve_box_qp(op, b, Vector::Zero(3), Vector::Constant(3, kUnbounded), x);
   ASSERT_TRUE(r.converged) << r.iterations << " iterations";
   EXPECT_EQ(r.cycles, 1);
   EXPECT_LE(r.kkt_residual, 1e-14);

@@ -2,6 +2,7 @@
 // known by hand, a 2D elastic block touching a sloped obstacle on part of its
 // base (active-set vs penalty–duality), warm starts, and the error paths.
 #include "../error_of.hpp"
+#include "../solve_with.hpp"
 #include "contact/normal_compliance.hpp"
 #include "solvers/compliance_dual.hpp"
 #include "solvers/contact_solver.hpp"
@@ -27,13 +28,6 @@ void set_law(ContactConstraints& cc, std::shared_ptr<const ContactLaw> law, cons
   cc.laws = {std::move(law)};
   cc.law.assign(static_cast<std::size_t>(datum.size()), 0);
   cc.datum = datum;
-}
-
-/// x = A⁻¹b with a factor of A.
-inline Vector solve_with(const la::LinearSolver& f, const Vector& b) {
-  Vector x;
-  f.solve(b, x);
-  return x;
 }
 
 const char* const kSolvers[] = {"active-set", "penalty-duality"};

@@ -2,6 +2,7 @@
 // the factor's size before the numeric factorization), the limit, the refusal, and
 // CHOLMOD failures as clean vpc::Errors.
 #include "../error_of.hpp"
+#include "../solve_with.hpp"
 #include "la/memory_estimate.hpp"
 
 #include "cases/builtin_cases.hpp"
@@ -21,13 +22,6 @@
 
 namespace vpc {
 namespace {
-
-/// x = A⁻¹b with a factor of A.
-inline Vector solve_with(const la::LinearSolver& f, const Vector& b) {
-  Vector x;
-  f.solve(b, x);
-  return x;
-}
 
 TEST(MemoryEstimate, ParsesSizes) {
   EXPECT_EQ(parse_memory_size("512M", "x"), 512.0 * 1024 * 1024);
