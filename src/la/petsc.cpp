@@ -177,8 +177,11 @@ class PetscFactor final : public LinearSolver {
     // levels are formed (foundation-3d n = 70, 2 ranks: a rank's peak 2.14 GB against 2.64 GB; the
     // first step's contact solves, a set-up among them, 67.8 s against 17.5 s). PETSc reads it for
     // every product, unprefixed: it is set for this set-up only (GAMG's and galerkin_levels'), so
-    // that a later run in this process (Python) plans its own.
-    const ScopedOption row_by_row(options_.products_row_by_row ? "-matptap_via" : nullptr, "allatonce");
+    // that a later run in this process (Python) plans its own. On one rank the matrices are SeqAIJ, which
+    // has no allatonce (PETSc 3.18 stops the set-up: "Unknown option allatonce for -matptap_via"); its
+    // default, scalable, already forms PᵀAP without A·P whole.
+    const bool row_by_row_option = options_.products_row_by_row && comm_size(comm_) > 1;
+    const ScopedOption row_by_row(row_by_row_option ? "-matptap_via" : nullptr, "allatonce");
     // GAMG's transfers from the matrix without the couplings between fields, where there are
     // several (petsc_segregated.hpp); the levels' operators from the matrix itself.
     PMat within;
