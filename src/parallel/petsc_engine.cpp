@@ -230,17 +230,19 @@ namespace {
 /// with CG + GAMG on the PETSc engine at one rank, and back where coarsening makes CHOLMOD the better choice
 /// again (the state carries over either way: mesh_adaptivity.hpp). A change is printed, unless quiet.
 /// `first`: the plan of the case's own mesh.
-AdaptiveEngine replanning_adaptivity(const Case& c, const SolverPlan& first, const std::function<MPI_Comm()>& start_petsc,
-                                     bool quiet) {
+AdaptiveEngine replanning_adaptivity(const Case& c, const SolverPlan& first,
+                                     const std::function<MPI_Comm()>& start_petsc, bool quiet) {
   AdaptiveEngine a;
   if (!c.adapt) return a;
   a.coarse = std::make_shared<const Problem>(*c.problem);  // (the PETSc engine's stepper empties its problem's mesh)
   a.plan = "each adapted mesh's engine and linear solver planned for it, as the first's (--engine auto)";
   auto last = std::make_shared<std::string>(first.linear_solver);
-  a.make = [start_petsc, quiet, last](std::shared_ptr<const Problem> p, const SolverChoice& choice) -> std::unique_ptr<TimeStepper> {
+  a.make = [start_petsc, quiet, last](std::shared_ptr<const Problem> p,
+                                      const SolverChoice& choice) -> std::unique_ptr<TimeStepper> {
     const SolverPlan plan = plan_solver(*p, choice, {.engine = "auto", .petsc_built = true});
     if (plan.linear_solver != *last) {
-      if (!quiet) fmt::print("  [adapt] the adapted mesh ({} cells, {} nodes): {}\n", p->mesh.n_cells(), p->mesh.n_nodes(), plan.why);
+      if (!quiet)
+        fmt::print("  [adapt] the adapted mesh ({} cells, {} nodes): {}\n", p->mesh.n_cells(), p->mesh.n_nodes(), plan.why);
       std::fflush(stdout);
       *last = plan.linear_solver;
     }
