@@ -2,7 +2,7 @@
 # Issue 51: under --engine auto an adaptive run plans the engine and linear solver of each adapted mesh
 # (run/solver_plan.hpp), as its first mesh's. hertz-2d-adapt under a memory limit between CHOLMOD's estimate
 # and CG + GAMG's on its finer meshes (14,858 cells: CHOLMOD about 43 MiB; 19,864: CHOLMOD 60 MiB, CG + GAMG
-# 33 MiB; 26,652: CG + GAMG about 45 MiB) starts on CHOLMOD, goes on with CG + GAMG on the PETSc engine at
+# 33 MiB; 26,652: CG + GAMG 34 MiB, its refusal's figure under --memory-limit 30M) starts on CHOLMOD, goes on with CG + GAMG on the PETSc engine at
 # one rank, says so, and ends where the serial run without a limit ends (the same meshes, the same force).
 #
 # Usage: tests/cli/test_adapt_replan.sh PATH/TO/vpcontact TMPDIR
