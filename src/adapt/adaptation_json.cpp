@@ -14,6 +14,7 @@ nlohmann::ordered_json adaptation_json(const AdaptationRecord& a) {
           {"unknowns_after", a.unknowns_after},
           {"marked", a.marked},
           {"bisected", a.bisected},
+          {"forecast_passes", a.forecast_passes},
           {"removed_nodes", a.removed_nodes},
           {"max_level", a.max_level},
           {"min_angle_degrees", a.min_angle_degrees},
@@ -42,6 +43,7 @@ AdaptationRecord adaptation_record(const nlohmann::ordered_json& j) {
     a.unknowns_after = j.at("unknowns_after").get<long long>();
     a.marked = j.at("marked").get<int>();
     a.bisected = j.at("bisected").get<int>();
+    a.forecast_passes = j.value("forecast_passes", 0);  // (not in the histories of checkpoints before it)
     a.removed_nodes = j.at("removed_nodes").get<int>();
     a.max_level = j.at("max_level").get<int>();
     a.min_angle_degrees = j.at("min_angle_degrees").get<double>();

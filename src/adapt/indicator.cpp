@@ -123,16 +123,6 @@ CellIndicators cell_indicators(const Mesh& mesh, const std::vector<SymTensor>& s
       mean += p / d;
     }
     if (!all) continue;
-    if (!approach.empty()) {
-      // about to touch: a node off contact within h_F of its obstacle at the next step
-      const double measure = mesh.facet_measure(f), h = facet_size(measure, d);
-      bool near = false;
-      for (int a = 0; a < d; ++a) {
-        const double m = approach[static_cast<std::size_t>(v[a])];
-        near = near || (!(pressure[static_cast<std::size_t>(v[a])] > 0) && m < h);
-      }
-      if (near) out.contact[static_cast<std::size_t>(mesh.facet_cell(f))] += h * measure * p_ref * p_ref;
-    }
     if (hi - lo <= 1e-10 * std::max(std::abs(hi), std::abs(lo))) continue;  // (round-off)
     // The variance of the facet's nodal pressures, times |F|: on a segment 3 ‖p − p̄_F‖²_F of the P1
     // trace (the scale drops out in the normalization).
@@ -142,9 +132,33 @@ CellIndicators cell_indicators(const Mesh& mesh, const std::vector<SymTensor>& s
     out.contact[static_cast<std::size_t>(mesh.facet_cell(f))] += facet_size(measure, d) * measure * var;
   }
 
+  for (int f : facets_about_to_touch(mesh, pressure, approach)) {
+    const double measure = mesh.facet_measure(f);
+    out.contact[static_cast<std::size_t>(mesh.facet_cell(f))] += facet_size(measure, d) * measure * p_ref * p_ref;
+  }
+
   add_share(out.stress, spec.stress_weight, out.combined);
   add_share(out.contact, spec.contact_weight, out.combined);
   add_share(out.damage, spec.damage_weight, out.combined);
+  return out;
+}
+
+std::vector<int> facets_about_to_touch(const Mesh& mesh, const std::vector<double>& pressure,
+                                       const std::vector<double>& approach, double reach) {
+  std::vector<int> out;
+  if (approach.empty()) return out;
+  const int d = mesh.dim();
+  for (int f = 0; f < mesh.n_facets(); ++f) {
+    const int* v = mesh.facet(f);
+    bool all = true, near = false;
+    const double h = reach * facet_size(mesh.facet_measure(f), d);
+    for (int a = 0; a < d; ++a) {
+      const auto i = static_cast<std::size_t>(v[a]);
+      all = all && !std::isnan(pressure[i]);
+      near = near || (!(pressure[i] > 0) && approach[i] < h);  // (a NaN margin: not forecast)
+    }
+    if (all && near) out.push_back(f);
+  }
   return out;
 }
 

@@ -42,5 +42,12 @@ CellIndicators cell_indicators(const Mesh& mesh, const std::vector<SymTensor>& s
                                const std::vector<double>& pressure, const AdaptSpec& spec,
                                const std::vector<double>& approach = {});
 
+/// The Γ3 facets of `mesh` (those whose nodes all have a pressure, not NaN) about to touch: a node not in
+/// contact (p not > 0) whose `approach` margin is below `reach` × the facet's size h_F (its length in 2D,
+/// √area in 3D). With reach 1: what the contact part's forecast adds to, and what an adaptation refines to
+/// its final level (adapt/mesh_adaptivity.hpp); with 2, what coarsening leaves alone (a parent's facet is at
+/// most twice as large: coarsening it would make it about to touch, and the forecast refine it again).
+std::vector<int> facets_about_to_touch(const Mesh& mesh, const std::vector<double>& pressure,
+                                       const std::vector<double>& approach, double reach = 1);
 
 }  // namespace vpc

@@ -9,6 +9,7 @@
 #include "core/error.hpp"
 #include "core/process_memory.hpp"
 #include "contact/contact_spec.hpp"
+#include "problem/contact_rows.hpp"
 
 #include <fmt/format.h>
 
@@ -20,6 +21,11 @@
 #include <unordered_map>
 
 namespace vpc {
+
+struct ApproachForecast {
+  double t = 0, k = 0;
+  int steps = 0;
+};
 
 void check_adaptable(const Problem& p, const AdaptSpec& spec) {
   const Mesh& m = p.mesh;
@@ -61,54 +67,78 @@ SymTensor tensor_at(const std::vector<double>& v, std::size_t k) {
   return t;
 }
 
-/// The margin min_j g(t_{n+j}) − u_ν of each obstacle row to its obstacle over the `steps` steps to the
-/// next adaptation, t_{n+j} = t_n + j × the last step's size (up to T), per leaf-mesh node (NaN
-/// elsewhere, and everywhere when the run has no next step, or `steps` is 0: a redo pass solves the same
-/// step again): adapt/indicator.hpp's surfaces about to touch, so that an adaptation every k steps
-/// refines the whole path an indenter takes until the next one. A pair's rows (whose gap is the
-/// reference configuration's) are not forecast.
-std::vector<double> approach_margins(const TimeStepper& s, int steps) {
-  std::vector<double> out(static_cast<std::size_t>(s.part().original_node.size()), NAN);
+/// The forecast from the stepper `s` over the `steps` steps to the next adaptation.
+ApproachForecast forecast_of(const TimeStepper& s, int steps) {
   const Problem& p = s.problem();
-  if (steps <= 0 || s.done() || (p.contact.obstacles.empty() && !p.contact.gap_moves)) return out;
+  if (steps <= 0 || s.done() || (p.contact.obstacles.empty() && !p.contact.gap_moves)) return {};
   const std::vector<double>& times = s.times();
   const double t = s.state().t;
-  const double k = times.size() >= 2 ? t - times[times.size() - 2] : p.final_time / std::max(1, p.n_steps);
-  const int d = s.mesh().dim();
-  const ContactSet& set = s.contact();
-  for (const PartContactNode& node : set.nodes) {
-    if (!node.owned || node.pair >= 0) continue;
-    const Point& x = s.mesh().node(node.local_node);
+  return {t, times.size() >= 2 ? t - times[times.size() - 2] : p.final_time / std::max(1, p.n_steps), steps};
+}
+
+/// A gathered state on the forest's leaf mesh, in its numbering (cell k: leaves()[k]): what the indicator
+/// and the forecast read, so that the marks do not depend on an engine's numbering of its part.
+struct LeafState {
+  Mesh mesh;
+  Vector beta;
+  std::vector<double> pressure;  // λ_ν / |Γ3|_i per node (NaN off Γ3)
+  std::vector<double> u;         // d a node
+  std::vector<SymTensor> sigma;  // per cell
+};
+
+LeafState leaf_state(const BisectionForest& forest, const ForestState& fs) {
+  LeafState out{forest.leaf_mesh()};
+  const int d = out.mesh.dim();
+  const std::vector<int> number = forest.mesh_numbers();
+  out.beta.resize(out.mesh.n_nodes());
+  out.pressure.assign(static_cast<std::size_t>(out.mesh.n_nodes()), NAN);
+  out.u.assign(static_cast<std::size_t>(out.mesh.n_nodes() * d), 0.0);
+  const auto w = static_cast<std::size_t>(fs.contact_width);
+  for (std::size_t i = 0; i < number.size(); ++i) {
+    if (number[i] < 0) continue;
+    const auto m = static_cast<std::size_t>(number[i]);
+    out.beta[number[i]] = fs.beta[i];
+    out.pressure[m] = fs.contact[i * w];
+    std::copy_n(fs.u.begin() + static_cast<std::ptrdiff_t>(i * static_cast<std::size_t>(d)), d,
+                out.u.begin() + static_cast<std::ptrdiff_t>(m * static_cast<std::size_t>(d)));
+  }
+  out.sigma.resize(fs.leaves.size());
+  for (std::size_t k = 0; k < out.sigma.size(); ++k) out.sigma[k] = tensor_at(fs.sigma, k);
+  return out;
+}
+
+/// The margin min_j g(t_{n+j}) − u_ν of each obstacle row of `coarse`'s problem on the leaf mesh to its
+/// obstacle over the forecast's steps, per leaf-mesh node (NaN elsewhere, and everywhere without a
+/// forecast): adapt/indicator.hpp's surfaces about to touch, so that an adaptation every k steps refines
+/// the whole path an indenter takes until the next one. The rows (direction, obstacles) are the leaf mesh's
+/// own, as its stepper will have them; a pair's rows (whose gap is the reference configuration's) are not
+/// forecast.
+std::vector<double> approach_margins(const Problem& coarse, const LeafState& ls, const ApproachForecast& f) {
+  const Mesh& mesh = ls.mesh;
+  std::vector<double> out(static_cast<std::size_t>(mesh.n_nodes()), NAN);
+  if (f.steps <= 0) return out;
+  const int d = mesh.dim();
+  const auto p = problem_on_mesh(coarse, mesh);
+  const auto [lo, hi] = mesh.bounding_box();
+  const double miss = contact_miss_gap(lo, hi);
+  for (const ContactRow& row : contact_rows(*p, dirichlet_dofs(*p).condition)) {
+    if (row.pair >= 0) continue;
+    const Point& x = mesh.node(row.node);
     double u_nu = 0;
-    for (int j = 0; j < d; ++j) u_nu += node.direction[j] * s.state().u[node.local_node * d + j];
+    for (int j = 0; j < d; ++j) u_nu += row.direction[j] * ls.u[static_cast<std::size_t>(row.node * d + j)];
     double margin = INFINITY;
-    for (int j = 1; j <= steps; ++j) {
-      const double at = std::min(t + j * k, p.final_time);
-      margin = std::min(margin, contact_gap_at(p.contact, x, node.direction, at, set.miss_gap, node.obstacles) - u_nu);
-      if (at >= p.final_time) break;
+    for (int j = 1; j <= f.steps; ++j) {
+      const double at = std::min(f.t + j * f.k, coarse.final_time);
+      margin = std::min(margin, contact_gap_at(coarse.contact, x, row.direction, at, miss, row.obstacles) - u_nu);
+      if (at >= coarse.final_time) break;
     }
-    out[static_cast<std::size_t>(s.part().original_node[static_cast<std::size_t>(node.local_node)])] = margin;
+    out[static_cast<std::size_t>(row.node)] = margin;
   }
   return out;
 }
 
-/// The indicators of a gathered state on the forest's leaf mesh (adapt/indicator.hpp); `approach`: per
-/// leaf-mesh node (approach_margins).
-CellIndicators forest_indicators(const BisectionForest& forest, const ForestState& fs, const AdaptSpec& spec,
-                                 const std::vector<double>& approach) {
-  const Mesh mesh = forest.leaf_mesh();
-  const std::vector<int> number = forest.mesh_numbers();
-  Vector beta(mesh.n_nodes());
-  std::vector<double> pressure(static_cast<std::size_t>(mesh.n_nodes()), NAN);
-  const auto w = static_cast<std::size_t>(fs.contact_width);
-  for (std::size_t i = 0; i < number.size(); ++i) {
-    if (number[i] < 0) continue;
-    beta[number[i]] = fs.beta[i];
-    pressure[static_cast<std::size_t>(number[i])] = fs.contact[i * w];  // λ_ν / |Γ3|_i (NaN off Γ3)
-  }
-  std::vector<SymTensor> sigma(fs.leaves.size());
-  for (std::size_t k = 0; k < sigma.size(); ++k) sigma[k] = tensor_at(fs.sigma, k);
-  return cell_indicators(mesh, sigma, beta, pressure, spec, approach);
+CellIndicators leaf_indicators(const LeafState& ls, const AdaptSpec& spec, const std::vector<double>& approach) {
+  return cell_indicators(ls.mesh, ls.sigma, ls.beta, ls.pressure, spec, approach);
 }
 
 /// What removing one node changes (squared L2 norms), per AdaptationRecord's measures.
@@ -143,7 +173,8 @@ std::vector<int> MeshAdaptivity::levels(const TimeStepper& s) const {
 }
 
 std::vector<double> MeshAdaptivity::indicator(const TimeStepper& s) const {
-  const CellIndicators ind = forest_indicators(forest_, gather_state(forest_, s, s.state()), spec_, approach_margins(s, spec_.every));
+  const LeafState ls = leaf_state(forest_, gather_state(forest_, s, s.state()));
+  const CellIndicators ind = leaf_indicators(ls, spec_, approach_margins(*coarse_, ls, forecast_of(s, spec_.every)));
   std::vector<double> out;
   for (int c : s.part().original_cell) out.push_back(ind.combined[static_cast<std::size_t>(c)]);
   return out;
@@ -158,7 +189,15 @@ std::unique_ptr<TimeStepper> MeshAdaptivity::adapt(const TimeStepper& s, int pas
   // into the forest's numbering: the same marks whatever the engine's numbering of its part.
   ForestState solution = gather_state(forest_, s, s.state());
   const std::vector<int> leaves = forest_.leaves();
-  const CellIndicators ind = forest_indicators(forest_, solution, spec_, approach_margins(s, pass == 0 ? spec_.every : 0));
+  const ApproachForecast forecast = forecast_of(s, pass == 0 ? spec_.every : 0);
+  std::vector<char> about_to_touch(leaves.size(), 0);  // the cells of Γ3 facets about to touch, once coarsened
+  const CellIndicators ind = [&] {
+    const LeafState ls = leaf_state(forest_, solution);
+    const std::vector<double> approach = approach_margins(*coarse_, ls, forecast);
+    for (int f : facets_about_to_touch(ls.mesh, ls.pressure, approach, 2))
+      about_to_touch[static_cast<std::size_t>(ls.mesh.facet_cell(f))] = 1;
+    return leaf_indicators(ls, spec_, approach);
+  }();
   if (spec_.tolerance > 0 && ind.stress_relative <= spec_.tolerance) return nullptr;
   AdaptationRecord rec;
   rec.step = s.state().n;
@@ -190,29 +229,7 @@ std::unique_ptr<TimeStepper> MeshAdaptivity::adapt(const TimeStepper& s, int pas
     if (spec_.min_size > 0 && longest_edge(forest_, c) <= spec_.min_size) continue;
     refine.push_back(c);
   }
-  auto unknowns_with = [&](std::size_t count) {
-    BisectionForest trial = forest_;
-    trial.refine(std::vector<int>(refine.begin(), refine.begin() + static_cast<std::ptrdiff_t>(count)));
-    return static_cast<long long>(d) * alive_nodes(trial);
-  };
-  if (!refine.empty() && unknowns_with(refine.size()) > spec_.max_unknowns) {
-    std::size_t lo = 0, hi = refine.size();  // the most cells, in the indicator's order, within the limit
-    while (lo < hi) {
-      const std::size_t mid = (lo + hi + 1) / 2;
-      if (unknowns_with(mid) <= spec_.max_unknowns) lo = mid;
-      else hi = mid - 1;
-    }
-    refine.resize(lo);
-    rec.truncated = true;
-    if (!warned_unknowns_) {
-      warned_unknowns_ = true;
-      warnings_.push_back(fmt::format("{}: max_unknowns = {} reached at step {} (t = {:.6g}; the mesh has {} = d × "
-                                      "nodes): refinement marking truncated in the indicator's order (reported in "
-                                      "summary.json \"adaptations\")",
-                                      spec_.where, spec_.max_unknowns, rec.step, rec.t,
-                                      static_cast<long long>(d) * alive_nodes(forest_)));
-    }
-  }
+  within_max_unknowns(refine, rec);
   if (deep) {
     rec.truncated = true;
     if (!warned_level_) {
@@ -224,8 +241,9 @@ std::unique_ptr<TimeStepper> MeshAdaptivity::adapt(const TimeStepper& s, int pas
   }
   rec.marked = static_cast<int>(refine.size());
 
-  // Coarsening: the smallest share of the indicator, not marked for refinement, whose patches change
-  // z, σ, β by less than the tolerance, summed over the adaptation.
+  // Coarsening: the smallest share of the indicator, not marked for refinement nor about to touch (the
+  // forecast would refine it again), whose patches change z, σ, β by less than the tolerance, summed over
+  // the adaptation.
   // What coarsening would change is measured on the solution the indicator read (s's state), whatever is
   // carried (a redo carries the state before the step).
   ForestState fs = &carry == &s.state() ? solution : gather_state(forest_, s, carry);
@@ -233,7 +251,7 @@ std::unique_ptr<TimeStepper> MeshAdaptivity::adapt(const TimeStepper& s, int pas
   for (int c : refine) refined[static_cast<std::size_t>(c)] = 1;
   std::vector<char> eligible(leaves.size());
   for (std::size_t k = 0; k < leaves.size(); ++k)
-    eligible[k] = forest_.level(leaves[k]) > 0 && !refined[static_cast<std::size_t>(leaves[k])];
+    eligible[k] = forest_.level(leaves[k]) > 0 && !refined[static_cast<std::size_t>(leaves[k])] && !about_to_touch[k];
   std::vector<int> candidates;
   for (int k : smallest_share(ind.combined, spec_.coarsen_fraction, eligible)) candidates.push_back(leaves[static_cast<std::size_t>(k)]);
   const std::vector<Material> materials = s.problem().material_list();
@@ -308,11 +326,11 @@ std::unique_ptr<TimeStepper> MeshAdaptivity::adapt(const TimeStepper& s, int pas
     rec.change_beta = std::sqrt(relative(total.beta2, volume));
     rec.change_damage_integral = total.damage;
   }
-  if (refine.empty() && accepted.empty()) return nullptr;
-
   // The forest changed and the state carried: coarsening first (its patches were found on the leaves
-  // before), then refinement (its cells are leaves still: none was a coarsening candidate).
-  changes_.push_back({accepted, refine});
+  // before), then refinement (its cells are leaves still: none was a coarsening candidate), then the zone the
+  // forecast sees about to touch, to its final level.
+  const std::size_t changes_before = changes_.size();
+  if (!refine.empty() || !accepted.empty()) changes_.push_back({accepted, refine});
   if (!accepted.empty()) {
     rec.removed_nodes = forest_.coarsen_patches(accepted);
     carry_through_coarsening(forest_, elasticity, fs);
@@ -321,6 +339,8 @@ std::unique_ptr<TimeStepper> MeshAdaptivity::adapt(const TimeStepper& s, int pas
     rec.bisected = forest_.refine(refine);
     carry_through_refinement(forest_, fs);
   }
+  refine_forecast_zone(fs, forecast, rec);
+  if (changes_.size() == changes_before) return nullptr;
   Mesh mesh = forest_.leaf_mesh();
   rec.min_angle_degrees = forest_.min_angle() * 180 / M_PI;
   rec.h_min = mesh.size_range().first;
@@ -344,6 +364,70 @@ std::unique_ptr<TimeStepper> MeshAdaptivity::adapt(const TimeStepper& s, int pas
   rec.linear_solver = next->backend().linear_solver();
   log_.push_back(rec);
   return next;
+}
+
+bool MeshAdaptivity::within_max_unknowns(std::vector<int>& refine, AdaptationRecord& rec) {
+  const int d = forest_.dim();
+  auto unknowns_with = [&](std::size_t count) {
+    BisectionForest trial = forest_;
+    trial.refine(std::vector<int>(refine.begin(), refine.begin() + static_cast<std::ptrdiff_t>(count)));
+    return static_cast<long long>(d) * alive_nodes(trial);
+  };
+  if (refine.empty() || unknowns_with(refine.size()) <= spec_.max_unknowns) return true;
+  std::size_t lo = 0, hi = refine.size();  // the most cells, in the given order, within the limit
+  while (lo < hi) {
+    const std::size_t mid = (lo + hi + 1) / 2;
+    if (unknowns_with(mid) <= spec_.max_unknowns) lo = mid;
+    else hi = mid - 1;
+  }
+  refine.resize(lo);
+  rec.truncated = true;
+  if (!warned_unknowns_) {
+    warned_unknowns_ = true;
+    warnings_.push_back(fmt::format("{}: max_unknowns = {} reached at step {} (t = {:.6g}; the mesh has {} = d × "
+                                    "nodes): refinement marking truncated in the indicator's order (reported in "
+                                    "summary.json \"adaptations\")",
+                                    spec_.where, spec_.max_unknowns, rec.step, rec.t,
+                                    static_cast<long long>(d) * alive_nodes(forest_)));
+  }
+  return false;
+}
+
+void MeshAdaptivity::refine_forecast_zone(ForestState& fs, const ApproachForecast& forecast, AdaptationRecord& rec) {
+  if (forecast.steps <= 0) return;
+  int target = -1;
+  for (int pass = 0; pass < spec_.max_level; ++pass) {
+    const LeafState ls = leaf_state(forest_, fs);
+    const std::vector<int> leaves = forest_.leaves();
+    const int d = ls.mesh.dim();
+    if (target < 0) {
+      // The level the solution-driven marking has taken the contact zone to: the deepest cell with a Γ3
+      // facet in contact; before any contact, max_level.
+      for (int f = 0; f < ls.mesh.n_facets(); ++f) {
+        bool in_contact = false;
+        for (int a = 0; a < d; ++a) in_contact = in_contact || ls.pressure[static_cast<std::size_t>(ls.mesh.facet(f)[a])] > 0;
+        if (in_contact) target = std::max(target, forest_.level(leaves[static_cast<std::size_t>(ls.mesh.facet_cell(f))]));
+      }
+      target = target < 0 ? spec_.max_level : std::min(target, spec_.max_level);
+    }
+    std::vector<int> refine;
+    const auto about = facets_about_to_touch(ls.mesh, ls.pressure, approach_margins(*coarse_, ls, forecast));
+    for (int f : about) {
+      const int c = leaves[static_cast<std::size_t>(ls.mesh.facet_cell(f))];
+      if (forest_.level(c) >= target || (spec_.min_size > 0 && longest_edge(forest_, c) <= spec_.min_size)) continue;
+      refine.push_back(c);
+    }
+    std::ranges::sort(refine);
+    refine.erase(std::unique(refine.begin(), refine.end()), refine.end());
+    const bool within = within_max_unknowns(refine, rec);
+    if (refine.empty()) return;
+    rec.marked += static_cast<int>(refine.size());
+    rec.bisected += forest_.refine(refine);
+    carry_through_refinement(forest_, fs);
+    changes_.push_back({{}, refine});
+    ++rec.forecast_passes;
+    if (!within) return;
+  }
 }
 
 std::string MeshAdaptivity::history() const {

@@ -6,6 +6,7 @@
 // TimeStepper of the same problem on the adapted mesh. The engine (run/stepper_engine.cpp) swaps the
 // stepper; nothing below the scheme knows the mesh changed.
 #include "adapt/adapt_spec.hpp"
+#include "adapt/state_transfer.hpp"
 #include "mesh/bisection.hpp"
 #include "scheme/time_stepper.hpp"
 
@@ -36,6 +37,9 @@ struct AdaptationRecord {
   /// |u − u_D| on prescribed dofs and the largest penetration of an obstacle (lengths; the next step
   /// resolves them).
   double dirichlet_mismatch = 0, penetration = 0;
+  /// The markings of the zone the forecast sees about to touch, each on the forest refined by the one
+  /// before, until it reaches its final level (MeshAdaptivity::adapt); `marked` and `bisected` include them.
+  int forecast_passes = 0;
   /// The new stepper's linear solver (cholmod, or the PETSc engine's: mumps, cg-gamg, cg-hypre): under
   /// --engine auto, planned for each adapted mesh (run/solver_plan.hpp).
   std::string linear_solver;
@@ -43,6 +47,11 @@ struct AdaptationRecord {
 
 /// Makes the stepper of a problem on an adapted mesh (the engine's: one process's, or the PETSc engine's
 /// on one rank).
+/// When the forecast of surfaces about to touch looks (adapt/indicator.hpp): from the state at t, over
+/// `steps` steps of the last step's size k (up to T); steps = 0: none (a redo pass solves the same step
+/// again, the run has no next step, or nothing moves towards Γ3). Defined in mesh_adaptivity.cpp.
+struct ApproachForecast;
+
 using StepperMaker = std::function<std::unique_ptr<TimeStepper>(std::shared_ptr<const Problem>, const SolverChoice&)>;
 
 class MeshAdaptivity {
@@ -86,6 +95,15 @@ class MeshAdaptivity {
   std::unique_ptr<TimeStepper> make_stepper() const;
 
  private:
+  /// Truncates `refine` (in its order) to the most cells whose refinement keeps d × nodes within
+  /// max_unknowns (warned once, rec.truncated); false where it cut.
+  bool within_max_unknowns(std::vector<int>& refine, AdaptationRecord& rec);
+  /// The zone the forecast sees about to touch (adapt/indicator.hpp facets_about_to_touch) to its final
+  /// level: its cells refined on the forest and `fs` carried, again while one is coarser than the deepest
+  /// cell in contact (max_level before any contact): several markings, one new stepper. Each marking is one
+  /// of changes_.
+  void refine_forecast_zone(ForestState& fs, const ApproachForecast& forecast, AdaptationRecord& rec);
+
   std::shared_ptr<const Problem> coarse_;
   SolverChoice choice_;
   StepperMaker make_;

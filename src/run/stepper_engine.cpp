@@ -189,8 +189,9 @@ class StepperRun final : public Run {
     }
     if (adapt_->spec().resolve == 0 && !adapt_stopped_ && stepper_->state().n == 0 && !undo_) {
       // Before the first step of a run that adapts between steps: the mesh adapted to what the forecast sees
-      // (an obstacle about to touch Γ3: adapt/indicator.hpp), so that the first step's contact is resolved
-      // (nothing changes where nothing is about to touch), again while it marks, up to max_level times.
+      // (an obstacle about to touch Γ3: adapt/indicator.hpp, refined to max_level by one adaptation), so that
+      // the first step's contact is resolved (nothing changes where nothing is about to touch); again while it
+      // marks (what the forecast's zone added to the solution-driven marks), up to max_level times.
       for (int pass = 0; pass < adapt_->spec().max_level && !adapt_stopped_; ++pass) {
         Undo now = where_it_stands();
         std::unique_ptr<TimeStepper> next = adapt_or_recover(0, now.state, now.times, now.control, now);

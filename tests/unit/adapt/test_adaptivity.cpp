@@ -241,6 +241,37 @@ TEST(Adapt, TheForecastLooksAheadToTheNextAdaptation) {
   }
 }
 
+TEST(Adapt, TheForecastZoneReachesItsFinalLevelInOneAdaptation) {
+  // ironing-3d before its first step (nothing in contact, the sphere about to press): one adaptation takes
+  // every cell of a Γ3 facet about to touch to max_level, marking the forest again as it refines (several
+  // markings, one new stepper), and leaves a mesh the next adaptation keeps: coarsening does not take back
+  // what the forecast would refine again.
+  const auto s = ironing_3d_after(0);
+  AdaptSpec spec;
+  spec.max_level = 4;
+  spec.where = "test: [adapt]";
+  MeshAdaptivity a(std::make_shared<Problem>(s->problem()), s->solvers(), spec);
+  auto next = a.adapt(*s, 0, s->state(), s->times(), s->step_control_state());
+  ASSERT_TRUE(next);
+  ASSERT_EQ(a.log().size(), 1u);
+  EXPECT_GE(a.log()[0].forecast_passes, 2);
+  EXPECT_EQ(a.log()[0].max_level, 4);
+  // Before any contact the indicator is the forecast's alone: each of its cells at the final level.
+  const std::vector<double> eta = a.indicator(*next);
+  const std::vector<int> level = a.levels(*next);
+  int forecast = 0;
+  for (std::size_t c = 0; c < eta.size(); ++c) {
+    if (eta[c] == 0) continue;
+    ++forecast;
+    EXPECT_EQ(level[c], 4) << "cell " << c;
+  }
+  EXPECT_GT(forecast, 0);
+  EXPECT_FALSE(a.adapt(*next, 0, next->state(), next->times(), next->step_control_state()));
+  // The run goes on from it, and its first step's contact is on the refined zone.
+  EXPECT_TRUE(next->step().ok);
+  EXPECT_GT(next->state().lambda.sum(), 0);
+}
+
 TEST(Adapt, TheIndicatorVanishesWhereP1AndP0AreExact) {
   const auto s = paper_after(1);
   Snapshot snap = s->snapshot();
