@@ -662,7 +662,7 @@ std::optional<ResumePoint> resume_from_checkpoint(TimeStepper& stepper, const fs
   return at;
 }
 
-fs::path write_checkpoint(const fs::path& dir, const Checkpoint& c, int keep) {
+void write_state_file(const fs::path& path, const Checkpoint& c) {
   const State& s = c.snapshot.state;
   FileContent f;
   f.case_name = c.case_name;
@@ -683,9 +683,13 @@ fs::path write_checkpoint(const fs::path& dir, const Checkpoint& c, int keep) {
   f.arrays[kStepControl] = values(c.step_control);
   f.pvd = &c.pvd;
   f.totals = &c.totals;
-  const fs::path path = main_file(dir, s.n);
   write_file(path, f);
-  remove_stale(dir, s.n, {path}, keep);
+}
+
+fs::path write_checkpoint(const fs::path& dir, const Checkpoint& c, int keep) {
+  const fs::path path = main_file(dir, c.snapshot.state.n);
+  write_state_file(path, c);
+  remove_stale(dir, c.snapshot.state.n, {path}, keep);
   return path;
 }
 

@@ -155,6 +155,9 @@ std::optional<ResumePoint> resume_from_checkpoint(TimeStepper& stepper, const st
 /// (damaged, or of a timeline this run replaced) and pieces of step n left from an
 /// earlier write.
 std::filesystem::path write_checkpoint(const std::filesystem::path& dir, const Checkpoint& c, int keep = 2);
+/// Writes `c` whole (version 6) as the file `path`, atomically, nothing else touched: a state kept beside a
+/// checkpoint (an adaptive run's undo, run/stepper_engine.cpp), read back by read_checkpoint.
+void write_state_file(const std::filesystem::path& path, const Checkpoint& c);
 
 /// When a run writes a checkpoint besides step 0 and its last step: every `every`
 /// steps (0: never), or, with every < 0, after the first step that ends `seconds` of

@@ -37,6 +37,16 @@ std::filesystem::path adaptation_history_file(const std::filesystem::path& dir, 
   return dir / fmt::format("checkpoint_{:05d}.adaptations.bin", n);
 }
 
+/// Where an adaptive run's checkpoint of step n keeps what undoes the adaptation made after step n, while the
+/// step after it has not succeeded (a resume there can then undo it as the uninterrupted run would): the
+/// refinement history before it, and the state it carried, on the mesh before (a whole-state file).
+std::filesystem::path undo_history_file(const std::filesystem::path& dir, long long n) {
+  return dir / fmt::format("checkpoint_{:05d}.undo.adaptations.bin", n);
+}
+std::filesystem::path undo_state_file(const std::filesystem::path& dir, long long n) {
+  return dir / fmt::format("checkpoint_{:05d}.undo.bin", n);
+}
+
 class StepperRun final : public Run {
  public:
   StepperRun(Case c, std::unique_ptr<TimeStepper> stepper, AdaptiveEngine adaptive)
@@ -102,7 +112,12 @@ class StepperRun final : public Run {
     // An adaptive run's refinement history beside it (after it: write_checkpoint clears what is not its
     // own at its step; a checkpoint without its history is skipped on resume, an older one taken).
     if (adapt_)
-      on_root([&] { write_file_atomic(adaptation_history_file(output_->directory(), stepper_->state().n), adapt_->history()); });
+      on_root([&] {
+        const std::filesystem::path& dir = output_->directory();
+        const long long n = stepper_->state().n;
+        if (undo_) write_undo(dir, n, *undo_);
+        write_file_atomic(adaptation_history_file(dir, n), adapt_->history());
+      });
     note_checkpoint();
   }
   std::optional<ResumedAt> resume(const std::filesystem::path& dir, std::vector<std::string>& skipped) override {
@@ -338,11 +353,48 @@ class StepperRun final : public Run {
                                       file.filename().string()));
         continue;
       }
+      std::optional<Undo> undo;
+      try {
+        undo = read_undo(dir, n);
+      } catch (const Error& e) {
+        skipped.push_back(fmt::format("{}: {}", checkpoint_file::main_file(dir, n).string(), e.what()));
+        continue;
+      }
       swap_stepper(adaptivity_from(history));
       std::optional<ResumePoint> saved = resume_from_checkpoint(*stepper_, dir, &skipped, keys_);
-      if (saved && saved->n == n) return saved;
+      if (saved && saved->n == n) {
+        undo_ = std::move(undo);
+        return saved;
+      }
     }
     return std::nullopt;
+  }
+
+  /// Writes `u` beside the checkpoint of step n (undo_history_file, undo_state_file; each atomically, the
+  /// state first: a resume looks for the state only where the history is there).
+  void write_undo(const std::filesystem::path& dir, long long n, const Undo& u) const {
+    Checkpoint c;
+    c.case_name = case_.name;
+    c.problem_key = fmt::format("the state before the adaptation after step {}", n);
+    c.snapshot = u.state;
+    c.times = u.times;
+    c.step_control = u.control.values();
+    write_state_file(undo_state_file(dir, n), c);
+    write_file_atomic(undo_history_file(dir, n), u.history);
+  }
+
+  /// What undoes the adaptation made after step n, kept beside its checkpoint (write_undo); none where no
+  /// adaptation was pending at that step. Throws vpc::Error where its state is missing or damaged.
+  static std::optional<Undo> read_undo(const std::filesystem::path& dir, long long n) {
+    std::error_code ec;
+    if (!std::filesystem::exists(undo_history_file(dir, n), ec)) return std::nullopt;
+    const std::filesystem::path state = undo_state_file(dir, n);
+    if (!std::filesystem::exists(state, ec))
+      fail("the undo of its adaptation has a refinement history but no state ({} is missing)", state.filename().string());
+    Checkpoint c = read_checkpoint(state);
+    require(c.snapshot.state.n == n, "{}: the state of step {}, not {}", state.string(), c.snapshot.state.n, n);
+    return Undo{read_text_file(undo_history_file(dir, n), "adaptation history"), std::move(c.snapshot), std::move(c.times),
+                StepControlState::from_values(c.step_control), std::nullopt};
   }
 
   /// The run goes on with `next` (the adapted mesh); its output follows.

@@ -23,6 +23,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <regex>
 #include <sstream>
 
 namespace vpc {
@@ -497,6 +498,64 @@ TEST(Adapt, AResumeAcrossAdaptationsIsByteIdentical) {
   fs::remove(dir / "lost" / "checkpoint_00006.adaptations.bin");
   run_ironing(dir / "lost", false, true);
   EXPECT_EQ(file_text(dir / "whole" / "history.csv"), file_text(dir / "lost" / "history.csv"));
+  fs::remove_all(dir);
+}
+
+TEST(Adapt, AResumeBetweenAnAdaptationAndItsUndoIsByteIdentical) {
+  // The undo of an adaptation (the refinement history and the state before it) is kept beside the checkpoint
+  // of the step it followed until the next step succeeds, so that a run resumed there undoes it as the
+  // uninterrupted run does. ironing-2d with the friction law of the test above (adapted every step): a step s
+  // that fails on the mesh adapted after step s − 1; a run of s steps, then the same run resumed from its
+  // checkpoint of step s − 1, which must undo that adaptation again and end byte for byte as the first.
+  test::register_test_laws();
+  std::vector<std::string> sets = {"contact.friction=\"sized-coulomb\"", "contact.mu=0", "contact.min_measure=0.15",
+                                   "adapt.resolve=0", "adapt.max_level=5"};
+  const fs::path dir = fs::temp_directory_path() / "vpc-adapt-undo-resume";
+  fs::remove_all(dir);
+  auto run = [&](const fs::path& out, int steps, bool resume) {
+    RunOptions o;
+    o.quiet = true;
+    o.output_directory = out;
+    o.checkpoint_every = 1;
+    if (resume) o.resume = out;
+    std::vector<std::string> with = sets;
+    char T[48];
+    std::snprintf(T, sizeof T, "time.T=%.17g", steps / 12.0);  // the time levels of 12 steps over [0, 1]
+    with.emplace_back(T);
+    testing::internal::CaptureStderr();
+    const RunResult r = run_case(
+        [&](const MeshRequest& m) {
+          Case c = load_case("ironing-2d", {.sets = with, .steps = steps, .every = 1}, m);
+          c.output.directory = out;
+          return c;
+        },
+        o);
+    const std::string err = testing::internal::GetCapturedStderr();
+    EXPECT_EQ(r.steps, steps) << err;
+    return err;
+  };
+  const std::string whole = run(dir / "whole", 12, false);
+  const std::regex undone(R"(step (\d+) \(t = [^)]*\) failed on the mesh adapted at step (\d+))");
+  int s = 0;
+  for (auto m = std::sregex_iterator(whole.begin(), whole.end(), undone); m != std::sregex_iterator() && s == 0; ++m)
+    if (std::stoi((*m)[1]) >= 2 && std::stoi((*m)[2]) == std::stoi((*m)[1]) - 1) s = std::stoi((*m)[1]);
+  ASSERT_GT(s, 0) << "no step failed right after an adaptation:\n" << whole;
+  const fs::path out = dir / "cut";
+  const std::string first = run(out, s, false);
+  const std::string warning = "step " + std::to_string(s) + " (t = ";
+  ASSERT_NE(first.find(warning), std::string::npos) << first;
+  const std::string history = file_text(out / "history.csv"), probes = file_text(out / "probes.csv");
+  char name[32];
+  std::snprintf(name, sizeof name, "checkpoint_%05d.undo.bin", s - 1);
+  ASSERT_TRUE(fs::exists(out / name)) << name;
+  // The run as if stopped at step s − 1: its checkpoint of step s gone.
+  std::snprintf(name, sizeof name, "checkpoint_%05d", s);
+  for (const auto& e : fs::directory_iterator(out))
+    if (e.path().filename().string().starts_with(name)) fs::remove(e.path());
+  const std::string resumed = run(out, s, true);
+  EXPECT_NE(resumed.find(warning), std::string::npos) << resumed;
+  EXPECT_EQ(file_text(out / "history.csv"), history);
+  EXPECT_EQ(file_text(out / "probes.csv"), probes);
   fs::remove_all(dir);
 }
 
