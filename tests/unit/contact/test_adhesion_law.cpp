@@ -31,7 +31,9 @@ TEST(FremondAdhesion, TheBondingIsTheExactSolutionOfItsRateLawWithTheSeparationF
     }
     // Held: c α ≤ ε_a (or no separation) keeps α.
     EXPECT_EQ(law.carried(0.9, 0.0, x, 1.0), 0.9);
-    if (energy > 0) EXPECT_EQ(law.carried(0.9, 0.01, x, 1.0), 0.9);  // c α = 50 · 1e-4 · 0.9 < 0.02
+    if (energy > 0) {
+      EXPECT_EQ(law.carried(0.9, 0.01, x, 1.0), 0.9);  // c α = 50 · 1e-4 · 0.9 < 0.02
+    }
   }
 }
 

@@ -223,7 +223,10 @@ TEST(SolverPlan, ContactPairsArePlannedAsOneBodyIs) {
   large.contact_unknowns = 20000;
   const double one_body[3] = {cholmod_memory(p, large, choice).total(), iterative_memory(p, large).total(),
                               mumps_memory(p, large, 2, 2).total()};
-  p.contact.pairs.push_back({.slave = "top", .master = "bottom"});  // the plan reads only that there are pairs
+  ContactPair pair;  // the plan reads only that there are pairs
+  pair.slave = "top";
+  pair.master = "bottom";
+  p.contact.pairs.push_back(pair);
   EXPECT_DOUBLE_EQ(cholmod_memory(p, large, choice).total(), one_body[0]);
   EXPECT_DOUBLE_EQ(iterative_memory(p, large).total(), one_body[1]);
   EXPECT_DOUBLE_EQ(mumps_memory(p, large, 2, 2).total(), one_body[2]);
