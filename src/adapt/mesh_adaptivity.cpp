@@ -411,7 +411,13 @@ void MeshAdaptivity::refine_forecast_zone(ForestState& fs, const ApproachForecas
       target = target < 0 ? spec_.max_level : std::min(target, spec_.max_level);
     }
     std::vector<int> refine;
-    const auto about = facets_about_to_touch(ls.mesh, ls.pressure, approach_margins(*coarse_, ls, forecast));
+    std::vector<double> approach;
+    try {
+      approach = approach_margins(*coarse_, ls, forecast);
+    } catch (const Error&) {
+      return;  // (the refined mesh's contact rows refused: its stepper's set-up says why, and the run recovers)
+    }
+    const auto about = facets_about_to_touch(ls.mesh, ls.pressure, approach);
     for (int f : about) {
       const int c = leaves[static_cast<std::size_t>(ls.mesh.facet_cell(f))];
       if (forest_.level(c) >= target || (spec_.min_size > 0 && longest_edge(forest_, c) <= spec_.min_size)) continue;
