@@ -87,7 +87,8 @@ struct LeafState {
 };
 
 LeafState leaf_state(const BisectionForest& forest, const ForestState& fs) {
-  LeafState out{forest.leaf_mesh()};
+  LeafState out;
+  out.mesh = forest.leaf_mesh();
   const int d = out.mesh.dim();
   const std::vector<int> number = forest.mesh_numbers();
   out.beta.resize(out.mesh.n_nodes());
