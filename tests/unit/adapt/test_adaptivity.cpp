@@ -308,12 +308,16 @@ TEST(Adapt, TheIndicatorVanishesWhereP1AndP0AreExact) {
   EXPECT_GT(ind.stress_relative, 0);
 }
 
-/// Runs the case `make` gives (quiet) into the fresh directory `out`.
-RunResult run_into(const fs::path& out, const std::function<Case(const MeshRequest&)>& make) {
-  fs::remove_all(out);
+/// Runs the case `make` gives (quiet) into the fresh directory `out`, or with `resume` continues the run in
+/// it from its newest good checkpoint; `checkpoint_every`: RunOptions's (−1: by wall time).
+RunResult run_into(const fs::path& out, const std::function<Case(const MeshRequest&)>& make, bool resume = false,
+                   int checkpoint_every = -1) {
+  if (!resume) fs::remove_all(out);
   RunOptions o;
   o.quiet = true;
   o.output_directory = out;
+  o.checkpoint_every = checkpoint_every;
+  if (resume) o.resume = out;
   return run_case(
       [&](const MeshRequest& m) {
         Case c = make(m);
@@ -460,19 +464,14 @@ std::string file_text(const fs::path& p) {
 
 /// ironing-2d in 12 steps into `dir` (T = 0.5 and 6 steps where `half`), resumed from it where `resume`.
 void run_ironing(const fs::path& dir, bool half, bool resume) {
-  RunOptions o;
-  o.quiet = true;
-  o.output_directory = dir;
-  if (resume) o.resume = dir;
   std::vector<std::string> sets = {"adapt.max_level=5"};
   if (half) sets.insert(sets.end(), {"time.T=0.5", "time.steps=6"});
-  run_case(
+  run_into(
+      dir,
       [&](const MeshRequest& m) {
-        Case c = load_case("ironing-2d", {.sets = sets, .steps = half ? std::optional<int>() : 12, .every = 4}, m);
-        c.output.directory = dir;
-        return c;
+        return load_case("ironing-2d", {.sets = sets, .steps = half ? std::optional<int>() : 12, .every = 4}, m);
       },
-      o);
+      resume);
 }
 
 TEST(Adapt, AResumeAcrossAdaptationsIsByteIdentical) {
@@ -513,23 +512,14 @@ TEST(Adapt, AResumeBetweenAnAdaptationAndItsUndoIsByteIdentical) {
   const fs::path dir = fs::temp_directory_path() / "vpc-adapt-undo-resume";
   fs::remove_all(dir);
   auto run = [&](const fs::path& out, int steps, bool resume) {
-    RunOptions o;
-    o.quiet = true;
-    o.output_directory = out;
-    o.checkpoint_every = 1;
-    if (resume) o.resume = out;
     std::vector<std::string> with = sets;
     char T[48];
     std::snprintf(T, sizeof T, "time.T=%.17g", steps / 12.0);  // the time levels of 12 steps over [0, 1]
     with.emplace_back(T);
     testing::internal::CaptureStderr();
-    const RunResult r = run_case(
-        [&](const MeshRequest& m) {
-          Case c = load_case("ironing-2d", {.sets = with, .steps = steps, .every = 1}, m);
-          c.output.directory = out;
-          return c;
-        },
-        o);
+    const RunResult r = run_into(
+        out, [&](const MeshRequest& m) { return load_case("ironing-2d", {.sets = with, .steps = steps, .every = 1}, m); },
+        resume, 1);
     const std::string err = testing::internal::GetCapturedStderr();
     EXPECT_EQ(r.steps, steps) << err;
     return err;
