@@ -386,8 +386,8 @@ bool MeshAdaptivity::within_max_unknowns(std::vector<int>& refine, AdaptationRec
   if (!warned_unknowns_) {
     warned_unknowns_ = true;
     warnings_.push_back(fmt::format("{}: max_unknowns = {} reached at step {} (t = {:.6g}; the mesh has {} = d × "
-                                    "nodes): refinement marking truncated in the indicator's order (reported in "
-                                    "summary.json \"adaptations\")",
+                                    "nodes): refinement marking truncated, in the indicator's order (the forecast's "
+                                    "zone in cell order; reported in summary.json \"adaptations\")",
                                     spec_.where, spec_.max_unknowns, rec.step, rec.t,
                                     static_cast<long long>(d) * alive_nodes(forest_)));
   }
